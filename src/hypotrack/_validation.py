@@ -1,0 +1,130 @@
+"""Input validation shared by every public constructor and function.
+
+Each checker raises ``ValueError`` (or ``TypeError`` for the wrong kind of object) whose
+message names the parameter and the allowed range, so that bad input never turns into a
+silent NaN further down the pipeline.
+"""
+
+from __future__ import annotations
+
+import math
+from numbers import Integral, Real
+
+import numpy as np
+
+__all__ = [
+    "check_probability",
+    "check_positive",
+    "check_nonnegative",
+    "check_int",
+    "check_finite_array",
+    "check_covariance",
+    "check_measurements",
+]
+
+
+def _as_float(value, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (Real, np.floating, np.integer)):
+        raise TypeError(f"{name} must be a real number, got {type(value).__name__}")
+    return float(value)
+
+
+def check_probability(value, name: str, *, low_open: bool = False, high_open: bool = False) -> float:
+    """Return ``value`` as float if it lies in [0, 1] (ends open as requested).
+
+    ``check_probability(p_D, "p_D", low_open=True)`` enforces ``p_D in (0, 1]``.
+    """
+    v = _as_float(value, name)
+    lo = "(" if low_open else "["
+    hi = ")" if high_open else "]"
+    ok = (v > 0 if low_open else v >= 0) and (v < 1 if high_open else v <= 1)
+    if not ok or math.isnan(v):
+        raise ValueError(f"{name} must lie in {lo}0, 1{hi}, got {value!r}")
+    return v
+
+
+def check_positive(value, name: str) -> float:
+    """Return ``value`` as float if it is finite and > 0."""
+    v = _as_float(value, name)
+    if not (math.isfinite(v) and v > 0):
+        raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+    return v
+
+
+def check_nonnegative(value, name: str) -> float:
+    """Return ``value`` as float if it is finite and >= 0."""
+    v = _as_float(value, name)
+    if not (math.isfinite(v) and v >= 0):
+        raise ValueError(f"{name} must be a finite number >= 0, got {value!r}")
+    return v
+
+
+def check_int(value, name: str, *, minimum: int | None = 0, maximum: int | None = None) -> int:
+    """Return ``value`` as int if it is an integer within [minimum, maximum]."""
+    if isinstance(value, bool) or not isinstance(value, (Integral, np.integer)):
+        raise TypeError(f"{name} must be an integer, got {type(value).__name__}")
+    v = int(value)
+    if (minimum is not None and v < minimum) or (maximum is not None and v > maximum):
+        lo = "-inf" if minimum is None else str(minimum)
+        hi = "inf" if maximum is None else str(maximum)
+        raise ValueError(f"{name} must be an integer in [{lo}, {hi}], got {value!r}")
+    return v
+
+
+def check_finite_array(a, name: str, *, ndim: int | None = None, shape: tuple | None = None) -> np.ndarray:
+    """Return ``a`` as a float array, checking dimensionality, shape and finiteness.
+
+    ``shape`` may contain ``None`` for a free axis, e.g. ``(None, 2)``.
+    """
+    arr = np.asarray(a, dtype=float)
+    if ndim is not None and arr.ndim != ndim:
+        raise ValueError(f"{name} must be a {ndim}-D array, got shape {arr.shape}")
+    if shape is not None:
+        if arr.ndim != len(shape) or any(s is not None and s != t for s, t in zip(shape, arr.shape)):
+            want = "(" + ", ".join("n" if s is None else str(s) for s in shape) + ")"
+            raise ValueError(f"{name} must have shape {want}, got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    return arr
+
+
+def check_covariance(P, name: str, dim: int | None = None, *, batched: bool = False) -> np.ndarray:
+    """Return ``P`` symmetrised, after checking it is symmetric positive definite.
+
+    A Cholesky factorisation is the test of positive definiteness. With ``batched=True``
+    ``P`` has shape (n, d, d).
+    """
+    arr = np.asarray(P, dtype=float)
+    want_ndim = 3 if batched else 2
+    if arr.ndim != want_ndim or arr.shape[-1] != arr.shape[-2]:
+        form = "(n, d, d)" if batched else "(d, d)"
+        raise ValueError(f"{name} must be a square matrix of shape {form}, got shape {arr.shape}")
+    if dim is not None and arr.shape[-1] != dim:
+        raise ValueError(f"{name} must be {dim}x{dim}, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    scale = max(1.0, float(np.max(np.abs(arr)))) if arr.size else 1.0
+    asym = np.max(np.abs(arr - np.swapaxes(arr, -1, -2))) if arr.size else 0.0
+    if asym > 1e-8 * scale:
+        raise ValueError(f"{name} must be symmetric (max asymmetry {asym:.3g})")
+    sym = 0.5 * (arr + np.swapaxes(arr, -1, -2))
+    try:
+        np.linalg.cholesky(sym)
+    except np.linalg.LinAlgError:
+        raise ValueError(f"{name} must be positive definite (Cholesky failed)") from None
+    return sym
+
+
+def check_measurements(Z, name: str, dim: int) -> np.ndarray:
+    """Return a scan as an (m, dim) float array; ``m = 0`` (an empty scan) is allowed."""
+    arr = np.asarray(Z, dtype=float)
+    if arr.size == 0:
+        return np.zeros((0, dim))
+    if arr.ndim == 1 and dim == 1:
+        arr = arr[:, None]
+    if arr.ndim != 2 or arr.shape[1] != dim:
+        raise ValueError(f"{name} must have shape (m, {dim}), got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        bad = np.flatnonzero(~np.all(np.isfinite(arr), axis=1))
+        raise ValueError(f"{name} must be finite; rows {bad.tolist()} contain NaN or inf")
+    return arr

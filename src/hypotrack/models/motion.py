@@ -1,0 +1,97 @@
+"""Linear motion models: transition matrix ``F(dt)`` and process noise ``Q(dt)``.
+
+Each model exposes ``ndim``, ``F(dt)``, ``Q(dt)`` and ``propagate(x, dt)`` (the mean
+propagation, batched over rows of ``x``), so the Kalman filter of :mod:`hypotrack.gaussian`
+and the nonlinear orbit model of :mod:`hypotrack.models.orbit` plug into the same trackers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import check_nonnegative, check_positive
+
+__all__ = ["ConstantVelocity", "OrnsteinUhlenbeck"]
+
+
+def _check_dt(dt) -> float:
+    return check_nonnegative(dt, "dt")
+
+
+@dataclass(frozen=True)
+class ConstantVelocity:
+    """Nearly-constant-velocity model in ``n_spatial`` dimensions (white-noise acceleration).
+
+    State order ``[x, y, vx, vy]`` for the 2-D case (positions first, then velocities).
+    ``Q(dt) = q [[dt³/3 I, dt²/2 I], [dt²/2 I, dt I]]`` with ``q`` the acceleration
+    power spectral density (Bar-Shalom et al. 2001, §6.2.2).
+    """
+
+    q: float
+    n_spatial: int = 2
+
+    def __post_init__(self):
+        object.__setattr__(self, "q", check_nonnegative(self.q, "q"))
+        if self.n_spatial not in (1, 2, 3):
+            raise ValueError(f"n_spatial must be 1, 2 or 3, got {self.n_spatial!r}")
+
+    @property
+    def ndim(self) -> int:
+        return 2 * self.n_spatial
+
+    def F(self, dt) -> np.ndarray:
+        dt = _check_dt(dt)
+        k = self.n_spatial
+        F = np.eye(2 * k)
+        F[:k, k:] = dt * np.eye(k)
+        return F
+
+    def Q(self, dt) -> np.ndarray:
+        dt = _check_dt(dt)
+        k = self.n_spatial
+        I = np.eye(k)
+        return self.q * np.block([[dt**3 / 3 * I, dt**2 / 2 * I], [dt**2 / 2 * I, dt * I]])
+
+    def propagate(self, x, dt) -> np.ndarray:
+        return np.asarray(x, dtype=float) @ self.F(dt).T
+
+
+@dataclass(frozen=True)
+class OrnsteinUhlenbeck:
+    """1-D Ornstein–Uhlenbeck position process ``dX = −γ X dt + σ dW``, discretised exactly.
+
+    ``F(dt) = e^{−γ dt}``, ``Q(dt) = σ²/(2γ) (1 − e^{−2γ dt})`` (Coraluppi & Carthel §6; the
+    stationary variance is σ²/(2γ)).
+
+    Parameters
+    ----------
+    sigma2 : float
+        Diffusion intensity σ² (m²/s), > 0.
+    gamma : float
+        Mean-reversion rate γ (1/s), > 0.
+    """
+
+    sigma2: float
+    gamma: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "sigma2", check_positive(self.sigma2, "sigma2"))
+        object.__setattr__(self, "gamma", check_positive(self.gamma, "gamma"))
+
+    ndim = 1
+
+    def F(self, dt) -> np.ndarray:
+        return np.array([[np.exp(-self.gamma * _check_dt(dt))]])
+
+    def Q(self, dt) -> np.ndarray:
+        dt = _check_dt(dt)
+        return np.array([[self.sigma2 / (2 * self.gamma) * -np.expm1(-2 * self.gamma * dt)]])
+
+    @property
+    def stationary_variance(self) -> float:
+        return self.sigma2 / (2 * self.gamma)
+
+    def propagate(self, x, dt) -> np.ndarray:
+        return np.asarray(x, dtype=float) * np.exp(-self.gamma * _check_dt(dt))

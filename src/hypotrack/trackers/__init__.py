@@ -1,0 +1,1 @@
+"""hypotrack.trackers"""

@@ -22,6 +22,7 @@ from ._validation import check_covariance, check_finite_array
 __all__ = [
     "GaussianState",
     "predict",
+    "predict_with",
     "innovation",
     "update",
     "log_likelihood",
@@ -91,6 +92,18 @@ def predict(x, P, F, Q):
     Q = np.asarray(Q, dtype=float)
     x_pred = np.einsum("...ij,...j->...i", F, x) if F.ndim == 3 else x @ F.T
     P_pred = symmetrize(F @ P @ np.swapaxes(F, -1, -2) + Q)
+    return _unbatch(single, x_pred, P_pred)
+
+
+def predict_with(model, x, P, dt):
+    """(Extended) Kalman prediction through a motion model's ``transition`` and ``Q``.
+
+    For a linear model this is :func:`predict`; for a nonlinear one the means are propagated
+    through the dynamics and the covariances through the state-transition matrices (EKF).
+    """
+    x, P, single = _batch(x, P)
+    x_pred, F = model.transition(x, dt)
+    P_pred = symmetrize(F @ P @ np.swapaxes(F, -1, -2) + model.Q(dt))
     return _unbatch(single, x_pred, P_pred)
 
 

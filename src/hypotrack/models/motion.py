@@ -1,8 +1,15 @@
 """Linear motion models: transition matrix ``F(dt)`` and process noise ``Q(dt)``.
 
-Each model exposes ``ndim``, ``F(dt)``, ``Q(dt)`` and ``propagate(x, dt)`` (the mean
-propagation, batched over rows of ``x``), so the Kalman filter of :mod:`hypotrack.gaussian`
-and the nonlinear orbit model of :mod:`hypotrack.models.orbit` plug into the same trackers.
+Every motion model (linear here, nonlinear in :mod:`hypotrack.models.orbit`) follows one
+protocol, so the same trackers run a Kalman filter or an EKF:
+
+* ``ndim`` — state dimension;
+* ``transition(x, dt) -> (x_pred, F)`` — propagated means ``(n, d)`` and the transition
+  matrices / Jacobians (state-transition matrices) ``(n, d, d)``, batched over rows of ``x``;
+* ``Q(dt)`` — process-noise covariance ``(d, d)``;
+* ``propagate(x, dt)`` — means only.
+
+:func:`hypotrack.gaussian.predict_with` turns that into the (extended) Kalman prediction.
 """
 
 from __future__ import annotations
@@ -18,6 +25,12 @@ __all__ = ["ConstantVelocity", "OrnsteinUhlenbeck"]
 
 def _check_dt(dt) -> float:
     return check_nonnegative(dt, "dt")
+
+
+def _linear_transition(model, x, dt):
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    F = model.F(dt)
+    return x @ F.T, np.broadcast_to(F, (x.shape[0], *F.shape))
 
 
 @dataclass(frozen=True)
@@ -57,6 +70,9 @@ class ConstantVelocity:
     def propagate(self, x, dt) -> np.ndarray:
         return np.asarray(x, dtype=float) @ self.F(dt).T
 
+    def transition(self, x, dt):
+        return _linear_transition(self, x, dt)
+
 
 @dataclass(frozen=True)
 class OrnsteinUhlenbeck:
@@ -95,3 +111,6 @@ class OrnsteinUhlenbeck:
 
     def propagate(self, x, dt) -> np.ndarray:
         return np.asarray(x, dtype=float) * np.exp(-self.gamma * _check_dt(dt))
+
+    def transition(self, x, dt):
+        return _linear_transition(self, x, dt)

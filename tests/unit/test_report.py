@@ -1,0 +1,54 @@
+"""The reproduction ledger: tolerance decisions, CSV round trip, LaTeX escaping and macro names."""
+
+import pandas as pd
+import pytest
+
+from hypotrack.report import (
+    CLAIM_COLUMNS,
+    Claim,
+    claims_table_tex,
+    latex_escape,
+    macro_name,
+    macros_tex,
+    numeric_claim,
+    read_claims,
+    write_claims,
+)
+
+
+def test_numeric_claim_decides_by_tolerance():
+    ok = numeric_claim("closely_spaced", "ECMHT MOSPA", "Table 6.1", 0.0586, 0.0620, rel_tol=0.10)
+    bad = numeric_claim("closely_spaced", "PDAF MOSPA", "Table 6.1", 0.8518, 0.35, rel_tol=0.10)
+    assert ok.status == "reproduced" and ok.reproduced == "0.062"
+    assert bad.status == "not reproduced"
+    assert numeric_claim("x", "y", "z", 63591, 63591, abs_tol=0).published == "63591"
+    assert numeric_claim("x", "y", "z", 1.0, float("nan"), abs_tol=1.0).status == "not reproduced"
+    with pytest.raises(ValueError, match="exactly one"):
+        numeric_claim("x", "y", "z", 1.0, 1.0)
+
+
+def test_claims_round_trip_and_validation(tmp_path):
+    claims = [numeric_claim("a", "i", "s", 1.0, 1.05, rel_tol=0.1), Claim("b", "ordering", "Fig 5.1", "min at 4",
+              "min at 4", "3-5", "qualitative")]
+    write_claims(claims, tmp_path / "a" / "claims.csv")
+    df = read_claims([tmp_path / "a" / "claims.csv"])
+    assert list(df.columns) == CLAIM_COLUMNS and len(df) == 2 and df.status.tolist() == ["reproduced", "qualitative"]
+    pd.DataFrame({"item": ["x"]}).to_csv(tmp_path / "bad.csv", index=False)
+    with pytest.raises(ValueError, match="lacks columns"):
+        read_claims([tmp_path / "bad.csv"])
+    with pytest.raises(ValueError, match="status must be one of"):
+        Claim("a", "b", "c", "d", "e", "f", "maybe")
+
+
+def test_latex_helpers():
+    assert latex_escape("50% of p_D & more") == r"50\% of p\_D \& more"
+    assert macro_name("closely_spaced", "ECMHT", "mospa") == "htCloselySpacedECMHTMospa"
+    assert macro_name("A", "10", "5") == "htABAF"  # digits become letters (1->B, 0->A, 5->F)
+    tex = macros_tex({"htX": "0.5%"})
+    assert r"\newcommand{\htX}{0.5\%}" in tex
+    with pytest.raises(ValueError, match="letters only"):
+        macros_tex({"ht1": "x"})
+    table = claims_table_tex(read_claims([]).pipe(lambda d: pd.concat([d, pd.DataFrame([dict(
+        experiment="e", item="i", source="s", published="1", reproduced="1", tolerance="0", status="reproduced",
+        note="")])])))
+    assert r"\textcolor{ForestGreen}" in table and "longtable" in table

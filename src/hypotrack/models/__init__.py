@@ -1,5 +1,28 @@
 """Motion, sensor and population models."""
 
 from .motion import ConstantVelocity, OrnsteinUhlenbeck
+from .population import (
+    BinomialBirth,
+    BinomialSurvival,
+    SingleEventBirthDeath,
+    UniformBirthDensity,
+    continuous_birth_death,
+)
+from .sensors import Box, DetectionModel, FieldOfView, LinearPositionSensor, PoissonClutter, Sensor, SensorArray
 
-__all__ = ["ConstantVelocity", "OrnsteinUhlenbeck"]
+__all__ = [
+    "ConstantVelocity",
+    "OrnsteinUhlenbeck",
+    "LinearPositionSensor",
+    "FieldOfView",
+    "Box",
+    "PoissonClutter",
+    "DetectionModel",
+    "Sensor",
+    "SensorArray",
+    "SingleEventBirthDeath",
+    "UniformBirthDensity",
+    "BinomialBirth",
+    "BinomialSurvival",
+    "continuous_birth_death",
+]

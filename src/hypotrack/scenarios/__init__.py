@@ -1,1 +1,9 @@
-"""hypotrack.scenarios"""
+"""Deterministic scenario generators (ground truth and scans from parameters and a seed).
+
+Every generator returns tidy tables in the schema of :mod:`hypotrack.scenarios.tables`.
+"""
+
+from . import tables
+from .tables import scans_by_sensor, scans_to_list, truth_to_list, validate_scans, validate_truth
+
+__all__ = ["tables", "scans_to_list", "scans_by_sensor", "truth_to_list", "validate_truth", "validate_scans"]

@@ -1,0 +1,361 @@
+"""R-FISST's MCMC search over association events (seed 000 Sec. III, Algorithm 1).
+
+The chain walks on association events of one parent hypothesis. An event assigns each of the
+``m`` returns either to an *exclusive* column (an object, or a birth region: at most one return
+per column) or to a *row option* that any number of returns may take (option 0 is clutter;
+HOMHT's "new target seeded at this return" is option 1). Its log-weight has the form shared by
+every weight model of :mod:`hypotrack.hypotheses`::
+
+    log w(a) = Σ_i score[i, a_i] + count_term[k(a), b(a)],
+
+with ``k`` the number of returns on object columns (``0 .. n_objects-1``) and ``b`` the number on
+the other exclusive columns (births). Three proposals are offered:
+
+``"paper"``
+    Seed 000 Sec. III-B: pick a return uniformly, pick a column uniformly; a return that
+    already holds that column is moved to clutter; Metropolis test ``U < w'/w``. The proposal
+    is **not** symmetric (the displaced return cannot come back in one step), so visit counts
+    are not probabilities.
+``"symmetric"``
+    The same pick, but the two returns *swap* columns, which makes the proposal symmetric and
+    the chain a proper Metropolis sampler of ``w``.
+``"gibbs"``
+    Systematic-scan-free Gibbs (Vo, Vo & Hoang 2017 style): pick a return uniformly and redraw
+    its column from its exact conditional given the other returns.
+
+Whatever the proposal, the chain is used as a *search* (DESIGN.md §4.3): the distinct events it
+visits after burn-in are returned with their exact log-weights; the caller normalises those.
+Visit counts are never returned.
+
+The inner loop is compiled with numba (``cache=True``); a visited-set is kept in an
+open-addressing hash table keyed by an incrementally updated Zobrist hash, with an exact row
+comparison on every hash hit, so two different events are never merged.
+
+References
+----------
+Faber, Chakravorty & Hussein (seed 000), Algorithm 1 and Sec. III-B.
+Vo, Vo & Hoang, "An efficient implementation of the generalized labeled multi-Bernoulli
+filter", IEEE TSP 65 (2017) — the Gibbs variant.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from .._validation import check_int
+
+__all__ = ["MCMC_VARIANTS", "mcmc_search", "event_log_weights"]
+
+MCMC_VARIANTS = ("paper", "symmetric", "gibbs")
+_VARIANT_CODE = {v: i for i, v in enumerate(MCMC_VARIANTS)}
+
+
+@numba.njit(cache=True, nogil=True)
+def _state_log_weight(score, state, n_obj, n_excl, count_term):
+    total = 0.0
+    k = 0
+    b = 0
+    for i in range(state.shape[0]):
+        c = state[i]
+        total += score[i, c]
+        if c < n_obj:
+            k += 1
+        elif c < n_excl:
+            b += 1
+    return total + count_term[k, b]
+
+
+@numba.njit(cache=True, nogil=True, inline="always")
+def _count_delta(cur, new, n_obj, n_excl):
+    """Change of (k, b) when one return moves from column ``cur`` to column ``new``."""
+    dk = 0
+    db = 0
+    if cur < n_obj:
+        dk -= 1
+    elif cur < n_excl:
+        db -= 1
+    if new < n_obj:
+        dk += 1
+    elif new < n_excl:
+        db += 1
+    return dk, db
+
+
+@numba.njit(cache=True, nogil=True)
+def _lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
+    """Insert ``state`` in the visited set unless present; return the new ``n_found``."""
+    mask = table.shape[0] - 1
+    pos = h & mask
+    m = state.shape[0]
+    while table[pos] != -1:
+        idx = table[pos]
+        if hashes[idx] == h:
+            same = True
+            for i in range(m):
+                if rows[idx, i] != state[i]:
+                    same = False
+                    break
+            if same:
+                return n_found
+        pos = (pos + 1) & mask
+    table[pos] = n_found
+    hashes[n_found] = h
+    for i in range(m):
+        rows[n_found, i] = state[i]
+    logw[n_found] = lw
+    return n_found + 1
+
+
+@numba.njit(cache=True, nogil=True)
+def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in, variant, seed,
+               table, hashes, rows, logw):
+    """Run the chain in place; return the number of distinct events recorded."""
+    np.random.seed(seed)
+    m = state.shape[0]
+    n_col = score.shape[1]
+    clutter = n_excl  # row option 0
+    owner = np.full(n_excl, -1, dtype=np.int64)
+    k = 0
+    b = 0
+    h = np.int64(0)
+    for i in range(m):
+        c = state[i]
+        if c < n_excl:
+            owner[c] = i
+        if c < n_obj:
+            k += 1
+        elif c < n_excl:
+            b += 1
+        h ^= zobrist[i, c]
+    lw = _state_log_weight(score, state, n_obj, n_excl, count_term)
+    n_found = 0
+    if burn_in == 0:
+        n_found = _lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found)
+    cond = np.empty(n_col)
+    for step in range(1, n_steps + 1):
+        moved = False
+        if m > 0:
+            i = int(np.random.random() * m)
+            cur = state[i]
+            if variant == 2:
+                # Gibbs: exact conditional of return i's column given the others.
+                best = -np.inf
+                for c in range(n_col):
+                    if c < n_excl and owner[c] != -1 and owner[c] != i:
+                        cond[c] = -np.inf
+                        continue
+                    dk, db = _count_delta(cur, c, n_obj, n_excl)
+                    v = score[i, c] - score[i, cur] + count_term[k + dk, b + db] - count_term[k, b]
+                    cond[c] = v
+                    if v > best:
+                        best = v
+                tot = 0.0
+                for c in range(n_col):
+                    tot += np.exp(cond[c] - best)
+                u = np.random.random() * tot
+                acc = 0.0
+                new = n_col - 1
+                for c in range(n_col):
+                    acc += np.exp(cond[c] - best)
+                    if u < acc:
+                        new = c
+                        break
+                while cond[new] == -np.inf:  # guard against rounding at the top end
+                    new -= 1
+                if new != cur:
+                    dk, db = _count_delta(cur, new, n_obj, n_excl)
+                    lw += cond[new]
+                    if cur < n_excl:
+                        owner[cur] = -1
+                    if new < n_excl:
+                        owner[new] = i
+                    h ^= zobrist[i, cur] ^ zobrist[i, new]
+                    state[i] = new
+                    k += dk
+                    b += db
+                    moved = True
+            else:
+                c = int(np.random.random() * n_col)
+                if c != cur:
+                    delta = score[i, c] - score[i, cur]
+                    dk, db = _count_delta(cur, c, n_obj, n_excl)
+                    i2 = -1
+                    dest2 = clutter
+                    if c < n_excl:
+                        i2 = owner[c]
+                        if i2 != -1:
+                            # paper: the conflicting return goes to clutter; symmetric: it takes cur.
+                            dest2 = clutter if variant == 0 else cur
+                            delta += score[i2, dest2] - score[i2, c]
+                            dk2, db2 = _count_delta(c, dest2, n_obj, n_excl)
+                            dk += dk2
+                            db += db2
+                    delta += count_term[k + dk, b + db] - count_term[k, b]
+                    if delta >= 0.0 or np.log(np.random.random()) < delta:
+                        lw += delta
+                        if cur < n_excl:
+                            owner[cur] = -1
+                        state[i] = c
+                        owner_c_new = i
+                        h ^= zobrist[i, cur] ^ zobrist[i, c]
+                        if i2 != -1:
+                            state[i2] = dest2
+                            h ^= zobrist[i2, c] ^ zobrist[i2, dest2]
+                            if dest2 < n_excl:
+                                owner[dest2] = i2
+                        if c < n_excl:
+                            owner[c] = owner_c_new
+                        k += dk
+                        b += db
+                        moved = True
+        if step == burn_in or (moved and step > burn_in):
+            n_found = _lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found)
+    return n_found
+
+
+@numba.njit(cache=True, nogil=True)
+def _gather_sum(score, events, n_obj, n_excl, count_term, out):
+    """Exact log-weights of many events: a gather-sum over ``score`` plus the count term.
+
+    ``events`` uses the public codes (``>= 0`` exclusive column, ``-1 - t`` row option ``t``).
+    """
+    m = events.shape[1]
+    for e in range(events.shape[0]):
+        total = 0.0
+        k = 0
+        b = 0
+        for i in range(m):
+            c = np.int64(events[e, i])
+            if c < 0:
+                total += score[i, n_excl - 1 - c]
+            else:
+                total += score[i, c]
+                if c < n_obj:
+                    k += 1
+                elif c < n_excl:
+                    b += 1
+        out[e] = total + count_term[k, b]
+
+
+def _check_problem(score, n_objects, n_exclusive, count_term):
+    score = np.ascontiguousarray(score, dtype=float)
+    if score.ndim != 2:
+        raise ValueError(f"score must be a 2-D (m, n_exclusive + n_options) array, got shape {score.shape}")
+    m, n_col = score.shape
+    n_excl = check_int(n_exclusive, "n_exclusive", minimum=0, maximum=max(n_col - 1, 0))
+    n_obj = check_int(n_objects, "n_objects", minimum=0, maximum=n_excl)
+    if m and n_col - n_excl < 1:
+        raise ValueError("score needs at least one row-option column (clutter) after the exclusive columns")
+    if np.isnan(score).any() or np.isposinf(score).any():
+        raise ValueError("score must not contain NaN or +inf (use -inf for forbidden pairs)")
+    if m and not np.all(np.isfinite(score[:, n_excl])):
+        raise ValueError("score's clutter column (index n_exclusive) must be finite: clutter must always be possible")
+    count_term = np.ascontiguousarray(count_term, dtype=float)
+    if count_term.shape != (n_obj + 1, n_excl - n_obj + 1):
+        raise ValueError(
+            f"count_term must have shape (n_objects + 1, n_exclusive - n_objects + 1) = "
+            f"{(n_obj + 1, n_excl - n_obj + 1)}, got {count_term.shape}"
+        )
+    if np.isnan(count_term).any() or np.isposinf(count_term).any():
+        raise ValueError("count_term must not contain NaN or +inf")
+    return score, n_obj, n_excl, count_term
+
+
+def _to_state(events, n_excl):
+    ev = np.asarray(events, dtype=np.int64)
+    return np.where(ev < 0, n_excl - 1 - ev, ev)
+
+
+def _to_events(states, n_excl):
+    st = np.asarray(states, dtype=np.int64)
+    return np.where(st >= n_excl, n_excl - 1 - st, st).astype(np.int32)
+
+
+def event_log_weights(score, n_objects, n_exclusive, count_term, events) -> np.ndarray:
+    """Exact log-weights ``Σ_i score[i, a_i] + count_term[k, b]`` of events ``(E, m)``.
+
+    Events use the public codes: ``a_i >= 0`` an exclusive column, ``a_i = -1 - t`` row option
+    ``t`` (``-1`` clutter). Vectorised (compiled gather-sum), suitable for millions of events.
+    """
+    score, n_obj, n_excl, count_term = _check_problem(score, n_objects, n_exclusive, count_term)
+    events = np.asarray(events)
+    if events.ndim != 2 or events.shape[1] != score.shape[0]:
+        raise ValueError(f"events must have shape (E, {score.shape[0]}), got {events.shape}")
+    out = np.empty(events.shape[0])
+    if events.shape[0]:
+        lo, hi = int(events.min()), int(events.max())
+        if hi >= n_excl or lo < n_excl - score.shape[1]:
+            raise ValueError(f"event codes must lie in [{n_excl - score.shape[1]}, {n_excl - 1}], got [{lo}, {hi}]")
+        _gather_sum(score, np.ascontiguousarray(events), n_obj, n_excl, count_term, out)
+    return out
+
+
+def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, burn_in=0, variant="paper",
+                init=None):
+    """Search the association events of one parent with an MCMC chain.
+
+    Parameters
+    ----------
+    score : (m, n_exclusive + n_options) array_like
+        Log-scores: ``score[i, c]`` for return ``i`` on exclusive column ``c`` (objects first,
+        then births; ``-inf`` = forbidden, e.g. gated out) and ``score[i, n_exclusive + t]``
+        for row option ``t`` (``t = 0`` clutter, which must be finite).
+    n_objects : int
+        Columns ``0 .. n_objects-1`` are objects (counted by ``k``).
+    n_exclusive : int
+        Number of exclusive columns; columns ``n_objects .. n_exclusive-1`` are counted by ``b``.
+    count_term : (n_objects + 1, n_exclusive - n_objects + 1) array_like
+        ``φ[k, b]`` added to the gather-sum (``-inf`` forbids a count, e.g. two births).
+    n_steps : int
+        Number of proposals (seed 000 Fig 15 uses 100,000).
+    seed : int
+        Seed of the chain's random numbers (the search is reproducible).
+    burn_in : int, optional
+        Steps before recording starts (the state at step ``burn_in`` is the first recorded).
+    variant : {"paper", "symmetric", "gibbs"}
+        Proposal (see the module docstring).
+    init : (m,) array_like of int, optional
+        Starting event in public codes; default all-clutter. It must have finite weight.
+
+    Returns
+    -------
+    events : (K, m) int32 array
+        Distinct events visited after burn-in, in order of first visit (public codes).
+    log_weights : (K,) array
+        Their exact log-weights.
+    """
+    score, n_obj, n_excl, count_term = _check_problem(score, n_objects, n_exclusive, count_term)
+    n_steps = check_int(n_steps, "n_steps", minimum=0)
+    burn_in = check_int(burn_in, "burn_in", minimum=0, maximum=n_steps)
+    seed = check_int(seed, "seed", minimum=0)
+    if variant not in _VARIANT_CODE:
+        raise ValueError(f"variant must be one of {MCMC_VARIANTS}, got {variant!r}")
+    m, n_col = score.shape
+    if init is None:
+        state = np.full(m, n_excl, dtype=np.int64)
+    else:
+        init = np.asarray(init)
+        if init.shape != (m,):
+            raise ValueError(f"init must have shape ({m},), got {init.shape}")
+        state = _to_state(init, n_excl)
+        if state.size and (state.min() < 0 or state.max() >= n_col):
+            raise ValueError("init holds codes outside the score matrix")
+        excl = state[state < n_excl]
+        if len(np.unique(excl)) != len(excl):
+            raise ValueError("init assigns two returns to the same exclusive column")
+    if not np.isfinite(_state_log_weight(score, state, n_obj, n_excl, count_term)):
+        raise ValueError("init must have a finite log-weight (a feasible event)")
+    ss = np.random.SeedSequence(seed)
+    key_seed, chain_seed = ss.generate_state(2, dtype=np.uint32)
+    zobrist = np.random.default_rng(key_seed).integers(
+        np.iinfo(np.int64).min, np.iinfo(np.int64).max, size=(m, max(n_col, 1)), dtype=np.int64
+    )
+    capacity = n_steps - burn_in + 1
+    table = np.full(1 << int(2 * capacity - 1).bit_length(), -1, dtype=np.int64)
+    hashes = np.empty(capacity, dtype=np.int64)
+    rows = np.empty((capacity, m), dtype=np.int64)
+    logw = np.empty(capacity)
+    n_found = _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in,
+                         _VARIANT_CODE[variant], int(chain_seed), table, hashes, rows, logw)
+    return _to_events(rows[:n_found], n_excl), logw[:n_found].copy()

@@ -1,6 +1,7 @@
 """Motion, sensor and population models."""
 
 from .motion import ConstantVelocity, OrnsteinUhlenbeck
+from .orbit import TwoBodyOrbit
 from .population import (
     BinomialBirth,
     BinomialSurvival,
@@ -13,6 +14,7 @@ from .sensors import Box, DetectionModel, FieldOfView, LinearPositionSensor, Poi
 __all__ = [
     "ConstantVelocity",
     "OrnsteinUhlenbeck",
+    "TwoBodyOrbit",
     "LinearPositionSensor",
     "FieldOfView",
     "Box",

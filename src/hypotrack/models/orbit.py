@@ -1,0 +1,330 @@
+"""Planar two-body (Keplerian) orbit model for the SSA experiments, EKF-ready.
+
+State ``x = [x, y, vx, vy]`` in km and km/s, inertial frame centred on the Earth.
+
+Propagation solves the two-body problem *exactly*: Kepler's equation in the universal
+variable χ (valid for every conic) by Newton's method, then the Lagrange coefficients
+f, g, ḟ, ġ (Vallado, *Fundamentals of Astrodynamics*, 4th ed., Alg. 8; Curtis, *Orbital
+Mechanics for Engineering Students*, §3.7). This is exact up to rounding, vectorised over
+objects, and far cheaper than numerical integration — the hypothesis filters propagate
+~100 tracks every scan for hundreds of scans.
+
+The state-transition matrix ``Φ = ∂x(t)/∂x(0)`` is the exact derivative of that solution,
+computed by complex-step differentiation (Squire & Trapp 1998; Martins, Sturdza & Alonso
+2003): the four perturbed initial states ``x0 + i h e_j`` are propagated with complex
+arithmetic and ``Φ[:, j] = Im x(t) / h``. With ``h = 1e-30`` there is no subtractive
+cancellation, so Φ is accurate to machine precision — unlike finite differences. The
+numerical solution of the variational equations ``Φ̇ = A(x) Φ`` (DESIGN.md §3) is kept as
+:func:`integrate_variational` (scipy DOP853 at tight tolerances): the independent
+reference the tests check both the propagation and Φ against.
+
+Process noise is white acceleration of intensity ``q`` (km²/s³), discretised as for the
+nearly-constant-velocity model (DESIGN.md §5); over a 60-s scan the gravity-gradient
+coupling it ignores changes Q by a relative amount of order ``(n Δt)²`` ≲ 1e-2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.integrate import solve_ivp
+
+from .._validation import check_finite_array, check_nonnegative, check_positive
+from .motion import ConstantVelocity
+
+__all__ = [
+    "MU_EARTH",
+    "EARTH_RADIUS",
+    "TwoBodyOrbit",
+    "integrate_variational",
+    "specific_energy",
+    "angular_momentum",
+    "orbital_period",
+    "elements_to_state",
+    "circular_velocity",
+]
+
+MU_EARTH = 398600.4418
+"""Earth's gravitational parameter μ (km³/s²)."""
+
+EARTH_RADIUS = 6378.137
+"""Earth's equatorial radius (km), WGS-84."""
+
+_H_STEP = 1e-30  # complex step; any tiny value works since nothing is subtracted
+_NEWTON_MAX_ITER = 60
+
+
+def _states(x, name="x") -> np.ndarray:
+    arr = np.asarray(x, dtype=float)
+    if arr.ndim == 1:
+        arr = arr[None]
+    if arr.size == 0:
+        return np.zeros((0, 4))
+    return check_finite_array(arr, name, shape=(None, 4))
+
+
+# Taylor series C(z) = Σ (−z)^k/(2k+2)!, S(z) = Σ (−z)^k/(2k+3)!, used for |z| < 0.1 where
+# the closed forms cancel; 8 terms leave a truncation error below 1e-20.
+_C_SERIES = np.polynomial.Polynomial([(-1) ** k / math.factorial(2 * k + 2) for k in range(8)])
+_S_SERIES = np.polynomial.Polynomial([(-1) ** k / math.factorial(2 * k + 3) for k in range(8)])
+
+
+def _stumpff(z):
+    """Stumpff functions C(z) = (1 − cos √z)/z and S(z) = (√z − sin √z)/√z³.
+
+    Both are entire functions of z (even in √z, so the branch of the square root does
+    not matter), which is what makes the complex step exact. Near z = 0 the closed forms
+    cancel, so the Taylor series is used there.
+    """
+    if not np.iscomplexobj(z) and np.any(z < 0):
+        # Hyperbolic arcs: √z is imaginary; evaluate on the complex plane, result is real.
+        C, S = _stumpff(z.astype(complex))
+        return C.real, S.real
+    small = np.abs(z) < 0.1
+    if np.all(small):  # the common case of a short scan interval: series only
+        return _C_SERIES(z), _S_SERIES(z)
+    zb = np.where(small, 1.0, z)
+    sq = np.sqrt(zb)
+    c = (1 - np.cos(sq)) / zb
+    s = (sq - np.sin(sq)) / (zb * sq)
+    if np.any(small):
+        zs = np.where(small, z, 0)
+        c = np.where(small, _C_SERIES(zs), c)
+        s = np.where(small, _S_SERIES(zs), s)
+    return c, s
+
+
+def _kepler_universal(r0v, v0v, dt, mu):
+    """Propagate position/velocity rows (real or complex) by ``dt`` on Keplerian orbits.
+
+    Parameters
+    ----------
+    r0v, v0v : (N, 2) arrays (complex for the complex step).
+    dt : (N,) float array.
+
+    Returns
+    -------
+    r, v : (N, 2) arrays.
+    """
+    sqmu = np.sqrt(mu)
+    r0 = np.sqrt(r0v[:, 0] ** 2 + r0v[:, 1] ** 2)  # analytic in the state, unlike np.abs
+    v0sq = v0v[:, 0] ** 2 + v0v[:, 1] ** 2
+    rdotv = r0v[:, 0] * v0v[:, 0] + r0v[:, 1] * v0v[:, 1]
+    alpha = 2.0 / r0 - v0sq / mu  # reciprocal semi-major axis
+    sigma0 = rdotv / sqmu
+    # Initial guess: exact for circular orbits (elliptic), and a safe start otherwise.
+    ar = np.real(alpha)
+    chi = np.where(ar > 1e-12, sqmu * dt * alpha, sqmu * dt / r0)
+    converged_once = np.zeros(len(dt), bool)
+    for _ in range(_NEWTON_MAX_ITER):
+        z = alpha * chi**2
+        C, S = _stumpff(z)
+        chi2 = chi**2
+        F = sigma0 * chi2 * C + (1 - alpha * r0) * chi**3 * S + r0 * chi - sqmu * dt
+        r = sigma0 * chi * (1 - z * S) + (1 - alpha * r0) * chi2 * C + r0  # dF/dχ = |r(t)|
+        step = F / r
+        chi = chi - step
+        # Newton converges quadratically: at 1e-13 the next step is at rounding level.
+        done = np.abs(np.real(step)) <= 1e-13 * np.maximum(np.abs(np.real(chi)), 1.0)
+        # One Newton step after the real part has converged makes the derivative part
+        # (the complex step's imaginary part) converge too.
+        if np.all(converged_once):
+            break
+        converged_once |= done
+    else:
+        raise RuntimeError("Kepler's equation (universal variable) did not converge")
+    z = alpha * chi**2
+    C, S = _stumpff(z)
+    chi2 = chi**2
+    f = 1 - chi2 / r0 * C
+    g = dt - chi**3 / sqmu * S
+    rv = f[:, None] * r0v + g[:, None] * v0v
+    rn = np.sqrt(rv[:, 0] ** 2 + rv[:, 1] ** 2)
+    fdot = sqmu / (rn * r0) * (alpha * chi**3 * S - chi)
+    gdot = 1 - chi2 / rn * C
+    vv = fdot[:, None] * r0v + gdot[:, None] * v0v
+    return rv, vv
+
+
+def _check_dt(dt) -> float:
+    dt = check_finite_array(dt, "dt", ndim=0)
+    return float(dt)
+
+
+@dataclass(frozen=True)
+class TwoBodyOrbit:
+    """Planar two-body motion ``r̈ = −μ r / |r|³`` plus white acceleration noise.
+
+    Follows the motion-model protocol of :mod:`hypotrack.models.motion`. ``dt`` may be
+    negative for :meth:`propagate` and :meth:`transition` (the dynamics are reversible);
+    :meth:`Q` needs ``dt >= 0``.
+
+    Parameters
+    ----------
+    mu : float
+        Gravitational parameter (km³/s²), default Earth's.
+    q : float
+        Acceleration-noise intensity (km²/s³) ≥ 0; DESIGN.md §5 uses 1e-10.
+    """
+
+    mu: float = MU_EARTH
+    q: float = 1e-10
+
+    def __post_init__(self):
+        object.__setattr__(self, "mu", check_positive(self.mu, "mu"))
+        object.__setattr__(self, "q", check_nonnegative(self.q, "q"))
+
+    ndim = 4
+
+    def propagate(self, x, dt) -> np.ndarray:
+        """Propagate states ``(n, 4)`` (or one ``(4,)``) by ``dt`` seconds, exactly."""
+        single = np.ndim(x) == 1
+        X = _states(x)
+        dt = _check_dt(dt)
+        if len(X) == 0 or dt == 0:
+            out = X.copy()
+        else:
+            r, v = _kepler_universal(X[:, :2], X[:, 2:], np.full(len(X), dt), self.mu)
+            out = np.hstack([r, v])
+        return out[0] if single else out
+
+    def transition(self, x, dt):
+        """Propagated states ``(n, 4)`` and their state-transition matrices ``(n, 4, 4)``.
+
+        ``Φ[k] = ∂x_k(t + dt) / ∂x_k(t)``, by complex-step differentiation of the exact
+        Kepler solution (module docstring): the EKF's Jacobian.
+        """
+        X = _states(x)
+        dt = _check_dt(dt)
+        n = len(X)
+        if n == 0:
+            return X.copy(), np.zeros((0, 4, 4))
+        if dt == 0:
+            return X.copy(), np.broadcast_to(np.eye(4), (n, 4, 4)).copy()
+        # Row (k, j) is object k with its component j perturbed by i·h.
+        Xc = np.repeat(X[:, None, :], 4, axis=1).astype(complex)
+        Xc[:, np.arange(4), np.arange(4)] += 1j * _H_STEP
+        Xc = Xc.reshape(4 * n, 4)
+        r, v = _kepler_universal(Xc[:, :2], Xc[:, 2:], np.full(4 * n, dt), self.mu)
+        out = np.hstack([r, v]).reshape(n, 4, 4)  # [object, perturbed column j, component i]
+        x_pred = out[:, 0, :].real.copy()
+        Phi = np.swapaxes(out.imag, 1, 2) / _H_STEP
+        return x_pred, Phi
+
+    def Q(self, dt) -> np.ndarray:
+        """White-acceleration process noise ``q [[dt³/3 I, dt²/2 I], [dt²/2 I, dt I]]``."""
+        return ConstantVelocity(self.q, 2).Q(dt)
+
+    def period(self, x) -> np.ndarray:
+        """Orbital period(s) ``2π sqrt(a³/μ)`` (s) of states; ``inf`` if unbound."""
+        return orbital_period(_semi_major_axis(_states(x), self.mu), self.mu)
+
+
+def integrate_variational(x0, dt, mu=MU_EARTH, *, rtol=1e-13, atol=1e-13):
+    """Numerically integrate the two-body equations and their variational equations.
+
+    ``ẋ = [v, −μ r/|r|³]``, ``Φ̇ = A(x) Φ`` with ``A = [[0, I], [μ(3 r rᵀ/|r|² − I)/|r|³, 0]]``,
+    ``Φ(0) = I``, by scipy's DOP853. Slow (one object at a time); it is the independent
+    reference for :class:`TwoBodyOrbit`, not the production path.
+
+    Parameters
+    ----------
+    x0 : (4,) initial state (km, km/s).
+    dt : float, time span (s), any sign.
+
+    Returns
+    -------
+    x : (4,) state at ``dt``; Phi : (4, 4) state-transition matrix.
+    """
+    x0 = check_finite_array(x0, "x0", shape=(4,))
+    mu = check_positive(mu, "mu")
+    dt = _check_dt(dt)
+
+    def rhs(_t, y):
+        r, v = y[:2], y[2:4]
+        Phi = y[4:].reshape(4, 4)
+        rn = np.hypot(r[0], r[1])
+        G = mu * (3 * np.outer(r, r) / rn**2 - np.eye(2)) / rn**3
+        A = np.zeros((4, 4))
+        A[:2, 2:] = np.eye(2)
+        A[2:, :2] = G
+        return np.concatenate([v, -mu * r / rn**3, (A @ Phi).ravel()])
+
+    y0 = np.concatenate([x0, np.eye(4).ravel()])
+    if dt == 0:
+        return x0.copy(), np.eye(4)
+    sol = solve_ivp(rhs, (0.0, dt), y0, method="DOP853", rtol=rtol, atol=atol)
+    if not sol.success:
+        raise RuntimeError(f"variational integration failed: {sol.message}")
+    y = sol.y[:, -1]
+    return y[:4], y[4:].reshape(4, 4)
+
+
+def specific_energy(x, mu=MU_EARTH) -> np.ndarray:
+    """Specific orbital energy ``|v|²/2 − μ/|r|`` (km²/s²) of states ``(n, 4)``."""
+    X = _states(x)
+    return 0.5 * np.sum(X[:, 2:] ** 2, axis=1) - mu / np.hypot(X[:, 0], X[:, 1])
+
+
+def angular_momentum(x) -> np.ndarray:
+    """Specific angular momentum ``x vy − y vx`` (km²/s) of states ``(n, 4)``; > 0 prograde."""
+    X = _states(x)
+    return X[:, 0] * X[:, 3] - X[:, 1] * X[:, 2]
+
+
+def _semi_major_axis(X, mu):
+    eps = specific_energy(X, mu)
+    with np.errstate(divide="ignore"):
+        return np.where(eps < 0, -mu / (2 * eps), np.inf)
+
+
+def orbital_period(a, mu=MU_EARTH):
+    """Period ``2π sqrt(a³/μ)`` (s) of semi-major axis ``a`` (km)."""
+    return 2 * np.pi * np.sqrt(np.asarray(a, dtype=float) ** 3 / mu)
+
+
+def elements_to_state(a, e, arg_periapsis, true_anomaly, mu=MU_EARTH) -> np.ndarray:
+    """Prograde (counter-clockwise) planar state(s) from orbital elements.
+
+    Parameters
+    ----------
+    a : semi-major axis (km), > 0.
+    e : eccentricity in [0, 1).
+    arg_periapsis : angle of periapsis from the +x axis (rad).
+    true_anomaly : angle from periapsis (rad); the polar angle is their sum.
+
+    Returns
+    -------
+    (n, 4) states ``[x, y, vx, vy]`` (``(4,)`` for scalar inputs).
+    """
+    a_, e_, w_, nu_ = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a, e, arg_periapsis, true_anomaly)))
+    scalar = a_.ndim == 0
+    a_, e_, w_, nu_ = (np.atleast_1d(v) for v in (a_, e_, w_, nu_))
+    for v, name in ((a_, "a"), (e_, "e"), (w_, "arg_periapsis"), (nu_, "true_anomaly")):
+        check_finite_array(v, name)
+    if np.any(a_ <= 0):
+        raise ValueError(f"a (semi-major axis) must be > 0 km, got {a_[a_ <= 0][0]!r}")
+    if np.any((e_ < 0) | (e_ >= 1)):
+        raise ValueError(f"e (eccentricity) must lie in [0, 1), got {e_[(e_ < 0) | (e_ >= 1)][0]!r}")
+    p = a_ * (1 - e_**2)
+    r = p / (1 + e_ * np.cos(nu_))
+    th = w_ + nu_
+    k = np.sqrt(mu / p)
+    v_r = k * e_ * np.sin(nu_)
+    v_t = k * (1 + e_ * np.cos(nu_))
+    c, s = np.cos(th), np.sin(th)
+    out = np.column_stack([r * c, r * s, v_r * c - v_t * s, v_r * s + v_t * c])
+    return out[0] if scalar else out
+
+
+def circular_velocity(positions, mu=MU_EARTH) -> np.ndarray:
+    """Prograde circular-orbit velocity ``sqrt(μ/|r|)`` perpendicular to ``r``, ``(n, 2)``.
+
+    The velocity prior mean of an SSA birth (:class:`hypotrack.models.population.UniformBirthDensity`).
+    """
+    p = np.atleast_2d(np.asarray(positions, dtype=float))
+    rn = np.hypot(p[:, 0], p[:, 1])
+    k = np.sqrt(mu / rn) / rn
+    return np.column_stack([-p[:, 1] * k, p[:, 0] * k])

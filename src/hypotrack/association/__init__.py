@@ -1,1 +1,16 @@
-"""hypotrack.association"""
+"""Data association: counting, enumeration, assignment, gating and clustering.
+
+Event convention (used by the whole project): for ``n`` objects (tracks) and ``m`` returns an
+association event is an int vector ``a`` of length ``m``; ``a[i] = j`` (``0 <= j < n``) assigns
+return ``i`` to object ``j`` and ``a[i] = -1`` makes it clutter (or, in a hypothesis filter, a
+birth handled by the caller's extra columns). Non-negative entries are distinct; objects not
+named in ``a`` are missed detections.
+"""
+
+from .counting import count_associations, count_children, count_gated_associations
+
+__all__ = [
+    "count_associations",
+    "count_children",
+    "count_gated_associations",
+]

@@ -1,0 +1,132 @@
+"""Exact hypothesis counts (paper 000 Eq. 4, Sec. II-C) against independent brute force."""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from hypotrack.association import count_associations, count_children, count_gated_associations
+
+
+def brute_force_events(n_tracks, n_meas, allowed=None):
+    """Every event by itertools: each return picks clutter or an object; keep the injective ones."""
+    options = []
+    for i in range(n_meas):
+        opts = [-1] + [j for j in range(n_tracks) if allowed is None or allowed[i, j]]
+        options.append(opts)
+    events = []
+    for a in itertools.product(*options):
+        used = [j for j in a if j >= 0]
+        if len(used) == len(set(used)):
+            events.append(a)
+    return events
+
+
+def test_published_value_eq4():
+    # Paper 000 quotes A(10, 5) = 63,591 under Eq. 4.
+    assert count_associations(10, 5) == 63591
+
+
+def test_returns_exact_python_int_beyond_64_bits():
+    value = count_associations(30, 30)
+    assert type(value) is int
+    assert value > 2**63
+    # Closed-form sum recomputed independently with math.comb/math.factorial.
+    assert value == sum(math.comb(30, n) ** 2 * math.factorial(n) for n in range(31))
+
+
+@pytest.mark.parametrize("M", range(7))
+@pytest.mark.parametrize("m", range(7))
+def test_matches_brute_force_and_is_symmetric(M, m):
+    assert count_associations(M, m) == len(brute_force_events(M, m))
+    assert count_associations(M, m) == count_associations(m, M)
+
+
+def test_small_closed_forms():
+    # A(M, 0) = 1 (only the empty event); A(M, 1) = M + 1 (the return is clutter or one object).
+    for M in range(10):
+        assert count_associations(M, 0) == 1
+        assert count_associations(M, 1) == M + 1
+    # A(2, 2) = 1 + 4 + 2.
+    assert count_associations(2, 2) == 7
+
+
+def test_count_children_birth_death_terms():
+    # A(3,2) + 2 A(4,2) + 3 A(2,2) = 13 + 2*21 + 3*7.
+    assert count_children(3, 2, n_birth_regions=2, n_deaths=3) == 76
+    assert count_children(4, 3) == count_associations(4, 3)
+    # With no objects the death term is absent: A(0,2) + 5 A(1,2) = 1 + 5*3.
+    assert count_children(0, 2, n_birth_regions=5) == 16
+
+
+def test_gated_count_lecture_example():
+    # Paper 004 validation matrix (rows y1..y4, columns T1..T3).
+    allowed = np.array([[0, 0, 1], [0, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=bool)
+    assert count_gated_associations(allowed) == len(brute_force_events(3, 4, allowed)) == 10
+
+
+def test_gated_count_random_vs_brute_force():
+    rng = np.random.default_rng(1)
+    for _ in range(60):
+        m, n = rng.integers(0, 6, size=2)
+        allowed = rng.random((m, n)) < rng.uniform(0.1, 0.9)
+        assert count_gated_associations(allowed) == len(brute_force_events(n, m, allowed))
+
+
+def test_gated_count_full_matrix_equals_eq4():
+    assert count_gated_associations(np.ones((9, 12), dtype=bool)) == count_associations(12, 9)
+
+
+def test_gated_count_banded_uses_narrow_frontier():
+    # A 40 x 40 band (return k gates objects k and k+1): too many events for brute force, so the
+    # oracle is an independent two-state transfer recursion along the band, the state being
+    # whether object k+1 was already taken by return k.
+    n = 40
+    allowed = np.eye(n, dtype=bool) | np.eye(n, k=1, dtype=bool)
+    free, taken = 1, 0  # counts of partial events after return k with object k+1 free / taken
+    for k in range(n):
+        # return k: clutter, object k (needs it untaken), or object k+1 (last return has none).
+        total = free + taken
+        to_own = free
+        to_next = total if k + 1 < n else 0
+        free, taken = total + to_own, to_next
+    assert count_gated_associations(allowed) == free + taken
+
+
+def test_gated_count_with_cap_stops_on_wide_component():
+    # Fully gated but for the diagonal: 30 open columns at once, so the capped DP is used.
+    allowed = ~np.eye(30, dtype=bool)
+    capped = count_gated_associations(allowed, cap=10**5)
+    assert capped > 10**5
+    assert capped < count_associations(30, 30)
+
+
+@pytest.mark.parametrize(
+    "args, name, exc",
+    [
+        ((-1, 3), "M", ValueError),
+        ((3, -2), "m", ValueError),
+        ((2.5, 3), "M", TypeError),
+        ((3, None), "m", TypeError),
+    ],
+)
+def test_count_associations_bad_input(args, name, exc):
+    with pytest.raises(exc, match=name):
+        count_associations(*args)
+
+
+def test_count_children_bad_input():
+    with pytest.raises(ValueError, match="n_birth_regions"):
+        count_children(2, 2, n_birth_regions=-1)
+    with pytest.raises(ValueError, match="n_deaths"):
+        count_children(2, 2, n_deaths=3)
+
+
+def test_gated_count_bad_input():
+    with pytest.raises(TypeError, match="allowed"):
+        count_gated_associations(np.ones((2, 2)))
+    with pytest.raises(ValueError, match="allowed"):
+        count_gated_associations(np.ones(3, dtype=bool))
+    with pytest.raises(ValueError, match="cap"):
+        count_gated_associations(np.ones((2, 2), dtype=bool), cap=-1)

@@ -151,6 +151,17 @@ def _filters(model, R, n_sensors, dt, ecmht_rng, pdaf_variant):
     }
 
 
+def _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance, pdaf_variant, seed):
+    """Simulate the scenario and build the four filters from two independent child streams."""
+    model = OrnsteinUhlenbeck(sigma2, gamma)
+    scen_seed, ecmht_seed = (np.random.SeedSequence(seed) if isinstance(seed, int) else seed).spawn(2)
+    real = simulate_closely_spaced(
+        model, n_runs=n_runs, n_scans=n_scans, n_sensors=n_sensors, R=R, dt=dt,
+        initial_variance=initial_variance, rng=np.random.default_rng(scen_seed),
+    )
+    return model, real, _filters(model, R, n_sensors, dt, np.random.default_rng(ecmht_seed), pdaf_variant)
+
+
 def closely_spaced_monte_carlo(
     *,
     sigma2: float,
@@ -199,13 +210,8 @@ def closely_spaced_monte_carlo(
         if v not in PDAF_VARIANTS:
             raise ValueError(f"PDAF variant must be one of {PDAF_VARIANTS}, got {v!r}")
     n_scans = check_int(n_scans, "n_scans", minimum=2)
-    model = OrnsteinUhlenbeck(sigma2, gamma)
-    scen_seed, ecmht_seed = np.random.SeedSequence(seed).spawn(2) if isinstance(seed, int) else seed.spawn(2)
-    real = simulate_closely_spaced(
-        model, n_runs=n_runs, n_scans=n_scans, n_sensors=n_sensors, R=R, dt=dt,
-        initial_variance=initial_variance, rng=np.random.default_rng(scen_seed),
-    )
-    filters = _filters(model, R, n_sensors, dt, np.random.default_rng(ecmht_seed), pdaf_variant)
+    model, real, filters = _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance,
+                                                 pdaf_variant, seed)
     for v in extra_pdaf_variants:
         filters[f"PDAF[{v}]"] = PDAFilter(model, R, n_sensors, dt, variant=v)
     scores = {name: np.empty((real.truth.shape[0], n_scans - 1)) for name in filters}
@@ -234,13 +240,8 @@ def closely_spaced_realisation(
     dict
         ``time`` (n_scans,), ``truth`` (n_scans, 2), and method → (n_scans, 2) estimates.
     """
-    model = OrnsteinUhlenbeck(sigma2, gamma)
-    scen_seed, ecmht_seed = np.random.SeedSequence(seed).spawn(2) if isinstance(seed, int) else seed.spawn(2)
-    real = simulate_closely_spaced(
-        model, n_runs=1, n_scans=n_scans, n_sensors=n_sensors, R=R, dt=dt,
-        initial_variance=initial_variance, rng=np.random.default_rng(scen_seed),
-    )
-    filters = _filters(model, R, n_sensors, dt, np.random.default_rng(ecmht_seed), pdaf_variant)
+    _, real, filters = _scenario_and_filters(sigma2, gamma, 1, n_scans, n_sensors, R, dt, initial_variance,
+                                             pdaf_variant, seed)
     out = {"time": real.times, "truth": real.truth[0]}
     for name, f in filters.items():
         out[name] = np.stack([f.step(real.scans[:, k])[0].copy() for k in range(n_scans)])

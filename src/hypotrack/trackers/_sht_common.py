@@ -1,0 +1,172 @@
+"""What GNN, JPDA and the initiator share: the scan model and prediction + gating of tracks.
+
+Lecture notes 004 ("Single hypothesis tracking"): when a scan arrives, the confirmed tracks are
+predicted, the returns are gated against them (the validation matrix), association runs on
+the gated pairs, and unused returns go to the initiation logic.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import (
+    check_covariance,
+    check_finite_array,
+    check_measurements,
+    check_nonnegative,
+    check_positive,
+    check_probability,
+)
+from ..association import gate_threshold, validation_matrix
+from ..gaussian import innovation, mahalanobis2_matrix, predict_with
+
+__all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks"]
+
+
+@dataclass(frozen=True, eq=False)
+class ScanModel:
+    """What a single-hypothesis tracker assumes about every scan (lecture 004, "Standard settings").
+
+    Parameters
+    ----------
+    H : (p, d) array_like
+        Measurement matrix.
+    R : (p, p) array_like
+        Measurement-noise covariance (symmetric positive definite).
+    p_D : float
+        Detection probability ``P_D`` of every target, in (0, 1].
+    p_gate : float
+        Gate probability ``P_G`` in (0, 1): a target's return lies in its gate with this
+        probability; the gate is ``d² ≤ χ²_p⁻¹(P_G)``.
+    clutter_density : float
+        False-alarm spatial density ``β_FA`` (expected false returns per unit volume per scan), > 0.
+    new_target_density : float
+        New-target density ``β_NT`` ≥ 0 (used by GNN, whose external sources have density
+        ``β_EX = β_FA + β_NT``; JPDA has no new-target hypotheses).
+    """
+
+    H: np.ndarray
+    R: np.ndarray
+    p_D: float
+    p_gate: float
+    clutter_density: float
+    new_target_density: float = 0.0
+
+    def __post_init__(self):
+        H = check_finite_array(np.atleast_2d(self.H), "H", ndim=2)
+        object.__setattr__(self, "H", H)
+        object.__setattr__(self, "R", check_covariance(np.atleast_2d(self.R), "R", dim=H.shape[0]))
+        object.__setattr__(self, "p_D", check_probability(self.p_D, "p_D", low_open=True))
+        object.__setattr__(self, "p_gate", check_probability(self.p_gate, "p_gate", low_open=True, high_open=True))
+        object.__setattr__(self, "clutter_density", check_positive(self.clutter_density, "clutter_density"))
+        object.__setattr__(self, "new_target_density", check_nonnegative(self.new_target_density, "new_target_density"))
+        object.__setattr__(self, "gate", gate_threshold(self.p_gate, H.shape[0]))
+
+    @classmethod
+    def from_sensor(cls, sensor, *, p_gate: float = 0.99, new_target_density: float = 0.0) -> "ScanModel":
+        """Take ``H``, ``R``, ``P_D`` and ``β_FA`` from a :class:`hypotrack.models.sensors.Sensor`."""
+        if sensor.clutter is None or sensor.clutter.intensity <= 0:
+            raise ValueError("sensor must have clutter with a positive rate (β_FA > 0) for JPDA/GNN scores")
+        return cls(
+            sensor.measurement.H, sensor.measurement.R, sensor.detection.p_D, p_gate,
+            sensor.clutter.intensity, new_target_density,
+        )
+
+    @property
+    def dim(self) -> int:
+        """Measurement dimension ``p``."""
+        return self.H.shape[0]
+
+    @property
+    def ndim_state(self) -> int:
+        return self.H.shape[1]
+
+    @property
+    def log_missed(self) -> float:
+        """``log(1 − P_D P_G)``: the weight of "target not detected in its gate"."""
+        return float(np.log1p(-self.p_D * self.p_gate))
+
+    @property
+    def external_density(self) -> float:
+        """``β_EX = β_FA + β_NT`` (lecture 004, "GNN Algorithm")."""
+        return self.clutter_density + self.new_target_density
+
+
+@dataclass(frozen=True, eq=False)
+class GatedTracks:
+    """Predicted tracks and their gating against one scan.
+
+    Attributes
+    ----------
+    x, P : (n, d), (n, d, d)
+        Predicted means and covariances.
+    z_pred, S, K : (n, p), (n, p, p), (n, d, p)
+        Predicted measurements, innovation covariances and Kalman gains.
+    Z : (m, p)
+        The scan's returns.
+    d2 : (m, n)
+        Squared Mahalanobis distances ``(z_i − ẑ_j)ᵀ S_j⁻¹ (z_i − ẑ_j)``.
+    logdet : (n,)
+        ``log det S_j``.
+    valid : (m, n) bool
+        The validation matrix (lecture 004, "Gating"): return i lies in track j's gate.
+    """
+
+    x: np.ndarray
+    P: np.ndarray
+    z_pred: np.ndarray
+    S: np.ndarray
+    K: np.ndarray
+    Z: np.ndarray
+    d2: np.ndarray
+    logdet: np.ndarray
+    valid: np.ndarray
+
+    @property
+    def n_tracks(self) -> int:
+        return self.x.shape[0]
+
+    @property
+    def n_meas(self) -> int:
+        return self.Z.shape[0]
+
+    def log_likelihood(self) -> np.ndarray:
+        """``log N(z_i; ẑ_j, S_j)``, shape (m, n) (the predicted measurement density)."""
+        p = self.Z.shape[1]
+        return -0.5 * (self.d2 + self.logdet[None, :] + p * np.log(2.0 * np.pi))
+
+
+def predict_tracks(motion, x, P, dt):
+    """Kalman prediction of every track by ``dt`` (no-op for ``dt = 0`` or no tracks)."""
+    x = np.asarray(x, dtype=float)
+    if len(x) == 0 or dt == 0:
+        return x, np.asarray(P, dtype=float)
+    return predict_with(motion, x, P, dt)
+
+
+def gate_tracks(x, P, Z, model: ScanModel, *, gate: float | None = None) -> GatedTracks:
+    """Predicted measurements, distances and the validation matrix of predicted tracks ``x, P``.
+
+    Parameters
+    ----------
+    x, P : (n, d), (n, d, d)
+        Predicted track means and covariances (``n = 0`` allowed).
+    Z : (m, p) array_like
+        Returns of the scan (``m = 0`` allowed); NaN or inf raise ``ValueError``.
+    model : ScanModel
+    gate : float, optional
+        Squared-distance gate; default the model's ``χ²_p⁻¹(P_G)``.
+    """
+    Z = check_measurements(Z, "Z", model.dim)
+    x = np.asarray(x, dtype=float).reshape(-1, model.ndim_state)
+    P = np.asarray(P, dtype=float).reshape(-1, model.ndim_state, model.ndim_state)
+    n, p = len(x), model.dim
+    if n:
+        z_pred, S, K = innovation(x, P, model.H, model.R)
+    else:
+        z_pred, S, K = np.zeros((0, p)), np.zeros((0, p, p)), np.zeros((0, model.ndim_state, p))
+    d2, logdet = mahalanobis2_matrix(Z, z_pred, S)
+    valid = validation_matrix(d2, model.gate if gate is None else gate)
+    return GatedTracks(x, P, z_pred, S, K, Z, d2, logdet, valid)

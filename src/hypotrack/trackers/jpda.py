@@ -1,0 +1,130 @@
+"""Joint probabilistic data association (JPDA) and its one-target case, the PDAF.
+
+Lecture notes 004, "Joint Probabilistic Data Association (JPDA) Filter": with the past summarised
+by one hypothesis and a fixed number of targets (no new-target hypotheses), compute for every
+target ``T_j`` the marginal probabilities ``P(T_j ↔ y_i)`` and ``P(T_j ↔ ∅)`` (Eq. (1)) and update
+each target with the PDA formulas using them. The joint event weight follows from the
+fundamental theorem of TT without NT terms: dividing by ``β_FA^m Π_j (1 − P_D P_G)``, an event
+weighs ``Π_{detected j} P_D p_j(y_θ⁻¹(j)) / (β_FA (1 − P_D P_G))``, so per target
+
+    missed: ``1 − P_D P_G``,  return i: ``P_D N(y_i; ẑ_j, S_j) / β_FA``  (gated pairs only),
+
+the weights of Stone Soup's ``PDAHypothesiser`` with an explicit ``clutter_spatial_density``.
+Probabilities are computed separately per cluster of the validation matrix (the lecture's
+clusters {T1, T2}, {T3}); a target that shares no return with another is its own PDAF problem
+with the closed form ``β_i = L_i / (1 − P_D P_G + Σ_k L_k)`` (Bar-Shalom, Daum & Huang 2009,
+Eq. 29–30), larger clusters use the exact recursion of
+:func:`hypotrack.association.marginals.jpda_marginals`.
+
+The PDA update (Bar-Shalom, Daum & Huang 2009, Eqs. 35–40) with combined innovation
+``ν = Σ_i β_i ν_i``:
+
+    x⁺ = x⁻ + K ν,
+    P⁺ = β_0 P⁻ + (1 − β_0) P_c + K (Σ_i β_i ν_i ν_iᵀ − ν νᵀ) Kᵀ,
+
+``P_c`` the Kalman-updated covariance (Joseph form here) and the last term the *spread of the
+innovations* that accounts for not knowing which return is the target's. Targets sharing
+returns are pulled toward each other's returns — the track coalescence of JPDA on crossing
+targets (lecture 004, Fitzgerald 1986), which the ``sht`` experiment shows.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import logsumexp
+
+from ..association import find_clusters
+from ..association.marginals import jpda_marginals
+from ..gaussian import symmetrize
+from ._sht_common import GatedTracks, ScanModel
+
+__all__ = ["jpda_log_weights", "pdaf_probabilities", "jpda_probabilities", "pda_update"]
+
+
+def jpda_log_weights(gated: GatedTracks, model: ScanModel) -> np.ndarray:
+    """Per-target log weights ``(n, m + 1)``: column 0 missed, column ``1 + i`` return i.
+
+    ``log(1 − P_D P_G)`` and ``log(P_D N(y_i; ẑ_j, S_j) / β_FA)``; ``−∞`` outside the gate.
+    """
+    n = gated.n_tracks
+    lw = np.empty((n, gated.n_meas + 1))
+    lw[:, 0] = model.log_missed
+    det = np.log(model.p_D) - np.log(model.clutter_density) + gated.log_likelihood().T
+    lw[:, 1:] = np.where(gated.valid.T, det, -np.inf)
+    return lw
+
+
+def pdaf_probabilities(log_weights) -> np.ndarray:
+    """PDAF association probabilities of each target on its own (other targets ignored).
+
+    ``β_i = L_i / (1 − P_D P_G + Σ_k L_k)``, ``β_0 = (1 − P_D P_G) / (…)`` — a row-wise softmax
+    of :func:`jpda_log_weights` (Bar-Shalom, Daum & Huang 2009, Eqs. 29–30). For a single
+    target (or one that shares no return) this *is* the JPDA marginal.
+    """
+    lw = np.asarray(log_weights, dtype=float)
+    if lw.ndim != 2:
+        raise ValueError(f"log_weights must have shape (n, m + 1), got {lw.shape}")
+    if len(lw) == 0:
+        return np.zeros(lw.shape)
+    return np.exp(lw - logsumexp(lw, axis=1, keepdims=True))
+
+
+def jpda_probabilities(gated: GatedTracks, model: ScanModel, *, log_weights=None) -> np.ndarray:
+    """JPDA marginal association probabilities ``β`` (n, m + 1) of every target, per cluster.
+
+    Parameters
+    ----------
+    gated : GatedTracks
+    model : ScanModel
+    log_weights : (n, m + 1) array_like, optional
+        Precomputed :func:`jpda_log_weights`.
+
+    Returns
+    -------
+    beta : (n, m + 1) ndarray
+        ``beta[j, 0] = P(T_j ↔ ∅)``, ``beta[j, 1 + i] = P(T_j ↔ y_i)`` (lecture 004, Eq. (1)).
+    """
+    lw = jpda_log_weights(gated, model) if log_weights is None else np.asarray(log_weights, dtype=float)
+    valid = gated.valid
+    # Targets that share no gated return with another target are single-target PDAF problems.
+    contested = valid.sum(axis=1) > 1
+    shared_track = (valid & contested[:, None]).any(axis=0)
+    beta = pdaf_probabilities(lw)
+    if shared_track.any():
+        sub = np.flatnonzero(shared_track)
+        for cluster in find_clusters(valid[:, sub]):
+            tracks = sub[cluster.tracks]
+            cols = np.concatenate([[0], 1 + cluster.measurements])
+            beta[np.ix_(tracks, cols)] = jpda_marginals(lw[np.ix_(tracks, cols)])
+    return beta
+
+
+def pda_update(gated: GatedTracks, beta, model: ScanModel):
+    """PDA update of every target with its association probabilities (spread of innovations included).
+
+    Parameters
+    ----------
+    gated : GatedTracks
+    beta : (n, m + 1) array_like
+        From :func:`jpda_probabilities` or :func:`pdaf_probabilities`.
+    model : ScanModel
+
+    Returns
+    -------
+    x, P : (n, d), (n, d, d)
+        Updated means and covariances.
+    """
+    beta = np.asarray(beta, dtype=float)
+    x, P, K = gated.x, gated.P, gated.K
+    if gated.n_tracks == 0:
+        return x.copy(), P.copy()
+    b0 = beta[:, 0]
+    bi = beta[:, 1:]
+    nu = gated.Z[None, :, :] - gated.z_pred[:, None, :]  # (n, m, p)
+    nu_bar = np.einsum("nm,nmp->np", bi, nu)
+    spread = np.einsum("nm,nmp,nmq->npq", bi, nu, nu) - nu_bar[:, :, None] * nu_bar[:, None, :]
+    x_upd = x + np.einsum("ndp,np->nd", K, nu_bar)
+    I_KH = np.eye(x.shape[1]) - K @ model.H
+    P_c = I_KH @ P @ np.swapaxes(I_KH, -1, -2) + K @ model.R @ np.swapaxes(K, -1, -2)
+    P_upd = b0[:, None, None] * P + (1 - b0)[:, None, None] * P_c + K @ spread @ np.swapaxes(K, -1, -2)
+    return x_upd, symmetrize(P_upd)

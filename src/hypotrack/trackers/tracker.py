@@ -1,0 +1,203 @@
+"""A complete single-hypothesis tracker: association (GNN, JPDA or PDAF) + initiation + deletion.
+
+Lecture notes 004, the GNN and JPDAF algorithms, per scan ``k > 0``:
+
+1. predict the confirmed targets and gate the returns (validation matrix);
+2. associate — GNN: the best hypothesis of the assignment matrix, then Kalman updates;
+   JPDA: per-cluster marginal association probabilities, then PDA updates; PDAF: each target's
+   probabilities on its own (conflicts between targets ignored);
+3. send the unprocessed returns to the initiation logic (GNN: returns assigned to external
+   sources; JPDA/PDAF: returns in no confirmed target's gate) and add any newly confirmed
+   tentative track to the confirmed list;
+4. delete a confirmed track after ``max_misses`` consecutive scans without a detection (GNN: no
+   return assigned; JPDA/PDAF: no return in its gate).
+
+At the first scan every return goes to initiation ("Time k = 0: send all measurements to
+initiation logic") unless known initial tracks were given with :meth:`initialise`.
+Confirmed tracks get stable integer ids ``0, 1, 2, …`` in order of confirmation.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import check_covariance, check_finite_array, check_int, check_measurements
+from ._sht_common import ScanModel, gate_tracks, predict_tracks
+from .gnn import gnn_associate, gnn_gains, gnn_update, mahalanobis_gains
+from .initiation import MOfNInitiator
+from .jpda import jpda_log_weights, jpda_probabilities, pda_update, pdaf_probabilities
+
+__all__ = ["TrackEstimates", "SingleHypothesisTracker"]
+
+_ASSOCIATIONS = ("gnn", "jpda", "pdaf")
+
+
+@dataclass(frozen=True, eq=False)
+class TrackEstimates:
+    """Confirmed tracks after a scan.
+
+    Attributes
+    ----------
+    time : float
+    ids : (n,) int64 — stable track ids.
+    x : (n, d) — means.
+    P : (n, d, d) — covariances.
+    """
+
+    time: float
+    ids: np.ndarray
+    x: np.ndarray
+    P: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.ids)
+
+
+class SingleHypothesisTracker:
+    """GNN / JPDA / PDAF tracker with M-of-N initiation and deletion after misses.
+
+    Parameters
+    ----------
+    motion : motion model
+        E.g. :class:`hypotrack.models.ConstantVelocity`.
+    model : ScanModel
+        ``H``, ``R``, ``P_D``, ``P_G`` and the clutter / new-target densities.
+    association : {"gnn", "jpda", "pdaf"}
+    initiator : MOfNInitiator or None
+        Initiation logic; ``None`` tracks only the targets given to :meth:`initialise`.
+    max_misses : int
+        Consecutive missed scans after which a confirmed track is deleted (≥ 1).
+    gnn_score : {"lecture", "mahalanobis"}
+        GNN criterion: the lecture's assignment matrix, or Stone Soup's unsquared-Mahalanobis
+        ``GNNWith2DAssignment`` criterion (:func:`hypotrack.trackers.gnn.mahalanobis_gains`).
+    missed_distance : float, optional
+        For ``gnn_score="mahalanobis"``: the missed distance ``g`` (default: the square root of
+        the model's gate).
+
+    Attributes
+    ----------
+    last_gated : GatedTracks or None
+        Gating of the confirmed tracks at the last scan.
+    last_association : ndarray or None
+        The last scan's association: the event vector (GNN) or ``β`` (JPDA/PDAF).
+    """
+
+    def __init__(
+        self,
+        motion,
+        model: ScanModel,
+        *,
+        association: str = "gnn",
+        initiator: MOfNInitiator | None = None,
+        max_misses: int = 3,
+        gnn_score: str = "lecture",
+        missed_distance: float | None = None,
+    ):
+        if not isinstance(model, ScanModel):
+            raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
+        if association not in _ASSOCIATIONS:
+            raise ValueError(f"association must be one of {_ASSOCIATIONS}, got {association!r}")
+        if gnn_score not in ("lecture", "mahalanobis"):
+            raise ValueError(f"gnn_score must be 'lecture' or 'mahalanobis', got {gnn_score!r}")
+        if initiator is not None and not isinstance(initiator, MOfNInitiator):
+            raise TypeError(f"initiator must be an MOfNInitiator or None, got {type(initiator).__name__}")
+        self.motion = motion
+        self.model = model
+        self.association = association
+        self.initiator = initiator
+        self.max_misses = check_int(max_misses, "max_misses", minimum=1)
+        self.gnn_score = gnn_score
+        self.missed_distance = float(np.sqrt(model.gate)) if missed_distance is None else float(missed_distance)
+        d = model.ndim_state
+        self.ids = np.zeros(0, dtype=np.int64)
+        self.x = np.zeros((0, d))
+        self.P = np.zeros((0, d, d))
+        self.misses = np.zeros(0, dtype=np.int64)
+        self.time: float | None = None
+        self._next_id = 0
+        self.last_gated = None
+        self.last_association = None
+
+    def initialise(self, x, P, time: float) -> np.ndarray:
+        """Add known confirmed tracks (means ``(n, d)``, covariances ``(n, d, d)``) valid at ``time``.
+
+        Returns their ids.
+        """
+        d = self.model.ndim_state
+        x = check_finite_array(np.asarray(x, dtype=float).reshape(-1, d), "x", shape=(None, d))
+        P = np.asarray(P, dtype=float).reshape(-1, d, d)
+        if len(P) != len(x):
+            raise ValueError(f"P must hold one covariance per track: {len(x)} means, {len(P)} covariances")
+        P = check_covariance(P, "P", dim=d, batched=True) if len(P) else P
+        if self.time is not None and float(time) != self.time:
+            raise ValueError("initialise() must be called before the first scan or at the current time")
+        self.time = float(time)
+        return self._add(x, P)
+
+    def _add(self, x, P) -> np.ndarray:
+        new = np.arange(self._next_id, self._next_id + len(x), dtype=np.int64)
+        self._next_id += len(x)
+        self.ids = np.concatenate([self.ids, new])
+        self.x = np.concatenate([self.x, x])
+        self.P = np.concatenate([self.P, P])
+        self.misses = np.concatenate([self.misses, np.zeros(len(x), dtype=np.int64)])
+        return new
+
+    def step(self, scan) -> TrackEstimates:
+        """Process one scan ``(time, Z)`` (``Z`` of shape (m, p), possibly empty) and return the estimates."""
+        try:
+            time, Z = scan
+        except (TypeError, ValueError):
+            raise TypeError("scan must be a (time, Z) pair") from None
+        time = float(time)
+        if not np.isfinite(time):
+            raise ValueError(f"scan time must be finite, got {time}")
+        Z = check_measurements(Z, "Z", self.model.dim)
+        dt = 0.0 if self.time is None else time - self.time
+        if dt < 0:
+            raise ValueError(f"scan time must not decrease: got {time} after {self.time}")
+        self.time = time
+
+        x, P = predict_tracks(self.motion, self.x, self.P, dt)
+        gated = gate_tracks(x, P, Z, self.model)
+        if self.association == "gnn":
+            gain = (
+                gnn_gains(gated, self.model)
+                if self.gnn_score == "lecture"
+                else mahalanobis_gains(gated, self.missed_distance)
+            )
+            a = gnn_associate(gain)
+            self.x, self.P, detected = gnn_update(gated, a, self.model)
+            unused = a < 0
+            self.last_association = a
+        else:
+            lw = jpda_log_weights(gated, self.model)
+            beta = jpda_probabilities(gated, self.model, log_weights=lw) if self.association == "jpda" else (
+                pdaf_probabilities(lw)
+            )
+            self.x, self.P = pda_update(gated, beta, self.model)
+            detected = gated.valid.any(axis=0)
+            unused = ~gated.valid.any(axis=1)
+            self.last_association = beta
+        self.last_gated = gated
+
+        self.misses = np.where(detected, 0, self.misses + 1)
+        keep = self.misses < self.max_misses
+        self.ids, self.x, self.P, self.misses = self.ids[keep], self.x[keep], self.P[keep], self.misses[keep]
+
+        if self.initiator is not None:
+            new_x, new_P = self.initiator.step(time, Z[unused])
+            self._add(new_x, new_P)
+        return self.estimates()
+
+    def estimates(self) -> TrackEstimates:
+        """The confirmed tracks now (copies)."""
+        return TrackEstimates(
+            -np.inf if self.time is None else self.time, self.ids.copy(), self.x.copy(), self.P.copy()
+        )
+
+    def run(self, scans) -> list[TrackEstimates]:
+        """:meth:`step` over a sequence of scans; the estimates after each."""
+        return [self.step(s) for s in scans]

@@ -166,11 +166,25 @@ def simulate_cv_targets(initial_states, *, n_scans, dt, q_truth, R, p_D, clutter
     return ClutteredScenario(truth, scans, times, X0, ConstantVelocity(motion.q), sensor)
 
 
-def _region_around(X0, n_scans, dt, margin) -> Box:
-    """A box holding every target's noise-free path, plus ``margin`` on each side."""
-    T = dt * (n_scans - 1)
-    ends = np.vstack([X0[:, :2], X0[:, :2] + T * X0[:, 2:]])
-    return Box(ends.min(axis=0) - margin, ends.max(axis=0) + margin)
+def _simulate_in_box(X0_of, *, n_scans, dt, q_truth, sigma, p_D, clutter_rate, margin, rng):
+    """Validate the shared arguments, build the paths' surveillance box and simulate.
+
+    ``X0_of(n_scans, dt)`` returns the initial states, which depend on the timing.
+    """
+    n_scans = check_int(n_scans, "n_scans", minimum=1)
+    dt = check_positive(dt, "dt")
+    sigma = check_positive(sigma, "sigma")
+    check_probability(p_D, "p_D", low_open=True)
+    margin = check_positive(margin, "margin")
+    X0 = X0_of(n_scans, dt)
+    # The box holds every target's noise-free path, plus the margin on each side.
+    anchor = X0 if len(X0) else np.zeros((1, 4))
+    ends = np.vstack([anchor[:, :2], anchor[:, :2] + dt * (n_scans - 1) * anchor[:, 2:]])
+    region = Box(ends.min(axis=0) - margin, ends.max(axis=0) + margin)
+    return simulate_cv_targets(
+        X0, n_scans=n_scans, dt=dt, q_truth=q_truth, R=sigma**2 * np.eye(2), p_D=p_D,
+        clutter_rate=clutter_rate, region=region, rng=rng,
+    )
 
 
 def crossing_targets(
@@ -214,18 +228,16 @@ def crossing_targets(
     angle = check_nonnegative(crossing_angle_deg, "crossing_angle_deg")
     if angle >= 180:
         raise ValueError(f"crossing_angle_deg must lie in [0, 180), got {crossing_angle_deg!r}")
-    sigma = check_positive(sigma, "sigma")
-    n_scans = check_int(n_scans, "n_scans", minimum=1)
-    dt = check_positive(dt, "dt")
-    check_probability(p_D, "p_D", low_open=True)
     headings = np.deg2rad(np.linspace(-angle / 2, angle / 2, n_targets)) if n_targets > 1 else np.zeros(1)
     v = speed * np.column_stack([np.cos(headings), np.sin(headings)])
-    t_cross = dt * (n_scans - 1) / 2
-    X0 = np.column_stack([-t_cross * v, v])
-    region = _region_around(X0, n_scans, dt, check_positive(margin, "margin"))
-    return simulate_cv_targets(
-        X0, n_scans=n_scans, dt=dt, q_truth=q_truth, R=sigma**2 * np.eye(2), p_D=p_D,
-        clutter_rate=clutter_rate, region=region, rng=rng,
+
+    def initial_states(n_scans, dt):
+        t_cross = dt * (n_scans - 1) / 2
+        return np.column_stack([-t_cross * v, v])
+
+    return _simulate_in_box(
+        initial_states, n_scans=n_scans, dt=dt, q_truth=q_truth, sigma=sigma, p_D=p_D,
+        clutter_rate=clutter_rate, margin=margin, rng=rng,
     )
 
 
@@ -265,16 +277,14 @@ def closely_spaced_targets(
     n_targets = check_int(n_targets, "n_targets", minimum=0)
     spacing = check_positive(spacing, "spacing")
     speed = check_nonnegative(speed, "speed")
-    sigma = check_positive(sigma, "sigma")
-    n_scans = check_int(n_scans, "n_scans", minimum=1)
-    dt = check_positive(dt, "dt")
-    check_probability(p_D, "p_D", low_open=True)
-    X0 = np.zeros((n_targets, 4))
-    X0[:, 1] = spacing * np.arange(n_targets)
-    X0[:, 2] = speed
-    anchor = X0 if n_targets else np.zeros((1, 4))
-    region = _region_around(anchor, n_scans, dt, check_positive(margin, "margin"))
-    return simulate_cv_targets(
-        X0, n_scans=n_scans, dt=dt, q_truth=q_truth, R=sigma**2 * np.eye(2), p_D=p_D,
-        clutter_rate=clutter_rate, region=region, rng=rng,
+
+    def initial_states(n_scans, dt):
+        X0 = np.zeros((n_targets, 4))
+        X0[:, 1] = spacing * np.arange(n_targets)
+        X0[:, 2] = speed
+        return X0
+
+    return _simulate_in_box(
+        initial_states, n_scans=n_scans, dt=dt, q_truth=q_truth, sigma=sigma, p_D=p_D,
+        clutter_rate=clutter_rate, margin=margin, rng=rng,
     )

@@ -8,9 +8,14 @@ named in ``a`` are missed detections.
 """
 
 from .counting import count_associations, count_children, count_gated_associations
+from .enumeration import EnumerationBudgetError, enumerate_associations, event_dtype, iter_association_chunks
 
 __all__ = [
     "count_associations",
     "count_children",
     "count_gated_associations",
+    "EnumerationBudgetError",
+    "enumerate_associations",
+    "iter_association_chunks",
+    "event_dtype",
 ]

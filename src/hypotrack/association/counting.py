@@ -139,8 +139,10 @@ def _component_plan(block: np.ndarray):
     return min(plans, key=lambda plan: plan[2])
 
 
-def _count_component(plan, cap: int | None) -> int:
-    """Matchings (of any size) in one bipartite block; stops early once the count exceeds ``cap``.
+def _count_component(plan, cap: int | None) -> tuple[int, bool]:
+    """Matchings (of any size) in one bipartite block, and whether the count is exact.
+
+    Stops early (inexact, but already ``> cap``) once the count exceeds ``cap``.
 
     Dynamic programming over rows, the state being the set of *open* columns already used
     (columns no later row can take are forgotten, merging states). The running total never
@@ -162,8 +164,8 @@ def _count_component(plan, cap: int | None) -> int:
                     new[key] = new.get(key, 0) + c
         states = new
         if cap is not None and sum(states.values()) > cap:
-            break
-    return sum(states.values())
+            return sum(states.values()), False
+    return sum(states.values()), True
 
 
 def count_gated_associations(allowed, cap: int | None = None) -> int:
@@ -189,6 +191,11 @@ def count_gated_associations(allowed, cap: int | None = None) -> int:
     int
         The count (exact when ``cap`` is None or the count is ``<= cap``).
     """
+    return _count_gated(allowed, cap)[0]
+
+
+def _count_gated(allowed, cap: int | None) -> tuple[int, bool]:
+    """:func:`count_gated_associations` plus a flag telling whether the count is exact."""
     arr = np.asarray(allowed)
     if arr.ndim != 2:
         raise ValueError(f"allowed must be a 2-D (m, n) boolean array, got shape {arr.shape}")
@@ -197,10 +204,10 @@ def count_gated_associations(allowed, cap: int | None = None) -> int:
         cap = check_int(cap, "cap", minimum=0)
     m, n = arr.shape
     if m == 0 or n == 0 or not arr.any():
-        return 1
-    n_comp, labels = _component_labels(arr)
+        return 1, True
+    _, labels = _component_labels(arr)
     row_lab, col_lab = labels[:m], labels[m:]
-    total = 1
+    total, exact_total = 1, True
     for comp in np.unique(row_lab[arr.any(axis=1)]):
         block = arr[np.ix_(row_lab == comp, col_lab == comp)]
         if block.all():
@@ -209,6 +216,8 @@ def count_gated_associations(allowed, cap: int | None = None) -> int:
         plan = _component_plan(block)
         exact = cap is None or plan[2] <= _EXACT_SUBSET_BITS
         # Stopping this component once total * count > cap needs count > cap // total.
-        total *= _count_component(plan, None if exact else cap // total)
-    return total
+        count, exact_count = _count_component(plan, None if exact else cap // total)
+        total *= count
+        exact_total &= exact_count
+    return total, exact_total
 

@@ -7,6 +7,13 @@ birth handled by the caller's extra columns). Non-negative entries are distinct;
 named in ``a`` are missed detections.
 """
 
+from .assignment import (
+    association_score_matrix,
+    best_assignment,
+    columns_to_event,
+    k_best_events,
+    murty_k_best,
+)
 from .counting import count_associations, count_children, count_gated_associations
 from .enumeration import EnumerationBudgetError, enumerate_associations, event_dtype, iter_association_chunks
 
@@ -18,4 +25,9 @@ __all__ = [
     "enumerate_associations",
     "iter_association_chunks",
     "event_dtype",
+    "best_assignment",
+    "murty_k_best",
+    "association_score_matrix",
+    "columns_to_event",
+    "k_best_events",
 ]

@@ -1,0 +1,173 @@
+"""Best / k-best assignments against brute-force permutation and event-enumeration oracles."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from hypotrack.association import (
+    association_score_matrix,
+    best_assignment,
+    columns_to_event,
+    enumerate_associations,
+    k_best_events,
+    murty_k_best,
+)
+
+
+def brute_force_totals(score):
+    """Totals of every feasible assignment (distinct columns, no -inf entry), best first."""
+    m, N = score.shape
+    totals = []
+    for perm in itertools.permutations(range(N), m):
+        t = score[np.arange(m), list(perm)].sum()
+        if np.isfinite(t):
+            totals.append(t)
+    return sorted(totals, reverse=True)
+
+
+def event_scores(events, target_scores, clutter_scores):
+    """Score every event row: Σ target score of assigned returns + Σ clutter score of the rest."""
+    a = events.astype(int)
+    rows = np.arange(a.shape[1])
+    ext = np.concatenate([target_scores, clutter_scores[:, None]], axis=1)  # last column = clutter
+    return ext[rows, np.where(a >= 0, a, target_scores.shape[1])].sum(axis=1)
+
+
+def random_score(rng, m, N, p_forbid=0.3):
+    score = rng.normal(size=(m, N))
+    score[rng.random((m, N)) < p_forbid] = -np.inf
+    return score
+
+
+def test_best_assignment_matches_brute_force():
+    rng = np.random.default_rng(0)
+    checked = 0
+    for _ in range(200):
+        m = int(rng.integers(1, 5))
+        score = random_score(rng, m, int(rng.integers(m, 7)))
+        totals = brute_force_totals(score)
+        if not totals:
+            with pytest.raises(ValueError, match="no feasible assignment"):
+                best_assignment(score)
+            continue
+        total, cols = best_assignment(score)
+        assert total == pytest.approx(totals[0])
+        assert len(set(cols.tolist())) == m
+        assert score[np.arange(m), cols].sum() == pytest.approx(total)
+        checked += 1
+    assert checked > 100
+
+
+def test_best_assignment_of_empty_problem():
+    total, cols = best_assignment(np.zeros((0, 3)))
+    assert total == 0.0 and cols.shape == (0,)
+
+
+def test_murty_matches_brute_force_in_order():
+    rng = np.random.default_rng(1)
+    for _ in range(150):
+        m = int(rng.integers(0, 5))
+        score = random_score(rng, m, int(rng.integers(max(m, 1), 6)))
+        totals = brute_force_totals(score)
+        k = int(rng.integers(1, 40))
+        ranked = murty_k_best(score, k)
+        assert len(ranked) == min(k, len(totals))  # fewer than k when fewer exist
+        np.testing.assert_allclose([t for t, _ in ranked], totals[:k], rtol=0, atol=1e-9)
+        assert len({tuple(c.tolist()) for _, c in ranked}) == len(ranked)
+        for t, cols in ranked:
+            assert score[np.arange(m), cols].sum() == pytest.approx(t)
+
+
+def test_murty_edge_cases():
+    assert murty_k_best(np.ones((2, 2)), 0) == []
+    assert murty_k_best(np.full((2, 2), -np.inf), 5) == []
+    # A 3x3 all-ones matrix has 3! = 6 assignments, all with total 3.
+    ranked = murty_k_best(np.ones((3, 3)), 10)
+    assert len(ranked) == 6 and all(t == 3 for t, _ in ranked)
+
+
+def test_k_best_events_match_scored_enumeration_lecture_example():
+    # Paper 004's assignment matrix: targets T1..T3 gated as in its validation matrix, one
+    # external-source column per return (log β_EX on the diagonal).
+    validation = np.array([[0, 0, 1], [0, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=bool)
+    rng = np.random.default_rng(2)
+    ell = np.where(validation, rng.normal(size=(4, 3)), -np.inf)
+    log_beta = np.full(4, np.log(0.3))
+    matrix = association_score_matrix(ell, log_beta)
+    assert matrix.shape == (4, 7)
+    assert np.all(np.isneginf(matrix[:, 3:][~np.eye(4, dtype=bool)]))
+    np.testing.assert_array_equal(np.diag(matrix[:, 3:]), log_beta)
+    events = enumerate_associations(3, 4, allowed=validation)
+    scores = event_scores(events, ell, log_beta)
+    best = k_best_events(ell, log_beta, 100)
+    assert len(best) == len(events) == 10
+    np.testing.assert_allclose([s for s, _ in best], np.sort(scores)[::-1])
+    for s, event in best:
+        row = np.flatnonzero((events == event).all(axis=1))
+        assert row.size == 1 and scores[row[0]] == pytest.approx(s)
+
+
+def test_k_best_events_match_scored_enumeration_medium_problem():
+    # 7 objects, 7 returns, light gating: ~10^5 events scored exhaustively as the oracle.
+    rng = np.random.default_rng(3)
+    allowed = rng.random((7, 7)) < 0.8
+    ell = np.where(allowed, rng.normal(size=(7, 7)), -np.inf)
+    clutter = rng.normal(-1.0, 0.5, size=7)
+    scores = np.sort(event_scores(enumerate_associations(7, 7, allowed=allowed), ell, clutter))[::-1]
+    best = k_best_events(ell, clutter, 60)
+    np.testing.assert_allclose([s for s, _ in best], scores[:60], rtol=0, atol=1e-9)
+
+
+def test_murty_large_problem_is_consistent():
+    # The size the generation-time experiment needs: 67 returns against 67 objects + clutter.
+    rng = np.random.default_rng(4)
+    matrix = association_score_matrix(np.log(rng.random((67, 67))), np.full(67, np.log(0.05)))
+    ranked = murty_k_best(matrix, 100)
+    totals = np.array([t for t, _ in ranked])
+    assert len(ranked) == 100
+    assert totals[0] == pytest.approx(best_assignment(matrix)[0])
+    assert np.all(np.diff(totals) <= 1e-12)
+    assert len({tuple(c.tolist()) for _, c in ranked}) == 100
+
+
+def test_columns_to_event():
+    event = columns_to_event(np.array([2, 5, 0, 3]), 3)
+    np.testing.assert_array_equal(event, [2, -1, 0, -1])
+    assert event.dtype == np.int8
+    assert columns_to_event(np.zeros(0, dtype=int), 3).shape == (0,)
+
+
+@pytest.mark.parametrize(
+    "score, match",
+    [
+        (np.array([[1.0, np.nan]]), "score"),
+        (np.array([[1.0, np.inf]]), "score"),
+        (np.ones((3, 2)), "score"),
+        (np.ones(3), "score"),
+    ],
+)
+def test_bad_score_matrices(score, match):
+    with pytest.raises(ValueError, match=match):
+        best_assignment(score)
+    with pytest.raises(ValueError, match=match):
+        murty_k_best(score, 3)
+
+
+def test_bad_arguments():
+    with pytest.raises(ValueError, match="k"):
+        murty_k_best(np.ones((2, 2)), -1)
+    with pytest.raises(TypeError, match="k"):
+        murty_k_best(np.ones((2, 2)), 1.5)
+    with pytest.raises(ValueError, match="clutter_scores"):
+        association_score_matrix(np.ones((2, 3)), [0.0, np.nan])
+    with pytest.raises(ValueError, match="target_scores"):
+        association_score_matrix(np.ones((3, 3)), [0.0, 0.0])
+    with pytest.raises(ValueError, match="target_scores"):
+        association_score_matrix(np.array([[np.nan]]), [0.0])
+    with pytest.raises(ValueError, match="cols"):
+        columns_to_event(np.array([0.5]), 2)
+    with pytest.raises(ValueError, match="cols"):
+        columns_to_event(np.array([-1]), 2)
+    with pytest.raises(ValueError, match="n_tracks"):
+        columns_to_event(np.array([0]), -2)

@@ -8,6 +8,7 @@ published Table 6.1 / Figs 5.1–5.3 values.
 import itertools
 
 import numpy as np
+import pandas as pd
 import pytest
 from scipy.linalg import solve_discrete_are
 from scipy.special import comb
@@ -30,8 +31,9 @@ from hypotrack.trackers.ecmht_experiments import (
     TABLE_6_1,
     closely_spaced_monte_carlo,
     experiment_seeds,
-    optimal_swap_rates,
-    swap_curves,
+    summarise_closely_spaced,
+    summarise_swaps,
+    swap_shard,
 )
 
 MODEL = OrnsteinUhlenbeck(0.01, 0.005)
@@ -230,12 +232,34 @@ def test_table_6_1_reproduces_within_10_percent_and_ordering():
 
 def test_swap_experiment_figs_5_1_to_5_3():
     """Fig 5.1 minimum at about 4 swaps; Fig 5.3 rate 0.5 at zero distance, 0 by 30 m."""
-    c = swap_curves(10.0, n_sensors=30, sigma=10.0, n_runs=5000, rng=1)
-    assert 3 <= int(np.argmin(c["rms"])) <= 5
-    assert 3 <= int(np.argmax(c["log_prob_class"])) <= 7  # "consistent" with Fig 5.1
-    assert np.argmax(c["log_prob_single"]) == 0  # the MAP single hypothesis has no swaps
-    d = np.array([0.0, 10.0, 30.0])
-    o = optimal_swap_rates(d, n_sensors=30, sigma=10.0, n_runs=5000, seeds=experiment_seeds(1, "swaps_test", 3))
-    assert o["rms_optimal_rate"][0] == pytest.approx(0.5, abs=1 / 30)
-    assert o["rms_optimal_rate"][-1] == 0.0 and o["class_optimal_rate"][-1] == 0.0
-    assert o["rms_optimal_rate"][0] > o["rms_optimal_rate"][1] > o["rms_optimal_rate"][2]
+    seeds = experiment_seeds(1, "swaps_test", 2)
+    shards = pd.concat([swap_shard([0.0, 10.0, 30.0], n_sensors=30, sigma=10.0, n_runs=2500, seed=s) for s in seeds])
+    curves, rates = summarise_swaps(shards)
+    c = curves[curves["distance"] == 10.0]
+    assert (c["n_runs"] == 5000).all()
+    assert 3 <= int(np.argmin(c["rms"].to_numpy())) <= 5
+    assert 3 <= int(np.argmax(c["log_prob_class"].to_numpy())) <= 7  # "consistent" with Fig 5.1
+    assert np.argmax(c["log_prob_single"].to_numpy()) == 0  # the MAP single hypothesis has no swaps
+    r = rates.set_index("distance")
+    assert r.loc[0.0, "rms_optimal_rate"] == pytest.approx(0.5, abs=1 / 30)
+    assert r.loc[30.0, "rms_optimal_rate"] == 0.0 and r.loc[30.0, "class_optimal_rate"] == 0.0
+    assert r.loc[0.0, "rms_optimal_rate"] > r.loc[10.0, "rms_optimal_rate"] > r.loc[30.0, "rms_optimal_rate"]
+
+
+def test_swap_shards_pool_to_the_same_curves_as_one_run():
+    """Pooling sums over shards is exact: one shard's table summarises to its own means."""
+    one = swap_shard([5.0], n_sensors=6, sigma=1.0, n_runs=300, seed=3)
+    curves, _ = summarise_swaps(one)
+    np.testing.assert_allclose(curves["rms"], np.sqrt(one["sum_sq_err"] / 300))
+    np.testing.assert_allclose(curves["log_prob_class"] - curves["log_prob_single"], np.log(comb(6, np.arange(7))))
+
+
+def test_table_summary_pools_runs_with_standard_errors():
+    per_run = pd.DataFrame({"method": ["ideal"] * 4 + ["PDAF"] * 4 + ["PDAF[equivalent]"] * 4,
+                            "run": list(range(4)) * 3, "mospa": [1.0, 2.0, 3.0, 4.0] * 3})
+    t = summarise_closely_spaced(per_run, "sequential").set_index("method")
+    assert t.loc["ideal", "reproduced_mospa"] == 2.5
+    assert t.loc["ideal", "std_error"] == pytest.approx(np.std([1, 2, 3, 4], ddof=1) / 2)
+    assert t.loc["PDAF", "published_mospa"] == 0.8518 and t.loc["PDAF", "pdaf_variant"] == "sequential"
+    assert np.isnan(t.loc["PDAF[equivalent]", "published_mospa"])
+    assert t.loc["PDAF[equivalent]", "pdaf_variant"] == "equivalent"

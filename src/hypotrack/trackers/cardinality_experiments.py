@@ -9,12 +9,13 @@ repeats it over seeded runs and tabulates the cardinality errors and the Tetris 
 from __future__ import annotations
 
 import numpy as np
+import pandas as pd
 
 from .._validation import check_int, check_positive
 from ..scenarios.cardinality import simulate_cardinality
 from .cardinality import CountModel, exact_count_dp, tetris_extract
 
-__all__ = ["cardinality_run", "cardinality_monte_carlo", "CARDINALITY_METHODS"]
+__all__ = ["cardinality_run", "cardinality_monte_carlo", "monte_carlo_table", "summarise_cardinality", "CARDINALITY_METHODS"]
 
 #: Estimators compared in the cardinality experiment, in plotting order.
 CARDINALITY_METHODS = ("classical_mht", "cardinality_tracker", "tetris_group", "exact_class_map")
@@ -96,3 +97,45 @@ def cardinality_monte_carlo(*, n_runs, seed, **params) -> dict:
     out["mean_abs_error"] = err
     out["mean_n"] = mean_n
     return out
+
+
+def monte_carlo_table(result: dict, first_run: int = 0) -> pd.DataFrame:
+    """Long per-run table (``run, method, mean_abs_error, mean_n, mean_n_true, J_gap, cap_reached``)."""
+    n = len(result["mean_n_true"])
+    gaps = {"cardinality_tracker": result["J_gap_row_dp"], "tetris_group": result["J_gap_group"]}
+    frames = [
+        pd.DataFrame({
+            "run": first_run + np.arange(n), "method": m, "mean_abs_error": result["mean_abs_error"][m],
+            "mean_n": result["mean_n"][m], "mean_n_true": result["mean_n_true"],
+            "J_gap": gaps.get(m, np.full(n, np.nan)), "cap_reached": result["cap_reached"],
+        })
+        for m in CARDINALITY_METHODS
+    ]
+    return pd.concat(frames, ignore_index=True)
+
+
+def summarise_cardinality(per_run: pd.DataFrame):
+    """Pool per-run tables into the error table and the Tetris optimality table.
+
+    Returns
+    -------
+    errors : pandas.DataFrame
+        Per method: ``mean_abs_error`` (mean over runs and scans of ``|n̂_k − n_k|``), its
+        ``std_error`` over runs, ``mean_n``, ``mean_n_true``, ``n_runs``.
+    optimality : pandas.DataFrame
+        Per Tetris variant: share of runs reaching the exact class optimum (gap < 1e-6),
+        mean and worst gap in log-probability.
+    """
+    g = per_run.groupby("method", sort=False)
+    errors = pd.DataFrame({
+        "mean_abs_error": g["mean_abs_error"].mean(),
+        "std_error": g["mean_abs_error"].std(ddof=1) / np.sqrt(g.size()),
+        "mean_n": g["mean_n"].mean(), "mean_n_true": g["mean_n_true"].mean(), "n_runs": g.size(),
+    }).reset_index()
+    tet = per_run[per_run["J_gap"].notna()]
+    gt = tet.groupby("method", sort=False)["J_gap"]
+    optimality = pd.DataFrame({
+        "fraction_at_optimum": gt.apply(lambda x: float(np.mean(x < 1e-6))),
+        "mean_gap": gt.mean(), "worst_gap": gt.max(), "n_runs": gt.size(),
+    }).reset_index().rename(columns={"method": "variant"})
+    return errors, optimality

@@ -3,13 +3,13 @@
 Everything here is vectorised over Monte Carlo runs and driven by explicit seeds, so the
 Snakemake scripts only read a config section, call one function per shard and write tables.
 
-* :func:`swap_curves` — Figs 5.1–5.2: RMS error of the equivalent measurement and the average
-  single-hypothesis / hypothesis-class log-probability (Eq. 5.22) against the number of
-  random swaps, for two static targets seen by N sensors.
-* :func:`optimal_swap_rates` — Fig. 5.3: the swap rate ``i*/N`` minimising that RMS (and the one
-  maximising the class probability) against the distance between the targets.
+* :func:`swap_shard` / :func:`summarise_swaps` — Figs 5.1–5.3: RMS error of the equivalent
+  measurement and the average single-hypothesis / hypothesis-class log-probability (Eq. 5.22)
+  against the number of random swaps, for two static targets seen by N sensors, and the swap
+  rate ``i*/N`` minimising that RMS (or maximising the class probability) against distance.
 * :func:`closely_spaced_monte_carlo` — Table 6.1: MOSPA of the ideal filter, PDAF, MHT and
   ECMHT on the two-target OU problem, scored on the one-step prediction ``X(k|k−1)``.
+* :func:`summarise_closely_spaced` — pool shards into Table 6.1 with standard errors.
 * :func:`closely_spaced_realisation` — one realisation's tracks (Figs 6.1–6.2).
 """
 
@@ -18,6 +18,7 @@ from __future__ import annotations
 import zlib
 
 import numpy as np
+import pandas as pd
 from scipy.special import gammaln
 
 from .._validation import check_finite_array, check_int, check_nonnegative, check_positive
@@ -28,8 +29,11 @@ from .ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter
 __all__ = [
     "TABLE_6_1",
     "experiment_seeds",
-    "swap_curves",
-    "optimal_swap_rates",
+    "swap_shard",
+    "summarise_swaps",
+    "shard_runs",
+    "summarise_closely_spaced",
+    "pool_per_scan",
     "closely_spaced_monte_carlo",
     "closely_spaced_realisation",
 ]
@@ -77,69 +81,85 @@ def _log_binom(N):
     return gammaln(N + 1) - gammaln(i + 1) - gammaln(N - i + 1)
 
 
-def swap_curves(distance: float, *, n_sensors: int, sigma: float, n_runs: int, rng) -> dict:
-    """Figs 5.1–5.2: statistics of merging N sensors' returns with ``i`` random swaps.
+def swap_shard(distances, *, n_sensors: int, sigma: float, n_runs: int, seed) -> pd.DataFrame:
+    """Figs 5.1–5.3 raw sums for one shard of runs: merging N sensors' returns with ``i`` random swaps.
 
-    Two static targets at 0 and ``distance``; each sensor reports both with N(0, σ²) noise,
+    Two static targets at 0 and each ``distance``; each sensor reports both with N(0, σ²) noise,
     sorted. For every ``i = 0..N`` a uniformly random set of ``i`` sensors has its returns
-    swapped before the two N-sensor averages are formed (``i = 0`` is the GNNF).
+    swapped before the two N-sensor averages are formed (``i = 0`` is the GNNF paradigm).
 
     Parameters
     ----------
-    distance : float
-        Target separation (m), >= 0.
+    distances : sequence of float
+        Target separations (m), >= 0; each gets its own child stream of ``seed``.
     n_sensors, n_runs : int
     sigma : float
         Measurement-noise standard deviation (m).
-    rng : numpy.random.Generator or int
+    seed : int or numpy.random.SeedSequence
 
     Returns
     -------
-    dict with arrays over ``i = 0..N``:
-        ``swaps``; ``rms`` — RMS error of the equivalent measurement over targets and runs (m);
-        ``log_prob_single`` — mean log-posterior of the one swapped hypothesis drawn;
-        ``log_prob_class`` — the same plus ``ln C(N, i)`` (Eq. 5.22); ``sum_sq_err`` — summed
-        squared error (for pooling shards).
-    """
-    distance = check_nonnegative(distance, "distance")
-    rng = np.random.default_rng(rng)
-    truth, Z_lower, Z_upper = static_pair_scans(distance, n_runs=n_runs, n_sensors=n_sensors, sigma=sigma, rng=rng)
-    sq_err, log_single = _swap_statistics(Z_lower, Z_upper, truth, sigma, rng)
-    mean_single = log_single.mean(axis=0)
-    return {
-        "swaps": np.arange(n_sensors + 1),
-        "rms": np.sqrt(sq_err.mean(axis=0)),
-        "sum_sq_err": sq_err.sum(axis=0),
-        "log_prob_single": mean_single,
-        "log_prob_class": mean_single + _log_binom(n_sensors),
-    }
-
-
-def optimal_swap_rates(distances, *, n_sensors: int, sigma: float, n_runs: int, seeds) -> dict:
-    """Fig. 5.3: swap rate ``i*/N`` against target separation.
-
-    For each distance (with its own seed), ``rms_optimal`` is the ``i`` minimising the RMS
-    error of :func:`swap_curves` and ``class_optimal`` the ``i`` maximising the average class
-    log-probability; both are divided by N.
-
-    Returns
-    -------
-    dict of arrays over distances: ``distance``, ``rms_optimal_rate``, ``class_optimal_rate``,
-    ``rms_at_optimum``, ``rms_no_swaps``.
+    pandas.DataFrame
+        One row per (distance, swaps): ``n_runs``, ``sum_sq_err`` (summed over runs of the
+        squared error averaged over the two targets) and ``sum_log_prob_single`` (summed
+        log-posterior of the one swapped hypothesis drawn). Pool shards with :func:`summarise_swaps`.
     """
     distances = check_finite_array(distances, "distances", ndim=1)
-    if len(seeds) != len(distances):
-        raise ValueError(f"need one seed per distance: {len(seeds)} seeds for {len(distances)} distances")
-    out = {k: np.empty(len(distances)) for k in ("rms_optimal_rate", "class_optimal_rate", "rms_at_optimum", "rms_no_swaps")}
-    for n, (dist, seed) in enumerate(zip(distances, seeds)):
-        c = swap_curves(float(dist), n_sensors=n_sensors, sigma=sigma, n_runs=n_runs, rng=np.random.default_rng(seed))
-        i_rms = int(np.argmin(c["rms"]))
-        out["rms_optimal_rate"][n] = i_rms / n_sensors
-        out["class_optimal_rate"][n] = int(np.argmax(c["log_prob_class"])) / n_sensors
-        out["rms_at_optimum"][n] = c["rms"][i_rms]
-        out["rms_no_swaps"][n] = c["rms"][0]
-    out["distance"] = distances
-    return out
+    n_sensors = check_int(n_sensors, "n_sensors", minimum=1)
+    n_runs = check_int(n_runs, "n_runs", minimum=1)
+    sigma = check_positive(sigma, "sigma")
+    children = (np.random.SeedSequence(seed) if isinstance(seed, int) else seed).spawn(len(distances))
+    frames = []
+    for dist, child in zip(distances, children):
+        rng = np.random.default_rng(child)
+        truth, Z_lower, Z_upper = static_pair_scans(float(dist), n_runs=n_runs, n_sensors=n_sensors, sigma=sigma, rng=rng)
+        sq_err, log_single = _swap_statistics(Z_lower, Z_upper, truth, sigma, rng)
+        frames.append(pd.DataFrame({
+            "distance": float(dist), "swaps": np.arange(n_sensors + 1), "n_runs": n_runs,
+            "sum_sq_err": sq_err.sum(axis=0), "sum_log_prob_single": log_single.sum(axis=0),
+        }))
+    return pd.concat(frames, ignore_index=True)
+
+
+def summarise_swaps(shards: pd.DataFrame):
+    """Pool :func:`swap_shard` tables into the curves of Figs 5.1–5.2 and the rates of Fig. 5.3.
+
+    Returns
+    -------
+    curves : pandas.DataFrame
+        Per (distance, swaps): ``rms`` (m) of the equivalent measurement over targets and runs,
+        ``log_prob_single`` (mean log-posterior of one hypothesis with that many swaps) and
+        ``log_prob_class`` (plus ``ln C(N, i)``, Eq. 5.22).
+    rates : pandas.DataFrame
+        Per distance: ``rms_optimal_swaps`` / ``rms_optimal_rate`` (the ``i`` minimising the RMS,
+        and ``i/N``), ``class_optimal_swaps`` / ``class_optimal_rate`` (maximising the class
+        log-probability), ``rms_at_optimum`` and ``rms_no_swaps`` (m).
+    """
+    pooled = shards.groupby(["distance", "swaps"], as_index=False)[["n_runs", "sum_sq_err", "sum_log_prob_single"]].sum()
+    n_sensors = int(pooled["swaps"].max())
+    curves = pooled[["distance", "swaps"]].copy()
+    curves["rms"] = np.sqrt(pooled["sum_sq_err"] / pooled["n_runs"])
+    curves["log_prob_single"] = pooled["sum_log_prob_single"] / pooled["n_runs"]
+    curves["log_prob_class"] = curves["log_prob_single"] + _log_binom(n_sensors)[curves["swaps"].to_numpy()]
+    curves["n_runs"] = pooled["n_runs"]
+    rows = []
+    for dist, c in curves.groupby("distance", sort=True):
+        i_rms = int(c["swaps"].to_numpy()[np.argmin(c["rms"].to_numpy())])
+        i_cls = int(c["swaps"].to_numpy()[np.argmax(c["log_prob_class"].to_numpy())])
+        rows.append({
+            "distance": dist, "rms_optimal_swaps": i_rms, "rms_optimal_rate": i_rms / n_sensors,
+            "class_optimal_swaps": i_cls, "class_optimal_rate": i_cls / n_sensors,
+            "rms_at_optimum": float(c["rms"].min()), "rms_no_swaps": float(c.loc[c["swaps"] == 0, "rms"].iloc[0]),
+        })
+    return curves, pd.DataFrame(rows)
+
+
+def shard_runs(n_runs: int, n_shards: int, shard: int) -> int:
+    """Number of Monte Carlo runs of shard ``shard`` when ``n_runs`` are split over ``n_shards``."""
+    n_runs = check_int(n_runs, "n_runs", minimum=1)
+    n_shards = check_int(n_shards, "n_shards", minimum=1, maximum=n_runs)
+    shard = check_int(shard, "shard", minimum=0, maximum=n_shards - 1)
+    return n_runs // n_shards + (1 if shard < n_runs % n_shards else 0)
 
 
 def _filters(model, R, n_sensors, dt, ecmht_rng, pdaf_variant):
@@ -246,3 +266,30 @@ def closely_spaced_realisation(
     for name, f in filters.items():
         out[name] = np.stack([f.step(real.scans[:, k])[0].copy() for k in range(n_scans)])
     return out
+
+
+def summarise_closely_spaced(per_run: pd.DataFrame, pdaf_variant: str) -> pd.DataFrame:
+    """Pool per-run MOSPA (columns ``method, run, mospa``) into Table 6.1.
+
+    Returns one row per method with ``published_mospa`` (NaN for methods the paper does not
+    list), ``reproduced_mospa`` (mean over runs and scans, m²), ``std_error`` (standard error
+    over runs), ``relative_difference`` and ``n_runs``; the row ``PDAF`` is the PDAF form
+    ``pdaf_variant``, the other forms follow as ``PDAF[<variant>]``.
+    """
+    g = per_run.groupby("method", sort=False)["mospa"]
+    table = pd.DataFrame({"reproduced_mospa": g.mean(), "std_error": g.std(ddof=1) / np.sqrt(g.count()), "n_runs": g.count()})
+    order = [m for m in TABLE_6_1] + sorted(m for m in table.index if m not in TABLE_6_1)
+    table = table.loc[[m for m in order if m in table.index]].reset_index()
+    table.insert(1, "published_mospa", table["method"].map(TABLE_6_1).astype(float))
+    table["relative_difference"] = table["reproduced_mospa"] / table["published_mospa"] - 1
+    table["pdaf_variant"] = np.where(table["method"] == "PDAF", pdaf_variant,
+                                     table["method"].str.extract(r"PDAF\[(\w+)\]", expand=False).fillna(""))
+    return table
+
+
+def pool_per_scan(per_scan: pd.DataFrame) -> pd.DataFrame:
+    """Pool per-shard per-scan MOSPA means (``method, scan, time, mospa, n_runs``), weighting by runs."""
+    df = per_scan.assign(weighted=per_scan["mospa"] * per_scan["n_runs"])
+    g = df.groupby(["method", "scan", "time"], sort=False, as_index=False)[["weighted", "n_runs"]].sum()
+    g["mospa"] = g["weighted"] / g["n_runs"]
+    return g[["method", "scan", "time", "mospa", "n_runs"]]

@@ -14,8 +14,10 @@ from .assignment import (
     k_best_events,
     murty_k_best,
 )
+from .clustering import Cluster, find_clusters, unassociated_measurements
 from .counting import count_associations, count_children, count_gated_associations
 from .enumeration import EnumerationBudgetError, enumerate_associations, event_dtype, iter_association_chunks
+from .gating import gate_measurements, gate_threshold, validation_matrix
 
 __all__ = [
     "count_associations",
@@ -30,4 +32,10 @@ __all__ = [
     "association_score_matrix",
     "columns_to_event",
     "k_best_events",
+    "gate_threshold",
+    "validation_matrix",
+    "gate_measurements",
+    "Cluster",
+    "find_clusters",
+    "unassociated_measurements",
 ]

@@ -15,10 +15,8 @@ with comparison to HOMHT" (paper 000), Eq. 4 and Sec. II-C.
 from __future__ import annotations
 
 import numpy as np
-from scipy.sparse import csr_array
-from scipy.sparse.csgraph import connected_components
-
 from .._validation import check_int
+from .clustering import check_validation, component_labels
 
 __all__ = ["count_associations", "count_children", "count_gated_associations"]
 
@@ -97,20 +95,10 @@ def count_children(M: int, m: int, n_birth_regions: int = 0, n_deaths: int = 0) 
 
 
 def _as_validation(allowed, n_tracks: int, n_meas: int) -> np.ndarray:
-    arr = np.asarray(allowed)
-    if arr.dtype != bool:
-        raise TypeError(f"allowed must be a boolean array, got dtype {arr.dtype}")
+    arr = check_validation(allowed, "allowed")
     if arr.shape != (n_meas, n_tracks):
         raise ValueError(f"allowed must have shape (n_meas, n_tracks) = ({n_meas}, {n_tracks}), got {arr.shape}")
     return arr
-
-
-def _component_labels(allowed: np.ndarray):
-    """Connected components of the bipartite return–track graph (returns first, then tracks)."""
-    m, n = allowed.shape
-    rows, cols = np.nonzero(allowed)
-    graph = csr_array((np.ones(rows.size, dtype=np.int8), (rows, m + cols)), shape=(m + n, m + n))
-    return connected_components(graph, directed=False)
 
 
 def _frontier_plan(block: np.ndarray):
@@ -196,16 +184,13 @@ def count_gated_associations(allowed, cap: int | None = None) -> int:
 
 def _count_gated(allowed, cap: int | None) -> tuple[int, bool]:
     """:func:`count_gated_associations` plus a flag telling whether the count is exact."""
-    arr = np.asarray(allowed)
-    if arr.ndim != 2:
-        raise ValueError(f"allowed must be a 2-D (m, n) boolean array, got shape {arr.shape}")
-    arr = _as_validation(arr, arr.shape[1], arr.shape[0])
+    arr = check_validation(allowed, "allowed")
     if cap is not None:
         cap = check_int(cap, "cap", minimum=0)
     m, n = arr.shape
     if m == 0 or n == 0 or not arr.any():
         return 1, True
-    _, labels = _component_labels(arr)
+    _, labels = component_labels(arr)
     row_lab, col_lab = labels[:m], labels[m:]
     total, exact_total = 1, True
     for comp in np.unique(row_lab[arr.any(axis=1)]):

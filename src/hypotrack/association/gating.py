@@ -1,0 +1,113 @@
+"""Ellipsoidal (chi-square) gating and the validation matrix.
+
+A return ``z_i`` lies in track ``j``'s gate when its squared Mahalanobis distance
+``d²_ij = (z_i − ẑ_j)ᵀ S_j⁻¹ (z_i − ẑ_j)`` does not exceed ``γ``, the ``p_gate`` quantile of a
+chi-square distribution with ``dim`` degrees of freedom (under the track's predictive density
+``d²`` is χ²-distributed, so a true return falls inside with probability ``P_G = p_gate``).
+The gate results form the validation matrix of paper 004 ("Gating"): rows are returns,
+columns tracks.
+
+References
+----------
+Bar-Shalom, Willett & Tian, *Tracking and Data Fusion* (2011), §2.3 (validation regions);
+paper 004 (lecture notes), "Gating" and "Validation Matrix".
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.stats import chi2
+
+from .._validation import (
+    check_covariance,
+    check_finite_array,
+    check_int,
+    check_measurements,
+    check_positive,
+    check_probability,
+)
+from ..gaussian import mahalanobis2_matrix
+
+__all__ = ["gate_threshold", "validation_matrix", "gate_measurements"]
+
+
+def gate_threshold(p_gate: float, dim: int) -> float:
+    """Gate size ``γ`` with ``P(χ²_dim ≤ γ) = p_gate``.
+
+    Parameters
+    ----------
+    p_gate : float
+        Gate probability ``P_G`` in (0, 1]; ``1`` gives ``inf`` (no gating).
+    dim : int
+        Measurement dimension, ``>= 1``.
+
+    Returns
+    -------
+    float
+        The threshold on the squared Mahalanobis distance, e.g. 9.21 for ``p_gate=0.99, dim=2``.
+    """
+    p = check_probability(p_gate, "p_gate", low_open=True)
+    d = check_int(dim, "dim", minimum=1)
+    return math.inf if p == 1.0 else float(chi2.ppf(p, d))
+
+
+def validation_matrix(d2, threshold: float) -> np.ndarray:
+    """Validation matrix ``V[i, j] = d2[i, j] <= threshold``.
+
+    Parameters
+    ----------
+    d2 : (m, n) array_like
+        Squared Mahalanobis distances of returns (rows) to tracks (columns), as returned by
+        :func:`hypotrack.gaussian.mahalanobis2_matrix`; ``+inf`` is allowed (never gated).
+    threshold : float
+        Gate size ``γ > 0`` (may be ``inf``), e.g. from :func:`gate_threshold`.
+
+    Returns
+    -------
+    (m, n) ndarray of bool
+    """
+    arr = np.asarray(d2, dtype=float)
+    if arr.ndim != 2:
+        raise ValueError(f"d2 must be a 2-D (m, n) array, got shape {arr.shape}")
+    if np.isnan(arr).any() or (arr < 0).any():
+        raise ValueError("d2 must hold squared distances: >= 0 and not NaN")
+    # An infinite gate (p_gate = 1) is legitimate; every other threshold must be finite and > 0.
+    is_inf = isinstance(threshold, (float, np.floating)) and threshold == math.inf
+    gamma = math.inf if is_inf else check_positive(threshold, "threshold")
+    return arr <= gamma
+
+
+def gate_measurements(Z, z_pred, S, p_gate: float) -> tuple[np.ndarray, np.ndarray]:
+    """Gate a scan against ``n`` tracks' predicted measurements.
+
+    Parameters
+    ----------
+    Z : (m, p) array_like
+        The scan (``m = 0`` allowed).
+    z_pred : (n, p) array_like
+        Predicted measurements ``ẑ_j = H x̂_j⁻`` (``n = 0`` allowed).
+    S : (n, p, p) array_like
+        Innovation covariances, symmetric positive definite.
+    p_gate : float
+        Gate probability in (0, 1].
+
+    Returns
+    -------
+    validation : (m, n) ndarray of bool
+    d2 : (m, n) ndarray
+        The squared Mahalanobis distances the gate was applied to.
+    """
+    z_pred = check_finite_array(z_pred, "z_pred", ndim=2)
+    n, p = z_pred.shape
+    Z = check_measurements(Z, "Z", p)
+    if n:
+        S = check_covariance(S, "S", p, batched=True)
+        if S.shape[0] != n:
+            raise ValueError(f"S must have shape ({n}, {p}, {p}) to match z_pred, got {S.shape}")
+    else:
+        S = np.zeros((0, p, p))
+    gamma = gate_threshold(p_gate, p)
+    d2, _ = mahalanobis2_matrix(Z, z_pred, S)
+    return validation_matrix(d2, gamma), d2

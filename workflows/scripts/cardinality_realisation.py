@@ -30,7 +30,8 @@ ax.plot(table["scan"], table["exact_class_map"], "--", color="tab:cyan", lw=1, l
 ax.plot(table["scan"], table["classical_mht"], "-", color="tab:red", label="classical MHT (MAP hypothesis)")
 ax.set_xlabel("scan k")
 ax.set_ylabel("number of targets")
-ax.set_title(f"Fig 4.2: cardinality tracking, N = {cfg['n_scans']}, p_chi = {cfg['p_chi']:g}, "
+ax.set_title(f"Fig 4.2: cardinality tracking, truth vs estimated number of targets\n"
+             f"N = {cfg['n_scans']} scans, p_chi = {cfg['p_chi']:g}, "
              f"lambda_b = {cfg['lambda_b']:g}, lambda_fa = {cfg['lambda_fa']:g}, p_d = {cfg['p_d']:g}")
 ax.legend(fontsize=8, loc="center right")
 fig.tight_layout()

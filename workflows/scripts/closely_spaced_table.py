@@ -20,9 +20,9 @@ print(table.to_string(index=False), flush=True)
 
 fig, ax = plt.subplots(figsize=(7.5, 4.5))
 colours = {"ideal": "k", "PDAF": "tab:red", "MHT": "tab:orange", "ECMHT": "tab:blue"}
+extra_styles = iter([(":", "tab:purple"), ("-.", "tab:brown"), ("--", "tab:olive")])
 for method, c in curves.groupby("method", sort=False):
-    colour = colours.get(method, "tab:gray")
-    style = "-" if method in colours else ":"
+    style, colour = ("-", colours[method]) if method in colours else next(extra_styles)
     label = f"PDAF ({cfg['pdaf_variant']})" if method == "PDAF" else method
     ax.plot(c["time"], c["mospa"], style, color=colour, label=label)
 for method, published in zip(table["method"], table["published_mospa"]):

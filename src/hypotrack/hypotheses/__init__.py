@@ -1,1 +1,53 @@
-"""hypotrack.hypotheses"""
+"""The hypothesis-level recursion: H-FISST, R-FISST and HOMHT as one engine.
+
+Seed 000 (Sec. II) and seed 001 show that FISST and Reid's HOMHT are the same recursion on a
+discrete hypothesis space and differ only in how a child hypothesis is weighted; R-FISST makes
+the recursion tractable by searching children with MCMC instead of enumerating them. The engine
+(:class:`HypothesisFilter`) therefore has two plug-in points:
+
+* a **weight model** — :class:`HFISSTWeights`, :class:`FISSTPoissonWeights`, :class:`ReidWeights`;
+* a **child generator** — :class:`ExhaustiveGenerator`, :class:`MurtyGenerator`,
+  :class:`MCMCGenerator`;
+
+and the papers' trackers are presets: :func:`hfisst`, :func:`rfisst`, :func:`homht`,
+:func:`homht_kbest`.
+"""
+
+from .association_problem import CLUTTER, SEEDED_BIRTH, AssociationProblem
+from .filter import HypothesisFilter
+from .generators import ChildGenerator, ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
+from .hypothesis import ChildSet, Hypothesis
+from .population_events import BinomialPopulation, SingleEventPopulation
+from .posterior import HypothesisEstimate, Posterior
+from .presets import hfisst, homht, homht_kbest, rfisst
+from .scan_context import ScanContext
+from .tracks import TrackStore
+from .weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights, WeightModel, make_weight_model
+
+__all__ = [
+    "AssociationProblem",
+    "CLUTTER",
+    "SEEDED_BIRTH",
+    "HypothesisFilter",
+    "ChildGenerator",
+    "ExhaustiveGenerator",
+    "MurtyGenerator",
+    "MCMCGenerator",
+    "ChildSet",
+    "Hypothesis",
+    "SingleEventPopulation",
+    "BinomialPopulation",
+    "HypothesisEstimate",
+    "Posterior",
+    "ScanContext",
+    "TrackStore",
+    "WeightModel",
+    "HFISSTWeights",
+    "FISSTPoissonWeights",
+    "ReidWeights",
+    "make_weight_model",
+    "hfisst",
+    "rfisst",
+    "homht",
+    "homht_kbest",
+]

@@ -1,0 +1,353 @@
+"""The hypothesis-level filter: one recursion for H-FISST, R-FISST and HOMHT.
+
+Seed 000 Sec. II shows that the multi-object Bayes filter is a Bayes filter on a discrete,
+growing hypothesis space (Eq. 11, 19): every parent splits into children (population event ×
+data association), each child's weight is the parent's times a transition probability times
+the likelihood of the scan under the child, and the pdfs under a child are Kalman updates of
+the parent's tracks. :class:`HypothesisFilter` runs that recursion with two plug-ins:
+
+* a weight model (:mod:`.weights`): ``hfisst``, ``fisst_poisson`` or ``reid``;
+* a child generator (:mod:`.generators`): exhaustive, Murty k-best or the R-FISST MCMC search.
+
+One ``step(Z)``:
+
+1. predict every track of the shared store once (:mod:`.tracks`);
+2. compute, once for the scan, the log-likelihood of every (return, track) pair, the gate and
+   the detection probability of every track (:class:`.ScanContext`);
+3. for each parent: its association problem (weight model + population event probabilities),
+   the generated association children, and their undetected-birth / death *twins*
+   (:mod:`.population_events`), keeping the best ``H∞`` per parent;
+4. cap the children at ``H∞`` — the top by weight, or a weighted sample without replacement
+   (Gumbel-top-k with the filter's seeded generator) — and normalise with log-sum-exp;
+5. build the next store from the distinct ``(track, return)`` pairs of the survivors: each pair
+   is one Joseph-form Kalman update however many hypotheses share it.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from scipy.special import logsumexp
+
+from .._validation import check_finite_array, check_int, check_measurements, check_positive, check_probability
+from ..gaussian import innovation, mahalanobis2_matrix
+from .association_problem import SEEDED_BIRTH
+from .generators import ChildGenerator, top_k
+from .hypothesis import ChildSet, Hypothesis
+from .posterior import summarise
+from .scan_context import ScanContext
+from .tracks import TrackStore, update_pairs
+from .weights import WeightModel
+
+__all__ = ["HypothesisFilter"]
+
+_CHUNK = 1 << 15
+
+
+def _gumbel_keys(lw, rng):
+    return lw if rng is None else lw + rng.gumbel(size=lw.shape)
+
+
+class HypothesisFilter:
+    """Multi-object filter on the hypothesis space (seed 000 Algorithm/Prop. 1–2).
+
+    Parameters
+    ----------
+    motion : motion model
+        ``transition(x, dt)`` and ``Q(dt)`` (:mod:`hypotrack.models.motion`, orbit models).
+    sensor : hypotrack.models.sensors.Sensor
+        Measurement model (``H``, ``R``), detection (``p_D`` in (0, 1) and field of view) and
+        clutter (its region's area is the clutter volume ``V``; its rate is ``λV``).
+    weights : WeightModel
+    generator : ChildGenerator
+    population : SingleEventPopulation or BinomialPopulation, optional
+        Birth/death model; ``None`` keeps the number of objects fixed (apart from HOMHT's
+        seeded births).
+    dt : float
+        Default time between scans.
+    max_hypotheses : int
+        ``H∞``, hypotheses kept after each scan.
+    cap : {"top", "sample"}
+        Keep the ``H∞`` heaviest children, or draw ``H∞`` without replacement with probability
+        proportional to weight (seed 000 Sec. III-A offers both).
+    gate_probability : float, optional
+        Validation gate ``P_G`` in (0, 1); a return outside a track's gate cannot be assigned to
+        it. ``None``: no gating.
+    seed : int or numpy.random.Generator, optional
+        Source of every random draw (MCMC chains, weighted capping).
+    means, covs, labels : array_like, optional
+        The initial hypothesis: ``n`` objects with Gaussian pdfs (``n = 0`` allowed), weight 1.
+    """
+
+    def __init__(self, motion, sensor, weights: WeightModel, generator: ChildGenerator, *, population=None,
+                 dt=1.0, max_hypotheses=100, cap="top", gate_probability=None, seed=None,
+                 means=None, covs=None, labels=None):
+        if not isinstance(weights, WeightModel):
+            raise TypeError(f"weights must be a WeightModel, got {type(weights).__name__}")
+        if not isinstance(generator, ChildGenerator):
+            raise TypeError(f"generator must be a ChildGenerator, got {type(generator).__name__}")
+        if getattr(sensor, "clutter", None) is None:
+            raise ValueError("sensor.clutter must be a PoissonClutter: its region's area is the clutter volume V")
+        p_D = check_probability(sensor.detection.p_D, "p_D", low_open=True, high_open=True)
+        if population is not None and weights.seeded_births and population.n_birth_regions:
+            raise ValueError("HOMHT's seeded births and population birth regions are two birth models; use one")
+        if cap not in ("top", "sample"):
+            raise ValueError(f"cap must be 'top' or 'sample', got {cap!r}")
+        self.motion = motion
+        self.sensor = sensor
+        self.weights = weights
+        self.generator = generator
+        self.population = population
+        self.dt = check_positive(dt, "dt")
+        self.max_hypotheses = check_int(max_hypotheses, "max_hypotheses", minimum=1)
+        self.cap = cap
+        self.gate_probability = (
+            None if gate_probability is None
+            else check_probability(gate_probability, "gate_probability", low_open=True, high_open=True)
+        )
+        self.p_D = p_D
+        self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+        self.H = np.asarray(sensor.measurement.H, dtype=float)
+        self.R = np.asarray(sensor.measurement.R, dtype=float)
+        self.last_stats = {}
+        self.initialise(np.zeros((0, self.H.shape[1])) if means is None else means, covs, labels)
+
+    # ------------------------------------------------------------------ state
+    def initialise(self, means, covs=None, labels=None):
+        """Start from one hypothesis holding ``n`` objects (``n = 0`` allowed), weight 1."""
+        d = self.H.shape[1]
+        means = np.asarray(means, dtype=float)
+        if means.size == 0:
+            self._store = TrackStore.from_arrays(np.zeros((0, d)), None, ndim=d)
+        else:
+            means = check_finite_array(np.atleast_2d(means), "means", shape=(None, d))
+            if covs is None:
+                raise ValueError("covs are required with means")
+            self._store = TrackStore.from_arrays(means, covs, labels)
+        self._log_w = np.zeros(1)
+        self._tracks = [np.arange(len(self._store), dtype=np.int64)]
+        self._next_label = int(self._store.labels.max()) + 1 if len(self._store) else 0
+        self.scan_index = 0
+        self.last_kept = None  # ChildSet of the current hypotheses: parent, event, kind, arg
+
+    @property
+    def hypotheses(self) -> list[Hypothesis]:
+        return [Hypothesis(float(w), tuple(int(j) for j in t)) for w, t in zip(self._log_w, self._tracks)]
+
+    @property
+    def store(self) -> TrackStore:
+        return self._store
+
+    # ------------------------------------------------------------------ scan
+    def _context(self, pred: TrackStore, Z) -> ScanContext:
+        n, m = len(pred), len(Z)
+        clutter = self.sensor.clutter
+        if n:
+            z_pred, S, _ = innovation(pred.means, pred.covs, self.H, self.R)
+            d2, logdet = mahalanobis2_matrix(Z, z_pred, S)
+            loglik = -0.5 * (d2 + logdet[None, :] + self.H.shape[0] * np.log(2 * np.pi))
+            in_view = np.asarray(self.sensor.detection.in_view(z_pred), dtype=bool)
+        else:
+            d2 = loglik = np.zeros((m, 0))
+            in_view = np.zeros(0, dtype=bool)
+        if self.gate_probability is None:
+            allowed = np.ones((m, n), dtype=bool)
+        else:
+            from ..association import gate_threshold, validation_matrix
+
+            allowed = validation_matrix(d2, gate_threshold(self.gate_probability, self.H.shape[0]))
+        birth_loglik = (
+            self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))
+        )
+        return ScanContext(
+            Z=Z, loglik=loglik, allowed=allowed, p_detect=np.where(in_view, self.p_D, 0.0),
+            birth_loglik=birth_loglik, p_detect_birth=self.p_D,
+            clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area),
+        )
+
+    def _parent_children(self, ctx, h, keep, keys_rng):
+        """Association children and twins of parent ``h``, reduced to the best ``keep``.
+
+        "Best" is by log-weight, or by Gumbel-perturbed log-weight (``keys_rng`` given) for the
+        weighted sample; the keys are returned so that the global cap uses the same draw.
+        """
+        tr = self._tracks[h]
+        p = ctx.p_detect[tr]
+        in_view = p > 0
+        n_view = int(in_view.sum())
+        pop = self.population
+        pop_lp = pop.log_event_prob(n_view, len(tr)) if pop is not None else None
+        problem = self.weights.problem(ctx, tr, float(self._log_w[h]), pop_lp)
+        gen_keep = None
+        if keep is not None and keys_rng is None:
+            if pop is None:
+                gen_keep = keep
+            elif (np.all(pop.undetected_birth_log_ratio(n_view, len(tr)) <= 0)
+                  and np.all(pop.death_log_ratio(n_view, len(tr)) <= 0)):
+                # Each twin weighs no more than its association child, so children outside the
+                # best `keep` cannot have twins inside it: pre-trimming is exact.
+                gen_keep = keep
+        events, lw = self.generator.generate(problem, self.rng, keep=gen_keep)
+        events = np.asarray(events, dtype=np.int32)
+        n_generated = len(lw)
+        mass = [logsumexp(lw)] if len(lw) else []
+        parts = [self._candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]
+        if pop is not None and len(lw):
+            M = problem.n_objects
+            _, b = problem.counts(events)
+            B = pop.n_birth_regions
+            if B:
+                ub = pop.undetected_birth_log_ratio(n_view, M)[b] + np.log1p(-ctx.p_detect_birth)
+                for start in range(0, len(lw), _CHUNK):
+                    sl = slice(start, start + _CHUNK)
+                    ev = events[sl]
+                    used = np.stack([np.any(ev == M + r, axis=1) for r in range(B)], axis=1)
+                    tw = np.where(used, -np.inf, (lw[sl] + ub[sl])[:, None])
+                    parts.append(self._candidates(ev, tw, ChildSet.UNDETECTED_BIRTH, keep, keys_rng, mass))
+            elig = pop.death_eligible(in_view)
+            if M and elig.any():
+                de = pop.death_log_ratio(n_view, M)[b]
+                for start in range(0, len(lw), _CHUNK):
+                    sl = slice(start, start + _CHUNK)
+                    ev = events[sl]
+                    tw = (lw[sl] + de[sl])[:, None] - np.log1p(-p)[None, :]
+                    tw = np.where(problem.detected(ev) | ~elig[None, :], -np.inf, tw)
+                    parts.append(self._candidates(ev, tw, ChildSet.DEATH, keep, keys_rng, mass))
+        ev_all, kind, arg, lw_all, keys = (np.concatenate([q[f] for q in parts]) for f in range(5))
+        n_twins = sum(len(q[3]) for q in parts[1:])
+        if keep is not None and len(lw_all) > keep:
+            sel = top_k(keys, keep)
+            ev_all, kind, arg, lw_all, keys = ev_all[sel], kind[sel], arg[sel], lw_all[sel], keys[sel]
+        cs = ChildSet(np.full(len(lw_all), h, np.int64), ev_all, kind, arg, lw_all)
+        return cs, keys, n_generated, (logsumexp(mass) if mass else -np.inf), n_twins
+
+    @staticmethod
+    def _candidates(events, tw, kind, keep, keys_rng, mass):
+        """Children from an (E, K) matrix of log-weights (−inf = no such child), with their keys.
+
+        Column ``c`` of ``tw`` is the child's argument (birth region, dead object); association
+        children come as a single column with argument −1.
+        """
+        finite = np.isfinite(tw)
+        rows, cols = np.nonzero(finite)
+        vals = tw[rows, cols]
+        if mass is not None and len(vals):
+            mass.append(logsumexp(vals))
+        keys = _gumbel_keys(vals, keys_rng)
+        if keep is not None and len(vals) > keep:
+            sel = top_k(keys, keep)
+            rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
+        arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
+        return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
+
+    def expand(self, Z, dt=None) -> ChildSet:
+        """All children of the current hypotheses for scan ``Z``, unnormalised, nothing kept.
+
+        For inspection and tests: the filter's state is not changed (MCMC generators do use the
+        filter's random generator).
+        """
+        dt = self.dt if dt is None else check_positive(dt, "dt")
+        pred = self._store.predict(self.motion, dt)
+        Z = check_measurements(Z, "Z", self.H.shape[0])
+        ctx = self._context(pred, Z)
+        parts = [self._parent_children(ctx, h, None, None)[0] for h in range(len(self._log_w))]
+        return ChildSet.concatenate(parts, len(Z))
+
+    def step(self, Z, dt=None):
+        """Advance one scan with returns ``Z`` (m, p); ``m = 0`` is a scan with no returns.
+
+        Returns the :class:`Posterior` after the scan.
+        """
+        t0 = time.perf_counter()
+        dt = self.dt if dt is None else check_positive(dt, "dt")
+        Z = check_measurements(Z, "Z", self.H.shape[0])
+        pred = self._store.predict(self.motion, dt)
+        ctx = self._context(pred, Z)
+        keys_rng = self.rng if self.cap == "sample" else None
+        parts, all_keys, n_gen, n_twins, masses = [], [], 0, 0, []
+        t1 = time.perf_counter()
+        for h in range(len(self._log_w)):
+            cs, keys, ng, mass, nt = self._parent_children(ctx, h, self.max_hypotheses, keys_rng)
+            parts.append(cs)
+            all_keys.append(keys)
+            n_gen += ng
+            n_twins += nt
+            masses.append(mass)
+        t2 = time.perf_counter()
+        children = ChildSet.concatenate(parts, len(Z))
+        if len(children) == 0:
+            raise RuntimeError("no child hypothesis has a positive weight (every event was gated out or forbidden)")
+        sel = top_k(np.concatenate(all_keys), self.max_hypotheses)
+        kept = children.take(sel)
+        n_updates = self._materialise(kept, pred, ctx)
+        log_total = logsumexp(masses)
+        self.scan_index += 1
+        self.last_stats = {
+            "n_parents": len(parts), "n_association_children": n_gen, "n_twin_children": n_twins,
+            "n_kept": len(kept), "log_mass_generated": float(log_total),
+            "mass_retained": float(np.exp(logsumexp(kept.log_weights) - log_total)),
+            "n_kalman_updates": n_updates, "time_generate": t2 - t1, "time_total": time.perf_counter() - t0,
+        }
+        return self.posterior()
+
+    def _materialise(self, kept: ChildSet, pred: TrackStore, ctx: ScanContext) -> int:
+        """New store and hypotheses from the kept children; returns the number of Kalman updates."""
+        pair_index = {}
+        pairs = []
+        new_lists = []
+        B = ctx.n_birth_regions
+        seeded_src = -1 - B
+        for c in range(len(kept)):
+            tr = self._tracks[kept.parent[c]]
+            ev = kept.events[c]
+            M = len(tr)
+            ret = np.full(M, -1, dtype=np.int64)
+            on_obj = np.flatnonzero((ev >= 0) & (ev < M))
+            ret[ev[on_obj]] = on_obj
+            keys = [(int(tr[j]), int(ret[j])) for j in range(M)
+                    if not (kept.kind[c] == ChildSet.DEATH and j == kept.arg[c])]
+            keys += [(-1 - int(ev[i] - M), int(i)) for i in np.flatnonzero(ev >= M)]
+            keys += [(seeded_src, int(i)) for i in np.flatnonzero(ev == SEEDED_BIRTH)]
+            if kept.kind[c] == ChildSet.UNDETECTED_BIRTH:
+                keys.append((-1 - int(kept.arg[c]), -1))
+            idx = []
+            for key in keys:
+                if key not in pair_index:
+                    pair_index[key] = len(pairs)
+                    pairs.append(key)
+                idx.append(pair_index[key])
+            new_lists.append(np.asarray(idx, dtype=np.int64))
+        d = pred.ndim
+        means = np.zeros((len(pairs), d))
+        covs = np.zeros((len(pairs), d, d))
+        labels = np.zeros(len(pairs), dtype=np.int64)
+        src = np.array([s for s, _ in pairs], dtype=np.int64)
+        ret = np.array([r for _, r in pairs], dtype=np.int64)
+        old = src >= 0
+        n_updates = int(np.sum(old & (ret >= 0)))
+        if old.any():
+            means[old], covs[old] = update_pairs(pred, ctx.Z, self.H, self.R, src[old], ret[old])
+            labels[old] = pred.labels[src[old]]
+        for q in np.flatnonzero(~old):
+            z = ctx.Z[ret[q]] if ret[q] >= 0 else None
+            if src[q] == seeded_src:
+                means[q], covs[q] = self.weights.birth_density.initial_state(z, self.R)
+            else:
+                means[q], covs[q] = self.population.birth_track(int(-1 - src[q]), z, self.R)
+            labels[q] = self._next_label
+            self._next_label += 1
+        self._store = TrackStore(means, covs, labels)
+        self._tracks = new_lists
+        self.last_kept = kept
+        self._log_w = kept.log_weights - logsumexp(kept.log_weights)
+        return n_updates
+
+    # ------------------------------------------------------------------ output
+    def posterior(self, n_top: int = 10):
+        """Cardinality distribution, expected number of objects and the top hypotheses."""
+        return summarise(self._log_w, self._tracks, self._store, n_top=n_top)
+
+    def estimates(self) -> np.ndarray:
+        """Means ``(n, d)`` of the objects of the maximum-a-posteriori hypothesis."""
+        return self.posterior(n_top=1).map_estimate.means

@@ -1,0 +1,283 @@
+"""Child generators: which association events of a parent are weighted.
+
+One interface, three strategies (DESIGN.md §3, §4.3)::
+
+    events, log_weights = generator.generate(problem, rng, keep=None)
+
+``events`` (E, m) int32 in the codes of :mod:`.association_problem`, ``log_weights`` their exact
+log-weights (:meth:`AssociationProblem.log_weights`); ``keep`` asks for the ``keep`` best only
+(the filter passes its cap H∞ when that is exact).
+
+:class:`ExhaustiveGenerator`
+    Every feasible event (HOMHT / H-FISST): vectorised enumeration from
+    :func:`hypotrack.association.enumerate_associations` (gating through ``allowed``), weights
+    as one compiled gather-sum. Refuses, naming its budget, before allocating more than
+    ``max_events``; with ``keep`` it streams chunks and holds only the running best.
+:class:`MurtyGenerator`
+    The k best events by Murty's algorithm on the extended assignment matrix. Exact when the
+    count term is constant (HOMHT); otherwise (H-FISST's ``−log(C(m,k) k!)``) the k-best list is
+    grown until the k-th exact weight beats every unseen event's upper bound.
+:class:`MCMCGenerator`
+    R-FISST (seed 000 Sec. III): the distinct events an MCMC chain visits after burn-in, each
+    weighted exactly (:func:`hypotrack.association.mcmc.mcmc_search`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import check_int
+from ..association.mcmc import MCMC_VARIANTS, mcmc_search, neighbour_completion
+from .association_problem import SEEDED_BIRTH, AssociationProblem
+
+__all__ = ["ChildGenerator", "ExhaustiveGenerator", "MurtyGenerator", "MCMCGenerator", "top_k"]
+
+
+def top_k(log_weights, k):
+    """Indices of the ``k`` largest log-weights, best first (stable for ties)."""
+    lw = np.asarray(log_weights)
+    if k is None or k >= len(lw):
+        return np.argsort(-lw, kind="stable")
+    part = np.argpartition(-lw, k - 1)[:k]
+    return part[np.argsort(-lw[part], kind="stable")]
+
+
+def _empty_scan(problem: AssociationProblem):
+    ev = np.zeros((1, 0), dtype=np.int32)
+    return ev, problem.log_weights(ev)
+
+
+def _feasible(events, lw):
+    ok = np.isfinite(lw)
+    return (events, lw) if ok.all() else (events[ok], lw[ok])
+
+
+class ChildGenerator:
+    """Base class of the child generators."""
+
+    name = "base"
+
+    def generate(self, problem: AssociationProblem, rng=None, keep=None):  # pragma: no cover - abstract
+        raise NotImplementedError
+
+
+def _enumeration_columns(problem: AssociationProblem):
+    """Allowed matrix for the enumerator: exclusive columns, plus one diagonal column per
+    return for the seeded-birth option (a seeded birth is a second kind of non-exclusive
+    choice; the enumerator knows only one, clutter)."""
+    allowed = problem.allowed
+    if problem.n_options > 1:
+        seeded = np.isfinite(problem.option_scores[:, 1])
+        allowed = np.hstack([allowed, np.diag(seeded)])
+    return allowed
+
+
+def _decode_enumerated(events, problem):
+    if problem.n_options > 1:
+        events = np.where(events >= problem.n_exclusive, SEEDED_BIRTH, events)
+    return events
+
+
+@dataclass(frozen=True)
+class ExhaustiveGenerator(ChildGenerator):
+    """Every feasible child (with gating), weighted exactly; bounded by ``max_events``.
+
+    Parameters
+    ----------
+    max_events : int
+        Budget: a parent with more candidate events than this raises
+        :class:`hypotrack.association.EnumerationBudgetError` (a ``ValueError`` naming the
+        budget) before anything is allocated. This is HOMHT's "break" of seed 000 Fig. 15.
+    chunk_size : int
+        Events per block when streaming (``keep`` given).
+    """
+
+    max_events: int = 10**7
+    chunk_size: int = 1 << 18
+    name = "exhaustive"
+
+    def __post_init__(self):
+        check_int(self.max_events, "max_events", minimum=1)
+        check_int(self.chunk_size, "chunk_size", minimum=1)
+
+    def generate(self, problem, rng=None, keep=None):
+        from ..association.counting import count_gated_associations
+        from ..association.enumeration import EnumerationBudgetError, enumerate_associations, iter_association_chunks
+
+        if problem.n_returns == 0:
+            return _empty_scan(problem)
+        allowed = _enumeration_columns(problem)
+        n_cols = allowed.shape[1]
+        if keep is None:
+            events = enumerate_associations(n_cols, problem.n_returns, allowed=allowed, max_events=self.max_events)
+            events = _decode_enumerated(events, problem)
+            return _feasible(events, problem.log_weights(events))
+        n_events = count_gated_associations(allowed)
+        if n_events > self.max_events:
+            raise EnumerationBudgetError(
+                f"exhaustive generation needs {n_events} events, more than max_events={self.max_events}"
+            )
+        best_ev = np.zeros((0, problem.n_returns), dtype=np.int32)
+        best_lw = np.zeros(0)
+        for chunk in iter_association_chunks(n_cols, problem.n_returns, allowed=allowed, chunk_size=self.chunk_size):
+            chunk = _decode_enumerated(chunk, problem)
+            lw = problem.log_weights(chunk)
+            sel = top_k(lw, keep)
+            best_ev = np.vstack([best_ev, chunk[sel].astype(np.int32)])
+            best_lw = np.concatenate([best_lw, lw[sel]])
+            sel = top_k(best_lw, keep)
+            best_ev, best_lw = best_ev[sel], best_lw[sel]
+        return _feasible(best_ev, best_lw)
+
+
+def _murty_matrix(problem):
+    from ..association import association_score_matrix
+
+    targets = problem.target_scores
+    if problem.n_options > 1:
+        seeded = np.full((problem.n_returns, problem.n_returns), -np.inf)
+        np.fill_diagonal(seeded, problem.option_scores[:, 1])
+        targets = np.hstack([targets, seeded])
+    return association_score_matrix(targets, problem.option_scores[:, 0]), targets.shape[1]
+
+
+@dataclass(frozen=True)
+class MurtyGenerator(ChildGenerator):
+    """The ``k`` best children by Murty's k-best assignment (HOMHT-kbest).
+
+    Parameters
+    ----------
+    k : int
+        Children per parent (the filter's ``keep`` overrides it when smaller).
+    max_solutions : int
+        Budget of assignments ranked while proving the top ``k`` exact for a non-separable
+        count term; the best found are returned if it is reached.
+    """
+
+    k: int = 100
+    max_solutions: int = 100_000
+    name = "murty"
+
+    def __post_init__(self):
+        check_int(self.k, "k", minimum=1)
+        check_int(self.max_solutions, "max_solutions", minimum=1)
+
+    def generate(self, problem, rng=None, keep=None):
+        from ..association import columns_to_event, murty_k_best
+
+        if problem.n_returns == 0:
+            return _empty_scan(problem)
+        k = self.k if keep is None else min(self.k, keep)
+        score, n_cols = _murty_matrix(problem)
+        finite_phi = problem.count_term[np.isfinite(problem.count_term)]
+        phi_max = float(finite_phi.max()) if finite_phi.size else -np.inf
+        exact_order = problem.count_term_is_constant
+        request = k
+        while True:
+            sols = murty_k_best(score, request)
+            if not sols:
+                return np.zeros((0, problem.n_returns), dtype=np.int32), np.zeros(0)
+            events = np.array([columns_to_event(cols, n_cols) for _, cols in sols], dtype=np.int32)
+            events = _decode_enumerated(events, problem)
+            lw = problem.log_weights(events)
+            events, lw = events[np.isfinite(lw)], lw[np.isfinite(lw)]
+            sel = top_k(lw, k)
+            exhausted = len(sols) < request
+            if exact_order or exhausted or request >= self.max_solutions:
+                return events[sel], lw[sel]
+            # Every unseen event has a separable total <= the last one ranked, hence an exact
+            # weight <= constant + that total + max φ: once the k-th exact weight found beats
+            # this bound the top k are proven.
+            bound = problem.constant + sols[-1][0] + phi_max
+            if len(sel) == k and lw[sel[-1]] >= bound:
+                return events[sel], lw[sel]
+            request = min(2 * request, self.max_solutions)
+
+
+@dataclass(frozen=True)
+class MCMCGenerator(ChildGenerator):
+    """R-FISST's MCMC search (seed 000 Sec. III-B).
+
+    Parameters
+    ----------
+    n_steps : int
+        Proposals per parent (seed 000 Fig. 15: 100,000).
+    burn_in : int, optional
+        Steps before recording (default ``n_steps // 10``).
+    variant : {"paper", "symmetric", "gibbs"}
+        Proposal; ``"paper"`` is seed 000's (random return, random column, conflict → clutter).
+    init : {"random", "clutter", "best"}
+        Starting event: the paper's random assignment ("a row vector … containing a permutation
+        of column numbers"), all returns clutter, or the best assignment of the separable part.
+    temperature : float
+        The chain targets ``w^(1/T)`` (1 = the paper's Metropolis test). As a search a flatter
+        target visits more of the light children; their weights are exact regardless.
+    completion_rounds, completion_threshold :
+        After the chain, add the single-move neighbours of the found children that weigh at
+        least ``completion_threshold`` times the best (repeated ``completion_rounds`` times;
+        :func:`hypotrack.association.mcmc.neighbour_completion`). ``0`` rounds is the paper's
+        search alone. The chain finds the modes; the completion finds the light children next
+        to them that a 10⁵-step chain meets too rarely (tests: every child above 10⁻⁶ found).
+    """
+
+    n_steps: int = 100_000
+    burn_in: int | None = None
+    variant: str = "paper"
+    init: str = "random"
+    temperature: float = 1.0
+    completion_rounds: int = 2
+    completion_threshold: float = 1e-9
+    name = "mcmc"
+
+    def __post_init__(self):
+        check_int(self.n_steps, "n_steps", minimum=1)
+        if self.burn_in is not None:
+            check_int(self.burn_in, "burn_in", minimum=0, maximum=self.n_steps)
+        if self.variant not in MCMC_VARIANTS:
+            raise ValueError(f"variant must be one of {MCMC_VARIANTS}, got {self.variant!r}")
+        check_int(self.completion_rounds, "completion_rounds", minimum=0)
+        if not 0 < self.completion_threshold < 1:
+            raise ValueError(f"completion_threshold must lie in (0, 1), got {self.completion_threshold!r}")
+        if self.init not in ("random", "clutter", "best"):
+            raise ValueError(f"init must be 'random', 'clutter' or 'best', got {self.init!r}")
+
+    def _initial_event(self, problem, rng):
+        m = problem.n_returns
+        init = np.full(m, -1, dtype=np.int64)
+        if self.init == "random":
+            perm = rng.permutation(problem.n_exclusive + 1)  # the +1 is the clutter column
+            for i in range(min(m, len(perm))):
+                c = perm[i]
+                if c < problem.n_exclusive and np.isfinite(problem.target_scores[i, c]):
+                    init[i] = c
+        elif self.init == "best":
+            from ..association import best_assignment, columns_to_event
+
+            score, n_cols = _murty_matrix(problem)
+            _, cols = best_assignment(score)
+            init = _decode_enumerated(np.asarray(columns_to_event(cols, n_cols))[None], problem)[0]
+        if not np.isfinite(problem.log_weights(init[None])[0]):
+            init = np.full(m, -1, dtype=np.int64)
+        return init
+
+    def generate(self, problem, rng=None, keep=None):
+        if problem.n_returns == 0:
+            return _empty_scan(problem)
+        rng = np.random.default_rng(rng)
+        init = self._initial_event(problem, rng)
+        burn_in = self.n_steps // 10 if self.burn_in is None else self.burn_in
+        events, lw = mcmc_search(
+            problem.score, problem.n_objects, problem.n_exclusive, problem.count_term,
+            n_steps=self.n_steps, burn_in=burn_in, seed=int(rng.integers(2**63 - 1)),
+            variant=self.variant, init=init, temperature=self.temperature,
+        )
+        if self.completion_rounds:
+            events, lw = neighbour_completion(
+                problem.score, problem.n_objects, problem.n_exclusive, problem.count_term, events, lw,
+                rounds=self.completion_rounds, relative_threshold=self.completion_threshold,
+            )
+        lw = lw + problem.constant
+        sel = top_k(lw, keep)
+        return events[sel], lw[sel]

@@ -1,0 +1,202 @@
+"""Population events (birth and death) as they enter the hypothesis recursion.
+
+A child hypothesis is a population event followed by a data association (seed 000 Fig. 1,
+seed 001 Fig. 11). The engine splits the population event in two parts:
+
+* **detected births** are columns of the association matrix (a return is the first detection
+  of an object born in region ``r``); their probability enters the count term through
+  :meth:`log_event_prob` indexed by the number ``b`` of such births;
+* **undetected births and deaths** do not touch the association: such a child is the *twin*
+  of a child without that event, and its weight differs by an exact factor
+  (:meth:`undetected_birth_log_ratio`, :meth:`death_log_ratio`; the weight model adds the
+  object's ``1 − p_D`` factor). Seed 001 Eq. 39 is the undetected-birth case:
+  ``w_v / w_v' = (1 − p_D) α``.
+
+Two models are offered:
+
+:class:`SingleEventPopulation`
+    Seed 000 Eq. 30: at most one birth (probability α in each of ``M_b`` regions) or one
+    death (probability β for each of the ``M_d`` objects in view) per scan. With it the
+    engine's children are exactly the ``A(M,m) + M_b A(M+1,m) + M_d A(M−1,m)`` of Sec. II-C.
+:class:`BinomialPopulation`
+    Seed 001: spatial binomial births over pixels (Eq. 31–33; optionally in the Poisson limit
+    ``α^b (1 − α)^{M_b−b} ≈ e^{−λ_B V} α^b``) and binomial survival (Eq. 59). Any number of
+    *detected* births per scan; at most one undetected birth or one death per child (twins of
+    twins are not generated: each such further event multiplies a weight by ``(1 − p_D) α`` or
+    ``(1 − p_s)/(p_s (1 − p_D))``, both ≪ 1 in the papers' settings).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._validation import check_int, check_probability
+
+__all__ = ["SingleEventPopulation", "BinomialPopulation", "birth_prior_gaussian"]
+
+
+def birth_prior_gaussian(density, n_samples: int = 4096):
+    """Gaussian moment match of a birth pdf, for an object born but not yet detected.
+
+    The position moments of the (uniform) region are estimated from a fixed, seeded sample
+    (deterministic); the velocity is the density's prior at the mean position. Used only for
+    undetected-birth children, whose weight is ``(1 − p_D) α`` relative to their twin.
+    """
+    pos = density.region.sample_uniform(n_samples, np.random.default_rng(0))
+    mu = pos.mean(axis=0)
+    cov_p = np.cov(pos, rowvar=False)
+    mean = np.concatenate([mu, density.mean_velocity(mu[None])[0]])
+    cov = np.zeros((4, 4))
+    cov[:2, :2] = cov_p
+    cov[2:, 2:] = density.velocity_cov
+    return mean, cov
+
+
+def _region_loglik(densities, Z):
+    """``log ∫ p(z|x) p_b,r(x) dx ≈ log(1/V̄_r)`` inside region r, ``-inf`` outside.
+
+    Seed 001 Sec. V-B: the measurement likelihood's support is much smaller than a birth region,
+    so the integral of a position measurement against a uniform position pdf is ``1/V̄``.
+    """
+    m = len(Z)
+    out = np.full((m, len(densities)), -np.inf)
+    if m:
+        for r, d in enumerate(densities):
+            out[d.region.contains(Z), r] = d.log_position_density
+    return out
+
+
+class _Population:
+    birth_densities: tuple
+
+    @property
+    def n_birth_regions(self) -> int:
+        return len(self.birth_densities)
+
+    def birth_loglik(self, Z) -> np.ndarray:
+        """(m, B) log-likelihood of each return under each birth pdf."""
+        return _region_loglik(self.birth_densities, Z)
+
+    def birth_track(self, region: int, z, R):
+        """Gaussian track of an object born in ``region``: seeded at return ``z`` if detected,
+        the moment-matched birth pdf if ``z is None``."""
+        d = self.birth_densities[region]
+        if z is None:
+            if region not in self._undetected_cache:
+                self._undetected_cache[region] = birth_prior_gaussian(d)
+            return self._undetected_cache[region]
+        return d.initial_state(z, R)
+
+
+@dataclass(eq=False)
+class SingleEventPopulation(_Population):
+    """Seed 000's single birth-or-death model (Eq. 30) around
+    :class:`hypotrack.models.population.SingleEventBirthDeath`.
+
+    Parameters
+    ----------
+    model : SingleEventBirthDeath
+        α, β and ``M_b`` (with a field of view, for the birth regions).
+    birth_densities : sequence, optional
+        One birth pdf per region (default ``model.birth_density(r)``), each with ``region``,
+        ``log_position_density``, ``initial_state``, ``mean_velocity``, ``velocity_cov``.
+    """
+
+    model: object
+    birth_densities: tuple = None
+    _undetected_cache: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self):
+        if self.birth_densities is None:
+            self.birth_densities = tuple(self.model.birth_density(r) for r in range(self.model.n_birth_regions))
+        self.birth_densities = tuple(self.birth_densities)
+        if len(self.birth_densities) != self.model.n_birth_regions:
+            raise ValueError(
+                f"birth_densities must hold n_birth_regions = {self.model.n_birth_regions} densities, "
+                f"got {len(self.birth_densities)}"
+            )
+
+    def log_event_prob(self, n_in_view: int, n_objects: int) -> np.ndarray:
+        """Over ``b = 0 .. M_b``: log P(no event) for b = 0, log α for one detected birth in a
+        given region, ``-inf`` for more (Eq. 30)."""
+        out = np.full(self.n_birth_regions + 1, -np.inf)
+        out[0] = self.model.log_p_no_event(n_in_view)
+        if self.n_birth_regions:
+            out[1] = self.model.log_birth_prob
+        return out
+
+    def undetected_birth_log_ratio(self, n_in_view: int, n_objects: int) -> np.ndarray:
+        """Over ``b``: log of α / P(no event), only for children without a detected birth."""
+        out = np.full(self.n_birth_regions + 1, -np.inf)
+        out[0] = self.model.log_birth_prob - self.model.log_p_no_event(n_in_view)
+        return out
+
+    def death_log_ratio(self, n_in_view: int, n_objects: int) -> np.ndarray:
+        """Over ``b``: log of β / P(no event), only for children without a detected birth."""
+        out = np.full(self.n_birth_regions + 1, -np.inf)
+        out[0] = self.model.log_death_prob - self.model.log_p_no_event(n_in_view)
+        return out
+
+    def death_eligible(self, in_view: np.ndarray) -> np.ndarray:
+        """Only objects in view may die (the ``M_d`` of Eq. 30)."""
+        return np.asarray(in_view, dtype=bool)
+
+
+@dataclass(eq=False)
+class BinomialPopulation(_Population):
+    """Seed 001's binomial birth (Eq. 31–33) and survival (Eq. 59).
+
+    Parameters
+    ----------
+    birth_densities : sequence
+        One birth pdf per pixel/region (may be empty: no births).
+    alpha : float
+        Birth probability per pixel per scan (``α = λ_B V̄`` in the Poisson limit).
+    p_survive : float
+        Survival probability per object per scan (seed 001's β in Eq. 59; 1 = no deaths).
+    poisson_limit : bool
+        Use ``α^b (1 − α)^{M_b−b} ≈ e^{−M_b α} α^b`` (Eq. 33) — with it the undetected-birth
+        ratio is exactly ``(1 − p_D) α`` (Eq. 39).
+    """
+
+    birth_densities: tuple = ()
+    alpha: float = 0.0
+    p_survive: float = 1.0
+    poisson_limit: bool = False
+    _undetected_cache: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self):
+        self.birth_densities = tuple(self.birth_densities)
+        self.alpha = check_probability(self.alpha, "alpha", high_open=True)
+        self.p_survive = check_probability(self.p_survive, "p_survive", low_open=True)
+
+    def _log_birth(self, b):
+        B = self.n_birth_regions
+        b = np.asarray(b)
+        with np.errstate(divide="ignore"):
+            la = np.log(self.alpha)
+        if self.poisson_limit:
+            return np.where(b > 0, b * la, 0.0) - B * self.alpha
+        return np.where(b > 0, b * la, 0.0) + (B - b) * np.log1p(-self.alpha)
+
+    def log_event_prob(self, n_in_view: int, n_objects: int) -> np.ndarray:
+        n_objects = check_int(n_objects, "n_objects", minimum=0)
+        b = np.arange(self.n_birth_regions + 1)
+        return self._log_birth(b) + n_objects * np.log(self.p_survive)
+
+    def undetected_birth_log_ratio(self, n_in_view: int, n_objects: int) -> np.ndarray:
+        b = np.arange(self.n_birth_regions + 1)
+        out = np.full(len(b), -np.inf)
+        free = b < self.n_birth_regions
+        out[free] = self._log_birth(b[free] + 1) - self._log_birth(b[free])
+        return out
+
+    def death_log_ratio(self, n_in_view: int, n_objects: int) -> np.ndarray:
+        with np.errstate(divide="ignore"):
+            r = np.log1p(-self.p_survive) - np.log(self.p_survive)
+        return np.full(self.n_birth_regions + 1, r)
+
+    def death_eligible(self, in_view: np.ndarray) -> np.ndarray:
+        return np.ones(len(in_view), dtype=bool)

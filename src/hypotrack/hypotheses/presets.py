@@ -1,0 +1,69 @@
+"""The papers' trackers as short configurations of :class:`HypothesisFilter`.
+
+=============== ================================= =================================
+preset          weight model                       child generator
+=============== ================================= =================================
+``hfisst``      H-FISST (seed 000 Eq. 8, 30–31)     exhaustive (with optional gating)
+``rfisst``      H-FISST                             MCMC search (seed 000 Sec. III)
+``homht``       Reid (seed 001 Eq. 30, 35)          exhaustive
+``homht_kbest`` Reid                                Murty k-best
+=============== ================================= =================================
+
+Every preset takes the motion model, the sensor and keyword options of
+:class:`HypothesisFilter` (``population``, ``dt``, ``max_hypotheses``, ``cap``,
+``gate_probability``, ``seed``, ``means``, ``covs``, ``labels``).
+"""
+
+from __future__ import annotations
+
+from ..models.population import SingleEventBirthDeath
+from .filter import HypothesisFilter
+from .generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
+from .population_events import SingleEventPopulation
+from .weights import HFISSTWeights, ReidWeights
+
+__all__ = ["hfisst", "rfisst", "homht", "homht_kbest"]
+
+
+def _population(population):
+    if isinstance(population, SingleEventBirthDeath):
+        return SingleEventPopulation(population)
+    return population
+
+
+def _filter(motion, sensor, weights, generator, population=None, **options):
+    return HypothesisFilter(motion, sensor, weights, generator, population=_population(population), **options)
+
+
+def hfisst(motion, sensor, *, max_events=10**7, population=None, **options) -> HypothesisFilter:
+    """H-FISST: every child of every parent, weighted by seed 000 Eq. 8/30–31.
+
+    ``population`` may be a :class:`~hypotrack.models.population.SingleEventBirthDeath`
+    (seed 000 Eq. 30) or a :class:`~.population_events.BinomialPopulation` (seed 001).
+    """
+    return _filter(motion, sensor, HFISSTWeights(), ExhaustiveGenerator(max_events=max_events), population, **options)
+
+
+def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, variant="paper", init="random", population=None,
+           **options) -> HypothesisFilter:
+    """R-FISST: H-FISST weights on the children found by the MCMC search (seed 000 Sec. III).
+
+    ``n_steps`` proposals per parent per scan (seed 000 Fig. 15 uses 100,000).
+    """
+    gen = MCMCGenerator(n_steps=n_steps, burn_in=burn_in, variant=variant, init=init)
+    return _filter(motion, sensor, HFISSTWeights(), gen, population, **options)
+
+
+def homht(motion, sensor, *, birth_intensity=0.0, birth_density=None, max_events=10**7, population=None,
+          **options) -> HypothesisFilter:
+    """Reid's HOMHT with exhaustive hypothesis generation (births seeded at returns)."""
+    weights = ReidWeights(birth_intensity=birth_intensity, birth_density=birth_density)
+    return _filter(motion, sensor, weights, ExhaustiveGenerator(max_events=max_events), population, **options)
+
+
+def homht_kbest(motion, sensor, *, k=None, birth_intensity=0.0, birth_density=None, population=None,
+                **options) -> HypothesisFilter:
+    """HOMHT with Murty's k best children per parent (``k`` defaults to ``max_hypotheses``)."""
+    weights = ReidWeights(birth_intensity=birth_intensity, birth_density=birth_density)
+    k = options.get("max_hypotheses", 100) if k is None else k
+    return _filter(motion, sensor, weights, MurtyGenerator(k=k), population, **options)

@@ -1,0 +1,54 @@
+"""Per-scan quantities every weight model reads, computed once for all hypotheses."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["ScanContext"]
+
+
+@dataclass(frozen=True, eq=False)
+class ScanContext:
+    """What one scan contributes to the weights of every child.
+
+    Attributes
+    ----------
+    Z : (m, p) returns.
+    loglik : (m, N) ``log N(z_i; H x̂_j, S_j)`` for every return and predicted track of the
+        store (the predictive density, not the point likelihood at the mean: DESIGN.md §4.2).
+    allowed : (m, N) bool gate (True = return i may be assigned to track j).
+    p_detect : (N,) detection probability of each predicted track (0 outside the field of view).
+    birth_loglik : (m, B) ``log ∫ p(z_i|x) p_b,r(x) dx`` for each birth region ``r``.
+    p_detect_birth : float, detection probability of a newly born object.
+    clutter_rate : float, expected clutter returns per scan ``λV``.
+    clutter_volume : float, ``V`` (clutter density ``g(z) = 1/V``).
+    """
+
+    Z: np.ndarray
+    loglik: np.ndarray
+    allowed: np.ndarray
+    p_detect: np.ndarray
+    birth_loglik: np.ndarray
+    p_detect_birth: float
+    clutter_rate: float
+    clutter_volume: float
+
+    @property
+    def n_returns(self) -> int:
+        return self.Z.shape[0]
+
+    @property
+    def n_birth_regions(self) -> int:
+        return self.birth_loglik.shape[1]
+
+    @property
+    def log_clutter_density(self) -> float:
+        """``log g(z) = −log V`` (seed 000 Eq. 18)."""
+        return -float(np.log(self.clutter_volume))
+
+    @property
+    def clutter_intensity(self) -> float:
+        """``λ_C = λV / V`` (returns per unit volume; Reid's β_FT)."""
+        return self.clutter_rate / self.clutter_volume

@@ -1,0 +1,219 @@
+"""Weight models: the one place H-FISST, FISST with Poisson clutter and HOMHT differ.
+
+Each model turns a parent hypothesis and a scan into an :class:`AssociationProblem`, i.e. it
+says how the extra columns of the data association matrix and the count term ``φ`` are filled
+(DESIGN.md §4.2). Common to all three:
+
+* object column ``j``: ``log N(z_i; H x̂_j, S_j) + log p_D,j − log(1 − p_D,j)`` and the constant
+  ``Σ_j log(1 − p_D,j)`` — together ``Π_detected p_D Π_missed (1 − p_D)``;
+* birth column ``r`` (H-FISST / FISST births): ``log ∫ p(z|x) p_b,r(x) dx + log p_D``;
+* the population-event probability (Eq. 30 or seed 001 Eq. 59) added to ``φ`` by the caller.
+
+Detection probabilities must lie in [0, 1): a missed detection must be possible for
+``log(1 − p_D)`` to be finite (a track outside the field of view has ``p_D = 0``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.special import gammaln
+
+from .._validation import check_nonnegative, check_positive
+from .association_problem import AssociationProblem
+
+__all__ = ["WeightModel", "HFISSTWeights", "FISSTPoissonWeights", "ReidWeights", "make_weight_model"]
+
+
+class WeightModel:
+    """Base class: builds the association problem of a parent; subclasses fill the extras."""
+
+    name = "base"
+    seeded_births = False
+
+    def option_scores(self, ctx) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def count_term(self, ctx, n_objects: int, n_births: int) -> np.ndarray:  # pragma: no cover - abstract
+        """``φ[k, b]`` of the weight model (without the population-event probability)."""
+        raise NotImplementedError
+
+    def uses_birth_columns(self) -> bool:
+        return True
+
+    def problem(self, ctx, tracks, constant: float = 0.0, population_log_prob=None) -> AssociationProblem:
+        """The association problem of a parent holding store tracks ``tracks``.
+
+        Parameters
+        ----------
+        ctx : ScanContext
+        tracks : (M,) int array of track indices into the predicted store.
+        constant : float
+            Added to every child (the parent's log-weight).
+        population_log_prob : (B + 1,) array, optional
+            Log-probability of the population event "``b`` detected births, nothing else"
+            (seed 000 Eq. 30 / seed 001 Eq. 59); default: no births, probability 1.
+        """
+        tracks = np.asarray(tracks, dtype=np.int64)
+        m = ctx.n_returns
+        p = ctx.p_detect[tracks]
+        log_miss = np.log1p(-p)
+        with np.errstate(divide="ignore"):
+            obj = ctx.loglik[:, tracks] + (np.log(p) - log_miss)[None, :]
+        obj = np.where(ctx.allowed[:, tracks], obj, -np.inf)
+        n_births = ctx.n_birth_regions if self.uses_birth_columns() else 0
+        if n_births:
+            births = ctx.birth_loglik + np.log(ctx.p_detect_birth)
+            target = np.hstack([obj, births])
+        else:
+            target = obj
+        pop = np.zeros(1) if population_log_prob is None else np.asarray(population_log_prob, dtype=float)
+        if pop.shape != (n_births + 1,):
+            raise ValueError(f"population_log_prob must have shape ({n_births + 1},), got {pop.shape}")
+        phi = self.count_term(ctx, len(tracks), n_births) + pop[None, :]
+        return AssociationProblem(
+            target_scores=target,
+            option_scores=self.option_scores(ctx),
+            n_objects=len(tracks),
+            count_term=phi,
+            constant=constant + float(log_miss.sum()),
+        )
+
+
+def _detected_counts(m, n_objects, n_births):
+    k = np.arange(n_objects + 1)[:, None]
+    b = np.arange(n_births + 1)[None, :]
+    return k, b, k + b <= m
+
+
+@dataclass(frozen=True)
+class HFISSTWeights(WeightModel):
+    """H-FISST / R-FISST weights (seed 000 Eq. 8, 17–19, 30–31).
+
+    ``w_ij ∝ w_i p_pop p_D^k (1 − p_D)^{N−k} / (C(m, k) k!) Π_assoc N(z; H x̂⁻, S) Π_clutter g(z)``
+    with ``k`` the detected objects (births included) among the ``N`` of the child and
+    ``g(z) = 1/V`` the clutter density. H-FISST uses no clutter *rate*: the number of clutter
+    returns enters only through ``C(m, k) k!``.
+
+    Notes
+    -----
+    **Eq. 9 is wrong for M > m.** Seed 000 states that ``Σ_j p_ij = 1`` (Eq. 9), assuming
+    ``M < m``. Summing Eq. 8 over all ``A(M, m)`` associations actually gives
+    ``Σ_{k=0}^{min(M, m)} C(M, k) p_D^k (1 − p_D)^{M−k} = P[Binomial(M, p_D) ≤ m]``, which is 1
+    only when ``M ≤ m``: with more objects than returns the prior over associations loses the
+    mass of "more detections than returns". The engine implements Eq. 8 as published (the
+    lost mass is common to all children of a parent with the same ``M``, but it does change
+    the relative weights of parents with different numbers of objects);
+    ``tests/unit/test_hypotheses_weights.py`` checks the binomial-CDF sum.
+    """
+
+    name = "hfisst"
+
+    def option_scores(self, ctx) -> np.ndarray:
+        return np.full((ctx.n_returns, 1), ctx.log_clutter_density)
+
+    def count_term(self, ctx, n_objects, n_births):
+        m = ctx.n_returns
+        k, b, ok = _detected_counts(m, n_objects, n_births)
+        n = np.minimum(k + b, m)
+        # −log(C(m, n) n!) = −log(m! / (m − n)!), Eq. 8 / 31.
+        return np.where(ok, gammaln(m - n + 1) - gammaln(m + 1), -np.inf)
+
+
+@dataclass(frozen=True)
+class FISSTPoissonWeights(WeightModel):
+    """FISST with Poisson clutter (seed 001 Eq. 6–7, 18, 29).
+
+    ``p(σ|n) = p_D^{m−k'} (1 − p_D)^{n−(m−k')} e^{−λV} (λV)^{k'} / k'!`` (Eq. 6) and
+    ``l = (k'! / V^{k'}) Π N(z; H x̂⁻, S)`` (Eq. 7) with ``k'`` clutter returns; both factors
+    are evaluated as written (the ``k'!`` cancel numerically), so that the equality with
+    Reid's weights (seed 001 Sec. V-A) is a test, not an identity of the code. Births enter
+    through birth columns ``∫ p(z|x) 1_pixel(x)/V̄ dx`` (seed 001 Eq. 31, 34).
+
+    Parameters
+    ----------
+    clutter_rate : float, optional
+        Overrides the scan's expected clutter count λV (> 0).
+    """
+
+    clutter_rate: float | None = None
+    name = "fisst_poisson"
+
+    def option_scores(self, ctx) -> np.ndarray:
+        return np.zeros((ctx.n_returns, 1))
+
+    def count_term(self, ctx, n_objects, n_births):
+        m = ctx.n_returns
+        k, b, ok = _detected_counts(m, n_objects, n_births)
+        kc = np.maximum(m - k - b, 0)
+        lam_v = check_positive(ctx.clutter_rate if self.clutter_rate is None else self.clutter_rate, "clutter_rate")
+        V = ctx.clutter_volume
+        log_assoc_prior = -lam_v + kc * np.log(lam_v) - gammaln(kc + 1)  # Eq. 6 (p_D factors in columns)
+        log_clutter_lik = gammaln(kc + 1) - kc * np.log(V)  # Eq. 7
+        return np.where(ok, log_assoc_prior + log_clutter_lik, -np.inf)
+
+
+@dataclass(frozen=True)
+class ReidWeights(WeightModel):
+    """Reid's HOMHT weights (Reid 1979 Eq. 16; seed 001 Eq. 30 and 35).
+
+    ``w ∝ w_i p_D^d (1 − p_D)^{n−d} λ_C^{k'} λ_B^{b} Π_assoc N(z; H x̂⁻, S)`` — seed 001 writes the
+    birth factor as ``(λ_B / p_D)^b`` next to ``p_D^{m−k}``, whose exponent counts the ``b``
+    births' returns; the ``p_D`` cancel. Births are *seeded at their return* (every birth is
+    detected; any number per scan) through the row option "new target" with score
+    ``log λ_B``; their tracks start from the return (``birth_density.initial_state``).
+    The association likelihood is the predictive density ``N(z; H x̂⁻, S)``, not the point
+    likelihood at the mean (seed 000 Eq. 21 misstates Reid).
+
+    Parameters
+    ----------
+    birth_intensity : float, optional
+        ``λ_B`` ≥ 0, new targets per unit volume per scan; 0 disables births.
+    birth_density : object, optional
+        Anything with ``initial_state(z, R) -> (mean, cov)`` (e.g.
+        :class:`hypotrack.models.population.UniformBirthDensity`); required when
+        ``birth_intensity > 0``.
+    clutter_intensity : float, optional
+        Overrides the scan's ``λ_C = λV / V``.
+    """
+
+    birth_intensity: float = 0.0
+    birth_density: object = None
+    clutter_intensity: float | None = None
+    name = "reid"
+
+    def __post_init__(self):
+        object.__setattr__(self, "birth_intensity", check_nonnegative(self.birth_intensity, "birth_intensity"))
+        if self.birth_intensity > 0 and not hasattr(self.birth_density, "initial_state"):
+            raise ValueError("birth_density with initial_state(z, R) is required when birth_intensity > 0")
+        if self.clutter_intensity is not None:
+            check_positive(self.clutter_intensity, "clutter_intensity")
+
+    @property
+    def seeded_births(self) -> bool:
+        return self.birth_intensity > 0
+
+    def uses_birth_columns(self) -> bool:
+        return False
+
+    def option_scores(self, ctx) -> np.ndarray:
+        lam_c = check_positive(ctx.clutter_intensity if self.clutter_intensity is None else self.clutter_intensity,
+                               "clutter intensity")
+        cols = [np.full(ctx.n_returns, np.log(lam_c))]
+        if self.seeded_births:
+            cols.append(np.full(ctx.n_returns, np.log(self.birth_intensity)))
+        return np.stack(cols, axis=1)
+
+    def count_term(self, ctx, n_objects, n_births):
+        return np.zeros((n_objects + 1, n_births + 1))
+
+
+_MODELS = {"hfisst": HFISSTWeights, "fisst_poisson": FISSTPoissonWeights, "reid": ReidWeights}
+
+
+def make_weight_model(name: str, **kwargs) -> WeightModel:
+    """``"hfisst"``, ``"fisst_poisson"`` or ``"reid"`` with its keyword parameters."""
+    if name not in _MODELS:
+        raise ValueError(f"weight model must be one of {sorted(_MODELS)}, got {name!r}")
+    return _MODELS[name](**kwargs)

@@ -1,0 +1,165 @@
+"""R-FISST MCMC search (hypotrack.association.mcmc) against brute-force enumeration."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from hypotrack.association.mcmc import MCMC_VARIANTS, event_log_weights, mcmc_search, neighbour_completion
+
+
+def brute_force_events(m, n_exclusive, n_options):
+    """Every event over m returns by itertools: exclusive columns distinct, options free."""
+    opts = list(range(n_exclusive)) + [-1 - t for t in range(n_options)]
+    rows = [a for a in itertools.product(opts, repeat=m) if len({x for x in a if x >= 0}) == sum(x >= 0 for x in a)]
+    return np.array(rows, dtype=np.int64).reshape(len(rows), m)
+
+
+def naive_log_weight(score, n_obj, n_excl, phi, a):
+    total, k, b = 0.0, 0, 0
+    for i, c in enumerate(a):
+        total += score[i, c if c >= 0 else n_excl - 1 - c]
+        k += 0 <= c < n_obj
+        b += n_obj <= c < n_excl
+    return total + phi[k, b]
+
+
+def random_problem(rng, m, n_obj, n_birth, n_options, forbid=0.2):
+    n_excl = n_obj + n_birth
+    score = rng.normal(scale=2.0, size=(m, n_excl + n_options))
+    score[:, :n_excl][rng.random((m, n_excl)) < forbid] = -np.inf
+    phi = rng.normal(size=(n_obj + 1, n_birth + 1))
+    if n_birth:
+        phi[:, 2:] = -np.inf  # at most one birth, as under seed 000 Eq. 30
+    return score, n_excl, phi
+
+
+def test_gather_sum_equals_naive_sum():
+    rng = np.random.default_rng(0)
+    score, n_excl, phi = random_problem(rng, 4, 3, 2, 2)
+    events = brute_force_events(4, n_excl, 2)
+    fast = event_log_weights(score, 3, n_excl, phi, events)
+    slow = np.array([naive_log_weight(score, 3, n_excl, phi, a) for a in events])
+    np.testing.assert_array_equal(np.isfinite(fast), np.isfinite(slow))
+    fin = np.isfinite(slow)
+    np.testing.assert_allclose(fast[fin], slow[fin], rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("variant", MCMC_VARIANTS)
+def test_visited_events_are_distinct_feasible_and_exactly_weighted(variant):
+    rng = np.random.default_rng(1)
+    for trial in range(5):
+        m, n_obj, n_birth, n_opt = 4, 3, 2, 1 + trial % 2
+        score, n_excl, phi = random_problem(rng, m, n_obj, n_birth, n_opt)
+        events, lw = mcmc_search(score, n_obj, n_excl, phi, n_steps=3000, seed=trial, variant=variant)
+        assert len({tuple(e) for e in events}) == len(events)
+        for a, w in zip(events, lw):
+            excl = a[a >= 0]
+            assert len(set(excl)) == len(excl)
+            assert w == pytest.approx(naive_log_weight(score, n_obj, n_excl, phi, a), abs=1e-10)
+        assert np.all(np.isfinite(lw))
+
+
+@pytest.mark.parametrize("variant", MCMC_VARIANTS)
+def test_chain_plus_completion_finds_every_heavy_child(variant):
+    """Every event with normalised weight > 1e-6 is found (M, m <= 5, one birth column)."""
+    rng = np.random.default_rng(2)
+    for trial in range(6):
+        m, n_obj = int(rng.integers(1, 5)), int(rng.integers(0, 5))
+        score, n_excl, phi = random_problem(rng, m, n_obj, 1, 1, forbid=0.0)
+        all_ev = brute_force_events(m, n_excl, 1)
+        all_lw = event_log_weights(score, n_obj, n_excl, phi, all_ev)
+        p = np.exp(all_lw - np.logaddexp.reduce(all_lw[np.isfinite(all_lw)]))
+        heavy = {tuple(e) for e in all_ev[p > 1e-6]}
+        events, lw = mcmc_search(score, n_obj, n_excl, phi, n_steps=30000, seed=trial, variant=variant)
+        events, lw = neighbour_completion(score, n_obj, n_excl, phi, events, lw, rounds=2)
+        assert heavy <= {tuple(e) for e in events}
+        np.testing.assert_allclose(lw, event_log_weights(score, n_obj, n_excl, phi, events), atol=1e-10)
+
+
+def test_completion_adds_exactly_the_heavy_single_moves():
+    """One round from one event = brute-force neighbours (paper move) above the threshold."""
+    rng = np.random.default_rng(7)
+    m, n_obj, n_birth = 4, 3, 1
+    score, n_excl, phi = random_problem(rng, m, n_obj, n_birth, 2, forbid=0.0)
+    start = np.array([0, -1, 3, -2])
+    lw0 = event_log_weights(score, n_obj, n_excl, phi, start[None])
+    tau = 1e-2
+    ev, lw = neighbour_completion(score, n_obj, n_excl, phi, start[None], lw0, rounds=1, relative_threshold=tau)
+    expected = set()
+    for i in range(m):
+        for c in list(range(n_excl)) + [-1, -2]:
+            if c == start[i]:
+                continue
+            a = start.copy()
+            if c >= 0:
+                a[a == c] = -1  # the conflicting return goes to clutter
+            a[i] = c
+            w = naive_log_weight(score, n_obj, n_excl, phi, a)
+            if w >= lw0[0] + np.log(tau):
+                expected.add(tuple(a))
+    assert {tuple(e) for e in ev[1:]} == expected
+    assert tuple(ev[0]) == tuple(start)
+
+
+def test_same_seed_same_result_and_seeds_differ():
+    rng = np.random.default_rng(3)
+    score, n_excl, phi = random_problem(rng, 6, 6, 0, 1, forbid=0.0)
+    a = mcmc_search(score, 6, n_excl, phi, n_steps=2000, seed=11)
+    b = mcmc_search(score, 6, n_excl, phi, n_steps=2000, seed=11)
+    c = mcmc_search(score, 6, n_excl, phi, n_steps=2000, seed=12)
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])
+    assert a[0].shape != c[0].shape or not np.array_equal(a[0], c[0])
+
+
+def test_burn_in_and_init():
+    rng = np.random.default_rng(4)
+    score, n_excl, phi = random_problem(rng, 3, 3, 0, 1, forbid=0.0)
+    init = np.array([2, -1, 0])
+    ev, lw = mcmc_search(score, 3, n_excl, phi, n_steps=0, seed=0, init=init)
+    np.testing.assert_array_equal(ev, init[None])
+    assert lw[0] == pytest.approx(naive_log_weight(score, 3, n_excl, phi, init))
+    ev, _ = mcmc_search(score, 3, n_excl, phi, n_steps=50, burn_in=50, seed=0)
+    assert len(ev) == 1  # only the state at the end of burn-in
+
+
+def test_large_scan_copes():
+    """m = 120 returns and 120 objects: far beyond any enumeration, the chain still runs."""
+    rng = np.random.default_rng(5)
+    n = 120
+    score = rng.normal(size=(n, n + 1)) - 5.0
+    score[np.arange(n), rng.permutation(n)] = 5.0  # a clear best assignment
+    phi = np.zeros((n + 1, 1))
+    ev, lw = mcmc_search(score, n, n, phi, n_steps=200_000, seed=1, burn_in=0)
+    assert np.all(np.isfinite(lw))
+    best = ev[np.argmax(lw)]
+    assert np.sum(best >= 0) > 0.9 * n  # the search climbs far above the all-clutter start
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        (dict(n_steps=-1), "n_steps"),
+        (dict(variant="gibbsy"), "variant"),
+        (dict(burn_in=99), "burn_in"),
+        (dict(init=np.array([0, 0])), "same exclusive column"),
+        (dict(init=np.array([-1, 1])), "finite log-weight"),
+    ],
+)
+def test_bad_input(kwargs, match):
+    score = np.array([[0.0, 0.0, -1.0], [0.0, -np.inf, -1.0]])
+    phi = np.zeros((3, 1))
+    args = dict(n_steps=10, seed=0)
+    args.update(kwargs)
+    with pytest.raises(ValueError, match=match):
+        mcmc_search(score, 2, 2, phi, **args)
+
+
+def test_bad_problem_shapes():
+    with pytest.raises(ValueError, match="count_term"):
+        mcmc_search(np.zeros((2, 3)), 2, 2, np.zeros((2, 2)), n_steps=1, seed=0)
+    with pytest.raises(ValueError, match="clutter"):
+        mcmc_search(np.array([[0.0, -np.inf]]), 1, 1, np.zeros((2, 1)), n_steps=1, seed=0)
+    with pytest.raises(ValueError, match="NaN"):
+        mcmc_search(np.array([[np.nan, 0.0]]), 1, 1, np.zeros((2, 1)), n_steps=1, seed=0)

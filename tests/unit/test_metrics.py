@@ -68,6 +68,14 @@ def random_set(rng, k, dim=2):
     return rng.uniform(0, 10, size=(k, dim))
 
 
+def random_problems(seed, count, max_size=4, c_range=(0.5, 8)):
+    """Random (X, Y, c) triples with 0..max_size points per set."""
+    rng = np.random.default_rng(seed)
+    for _ in range(count):
+        sizes = rng.integers(0, max_size + 1, size=2)
+        yield random_set(rng, int(sizes[0])), random_set(rng, int(sizes[1])), float(rng.uniform(*c_range))
+
+
 # --- published vectors -----------------------------------------------------------------
 
 
@@ -105,21 +113,13 @@ def test_assignment_on_powered_distances_not_plain_distances():
 
 @pytest.mark.parametrize("p", [1, 2, np.inf])
 def test_ospa_matches_brute_force(p):
-    rng = np.random.default_rng(10)
-    for _ in range(150):
-        X = random_set(rng, int(rng.integers(0, 5)))
-        Y = random_set(rng, int(rng.integers(0, 5)))
-        c = float(rng.uniform(0.5, 8))
+    for X, Y, c in random_problems(10, 150):
         assert ospa(X, Y, c, p) == pytest.approx(brute_ospa(X, Y, c, p), rel=1e-12, abs=1e-12)
 
 
 @pytest.mark.parametrize("p", [1, 2, np.inf])
 def test_gospa_matches_brute_force_with_parts(p):
-    rng = np.random.default_rng(11)
-    for _ in range(150):
-        X = random_set(rng, int(rng.integers(0, 5)))
-        Y = random_set(rng, int(rng.integers(0, 5)))
-        c = float(rng.uniform(0.5, 8))
+    for X, Y, c in random_problems(11, 150):
         r = gospa(X, Y, c, p)
         value, loc, n_missed, n_false = brute_gospa(X, Y, c, p)
         assert r.value == pytest.approx(value, rel=1e-12, abs=1e-12)
@@ -141,10 +141,8 @@ def test_gospa_matches_brute_force_with_parts(p):
 def test_gospa_general_alpha_definition():
     # For |X| <= |Y|: GOSPA^p = min_π Σ min(d, c)^p + c^p/α (|Y| − |X|)  (Rahmathullah et al., Def. 1).
     rng = np.random.default_rng(12)
-    for _ in range(60):
-        X = random_set(rng, int(rng.integers(0, 4)))
-        Y = random_set(rng, int(rng.integers(0, 4)))
-        c, p, alpha = float(rng.uniform(1, 6)), 2.0, float(rng.uniform(0.2, 2))
+    for X, Y, c in random_problems(12, 60, max_size=3, c_range=(1, 6)):
+        p, alpha = 2.0, float(rng.uniform(0.2, 2))
         small, large = (X, Y) if len(X) <= len(Y) else (Y, X)
         D = np.minimum(pairwise(small, large), c)
         best = min(

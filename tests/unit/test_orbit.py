@@ -180,9 +180,13 @@ def test_ekf_prediction_through_predict_with():
 def test_circular_velocity():
     p = np.array([[7000.0, 0.0], [0.0, -20000.0]])
     v = circular_velocity(p)
-    np.testing.assert_allclose(v, [[0, math.sqrt(MU_EARTH / 7000)], [math.sqrt(MU_EARTH / 20000), 0]], atol=1e-15)
+    np.testing.assert_allclose(
+        v, [[0, math.sqrt(MU_EARTH / 7000)], [math.sqrt(MU_EARTH / 20000), 0]], atol=1e-15
+    )
     X = np.hstack([p, v])
-    np.testing.assert_allclose(MODEL.propagate(X, 3000.0)[:, :2].__pow__(2).sum(1) ** 0.5, [7000, 20000], rtol=1e-12)
+    np.testing.assert_allclose(
+        MODEL.propagate(X, 3000.0)[:, :2].__pow__(2).sum(1) ** 0.5, [7000, 20000], rtol=1e-12
+    )
 
 
 @pytest.mark.parametrize(

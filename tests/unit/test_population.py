@@ -22,7 +22,9 @@ from hypotrack.models.sensors import Box, FieldOfView
 def test_single_event_probabilities_eq30():
     m = SingleEventBirthDeath(alpha=1e-3, beta=1e-4, n_birth_regions=10)
     assert m.p_no_event(7) == pytest.approx(1 - 10e-3 - 7e-4, rel=1e-15)
-    assert m.log_birth_prob == pytest.approx(math.log(1e-3)) and m.log_death_prob == pytest.approx(math.log(1e-4))
+    assert m.log_birth_prob == pytest.approx(math.log(1e-3)) and m.log_death_prob == pytest.approx(
+        math.log(1e-4)
+    )
     lp = m.event_log_probs(7)
     assert lp.shape == (1 + 10 + 7,)
     assert logsumexp(lp) == pytest.approx(0.0, abs=1e-14)
@@ -211,7 +213,9 @@ def test_continuous_birth_death_zero_death_rate_limit():
     assert continuous_birth_death(2.0, 0.3, 0.0) == (0.0, 0.0)
 
 
-@pytest.mark.parametrize("args, match", [((-1, 0.1, 1), "birth_rate"), ((1, -0.1, 1), "death_rate"), ((1, 0.1, -1), "dt")])
+@pytest.mark.parametrize(
+    "args, match", [((-1, 0.1, 1), "birth_rate"), ((1, -0.1, 1), "death_rate"), ((1, 0.1, -1), "dt")]
+)
 def test_continuous_birth_death_bad_input(args, match):
     with pytest.raises(ValueError, match=match):
         continuous_birth_death(*args)

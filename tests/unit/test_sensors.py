@@ -85,14 +85,18 @@ def test_linear_sensor_bad_states_shape():
 
 def test_fov_contains_known_points():
     fov = FieldOfView(15, 30, 6578, 30000)
-    pts = polar(np.array([10000, 10000, 10000, 10000, 6000, 31000, 6578, 30000]), [0, 30, -0.01, 30.01, 15, 15, 0, 30])
+    pts = polar(
+        np.array([10000, 10000, 10000, 10000, 6000, 31000, 6578, 30000]), [0, 30, -0.01, 30.01, 15, 15, 0, 30]
+    )
     np.testing.assert_array_equal(fov.contains(pts), [True, True, False, False, False, False, True, True])
     assert fov.contains(np.zeros((0, 2))).shape == (0,)
 
 
 def test_fov_wraps_around_the_negative_x_axis():
     fov = FieldOfView(180, 20, 1, 10)
-    np.testing.assert_array_equal(fov.contains(polar(5, [171, 189, -171, 169, 0])), [True, True, True, False, False])
+    np.testing.assert_array_equal(
+        fov.contains(polar(5, [171, 189, -171, 169, 0])), [True, True, True, False, False]
+    )
     full = FieldOfView(123, 360, 1, 10)
     assert full.contains(polar(5, np.arange(0, 360, 7))).all()
     assert math.isclose(full.area, math.pi * 99)
@@ -127,7 +131,9 @@ def test_fov_split_partitions_the_wedge():
     parts = fov.split(10)
     assert len(parts) == 10
     assert math.isclose(sum(p.area for p in parts), fov.area, rel_tol=1e-12)
-    np.testing.assert_allclose([p.angle_limits_deg for p in parts], [(3 * i, 3 * i + 3) for i in range(10)], atol=1e-12)
+    np.testing.assert_allclose(
+        [p.angle_limits_deg for p in parts], [(3 * i, 3 * i + 3) for i in range(10)], atol=1e-12
+    )
     pts = fov.sample_uniform(5000, np.random.default_rng(4))
     inside = np.array([p.contains(pts) for p in parts])
     assert (inside.sum(axis=0) == 1).all()  # boundaries have probability zero
@@ -169,7 +175,9 @@ def test_fov_bad_points():
 def test_box_geometry_and_sampling():
     b = Box([-1, 2], [3, 7])
     assert b.dim == 2 and b.area == 20.0
-    np.testing.assert_array_equal(b.contains([[0, 2], [3, 7], [3.1, 5], [0, 1.9]]), [True, True, False, False])
+    np.testing.assert_array_equal(
+        b.contains([[0, 2], [3, 7], [3.1, 5], [0, 1.9]]), [True, True, False, False]
+    )
     pts = b.sample_uniform(1000, np.random.default_rng(0))
     assert pts.shape == (1000, 2) and b.contains(pts).all()
     seg = Box(-2.0, 2.0)
@@ -278,7 +286,11 @@ def test_sensor_rejects_mismatched_parts():
 
 def test_sensor_array_one_scan_per_sensor():
     one_d = [
-        Sensor(LinearPositionSensor([[0.01 * (i + 1)]], 1, (0,)), DetectionModel(1.0), PoissonClutter(0.5, Box(-1, 1)))
+        Sensor(
+            LinearPositionSensor([[0.01 * (i + 1)]], 1, (0,)),
+            DetectionModel(1.0),
+            PoissonClutter(0.5, Box(-1, 1)),
+        )
         for i in range(3)
     ]
     arr = SensorArray(one_d)

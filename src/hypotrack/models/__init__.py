@@ -9,7 +9,15 @@ from .population import (
     UniformBirthDensity,
     continuous_birth_death,
 )
-from .sensors import Box, DetectionModel, FieldOfView, LinearPositionSensor, PoissonClutter, Sensor, SensorArray
+from .sensors import (
+    Box,
+    DetectionModel,
+    FieldOfView,
+    LinearPositionSensor,
+    PoissonClutter,
+    Sensor,
+    SensorArray,
+)
 
 __all__ = [
     "ConstantVelocity",

@@ -225,7 +225,8 @@ class TwoBodyOrbit:
 def integrate_variational(x0, dt, mu=MU_EARTH, *, rtol=1e-13, atol=1e-13):
     """Numerically integrate the two-body equations and their variational equations.
 
-    ``ẋ = [v, −μ r/|r|³]``, ``Φ̇ = A(x) Φ`` with ``A = [[0, I], [μ(3 r rᵀ/|r|² − I)/|r|³, 0]]``,
+    ``ẋ = [v, −μ r/|r|³]``, ``Φ̇ = A(x) Φ`` with
+    ``A = [[0, I], [μ(3 r rᵀ/|r|² − I)/|r|³, 0]]``,
     ``Φ(0) = I``, by scipy's DOP853. Slow (one object at a time); it is the independent
     reference for :class:`TwoBodyOrbit`, not the production path.
 
@@ -299,7 +300,9 @@ def elements_to_state(a, e, arg_periapsis, true_anomaly, mu=MU_EARTH) -> np.ndar
     -------
     (n, 4) states ``[x, y, vx, vy]`` (``(4,)`` for scalar inputs).
     """
-    a_, e_, w_, nu_ = np.broadcast_arrays(*(np.asarray(v, dtype=float) for v in (a, e, arg_periapsis, true_anomaly)))
+    a_, e_, w_, nu_ = np.broadcast_arrays(
+        *(np.asarray(v, dtype=float) for v in (a, e, arg_periapsis, true_anomaly))
+    )
     scalar = a_.ndim == 0
     a_, e_, w_, nu_ = (np.atleast_1d(v) for v in (a_, e_, w_, nu_))
     for v, name in ((a_, "a"), (e_, "e"), (w_, "arg_periapsis"), (nu_, "true_anomaly")):

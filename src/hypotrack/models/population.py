@@ -144,10 +144,16 @@ class SingleEventBirthDeath:
     def __post_init__(self):
         object.__setattr__(self, "alpha", check_probability(self.alpha, "alpha"))
         object.__setattr__(self, "beta", check_probability(self.beta, "beta"))
-        object.__setattr__(self, "n_birth_regions", check_int(self.n_birth_regions, "n_birth_regions", minimum=1))
+        object.__setattr__(
+            self, "n_birth_regions", check_int(self.n_birth_regions, "n_birth_regions", minimum=1)
+        )
         if self.fov is not None and not isinstance(self.fov, FieldOfView):
             raise TypeError(f"fov must be a FieldOfView, got {type(self.fov).__name__}")
-        cov = np.eye(2) if self.velocity_cov is None else check_covariance(self.velocity_cov, "velocity_cov", dim=2)
+        cov = (
+            np.eye(2)
+            if self.velocity_cov is None
+            else check_covariance(self.velocity_cov, "velocity_cov", dim=2)
+        )
         object.__setattr__(self, "velocity_cov", cov)
         if self.n_birth_regions * self.alpha >= 1:
             raise ValueError(
@@ -191,7 +197,11 @@ class SingleEventBirthDeath:
         (in linear space) to 1."""
         m_d = check_int(n_in_view, "n_in_view", minimum=0)
         return np.concatenate(
-            [[self.log_p_no_event(m_d)], np.full(self.n_birth_regions, self.log_birth_prob), np.full(m_d, self.log_death_prob)]
+            [
+                [self.log_p_no_event(m_d)],
+                np.full(self.n_birth_regions, self.log_birth_prob),
+                np.full(m_d, self.log_death_prob),
+            ]
         )
 
     @property
@@ -245,7 +255,9 @@ class BinomialBirth:
         """log of ``α^p (1 − α)^{M−p}``: one given set of ``p`` pixels spawns (left of Eq. 33)."""
         p = check_int(p, "p", minimum=0, maximum=self.n_potential)
         a = self.alpha
-        return (p * _log(a) if p else 0.0) + ((self.n_potential - p) * float(np.log1p(-a)) if self.n_potential > p else 0.0)
+        return (p * _log(a) if p else 0.0) + (
+            (self.n_potential - p) * float(np.log1p(-a)) if self.n_potential > p else 0.0
+        )
 
     @property
     def mean(self) -> float:

@@ -72,9 +72,13 @@ class LinearPositionSensor:
 
     def __post_init__(self):
         d = check_int(self.ndim_state, "ndim_state", minimum=1)
-        idx = tuple(int(check_int(i, "position_indices", minimum=0, maximum=d - 1)) for i in self.position_indices)
+        idx = tuple(
+            int(check_int(i, "position_indices", minimum=0, maximum=d - 1)) for i in self.position_indices
+        )
         if not idx or len(set(idx)) != len(idx):
-            raise ValueError(f"position_indices must be distinct indices in [0, {d - 1}], got {self.position_indices!r}")
+            raise ValueError(
+                f"position_indices must be distinct indices in [0, {d - 1}], got {self.position_indices!r}"
+            )
         R = np.atleast_2d(np.asarray(self.R, dtype=float))
         object.__setattr__(self, "ndim_state", d)
         object.__setattr__(self, "position_indices", idx)
@@ -161,7 +165,9 @@ class FieldOfView:
         p = _points(points, 2)
         r = np.hypot(p[:, 0], p[:, 1])
         off = _wrap_deg(np.rad2deg(np.arctan2(p[:, 1], p[:, 0])) - self.look_angle_deg)
-        in_angle = np.abs(off) <= self.full_angle_deg / 2 if self.full_angle_deg < 360 else np.ones(len(p), bool)
+        in_angle = (
+            np.abs(off) <= self.full_angle_deg / 2 if self.full_angle_deg < 360 else np.ones(len(p), bool)
+        )
         return (r >= self.r_min) & (r <= self.r_max) & in_angle
 
     def sample_uniform(self, n: int, rng) -> np.ndarray:
@@ -229,7 +235,9 @@ class Box:
 
 def _check_region(region, name="region"):
     if not all(hasattr(region, a) for a in ("contains", "area", "sample_uniform", "dim")):
-        raise TypeError(f"{name} must be a FieldOfView or Box (contains/area/sample_uniform), got {type(region).__name__}")
+        raise TypeError(
+            f"{name} must be a FieldOfView or Box (contains/area/sample_uniform), got {type(region).__name__}"
+        )
     return region
 
 
@@ -334,7 +342,9 @@ class Sensor:
             if not isinstance(self.clutter, PoissonClutter):
                 raise TypeError("clutter must be a PoissonClutter or None")
             if self.clutter.dim != self.measurement.dim:
-                raise ValueError(f"clutter region is {self.clutter.dim}-D but measurements are {self.measurement.dim}-D")
+                raise ValueError(
+                    f"clutter region is {self.clutter.dim}-D but measurements are {self.measurement.dim}-D"
+                )
 
     @property
     def dim(self) -> int:

@@ -4,6 +4,17 @@ Every generator returns tidy tables in the schema of :mod:`hypotrack.scenarios.t
 """
 
 from . import tables
+from .ssa import SSAParams, SSAScenario, simulate_ssa
 from .tables import scans_by_sensor, scans_to_list, truth_to_list, validate_scans, validate_truth
 
-__all__ = ["tables", "scans_to_list", "scans_by_sensor", "truth_to_list", "validate_truth", "validate_scans"]
+__all__ = [
+    "tables",
+    "scans_to_list",
+    "scans_by_sensor",
+    "truth_to_list",
+    "validate_truth",
+    "validate_scans",
+    "SSAParams",
+    "SSAScenario",
+    "simulate_ssa",
+]

@@ -140,7 +140,9 @@ def scans_table(scan, time, sensor, Z, origin, *, p: int | None = None) -> pd.Da
             "sensor": np.asarray(sensor, dtype=np.int64).reshape(-1),
         }
     )
-    df["return"] = df.groupby(["scan", "sensor"]).cumcount().astype(np.int64) if len(df) else np.zeros(0, np.int64)
+    df["return"] = (
+        df.groupby(["scan", "sensor"]).cumcount().astype(np.int64) if len(df) else np.zeros(0, np.int64)
+    )
     for c, col in zip(measurement_columns(Z.shape[1]), Z.T):
         df[c] = col
     df["origin"] = np.asarray(origin, dtype=np.int64).reshape(-1)
@@ -218,7 +220,9 @@ def _scan_times(df: pd.DataFrame, times) -> np.ndarray:
     return out
 
 
-def scans_to_list(df: pd.DataFrame, *, times=None, sensor: int | None = None, with_origin: bool = False) -> list:
+def scans_to_list(
+    df: pd.DataFrame, *, times=None, sensor: int | None = None, with_origin: bool = False
+) -> list:
     """Split a scans table into one ``(time, Z)`` pair per scan, in scan order.
 
     Parameters
@@ -240,7 +244,9 @@ def scans_to_list(df: pd.DataFrame, *, times=None, sensor: int | None = None, wi
     if sensor is None:
         sensors = df["sensor"].unique()
         if len(sensors) > 1:
-            raise ValueError(f"scans table holds sensors {sorted(sensors.tolist())}: pass sensor= or use scans_by_sensor")
+            raise ValueError(
+                f"scans table holds sensors {sorted(sensors.tolist())}: pass sensor= or use scans_by_sensor"
+            )
     else:
         df = df[df["sensor"] == sensor]
     zs = _numbered(df, _MEAS, "measurement")
@@ -292,7 +298,9 @@ def truth_to_list(df: pd.DataFrame, *, times=None, in_view_only: bool = False) -
     ids = df["target"].to_numpy(dtype=np.int64)
     scans = df["scan"].to_numpy()
     bounds = np.searchsorted(scans, np.arange(len(t) + 1))
-    return [(float(t[k]), ids[bounds[k] : bounds[k + 1]], X[bounds[k] : bounds[k + 1]]) for k in range(len(t))]
+    return [
+        (float(t[k]), ids[bounds[k] : bounds[k + 1]], X[bounds[k] : bounds[k + 1]]) for k in range(len(t))
+    ]
 
 
 def write_table(df: pd.DataFrame, path) -> None:

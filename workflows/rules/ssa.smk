@@ -1,0 +1,47 @@
+# SSA scenarios of seed 000 (Figs 6, 8-14): truth, scans and initial hypothesis of the
+# 50-object birth case and the 15-object comparison case, and a figure of each scenario.
+# Config section: ssa (workflows/config/schema/ssa.schema.yaml).
+
+SSA_CASES = ["ssa50", "ssa15"]
+
+
+rule ssa_scenario:
+    wildcard_constraints:
+        case="|".join(SSA_CASES),
+    output:
+        truth=f"{RESULTS}/ssa/{{case}}_truth.csv",
+        scans=f"{RESULTS}/ssa/{{case}}_scans.csv",
+        prior=f"{RESULTS}/ssa/{{case}}_prior.csv",
+    log:
+        f"{RESULTS}/logs/ssa/{{case}}_scenario.log",
+    script:
+        "../scripts/ssa_scenario.py"
+
+
+rule ssa_figure:
+    wildcard_constraints:
+        case="|".join(SSA_CASES),
+    input:
+        truth=f"{RESULTS}/ssa/{{case}}_truth.csv",
+        scans=f"{RESULTS}/ssa/{{case}}_scans.csv",
+        prior=f"{RESULTS}/ssa/{{case}}_prior.csv",
+    output:
+        pdf=f"{RESULTS}/ssa/{{case}}_scenario.pdf",
+        png=f"{RESULTS}/ssa/{{case}}_scenario.png",
+    script:
+        "../scripts/ssa_figure.py"
+
+
+SSA_OUTPUTS = expand(
+    f"{RESULTS}/ssa/{{case}}_{{kind}}",
+    case=SSA_CASES,
+    kind=["truth.csv", "scans.csv", "prior.csv", "scenario.pdf", "scenario.png"],
+)
+
+
+rule ssa:
+    input:
+        SSA_OUTPUTS,
+
+
+ALL_TARGETS.extend(SSA_OUTPUTS)

@@ -1,0 +1,19 @@
+"""Draw an SSA scenario from its saved tables (PDF + PNG)."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import pandas as pd
+
+from hypotrack.scenarios.ssa import params_from_config, plot_scenario, read_prior
+
+snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
+params = params_from_config(snakemake.config["ssa"], snakemake.wildcards.case)
+known_ids, _, _ = read_prior(pd.read_csv(snakemake.input.prior))
+fig = plot_scenario(
+    pd.read_csv(snakemake.input.truth), pd.read_csv(snakemake.input.scans), params.fov, known_ids
+)
+fig.savefig(snakemake.output.pdf)
+fig.savefig(snakemake.output.png, dpi=130)
+plt.close(fig)

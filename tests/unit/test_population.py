@@ -219,3 +219,10 @@ def test_continuous_birth_death_zero_death_rate_limit():
 def test_continuous_birth_death_bad_input(args, match):
     with pytest.raises(ValueError, match=match):
         continuous_birth_death(*args)
+
+
+def test_uniform_birth_density_bad_input():
+    with pytest.raises(ValueError, match="region must be a 2-D"):
+        UniformBirthDensity(Box(0.0, 1.0), np.eye(2))
+    with pytest.raises(ValueError, match="velocity_cov must be positive definite"):
+        UniformBirthDensity(FieldOfView(), np.diag([1.0, -1.0]))

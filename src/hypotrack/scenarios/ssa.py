@@ -34,7 +34,8 @@ the orbits and the truth unchanged.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import asdict, dataclass, fields
+from dataclasses import dataclass, fields
+from functools import partial
 
 import numpy as np
 import pandas as pd
@@ -240,14 +241,13 @@ class SSAScenario:
         prograde circular-orbit velocity at the position: for e ≤ 0.1 the radial and
         tangential deviations from it are at most ~0.1·v_circ ≈ 0.4–0.8 km/s.
         """
-        mu = self.params.mu
         return SingleEventBirthDeath(
             alpha,
             beta,
             n_birth_regions,
             fov=self.fov,
             velocity_cov=np.eye(2) * check_positive(velocity_std, "velocity_std") ** 2,
-            velocity_mean=lambda p: circular_velocity(p, mu),
+            velocity_mean=partial(circular_velocity, mu=self.params.mu),
         )
 
 

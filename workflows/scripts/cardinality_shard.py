@@ -10,5 +10,5 @@ first_run = sum(shard_runs(cfg["n_runs"], cfg["n_shards"], s) for s in range(sha
 seed = experiment_seeds(snakemake.params.seed, "cardinality", cfg["n_shards"])[shard]  # noqa: F821
 print(f"cardinality shard {shard}: {n_runs} runs of {cfg['n_scans']} scans", flush=True)
 params = {k: cfg[k] for k in ("n_scans", "p_chi", "lambda_b", "p_d", "lambda_fa", "start", "max_alive_factor")}
-res = cardinality_monte_carlo(n_runs=n_runs, seed=seed, **params)
+res = cardinality_monte_carlo(n_runs=n_runs, seed=seed, progress=True, **params)
 write_table(monte_carlo_table(res, first_run), snakemake.output[0])  # noqa: F821

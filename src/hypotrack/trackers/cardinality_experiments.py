@@ -61,7 +61,7 @@ def cardinality_run(*, n_scans, p_chi, lambda_b, p_d, lambda_fa, start="steady_s
     }
 
 
-def cardinality_monte_carlo(*, n_runs, seed, **params) -> dict:
+def cardinality_monte_carlo(*, n_runs, seed, progress: bool = False, **params) -> dict:
     """Repeat :func:`cardinality_run` over ``n_runs`` seeded realisations.
 
     Parameters
@@ -69,6 +69,8 @@ def cardinality_monte_carlo(*, n_runs, seed, **params) -> dict:
     n_runs : int
     seed : int or numpy.random.SeedSequence
         Each run gets its own child sequence.
+    progress : bool
+        Print one line per finished run.
     **params
         Passed to :func:`cardinality_run`.
 
@@ -94,6 +96,9 @@ def cardinality_monte_carlo(*, n_runs, seed, **params) -> dict:
         out["J_gap_row_dp"][i] = res["J"]["exact_class_map"] - res["J"]["cardinality_tracker"]
         out["J_gap_group"][i] = res["J"]["exact_class_map"] - res["J"]["tetris_group"]
         out["cap_reached"][i] = res["cap_reached"]
+        if progress:
+            print(f"  run {i + 1}/{n_runs}: mean |n-hat - n| = {err['cardinality_tracker'][i]:.2f} (tracker), "
+                  f"{err['classical_mht'][i]:.2f} (classical MHT)", flush=True)
     out["mean_abs_error"] = err
     out["mean_n"] = mean_n
     return out

@@ -27,10 +27,8 @@ def score_matrices(draw):
 @given(score_matrices(), st.integers(1, 30))
 def test_murty_k_best_equals_exhaustive_ranking(score, k):
     m, N = score.shape
-    totals = sorted(
-        (t for perm in itertools.permutations(range(N), m) if np.isfinite(t := score[np.arange(m), perm].sum())),
-        reverse=True,
-    )
+    all_totals = (score[np.arange(m), perm].sum() for perm in itertools.permutations(range(N), m))
+    totals = sorted((t for t in all_totals if np.isfinite(t)), reverse=True)
     ranked = murty_k_best(score, k)
     np.testing.assert_allclose([t for t, _ in ranked], totals[:k], rtol=0, atol=1e-9)
     if totals:

@@ -38,7 +38,8 @@ def validations(draw):
 @given(validations())
 def test_clusters_equal_closure_oracle(validation):
     clusters = find_clusters(validation)
-    assert [(tuple(c.tracks.tolist()), tuple(c.measurements.tolist())) for c in clusters] == component_closure(validation)
+    found = [(tuple(c.tracks.tolist()), tuple(c.measurements.tolist())) for c in clusters]
+    assert found == component_closure(validation)
     expected_free = [i for i in range(validation.shape[0]) if not validation[i].any()]
     assert unassociated_measurements(validation).tolist() == expected_free
 

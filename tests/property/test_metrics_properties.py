@@ -7,7 +7,9 @@ from hypothesis import strategies as st
 from hypotrack.metrics import gospa, ospa
 
 coords = st.floats(-20, 20, allow_nan=False, allow_infinity=False)
-point_sets = st.lists(st.tuples(coords, coords), min_size=0, max_size=4).map(lambda pts: np.array(pts, float).reshape(-1, 2))
+point_sets = st.lists(st.tuples(coords, coords), min_size=0, max_size=4).map(
+    lambda pts: np.array(pts, float).reshape(-1, 2)
+)
 orders = st.sampled_from([1.0, 2.0, 3.5, np.inf])
 cutoffs = st.floats(0.1, 30)
 

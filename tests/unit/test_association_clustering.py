@@ -61,7 +61,8 @@ def test_random_matrices_against_union_find():
 
 
 def test_isolated_tracks_and_empty_inputs():
-    assert find_clusters(np.zeros((0, 3), dtype=bool)) == [Cluster([0], []), Cluster([1], []), Cluster([2], [])]
+    singletons = [Cluster([0], []), Cluster([1], []), Cluster([2], [])]
+    assert find_clusters(np.zeros((0, 3), dtype=bool)) == singletons
     assert find_clusters(np.zeros((4, 0), dtype=bool)) == []
     np.testing.assert_array_equal(unassociated_measurements(np.zeros((4, 0), dtype=bool)), [0, 1, 2, 3])
 

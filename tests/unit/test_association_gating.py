@@ -39,7 +39,9 @@ def test_gate_measurements_matches_direct_solve():
     S = A @ np.swapaxes(A, 1, 2) + 0.5 * np.eye(p)
     Z = rng.normal(size=(m, p)) * 3
     validation, d2 = gate_measurements(Z, z_pred, S, 0.95)
-    direct = np.array([[(Z[i] - z_pred[j]) @ np.linalg.solve(S[j], Z[i] - z_pred[j]) for j in range(n)] for i in range(m)])
+    direct = np.array(
+        [[(Z[i] - z_pred[j]) @ np.linalg.solve(S[j], Z[i] - z_pred[j]) for j in range(n)] for i in range(m)]
+    )
     np.testing.assert_allclose(d2, direct, rtol=1e-10)
     np.testing.assert_array_equal(validation, direct <= gate_threshold(0.95, p))
 

@@ -30,7 +30,8 @@ def brute_ospa(X, Y, c, p):
         if m != n:
             return c
         return min(max(D[i, pi] for i, pi in enumerate(perm)) for perm in itertools.permutations(range(n)))
-    best = min(sum(D[i, pi] ** p for i, pi in enumerate(perm)) for perm in itertools.permutations(range(n), m))
+    perms = itertools.permutations(range(n), m)
+    best = min(sum(D[i, pi] ** p for i, pi in enumerate(perm)) for perm in perms)
     return ((best + c**p * (n - m)) / n) ** (1 / p)
 
 
@@ -145,10 +146,8 @@ def test_gospa_general_alpha_definition():
         p, alpha = 2.0, float(rng.uniform(0.2, 2))
         small, large = (X, Y) if len(X) <= len(Y) else (Y, X)
         D = np.minimum(pairwise(small, large), c)
-        best = min(
-            (sum(D[i, j] ** p for i, j in enumerate(perm)) for perm in itertools.permutations(range(len(large)), len(small))),
-            default=0.0,
-        )
+        perms = itertools.permutations(range(len(large)), len(small))
+        best = min((sum(D[i, j] ** p for i, j in enumerate(perm)) for perm in perms), default=0.0)
         expected = (best + c**p / alpha * (len(large) - len(small))) ** (1 / p)
         r = gospa(X, Y, c, p, alpha=alpha)
         assert r.value == pytest.approx(expected, rel=1e-12, abs=1e-12)

@@ -201,9 +201,13 @@ def association_score_matrix(target_scores, clutter_scores) -> np.ndarray:
     targets = np.asarray(target_scores, dtype=float)
     m = clutter.shape[0]
     if targets.ndim != 2 or targets.shape[0] != m:
-        raise ValueError(f"target_scores must have shape (m, n) with m = len(clutter_scores) = {m}, got {targets.shape}")
+        raise ValueError(
+            f"target_scores must have shape (m, n) with m = len(clutter_scores) = {m}, got {targets.shape}"
+        )
     if np.isnan(targets).any() or np.isposinf(targets).any():
-        raise ValueError("target_scores entries must be finite or -inf (gated out); NaN and +inf are not allowed")
+        raise ValueError(
+            "target_scores entries must be finite or -inf (gated out); NaN and +inf are not allowed"
+        )
     n = targets.shape[1]
     out = np.full((m, n + m), -np.inf)
     out[:, :n] = targets

@@ -56,7 +56,9 @@ class Cluster:
     def __eq__(self, other):
         if not isinstance(other, Cluster):
             return NotImplemented
-        return np.array_equal(self.tracks, other.tracks) and np.array_equal(self.measurements, other.measurements)
+        return np.array_equal(self.tracks, other.tracks) and np.array_equal(
+            self.measurements, other.measurements
+        )
 
     def __hash__(self):
         return hash((tuple(self.tracks.tolist()), tuple(self.measurements.tolist())))

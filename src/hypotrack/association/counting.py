@@ -15,6 +15,7 @@ with comparison to HOMHT" (paper 000), Eq. 4 and Sec. II-C.
 from __future__ import annotations
 
 import numpy as np
+
 from .._validation import check_int
 from .clustering import check_validation, component_labels
 
@@ -22,7 +23,7 @@ __all__ = ["count_associations", "count_children", "count_gated_associations"]
 
 # Exact component counts by the frontier dynamic programme are cheap while at most this many
 # columns are open at once (2**20 states at worst); wider components are counted up to a cap.
-_EXACT_SUBSET_BITS = 20
+_EXACT_FRONTIER_BITS = 20
 
 
 def count_associations(M: int, m: int) -> int:
@@ -97,7 +98,9 @@ def count_children(M: int, m: int, n_birth_regions: int = 0, n_deaths: int = 0) 
 def _as_validation(allowed, n_tracks: int, n_meas: int) -> np.ndarray:
     arr = check_validation(allowed, "allowed")
     if arr.shape != (n_meas, n_tracks):
-        raise ValueError(f"allowed must have shape (n_meas, n_tracks) = ({n_meas}, {n_tracks}), got {arr.shape}")
+        raise ValueError(
+            f"allowed must have shape (n_meas, n_tracks) = ({n_meas}, {n_tracks}), got {arr.shape}"
+        )
     return arr
 
 
@@ -199,7 +202,7 @@ def _count_gated(allowed, cap: int | None) -> tuple[int, bool]:
             total *= _count_complete(*block.shape)
             continue
         plan = _component_plan(block)
-        exact = cap is None or plan[2] <= _EXACT_SUBSET_BITS
+        exact = cap is None or plan[2] <= _EXACT_FRONTIER_BITS
         # Stopping this component once total * count > cap needs count > cap // total.
         count, exact_count = _count_component(plan, None if exact else cap // total)
         total *= count

@@ -10,6 +10,7 @@ from hypotrack.association import (
     EnumerationBudgetError,
     count_associations,
     enumerate_associations,
+    event_dtype,
     iter_association_chunks,
 )
 
@@ -62,6 +63,9 @@ def test_dtype_widens_with_object_count():
     big = enumerate_associations(127, 1)
     assert big.dtype == np.int16 and big.shape == (128, 1) and big[-1, 0] == 126
     assert enumerate_associations(40000, 1).dtype == np.int32
+    assert event_dtype(32766) == np.int16 and event_dtype(32767) == np.int32
+    with pytest.raises(ValueError, match="n_tracks"):
+        event_dtype(-1)
 
 
 @pytest.mark.parametrize("chunk_size", [1, 7, 64, 10_000])

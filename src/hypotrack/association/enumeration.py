@@ -54,6 +54,7 @@ class EnumerationBudgetError(ValueError):
 
 def event_dtype(n_tracks: int) -> np.dtype:
     """Smallest signed integer dtype that holds object indices ``-1 .. n_tracks - 1``."""
+    n_tracks = check_int(n_tracks, "n_tracks", minimum=0)
     if n_tracks < 127:
         return np.dtype(np.int8)
     if n_tracks < 32767:

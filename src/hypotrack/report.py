@@ -32,6 +32,8 @@ __all__ = [
     "macro_name",
     "macros_tex",
     "claims_table_tex",
+    "claim_macros",
+    "build_paper_inputs",
 ]
 
 CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tolerance", "status", "note"]
@@ -133,17 +135,61 @@ def macros_tex(values: dict) -> str:
 
 
 def claims_table_tex(claims: pd.DataFrame) -> str:
-    """A longtable of the claims, grouped by experiment, with the status in bold colour."""
+    """A longtable of the claims grouped by experiment; each note on its own line below its item."""
     colour = {"reproduced": "ForestGreen", "not reproduced": "BrickRed", "qualitative": "NavyBlue",
               "extension": "Gray"}
-    out = [r"\begin{longtable}{@{}p{0.22\linewidth}p{0.1\linewidth}rrp{0.09\linewidth}p{0.1\linewidth}p{0.2\linewidth}@{}}",
-           r"\toprule item & source & published & reproduced & tolerance & status & note\\ \midrule\endhead"]
+    out = [r"\begin{longtable}{@{}p{0.30\linewidth}p{0.12\linewidth}>{\raggedleft}p{0.12\linewidth}"
+           r">{\raggedleft}p{0.13\linewidth}p{0.1\linewidth}p{0.1\linewidth}@{}}",
+           r"\toprule item & source & published & reproduced & tolerance & status\tabularnewline\midrule\endhead"]
     for experiment, group in claims.groupby("experiment", sort=False):
-        out.append(rf"\multicolumn{{7}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\\")
-        for _, r in group.iterrows():
-            status = rf"\textcolor{{{colour[r.status]}}}{{\textbf{{{r.status}}}}}"
-            cells = [latex_escape(r.item), latex_escape(r.source), latex_escape(r.published),
-                     latex_escape(r.reproduced), latex_escape(r.tolerance), status, latex_escape(r.note)]
-            out.append(" & ".join(cells) + r"\\")
+        out.append(rf"\multicolumn{{6}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
+        for r in group.to_dict("records"):
+            status = rf"\textcolor{{{colour[r['status']]}}}{{\textbf{{{r['status']}}}}}"
+            cells = [latex_escape(r["item"]), latex_escape(r["source"]), latex_escape(r["published"]),
+                     latex_escape(r["reproduced"]), latex_escape(r["tolerance"]), status]
+            out.append(" & ".join(cells) + r"\tabularnewline")
+            if r["note"]:
+                out.append(rf"\multicolumn{{6}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\footnotesize\emph{{{latex_escape(r['note'])}}}}}"
+                           r"\tabularnewline[2pt]")
     out.append(r"\bottomrule\end{longtable}")
     return "\n".join(out) + "\n"
+
+
+def claim_macros(claims: pd.DataFrame) -> dict:
+    """Macros for the paper: published/reproduced value of every claim, and the status counts.
+
+    A claim ``(experiment, item)`` gives ``\\ht<Experiment><Item>Pub`` and ``...Rep``.
+    """
+    values = {}
+    for r in claims.to_dict("records"):
+        base = macro_name(r["experiment"], r["item"])
+        values[base + "Pub"] = r["published"]
+        values[base + "Rep"] = r["reproduced"]
+        values[base + "Status"] = r["status"]
+    counts = claims["status"].value_counts()
+    values["htClaimsTotal"] = str(len(claims))
+    for status in STATUSES:
+        values[macro_name("claims", status)] = str(int(counts.get(status, 0)))
+    return values
+
+
+def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_macros=None) -> pd.DataFrame:
+    """Write ``macros.tex``, ``claims_table.tex`` and copies of the figures under ``out_dir``.
+
+    Figures keep their path relative to ``results_dir`` (``figures/<experiment>/<name>.pdf``) so
+    the paper refers to them by experiment. Returns the union of the claims.
+    """
+    import shutil
+
+    out_dir = Path(out_dir)
+    (out_dir / "figures").mkdir(parents=True, exist_ok=True)
+    claims = read_claims(claims_paths)
+    values = claim_macros(claims)
+    values.update(extra_macros or {})
+    (out_dir / "macros.tex").write_text(macros_tex(values))
+    (out_dir / "claims_table.tex").write_text(claims_table_tex(claims))
+    for fig in map(Path, figure_paths):
+        dest = out_dir / "figures" / fig.resolve().relative_to(Path(results_dir).resolve())
+        dest.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(fig, dest)
+    return claims

@@ -156,6 +156,39 @@ def test_ecmht_equals_gnn_for_well_separated_targets():
     np.testing.assert_allclose(ecmht.estimates(), gnn.estimates(), atol=1e-12)
 
 
+def test_ecmht_update_matches_an_explicit_implementation_of_eqs_6_1_to_6_11():
+    """One ECMHT scan recomputed by loops; the swapped set scored is the one merged (§5.2)."""
+    N, runs = 8, 40
+    real = _scenario(n_runs=runs, n_scans=2, n_sensors=N, initial_variance=0.0, seed=8)
+    f = ECMHTFilter(MODEL, 1.0, N, rng=123)
+    f.step(real.scans[:, 0])
+    f.step(real.scans[:, 1])
+    A, Q, R = np.exp(-0.005), MODEL.Q(1.0)[0, 0], 1.0
+    order = np.argsort(np.random.default_rng(123).random((runs, N)), axis=1)  # the filter's first draw
+    for r in range(runs):
+        first = np.sort(real.scans[r, 0], axis=-1)
+        x = first.mean(axis=0)  # Eqs. 6.1-6.2
+        P = A * (R / N) * A + Q  # Eqs. 6.3, 5.9
+        xp = A * x
+        lo, up = (0, 1) if xp[0] <= xp[1] else (1, 0)
+        Z = np.sort(real.scans[r, 1], axis=-1)[order[r]]
+        best, best_i = -np.inf, 0
+        for i in range(N + 1):
+            cost = sum((Z[n, 1] - xp[lo]) ** 2 + (Z[n, 0] - xp[up]) ** 2 if n < i else
+                       (Z[n, 0] - xp[lo]) ** 2 + (Z[n, 1] - xp[up]) ** 2 for n in range(N))
+            score = np.log(comb(N, i, exact=True)) - cost / (2 * (P + R))  # Eq. 6.5, S = CPC' + R
+            if score > best:
+                best, best_i = score, i
+        z = np.empty(2)
+        z[lo] = np.mean([Z[n, 1] if n < best_i else Z[n, 0] for n in range(N)])  # Eq. 6.6
+        z[up] = np.mean([Z[n, 0] if n < best_i else Z[n, 1] for n in range(N)])  # Eq. 6.7
+        L = P / (P + R / N)  # Eqs. 6.4, 5.11
+        assert f.last_swaps[r] == best_i
+        np.testing.assert_allclose(f.estimates()[r], xp + L * (z - xp), atol=1e-12)  # Eq. 6.10
+        assert f.P[r, 0] == pytest.approx((1 - L) * P)  # Eq. 6.11
+    assert f.last_swaps.max() > 0  # co-located targets: the case exercises real swaps
+
+
 def test_ecmht_swaps_about_half_the_sensors_for_coincident_targets():
     real = _scenario(n_runs=400, n_scans=3, n_sensors=10, initial_variance=0.0)
     scans = real.scans - real.truth[:, :, None, :]  # both targets exactly at 0

@@ -31,6 +31,7 @@ import numpy as np
 from scipy.special import logsumexp
 
 from .._validation import check_finite_array, check_int, check_measurements, check_positive, check_probability
+from ..association import gate_threshold, validation_matrix
 from ..gaussian import innovation, mahalanobis2_matrix
 from .association_problem import SEEDED_BIRTH
 from .generators import ChildGenerator, top_k
@@ -130,6 +131,7 @@ class HypothesisFilter:
         self._next_label = int(self._store.labels.max()) + 1 if len(self._store) else 0
         self.scan_index = 0
         self.last_kept = None  # ChildSet of the current hypotheses: parent, event, kind, arg
+        self._keys = [()]
 
     @property
     def hypotheses(self) -> list[Hypothesis]:
@@ -138,6 +140,23 @@ class HypothesisFilter:
     @property
     def store(self) -> TrackStore:
         return self._store
+
+    @property
+    def log_weights(self) -> np.ndarray:
+        """Normalised log-weights of the current hypotheses (internal order)."""
+        return self._log_w.copy()
+
+    @property
+    def track_lists(self) -> list:
+        """Per hypothesis, the indices of its tracks in :attr:`store` (internal order)."""
+        return [t.copy() for t in self._tracks]
+
+    @property
+    def lineage_keys(self) -> list:
+        """Per hypothesis, a hashable key of its whole history (the population event and
+        association event of every scan), identical across filters that generated the same
+        hypothesis — e.g. to compare H-FISST and HOMHT hypothesis by hypothesis."""
+        return list(self._keys)
 
     # ------------------------------------------------------------------ scan
     def _context(self, pred: TrackStore, Z) -> ScanContext:
@@ -154,8 +173,6 @@ class HypothesisFilter:
         if self.gate_probability is None:
             allowed = np.ones((m, n), dtype=bool)
         else:
-            from ..association import gate_threshold, validation_matrix
-
             allowed = validation_matrix(d2, gate_threshold(self.gate_probability, self.H.shape[0]))
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))
@@ -339,6 +356,10 @@ class HypothesisFilter:
             self._next_label += 1
         self._store = TrackStore(means, covs, labels)
         self._tracks = new_lists
+        self._keys = [
+            (self._keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())
+            for c in range(len(kept))
+        ]
         self.last_kept = kept
         self._log_w = kept.log_weights - logsumexp(kept.log_weights)
         return n_updates

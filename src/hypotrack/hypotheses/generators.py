@@ -4,7 +4,7 @@ One interface, three strategies (DESIGN.md §3, §4.3)::
 
     events, log_weights = generator.generate(problem, rng, keep=None)
 
-``events`` (E, m) int32 in the codes of :mod:`.association_problem`, ``log_weights`` their exact
+``events`` (E, m) int32 (always: events from different generators compare bytewise) in the codes of :mod:`.association_problem`, ``log_weights`` their exact
 log-weights (:meth:`AssociationProblem.log_weights`); ``keep`` asks for the ``keep`` best only
 (the filter passes its cap H∞ when that is exact).
 
@@ -29,6 +29,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_int
+from ..association import (
+    EnumerationBudgetError,
+    association_score_matrix,
+    best_assignment,
+    columns_to_event,
+    count_gated_associations,
+    enumerate_associations,
+    iter_association_chunks,
+    murty_k_best,
+)
 from ..association.mcmc import MCMC_VARIANTS, mcmc_search, neighbour_completion
 from .association_problem import SEEDED_BIRTH, AssociationProblem
 
@@ -103,9 +113,6 @@ class ExhaustiveGenerator(ChildGenerator):
         check_int(self.chunk_size, "chunk_size", minimum=1)
 
     def generate(self, problem, rng=None, keep=None):
-        from ..association.counting import count_gated_associations
-        from ..association.enumeration import EnumerationBudgetError, enumerate_associations, iter_association_chunks
-
         if problem.n_returns == 0:
             return _empty_scan(problem)
         allowed = _enumeration_columns(problem)
@@ -113,8 +120,8 @@ class ExhaustiveGenerator(ChildGenerator):
         if keep is None:
             events = enumerate_associations(n_cols, problem.n_returns, allowed=allowed, max_events=self.max_events)
             events = _decode_enumerated(events, problem)
-            return _feasible(events, problem.log_weights(events))
-        n_events = count_gated_associations(allowed)
+            return _feasible(events.astype(np.int32, copy=False), problem.log_weights(events))
+        n_events = count_gated_associations(allowed, cap=self.max_events)
         if n_events > self.max_events:
             raise EnumerationBudgetError(
                 f"exhaustive generation needs {n_events} events, more than max_events={self.max_events}"
@@ -133,8 +140,6 @@ class ExhaustiveGenerator(ChildGenerator):
 
 
 def _murty_matrix(problem):
-    from ..association import association_score_matrix
-
     targets = problem.target_scores
     if problem.n_options > 1:
         seeded = np.full((problem.n_returns, problem.n_returns), -np.inf)
@@ -165,8 +170,6 @@ class MurtyGenerator(ChildGenerator):
         check_int(self.max_solutions, "max_solutions", minimum=1)
 
     def generate(self, problem, rng=None, keep=None):
-        from ..association import columns_to_event, murty_k_best
-
         if problem.n_returns == 0:
             return _empty_scan(problem)
         k = self.k if keep is None else min(self.k, keep)
@@ -253,8 +256,6 @@ class MCMCGenerator(ChildGenerator):
                 if c < problem.n_exclusive and np.isfinite(problem.target_scores[i, c]):
                     init[i] = c
         elif self.init == "best":
-            from ..association import best_assignment, columns_to_event
-
             score, n_cols = _murty_matrix(problem)
             _, cols = best_assignment(score)
             init = _decode_enumerated(np.asarray(columns_to_event(cols, n_cols))[None], problem)[0]

@@ -27,7 +27,9 @@ Briers & Wright 2004; the forward–backward form of Horridge & Maskell 2006):
 Returns gated by only one track never constrain anything; they are folded, with the missed
 option, into one "free" option per track and split back out at the end. Forward and backward
 weights are rescaled level by level, so no product over- or underflows however large the
-cluster. The kernel is compiled with numba.
+cluster. A node's state is a bit set over the frontier returns (as many 64-bit words as the
+widest frontier needs), merged through a hash table. The kernel is compiled with numba; explicit
+node and edge budgets turn a hopeless cluster into a ValueError instead of exhausting memory.
 """
 
 from __future__ import annotations
@@ -35,17 +37,25 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["jpda_marginals", "MAX_FRONTIER", "track_order"]
+from .._validation import check_int
 
-MAX_FRONTIER = 62
-"""Most returns that may be 'in flight' (shared with undecided tracks) at once.
+__all__ = ["jpda_marginals", "track_order", "MarginalsBudgetError"]
 
-Node states are 64-bit masks; a frontier wider than this means on the order of 2^62 partial
-events — beyond exact JPDA on any computer — and is reported as a ValueError.
-"""
+DEFAULT_MAX_NODES = 2_000_000
+DEFAULT_MAX_EDGES = 10_000_000
 
 
-def jpda_marginals(log_weights, *, return_log_total: bool = False):
+class MarginalsBudgetError(ValueError):
+    """The exact recursion would need more nodes or edges than the budget (memory) allows."""
+
+
+def jpda_marginals(
+    log_weights,
+    *,
+    return_log_total: bool = False,
+    max_nodes: int = DEFAULT_MAX_NODES,
+    max_edges: int = DEFAULT_MAX_EDGES,
+):
     """Exact marginal association probabilities of a group of tracks (one JPDA cluster).
 
     Parameters
@@ -59,6 +69,9 @@ def jpda_marginals(log_weights, *, return_log_total: bool = False):
     return_log_total : bool
         Also return ``log Σ_events Π w`` (the normalising constant), which tests compare with
         exhaustive enumeration.
+    max_nodes, max_edges : int
+        Budget of merged partial events (nodes) and of their transitions (edges, 24 bytes each)
+        over the whole cluster; exceeding either raises :class:`MarginalsBudgetError`.
 
     Returns
     -------
@@ -71,9 +84,10 @@ def jpda_marginals(log_weights, *, return_log_total: bool = False):
     Raises
     ------
     ValueError
-        On NaN or ``+inf`` weights, a wrong shape, a track with no finite option, no feasible
-        joint event (possible only when missed weights are zero), or a frontier wider than
-        :data:`MAX_FRONTIER` returns.
+        On NaN or ``+inf`` weights, a wrong shape, a track with no finite option, or no feasible
+        joint event (possible only when missed weights are zero).
+    MarginalsBudgetError
+        (A ValueError.) When the cluster needs more than ``max_nodes`` nodes or ``max_edges`` edges.
 
     Notes
     -----
@@ -89,13 +103,16 @@ def jpda_marginals(log_weights, *, return_log_total: bool = False):
     n, m1 = lw.shape
     if n == 0:
         return (np.zeros((0, m1)), 0.0) if return_log_total else np.zeros((0, m1))
-    beta, log_total, status = _marginals(lw)
+    max_nodes = check_int(max_nodes, "max_nodes", minimum=1)
+    max_edges = check_int(max_edges, "max_edges", minimum=1)
+    beta, log_total, status = _marginals(lw, max_nodes, max_edges)
     if status == _NO_OPTION:
         raise ValueError("every track needs at least one option with finite log weight")
-    if status == _TOO_WIDE:
-        raise ValueError(
-            f"cluster too wide for exact JPDA marginals: more than {MAX_FRONTIER} returns are "
-            "shared between decided and undecided tracks at once"
+    if status == _TOO_BIG:
+        raise MarginalsBudgetError(
+            f"cluster of {n} tracks and {m1 - 1} returns is too large for exact JPDA marginals within "
+            f"max_nodes={max_nodes:,} and max_edges={max_edges:,}; raise the budget, gate more tightly "
+            "or use an approximation"
         )
     if status == _INFEASIBLE:
         raise ValueError("no feasible joint association event (some track can be neither missed nor detected)")
@@ -117,7 +134,7 @@ def track_order(valid) -> np.ndarray:
     return _rcm_order(np.ascontiguousarray(valid, dtype=np.bool_))
 
 
-_OK, _NO_OPTION, _TOO_WIDE, _INFEASIBLE = 0, 1, 2, 3
+_OK, _NO_OPTION, _TOO_BIG, _INFEASIBLE = 0, 1, 2, 3
 
 
 @njit(cache=True)
@@ -171,7 +188,7 @@ def _rcm_order(valid):
 
 
 @njit(cache=True)
-def _marginals(lw):
+def _marginals(lw, max_nodes, max_edges):
     """Whole computation for one cluster: ordering, frontier bits, EHM sums, unfolding."""
     n, m1 = lw.shape
     m = m1 - 1
@@ -203,25 +220,26 @@ def _marginals(lw):
     # Bits for shared returns by greedy interval colouring (optimal for intervals). A bit is
     # free once its return's last track lies strictly before the new return's first track.
     slot = np.full(m, -1, np.int64)
-    slot_end = np.full(MAX_FRONTIER, -1, np.int64)
+    slot_end = np.full(max(m, 1), -1, np.int64)
+    n_slots = 0
     by_first = np.argsort(first, kind="mergesort")
     for r in range(m):
         j = by_first[r]
         if first[j] < 0 or last[j] == first[j]:
             continue
         s = 0
-        while s < MAX_FRONTIER and slot_end[s] >= first[j]:
+        while slot_end[s] >= first[j]:
             s += 1
-        if s == MAX_FRONTIER:
-            return beta, 0.0, _TOO_WIDE
         slot[j] = s
         slot_end[s] = last[j]
-    keep = np.zeros(n, np.int64)
+        n_slots = max(n_slots, s + 1)
+    n_words = max(1, (n_slots + 63) // 64)
+    keep = np.zeros((n, n_words), np.int64)
     for j in range(m):
         if slot[j] >= 0:
-            bit = np.int64(1) << slot[j]
+            bit = np.int64(1) << np.int64(slot[j] % 64)
             for k in range(first[j], last[j]):
-                keep[k] |= bit
+                keep[k, slot[j] // 64] |= bit
 
     # Options per level: one "free" option (missed + returns only this track gates: they never
     # conflict) and one per shared return.
@@ -234,6 +252,7 @@ def _marginals(lw):
                 c += 1
         opt_ptr[k + 1] = opt_ptr[k] + c
     n_opt = opt_ptr[n]
+    opt_word = np.full(n_opt, -1, np.int64)
     opt_bit = np.zeros(n_opt, np.int64)
     opt_w = np.zeros(n_opt)
     opt_col = np.full(n_opt, -1, np.int64)
@@ -249,13 +268,14 @@ def _marginals(lw):
                 opt_w[opt_ptr[k]] += wj
             else:
                 o += 1
-                opt_bit[o] = np.int64(1) << slot[j]
+                opt_word[o] = slot[j] // 64
+                opt_bit[o] = np.int64(1) << np.int64(slot[j] % 64)
                 opt_w[o] = wj
                 opt_col[o] = 1 + j
 
-    marg, log_total = _ehm_sums(opt_ptr, opt_bit, opt_w, keep)
-    if log_total == -np.inf:
-        return beta, log_total, _INFEASIBLE
+    marg, log_total, status = _ehm_sums(opt_ptr, opt_word, opt_bit, opt_w, keep, max_nodes, max_edges)
+    if status != _OK:
+        return beta, log_total, status
 
     # Unfold: shared options map to their column; the free option's mass is split in
     # proportion to the weights it merged.
@@ -283,16 +303,28 @@ def _marginals(lw):
 def _grow(a, need):
     if need <= a.shape[0]:
         return a
-    b = np.empty(max(need, 2 * a.shape[0]), a.dtype)
+    b = np.empty((max(need, 2 * a.shape[0]),) + a.shape[1:], a.dtype)
     b[: a.shape[0]] = a
     return b
 
 
 @njit(cache=True)
-def _ehm_sums(opt_ptr, opt_bit, opt_w, keep):
-    """Forward–backward sums over the EHM node graph; returns (option marginals, log total)."""
-    n = keep.shape[0]
-    node_mask = np.zeros(256, np.int64)
+def _hash(mask, i):
+    h = np.int64(-3750763034362895579)  # FNV-1a offset basis; int64 arithmetic wraps
+    for w in range(mask.shape[1]):
+        h = (h ^ mask[i, w]) * np.int64(1099511628211)
+    return h ^ (h >> np.int64(29))
+
+
+@njit(cache=True)
+def _ehm_sums(opt_ptr, opt_word, opt_bit, opt_w, keep, max_nodes, max_edges):
+    """Forward–backward sums over the EHM node graph.
+
+    Returns (option marginals normalised per track, log total, status).
+    """
+    n, n_words = keep.shape
+    n_opt = opt_w.shape[0]
+    node_mask = np.zeros((256, n_words), np.int64)
     node_f = np.zeros(256)
     node_ptr = np.zeros(n + 2, np.int64)
     node_f[0] = 1.0
@@ -303,59 +335,79 @@ def _ehm_sums(opt_ptr, opt_bit, opt_w, keep):
     edge_ptr = np.zeros(n + 1, np.int64)
     n_edges = 0
     log_scale = 0.0
+    child = np.zeros(n_words, np.int64)
 
     for k in range(n):
         p0, p1 = node_ptr[k], node_ptr[k + 1]
-        o0, o1 = opt_ptr[k], opt_ptr[k + 1]
-        cap = (p1 - p0) * (o1 - o0)
-        t_child = np.empty(cap, np.int64)
-        t_par = np.empty(cap, np.int64)
-        t_opt = np.empty(cap, np.int64)
-        c = 0
-        km = keep[k]
+        base = p1
+        n_new = 0
+        # Open-addressing table of this level's nodes (index into node arrays, -1 = empty).
+        cap = 16
+        while cap < 4 * (p1 - p0):
+            cap *= 2
+        table = np.full(cap, -1, np.int64)
         for i in range(p0, p1):
-            s = node_mask[i]
-            for o in range(o0, o1):
-                b = opt_bit[o]
-                if (s & b) != 0 or opt_w[o] == 0.0:
+            for o in range(opt_ptr[k], opt_ptr[k + 1]):
+                wd = opt_word[o]
+                if opt_w[o] == 0.0 or (wd >= 0 and (node_mask[i, wd] & opt_bit[o]) != 0):
                     continue
-                t_child[c] = (s | b) & km
-                t_par[c] = i
-                t_opt[c] = o
-                c += 1
-        if c == 0:
-            return np.zeros(opt_w.shape[0]), -np.inf
-        srt = np.argsort(t_child[:c])
-        base = node_ptr[k + 1]
-        node_mask = _grow(node_mask, base + c)
-        node_f = _grow(node_f, base + c)
-        e_par = _grow(e_par, n_edges + c)
-        e_child = _grow(e_child, n_edges + c)
-        e_opt = _grow(e_opt, n_edges + c)
-        cur = base - 1
-        prev = np.int64(-1)
-        fmax = 0.0
-        for r in range(c):
-            q = srt[r]
-            if r == 0 or t_child[q] != prev:
-                cur += 1
-                prev = t_child[q]
-                node_mask[cur] = prev
-                node_f[cur] = 0.0
-            val = node_f[t_par[q]] * opt_w[t_opt[q]]
-            node_f[cur] += val
-            e_par[n_edges] = t_par[q]
-            e_child[n_edges] = cur
-            e_opt[n_edges] = t_opt[q]
-            n_edges += 1
-        node_ptr[k + 2] = cur + 1
+                for w in range(n_words):
+                    child[w] = node_mask[i, w]
+                if wd >= 0:
+                    child[wd] |= opt_bit[o]
+                for w in range(n_words):
+                    child[w] &= keep[k, w]
+                # Look the child up (linear probing); insert it if new.
+                node_mask = _grow(node_mask, base + n_new + 1)
+                node_mask[base + n_new] = child
+                h = _hash(node_mask, base + n_new) & (cap - 1)
+                idx = -1
+                while table[h] >= 0:
+                    cand = table[h]
+                    same = True
+                    for w in range(n_words):
+                        if node_mask[cand, w] != child[w]:
+                            same = False
+                            break
+                    if same:
+                        idx = cand
+                        break
+                    h = (h + 1) & (cap - 1)
+                if idx < 0:
+                    idx = base + n_new
+                    table[h] = idx
+                    node_f = _grow(node_f, idx + 1)
+                    node_f[idx] = 0.0
+                    n_new += 1
+                    if base + n_new > max_nodes:
+                        return np.zeros(n_opt), 0.0, _TOO_BIG
+                    if 2 * n_new > cap:
+                        # Rehash this level into a table twice the size.
+                        cap *= 2
+                        table = np.full(cap, -1, np.int64)
+                        for q in range(base, base + n_new):
+                            hq = _hash(node_mask, q) & (cap - 1)
+                            while table[hq] >= 0:
+                                hq = (hq + 1) & (cap - 1)
+                            table[hq] = q
+                node_f[idx] += node_f[i] * opt_w[o]
+                if n_edges + 1 > max_edges:
+                    return np.zeros(n_opt), 0.0, _TOO_BIG
+                e_par = _grow(e_par, n_edges + 1)
+                e_child = _grow(e_child, n_edges + 1)
+                e_opt = _grow(e_opt, n_edges + 1)
+                e_par[n_edges] = i
+                e_child[n_edges] = idx
+                e_opt[n_edges] = o
+                n_edges += 1
+        if n_new == 0:
+            return np.zeros(n_opt), -np.inf, _INFEASIBLE
+        node_ptr[k + 2] = base + n_new
         edge_ptr[k + 1] = n_edges
-        for i in range(base, cur + 1):
-            if node_f[i] > fmax:
-                fmax = node_f[i]
-        if fmax == 0.0:
-            return np.zeros(opt_w.shape[0]), -np.inf
-        for i in range(base, cur + 1):
+        fmax = 0.0
+        for i in range(base, base + n_new):
+            fmax = max(fmax, node_f[i])
+        for i in range(base, base + n_new):
             node_f[i] /= fmax
         log_scale += np.log(fmax)
 
@@ -365,7 +417,7 @@ def _ehm_sums(opt_ptr, opt_bit, opt_w, keep):
     for i in range(node_ptr[n], total_nodes):
         node_b[i] = 1.0
     log_total = log_scale + np.log(node_f[node_ptr[n]])
-    marg = np.zeros(opt_w.shape[0])
+    marg = np.zeros(n_opt)
     for k in range(n - 1, -1, -1):
         for e in range(edge_ptr[k], edge_ptr[k + 1]):
             wb = opt_w[e_opt[e]] * node_b[e_child[e]]
@@ -380,8 +432,7 @@ def _ehm_sums(opt_ptr, opt_bit, opt_w, keep):
             marg[o] /= tot
         bmax = 0.0
         for i in range(node_ptr[k], node_ptr[k + 1]):
-            if node_b[i] > bmax:
-                bmax = node_b[i]
+            bmax = max(bmax, node_b[i])
         for i in range(node_ptr[k], node_ptr[k + 1]):
             node_b[i] /= bmax
-    return marg, log_total
+    return marg, log_total, _OK

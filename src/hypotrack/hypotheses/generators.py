@@ -123,9 +123,7 @@ class ExhaustiveGenerator(ChildGenerator):
             return _feasible(events.astype(np.int32, copy=False), problem.log_weights(events))
         n_events = count_gated_associations(allowed, cap=self.max_events)
         if n_events > self.max_events:
-            raise EnumerationBudgetError(
-                f"exhaustive generation needs {n_events} events, more than max_events={self.max_events}"
-            )
+            raise EnumerationBudgetError(n_events, self.max_events, exact=False)
         best_ev = np.zeros((0, problem.n_returns), dtype=np.int32)
         best_lw = np.zeros(0)
         for chunk in iter_association_chunks(n_cols, problem.n_returns, allowed=allowed, chunk_size=self.chunk_size):

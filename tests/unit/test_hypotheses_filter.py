@@ -1,0 +1,190 @@
+"""HypothesisFilter: edge cases, shared tracks, capping, posterior summaries, bad input."""
+
+import numpy as np
+import pytest
+from scipy.special import logsumexp
+
+from hypotrack.association import EnumerationBudgetError
+from hypotrack.hypotheses import (
+    ExhaustiveGenerator,
+    HFISSTWeights,
+    HypothesisFilter,
+    ReidWeights,
+    hfisst,
+    homht,
+    homht_kbest,
+    rfisst,
+)
+from hypotrack.models import ConstantVelocity
+from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
+from hypotrack.hypotheses.population_events import SingleEventPopulation
+from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+
+REGION = Box([-50.0, -50.0], [50.0, 50.0])
+X0 = np.array([[0.0, 0.0, 1.0, 0.0], [4.0, 1.0, 0.0, 1.0], [-10.0, 5.0, 0.5, -0.5]])
+P0 = np.repeat(np.diag([1.0, 1.0, 0.2, 0.2])[None], 3, axis=0)
+MOTION = ConstantVelocity(0.05)
+
+
+def sensor(p_D=0.9, rate=1.0, region=REGION):
+    return Sensor(LinearPositionSensor(np.eye(2) * 0.5, 4), DetectionModel(p_D, region), PoissonClutter(rate, region))
+
+
+def observe(X, rng, s=None):
+    return (s or sensor()).observe(X, rng)[0]
+
+
+def population(alpha=1e-3, beta=1e-3):
+    halves = [Box([-50.0, -50.0], [0.0, 50.0]), Box([0.0, -50.0], [50.0, 50.0])]
+    return SingleEventPopulation(SingleEventBirthDeath(alpha, beta, 2),
+                                 birth_densities=[UniformBirthDensity(h, np.eye(2) * 4.0) for h in halves])
+
+
+def run(f, n_scans=4, seed=0, X=X0):
+    rng = np.random.default_rng(seed)
+    F = MOTION.F(1.0)
+    for _ in range(n_scans):
+        X = X @ F.T
+        post = f.step(observe(X, rng))
+    return post, X
+
+
+@pytest.mark.parametrize("preset", [hfisst, rfisst, homht, homht_kbest])
+def test_presets_track_three_objects(preset):
+    f = preset(MOTION, sensor(), max_hypotheses=20, means=X0, covs=P0, seed=1)
+    post, X = run(f)
+    assert post.log_weights[0] == pytest.approx(max(post.log_weights))
+    assert logsumexp(post.log_weights) == pytest.approx(0.0, abs=1e-12)
+    assert post.cardinality.sum() == pytest.approx(1.0)
+    assert post.expected_number == pytest.approx(np.dot(np.arange(len(post.cardinality)), post.cardinality))
+    est = f.estimates()
+    assert est.shape == (3, 4)
+    assert np.max(np.abs(est[:, :2] - X[:, :2])) < 3.0
+
+
+def test_zero_objects_and_births():
+    """A zero-object parent: children are all-clutter or one birth; a persistent object is born."""
+    f = hfisst(MOTION, sensor(p_D=0.95, rate=0.2), population=population(alpha=0.02), max_hypotheses=50, seed=0)
+    assert f.posterior().expected_number == 0.0
+    rng = np.random.default_rng(3)
+    X = np.array([[20.0, 20.0, 0.0, 0.0]])
+    for _ in range(6):
+        f.step(observe(X, rng, sensor(p_D=0.95, rate=0.2)))
+    post = f.posterior()
+    assert post.cardinality[1] > 0.9
+    assert np.linalg.norm(post.map_estimate.means[0, :2] - X[0, :2]) < 2.0
+
+
+def test_empty_scans():
+    f = hfisst(MOTION, sensor(), population=population(), max_hypotheses=30, means=X0, covs=P0)
+    P_before = f.store.covs.copy()
+    post = f.step(np.zeros((0, 2)))
+    assert f.last_stats["n_kalman_updates"] == 0
+    # every object missed: the heaviest hypothesis keeps all three, predicted (covariance grew)
+    assert post.map_estimate.n_objects == 3
+    assert np.all(np.trace(post.map_estimate.covs, axis1=1, axis2=2) > np.trace(P_before, axis1=1, axis2=2))
+    # children: the all-missed association, its undetected-birth twins and a death per object
+    assert f.last_stats["n_association_children"] == 1
+    assert f.last_stats["n_twin_children"] == 2 + 3
+    f.step([])  # an empty list is an empty scan too
+
+
+def test_all_clutter_scan_with_gating():
+    f = homht(MOTION, sensor(), gate_probability=0.99, max_hypotheses=30, means=X0, covs=P0)
+    far = np.array([[45.0, 45.0], [-45.0, 40.0], [40.0, -45.0]])
+    f.step(far)
+    assert f.last_stats["n_association_children"] == 1  # gated: only the all-clutter event
+    np.testing.assert_array_equal(f.last_kept.events, -np.ones((1, 3)))
+    assert f.last_stats["n_kalman_updates"] == 0
+
+
+def test_more_than_100_returns():
+    """m = 120: R-FISST copes; exhaustive H-FISST refuses, naming its budget."""
+    rng = np.random.default_rng(5)
+    Z = np.vstack([observe(X0 @ MOTION.F(1.0).T, rng), REGION.sample_uniform(120, rng)])
+    f = rfisst(MOTION, sensor(rate=120.0), n_steps=20_000, max_hypotheses=10, means=X0, covs=P0, seed=2)
+    post = f.step(Z)
+    assert np.all(np.isfinite(post.log_weights))
+    g = hfisst(MOTION, sensor(rate=120.0), max_events=10**6, max_hypotheses=10, means=X0, covs=P0)
+    with pytest.raises(EnumerationBudgetError, match="max_events"):
+        g.step(Z)
+
+
+def test_weight_underflow_kept_in_log_space():
+    """Every child weighs < exp(-745) (0 in floating point): log space keeps the posterior."""
+    huge = Box([-1e150, -1e150], [1e150, 1e150])
+    s = sensor(region=huge)
+    f = homht(MOTION, s, max_hypotheses=50, means=X0, covs=P0)
+    Z = np.array([[1e140, 1e140], [-1e140, 3e139], [2e139, -1e140], [1.0, 0.0]])
+    children = f.expand(Z)
+    assert np.all(children.log_weights < -745) and np.all(np.exp(children.log_weights) == 0.0)
+    post = f.step(Z)
+    assert np.all(np.isfinite(post.log_weights))
+    assert np.exp(post.log_weights).sum() == pytest.approx(1.0)
+    assert post.weights[0] > 0.5  # the return at (1, 0) goes to the object at the origin
+
+
+def test_tracks_updated_once_per_pair():
+    f = hfisst(MOTION, sensor(), max_hypotheses=200, means=X0, covs=P0)
+    rng = np.random.default_rng(7)
+    X = X0 @ MOTION.F(1.0).T
+    f.step(observe(X, rng))
+    old_lists = f.track_lists
+    X = X @ MOTION.F(1.0).T
+    f.step(observe(X, rng))
+    kept = f.last_kept
+    updates, all_pairs, n_refs = set(), set(), 0
+    for p, ev in zip(kept.parent, kept.events):
+        tr = old_lists[p]
+        ret = {int(ev[i]): int(i) for i in np.flatnonzero(ev >= 0)}
+        all_pairs |= {(tr[j], ret.get(j, -1)) for j in range(len(tr))}
+        updates |= {(tr[j], r) for j, r in ret.items()}
+        n_refs += len(tr)
+    assert f.last_stats["n_kalman_updates"] == len(updates)
+    assert len(f.store) == len(all_pairs)  # one track per distinct (track, return) pair
+    assert len(f.store) < n_refs  # ... shared by the hypotheses that hold it
+
+
+def test_sampled_cap_is_seeded_and_normalised():
+    def final(seed):
+        f = hfisst(MOTION, sensor(p_D=0.7, rate=4.0), cap="sample", max_hypotheses=8, means=X0, covs=P0, seed=seed)
+        run(f, n_scans=3, seed=11)
+        return f
+
+    a, b, c = final(1), final(1), final(2)
+    np.testing.assert_array_equal(a.log_weights, b.log_weights)
+    assert len(a.log_weights) == 8
+    assert logsumexp(a.log_weights) == pytest.approx(0.0, abs=1e-12)
+    top = hfisst(MOTION, sensor(p_D=0.7, rate=4.0), max_hypotheses=8, means=X0, covs=P0)
+    run(top, n_scans=3, seed=11)
+    assert set(a.lineage_keys) != set(top.lineage_keys)
+    assert set(a.lineage_keys) != set(c.lineage_keys)
+
+
+def test_bad_input():
+    s = sensor()
+    with pytest.raises(ValueError, match="p_D"):
+        hfisst(MOTION, sensor(p_D=1.0))
+    with pytest.raises(ValueError, match="max_hypotheses"):
+        hfisst(MOTION, s, max_hypotheses=0)
+    with pytest.raises(ValueError, match="cap"):
+        hfisst(MOTION, s, cap="best")
+    with pytest.raises(ValueError, match="gate_probability"):
+        hfisst(MOTION, s, gate_probability=1.5)
+    with pytest.raises(ValueError, match="dt"):
+        hfisst(MOTION, s, dt=0.0)
+    with pytest.raises(ValueError, match="clutter"):
+        hfisst(MOTION, Sensor(LinearPositionSensor(np.eye(2), 4), DetectionModel(0.9)))
+    with pytest.raises(TypeError, match="weights"):
+        HypothesisFilter(MOTION, s, "hfisst", ExhaustiveGenerator())
+    with pytest.raises(ValueError, match="covs"):
+        hfisst(MOTION, s, means=X0)
+    with pytest.raises(ValueError, match="seeded births"):
+        HypothesisFilter(MOTION, s, ReidWeights(1e-3, UniformBirthDensity(REGION, np.eye(2))), ExhaustiveGenerator(),
+                         population=population())
+    f = hfisst(MOTION, s, means=X0, covs=P0)
+    with pytest.raises(ValueError, match="Z"):
+        f.step(np.array([[0.0, np.nan]]))
+    with pytest.raises(ValueError, match="Z"):
+        f.step(np.zeros((3, 3)))
+    assert isinstance(f.weights, HFISSTWeights)

@@ -1,0 +1,103 @@
+"""Weight models: seed 000 Eq. 8 (and its Eq. 9 flaw), seed 001 Eq. 6–7 and Reid, by hand."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy import stats
+
+from hypotrack.association import enumerate_associations
+from hypotrack.hypotheses import FISSTPoissonWeights, HFISSTWeights, ReidWeights, ScanContext, make_weight_model
+
+
+def context(loglik, p_detect, *, rate=2.0, volume=50.0, birth_loglik=None, p_birth=0.9):
+    m = loglik.shape[0]
+    return ScanContext(
+        Z=np.zeros((m, 2)), loglik=loglik, allowed=np.ones(loglik.shape, bool), p_detect=np.asarray(p_detect, float),
+        birth_loglik=np.zeros((m, 0)) if birth_loglik is None else birth_loglik, p_detect_birth=p_birth,
+        clutter_rate=rate, clutter_volume=volume,
+    )
+
+
+@pytest.mark.parametrize("M", range(0, 7))
+@pytest.mark.parametrize("m", range(0, 6))
+def test_eq9_sums_to_binomial_cdf_not_one(M, m):
+    """Σ_j p_ij over all A(M, m) associations = P[Bin(M, p_D) <= m] (= 1 only when M <= m)."""
+    p_D = 0.7
+    ctx = context(np.zeros((m, M)), np.full(M, p_D), volume=1.0)  # unit likelihoods and g = 1
+    problem = HFISSTWeights().problem(ctx, np.arange(M))
+    total = np.exp(problem.log_weights(enumerate_associations(M, m))).sum()
+    assert total == pytest.approx(stats.binom.cdf(m, M, p_D), rel=1e-12)
+    if M <= m:
+        assert total == pytest.approx(1.0, rel=1e-12)
+    else:
+        assert total < 1.0 - 1e-6
+
+
+def test_hfisst_weight_by_hand():
+    """Eq. 8/17/18: p_D^k (1-p_D)^(M-k) / (C(m,k) k!) Π N(z) Π g(z), p_D = 0 out of view."""
+    rng = np.random.default_rng(0)
+    loglik = rng.normal(size=(3, 3))
+    p = [0.9, 0.8, 0.0]
+    V = 50.0
+    problem = HFISSTWeights().problem(context(loglik, p, volume=V), np.arange(3), constant=-1.5)
+    event = np.array([1, -1, 0])  # z0 -> object 1, z1 clutter, z2 -> object 0; object 2 out of view
+    k, m = 2, 3
+    expected = (-1.5 + math.log(0.9 * 0.8) + math.log(1.0)  # object 2 (p_D = 0) missed with prob. 1
+                - math.log(math.comb(m, k) * math.factorial(k)) + loglik[0, 1] + loglik[2, 0] + math.log(1 / V))
+    assert problem.log_weights(event[None])[0] == pytest.approx(expected, abs=1e-12)
+    assert problem.log_weights(np.array([[2, -1, -1]]))[0] == -np.inf  # an object out of view is never detected
+
+
+def test_fisst_poisson_literal_eq6_eq7_and_reid_by_hand():
+    rng = np.random.default_rng(1)
+    loglik = rng.normal(size=(4, 2))
+    p = [0.85, 0.6]
+    lam_v, V = 2.0, 50.0
+    ctx = context(loglik, p, rate=lam_v, volume=V)
+    event = np.array([-1, 0, -1, -1])  # k' = 3 clutter returns, one detection
+    kc = 3
+    eq6 = math.log(0.85 * (1 - 0.6)) - lam_v + kc * math.log(lam_v) - math.log(math.factorial(kc))
+    eq7 = math.log(math.factorial(kc)) - kc * math.log(V) + loglik[1, 0]
+    fp = FISSTPoissonWeights().problem(ctx, np.arange(2))
+    assert fp.log_weights(event[None])[0] == pytest.approx(eq6 + eq7, abs=1e-12)
+    reid = math.log(0.85 * (1 - 0.6)) + kc * math.log(lam_v / V) + loglik[1, 0]  # seed 001 Eq. 30
+    assert ReidWeights().problem(ctx, np.arange(2)).log_weights(event[None])[0] == pytest.approx(reid, abs=1e-12)
+
+
+def test_reid_seeded_birth_factor():
+    """Seed 001 Eq. 35: each birth seeded at a return contributes λ_B (the 1/p_D and p_D cancel)."""
+
+    class Density:
+        def initial_state(self, z, R):
+            return np.zeros(4), np.eye(4)
+
+    ctx = context(np.zeros((2, 1)), [0.9])
+    problem = ReidWeights(birth_intensity=0.3, birth_density=Density()).problem(ctx, np.arange(1))
+    w = problem.log_weights(np.array([[-2, -1], [-1, -1]]))
+    assert w[0] - w[1] == pytest.approx(math.log(0.3) - math.log(2.0 / 50.0), abs=1e-12)
+
+
+def test_birth_column_holds_birth_likelihood_and_detection():
+    birth = np.array([[np.log(1 / 10.0)], [-np.inf]])
+    ctx = context(np.zeros((2, 1)), [0.9], birth_loglik=birth, p_birth=0.9)
+    problem = HFISSTWeights().problem(ctx, np.arange(1), population_log_prob=np.array([-0.01, np.log(1e-3)]))
+    assert problem.target_scores[0, 1] == pytest.approx(np.log(0.1) + np.log(0.9))
+    assert problem.target_scores[1, 1] == -np.inf
+    # one birth (b = 1) and the detected object: k = 2 detections among N = 2 objects
+    w = problem.log_weights(np.array([[1, 0]]))[0]
+    expected = np.log(1e-3) + np.log(0.9) + np.log(0.1) + np.log(0.9) + 0.0 - math.log(2)
+    assert w == pytest.approx(expected, abs=1e-12)
+
+
+def test_bad_input():
+    with pytest.raises(ValueError, match="birth_intensity"):
+        ReidWeights(birth_intensity=-1.0)
+    with pytest.raises(ValueError, match="birth_density"):
+        ReidWeights(birth_intensity=1.0)
+    with pytest.raises(ValueError, match="weight model"):
+        make_weight_model("jpda")
+    with pytest.raises(ValueError, match="clutter_rate"):
+        FISSTPoissonWeights().problem(context(np.zeros((1, 1)), [0.9], rate=0.0), np.arange(1))
+    with pytest.raises(ValueError, match="population_log_prob"):
+        HFISSTWeights().problem(context(np.zeros((1, 1)), [0.9]), np.arange(1), population_log_prob=np.zeros(3))

@@ -1,0 +1,92 @@
+"""Figures of the hypothesis-engine experiments (seed 000 Fig. 15 and the throughput benchmark)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+__all__ = ["plot_generation_time", "plot_throughput", "OUTCOME_COLUMNS"]
+
+_STYLE = {
+    "homht": dict(color="tab:blue", marker="o", label="HOMHT, exhaustive (Reid weights)", short="exhaustive HOMHT"),
+    "rfisst": dict(color="tab:green", marker="s", label="R-FISST, MCMC search (H-FISST weights)", short="R-FISST"),
+    "homht_kbest": dict(color="tab:orange", marker="^", label="HOMHT, Murty k-best (Reid weights)",
+                        short="Murty k-best HOMHT"),
+}
+
+# the columns of the Fig. 15 table that do not depend on the machine (byte-identical reruns)
+OUTCOME_COLUMNS = ["method", "n_objects", "n_returns", "log10_hypotheses", "broken", "n_generated",
+                   "truth_found", "truth_rank", "map_is_truth"]
+
+
+def _save(fig, pdf, png):
+    fig.savefig(pdf)
+    fig.savefig(png, dpi=150)
+
+
+def plot_generation_time(table: pd.DataFrame, pdf, png, *, budget: float, mcmc_steps: int, keep: int):
+    """Seed 000 Fig. 15 restyled: generation time of one parent's children vs log10 A(M, m)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8.0, 5.2), layout="constrained")
+    square = table["n_objects"] == table["n_returns"]
+    for method, style in _STYLE.items():
+        d = table[(table["method"] == method) & table["seconds"].notna()].sort_values("log10_hypotheses")
+        if d.empty:
+            continue
+        sq = d[square.loc[d.index]]
+        label = style["label"] + (f", {mcmc_steps:,} steps" if method == "rfisst" else "")
+        label += f", best {keep}" if method != "rfisst" else ""
+        ax.plot(sq["log10_hypotheses"], sq["seconds"], color=style["color"], lw=1.2, marker=style["marker"],
+                ms=3.5, label=label + " (M = m)")
+        rect = d[~square.loc[d.index]]
+        if not rect.empty:
+            ax.plot(rect["log10_hypotheses"], rect["seconds"], ls="none", marker=style["marker"], mfc="none",
+                    color=style["color"], ms=6, label=style["short"] + " (M ≠ m)")
+    missed = table[table["seconds"].notna() & ~table["truth_found"].astype(bool)]
+    if not missed.empty:
+        ax.plot(missed["log10_hypotheses"], missed["seconds"], ls="none", marker="x", color="red", ms=9, mew=2,
+                label="true association not generated")
+    ax.axvline(np.log10(budget), color="tab:blue", ls="--", lw=1)
+    ax.annotate(f"exhaustive budget {budget:.0e} events:\nHOMHT breaks beyond", xy=(np.log10(budget), 0.98),
+                xycoords=("data", "axes fraction"), ha="left", va="top", fontsize=8, color="tab:blue",
+                xytext=(4, 0), textcoords="offset points")
+    ax.axvline(33, color="grey", ls=":", lw=1)
+    ax.annotate("paper's reach\n(A ≈ 1e33)", xy=(33, 0.02), xycoords=("data", "axes fraction"), fontsize=8,
+                color="grey", xytext=(4, 0), textcoords="offset points")
+    ax.set_yscale("log")
+    ax.set_xlabel("log10 of the number of possible hypotheses A(M, m) of one parent")
+    ax.set_ylabel("hypothesis-generation time per parent (s)")
+    ax.set_title("Hypothesis generation time vs number of possible hypotheses (cf. seed 000 Fig. 15)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="upper right", bbox_to_anchor=(1.0, 0.86))
+    _save(fig, pdf, png)
+    plt.close(fig)
+
+
+def plot_throughput(table: pd.DataFrame, pdf, png, *, targets: dict):
+    """Bar chart of the measured throughputs against their targets (log scale)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    d = table[table["per_second"].notna()].reset_index(drop=True)
+    fig, ax = plt.subplots(figsize=(8.0, 4.6), layout="constrained")
+    y = np.arange(len(d))
+    ax.barh(y, d["per_second"], color="tab:green", alpha=0.8, label="measured")
+    for i, row in d.iterrows():
+        t = targets.get(row["benchmark"])
+        if t:
+            ax.plot([t, t], [i - 0.4, i + 0.4], color="red", lw=2, label="target" if i == 0 else None)
+    ax.set_yticks(y, d["label"], fontsize=8)
+    ax.set_xscale("log")
+    ax.set_xlabel("throughput (proposals or children per second, one core)")
+    ax.set_title("Hypothesis-engine throughput: MCMC proposals and exhaustive children weighted")
+    ax.grid(True, axis="x", which="both", alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    _save(fig, pdf, png)
+    plt.close(fig)

@@ -1,0 +1,13 @@
+"""Combine the per-method sweeps into the Fig. 15 table, its machine-independent outcomes and the figure."""
+
+import pandas as pd
+
+from hypotrack.hypotheses.figures import OUTCOME_COLUMNS, plot_generation_time
+
+snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
+cfg = snakemake.params.cfg
+table = pd.concat([pd.read_csv(p) for p in snakemake.input], ignore_index=True)
+table.to_csv(snakemake.output.table, index=False, float_format="%.10g")
+table[OUTCOME_COLUMNS].to_csv(snakemake.output.outcomes, index=False, float_format="%.10g")
+plot_generation_time(table, snakemake.output.pdf, snakemake.output.png, budget=cfg["exhaustive_max_events"],
+                     mcmc_steps=cfg["mcmc_steps"], keep=cfg["keep"])

@@ -36,6 +36,7 @@ __all__ = [
     "mcmc_throughput",
     "exhaustive_throughput",
     "exhaustive_memory",
+    "throughput_table",
 ]
 
 METHODS = {"homht": "reid", "rfisst": "hfisst", "homht_kbest": "reid"}
@@ -174,3 +175,45 @@ def exhaustive_memory(n_objects, n_returns, max_events, chunk_size=1 << 18, keep
     return {"n_objects": n_objects, "n_returns": n_returns, "children": count_associations(n_objects, n_returns),
             "max_events": max_events, "chunk_size": chunk_size, "peak_bytes": peak, "seconds": seconds,
             "outcome": outcome}
+
+
+def throughput_table(params, progress=print):
+    """The issue-3 performance table: MCMC proposals/s, exhaustive children/s, bounded memory.
+
+    Rows: one per MCMC variant at M = m = ``mcmc_size``; exhaustive enumeration + weighting at
+    each of ``exhaustive_sizes`` (every child materialised, and streamed keeping the best 100);
+    the peak memory of a streamed generation at ``memory_size``; and the budget error raised for
+    ``budget_size`` (far more events than ``max_events``) with the time it took to refuse.
+    """
+    import pandas as pd
+
+    targets = params["targets"]
+    repeats = int(params["repeats"])
+    rows = []
+    for variant in params["mcmc_variants"]:
+        r = mcmc_throughput(int(params["mcmc_size"]), int(params["mcmc_steps"]), repeats=repeats, variant=variant)
+        rows.append({"benchmark": "mcmc", "label": f"MCMC '{variant}', M = m = {r['n_objects']}, {r['n_steps']:,} steps",
+                     "variant": variant, "n_objects": r["n_objects"], "n_returns": r["n_returns"],
+                     "work": r["n_steps"], "seconds": r["seconds"], "per_second": r["per_second"],
+                     "target_per_second": targets["mcmc_per_second"] if variant == "paper" else np.nan})
+        progress(f"[perf_hypotheses] {rows[-1]['label']}: {r['per_second']:.3g} proposals/s")
+    for n in params["exhaustive_sizes"]:
+        for keep in (None, 100):
+            r = exhaustive_throughput(int(n), int(n), repeats=repeats, keep=keep)
+            mode = "every child" if keep is None else "streamed, best 100 kept"
+            rows.append({"benchmark": "exhaustive", "label": f"exhaustive, M = m = {n} ({mode})", "variant": r["mode"],
+                         "n_objects": n, "n_returns": n, "work": r["children"], "seconds": r["seconds"],
+                         "per_second": r["per_second"], "target_per_second": targets["exhaustive_per_second"]})
+            progress(f"[perf_hypotheses] {rows[-1]['label']}: {r['per_second']:.3g} children/s")
+    for n, budget in ((int(params["memory_size"]), int(params["max_events"])),
+                      (int(params["budget_size"]), int(params["max_events"]))):
+        r = exhaustive_memory(n, n, budget, chunk_size=int(params["memory_chunk_size"]))
+        rows.append({"benchmark": "memory", "label": f"exhaustive memory, M = m = {n}, budget {budget:.0e}",
+                     "variant": r["outcome"], "n_objects": n, "n_returns": n, "work": r["children"],
+                     "seconds": r["seconds"], "per_second": np.nan, "target_per_second": np.nan,
+                     "peak_bytes": r["peak_bytes"]})
+        progress(f"[perf_hypotheses] {rows[-1]['label']}: peak {r['peak_bytes'] / 2**20:.1f} MiB, {r['outcome'][:60]}")
+    table = pd.DataFrame(rows)
+    has_target = table["target_per_second"].notna()
+    table["meets_target"] = (table["per_second"] >= table["target_per_second"]).astype(object).where(has_target, "")
+    return table

@@ -1,0 +1,27 @@
+# Issue 3 performance targets of the hypothesis engine, measured (not asserted in tests):
+# MCMC proposals per second at M = m = 28, exhaustive children enumerated and weighted per
+# second, and the memory bound of exhaustive generation (a budget error, never an OOM).
+PH_DIR = f"{RESULTS}/perf"
+
+
+rule perf_hypotheses_benchmark:
+    output:
+        table=f"{PH_DIR}/hypotheses_throughput.csv",
+        pdf=f"{PH_DIR}/hypotheses_throughput.pdf",
+        png=f"{PH_DIR}/hypotheses_throughput.png",
+    params:
+        cfg=config["perf_hypotheses"],
+    threads: 2  # timings want the machine to themselves
+    script:
+        "../scripts/perf_hypotheses_benchmark.py"
+
+
+PH_TARGETS = [*rules.perf_hypotheses_benchmark.output]
+
+
+rule perf_hypotheses:
+    input:
+        PH_TARGETS,
+
+
+ALL_TARGETS.extend(PH_TARGETS)

@@ -1,0 +1,10 @@
+"""Hypothesis-engine throughput and memory benchmark (issue 3 performance targets)."""
+
+from hypotrack.hypotheses.benchmark import throughput_table
+from hypotrack.hypotheses.figures import plot_throughput
+
+snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
+cfg = snakemake.params.cfg
+table = throughput_table(cfg, progress=lambda s: print(s, flush=True))
+table.to_csv(snakemake.output.table, index=False, float_format="%.6g")
+plot_throughput(table, snakemake.output.pdf, snakemake.output.png)

@@ -65,13 +65,23 @@ class ScanModel:
         object.__setattr__(self, "gate", gate_threshold(self.p_gate, H.shape[0]))
 
     @classmethod
-    def from_sensor(cls, sensor, *, p_gate: float = 0.99, new_target_density: float = 0.0) -> "ScanModel":
-        """Take ``H``, ``R``, ``P_D`` and ``β_FA`` from a :class:`hypotrack.models.sensors.Sensor`."""
-        if sensor.clutter is None or sensor.clutter.intensity <= 0:
-            raise ValueError("sensor must have clutter with a positive rate (β_FA > 0) for JPDA/GNN scores")
+    def from_sensor(
+        cls, sensor, *, p_gate: float = 0.99, new_target_density: float = 0.0, clutter_density: float | None = None
+    ) -> "ScanModel":
+        """Take ``H``, ``R``, ``P_D`` and ``β_FA`` from a :class:`hypotrack.models.sensors.Sensor`.
+
+        ``clutter_density`` overrides the sensor's clutter intensity (needed when the sensor has
+        none: the scores require ``β_FA > 0``).
+        """
+        if clutter_density is None:
+            if sensor.clutter is None or sensor.clutter.intensity <= 0:
+                raise ValueError(
+                    "sensor has no clutter (β_FA = 0): pass clutter_density > 0 for the JPDA/GNN scores"
+                )
+            clutter_density = sensor.clutter.intensity
         return cls(
-            sensor.measurement.H, sensor.measurement.R, sensor.detection.p_D, p_gate,
-            sensor.clutter.intensity, new_target_density,
+            sensor.measurement.H, sensor.measurement.R, sensor.detection.p_D, p_gate, clutter_density,
+            new_target_density,
         )
 
     @property

@@ -43,7 +43,7 @@ from __future__ import annotations
 import numba
 import numpy as np
 
-from .._validation import check_int, check_positive
+from .._validation import check_int, check_positive, check_probability
 
 __all__ = ["MCMC_VARIANTS", "mcmc_search", "neighbour_completion", "event_log_weights"]
 
@@ -223,32 +223,67 @@ def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_i
 
 
 @numba.njit(cache=True, nogil=True)
-def _neighbour_moves(score, n_obj, n_excl, count_term, state, lw, threshold, out_i, out_c, out_lw):
-    """Single moves of the paper's proposal from ``state`` whose log-weight reaches ``threshold``."""
-    m = state.shape[0]
+def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, zobrist, table, hashes, rows, logw,
+                      n_found):
+    """Expand visited events ``start .. stop-1``: add every single move of the paper's proposal
+    (return ``i`` to column ``c``, a conflicting return to clutter) reaching ``threshold``.
+
+    Returns ``(n_found, overflow)``; on overflow the buffers must grow and the round be re-run
+    (events already added are recognised as visited).
+    """
+    m = rows.shape[1]
     n_col = score.shape[1]
-    owner, k, b = _owners_and_counts(state, n_obj, n_excl)
-    n = 0
-    for i in range(m):
-        cur = state[i]
-        for c in range(n_col):
-            if c == cur:
-                continue
-            delta = score[i, c] - score[i, cur]
-            dk, db = _count_delta(cur, c, n_obj, n_excl)
-            if c < n_excl and owner[c] != -1:
-                i2 = owner[c]
-                delta += score[i2, n_excl] - score[i2, c]
-                dk2, db2 = _count_delta(c, n_excl, n_obj, n_excl)
-                dk += dk2
-                db += db2
-            new = lw + delta + count_term[k + dk, b + db] - count_term[k, b]
-            if new >= threshold:
-                out_i[n] = i
-                out_c[n] = c
-                out_lw[n] = new
-                n += 1
-    return n
+    cap = rows.shape[0]
+    state = np.empty(m, dtype=np.int64)
+    for q in range(start, stop):
+        lw = logw[q]
+        if lw < threshold:
+            continue
+        for i in range(m):
+            state[i] = rows[q, i]
+        owner, k, b = _owners_and_counts(state, n_obj, n_excl)
+        h0 = hashes[q]
+        for i in range(m):
+            cur = state[i]
+            for c in range(n_col):
+                if c == cur:
+                    continue
+                delta = score[i, c] - score[i, cur]
+                dk, db = _count_delta(cur, c, n_obj, n_excl)
+                i2 = -1
+                if c < n_excl and owner[c] != -1:
+                    i2 = owner[c]
+                    delta += score[i2, n_excl] - score[i2, c]
+                    dk2, db2 = _count_delta(c, n_excl, n_obj, n_excl)
+                    dk += dk2
+                    db += db2
+                new = lw + delta + count_term[k + dk, b + db] - count_term[k, b]
+                if not new >= threshold:
+                    continue
+                if n_found >= cap:
+                    return n_found, True
+                h = h0 ^ zobrist[i, cur] ^ zobrist[i, c]
+                state[i] = c
+                if i2 != -1:
+                    h ^= zobrist[i2, c] ^ zobrist[i2, n_excl]
+                    state[i2] = n_excl
+                n_found = _lookup_or_insert(h, state, table, hashes, rows, logw, new, n_found)
+                state[i] = cur
+                if i2 != -1:
+                    state[i2] = c
+    return n_found, False
+
+
+@numba.njit(cache=True, nogil=True)
+def _insert_rows(rows, logw, n, zobrist, table, hashes):
+    """(Re)build the visited set from ``n`` distinct rows; return ``n``."""
+    found = 0
+    for q in range(n):
+        h = np.int64(0)
+        for i in range(rows.shape[1]):
+            h ^= zobrist[i, rows[q, i]]
+        found = _lookup_or_insert(h, rows[q].copy(), table, hashes, rows, logw, logw[q], found)
+    return found
 
 
 @numba.njit(cache=True, nogil=True)
@@ -330,7 +365,7 @@ def event_log_weights(score, n_objects, n_exclusive, count_term, events) -> np.n
 
 
 def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, burn_in=0, variant="paper",
-                init=None, temperature=1.0):
+                init=None, temperature=1.0, completion_rounds=0, completion_threshold=1e-9):
     """Search the association events of one parent with an MCMC chain.
 
     Parameters
@@ -359,11 +394,14 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
         The chain targets ``w^(1/T)``; ``T = 1`` is seed 000's Metropolis test. ``T > 1``
         flattens the target so the search leaves the heaviest children more often; the
         returned weights are exact whatever ``T``.
+    completion_rounds, completion_threshold : optional
+        After the chain, :func:`neighbour_completion` (0 rounds: the chain's visits only).
 
     Returns
     -------
     events : (K, m) int32 array
-        Distinct events visited after burn-in, in order of first visit (public codes).
+        Distinct events visited after burn-in, in order of first visit (public codes), then
+        those added by the completion.
     log_weights : (K,) array
         Their exact log-weights.
     """
@@ -374,6 +412,9 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
     if variant not in _VARIANT_CODE:
         raise ValueError(f"variant must be one of {MCMC_VARIANTS}, got {variant!r}")
     temperature = check_positive(temperature, "temperature")
+    completion_rounds = check_int(completion_rounds, "completion_rounds", minimum=0)
+    completion_threshold = check_probability(completion_threshold, "completion_threshold", low_open=True,
+                                             high_open=True)
     m, n_col = score.shape
     if init is None:
         state = np.full(m, n_excl, dtype=np.int64)
@@ -391,24 +432,57 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
         raise ValueError("init must have a finite log-weight (a feasible event)")
     ss = np.random.SeedSequence(seed)
     key_seed, chain_seed = ss.generate_state(2, dtype=np.uint32)
-    zobrist = np.random.default_rng(key_seed).integers(
-        np.iinfo(np.int64).min, np.iinfo(np.int64).max, size=(m, max(n_col, 1)), dtype=np.int64
-    )
-    capacity = n_steps - burn_in + 1
-    table = np.full(1 << int(2 * capacity - 1).bit_length(), -1, dtype=np.int64)
-    hashes = np.empty(capacity, dtype=np.int64)
-    rows = np.empty((capacity, m), dtype=np.int64)
-    logw = np.empty(capacity)
+    visited = _Visited(m, n_col, n_steps - burn_in + 1, key_seed)
     tempered = temperature != 1.0
-    n_found = _run_chain(score / temperature if tempered else score, n_obj, n_excl,
-                         count_term / temperature if tempered else count_term, state, zobrist, n_steps, burn_in,
-                         _VARIANT_CODE[variant], int(chain_seed), table, hashes, rows, logw)
-    events = _to_events(rows[:n_found], n_excl)
-    if tempered:
-        exact = np.empty(n_found)
-        _gather_sum(score, events, n_obj, n_excl, count_term, exact)
-        return events, exact
-    return events, logw[:n_found].copy()
+    visited.n = _run_chain(score / temperature if tempered else score, n_obj, n_excl,
+                           count_term / temperature if tempered else count_term, state, visited.zobrist, n_steps,
+                           burn_in, _VARIANT_CODE[variant], int(chain_seed), visited.table, visited.hashes,
+                           visited.rows, visited.logw)
+    if tempered:  # the chain recorded tempered weights: record the exact ones
+        _gather_sum(score, _to_events(visited.rows[: visited.n], n_excl), n_obj, n_excl, count_term,
+                    visited.logw[: visited.n])
+    if completion_rounds:
+        visited.complete(score, n_obj, n_excl, count_term, completion_rounds, completion_threshold)
+    return _to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()
+
+
+class _Visited:
+    """Growable buffers of the visited set: rows (states), exact log-weights, hashes, table."""
+
+    def __init__(self, m, n_col, capacity, key_seed):
+        self.zobrist = np.random.default_rng(key_seed).integers(
+            np.iinfo(np.int64).min, np.iinfo(np.int64).max, size=(m, max(n_col, 1)), dtype=np.int64
+        )
+        self.n = 0
+        self._alloc(m, max(int(capacity), 1))
+
+    def _alloc(self, m, capacity):
+        self.rows = np.empty((capacity, m), dtype=np.int64)
+        self.logw = np.empty(capacity)
+        self.hashes = np.empty(capacity, dtype=np.int64)
+        self.table = np.full(1 << int(2 * capacity - 1).bit_length(), -1, dtype=np.int64)
+
+    def grow(self):
+        rows, logw, n = self.rows[: self.n].copy(), self.logw[: self.n].copy(), self.n
+        self._alloc(rows.shape[1], 2 * self.rows.shape[0])
+        self.rows[:n], self.logw[:n] = rows, logw
+        self.n = _insert_rows(self.rows, self.logw, n, self.zobrist, self.table, self.hashes)
+
+    def complete(self, score, n_obj, n_excl, count_term, rounds, relative_threshold):
+        start = 0
+        for _ in range(rounds):
+            stop = self.n
+            if stop == start:
+                break
+            threshold = float(self.logw[:stop].max()) + np.log(relative_threshold)
+            while True:
+                n, overflow = _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold,
+                                                self.zobrist, self.table, self.hashes, self.rows, self.logw, self.n)
+                self.n = n
+                if not overflow:
+                    break
+                self.grow()
+            start = stop
 
 
 def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_weights, *, rounds=2,
@@ -421,49 +495,22 @@ def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_
     search: every single move of the paper's proposal (return ``i`` to column ``c``, conflicting
     return to clutter) from each found event whose weight is at least ``relative_threshold``
     times the best is evaluated exactly, and those reaching that threshold are added;
-    ``rounds`` repeats this from the newly added events.
+    ``rounds`` repeats this from the newly added events. Compiled; duplicates are recognised
+    through the same Zobrist-hashed visited set as the chain's.
 
-    Returns the augmented ``(events, log_weights)``, found events first.
+    Returns the augmented ``(events, log_weights)``, the given (distinct) events first.
     """
     score, n_obj, n_excl, count_term = _check_problem(score, n_objects, n_exclusive, count_term)
     rounds = check_int(rounds, "rounds", minimum=0)
-    tau = check_positive(relative_threshold, "relative_threshold")
-    events = np.asarray(events, dtype=np.int32)
+    tau = check_probability(relative_threshold, "relative_threshold", low_open=True, high_open=True)
+    events = np.asarray(events)
     lw = np.asarray(log_weights, dtype=float)
     m, n_col = score.shape
     if rounds == 0 or len(lw) == 0 or m == 0:
-        return events, lw
-    states = _to_state(events, n_excl)
-    seen = {st.tobytes(): q for q, st in enumerate(states)}
-    all_states, all_lw = [states], [lw]
-    frontier, frontier_lw = states, lw
-    cap = m * n_col
-    out_i = np.empty(cap, dtype=np.int64)
-    out_c = np.empty(cap, dtype=np.int64)
-    out_lw = np.empty(cap)
-    best = float(lw.max())
-    for _ in range(rounds):
-        threshold = best + np.log(tau)
-        new_states, new_lw = [], []
-        for st, w in zip(frontier, frontier_lw):
-            if w < threshold:
-                continue
-            n = _neighbour_moves(score, n_obj, n_excl, count_term, st, w, threshold, out_i, out_c, out_lw)
-            for q in range(n):
-                nb = st.copy()
-                c = out_c[q]
-                if c < n_excl:
-                    nb[nb == c] = n_excl
-                nb[out_i[q]] = c
-                key = nb.tobytes()
-                if key not in seen:
-                    seen[key] = len(seen)
-                    new_states.append(nb)
-                    new_lw.append(out_lw[q])
-        if not new_states:
-            break
-        frontier, frontier_lw = np.array(new_states), np.array(new_lw)
-        all_states.append(frontier)
-        all_lw.append(frontier_lw)
-        best = max(best, float(frontier_lw.max()))
-    return _to_events(np.vstack(all_states), n_excl), np.concatenate(all_lw)
+        return events.astype(np.int32), lw
+    visited = _Visited(m, n_col, 4 * len(lw) + 64, key_seed=0)
+    visited.rows[: len(lw)] = _to_state(events, n_excl)
+    visited.logw[: len(lw)] = lw
+    visited.n = _insert_rows(visited.rows, visited.logw, len(lw), visited.zobrist, visited.table, visited.hashes)
+    visited.complete(score, n_obj, n_excl, count_term, rounds, tau)
+    return _to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()

@@ -208,7 +208,7 @@ class HypothesisFilter:
         events, lw = self.generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
         n_generated = len(lw)
-        mass = [logsumexp(lw)] if len(lw) else []
+        mass = [np.logaddexp.reduce(lw)] if len(lw) else []
         parts = [self._candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]
         if pop is not None and len(lw):
             M = problem.n_objects
@@ -237,7 +237,7 @@ class HypothesisFilter:
             sel = top_k(keys, keep)
             ev_all, kind, arg, lw_all, keys = ev_all[sel], kind[sel], arg[sel], lw_all[sel], keys[sel]
         cs = ChildSet(np.full(len(lw_all), h, np.int64), ev_all, kind, arg, lw_all)
-        return cs, keys, n_generated, (logsumexp(mass) if mass else -np.inf), n_twins
+        return cs, keys, n_generated, (np.logaddexp.reduce(mass) if mass else -np.inf), n_twins
 
     @staticmethod
     def _candidates(events, tw, kind, keep, keys_rng, mass):
@@ -250,7 +250,7 @@ class HypothesisFilter:
         rows, cols = np.nonzero(finite)
         vals = tw[rows, cols]
         if mass is not None and len(vals):
-            mass.append(logsumexp(vals))
+            mass.append(np.logaddexp.reduce(vals))  # diagnostics only; ufunc, no per-call overhead
         keys = _gumbel_keys(vals, keys_rng)
         if keep is not None and len(vals) > keep:
             sel = top_k(keys, keep)

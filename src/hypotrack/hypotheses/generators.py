@@ -39,7 +39,7 @@ from ..association import (
     iter_association_chunks,
     murty_k_best,
 )
-from ..association.mcmc import MCMC_VARIANTS, mcmc_search, neighbour_completion
+from ..association.mcmc import MCMC_VARIANTS, mcmc_search
 from .association_problem import SEEDED_BIRTH, AssociationProblem
 
 __all__ = ["ChildGenerator", "ExhaustiveGenerator", "MurtyGenerator", "MCMCGenerator", "top_k"]
@@ -271,12 +271,8 @@ class MCMCGenerator(ChildGenerator):
             problem.score, problem.n_objects, problem.n_exclusive, problem.count_term,
             n_steps=self.n_steps, burn_in=burn_in, seed=int(rng.integers(2**63 - 1)),
             variant=self.variant, init=init, temperature=self.temperature,
+            completion_rounds=self.completion_rounds, completion_threshold=self.completion_threshold,
         )
-        if self.completion_rounds:
-            events, lw = neighbour_completion(
-                problem.score, problem.n_objects, problem.n_exclusive, problem.count_term, events, lw,
-                rounds=self.completion_rounds, relative_threshold=self.completion_threshold,
-            )
         lw = lw + problem.constant
         sel = top_k(lw, keep)
         return events[sel], lw[sel]

@@ -188,3 +188,42 @@ def test_bad_input():
     with pytest.raises(ValueError, match="Z"):
         f.step(np.zeros((3, 3)))
     assert isinstance(f.weights, HFISSTWeights)
+
+
+def test_parent_with_underflowing_weight_keeps_its_children():
+    """A hypothesis of normalised weight ~e^-1400 (0.0 in linear space) survives and has
+    children with finite log-weights (its lineage is traceable through lineage_keys)."""
+    huge = Box([-1e150, -1e150], [1e150, 1e150])  # log g = -log V = -690.8 per clutter return
+    s = Sensor(LinearPositionSensor(np.eye(2) * 0.01, 4), DetectionModel(0.9, huge), PoissonClutter(1.0, huge))
+    X = X0[:2]
+    f = homht(MOTION, s, max_hypotheses=1000, means=X, covs=P0[:2])
+    Z = (X @ MOTION.F(1.0).T)[:, :2]
+    f.step(Z)
+    lw = f.log_weights
+    tiny = np.flatnonzero(np.isfinite(lw) & (lw < -1000))
+    assert len(tiny) and np.all(np.exp(lw[tiny]) == 0.0)
+    tiny_keys = {f.lineage_keys[i] for i in tiny}
+    f.step((X @ MOTION.F(2.0).T)[:, :2])
+    descendants = [i for i, key in enumerate(f.lineage_keys) if key[0] in tiny_keys]
+    assert descendants and np.all(np.isfinite(f.log_weights[descendants]))
+    assert np.all(f.log_weights[descendants] < -1000)
+    assert logsumexp(f.log_weights) == pytest.approx(0.0, abs=1e-12)
+
+
+def test_binomial_survival_death_twins():
+    """Seed 001 Eq. 59: a child with one object dead weighs (1 - p_s) / (p_s (1 - p_D)) times
+    its twin in which that object is alive but missed (any object may die, in view or not)."""
+    from hypotrack.hypotheses.population_events import BinomialPopulation
+    from hypotrack.hypotheses import ChildSet
+
+    p_s, p_D = 0.97, 0.9
+    f = hfisst(MOTION, sensor(p_D=p_D), population=BinomialPopulation((), alpha=0.0, p_survive=p_s),
+               max_hypotheses=10**5, means=X0, covs=P0)
+    Z = (X0 @ MOTION.F(1.0).T)[:2, :2]
+    ch = f.expand(Z)
+    base = {ev.tobytes(): w for ev, k, w in zip(ch.events, ch.kind, ch.log_weights) if k == ChildSet.ASSOCIATION}
+    deaths = [(ev, a, w) for ev, k, a, w in zip(ch.events, ch.kind, ch.arg, ch.log_weights) if k == ChildSet.DEATH]
+    assert len(deaths) > 10
+    for ev, dead, w in deaths:
+        assert dead not in ev  # only a missed object can have died
+        assert w - base[ev.tobytes()] == pytest.approx(np.log((1 - p_s) / (p_s * (1 - p_D))), abs=1e-12)

@@ -175,11 +175,12 @@ class BinomialPopulation(_Population):
     def _log_birth(self, b):
         B = self.n_birth_regions
         b = np.asarray(b)
+        births = np.zeros(b.shape)  # b log α, with 0 log 0 = 0 when α = 0
         with np.errstate(divide="ignore"):
-            la = np.log(self.alpha)
+            births[b > 0] = b[b > 0] * np.log(self.alpha)
         if self.poisson_limit:
-            return np.where(b > 0, b * la, 0.0) - B * self.alpha
-        return np.where(b > 0, b * la, 0.0) + (B - b) * np.log1p(-self.alpha)
+            return births - B * self.alpha
+        return births + (B - b) * np.log1p(-self.alpha)
 
     def log_event_prob(self, n_in_view: int, n_objects: int) -> np.ndarray:
         n_objects = check_int(n_objects, "n_objects", minimum=0)

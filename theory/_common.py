@@ -9,7 +9,7 @@ argument ``--out DIR``; otherwise ``results/theory`` (relative to the working di
 
 Perturbation: the formulas a notebook takes from a paper are wrapped in :func:`formula`.
 ``HYPOTRACK_THEORY_PERTURB="name1,name2"`` makes each named formula return a slightly wrong
-value (integers +1, everything else times 1 + 1/1000). The tests use it to show that the
+value (Python int counts +1, everything else times 1 + 1/1000). The tests use it to show that the
 notebooks' checks really fail when an identity is broken. Naming a formula that the
 notebook does not define raises ``KeyError`` when :meth:`Findings.write` runs, so a typo
 cannot pass for a detected perturbation.
@@ -22,11 +22,14 @@ import json
 import math
 import os
 import sys
+from dataclasses import asdict
 from fractions import Fraction
 from numbers import Integral
 from pathlib import Path
 
 import sympy as sp
+
+from hypotrack.report import Claim
 
 OUT_ENV = "HYPOTRACK_THEORY_OUT"
 PERTURB_ENV = "HYPOTRACK_THEORY_PERTURB"
@@ -54,7 +57,7 @@ def formula(func):
     @functools.wraps(func)
     def perturbed(*args, **kwargs):
         value = func(*args, **kwargs)
-        if isinstance(value, Integral):
+        if isinstance(value, int) and not isinstance(value, bool):  # an exact count
             return value + 1
         return value * (1 + sp.Rational(1, 1000))
 
@@ -119,6 +122,7 @@ class Findings:
         self.source = source
         self.out = output_dir()
         self.checks: list[dict] = []
+        self.claims: list[dict] = []
         self.values: dict = {}
 
     def check(self, label: str, ok: bool, **details) -> None:
@@ -128,6 +132,14 @@ class Findings:
         print(f"[{'PASS' if ok else 'FAIL'}] {label}" + (f"  {details}" if details and not ok else ""))
         if not ok:
             raise AssertionError(f"check failed: {label}: {details}")
+
+    def claim(self, item: str, source: str, published, reproduced, status: str, *, tolerance: str = "exact",
+              note: str = "") -> None:
+        """A row of the reproduction ledger (:mod:`hypotrack.report`): a published statement and
+        what this notebook found. ``status`` is one of :data:`hypotrack.report.STATUSES`."""
+        row = Claim("theory", item, source, str(published), str(reproduced), tolerance, status, note)
+        self.claims.append(asdict(row))
+        print(f"[claim: {status}] {item}: published {published}, found {reproduced}")
 
     def record(self, key: str, value) -> None:
         """Store a finding (a number, a table as a list of rows, an expression as text)."""
@@ -153,6 +165,7 @@ class Findings:
             "n_checks": len(self.checks),
             "all_passed": all(c["passed"] for c in self.checks),
             "checks": self.checks,
+            "claims": self.claims,
             "values": self.values,
         }
         path.write_text(json.dumps(doc, indent=1, sort_keys=False) + "\n")
@@ -160,19 +173,23 @@ class Findings:
         return path
 
 
+_DUMMY = sp.Symbol("_t", real=True)
+
+
 @functools.lru_cache(maxsize=None)
-def _integrate_factor(factor, var):
-    return sp.integrate(factor, (var, -sp.oo, sp.oo))
+def _integrate_factor(factor, lower, upper):
+    return sp.integrate(factor, (_DUMMY, lower, upper))
 
 
-def integrate_sum_of_products(expr, variables) -> sp.Expr:
-    """Exact integral of ``expr`` over the whole real line in each of ``variables``.
+def integrate_sum_of_products(expr, variables, lower=-sp.oo, upper=sp.oo) -> sp.Expr:
+    """Exact integral of ``expr`` over ``[lower, upper]`` in each of ``variables``.
 
     ``expr`` must expand into a sum of terms each of which is a product of one-variable
     factors (the form of every multi-target likelihood and RFS density here). Fubini then
     makes each term's integral the product of one-dimensional integrals, which Sympy does
-    exactly and which are cached: a direct multiple ``sympy.integrate`` of the same sum is
-    correct but some twenty times slower.
+    exactly and which are cached (with the variable renamed, so ``N(x1)`` and ``N(x2)`` share
+    one integral): a direct multiple ``sympy.integrate`` of the same sum is correct but some
+    twenty times slower.
     """
     total = sp.Integer(0)
     # Distributing products over sums only (not expanding the exponents) keeps each Gaussian
@@ -181,7 +198,7 @@ def integrate_sum_of_products(expr, variables) -> sp.Expr:
         value = term
         for var in variables:
             const, factor = value.as_independent(var, as_Add=False)
-            value = const * _integrate_factor(factor, var)
+            value = const * _integrate_factor(factor.subs(var, _DUMMY), lower, upper)
         total += value
     return sp.expand(total)
 

@@ -26,6 +26,7 @@ rule generation_time_figure:
         outcomes=f"{GT_DIR}/generation_time_outcomes.csv",
         pdf=f"{GT_DIR}/generation_time.pdf",
         png=f"{GT_DIR}/generation_time.png",
+        claims=f"{GT_DIR}/claims.csv",
     params:
         cfg=config["generation_time"],
     script:

@@ -1,8 +1,11 @@
-"""Combine the per-method sweeps into the Fig. 15 table, its machine-independent outcomes and the figure."""
+"""Combine the per-method sweeps into the Fig. 15 table, its machine-independent outcomes, the figure
+and the reproduction claims."""
 
 import pandas as pd
 
+from hypotrack.hypotheses.benchmark import generation_time_claims
 from hypotrack.hypotheses.figures import OUTCOME_COLUMNS, plot_generation_time
+from hypotrack.report import write_claims
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 cfg = snakemake.params.cfg
@@ -11,3 +14,4 @@ table.to_csv(snakemake.output.table, index=False, float_format="%.10g")
 table[OUTCOME_COLUMNS].to_csv(snakemake.output.outcomes, index=False, float_format="%.10g")
 plot_generation_time(table, snakemake.output.pdf, snakemake.output.png, budget=cfg["exhaustive_max_events"],
                      mcmc_steps=cfg["mcmc_steps"], keep=cfg["keep"])
+write_claims(generation_time_claims(table, cfg), snakemake.output.claims)

@@ -90,7 +90,10 @@ class HypothesisFilter:
             raise TypeError(f"generator must be a ChildGenerator, got {type(generator).__name__}")
         if getattr(sensor, "clutter", None) is None:
             raise ValueError("sensor.clutter must be a PoissonClutter: its region's area is the clutter volume V")
-        p_D = check_probability(sensor.detection.p_D, "p_D", low_open=True, high_open=True)
+        try:
+            p_D = check_probability(sensor.detection.p_D, "p_D", low_open=True, high_open=True)
+        except ValueError as err:
+            raise ValueError(f"{err}: hypothesis weights hold log(1 - p_D) for every missed object") from None
         if population is not None and weights.seeded_births and population.n_birth_regions:
             raise ValueError("HOMHT's seeded births and population birth regions are two birth models; use one")
         if cap not in ("top", "sample"):

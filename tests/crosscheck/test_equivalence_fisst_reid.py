@@ -86,7 +86,7 @@ def test_b_hfisst_and_reid_children_same_weights_differ_by_known_terms():
         # plus the parents' log-weight difference (carried in `offsets`)
         parent_offset = np.array([offsets[fh.lineage_keys[p]] for p in ch.parent])
         expected = known_difference(ch.events, len(Z), V, lam, X0.shape[0]) + parent_offset
-        np.testing.assert_allclose(diff, expected, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(diff, expected, rtol=0, atol=1e-11)
         fh.step(Z)
         fr.step(Z)
         h, r = by_lineage(fh), by_lineage(fr)

@@ -17,7 +17,8 @@ target pairs chosen, a return left to EX (and a target left undetected) gaining 
 it is solved here: per cluster of the validation matrix (the problem separates), with
 :func:`hypotrack.association.best_assignment` (``scipy.optimize.linear_sum_assignment``) on
 the cluster's own assignment matrix; isolated tracks take their best positive-gain return
-directly. Returns assigned to EX go to the initiation logic.
+directly, and a few small clusters are solved together in one assignment (same optimum, less
+overhead than finding them). Returns assigned to EX go to the initiation logic.
 
 A second score reproduces Stone Soup's ``GNNWith2DAssignment`` with a ``DistanceHypothesiser``
 (Mahalanobis measure, ``missed_distance = g``): it *minimises* the summed **unsquared**
@@ -32,8 +33,9 @@ from __future__ import annotations
 import numpy as np
 
 from ..association import association_score_matrix, best_assignment, columns_to_event, find_clusters
-from ..gaussian import update
-from ._sht_common import GatedTracks, ScanModel
+from ._sht_common import GatedTracks, ScanModel, joseph_covariance
+
+_JOINT_LIMIT = 64
 
 __all__ = [
     "assignment_matrix",
@@ -116,21 +118,42 @@ def gnn_associate(gain) -> np.ndarray:
     if len(alone):
         best = np.argmax(np.where(useful[:, alone], gain[:, alone], -np.inf), axis=0)
         a[best] = alone
-    rest = track_contested
-    if rest.any():
-        sub = np.flatnonzero(rest)
-        for cluster in find_clusters(useful[:, sub]):
-            rows, cols = cluster.measurements, sub[cluster.tracks]
-            if len(rows) == 0:
-                continue
-            score = association_score_matrix(
-                np.where(useful[np.ix_(rows, cols)], gain[np.ix_(rows, cols)], -np.inf), np.zeros(len(rows))
-            )
-            _, chosen = best_assignment(score)
-            event = columns_to_event(chosen, len(cols))
-            hit = event >= 0
-            a[rows[hit]] = cols[event[hit]]
+    rest = np.flatnonzero(track_contested)
+    if len(rest) == 0:
+        return a
+    for cols in _cluster_groups(useful, rest):
+        rows = np.flatnonzero(useful[:, cols].any(axis=1))
+        if len(rows) == 0:
+            continue
+        block = useful[np.ix_(rows, cols)]
+        score = association_score_matrix(np.where(block, gain[np.ix_(rows, cols)], -np.inf), np.zeros(len(rows)))
+        _, chosen = best_assignment(score)
+        event = columns_to_event(chosen, len(cols))
+        hit = event >= 0
+        a[rows[hit]] = cols[event[hit]]
     return a
+
+
+def _cluster_groups(useful, tracks):
+    """Contested tracks in groups of whole clusters, each group at most ``_JOINT_LIMIT`` tracks.
+
+    Clusters are independent, so one assignment over several of them has the same optimum as
+    one per cluster; packing small clusters together saves the per-call overhead, while
+    keeping groups small bounds the cubic cost of the assignment solver. Below the limit no
+    clustering is needed at all.
+    """
+    if len(tracks) <= _JOINT_LIMIT:
+        return [tracks]
+    groups, current = [], []
+    for c in find_clusters(useful[:, tracks]):
+        members = tracks[c.tracks]
+        if current and len(current) + len(members) > _JOINT_LIMIT:
+            groups.append(np.asarray(current))
+            current = []
+        current.extend(members.tolist())
+    if current:
+        groups.append(np.asarray(current))
+    return groups
 
 
 def gnn_update(gated: GatedTracks, a, model: ScanModel):
@@ -156,6 +179,9 @@ def gnn_update(gated: GatedTracks, a, model: ScanModel):
     rows = np.flatnonzero(a >= 0)
     if len(rows):
         tracks = a[rows]
-        x[tracks], P[tracks] = update(gated.x[tracks], gated.P[tracks], gated.Z[rows], model.H, model.R)
+        K = gated.K[tracks]
+        nu = gated.Z[rows] - gated.z_pred[tracks]
+        x[tracks] = gated.x[tracks] + np.einsum("ndp,np->nd", K, nu)
+        P[tracks] = joseph_covariance(gated.P[tracks], K, model.H, model.R)
         detected[tracks] = True
     return x, P, detected

@@ -10,11 +10,11 @@ weighs ``Π_{detected j} P_D p_j(y_θ⁻¹(j)) / (β_FA (1 − P_D P_G))``, so p
     missed: ``1 − P_D P_G``,  return i: ``P_D N(y_i; ẑ_j, S_j) / β_FA``  (gated pairs only),
 
 the weights of Stone Soup's ``PDAHypothesiser`` with an explicit ``clutter_spatial_density``.
-Probabilities are computed separately per cluster of the validation matrix (the lecture's
-clusters {T1, T2}, {T3}); a target that shares no return with another is its own PDAF problem
-with the closed form ``β_i = L_i / (1 − P_D P_G + Σ_k L_k)`` (Bar-Shalom, Daum & Huang 2009,
-Eq. 29–30), larger clusters use the exact recursion of
-:func:`hypotrack.association.marginals.jpda_marginals`.
+Probabilities factorise over the clusters of the validation matrix (the lecture's clusters
+{T1, T2}, {T3}): a target that shares no return with another is its own PDAF problem with the
+closed form ``β_i = L_i / (1 − P_D P_G + Σ_k L_k)`` (Bar-Shalom, Daum & Huang 2009, Eq. 29–30);
+the others go to the exact recursion of :func:`hypotrack.association.marginals.jpda_marginals`,
+which handles each cluster in turn.
 
 The PDA update (Bar-Shalom, Daum & Huang 2009, Eqs. 35–40) with combined innovation
 ``ν = Σ_i β_i ν_i``:
@@ -33,10 +33,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import logsumexp
 
-from ..association import find_clusters
 from ..association.marginals import jpda_marginals
 from ..gaussian import symmetrize
-from ._sht_common import GatedTracks, ScanModel
+from ._sht_common import GatedTracks, ScanModel, joseph_covariance
 
 __all__ = ["jpda_log_weights", "pdaf_probabilities", "jpda_probabilities", "pda_update"]
 
@@ -91,11 +90,14 @@ def jpda_probabilities(gated: GatedTracks, model: ScanModel, *, log_weights=None
     shared_track = (valid & contested[:, None]).any(axis=0)
     beta = pdaf_probabilities(lw)
     if shared_track.any():
-        sub = np.flatnonzero(shared_track)
-        for cluster in find_clusters(valid[:, sub]):
-            tracks = sub[cluster.tracks]
-            cols = np.concatenate([[0], 1 + cluster.measurements])
-            beta[np.ix_(tracks, cols)] = jpda_marginals(lw[np.ix_(tracks, cols)])
+        # The EHM recursion walks the clusters one after another (its track order keeps each
+        # connected component contiguous) and its state empties between them, so one call over
+        # all targets that share returns *is* the per-cluster computation, without the cost of
+        # finding the clusters first.
+        tracks = np.flatnonzero(shared_track)
+        meas = np.flatnonzero(valid[:, tracks].any(axis=1))
+        cols = np.concatenate([[0], 1 + meas])
+        beta[np.ix_(tracks, cols)] = jpda_marginals(lw[np.ix_(tracks, cols)])
     return beta
 
 
@@ -124,7 +126,6 @@ def pda_update(gated: GatedTracks, beta, model: ScanModel):
     nu_bar = np.einsum("nm,nmp->np", bi, nu)
     spread = np.einsum("nm,nmp,nmq->npq", bi, nu, nu) - nu_bar[:, :, None] * nu_bar[:, None, :]
     x_upd = x + np.einsum("ndp,np->nd", K, nu_bar)
-    I_KH = np.eye(x.shape[1]) - K @ model.H
-    P_c = I_KH @ P @ np.swapaxes(I_KH, -1, -2) + K @ model.R @ np.swapaxes(K, -1, -2)
+    P_c = joseph_covariance(P, K, model.H, model.R)
     P_upd = b0[:, None, None] * P + (1 - b0)[:, None, None] * P_c + K @ spread @ np.swapaxes(K, -1, -2)
     return x_upd, symmetrize(P_upd)

@@ -1,0 +1,32 @@
+# Issue 4 performance targets, measured (not asserted in tests): hypotrack's GNN and JPDA per-scan
+# time against Stone Soup's GNNWith2DAssignment, JPDAwithEHM2 and brute-force JPDA on the same
+# closely spaced formations in one run (lock-step, alternating order), with the speed-up ratios,
+# the marginals/associations compared, and the largest formation each handles within 1 s/scan.
+# Stone Soup is a benchmark-only dependency: without it the rule times hypotrack alone.
+PS_DIR = f"{RESULTS}/perf"
+
+
+rule perf_sht_benchmark:
+    output:
+        timings=f"{PS_DIR}/sht_timings.csv",
+        speedups=f"{PS_DIR}/sht_speedups.csv",
+        largest_runs=f"{PS_DIR}/sht_largest_runs.csv",
+        largest=f"{PS_DIR}/sht_largest_cluster.csv",
+        pdf=f"{PS_DIR}/sht_timings.pdf",
+        png=f"{PS_DIR}/sht_timings.png",
+    params:
+        cfg=config["perf_sht"],
+    threads: 2  # timings want the machine to themselves
+    script:
+        "../scripts/perf_sht_benchmark.py"
+
+
+PS_TARGETS = [*rules.perf_sht_benchmark.output]
+
+
+rule perf_sht:
+    input:
+        PS_TARGETS,
+
+
+ALL_TARGETS.extend(PS_TARGETS)

@@ -1,0 +1,184 @@
+"""perf_sht: hypotrack's GNN and JPDA against Stone Soup, same scenarios, one run, ratios.
+
+Stone Soup is a benchmark/test-only dependency that the library never imports, so its side of
+the benchmark (an adapter with the same ``step``/``record`` surface as
+:class:`hypotrack.trackers.sht_benchmark.HypotrackStepper`) lives here; everything else is in
+:mod:`hypotrack.trackers.sht_benchmark`. Stone Soup's state order is [x, vx, y, vy].
+"""
+import datetime
+import math
+
+import numpy as np
+import pandas as pd
+
+from hypotrack.scenarios.tables import write_table
+from hypotrack.trackers._sht_common import gate_tracks, predict_tracks
+from hypotrack.trackers.sht_benchmark import (
+    HypotrackStepper,
+    formation,
+    largest_within,
+    max_abs_difference,
+    plot_benchmark,
+    prior_covariance,
+    run_side_by_side,
+    scan_model,
+    speedup_table,
+)
+from hypotrack.models import ConstantVelocity
+
+cfg_all = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
+cfg = {**cfg_all["scenario"], **cfg_all["tracker"]}
+PERM, INV = [0, 2, 1, 3], np.argsort([0, 2, 1, 3])
+T0 = datetime.datetime(2026, 1, 1)
+
+try:
+    import stonesoup  # noqa: F401
+
+    HAVE_STONESOUP = True
+except ImportError:
+    HAVE_STONESOUP = False
+    print("perf_sht: Stone Soup is not installed; timing hypotrack only", flush=True)
+
+
+class StoneSoupStepper:
+    """Stone Soup's tracker of one kind on one scenario: predict + associate + update per scan."""
+
+    def __init__(self, scenario, kind):
+        from stonesoup.dataassociator.neighbour import GNNWith2DAssignment
+        from stonesoup.dataassociator.probability import JPDA, JPDAwithEHM2
+        from stonesoup.hypothesiser.distance import DistanceHypothesiser
+        from stonesoup.hypothesiser.probability import PDAHypothesiser
+        from stonesoup.measures import Mahalanobis
+        from stonesoup.models.measurement.linear import LinearGaussian
+        from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity as CV
+        from stonesoup.predictor.kalman import KalmanPredictor
+        from stonesoup.types.detection import Detection
+        from stonesoup.types.state import GaussianState
+        from stonesoup.types.track import Track
+        from stonesoup.updater.kalman import KalmanUpdater
+        from stonesoup.updater.probability import PDAUpdater
+
+        model = scan_model(scenario, cfg)
+        predictor = KalmanPredictor(CombinedLinearGaussianTransitionModel([CV(cfg["q"]), CV(cfg["q"])]))
+        meas = LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=model.R)
+        self.gnn = kind == "GNNWith2DAssignment"
+        if self.gnn:
+            self.updater = KalmanUpdater(meas, use_joseph_cov=True)
+            hyp = DistanceHypothesiser(predictor, self.updater, Mahalanobis(), missed_distance=math.sqrt(model.gate))
+            self.associator = GNNWith2DAssignment(hyp)
+        else:
+            self.updater = PDAUpdater(meas, use_joseph_cov=True)
+            hyp = PDAHypothesiser(predictor, self.updater, clutter_spatial_density=model.clutter_density,
+                                  prob_detect=model.p_D, prob_gate=model.p_gate)
+            self.associator = {"JPDAwithEHM2": JPDAwithEHM2, "JPDA": JPDA}[kind](hyp)
+        P0 = prior_covariance(cfg)[np.ix_(PERM, PERM)]
+        self.tracks = [Track([GaussianState(x[PERM].reshape(-1, 1), P0, timestamp=T0)]) for x in scenario.initial_states]
+        # Detections are built before timing: data ingest is not part of the tracker's scan.
+        self.scans = []
+        for t, Z in scenario.scan_list():
+            ts = T0 + datetime.timedelta(seconds=float(t))
+            self.scans.append((ts, [Detection(z.reshape(-1, 1), timestamp=ts, measurement_model=meas) for z in Z]))
+
+    def step(self, k):
+        ts, dets = self.scans[k]
+        self.hyps = self.associator.associate(set(self.tracks), set(dets), ts)
+        for tr in self.tracks:
+            h = self.hyps[tr]
+            tr.append((self.updater.update(h) if h else h.prediction) if self.gnn else self.updater.update(h))
+        self.k = k
+
+    def record(self, run):
+        dets = self.scans[self.k][1]
+        index = {id(d): i for i, d in enumerate(dets)}
+        if self.gnn:
+            out = np.full(len(dets), -1)
+            for i, tr in enumerate(self.tracks):
+                h = self.hyps[tr]
+                if h:
+                    out[index[id(h.measurement)]] = i
+        else:
+            out = np.zeros((len(self.tracks), len(dets) + 1))
+            for i, tr in enumerate(self.tracks):
+                for h in self.hyps[tr]:
+                    out[i, 0 if not h else 1 + index[id(h.measurement)]] = float(h.probability)
+        run.outputs.append(out)
+        run.states.append((np.array([np.ravel(t.state_vector)[INV] for t in self.tracks]).reshape(-1, 4),
+                           np.array([t.covar[np.ix_(INV, INV)] for t in self.tracks]).reshape(-1, 4, 4)))
+
+
+def brute_force_products(scenario):
+    """Joint products Stone Soup's brute-force JPDA enumerates at scan 1 (Π over tracks of 1 + gated)."""
+    model = scan_model(scenario, cfg)
+    n = len(scenario.initial_states)
+    x, P = predict_tracks(ConstantVelocity(cfg["q"]), scenario.initial_states,
+                          np.broadcast_to(prior_covariance(cfg), (n, 4, 4)), scenario.times[1] - scenario.times[0])
+    valid = gate_tracks(x, P, scenario.scan_list()[1][1], model).valid
+    return math.prod(int(1 + c) for c in valid.sum(axis=0))
+
+
+def compare(algorithm, n, rate, peers, *, max_scans, budget_s, seed):
+    sc = formation(n, rate, cfg, seed)
+    steppers = {"hypotrack": HypotrackStepper(sc, algorithm, cfg)}
+    notes = {}
+    for kind in peers if HAVE_STONESOUP else []:
+        if kind == "JPDA":
+            products = brute_force_products(sc)
+            if products > cfg_all["jpda"]["brute_force_max_products"]:
+                notes[kind] = f"not run: ~{products:.2e} joint products per scan"
+                continue
+        steppers[kind] = StoneSoupStepper(sc, kind)
+    runs = run_side_by_side(steppers, len(sc.times), max_scans=max_scans, budget_s=budget_s)
+    rows = []
+    for name, run in runs.items():
+        d_out, d_state = max_abs_difference(runs["hypotrack"], run) if name != "hypotrack" else (0.0, 0.0)
+        rows.append(dict(algorithm=algorithm, implementation=name, n_targets=n, clutter_rate=rate,
+                         scans_timed=len(run.times), median_ms=run.median_ms,
+                         mean_ms=1e3 * float(np.mean(run.times)) if run.times else np.nan,
+                         max_cluster=runs["hypotrack"].max_cluster, max_abs_output_diff=d_out,
+                         max_abs_state_diff=d_state, note=""))
+        print(f"perf_sht {algorithm} n={n} clutter={rate:g} {name}: {run.median_ms:.3f} ms/scan "
+              f"({len(run.times)} scans), diffs {d_out:.2e} / {d_state:.2e}", flush=True)
+    for kind, note in notes.items():
+        rows.append(dict(algorithm=algorithm, implementation=kind, n_targets=n, clutter_rate=rate, scans_timed=0,
+                         median_ms=np.nan, mean_ms=np.nan, max_cluster=runs["hypotrack"].max_cluster,
+                         max_abs_output_diff=np.nan, max_abs_state_diff=np.nan, note=note))
+        print(f"perf_sht {algorithm} n={n} clutter={rate:g} {kind}: {note}", flush=True)
+    return rows
+
+
+seed = cfg_all["seed"]
+rows = []
+for n in cfg_all["gnn"]["n_targets"]:
+    rows += compare("gnn", n, cfg_all["gnn"]["clutter_rate"], ["GNNWith2DAssignment"],
+                    max_scans=cfg_all["max_scans"], budget_s=cfg_all["budget_s"], seed=seed)
+for rate in cfg_all["jpda"]["clutter_rates"]:
+    for n in cfg_all["jpda"]["n_targets"]:
+        rows += compare("jpda", n, rate, ["JPDAwithEHM2", "JPDA"],
+                        max_scans=cfg_all["max_scans"], budget_s=cfg_all["budget_s"], seed=seed)
+timings = pd.DataFrame(rows)
+ratios = speedup_table(timings, cfg_all["goals"])
+
+# Largest formation (one chain-like cluster) each implementation handles within the limit.
+big = cfg_all["largest"]
+largest_rows = []
+for algorithm, impls in (("gnn", ["hypotrack", "GNNWith2DAssignment"]), ("jpda", ["hypotrack", "JPDAwithEHM2", "JPDA"])):
+    for impl in impls:
+        if impl != "hypotrack" and not HAVE_STONESOUP:
+            continue
+        for n in big["n_targets"]:
+            r = compare(algorithm, n, big["clutter_rate"], [] if impl == "hypotrack" else [impl],
+                        max_scans=big["max_scans"], budget_s=None, seed=seed)
+            row = next(x for x in r if x["implementation"] == impl)
+            largest_rows.append(row)
+            if not np.isfinite(row["median_ms"]) or row["median_ms"] > big["limit_ms"]:
+                break
+largest_runs = pd.DataFrame(largest_rows)
+largest = largest_within(largest_runs.dropna(subset=["median_ms"]), big["limit_ms"])
+
+write_table(timings, snakemake.output.timings)  # noqa: F821
+write_table(ratios, snakemake.output.speedups)  # noqa: F821
+write_table(largest_runs, snakemake.output.largest_runs)  # noqa: F821
+write_table(largest, snakemake.output.largest)  # noqa: F821
+plot_benchmark(timings, ratios, snakemake.output.pdf, snakemake.output.png)  # noqa: F821
+print(ratios.to_string(index=False), flush=True)
+print(largest.to_string(index=False), flush=True)

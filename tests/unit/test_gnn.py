@@ -204,3 +204,23 @@ def test_tracker_handles_empty_scans_and_rejects_nan_returns():
         tr.step(5.0)
     with pytest.raises(ValueError, match="association"):
         SingleHypothesisTracker(ConstantVelocity(0.1), model, association="mht")
+
+
+def test_many_clusters_packed_equal_one_global_assignment():
+    """Above the joint-solve limit clusters are packed into groups; the optimum must not change."""
+    from hypotrack.association import association_score_matrix, best_assignment, columns_to_event
+    from hypotrack.association import find_clusters
+
+    rng = np.random.default_rng(21)
+    model = scan_model(beta_fa=1e-3)
+    centres = rng.uniform(0, 3000, size=(40, 2))
+    x, P = tracks_at(np.repeat(centres, 5, axis=0) + rng.normal(0, 3.0, size=(200, 2)))
+    Z = np.concatenate([x[:, :2] + rng.normal(0, 2.0, size=(200, 2)), rng.uniform(0, 3000, size=(50, 2))])
+    gated = gate_tracks(x, P, Z, model)
+    gain = gnn_gains(gated, model)
+    assert len(find_clusters(gain > 0)) > 20 and (gated.valid.sum(axis=1) > 1).sum() > 64
+    a = gnn_associate(gain)
+    total, cols = best_assignment(association_score_matrix(np.where(gain > 0, gain, -np.inf), np.zeros(len(Z))))
+    expected = columns_to_event(cols, gated.n_tracks)
+    np.testing.assert_array_equal(a, expected)
+    assert total == pytest.approx(gain[a >= 0, a[a >= 0]].sum(), rel=1e-12)

@@ -158,3 +158,25 @@ def test_bad_input():
         gate_tracks(x, P, np.array([[0.0, np.inf]]), model)
     with pytest.raises(ValueError, match="Z"):
         gate_tracks(x, P, np.zeros((2, 3)), model)
+
+
+def test_many_clusters_in_one_pass_equal_cluster_by_cluster():
+    """jpda_probabilities runs one EHM pass over all contested tracks; it must equal the lecture's
+    cluster-by-cluster computation (find_clusters + jpda_marginals per cluster)."""
+    from hypotrack.association import find_clusters
+    from hypotrack.association.marginals import jpda_marginals
+
+    rng = np.random.default_rng(31)
+    model = scan_model()
+    centres = rng.uniform(0, 2000, size=(30, 2))
+    x, P = tracks_at(np.repeat(centres, 4, axis=0) + rng.normal(0, 2.0, size=(120, 2)))
+    Z = np.concatenate([x[:, :2] + rng.normal(0, 2.0, size=(120, 2)), rng.uniform(0, 2000, size=(40, 2))])
+    gated = gate_tracks(x, P, Z, model)
+    lw = jpda_log_weights(gated, model)
+    expected = np.zeros_like(lw)
+    clusters = find_clusters(gated.valid)
+    for c in clusters:
+        cols = np.concatenate([[0], 1 + c.measurements])
+        expected[np.ix_(c.tracks, cols)] = jpda_marginals(lw[np.ix_(c.tracks, cols)])
+    assert sum(len(c.tracks) > 1 for c in clusters) > 10
+    np.testing.assert_allclose(jpda_probabilities(gated, model), expected, atol=1e-13)

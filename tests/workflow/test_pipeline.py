@@ -25,7 +25,7 @@ def _experiments():
 
 @needs_snakemake
 def test_dry_run_lists_every_experiment_rule():
-    res = _snakemake("-n", "--quiet", "rules")
+    res = _snakemake("-n", "--forceall", "--quiet", "rules")
     assert res.returncode == 0, res.stderr
     for experiment in _experiments():
         assert experiment in res.stdout, f"rule {experiment} missing from the default dry run"

@@ -1,0 +1,61 @@
+# Seed 000 Sec. V-A, Figs 12-14: R-FISST vs HOMHT (same EKF) on the 15-object SSA scenario, all
+# objects known and starting in view. One sequential job per tracker (they run in parallel); the
+# comparison, figures and claims are drawn from their tables.
+# Config section: ssa15 (workflows/config/schema/ssa15.schema.yaml); scenario: rule ssa_scenario.
+SSA15_DIR = f"{RESULTS}/ssa15"
+SSA15_TRACKERS = ["rfisst", "homht"]
+SSA15_TABLES = ["summary", "cardinality", "map_estimates", "weights"]
+
+
+rule ssa15_run:
+    wildcard_constraints:
+        tracker="|".join(SSA15_TRACKERS),
+    input:
+        truth=f"{RESULTS}/ssa/ssa15_truth.csv",
+        scans=f"{RESULTS}/ssa/ssa15_scans.csv",
+        prior=f"{RESULTS}/ssa/ssa15_prior.csv",
+    output:
+        **{table: f"{SSA15_DIR}/{{tracker}}_{table}.csv" for table in SSA15_TABLES},
+    log:
+        f"{RESULTS}/logs/ssa15/{{tracker}}_run.log",
+    params:
+        section=config["ssa15"],
+    script:
+        "../scripts/ssa15_run.py"
+
+
+SSA15_RUN = expand(f"{SSA15_DIR}/{{tracker}}_{{table}}.csv", tracker=SSA15_TRACKERS, table=SSA15_TABLES)
+
+
+rule ssa15_figures:
+    input:
+        **{f"{tr}_map": f"{SSA15_DIR}/{tr}_map_estimates.csv" for tr in SSA15_TRACKERS},
+        **{f"{tr}_summary": f"{SSA15_DIR}/{tr}_summary.csv" for tr in SSA15_TRACKERS},
+        truth=f"{RESULTS}/ssa/ssa15_truth.csv",
+        scans=f"{RESULTS}/ssa/ssa15_scans.csv",
+        prior=f"{RESULTS}/ssa/ssa15_prior.csv",
+    output:
+        metrics=f"{SSA15_DIR}/metrics.csv",
+        agreement=f"{SSA15_DIR}/agreement.csv",
+        snapshots=f"{SSA15_DIR}/estimate_snapshots.csv",
+        fig12_pdf=f"{SSA15_DIR}/fig_12_14_estimates.pdf",
+        fig12_png=f"{SSA15_DIR}/fig_12_14_estimates.png",
+        comparison_pdf=f"{SSA15_DIR}/comparison.pdf",
+        comparison_png=f"{SSA15_DIR}/comparison.png",
+        claims=f"{SSA15_DIR}/claims.csv",
+    params:
+        section=config["ssa15"],
+        trackers=SSA15_TRACKERS,
+    script:
+        "../scripts/ssa15_figures.py"
+
+
+SSA15_TARGETS = [*SSA15_RUN, *rules.ssa15_figures.output]
+
+
+rule ssa15:
+    input:
+        SSA15_TARGETS,
+
+
+ALL_TARGETS.extend(SSA15_TARGETS)

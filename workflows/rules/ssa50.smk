@@ -1,0 +1,59 @@
+# Seed 000 Sec. IV-A, Figs 6, 8-11: R-FISST on the 50-object SSA scenario (45 objects in the initial
+# hypothesis, 5 births). The tracker run is one sequential job (a filter cannot be split over time);
+# the figures, metrics and claims are drawn from its tables.
+# Config section: ssa50 (workflows/config/schema/ssa50.schema.yaml); scenario: rule ssa_scenario.
+SSA50_DIR = f"{RESULTS}/ssa50"
+SSA50_RUN = {
+    table: f"{SSA50_DIR}/rfisst_{table}.csv" for table in ["summary", "cardinality", "map_estimates", "weights"]
+}
+
+
+rule ssa50_run:
+    input:
+        truth=f"{RESULTS}/ssa/ssa50_truth.csv",
+        scans=f"{RESULTS}/ssa/ssa50_scans.csv",
+        prior=f"{RESULTS}/ssa/ssa50_prior.csv",
+    output:
+        **SSA50_RUN,
+    log:
+        f"{RESULTS}/logs/ssa50/rfisst_run.log",
+    params:
+        section=config["ssa50"],
+    script:
+        "../scripts/ssa50_run.py"
+
+
+rule ssa50_figures:
+    input:
+        **SSA50_RUN,
+        truth=f"{RESULTS}/ssa/ssa50_truth.csv",
+        scans=f"{RESULTS}/ssa/ssa50_scans.csv",
+        prior=f"{RESULTS}/ssa/ssa50_prior.csv",
+    output:
+        metrics=f"{SSA50_DIR}/metrics.csv",
+        births=f"{SSA50_DIR}/births.csv",
+        snapshots=f"{SSA50_DIR}/estimate_snapshots.csv",
+        fig6_pdf=f"{SSA50_DIR}/fig_6_weights.pdf",
+        fig6_png=f"{SSA50_DIR}/fig_6_weights.png",
+        fig8_pdf=f"{SSA50_DIR}/fig_8_10_estimates.pdf",
+        fig8_png=f"{SSA50_DIR}/fig_8_10_estimates.png",
+        fig11_pdf=f"{SSA50_DIR}/fig_11_expected_number.pdf",
+        fig11_png=f"{SSA50_DIR}/fig_11_expected_number.png",
+        ospa_pdf=f"{SSA50_DIR}/ospa.pdf",
+        ospa_png=f"{SSA50_DIR}/ospa.png",
+        claims=f"{SSA50_DIR}/claims.csv",
+    params:
+        section=config["ssa50"],
+    script:
+        "../scripts/ssa50_figures.py"
+
+
+SSA50_TARGETS = [*SSA50_RUN.values(), *rules.ssa50_figures.output]
+
+
+rule ssa50:
+    input:
+        SSA50_TARGETS,
+
+
+ALL_TARGETS.extend(SSA50_TARGETS)

@@ -1,0 +1,7 @@
+"""Run one tracker (wildcard ``tracker``: rfisst or homht) over the ssa15 scenario tables."""
+
+from hypotrack.experiments.ssa_tracking import run_and_save
+
+snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
+run_and_save(snakemake.config, "ssa15", snakemake.wildcards.tracker, snakemake.input, snakemake.output,
+             snakemake.log[0], snapshot_key="snapshots")

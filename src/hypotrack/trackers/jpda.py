@@ -120,11 +120,17 @@ def pda_update(gated: GatedTracks, beta, model: ScanModel):
     x, P, K = gated.x, gated.P, gated.K
     if gated.n_tracks == 0:
         return x.copy(), P.copy()
+    n, p = gated.z_pred.shape
     b0 = beta[:, 0]
-    bi = beta[:, 1:]
-    nu = gated.Z[None, :, :] - gated.z_pred[:, None, :]  # (n, m, p)
-    nu_bar = np.einsum("nm,nmp->np", bi, nu)
-    spread = np.einsum("nm,nmp,nmq->npq", bi, nu, nu) - nu_bar[:, :, None] * nu_bar[:, None, :]
+    # Only pairs with β > 0 (inside the gates) contribute: work on those, not all n × m pairs.
+    t_idx, i_idx = np.nonzero(beta[:, 1:] > 0)
+    w = beta[t_idx, 1 + i_idx]
+    nu = gated.Z[i_idx] - gated.z_pred[t_idx]  # (pairs, p) innovations ν_i of each target
+    nu_bar = np.stack([np.bincount(t_idx, w * nu[:, a], minlength=n) for a in range(p)], axis=1)
+    second = np.stack(
+        [np.bincount(t_idx, w * nu[:, a] * nu[:, b], minlength=n) for a in range(p) for b in range(p)], axis=1
+    ).reshape(n, p, p)
+    spread = second - nu_bar[:, :, None] * nu_bar[:, None, :]
     x_upd = x + np.einsum("ndp,np->nd", K, nu_bar)
     P_c = joseph_covariance(P, K, model.H, model.R)
     P_upd = b0[:, None, None] * P + (1 - b0)[:, None, None] * P_c + K @ spread @ np.swapaxes(K, -1, -2)

@@ -224,3 +224,27 @@ def test_many_clusters_packed_equal_one_global_assignment():
     expected = columns_to_event(cols, gated.n_tracks)
     np.testing.assert_array_equal(a, expected)
     assert total == pytest.approx(gain[a >= 0, a[a >= 0]].sum(), rel=1e-12)
+
+
+def test_lecture_worked_example_hypotheses_and_clusters():
+    """Lecture 004: θ maps y1–y4 to {FA, T1, T2, T3, NT}; brute force over all 5⁴ maps is the oracle."""
+    import itertools
+
+    from hypotrack.trackers.sht_experiments import lecture_hypotheses, lecture_summary
+
+    labels = ["FA", "T1", "T2", "T3", "NT"]
+    valid = [
+        theta for theta in itertools.product(labels, repeat=4)
+        if all(lab in ("FA", "NT") or LECTURE_VALIDATION[i, int(lab[1]) - 1] for i, lab in enumerate(theta))
+        and len([lab for lab in theta if lab.startswith("T")]) == len({lab for lab in theta if lab.startswith("T")})
+    ]
+    table = lecture_hypotheses(LECTURE_VALIDATION)
+    listed = set(map(tuple, table[["y1", "y2", "y3", "y4"]].to_numpy().tolist()))
+    assert len(table) == len(valid) == 66 and listed == set(valid)
+    assert table["event"].nunique() == 10  # FA and NT merged: GNN assignment rows / JPDA joint events
+    summary, clusters = lecture_summary(LECTURE_VALIDATION)
+    value = dict(zip(summary["quantity"], summary["value"]))
+    assert value["hypotheses_FA_NT"] == 66 and value["hypotheses_EX"] == 10 and value["product_over_clusters"] == 10
+    assert clusters["tracks"].tolist() == ["T1 T2", "T3", ""]
+    assert clusters["returns"].tolist() == ["y3 y4", "y1", "y2"]
+    assert clusters["events"].tolist() == [5, 2, 1]

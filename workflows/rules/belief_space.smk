@@ -1,0 +1,78 @@
+# Seed 001's numeric claims, from the formulas and from the hypothesis engine's own weights:
+# the undetected-birth weight ratio (1 - p_D) alpha (Eq. 39), the Eq. 43 bound one scan later,
+# and FISST = HOMHT for a fixed number of targets (Sec. V-A). Small exhaustive problems: no shards.
+BS_DIR = f"{RESULTS}/belief_space"
+BS_LIB = "workflows/scripts/belief_space_lib.py"  # the rules' logic: a change re-runs them
+
+
+rule belief_space_ratio:
+    input:
+        lib=BS_LIB,
+    output:
+        table=f"{BS_DIR}/undetected_birth_ratio.csv",
+    params:
+        cfg=config["belief_space"],
+    script:
+        "../scripts/belief_space_ratio.py"
+
+
+rule belief_space_eq43:
+    input:
+        lib=BS_LIB,
+    output:
+        offsets=f"{BS_DIR}/eq43_across_pixel.csv",
+        noise=f"{BS_DIR}/eq43_vs_noise.csv",
+    params:
+        cfg=config["belief_space"],
+    script:
+        "../scripts/belief_space_eq43.py"
+
+
+rule belief_space_equivalence:
+    input:
+        lib=BS_LIB,
+    output:
+        table=f"{BS_DIR}/fisst_vs_homht.csv",
+    params:
+        cfg=config["belief_space"],
+        seed=config["belief_space"]["seed"],
+    script:
+        "../scripts/belief_space_equivalence.py"
+
+
+rule belief_space_report:
+    input:
+        ratio=rules.belief_space_ratio.output.table,
+        offsets=rules.belief_space_eq43.output.offsets,
+        noise=rules.belief_space_eq43.output.noise,
+        equivalence=rules.belief_space_equivalence.output.table,
+        lib=BS_LIB,
+    output:
+        ratio_pdf=f"{BS_DIR}/undetected_birth_ratio.pdf",
+        ratio_png=f"{BS_DIR}/undetected_birth_ratio.png",
+        eq43_pdf=f"{BS_DIR}/eq43_bound.pdf",
+        eq43_png=f"{BS_DIR}/eq43_bound.png",
+        equivalence_pdf=f"{BS_DIR}/fisst_vs_homht.pdf",
+        equivalence_png=f"{BS_DIR}/fisst_vs_homht.png",
+        checks=f"{BS_DIR}/checks.csv",
+        claims=f"{BS_DIR}/claims.csv",
+    params:
+        cfg=config["belief_space"],
+    script:
+        "../scripts/belief_space_report.py"
+
+
+BS_TARGETS = [
+    *rules.belief_space_ratio.output,
+    *rules.belief_space_eq43.output,
+    *rules.belief_space_equivalence.output,
+    *rules.belief_space_report.output,
+]
+
+
+rule belief_space:
+    input:
+        BS_TARGETS,
+
+
+ALL_TARGETS.extend(BS_TARGETS)

@@ -1,0 +1,19 @@
+"""Figures, checks table and ledger claims of the belief_space experiment (thin)."""
+import matplotlib
+
+matplotlib.use("Agg")
+import pandas as pd  # noqa: E402
+from belief_space_lib import checks_table, claims_from_checks, plot_eq43, plot_equivalence, plot_ratio  # noqa: E402
+
+from hypotrack.report import write_claims  # noqa: E402
+from hypotrack.scenarios.tables import write_table  # noqa: E402
+
+cfg = snakemake.params.cfg  # noqa: F821
+inp, out = snakemake.input, snakemake.output  # noqa: F821
+ratio, offsets, noise, equiv = (pd.read_csv(p) for p in (inp.ratio, inp.offsets, inp.noise, inp.equivalence))
+plot_ratio(ratio, [out.ratio_pdf, out.ratio_png], cfg["ratio"])
+plot_eq43(offsets, noise, [out.eq43_pdf, out.eq43_png], cfg["eq43"])
+plot_equivalence(equiv, [out.equivalence_pdf, out.equivalence_png])
+checks = checks_table(ratio, offsets, noise, equiv, cfg)
+write_table(checks, out.checks)
+write_claims(claims_from_checks(checks), out.claims)

@@ -110,14 +110,14 @@ class HypotrackStepper:
         run.max_cluster = max([run.max_cluster, *(len(c.tracks) for c in find_clusters(tr.last_gated.valid))])
 
 
-def run_side_by_side(steppers: dict, n_scans: int, *, max_scans=None, budget_s=None) -> dict:
+def run_side_by_side(steppers: dict, n_scans: int, *, max_scans=None, budget_s=None, warmup=True) -> dict:
     """Step several implementations through the same scans in lock-step and time each scan.
 
     ``steppers`` maps a name to an object with ``step(k)`` (process scan ``k``) and
     ``record(run)`` (append its outputs to a :class:`BenchmarkRun`). Interleaving scan by scan,
-    in alternating order, exposes every implementation to the same machine load. Scan 1 is a
-    warm-up (not timed); an implementation stops after ``max_scans`` timed scans or once it has
-    spent ``budget_s`` seconds.
+    in alternating order, exposes every implementation to the same machine load. With
+    ``warmup`` scan 1 is not timed; an implementation stops after ``max_scans`` timed scans or
+    once it has spent ``budget_s`` seconds.
     """
     runs = {name: BenchmarkRun() for name in steppers}
     names = list(steppers)
@@ -129,7 +129,7 @@ def run_side_by_side(steppers: dict, n_scans: int, *, max_scans=None, budget_s=N
             t0 = time.perf_counter()
             steppers[nm].step(k)
             dt = time.perf_counter() - t0
-            if k == 1:
+            if warmup and k == 1:
                 continue
             run = runs[nm]
             run.times.append(dt)

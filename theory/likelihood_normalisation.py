@@ -86,7 +86,7 @@ findings.check(
     all(sp.expand(total - binomial_cdf(M, m, p_D)) == 0 for M, m, total in eq9_rows if M > m),
 )
 findings.check(
-    f"... and that sum is < 1 for every p_D in (0, 1] when M > m (M <= {N_MAX})",
+    f"... the lost mass 1 - sum_j p_ij is P[Bin(M, p_D) > m], positive for p_D in (0, 1] (m < M <= {N_MAX})",
     all(sp.expand(1 - total) == sp.expand(sum(sp.binomial(M, k) * p_D**k * (1 - p_D) ** (M - k)
                                                 for k in range(m + 1, M + 1)))
         for M, m, total in eq9_rows if M > m),

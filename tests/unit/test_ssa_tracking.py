@@ -212,9 +212,17 @@ def test_tracker_settings_from_the_shipped_config():
     config = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())
     r = st.TrackerSettings.from_config(config["ssa50"], "rfisst")
     assert (r.kind, r.max_hypotheses, r.gate_probability, r.population) == ("rfisst", 100, None, True)
-    assert (r.alpha, r.beta, r.n_birth_regions) == (1e-3, 1e-4, 10)
+    assert (r.alpha, r.beta, r.n_birth_regions, r.label) == (1e-3, 1e-4, 10, "R-FISST")
     h = st.TrackerSettings.from_config(config["ssa15"], "homht")
     assert (h.kind, h.population, h.gate_probability) == ("homht", False, config["ssa15"]["gate_probability"])
+    f = st.TrackerSettings.from_config(config["ssa15"], "rfisst_fixed")
+    assert (f.kind, f.population, f.label) == ("rfisst", False, "R-FISST, fixed number")
+    for pair in config["ssa15"]["comparisons"]:
+        assert set(pair) <= set(config["ssa15"]["trackers"])
+    with pytest.raises(ValueError, match="unknown tracker"):
+        st.TrackerSettings.from_config(config["ssa15"], "gnn")
+    with pytest.raises(ValueError, match="homht"):
+        st.TrackerSettings(kind="homht", population=True)
     with pytest.raises(ValueError, match="kind"):
         st.TrackerSettings(kind="jpda")
     with pytest.raises(ValueError, match="gate_probability"):
@@ -244,19 +252,21 @@ def test_claims_and_figures_from_the_runs(perfect, cluttered, tmp_path):
     ev = {k: st.evaluate_map(r.map_estimates, c_scen) for k, r in runs.items()}
     c_metrics = pd.concat([runs[k].summary.merge(ev[k][0], on="scan").assign(tracker=k) for k in runs])
     c_matched = pd.concat([ev[k][1].assign(tracker=k) for k in runs])
-    agreement = st.map_agreement(runs["rfisst"].map_estimates, runs["hfisst"].map_estimates, c_scen.prior_ids)
-    c_claims = st.ssa15_claims(c_metrics, agreement, c_matched, estimate_scans=snaps, n_scans=len(c_scen.times),
-                               error_bound_probability=0.9999, trackers=("rfisst", "hfisst"))
+    agreements = {("rfisst", "hfisst"): st.map_agreement(runs["rfisst"].map_estimates, runs["hfisst"].map_estimates,
+                                                         c_scen.prior_ids)}
+    labels = {"rfisst": "R-FISST", "hfisst": "H-FISST"}
+    c_claims = st.ssa15_claims(c_metrics, agreements, c_matched, estimate_scans=snaps, n_scans=len(c_scen.times),
+                               error_bound_probability=0.9999, labels=labels)
     assert c_claims[0].status == "reproduced"  # same MAP hypothesis at every scan
+    assert c_claims[1].status == "reproduced"  # hence never a worse OSPA
 
     figures = {
         "weights": st.plot_weight_snapshots(run.weights, K, title="weights"),
         "estimates": st.plot_estimate_snapshots(matched[matched["scan"].isin(snaps)], scenario.fov, K,
                                                 title="estimates"),
         "expected": st.plot_expected_number(merged, run.cardinality, title="expected number"),
-        "ospa": st.plot_ospa(merged, st.OSPASettings(), title="ospa", names=["R-FISST"]),
-        "comparison": st.plot_comparison(agreement, c_metrics, st.OSPASettings(), names=("R-FISST", "H-FISST"),
-                                         trackers=("rfisst", "hfisst"), title="comparison"),
+        "ospa": st.plot_ospa(merged, st.OSPASettings(), title="ospa", labels={"": "R-FISST"}),
+        "comparison": st.plot_comparison(agreements, c_metrics, st.OSPASettings(), labels=labels, title="comparison"),
     }
     for name, fig in figures.items():
         for ax in fig.axes:

@@ -1,10 +1,13 @@
 # Seed 000 Sec. V-A, Figs 12-14: R-FISST vs HOMHT (same EKF) on the 15-object SSA scenario, all
 # objects known and starting in view. One sequential job per tracker (they run in parallel); the
-# comparison, figures and claims are drawn from their tables.
+# comparisons, figures and claims are drawn from their tables.
 # Config section: ssa15 (workflows/config/schema/ssa15.schema.yaml); scenario: rule ssa_scenario.
 SSA15_DIR = f"{RESULTS}/ssa15"
-SSA15_TRACKERS = ["rfisst", "homht"]
+SSA15_TRACKERS = list(config["ssa15"]["trackers"])
 SSA15_TABLES = ["summary", "cardinality", "map_estimates", "weights"]
+for _pair in config["ssa15"]["comparisons"]:
+    if not set(_pair) <= set(SSA15_TRACKERS):
+        raise ValueError(f"ssa15.comparisons: {_pair} names a tracker not in ssa15.trackers {SSA15_TRACKERS}")
 
 
 rule ssa15_run:
@@ -45,7 +48,6 @@ rule ssa15_figures:
         claims=f"{SSA15_DIR}/claims.csv",
     params:
         section=config["ssa15"],
-        trackers=SSA15_TRACKERS,
     script:
         "../scripts/ssa15_figures.py"
 

@@ -33,7 +33,7 @@ st.save_figure(st.plot_estimate_snapshots(snapshots, scenario.fov, K, column_tit
                out.fig8_pdf, out.fig8_png)
 st.save_figure(st.plot_expected_number(metrics, cardinality, title=f"Expected number of objects ({what})"),
                out.fig11_pdf, out.fig11_png)
-st.save_figure(st.plot_ospa(metrics, st.OSPASettings(**sec["ospa"]), names=["R-FISST"],
+st.save_figure(st.plot_ospa(metrics, st.OSPASettings(**sec["ospa"]), labels={"": "R-FISST"},
                             title=f"OSPA of the top-hypothesis estimates ({what})"),
                out.ospa_pdf, out.ospa_png)
 claims = st.ssa50_claims(metrics, cardinality, weights, matched, births, estimate_scans=estimate_scans,

@@ -214,6 +214,7 @@ class TrackerSettings:
         prior's standard deviation (km/s) around the circular-orbit velocity.
     population : bool
         Use the birth/death model (FISST trackers only); ``False`` fixes the number of objects.
+        HOMHT always has a fixed number here.
     max_events : int
         Budget of the exhaustive generators (children per parent).
     """
@@ -239,29 +240,41 @@ class TrackerSettings:
         check_int(self.n_steps, "n_steps", minimum=1)
         check_int(self.max_events, "max_events", minimum=1)
         check_positive(self.birth_velocity_std, "birth_velocity_std")
+        if self.kind == "homht" and self.population:
+            raise ValueError("population must be False for homht (Reid's HOMHT runs with a fixed number of objects)")
+
+    @property
+    def label(self) -> str:
+        """Name for legends and claims, e.g. ``"R-FISST"`` or ``"R-FISST, fixed number"``."""
+        name = TRACKER_NAMES[self.kind]
+        return name if self.population or self.kind == "homht" else f"{name}, fixed number"
 
     @classmethod
-    def from_config(cls, section: Mapping, kind: str) -> "TrackerSettings":
-        """Settings of tracker ``kind`` from an ``ssa50`` / ``ssa15`` config section.
+    def from_config(cls, section: Mapping, name: str) -> "TrackerSettings":
+        """Settings of the tracker called ``name`` in an ``ssa50`` / ``ssa15`` config section.
 
-        The section's ``max_hypotheses`` and ``gate_probability`` apply to every tracker; its
-        ``rfisst`` / ``homht`` block to that tracker; its ``population`` block (α, β, regions,
-        birth velocity) to the FISST trackers.
+        ``section["trackers"][name]`` gives the ``kind`` and the tracker's own options
+        (``n_steps``, ``mcmc_variant``, ``max_events``, ``population``); the section's
+        ``max_hypotheses`` and ``gate_probability`` apply to every tracker, and its
+        ``population`` block (α, β, regions, birth velocity) to the trackers with births and deaths.
         """
-        own = dict(section.get(kind, {}))
+        trackers = section.get("trackers", {})
+        if name not in trackers:
+            raise ValueError(f"unknown tracker {name!r}; the config section defines {sorted(trackers)}")
+        own = dict(trackers[name])
+        kind = own.pop("kind")
         population = own.pop("population", kind != "homht")
         pop = dict(section.get("population", {})) if population else {}
         return cls(kind=kind, max_hypotheses=section["max_hypotheses"],
                    gate_probability=section.get("gate_probability"), population=population, **pop, **own)
 
 
-def tracker_seed(master_seed: int, experiment_seed: int, kind: str) -> np.random.Generator:
-    """The tracker's random generator: ``SeedSequence([master, experiment, tracker index])``."""
-    if kind not in TRACKER_KINDS:
-        raise ValueError(f"kind must be one of {TRACKER_KINDS}, got {kind!r}")
+def tracker_seed(master_seed: int, experiment_seed: int, name: str) -> np.random.Generator:
+    """The tracker's random generator: ``SeedSequence([master, experiment, *name's bytes])``."""
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"name must be a non-empty str, got {name!r}")
     ss = np.random.SeedSequence([check_int(master_seed, "seed", minimum=0),
-                                 check_int(experiment_seed, "experiment seed", minimum=0),
-                                 TRACKER_KINDS.index(kind)])
+                                 check_int(experiment_seed, "experiment seed", minimum=0), *name.encode()])
     return np.random.default_rng(ss)
 
 
@@ -440,23 +453,22 @@ def run_tracker(tracker, scenario: SSAScenario, *, snapshots: Sequence[int] = ()
     )
 
 
-def run_configured_tracker(config: Mapping, experiment: str, kind: str, scenario: SSAScenario, *,
+def run_configured_tracker(config: Mapping, experiment: str, name: str, scenario: SSAScenario, *,
                            snapshot_key: str, progress=print) -> TrackingRun:
-    """Build tracker ``kind`` from the pipeline config's ``experiment`` section and run it.
+    """Build tracker ``name`` from the pipeline config's ``experiment`` section and run it.
 
     The section gives the tracker settings (:meth:`TrackerSettings.from_config`), its
     ``seed`` (with the config's master ``seed``: :func:`tracker_seed`) and, under
     ``snapshot_key``, the fractions of the run at which all hypothesis weights are recorded.
     """
     section = config[experiment]
-    tracker = make_tracker(scenario, TrackerSettings.from_config(section, kind),
-                           tracker_seed(config["seed"], section["seed"], kind))
+    settings = TrackerSettings.from_config(section, name)
+    tracker = make_tracker(scenario, settings, tracker_seed(config["seed"], section["seed"], name))
     snaps = snapshot_scans(len(scenario.times), section[snapshot_key])
-    return run_tracker(tracker, scenario, snapshots=snaps, name=f"{experiment} {TRACKER_NAMES[kind]}",
-                       progress=progress)
+    return run_tracker(tracker, scenario, snapshots=snaps, name=f"{experiment} {settings.label}", progress=progress)
 
 
-def run_and_save(config: Mapping, experiment: str, kind: str, inputs: Mapping, outputs: Mapping, log_path, *,
+def run_and_save(config: Mapping, experiment: str, name: str, inputs: Mapping, outputs: Mapping, log_path, *,
                  snapshot_key: str) -> TrackingRun:
     """The pipeline's run step: scenario tables in, tracker tables out, progress to stdout and log.
 
@@ -470,10 +482,10 @@ def run_and_save(config: Mapping, experiment: str, kind: str, inputs: Mapping, o
             print(line, flush=True)
             print(line, file=log, flush=True)
 
-        run = run_configured_tracker(config, experiment, kind, scenario, snapshot_key=snapshot_key,
+        run = run_configured_tracker(config, experiment, name, scenario, snapshot_key=snapshot_key,
                                      progress=progress)
         run.write(outputs)
-        progress(f"{experiment} {TRACKER_NAMES[kind]}: {run.timing()}")
+        progress(f"{experiment} {name}: {run.timing()}")
     return run
 
 
@@ -850,45 +862,45 @@ def _ospa_ylim(ax, values, c):
     ax.set_ylim(0, min(max(1.15 * top, 1e-3 * c), 1.05 * c))
 
 
-def plot_ospa(metrics: pd.DataFrame, ospa_settings: OSPASettings, *, title: str,
-              trackers: Sequence[str] = ("",), names: Sequence[str] = ("",)):
-    """OSPA of the MAP estimates over time: objects in view (top) and the catalogue (bottom).
+_LINE_STYLES = (dict(color="#2c7bb6", lw=1.6), dict(color="#d7191c", lw=1.0, ls="--"),
+                dict(color="#1a9641", lw=1.0, ls=":"), dict(color="#7b3294", lw=1.0, ls="-."))
 
-    ``metrics`` rows of :func:`evaluate_map` with ``time``, and a ``tracker`` column when
-    several trackers are drawn (``trackers``, legend ``names``).
-    """
-    import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True)
-    styles = [dict(color="#2c7bb6", lw=1.2), dict(color="#d7191c", lw=1.0, ls="--"), dict(color="#1a9641", lw=1.0)]
+def _ospa_panels(axes, metrics, ospa_settings, trackers, labels):
+    """OSPA in view (first axis) and over the catalogue (second axis), one line per tracker."""
     cols = [("ospa_in_view", ospa_settings.c_in_view, "objects in the field of view"),
             ("ospa_catalogue", ospa_settings.c_catalogue, "all catalogued objects")]
     for ax, (col, c, what) in zip(axes, cols):
-        for tr, nm, st in zip(trackers, names, styles):
+        for tr, style in zip(trackers, _LINE_STYLES):
             g = metrics[metrics["tracker"] == tr] if tr else metrics
-            ax.plot(g["time"] / 3600, g[col], label=f"{nm} (mean {g[col].mean():.3g} km)".strip(), **st)
+            ax.plot(g["time"] / 3600, g[col], label=f"{labels[tr]} (mean {g[col].mean():.3g} km)", **style)
         ax.set_ylabel(f"OSPA (km)\np = {ospa_settings.p:g}, c = {c:g} km")
         ax.set_title(f"MAP estimates vs truth: {what}", fontsize=10)
         _ospa_ylim(ax, metrics[col], c)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8, loc="upper right")
+
+
+def plot_ospa(metrics: pd.DataFrame, ospa_settings: OSPASettings, *, title: str, labels: Mapping):
+    """OSPA of the MAP estimates over time: objects in view (top) and the catalogue (bottom).
+
+    ``metrics`` rows of :func:`evaluate_map` with ``time``; ``labels`` maps each value of its
+    ``tracker`` column to a legend name (key ``""`` when there is no ``tracker`` column).
+    """
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2, 1, figsize=(9, 6.5), sharex=True)
+    _ospa_panels(axes, metrics, ospa_settings, list(labels), labels)
     axes[-1].set_xlabel("time (h)")
     fig.suptitle(title)
     fig.tight_layout()
     return fig
 
 
-def plot_comparison(agreement: pd.DataFrame, metrics: pd.DataFrame, ospa_settings: OSPASettings, *,
-                    names=("R-FISST", "HOMHT"), trackers=("rfisst", "homht"), title: str):
-    """ssa15: per-scan agreement of the two MAP hypotheses and the OSPA of both trackers."""
-    import matplotlib.pyplot as plt
-
-    times = metrics.loc[metrics["tracker"] == trackers[0], "time"].to_numpy() / 3600
-    fig, axes = plt.subplots(3, 1, figsize=(9, 8.5), sharex=True, gridspec_kw={"height_ratios": [1.2, 2, 2]})
+def _agreement_panel(ax, agreement, times, label_a, label_b):
     ag = agreement["agree"].to_numpy(dtype=bool)
     same = agreement["same_objects"].to_numpy(dtype=bool)
     diff = agreement["max_difference_km"].to_numpy(dtype=float)
-    ax = axes[0]
     floor = 1e-15
     ax.semilogy(times[same], np.maximum(diff[same], floor), ".", ms=3, color="#1a9641",
                 label=f"largest difference of the two estimates of an object (0 drawn at {floor:g})")
@@ -896,25 +908,34 @@ def plot_comparison(agreement: pd.DataFrame, metrics: pd.DataFrame, ospa_setting
     for t in times[~ag]:
         ax.axvline(t, color="#d7191c", alpha=0.4, lw=1.0)
     if (~same).any():
-        ax.plot(times[~same], np.full((~same).sum(), 1e3), "x", color="#d7191c", label="different objects")
+        ax.plot(times[~same], np.full((~same).sum(), 1e3), "x", color="#d7191c",
+                label="different objects (e.g. a birth in one MAP hypothesis)")
     ax.plot([], [], color="#d7191c", alpha=0.4, label="scan where the MAP hypotheses differ")
-    ax.set_ylim(floor / 30, 1e5)
+    ax.set_ylim(floor / 30, 1e6)
     ax.set_ylabel("km")
-    ax.set_title(f"same MAP hypothesis in {100 * ag.mean():.1f} % of {len(ag)} scans "
-                 f"({names[0]} vs {names[1]})", fontsize=10)
+    ax.set_title(f"{label_a} vs {label_b}: same MAP hypothesis in {100 * ag.mean():.1f} % of {len(ag)} scans",
+                 fontsize=10)
     ax.legend(fontsize=7, loc="upper right", ncol=2)
     ax.grid(alpha=0.3)
-    styles = [dict(color="#2c7bb6", lw=1.6), dict(color="#d7191c", lw=1.0, ls="--")]
-    for ax, (col, c, what) in zip(axes[1:], [("ospa_in_view", ospa_settings.c_in_view, "objects in view"),
-                                              ("ospa_catalogue", ospa_settings.c_catalogue, "all objects")]):
-        for tr, nm, st in zip(trackers, names, styles):
-            g = metrics[metrics["tracker"] == tr]
-            ax.plot(g["time"] / 3600, g[col], label=f"{nm} (mean {g[col].mean():.3g} km)", **st)
-        ax.set_ylabel(f"OSPA (km)\np = {ospa_settings.p:g}, c = {c:g} km")
-        ax.set_title(f"MAP estimates vs truth: {what}", fontsize=10)
-        _ospa_ylim(ax, metrics[col], c)
-        ax.legend(fontsize=8, loc="upper right")
-        ax.grid(alpha=0.3)
+
+
+def plot_comparison(agreements: Mapping, metrics: pd.DataFrame, ospa_settings: OSPASettings, *,
+                    labels: Mapping, title: str):
+    """ssa15: per-scan agreement of pairs of MAP hypotheses and the OSPA of every tracker.
+
+    ``agreements`` maps ``(tracker_a, tracker_b)`` to :func:`map_agreement` tables; ``labels``
+    maps each tracker (values of ``metrics["tracker"]``) to its legend name.
+    """
+    import matplotlib.pyplot as plt
+
+    n = len(agreements)
+    fig, axes = plt.subplots(n + 2, 1, figsize=(9, 2.4 * n + 6), sharex=True,
+                             gridspec_kw={"height_ratios": [1.2] * n + [2, 2]})
+    first = next(iter(labels))
+    times = metrics.loc[metrics["tracker"] == first, "time"].to_numpy() / 3600
+    for ax, ((a, b), agreement) in zip(axes[:n], agreements.items()):
+        _agreement_panel(ax, agreement, times, labels[a], labels[b])
+    _ospa_panels(axes[n:], metrics, ospa_settings, list(labels), labels)
     axes[-1].set_xlabel("time (h)")
     fig.suptitle(title)
     fig.tight_layout()
@@ -995,32 +1016,44 @@ def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.D
     return claims
 
 
-def ssa15_claims(metrics: pd.DataFrame, agreement: pd.DataFrame, matched: pd.DataFrame, *, estimate_scans,
-                 n_scans: int, error_bound_probability: float, trackers=("rfisst", "homht"), note: str = "") -> list:
-    """The ssa15 reproduction claims (seed 000 Sec. V-A, Figs 12–14)."""
+def ssa15_claims(metrics: pd.DataFrame, agreements: Mapping, matched: pd.DataFrame, *, estimate_scans,
+                 n_scans: int, error_bound_probability: float, labels: Mapping) -> list:
+    """The ssa15 reproduction claims (seed 000 Sec. V-A, Figs 12–14).
+
+    ``agreements`` maps ``(tracker_a, tracker_b)`` to :func:`map_agreement` tables; the first
+    pair is the paper's comparison (R-FISST vs HOMHT), further pairs are extensions.
+    ``labels`` maps tracker names to display names; every tracker gets a "no red stars" claim.
+    """
     ex = "ssa15"
-    a, b = trackers
-    na, nb = TRACKER_NAMES[a], TRACKER_NAMES[b]
-    frac = float(agreement["agree"].mean())
-    claims = [Claim(ex, f"{na} and {nb} give the same estimates (same MAP hypothesis)", "000 Sec. V-A, Figs 12-14",
-                    "100 % of scans", f"{100 * frac:.1f} % of {len(agreement)} scans", "exact",
-                    "reproduced" if frac == 1.0 else "not reproduced",
-                    f"first disagreement at scan {int(agreement.loc[~agreement['agree'], 'scan'].min())}"
-                    if frac < 1 else note)]
-    ma = metrics[metrics["tracker"] == a].set_index("scan")
-    mb = metrics[metrics["tracker"] == b].set_index("scan")
-    worse = float(np.mean(ma["ospa_catalogue"] > mb["ospa_catalogue"] + AGREEMENT_TOLERANCE_KM))
-    claims.append(Claim(ex, f"{na} accuracy equal to or better than {nb}, never worse", "000 Sec. V",
-                        "0 % of scans worse", f"{100 * worse:.1f} % of scans worse (catalogue OSPA)",
-                        f"{AGREEMENT_TOLERANCE_KM * 1e6:g} mm", "reproduced" if worse == 0 else "not reproduced",
-                        f"mean catalogue OSPA {ma['ospa_catalogue'].mean():.4g} km ({na}) vs "
-                        f"{mb['ospa_catalogue'].mean():.4g} km ({nb})"))
-    for tr in trackers:
+    claims = []
+    for i, ((a, b), agreement) in enumerate(agreements.items()):
+        frac = float(agreement["agree"].mean())
+        bad = agreement.loc[~agreement["agree"], "scan"].to_numpy()
+        note = (f"differ at scans {', '.join(map(str, bad[:10]))}{' ...' if len(bad) > 10 else ''}: "
+                f"{int((~agreement['same_objects']).sum())} of them with different objects" if len(bad) else "")
+        if i == 0:
+            claims.append(Claim(ex, f"{labels[a]} and {labels[b]} give the same estimates (same MAP hypothesis)",
+                                "000 Sec. V-A, Figs 12-14", "100 % of scans",
+                                f"{100 * frac:.1f} % of {len(agreement)} scans", "exact",
+                                "reproduced" if frac == 1.0 else "not reproduced", note))
+            ma = metrics[metrics["tracker"] == a].set_index("scan")["ospa_catalogue"]
+            mb = metrics[metrics["tracker"] == b].set_index("scan")["ospa_catalogue"]
+            worse = float(np.mean(ma > mb + AGREEMENT_TOLERANCE_KM))
+            claims.append(Claim(ex, f"{labels[a]} accuracy equal to or better than {labels[b]}, never worse",
+                                "000 Sec. V", "0 % of scans worse", f"{100 * worse:.1f} % of scans worse",
+                                f"catalogue OSPA, {AGREEMENT_TOLERANCE_KM * 1e6:g} mm",
+                                "reproduced" if worse == 0 else "not reproduced",
+                                f"mean catalogue OSPA {ma.mean():.4g} km ({labels[a]}) vs {mb.mean():.4g} km ({labels[b]})"))
+        else:
+            claims.append(Claim(ex, f"{labels[a]} and {labels[b]}: same MAP hypothesis", "extension", "--",
+                                f"{100 * frac:.1f} % of {len(agreement)} scans", "exact", "extension", note))
+    for tr, label in labels.items():
         verdict, ok = _snapshot_verdict(matched[matched["tracker"] == tr], estimate_scans, n_scans)
-        claims.append(Claim(ex, f"{TRACKER_NAMES[tr]}: no red stars at the start, middle and end", "000 Figs 12-14",
+        claims.append(Claim(ex, f"{label}: no red stars at the start, middle and end", "000 Figs 12-14",
                             "all correct", verdict, f"truth in the {100 * error_bound_probability:g} % ellipse",
                             "reproduced" if ok else "not reproduced"))
-    claims.append(Claim(ex, "mean OSPA of the MAP estimates, objects in view", "extension", "--",
-                        f"{na} {ma['ospa_in_view'].mean():.3g} km, {nb} {mb['ospa_in_view'].mean():.3g} km",
-                        "--", "extension"))
+    means = ", ".join(f"{label} {metrics.loc[metrics['tracker'] == tr, 'ospa_in_view'].mean():.3g} km"
+                      for tr, label in labels.items())
+    claims.append(Claim(ex, "mean OSPA of the MAP estimates, objects in view", "extension", "--", means, "--",
+                        "extension"))
     return claims

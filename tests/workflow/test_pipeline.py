@@ -45,9 +45,9 @@ def test_quick_ssa_rule_writes_figure(tmp_path):
     if "ssa" not in _experiments():
         pytest.skip("ssa rule not present")
     out = tmp_path / "results"
+    # Targets go first: --configfile and --config take several values and would swallow them.
     res = _snakemake(
-        "-c2", "--configfile", "workflows/config/quick.yaml", "--config", f"results={out}", "ssa",
-        "--nolock",
+        "ssa", "-c2", "--nolock", "--configfile", "workflows/config/quick.yaml", "--config", f"results={out}",
     )
     assert res.returncode == 0, res.stderr[-3000:]
     for ext in ("pdf", "png"):

@@ -30,8 +30,8 @@ def _scenario(**kw):
 def _run(scenario, kind, seed=1, **settings):
     tracker = st.make_tracker(scenario, st.TrackerSettings(kind=kind, max_hypotheses=10, n_birth_regions=2,
                                                            **settings), st.tracker_seed(seed, 7, kind))
-    return st.run_tracker(tracker, scenario, snapshots=st.snapshot_scans(len(scenario.times), [0.1, 0.5, 1.0]),
-                          progress=None)
+    snapshots = st.snapshot_scans(len(scenario.times), [0.1, 0.5, 1.0])
+    return st.run_tracker(tracker, scenario, snapshots=snapshots, progress=None)
 
 
 @pytest.fixture(scope="module")
@@ -66,9 +66,11 @@ def test_scenario_from_tables_rebuilds_the_simulated_scenario():
     np.testing.assert_array_equal(scenario.sensor.measurement.R, sim.sensor.measurement.R)
     assert scenario.birth_ids.tolist() == [4] and 0 < scenario.first_in_view_scan[4] < 30
     with pytest.raises(ValueError, match="n_scans"):
-        st.scenario_from_tables(SSAParams(n_objects=5, n_known=4, n_scans=31), sim.truth, sim.scans, prior_table(sim))
+        st.scenario_from_tables(SSAParams(n_objects=5, n_known=4, n_scans=31), sim.truth, sim.scans,
+                                prior_table(sim))
     with pytest.raises(ValueError, match="objects"):
-        st.scenario_from_tables(SSAParams(n_objects=6, n_known=4, n_scans=30), sim.truth, sim.scans, prior_table(sim))
+        st.scenario_from_tables(SSAParams(n_objects=6, n_known=4, n_scans=30), sim.truth, sim.scans,
+                                prior_table(sim))
 
 
 def test_catalogue_holds_the_known_objects_and_each_birth_from_its_first_view():
@@ -255,8 +257,8 @@ def test_claims_and_figures_from_the_runs(perfect, cluttered, tmp_path):
     births = st.birth_recognition(matched, scenario)
     assert births["tracked_at_end"].all() and (births["delay_scans"] <= 2).all()
     snaps = st.snapshot_scans(K, [0.1, 0.5, 1.0])
-    claims = st.ssa50_claims(merged, run.cardinality, run.weights, matched, births, estimate_scans=snaps, n_scans=K,
-                             error_bound_probability=0.9999)
+    claims = st.ssa50_claims(merged, run.cardinality, run.weights, matched, births, estimate_scans=snaps,
+                             n_scans=K, error_bound_probability=0.9999)
     by_item = {c.item: c for c in claims}
     assert all(c.status in STATUSES for c in claims)
     assert by_item["expected number of objects at the end"].status == "reproduced"
@@ -266,11 +268,11 @@ def test_claims_and_figures_from_the_runs(perfect, cluttered, tmp_path):
     ev = {k: st.evaluate_map(r.map_estimates, c_scen) for k, r in runs.items()}
     c_metrics = pd.concat([runs[k].summary.merge(ev[k][0], on="scan").assign(tracker=k) for k in runs])
     c_matched = pd.concat([ev[k][1].assign(tracker=k) for k in runs])
-    agreements = {("rfisst", "hfisst"): st.map_agreement(runs["rfisst"].map_estimates, runs["hfisst"].map_estimates,
-                                                         c_scen.prior_ids)}
+    agreements = {("rfisst", "hfisst"): st.map_agreement(runs["rfisst"].map_estimates,
+                                                         runs["hfisst"].map_estimates, c_scen.prior_ids)}
     labels = {"rfisst": "R-FISST", "hfisst": "H-FISST"}
-    c_claims = st.ssa15_claims(c_metrics, agreements, c_matched, estimate_scans=snaps, n_scans=len(c_scen.times),
-                               error_bound_probability=0.9999, labels=labels)
+    c_claims = st.ssa15_claims(c_metrics, agreements, c_matched, estimate_scans=snaps,
+                               n_scans=len(c_scen.times), error_bound_probability=0.9999, labels=labels)
     assert c_claims[0].status == "reproduced"  # same MAP hypothesis at every scan
     assert c_claims[1].status == "reproduced"  # hence never a worse OSPA
 
@@ -280,7 +282,8 @@ def test_claims_and_figures_from_the_runs(perfect, cluttered, tmp_path):
                                                 title="estimates"),
         "expected": st.plot_expected_number(merged, run.cardinality, title="expected number"),
         "ospa": st.plot_ospa(merged, st.OSPASettings(), title="ospa", labels={"": "R-FISST"}),
-        "comparison": st.plot_comparison(agreements, c_metrics, st.OSPASettings(), labels=labels, title="comparison"),
+        "comparison": st.plot_comparison(agreements, c_metrics, st.OSPASettings(), labels=labels,
+                                         title="comparison"),
     }
     for name, fig in figures.items():
         for ax in fig.axes:

@@ -28,7 +28,8 @@ agreements = {(a, b): st.map_agreement(maps[a], maps[b], scenario.prior_ids, c=o
 snapshot_scans = st.snapshot_scans(K, sec["snapshots"])
 snapshots = matched[matched["scan"].isin(snapshot_scans)]
 write_table(metrics, out.metrics)
-write_table(pd.concat([ag.assign(tracker_a=a, tracker_b=b) for (a, b), ag in agreements.items()]), out.agreement)
+write_table(pd.concat([ag.assign(tracker_a=a, tracker_b=b) for (a, b), ag in agreements.items()]),
+            out.agreement)
 write_table(snapshots, out.snapshots)
 
 paper_pair = list(sec["comparisons"][0])

@@ -13,7 +13,8 @@ snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 inp, out, sec = snakemake.input, snakemake.output, snakemake.params.section
 scenario = st.scenario_from_files(snakemake.config, "ssa50", inp.truth, inp.scans, inp.prior)
 K = len(scenario.times)
-metrics, matched = st.evaluate_configured(sec, scenario, pd.read_csv(inp.summary), pd.read_csv(inp.map_estimates))
+summary, map_estimates = pd.read_csv(inp.summary), pd.read_csv(inp.map_estimates)
+metrics, matched = st.evaluate_configured(sec, scenario, summary, map_estimates)
 births = st.birth_recognition(matched, scenario)
 estimate_scans = st.snapshot_scans(K, sec["estimate_snapshots"])
 snapshots = matched[matched["scan"].isin(estimate_scans)]
@@ -28,9 +29,10 @@ n_known, n_all = len(scenario.prior_ids), scenario.params.n_objects
 what = f"R-FISST; {n_all} objects: {n_known} in the initial hypothesis, {n_all - n_known} births"
 st.save_figure(st.plot_weight_snapshots(weights, K, title=f"Hypothesis weights during the run ({what})"),
                out.fig6_pdf, out.fig6_png)
-st.save_figure(st.plot_estimate_snapshots(snapshots, scenario.fov, K, column_titles=["R-FISST top hypothesis"],
-                                          title=f"True positions and top-hypothesis estimates ({what})"),
-               out.fig8_pdf, out.fig8_png)
+fig8 = st.plot_estimate_snapshots(snapshots, scenario.fov, K, column_titles=["R-FISST top hypothesis"],
+                                  birth_ids=scenario.birth_ids,
+                                  title=f"True positions and top-hypothesis estimates ({what})")
+st.save_figure(fig8, out.fig8_pdf, out.fig8_png)
 st.save_figure(st.plot_expected_number(metrics, cardinality, title=f"Expected number of objects ({what})"),
                out.fig11_pdf, out.fig11_png)
 st.save_figure(st.plot_ospa(metrics, st.OSPASettings(**sec["ospa"]), labels={"": "R-FISST"},

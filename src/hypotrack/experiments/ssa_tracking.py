@@ -142,9 +142,11 @@ def scenario_from_tables(params: SSAParams, truth: pd.DataFrame, scans: pd.DataF
         )
     times = truth["time"].to_numpy()[::N] if N else params.times
     if not np.allclose(times, params.times, rtol=0, atol=1e-9 * max(1.0, params.dt)):
-        raise ValueError("truth table scan times differ from n_scans x dt of params: regenerate the ssa tables")
+        raise ValueError("truth table scan times differ from n_scans x dt of params: "
+                         "regenerate the ssa tables")
     if len(ids) != params.n_known or np.any((ids < 0) | (ids >= N)):
-        raise ValueError(f"prior table must hold n_known = {params.n_known} object ids in [0, {N}), got {ids}")
+        raise ValueError(f"prior table must hold n_known = {params.n_known} object ids in [0, {N}), "
+                         f"got {ids}")
     in_view = truth["in_view"].to_numpy(dtype=bool).reshape(K, N)
     first = np.where(in_view.any(axis=0), in_view.argmax(axis=0), -1)
     return SSAScenario(
@@ -242,7 +244,8 @@ class TrackerSettings:
         check_int(self.max_events, "max_events", minimum=1)
         check_positive(self.birth_velocity_std, "birth_velocity_std")
         if self.kind == "homht" and self.population:
-            raise ValueError("population must be False for homht (Reid's HOMHT runs with a fixed number of objects)")
+            raise ValueError("population must be False for homht "
+                             "(Reid's HOMHT runs with a fixed number of objects)")
 
     @property
     def label(self) -> str:
@@ -466,7 +469,8 @@ def run_configured_tracker(config: Mapping, experiment: str, name: str, scenario
     settings = TrackerSettings.from_config(section, name)
     tracker = make_tracker(scenario, settings, tracker_seed(config["seed"], section["seed"], name))
     snaps = snapshot_scans(len(scenario.times), section[snapshot_key])
-    return run_tracker(tracker, scenario, snapshots=snaps, name=f"{experiment} {settings.label}", progress=progress)
+    return run_tracker(tracker, scenario, snapshots=snaps, name=f"{experiment} {settings.label}",
+                       progress=progress)
 
 
 def run_and_save(config: Mapping, experiment: str, name: str, inputs: Mapping, outputs: Mapping, log_path, *,
@@ -514,7 +518,8 @@ def _match_scan(labels, pos, cov, X, catalogue, known, gate):
     born = np.flatnonzero(~is_known)
     cand = np.setdiff1d(np.flatnonzero(catalogue), known)
     if len(born) and len(cand):
-        cost = np.stack([_mahalanobis2(X[cand, :2] - pos[i], np.repeat(cov[i][None], len(cand), 0)) for i in born])
+        cost = np.stack([_mahalanobis2(X[cand, :2] - pos[i], np.repeat(cov[i][None], len(cand), 0))
+                         for i in born])
         rows, cols = linear_sum_assignment(np.minimum(cost, 1e12))
         ok = cost[rows, cols] <= gate
         truth_of[born[rows[ok]]] = cand[cols[ok]]
@@ -577,8 +582,10 @@ def evaluate_map(map_estimates: pd.DataFrame, scenario: SSAScenario, *, ospa_set
             "scan": k, "n_in_view": int(in_view[k].sum()), "n_catalogue": int(cat[k].sum()),
             "n_map_in_view": int(est_in_view.sum()),
             # Nothing in view on either side is no evidence, not a perfect score.
-            "ospa_in_view": (ospa(pos[est_in_view], X[in_view[k], :2], ospa_settings.c_in_view, ospa_settings.p)
-                             if est_in_view.any() or in_view[k].any() else np.nan),
+            "ospa_in_view": (
+                ospa(pos[est_in_view], X[in_view[k], :2], ospa_settings.c_in_view, ospa_settings.p)
+                if est_in_view.any() or in_view[k].any() else np.nan
+            ),
             "ospa_catalogue": ospa(pos, X[cat[k], :2], ospa_settings.c_catalogue, ospa_settings.p),
             "n_correct": int(correct.sum()), "n_incorrect": int(np.sum(status == "incorrect")),
             "n_false": int(np.sum(status == "false")), "n_missed": int(np.sum(t_status == "missed")),
@@ -598,8 +605,10 @@ def evaluate_configured(section: Mapping, scenario: SSAScenario, summary: pd.Dat
                         map_estimates: pd.DataFrame):
     """:func:`evaluate_map` with an experiment config section's ``ospa`` and
     ``error_bound_probability``; the metrics are merged with the run's ``summary``."""
-    truth_metrics, matched = evaluate_map(map_estimates, scenario, ospa_settings=OSPASettings(**section["ospa"]),
-                                          error_bound_probability=section["error_bound_probability"])
+    truth_metrics, matched = evaluate_map(
+        map_estimates, scenario, ospa_settings=OSPASettings(**section["ospa"]),
+        error_bound_probability=section["error_bound_probability"],
+    )
     return summary.merge(truth_metrics, on="scan", validate="one_to_one"), matched
 
 
@@ -679,13 +688,22 @@ def save_figure(fig, pdf, png, dpi: int = 150) -> None:
 _STATUS_STYLE = {
     "correct": dict(marker="o", mfc="none", mec="#1a9641", ms=7, mew=1.4, ls="none",
                     label="estimate within its error bound"),
-    "incorrect": dict(marker="*", color="#d7191c", ms=12, ls="none", label="estimate outside its error bound"),
+    "incorrect": dict(marker="*", color="#d7191c", ms=12, ls="none",
+                      label="estimate outside its error bound"),
     "false": dict(marker="X", color="#d7191c", ms=9, ls="none", label="estimate of no catalogued object"),
 }
 
 
 def _percent(scan, n_scans):
     return 100.0 * np.asarray(scan) / max(n_scans - 1, 1)
+
+
+def _cardinality_colour(n: int):
+    """One colour per number of objects, the same in every figure (tab10 cycled by n)."""
+    import matplotlib.pyplot as plt
+
+    palette = plt.get_cmap("tab10").colors
+    return palette[int(n) % len(palette)]
 
 
 def plot_weight_snapshots(weights: pd.DataFrame, n_scans: int, *, title: str):
@@ -700,8 +718,7 @@ def plot_weight_snapshots(weights: pd.DataFrame, n_scans: int, *, title: str):
 
     scans = sorted(weights["scan"].unique())
     n_obj = np.sort(weights["n_objects"].unique())
-    palette = plt.get_cmap("tab10").colors
-    colour = {n: palette[i % len(palette)] for i, n in enumerate(n_obj)}
+    colour = {n: _cardinality_colour(n) for n in n_obj}
     n_cols = min(len(scans), 2)
     n_rows = -(-len(scans) // n_cols)
     fig, axes = plt.subplots(n_rows, n_cols, figsize=(5.5 * n_cols, 3.6 * n_rows + 0.7), sharey=True,
@@ -719,7 +736,8 @@ def plot_weight_snapshots(weights: pd.DataFrame, n_scans: int, *, title: str):
         ax.set_title(f"{_percent(k, n_scans):.0f} % of the run (t = {t_h:.1f} h)", fontsize=10)
         ax.set_xlabel("hypothesis rank (1 = heaviest)")
         ax.text(0.97, 0.95, f"{len(w)} hypotheses kept\nMAP weight {w[0]:.3f}\n"
-                f"effective number 1/Σw² = {1 / np.sum(w**2):.2f}", transform=ax.transAxes, ha="right", va="top",
+                f"effective number 1/Σw² = {1 / np.sum(w**2):.2f}", transform=ax.transAxes,
+                ha="right", va="top",
                 fontsize=8, bbox=dict(boxstyle="round", fc="white", ec="0.7", alpha=0.9))
         ax.grid(alpha=0.3, axis="y")
     for ax in axes.flat[len(scans):]:
@@ -727,7 +745,8 @@ def plot_weight_snapshots(weights: pd.DataFrame, n_scans: int, *, title: str):
     for ax in axes[:, 0]:
         ax.set_ylabel("hypothesis weight")
     fig.legend(handles=[Patch(color=colour[n], label=f"{n}") for n in n_obj], loc="lower center",
-               ncol=min(len(n_obj), 10), fontsize=8, title="number of objects in the hypothesis", title_fontsize=8)
+               ncol=min(len(n_obj), 10), fontsize=8, title="number of objects in the hypothesis",
+               title_fontsize=8)
     fig.suptitle(title)
     fig.tight_layout(rect=(0, 0.6 / (3.6 * n_rows + 0.7), 1, 1))
     return fig
@@ -744,7 +763,7 @@ def _draw_fov(ax, fov):
 
 
 def plot_estimate_snapshots(matched: pd.DataFrame, fov, n_scans: int, *, columns: Sequence[str] = ("",),
-                            column_titles: Sequence[str] = ("top hypothesis",), title: str):
+                            column_titles: Sequence[str] = ("top hypothesis",), birth_ids=(), title: str):
     """Seed 000 Figs 8–10 and 12–14: true positions and the MAP hypothesis's estimates.
 
     Parameters
@@ -758,17 +777,22 @@ def plot_estimate_snapshots(matched: pd.DataFrame, fov, n_scans: int, *, columns
     columns, column_titles : sequences of str
         Values of ``matched["tracker"]`` to draw in each column (``""``: no tracker column)
         and their titles.
+    birth_ids : sequence of int
+        True objects not in the initial hypothesis, drawn in orange once seen.
 
-    True objects are black dots (grey: a birth not yet seen); estimates are green circles when
-    the true object lies within their error bound, red stars when not (the paper's Fig. 7
-    convention); a catalogued object without a correct estimate is ringed in red.
+    True objects are black dots (orange: a birth, grey: a birth not yet seen); estimates are
+    green circles when the true object lies within their error bound, red stars when not (the
+    paper's Fig. 7 convention); a catalogued object without a correct estimate is ringed in red.
     """
     import matplotlib.pyplot as plt
     from matplotlib.lines import Line2D
 
     scans = sorted(matched["scan"].unique())
     # One tracker: the snapshots side by side; several: one row per snapshot, one column each.
-    grid = [[(k, c) for c in range(len(columns))] for k in scans] if len(columns) > 1 else [[(k, 0) for k in scans]]
+    if len(columns) > 1:
+        grid = [[(k, c) for c in range(len(columns))] for k in scans]
+    else:
+        grid = [[(k, 0) for k in scans]]
     u = 1e-3
     xy = matched[["x", "y"]].to_numpy() * u
     lo = np.minimum(xy.min(axis=0, initial=0.0), -EARTH_RADIUS * u) - 2
@@ -786,17 +810,22 @@ def plot_estimate_snapshots(matched: pd.DataFrame, fov, n_scans: int, *, columns
             es = g[g["role"] == "estimate"]
             _draw_fov(ax, fov)
             seen = tr[tr["status"] != "unseen"]
-            ax.plot(seen["x"] * u, seen["y"] * u, ".", color="black", ms=4, zorder=2)
+            born = seen["id"].isin(birth_ids)
+            ax.plot(seen.loc[~born, "x"] * u, seen.loc[~born, "y"] * u, ".", color="black", ms=4, zorder=2)
+            ax.plot(seen.loc[born, "x"] * u, seen.loc[born, "y"] * u, ".", color="#e07b00", ms=6, zorder=2)
             unseen = tr[tr["status"] == "unseen"]
             ax.plot(unseen["x"] * u, unseen["y"] * u, ".", color="0.6", ms=4, zorder=2)
             missed = tr[tr["status"] == "missed"]
-            ax.plot(missed["x"] * u, missed["y"] * u, "o", mfc="none", mec="#d7191c", ms=11, mew=1.2, zorder=3)
+            ax.plot(missed["x"] * u, missed["y"] * u, "o", mfc="none", mec="#d7191c", ms=11, mew=1.2,
+                    zorder=3)
             for status, style in _STATUS_STYLE.items():
                 e = es[es["status"] == status]
-                ax.plot(e["x"] * u, e["y"] * u, zorder=4, **{k_: v for k_, v in style.items() if k_ != "label"})
+                marker_style = {key: v for key, v in style.items() if key != "label"}
+                ax.plot(e["x"] * u, e["y"] * u, zorder=4, **marker_style)
             n_ok = int((es["status"] == "correct").sum())
             ax.set_title(f"{col_title}, {_percent(k, n_scans):.0f} % of the run\n"
-                         f"{n_ok}/{len(es)} estimates correct, {len(missed)} catalogued objects missed", fontsize=10)
+                         f"{n_ok}/{len(es)} estimates correct, {len(missed)} catalogued objects missed",
+                         fontsize=10)
             ax.set_aspect("equal")
             ax.set_xlim(lo[0], hi[0])
             ax.set_ylim(lo[1], hi[1])
@@ -805,10 +834,14 @@ def plot_estimate_snapshots(matched: pd.DataFrame, fov, n_scans: int, *, columns
             ax.grid(alpha=0.3)
     handles = [
         Line2D([], [], marker=".", color="black", ls="none", ms=6, label="true position"),
-        *([Line2D([], [], marker=".", color="0.6", ls="none", ms=6, label="true position, birth not yet in view")]
+        *([Line2D([], [], marker=".", color="#e07b00", ls="none", ms=7, label="true position, birth (seen)")]
+          if len(birth_ids) else []),
+        *([Line2D([], [], marker=".", color="0.6", ls="none", ms=6,
+                  label="true position, birth not yet in view")]
           if (matched["status"] == "unseen").any() else []),
         *[Line2D([], [], **style) for style in _STATUS_STYLE.values()],
-        Line2D([], [], marker="o", mfc="none", mec="#d7191c", ls="none", ms=9, label="catalogued object missed"),
+        Line2D([], [], marker="o", mfc="none", mec="#d7191c", ls="none", ms=9,
+               label="catalogued object missed"),
         Line2D([], [], color="black", lw=1.0, label="sensor field of view"),
     ]
     fig.legend(handles=handles, loc="lower center", ncol=3, fontsize=8)
@@ -833,7 +866,8 @@ def plot_expected_number(metrics: pd.DataFrame, cardinality: pd.DataFrame, *, ti
             label="true number of catalogued objects")
     ax.plot(pct, metrics["expected_number"], color="#2c7bb6", lw=1.6, label="expected number of objects E[N]")
     ax.set_ylabel("number of objects")
-    ax.set_title("expected number of objects (Fig. 11) and the true number the filter could know", fontsize=10)
+    ax.set_title("expected number of objects (Fig. 11) and the true number the filter could know",
+                 fontsize=10)
     ax.legend(loc="lower right", fontsize=9)
     ax.grid(alpha=0.3)
     lo = int(np.floor(min(metrics["expected_number"].min(), metrics["n_catalogue"].min())))
@@ -842,14 +876,14 @@ def plot_expected_number(metrics: pd.DataFrame, cardinality: pd.DataFrame, *, ti
     card = cardinality.pivot_table(index="scan", columns="n_objects", values="probability", fill_value=0.0)
     card = card.reindex(metrics["scan"], fill_value=0.0)
     shown = [n for n in card.columns if card[n].max() >= 1e-2]
-    cmap = plt.get_cmap("viridis", max(len(shown), 2))
-    for i, n in enumerate(shown):
-        ax_p.plot(pct, card[n], color=cmap(i), lw=1.3, label=f"N = {n}")
+    for n in shown:
+        ax_p.plot(pct, card[n], color=_cardinality_colour(n), lw=1.3, label=f"N = {n}")
     ax_p.set_ylabel("P(N = n)")
     ax_p.set_title("cardinality distribution: weight of all hypotheses with n objects", fontsize=10)
     ax_p.set_ylim(-0.03, 1.03)
     ax_p.set_xlabel("simulation time (% of the run)")
-    ax_p.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8, title="cardinality", title_fontsize=8)
+    ax_p.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8, title="cardinality",
+                title_fontsize=8)
     ax_p.grid(alpha=0.3)
     hours = metrics["time"].max() / 3600
     fig.suptitle(f"{title}\n(run of {hours:.1f} h; cardinalities shown once P(N = n) reaches 0.01)")
@@ -905,7 +939,8 @@ def _agreement_panel(ax, agreement, times, label_a, label_b):
     floor = 1e-15
     ax.semilogy(times[same], np.maximum(diff[same], floor), ".", ms=3, color="#1a9641",
                 label=f"largest difference of the two estimates of an object (0 drawn at {floor:g})")
-    ax.axhline(AGREEMENT_TOLERANCE_KM, color="black", ls=":", lw=1.0, label=f"agreement tolerance ({AGREEMENT_TOLERANCE_KM * 1e3:g} m)")
+    ax.axhline(AGREEMENT_TOLERANCE_KM, color="black", ls=":", lw=1.0,
+               label=f"agreement tolerance ({AGREEMENT_TOLERANCE_KM * 1e3:g} m)")
     for t in times[~ag]:
         ax.axvline(t, color="#d7191c", alpha=0.4, lw=1.0)
     if (~same).any():
@@ -981,36 +1016,42 @@ def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.D
     ]
     card_end = cardinality[(cardinality["scan"] == last) & (cardinality["n_objects"] == n_end)]
     p_end = float(card_end["probability"].sum())
-    claims.append(numeric_claim(ex, f"P(N = {n_end}) at the end (the {n_end}-object assumption holds all weight)",
-                                "000 Fig. 11", 1.0, p_end, abs_tol=0.05, digits=4))
+    claims.append(numeric_claim(ex, f"P(N = {n_end}) at the end (the {n_end}-object assumption holds all "
+                                "weight)", "000 Fig. 11", 1.0, p_end, abs_tol=0.05, digits=4))
     seq = m["map_n_objects"].to_numpy()
     changes = seq[np.r_[True, seq[1:] != seq[:-1]]]
     single_file = bool(np.all(np.diff(changes) == 1)) and changes[0] == n_start and changes[-1] == n_end
-    claims.append(Claim(ex, "weight handed off single file 45 -> 46 -> ... -> 50 (MAP cardinality)", "000 Fig. 11",
+    claims.append(Claim(ex, "weight handed off single file 45 -> 46 -> ... -> 50 (MAP cardinality)",
+                        "000 Fig. 11",
                         f"{n_start} -> ... -> {n_end} in unit steps", " -> ".join(map(str, changes)),
                         "exact sequence", "qualitative" if single_file else "not reproduced",
-                        "sequence of MAP cardinalities over the run; a step back or a jump of two is a failure"))
+                        "sequence of MAP cardinalities over the run; "
+                        "a step back or a jump of two is a failure"))
     n_tracked = int(births["tracked_at_end"].sum())
     delays = ", ".join(f"{d}" for d in births["delay_scans"])
     claims.append(Claim(ex, "R-FISST recognises every birth", "000 Sec. IV-A", f"{len(births)} births",
                         f"{n_tracked} tracked at the end", "all", "reproduced" if n_tracked == len(births)
                         else "not reproduced", f"scans from first in view to a correct MAP track: {delays}"))
     verdict, ok = _snapshot_verdict(matched, estimate_scans, n_scans)
-    claims.append(Claim(ex, "no red stars: every top-hypothesis estimate within its error bound", "000 Figs 8-10",
+    claims.append(Claim(ex, "no red stars: every top-hypothesis estimate within its error bound",
+                        "000 Figs 8-10",
                         "all correct", verdict, f"truth in the {100 * error_bound_probability:g} % ellipse",
                         "reproduced" if ok else "not reproduced"))
     wsc = sorted(weights["scan"].unique())
     if wsc:
         w0 = weights[(weights["scan"] == wsc[0]) & (weights["rank"] == 1)]["weight"].iloc[0]
-        claims.append(numeric_claim(ex, "in the beginning the initial hypothesis carries (almost) all the weight",
-                                    "000 Fig. 6", 1.0, float(w0), abs_tol=0.1, digits=4,
-                                    note=f"MAP weight at the first snapshot ({_percent(wsc[0], n_scans):.0f} %)"))
+        claims.append(numeric_claim(
+            ex, "in the beginning the initial hypothesis carries (almost) all the weight", "000 Fig. 6", 1.0,
+            float(w0), abs_tol=0.1, digits=4,
+            note=f"MAP weight at the first snapshot ({_percent(wsc[0], n_scans):.0f} %)"))
     eff = m["effective_hypotheses"]
     varies = eff.max() > 1.5 * eff.min()
-    claims.append(Claim(ex, "the number of maintained hypotheses varies with the ambiguities in view", "000 Fig. 6",
+    claims.append(Claim(ex, "the number of maintained hypotheses varies with the ambiguities in view",
+                        "000 Fig. 6",
                         "varies", f"effective number 1/sum(w^2) from {eff.min():.3g} to {eff.max():.3g}",
                         "max > 1.5 min", "qualitative" if varies else "not reproduced",
-                        "the engine always keeps H_inf hypotheses; their effective number measures the spread"))
+                        "the engine always keeps H_inf hypotheses; "
+                        "their effective number measures the spread"))
     claims.append(Claim(ex, "mean OSPA of the MAP estimates, objects in view", "extension", "--",
                         f"{metrics['ospa_in_view'].mean():.3g} km", "--", "extension",
                         f"catalogue OSPA mean {metrics['ospa_catalogue'].mean():.3g} km"))
@@ -1030,10 +1071,13 @@ def ssa15_claims(metrics: pd.DataFrame, agreements: Mapping, matched: pd.DataFra
     for i, ((a, b), agreement) in enumerate(agreements.items()):
         frac = float(agreement["agree"].mean())
         bad = agreement.loc[~agreement["agree"], "scan"].to_numpy()
-        note = (f"differ at scans {', '.join(map(str, bad[:10]))}{' ...' if len(bad) > 10 else ''}: "
-                f"{int((~agreement['same_objects']).sum())} of them with different objects" if len(bad) else "")
+        n_diff_objects = int((~agreement["same_objects"]).sum())
+        more = " ..." if len(bad) > 10 else ""
+        note = (f"differ at scans {', '.join(map(str, bad[:10]))}{more}: {n_diff_objects} of them with "
+                "different objects" if len(bad) else "")
         if i == 0:
-            claims.append(Claim(ex, f"{labels[a]} and {labels[b]} give the same estimates (same MAP hypothesis)",
+            claims.append(Claim(ex,
+                                f"{labels[a]} and {labels[b]} give the same estimates (same MAP hypothesis)",
                                 "000 Sec. V-A, Figs 12-14", "100 % of scans",
                                 f"{100 * frac:.1f} % of {len(agreement)} scans", "exact",
                                 "reproduced" if frac == 1.0 else "not reproduced", note))
@@ -1044,14 +1088,16 @@ def ssa15_claims(metrics: pd.DataFrame, agreements: Mapping, matched: pd.DataFra
                                 "000 Sec. V", "0 % of scans worse", f"{100 * worse:.1f} % of scans worse",
                                 f"catalogue OSPA, {AGREEMENT_TOLERANCE_KM * 1e3:g} m",
                                 "reproduced" if worse == 0 else "not reproduced",
-                                f"mean catalogue OSPA {ma.mean():.4g} km ({labels[a]}) vs {mb.mean():.4g} km ({labels[b]})"))
+                                f"mean catalogue OSPA {ma.mean():.4g} km ({labels[a]}) vs "
+                                f"{mb.mean():.4g} km ({labels[b]})"))
         else:
             claims.append(Claim(ex, f"{labels[a]} and {labels[b]}: same MAP hypothesis", "extension", "--",
                                 f"{100 * frac:.1f} % of {len(agreement)} scans", "exact", "extension", note))
     for tr, label in labels.items():
         verdict, ok = _snapshot_verdict(matched[matched["tracker"] == tr], estimate_scans, n_scans)
         claims.append(Claim(ex, f"{label}: no red stars at the start, middle and end", "000 Figs 12-14",
-                            "all correct", verdict, f"truth in the {100 * error_bound_probability:g} % ellipse",
+                            "all correct", verdict,
+                            f"truth in the {100 * error_bound_probability:g} % ellipse",
                             "reproduced" if ok else "not reproduced"))
     means = ", ".join(f"{label} {metrics.loc[metrics['tracker'] == tr, 'ospa_in_view'].mean():.3g} km"
                       for tr, label in labels.items())

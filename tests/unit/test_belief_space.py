@@ -1,10 +1,9 @@
-"""The belief_space experiment (workflows/scripts/belief_space_lib.py): seed 001's Eq. 39, Eq. 43
+"""The belief_space experiment (hypotrack.experiments.belief_space): seed 001's Eq. 39, Eq. 43
 and FISST = HOMHT, each computed from the engine's weights and checked against an oracle that does
 not use the code under test (hand formulas, scipy's multivariate normal, numerical quadrature)."""
 
 from __future__ import annotations
 
-import importlib.util
 from pathlib import Path
 
 import numpy as np
@@ -13,6 +12,7 @@ from scipy import integrate
 from scipy.stats import multivariate_normal
 
 from hypotrack.config import ConfigError, validate_config
+from hypotrack.experiments import belief_space as bs
 from hypotrack.hypotheses.population_events import birth_prior_gaussian
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import UniformBirthDensity
@@ -20,9 +20,6 @@ from hypotrack.models.sensors import Box
 from hypotrack.report import read_claims, write_claims
 
 ROOT = Path(__file__).resolve().parents[2]
-_spec = importlib.util.spec_from_file_location("belief_space_lib", ROOT / "workflows/scripts/belief_space_lib.py")
-bs = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(bs)
 
 RATIO = dict(p_D=[0.6, 0.95], alpha=[1e-3, 0.2], n_pixels=3, pixel_size=10.0, velocity_std=0.5, beta=1e-4,
              measurement_var=0.25, clutter_rate=1.0, q=0.01)

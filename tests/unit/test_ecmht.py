@@ -27,7 +27,7 @@ from hypotrack.trackers.ecmht import (
     mospa_two_targets,
     swap_merge,
 )
-from hypotrack.trackers.ecmht_experiments import (
+from hypotrack.experiments.ecmht import (
     TABLE_6_1,
     closely_spaced_monte_carlo,
     experiment_seeds,

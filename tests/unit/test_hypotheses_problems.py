@@ -5,7 +5,7 @@ import pytest
 
 from hypotrack.association import count_associations
 from hypotrack.hypotheses import ExhaustiveGenerator
-from hypotrack.hypotheses.benchmark import generation_time_point
+from hypotrack.experiments.generation_time import generation_time_point
 from hypotrack.hypotheses.problems import synthetic_problem, truth_rank
 
 PARAMS = dict(exhaustive_max_events=10**4, exhaustive_chunk_size=1 << 10, mcmc_steps=20_000, mcmc_burn_in=2000,

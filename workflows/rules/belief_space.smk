@@ -2,12 +2,9 @@
 # the undetected-birth weight ratio (1 - p_D) alpha (Eq. 39), the Eq. 43 bound one scan later,
 # and FISST = HOMHT for a fixed number of targets (Sec. V-A). Small exhaustive problems: no shards.
 BS_DIR = f"{RESULTS}/belief_space"
-BS_LIB = "workflows/scripts/belief_space_lib.py"  # the rules' logic: a change re-runs them
 
 
 rule belief_space_ratio:
-    input:
-        lib=BS_LIB,
     output:
         table=f"{BS_DIR}/undetected_birth_ratio.csv",
     params:
@@ -17,8 +14,6 @@ rule belief_space_ratio:
 
 
 rule belief_space_eq43:
-    input:
-        lib=BS_LIB,
     output:
         offsets=f"{BS_DIR}/eq43_across_pixel.csv",
         noise=f"{BS_DIR}/eq43_vs_noise.csv",
@@ -29,8 +24,6 @@ rule belief_space_eq43:
 
 
 rule belief_space_equivalence:
-    input:
-        lib=BS_LIB,
     output:
         table=f"{BS_DIR}/fisst_vs_homht.csv",
     params:
@@ -46,7 +39,6 @@ rule belief_space_report:
         offsets=rules.belief_space_eq43.output.offsets,
         noise=rules.belief_space_eq43.output.noise,
         equivalence=rules.belief_space_equivalence.output.table,
-        lib=BS_LIB,
     output:
         ratio_pdf=f"{BS_DIR}/undetected_birth_ratio.pdf",
         ratio_png=f"{BS_DIR}/undetected_birth_ratio.png",

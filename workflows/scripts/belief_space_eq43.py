@@ -1,6 +1,6 @@
 """Seed 001 Eq. 42-43: one scan after an undetected birth, formulas and engine (thin)."""
-from belief_space_lib import eq43_noise_table, eq43_offsets_table
 
+from hypotrack.experiments.belief_space import eq43_noise_table, eq43_offsets_table
 from hypotrack.scenarios.tables import write_table
 
 cfg = snakemake.params.cfg["eq43"]  # noqa: F821

@@ -1,6 +1,6 @@
 """Seed 001 Sec. V-A: FISST vs HOMHT (and H-FISST) posteriors for a fixed number of targets (thin)."""
-from belief_space_lib import equivalence_table
 
+from hypotrack.experiments.belief_space import equivalence_table
 from hypotrack.scenarios.tables import write_table
 
 cfg = snakemake.params.cfg  # noqa: F821

@@ -1,6 +1,6 @@
 """Seed 001 Eq. 39: undetected-birth weight ratio, formulas and engine, over (p_D, alpha) (thin)."""
-from belief_space_lib import ratio_table
 
+from hypotrack.experiments.belief_space import ratio_table
 from hypotrack.scenarios.tables import write_table
 
 print("belief_space: Eq. 39 ratio over the (p_D, alpha) grid", flush=True)

@@ -2,11 +2,11 @@
 import matplotlib
 
 matplotlib.use("Agg")
-import pandas as pd  # noqa: E402
-from belief_space_lib import checks_table, claims_from_checks, plot_eq43, plot_equivalence, plot_ratio  # noqa: E402
+import pandas as pd
 
-from hypotrack.report import write_claims  # noqa: E402
-from hypotrack.scenarios.tables import write_table  # noqa: E402
+from hypotrack.experiments.belief_space import checks_table, claims_from_checks, plot_eq43, plot_equivalence, plot_ratio
+from hypotrack.report import write_claims
+from hypotrack.scenarios.tables import write_table
 
 cfg = snakemake.params.cfg  # noqa: F821
 inp, out = snakemake.input, snakemake.output  # noqa: F821

@@ -7,8 +7,8 @@ import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from hypotrack.scenarios.tables import write_table  # noqa: E402
-from hypotrack.trackers.cardinality_experiments import CARDINALITY_METHODS, cardinality_run  # noqa: E402
-from hypotrack.trackers.ecmht_experiments import experiment_seeds  # noqa: E402
+from hypotrack.experiments.cardinality import CARDINALITY_METHODS, cardinality_run  # noqa: E402
+from hypotrack.experiments.seeds import experiment_seeds  # noqa: E402
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

@@ -3,7 +3,7 @@ import pandas as pd
 
 from hypotrack.report import Claim, write_claims
 from hypotrack.scenarios.tables import write_table
-from hypotrack.trackers.cardinality_experiments import summarise_cardinality
+from hypotrack.experiments.cardinality import summarise_cardinality
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

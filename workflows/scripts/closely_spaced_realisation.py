@@ -6,7 +6,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import pandas as pd  # noqa: E402
 
 from hypotrack.scenarios.tables import write_table  # noqa: E402
-from hypotrack.trackers.ecmht_experiments import closely_spaced_realisation, experiment_seeds  # noqa: E402
+from hypotrack.experiments.seeds import experiment_seeds  # noqa: E402
+from hypotrack.experiments.ecmht import closely_spaced_realisation  # noqa: E402
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

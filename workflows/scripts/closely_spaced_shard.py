@@ -3,7 +3,8 @@ import numpy as np
 import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.trackers.ecmht_experiments import closely_spaced_monte_carlo, experiment_seeds, shard_runs
+from hypotrack.experiments.seeds import experiment_seeds
+from hypotrack.experiments.ecmht import closely_spaced_monte_carlo, shard_runs
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 shard = int(snakemake.wildcards.shard)  # noqa: F821

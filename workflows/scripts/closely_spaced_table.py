@@ -7,7 +7,7 @@ import pandas as pd  # noqa: E402
 
 from hypotrack.report import Claim, numeric_claim, write_claims  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
-from hypotrack.trackers.ecmht_experiments import pool_per_scan, summarise_closely_spaced  # noqa: E402
+from hypotrack.experiments.ecmht import pool_per_scan, summarise_closely_spaced  # noqa: E402
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

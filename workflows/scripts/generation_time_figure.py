@@ -3,8 +3,8 @@ and the reproduction claims."""
 
 import pandas as pd
 
-from hypotrack.hypotheses.benchmark import generation_time_claims
-from hypotrack.hypotheses.figures import OUTCOME_COLUMNS, plot_generation_time
+from hypotrack.experiments.generation_time import generation_time_claims
+from hypotrack.experiments.generation_time_figures import OUTCOME_COLUMNS, plot_generation_time
 from hypotrack.report import write_claims
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive

@@ -2,7 +2,7 @@
 
 import pandas as pd
 
-from hypotrack.hypotheses.benchmark import generation_time_sweep
+from hypotrack.experiments.generation_time import generation_time_sweep
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 method = snakemake.wildcards.method

@@ -1,7 +1,7 @@
 """Hypothesis-engine throughput and memory benchmark (issue 3 performance targets)."""
 
-from hypotrack.hypotheses.benchmark import throughput_table
-from hypotrack.hypotheses.figures import plot_throughput
+from hypotrack.experiments.generation_time import throughput_table
+from hypotrack.experiments.generation_time_figures import plot_throughput
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 cfg = snakemake.params.cfg

@@ -2,8 +2,8 @@
 
 Stone Soup is a benchmark/test-only dependency that the library never imports, so its side of
 the benchmark (an adapter with the same ``step``/``record`` surface as
-:class:`hypotrack.trackers.sht_benchmark.HypotrackStepper`) lives here; everything else is in
-:mod:`hypotrack.trackers.sht_benchmark`. Stone Soup's state order is [x, vx, y, vy].
+:class:`hypotrack.experiments.perf_sht.HypotrackStepper`) lives here; everything else is in
+:mod:`hypotrack.experiments.perf_sht`. Stone Soup's state order is [x, vx, y, vy].
 """
 import datetime
 import math
@@ -13,7 +13,7 @@ import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
 from hypotrack.trackers._sht_common import gate_tracks, predict_tracks
-from hypotrack.trackers.sht_benchmark import (
+from hypotrack.experiments.perf_sht import (
     HypotrackStepper,
     formation,
     largest_within,

@@ -3,7 +3,7 @@ import numpy as np
 import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.trackers.sht_experiments import lecture_hypotheses, lecture_summary
+from hypotrack.experiments.sht import lecture_hypotheses, lecture_summary
 
 valid = np.asarray(snakemake.params.cfg["lecture_validation"], dtype=bool)  # noqa: F821 (injected by Snakemake)
 m, n = valid.shape

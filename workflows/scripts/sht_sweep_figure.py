@@ -2,7 +2,7 @@
 import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.trackers.sht_experiments import plot_sweep, summarise_sweep
+from hypotrack.experiments.sht import plot_sweep, summarise_sweep
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 per_run = pd.concat([pd.read_csv(f) for f in snakemake.input.per_run], ignore_index=True)  # noqa: F821

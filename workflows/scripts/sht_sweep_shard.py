@@ -2,7 +2,7 @@
 import numpy as np
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.trackers.sht_experiments import sweep_runs
+from hypotrack.experiments.sht import sweep_runs
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 shard = int(snakemake.wildcards.shard)  # noqa: F821

@@ -8,7 +8,7 @@ import pandas as pd  # noqa: E402
 
 from hypotrack.report import Claim, write_claims  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
-from hypotrack.trackers.ecmht_experiments import summarise_swaps  # noqa: E402
+from hypotrack.experiments.ecmht import summarise_swaps  # noqa: E402
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

@@ -2,7 +2,8 @@
 import numpy as np
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.trackers.ecmht_experiments import experiment_seeds, shard_runs, swap_shard
+from hypotrack.experiments.seeds import experiment_seeds
+from hypotrack.experiments.ecmht import shard_runs, swap_shard
 
 cfg = snakemake.params.cfg  # noqa: F821
 shard = int(snakemake.wildcards.shard)  # noqa: F821

@@ -36,10 +36,10 @@ from ..association import count_gated_associations, enumerate_associations, find
 from ..metrics import ospa
 from ..models.motion import ConstantVelocity
 from ..scenarios.cluttered import crossing_targets
-from ._sht_common import ScanModel
-from .ecmht_experiments import experiment_seeds
-from .initiation import MOfNInitiator
-from .tracker import SingleHypothesisTracker
+from ..trackers._sht_common import ScanModel
+from .seeds import experiment_seeds
+from ..trackers.initiation import MOfNInitiator
+from ..trackers.tracker import SingleHypothesisTracker
 
 __all__ = [
     "LECTURE_VALIDATION",

@@ -13,7 +13,7 @@ import pandas as pd
 
 from .._validation import check_int, check_positive
 from ..scenarios.cardinality import simulate_cardinality
-from .cardinality import CountModel, exact_count_dp, tetris_extract
+from ..trackers.cardinality import CountModel, exact_count_dp, tetris_extract
 
 __all__ = ["cardinality_run", "cardinality_monte_carlo", "monte_carlo_table", "summarise_cardinality", "CARDINALITY_METHODS"]
 

@@ -22,8 +22,8 @@ import pandas as pd
 from ..association import find_clusters
 from ..models.motion import ConstantVelocity
 from ..scenarios.cluttered import closely_spaced_targets
-from ._sht_common import ScanModel
-from .tracker import SingleHypothesisTracker
+from ..trackers._sht_common import ScanModel
+from ..trackers.tracker import SingleHypothesisTracker
 
 __all__ = [
     "formation",

@@ -15,20 +15,18 @@ Snakemake scripts only read a config section, call one function per shard and wr
 
 from __future__ import annotations
 
-import zlib
-
 import numpy as np
 import pandas as pd
 from scipy.special import gammaln
 
+from .seeds import experiment_seeds
 from .._validation import check_finite_array, check_int, check_nonnegative, check_positive
 from ..models.motion import OrnsteinUhlenbeck
 from ..scenarios.closely_spaced import simulate_closely_spaced, static_pair_scans
-from .ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter, mospa_two_targets
+from ..trackers.ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter, mospa_two_targets
 
 __all__ = [
     "TABLE_6_1",
-    "experiment_seeds",
     "swap_shard",
     "summarise_swaps",
     "shard_runs",
@@ -40,18 +38,6 @@ __all__ = [
 
 #: Published MOSPA (m², see reconstruction §5.4) of Table 6.1.
 TABLE_6_1 = {"ideal": 0.0363, "PDAF": 0.8518, "MHT": 0.1376, "ECMHT": 0.0586}
-
-
-def experiment_seeds(seed: int, experiment: str, n: int) -> list:
-    """``n`` independent child seed sequences of the master ``seed`` for one experiment.
-
-    The experiment name is folded into the entropy so that experiments sharing the master seed
-    draw independent streams; child ``i`` (one per shard or per grid point) is stable whatever
-    the other children are used for.
-    """
-    seed = check_int(seed, "seed", minimum=0)
-    n = check_int(n, "n", minimum=1)
-    return np.random.SeedSequence([seed, zlib.crc32(experiment.encode())]).spawn(n)
 
 
 def _swap_statistics(Z_lower, Z_upper, truth, sigma, rng):

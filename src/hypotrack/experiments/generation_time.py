@@ -1,7 +1,7 @@
 """Hypothesis-generation timing (seed 000 Fig. 15) and throughput benchmarks.
 
 :func:`generation_time_point` times one method generating the children of one synthetic parent
-(:mod:`.problems`) and records whether the true association was among them and its rank;
+(:mod:`hypotrack.hypotheses.problems`) and records whether the true association was among them and its rank;
 :func:`generation_time_sweep` runs the sweep M = m = 1..N (plus optional rectangular sizes) for
 one method until its budget breaks it. :func:`mcmc_throughput`, :func:`exhaustive_throughput`
 and :func:`exhaustive_memory` measure the performance targets of issue 3 (proposals per
@@ -25,8 +25,8 @@ import numpy as np
 from .._validation import check_int
 from ..association import EnumerationBudgetError, count_associations
 from ..association.mcmc import mcmc_search
-from .generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
-from .problems import synthetic_problem, truth_rank
+from ..hypotheses.generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
+from ..hypotheses.problems import synthetic_problem, truth_rank
 
 __all__ = [
     "METHODS",

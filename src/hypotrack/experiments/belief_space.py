@@ -25,15 +25,15 @@ import pandas as pd
 from scipy.special import logsumexp
 from scipy.stats import norm
 
-from hypotrack.gaussian import innovation, log_likelihood, predict_with
-from hypotrack.hypotheses import (ChildSet, ExhaustiveGenerator, FISSTPoissonWeights, HFISSTWeights,
+from ..gaussian import innovation, log_likelihood, predict_with
+from ..hypotheses import (ChildSet, ExhaustiveGenerator, FISSTPoissonWeights, HFISSTWeights,
                                   HypothesisFilter, ReidWeights)
-from hypotrack.hypotheses.population_events import BinomialPopulation, SingleEventPopulation, birth_prior_gaussian
-from hypotrack.models import ConstantVelocity
-from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
-from hypotrack.report import Claim
-from hypotrack.scenarios.cluttered import simulate_cv_targets
+from ..hypotheses.population_events import BinomialPopulation, SingleEventPopulation, birth_prior_gaussian
+from ..models import ConstantVelocity
+from ..models.population import SingleEventBirthDeath, UniformBirthDensity
+from ..models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from ..report import Claim
+from ..scenarios.cluttered import simulate_cv_targets
 
 __all__ = [
     "ratio_table",

@@ -34,6 +34,7 @@ __all__ = [
     "claims_table_tex",
     "claim_macros",
     "build_paper_inputs",
+    "claims_markdown",
 ]
 
 CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tolerance", "status", "note"]
@@ -193,3 +194,18 @@ def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_m
         dest.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(fig, dest)
     return claims
+
+
+def claims_markdown(claims: pd.DataFrame) -> str:
+    """The ledger as a Markdown table (for the README), one row per claim."""
+    rows = ["| experiment | item | source | published | reproduced | status |", "|---|---|---|---|---|---|"]
+    for r in claims.to_dict("records"):
+        cells = [r["experiment"], r["item"], r["source"], r["published"], r["reproduced"], f"**{r['status']}**"]
+        rows.append("| " + " | ".join(str(c).replace("|", "\\|") for c in cells) + " |")
+    return "\n".join(rows) + "\n"
+
+
+if __name__ == "__main__":  # python -m hypotrack.report results/paper/ledger.csv -> Markdown ledger
+    import sys
+
+    print(claims_markdown(read_claims(sys.argv[1:])), end="")

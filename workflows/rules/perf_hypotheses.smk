@@ -16,7 +16,16 @@ rule perf_hypotheses_benchmark:
         "../scripts/perf_hypotheses_benchmark.py"
 
 
-PH_TARGETS = [*rules.perf_hypotheses_benchmark.output]
+rule perf_hypotheses_claims:
+    input:
+        throughput=rules.perf_hypotheses_benchmark.output.table,
+    output:
+        claims=f"{PH_DIR}/hypotheses_claims.csv",
+    script:
+        "../scripts/perf_claims.py"
+
+
+PH_TARGETS = [*rules.perf_hypotheses_benchmark.output, *rules.perf_hypotheses_claims.output]
 
 
 rule perf_hypotheses:

@@ -21,7 +21,17 @@ rule perf_sht_benchmark:
         "../scripts/perf_sht_benchmark.py"
 
 
-PS_TARGETS = [*rules.perf_sht_benchmark.output]
+rule perf_sht_claims:
+    input:
+        speedups=rules.perf_sht_benchmark.output.speedups,
+        largest=rules.perf_sht_benchmark.output.largest,
+    output:
+        claims=f"{PS_DIR}/sht_claims.csv",
+    script:
+        "../scripts/perf_claims.py"
+
+
+PS_TARGETS = [*rules.perf_sht_benchmark.output, *rules.perf_sht_claims.output]
 
 
 rule perf_sht:

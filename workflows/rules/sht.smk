@@ -73,7 +73,19 @@ rule sht_sweep:
         "../scripts/sht_sweep_figure.py"
 
 
+rule sht_claims:
+    input:
+        clusters=rules.sht_lecture.output.clusters,
+        curves=rules.sht_crossing.output.curves,
+        summary=rules.sht_crossing.output.summary,
+    output:
+        claims=f"{SHT_DIR}/claims.csv",
+    script:
+        "../scripts/sht_claims.py"
+
+
 SHT_TARGETS = [
+    *rules.sht_claims.output,
     *rules.sht_lecture.output,
     *rules.sht_crossing.output,
     *rules.sht_sweep.output,

@@ -21,6 +21,7 @@ import time
 import tracemalloc
 
 import numpy as np
+import pandas as pd
 
 from .._validation import check_int
 from ..association import EnumerationBudgetError, count_associations
@@ -37,6 +38,7 @@ __all__ = [
     "exhaustive_throughput",
     "exhaustive_memory",
     "throughput_table",
+    "throughput_claims",
     "generation_time_claims",
 ]
 
@@ -279,4 +281,25 @@ def generation_time_claims(table, params):
         "not in the paper: k-best assignment scales polynomially, "
         f"{by['homht_kbest']['seconds'].max():.2g} s at the largest size" + (
             "" if k_fail is None else f"; first miss at M = m = {int(k_fail['n_objects'])}")))
+    return claims
+
+
+def throughput_claims(table: pd.DataFrame) -> list:
+    """Ledger rows (extensions) for the engine's throughput targets of issue 3."""
+    from ..report import Claim
+
+    claims = []
+    for r in table.to_dict("records"):
+        if r["benchmark"] in ("mcmc", "exhaustive") and pd.notna(r.get("target_per_second")):
+            unit = "proposals/s" if r["benchmark"] == "mcmc" else "children/s"
+            claims.append(Claim(
+                "perf_hypotheses", r["label"], "extension (issue 3 target)",
+                f">= {float(r['target_per_second']):.0e} {unit}", f"{float(r['per_second']):.2e} {unit}", "target",
+                "extension", "met" if bool(r["meets_target"]) else "target missed"))
+        elif r["benchmark"] == "memory":
+            peak = r.get("peak_bytes")
+            claims.append(Claim(
+                "perf_hypotheses", r["label"], "extension (issue 3 target)", "bounded by the budget",
+                f"peak {float(peak) / 2**20:.1f} MiB" if r["variant"] == "ok" else "refused before allocating",
+                "--", "extension", ""))
     return claims

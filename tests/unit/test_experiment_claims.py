@@ -1,0 +1,43 @@
+"""Ledger rows of sht and the benchmarks: the decision follows the measured tables."""
+
+import pandas as pd
+
+from hypotrack.experiments.generation_time import throughput_claims
+from hypotrack.experiments.perf_sht import perf_sht_claims
+from hypotrack.experiments.sht import lecture_summary, sht_claims
+
+
+def _curves(jpda_lag, gnn_lag):
+    rows = []
+    for method, lag in (("gnn", gnn_lag), ("jpda", jpda_lag)):
+        for scan, truth in enumerate([20.0, 10.0, 0.0, 10.0, 20.0]):
+            rows.append(dict(method=method, scan=scan, truth_separation=truth,
+                             separation=max(truth - (lag if scan > 2 else 0.0), 0.0)))
+    return pd.DataFrame(rows)
+
+
+def _summary():
+    return pd.DataFrame(dict(method=["gnn", "jpda"], mospa_targets=[5.0, 4.6], track_loss=[0.3, 0.2], n_runs=[10, 10]))
+
+
+def test_sht_claims_from_the_lecture_example_and_coalescence():
+    _, clusters = lecture_summary()  # computed from the lecture's validation matrix
+    claims = sht_claims(clusters, _curves(jpda_lag=7.0, gnn_lag=1.0), _summary())
+    assert [c.status for c in claims] == ["reproduced", "qualitative", "extension"]
+    assert "7.0 m" in claims[1].reproduced and "1.0 m" in claims[1].reproduced
+    wrong = pd.DataFrame(dict(cluster=[1], tracks=["T1 T2 T3"], returns=["y1 y3 y4"]))
+    assert sht_claims(wrong, _curves(1.0, 7.0), _summary())[0].status == "not reproduced"
+    assert sht_claims(wrong, _curves(1.0, 7.0), _summary())[1].status == "not reproduced"
+
+
+def test_perf_claims_report_measured_ranges():
+    speedups = pd.DataFrame(dict(algorithm=["gnn", "gnn", "jpda"], peer=["G", "G", "E"], n_targets=[12, 24, 4],
+                                 speedup=[41.2, 90.6, 10.4], goal=[30, 30, 10]))
+    largest = pd.DataFrame(dict(algorithm=["gnn", "gnn"], implementation=["G", "hypotrack"],
+                                largest_cluster_tracks=[128, 867]))
+    claims = perf_sht_claims(speedups, largest)
+    assert claims[0].reproduced == "41x to 91x" and claims[1].reproduced == "10x to 10x"
+    assert claims[2].reproduced == "G: 128; hypotrack: 867"
+    table = pd.DataFrame(dict(benchmark=["mcmc"], label=["m"], variant=["paper"], per_second=[9.8e6],
+                              target_per_second=[1e6], meets_target=[True], peak_bytes=[None]))
+    assert throughput_claims(table)[0].reproduced == "9.80e+06 proposals/s"

@@ -1,0 +1,14 @@
+"""Ledger rows of the performance benchmarks (thin)."""
+
+import pandas as pd
+
+from hypotrack.experiments.generation_time import throughput_claims
+from hypotrack.experiments.perf_sht import perf_sht_claims
+from hypotrack.report import write_claims
+
+inp = snakemake.input  # noqa: F821
+if "throughput" in inp.keys():
+    claims = throughput_claims(pd.read_csv(inp.throughput))
+else:
+    claims = perf_sht_claims(pd.read_csv(inp.speedups), pd.read_csv(inp.largest))
+write_claims(claims, snakemake.output.claims)  # noqa: F821

@@ -487,7 +487,7 @@ def plot_eq43(offsets: pd.DataFrame, noise: pd.DataFrame, paths, cfg) -> None:
     ax2.semilogx(x, noise["engine"], "C3o", ms=4, mfc="none", label="engine weights")
     ax2.axhline(1, color="grey", lw=0.8, ls="--")
     ax2.axvline((6 / np.pi - 1) / 12, color="C0", lw=0.8, ls=":", label="threshold $(6/\\pi-1)/12$")
-    ax2.set_xlabel("per-axis position variance added in one scan / pixel area (dimensionless)")
+    ax2.set_xlabel("position variance added per axis in one scan / pixel area")
     ax2.set_ylabel("ratio at the pixel centre / $(1-p_D)$")
     ax2.set_title("Eq. 43 at the pixel centre vs noise")
     ax2.legend(fontsize=7)

@@ -25,6 +25,7 @@ __all__ = [
     "predict_with",
     "innovation",
     "update",
+    "joseph_covariance",
     "log_likelihood",
     "log_likelihood_matrix",
     "mahalanobis2_matrix",
@@ -151,9 +152,19 @@ def update(x, P, z, H, R):
     R = np.asarray(R, dtype=float)
     z_pred, S, K = innovation(x, P, H, R)
     x_upd = x + np.einsum("nij,nj->ni", K, z - z_pred)
-    I_KH = np.eye(x.shape[1]) - K @ H
-    P_upd = symmetrize(I_KH @ P @ np.swapaxes(I_KH, -1, -2) + K @ R @ np.swapaxes(K, -1, -2))
-    return _unbatch(single, x_upd, P_upd)
+    return _unbatch(single, x_upd, joseph_covariance(P, K, H, R))
+
+
+def joseph_covariance(P, K, H, R):
+    """Updated covariances ``(I − K H) P (I − K H)ᵀ + K R Kᵀ`` (Joseph form, symmetrised), batched.
+
+    Valid for any gain ``K`` (not only the optimal one) and positive semi-definite by
+    construction, which is why every update in hypotrack goes through it. Callers that already
+    hold the gains (e.g. from :func:`innovation`) use it directly instead of :func:`update`.
+    """
+    P = np.asarray(P, dtype=float)
+    I_KH = np.eye(P.shape[-1]) - K @ H
+    return symmetrize(I_KH @ P @ np.swapaxes(I_KH, -1, -2) + K @ R @ np.swapaxes(K, -1, -2))
 
 
 def _chol_logdet(S):

@@ -20,9 +20,9 @@ from .._validation import (
     check_probability,
 )
 from ..association import gate_threshold, validation_matrix
-from ..gaussian import innovation, mahalanobis2_matrix, predict_with, symmetrize
+from ..gaussian import innovation, mahalanobis2_matrix, predict_with
 
-__all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks", "joseph_covariance"]
+__all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -180,13 +180,3 @@ def gate_tracks(x, P, Z, model: ScanModel, *, gate: float | None = None) -> Gate
     d2, logdet = mahalanobis2_matrix(Z, z_pred, S)
     valid = validation_matrix(d2, model.gate if gate is None else gate)
     return GatedTracks(x, P, z_pred, S, K, Z, d2, logdet, valid)
-
-
-def joseph_covariance(P, K, H, R):
-    """Updated covariances ``(I − K H) P (I − K H)ᵀ + K R Kᵀ`` (Joseph form, symmetrised), batched.
-
-    Used with the gains already computed by :func:`gate_tracks`, so an update does not repeat
-    the innovation covariance and its factorisation.
-    """
-    I_KH = np.eye(P.shape[-1]) - K @ H
-    return symmetrize(I_KH @ P @ np.swapaxes(I_KH, -1, -2) + K @ R @ np.swapaxes(K, -1, -2))

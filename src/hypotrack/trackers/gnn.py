@@ -33,7 +33,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..association import association_score_matrix, best_assignment, columns_to_event, find_clusters
-from ._sht_common import GatedTracks, ScanModel, joseph_covariance
+from ..gaussian import joseph_covariance
+from ._sht_common import GatedTracks, ScanModel
 
 _JOINT_LIMIT = 64
 

@@ -34,8 +34,8 @@ import numpy as np
 from scipy.special import logsumexp
 
 from ..association.marginals import jpda_marginals
-from ..gaussian import symmetrize
-from ._sht_common import GatedTracks, ScanModel, joseph_covariance
+from ..gaussian import joseph_covariance, symmetrize
+from ._sht_common import GatedTracks, ScanModel
 
 __all__ = ["jpda_log_weights", "pdaf_probabilities", "jpda_probabilities", "pda_update"]
 

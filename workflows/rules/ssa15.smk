@@ -22,7 +22,14 @@ rule ssa15_run:
     log:
         f"{RESULTS}/logs/ssa15/{{tracker}}_run.log",
     params:
-        section=config["ssa15"],
+        # What the run reads (the script takes it from the config): a change reruns only this tracker.
+        settings=lambda wc: {
+            "master_seed": config["seed"],
+            "tracker": config["ssa15"]["trackers"][wc.tracker],
+            **{k: config["ssa15"][k] for k in ["seed", "max_hypotheses", "gate_probability", "snapshots"]},
+            **({} if config["ssa15"]["trackers"][wc.tracker]["kind"] == "homht"
+               else {"population": config["ssa15"]["population"]}),
+        },
     script:
         "../scripts/ssa15_run.py"
 

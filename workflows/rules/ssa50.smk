@@ -18,7 +18,12 @@ rule ssa50_run:
     log:
         f"{RESULTS}/logs/ssa50/rfisst_run.log",
     params:
-        section=config["ssa50"],
+        # What the run reads (the script takes it from the config): figure settings do not rerun it.
+        settings={
+            "master_seed": config["seed"],
+            **{k: config["ssa50"][k] for k in
+               ["seed", "max_hypotheses", "gate_probability", "trackers", "population", "weight_snapshots"]},
+        },
     script:
         "../scripts/ssa50_run.py"
 

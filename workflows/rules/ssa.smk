@@ -12,6 +12,11 @@ rule ssa_scenario:
         truth=f"{RESULTS}/ssa/{{case}}_truth.csv",
         scans=f"{RESULTS}/ssa/{{case}}_scans.csv",
         prior=f"{RESULTS}/ssa/{{case}}_prior.csv",
+    params:
+        # The script reads the config itself; these make a change of the section (or the master
+        # seed) re-run the rule, as Snakemake re-runs a job whose params changed.
+        ssa=config["ssa"],
+        seed=config["seed"],
     log:
         f"{RESULTS}/logs/ssa/{{case}}_scenario.log",
     script:
@@ -28,6 +33,8 @@ rule ssa_figure:
     output:
         pdf=f"{RESULTS}/ssa/{{case}}_scenario.pdf",
         png=f"{RESULTS}/ssa/{{case}}_scenario.png",
+    params:
+        ssa=config["ssa"],
     script:
         "../scripts/ssa_figure.py"
 

@@ -29,7 +29,7 @@ def _scenario(**kw):
 
 def _run(scenario, kind, seed=1, **settings):
     tracker = st.make_tracker(scenario, st.TrackerSettings(kind=kind, max_hypotheses=10, n_birth_regions=2,
-                                                           **settings), st.tracker_seed(seed, 7, kind))
+                                                           **settings), st.tracker_seed(seed, "test", kind))
     snapshots = st.snapshot_scans(len(scenario.times), [0.1, 0.5, 1.0])
     return st.run_tracker(tracker, scenario, snapshots=snapshots, progress=None)
 

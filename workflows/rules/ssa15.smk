@@ -26,7 +26,7 @@ rule ssa15_run:
         settings=lambda wc: {
             "master_seed": config["seed"],
             "tracker": config["ssa15"]["trackers"][wc.tracker],
-            **{k: config["ssa15"][k] for k in ["seed", "max_hypotheses", "gate_probability", "snapshots"]},
+            **{k: config["ssa15"][k] for k in ["max_hypotheses", "gate_probability", "snapshots"]},
             **({} if config["ssa15"]["trackers"][wc.tracker]["kind"] == "homht"
                else {"population": config["ssa15"]["population"]}),
         },

@@ -22,7 +22,7 @@ rule ssa50_run:
         settings={
             "master_seed": config["seed"],
             **{k: config["ssa50"][k] for k in
-               ["seed", "max_hypotheses", "gate_probability", "trackers", "population", "weight_snapshots"]},
+               ["max_hypotheses", "gate_probability", "trackers", "population", "weight_snapshots"]},
         },
     script:
         "../scripts/ssa50_run.py"

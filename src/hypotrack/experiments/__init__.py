@@ -1,10 +1,18 @@
 """Experiment drivers: run the library's trackers over the papers' scenarios and summarise them.
 
-Each driver turns saved scenario tables into per-scan tables (posterior summaries, metrics,
-snapshots), figures and reproduction claims; the pipeline's scripts only read and write files.
+Each driver turns a config section (and saved scenario tables) into tables, figures and
+reproduction claims; the pipeline's scripts only read and write files. One module per experiment:
 
 Modules
 -------
-ssa_tracking   seed 000 Sec. IV–V: R-FISST on the 50-object birth scenario (Figs 6, 8–11) and
-               R-FISST vs HOMHT on the 15-object scenario (Figs 12–14).
+ssa_tracking              seed 000 Sec. IV–V: R-FISST on the 50-object birth scenario (Figs 6,
+                          8–11) and R-FISST vs HOMHT on the 15-object scenario (Figs 12–14).
+generation_time           seed 000 Fig. 15: hypothesis-generation time; throughput benchmarks.
+generation_time_figures   figures of the hypothesis-engine experiments.
+belief_space              seed 001's numeric claims against the hypothesis engine.
+cardinality               seed 003 §4, Fig. 4.2: cardinality tracking Monte Carlo.
+ecmht                     seed 003 §5–6: swap experiment and Table 6.1.
+sht                       lecture notes 004: worked example, GNN vs JPDA on crossing targets.
+perf_sht                  per-scan timing of GNN and JPDA against a peer implementation.
+seeds                     seed streams: one master seed, independent children per experiment.
 """

@@ -63,6 +63,7 @@ from ..models.orbit import EARTH_RADIUS, TwoBodyOrbit
 from ..report import Claim, numeric_claim
 from ..scenarios.ssa import SSAParams, SSAScenario, _sensor, params_from_config, read_prior
 from ..scenarios.tables import state_columns, validate_scans, validate_truth, write_table
+from .seeds import experiment_seeds
 
 __all__ = [
     "TRACKER_KINDS",
@@ -273,13 +274,16 @@ class TrackerSettings:
                    gate_probability=section.get("gate_probability"), population=population, **pop, **own)
 
 
-def tracker_seed(master_seed: int, experiment_seed: int, name: str) -> np.random.Generator:
-    """The tracker's random generator: ``SeedSequence([master, experiment, *name's bytes])``."""
-    if not isinstance(name, str) or not name:
-        raise ValueError(f"name must be a non-empty str, got {name!r}")
-    ss = np.random.SeedSequence([check_int(master_seed, "seed", minimum=0),
-                                 check_int(experiment_seed, "experiment seed", minimum=0), *name.encode()])
-    return np.random.default_rng(ss)
+def tracker_seed(master_seed: int, experiment: str, name: str) -> np.random.Generator:
+    """The random generator of tracker ``name`` of ``experiment``, from the master seed.
+
+    :func:`hypotrack.experiments.seeds.experiment_seeds` with the key ``"<experiment>/<name>"``:
+    each tracker has its own stream, unchanged when other trackers are added or removed.
+    """
+    for label, value in (("experiment", experiment), ("name", name)):
+        if not isinstance(value, str) or not value:
+            raise ValueError(f"{label} must be a non-empty str, got {value!r}")
+    return np.random.default_rng(experiment_seeds(master_seed, f"{experiment}/{name}", 1)[0])
 
 
 def make_tracker(scenario: SSAScenario, settings: TrackerSettings, seed):
@@ -461,13 +465,13 @@ def run_configured_tracker(config: Mapping, experiment: str, name: str, scenario
                            snapshot_key: str, progress=print) -> TrackingRun:
     """Build tracker ``name`` from the pipeline config's ``experiment`` section and run it.
 
-    The section gives the tracker settings (:meth:`TrackerSettings.from_config`), its
-    ``seed`` (with the config's master ``seed``: :func:`tracker_seed`) and, under
-    ``snapshot_key``, the fractions of the run at which all hypothesis weights are recorded.
+    The section gives the tracker settings (:meth:`TrackerSettings.from_config`) and, under
+    ``snapshot_key``, the fractions of the run at which all hypothesis weights are recorded; the
+    random stream comes from the config's master ``seed`` (:func:`tracker_seed`).
     """
     section = config[experiment]
     settings = TrackerSettings.from_config(section, name)
-    tracker = make_tracker(scenario, settings, tracker_seed(config["seed"], section["seed"], name))
+    tracker = make_tracker(scenario, settings, tracker_seed(config["seed"], experiment, name))
     snaps = snapshot_scans(len(scenario.times), section[snapshot_key])
     return run_tracker(tracker, scenario, snapshots=snaps, name=f"{experiment} {settings.label}",
                        progress=progress)
@@ -1077,13 +1081,17 @@ def ssa15_claims(metrics: pd.DataFrame, agreements: Mapping, matched: pd.DataFra
     """
     ex = "ssa15"
     claims = []
+    others = "; ".join(f"{labels[a]} vs {labels[b]}: {100 * ag['agree'].mean():.1f} %"
+                       for (a, b), ag in list(agreements.items())[1:])
     for i, ((a, b), agreement) in enumerate(agreements.items()):
         frac = float(agreement["agree"].mean())
         bad = agreement.loc[~agreement["agree"], "scan"].to_numpy()
         n_diff_objects = int((~agreement["same_objects"]).sum())
         more = " ..." if len(bad) > 10 else ""
         note = (f"differ at scans {', '.join(map(str, bad[:10]))}{more}: {n_diff_objects} of them with "
-                "different objects" if len(bad) else "")
+                "different objects (e.g. a newborn object in one MAP only)" if len(bad) else "")
+        if i == 0 and others:
+            note = f"{note}; {others}" if note else others
         if i == 0:
             claims.append(Claim(ex,
                                 f"{labels[a]} and {labels[b]} give the same estimates (same MAP hypothesis)",

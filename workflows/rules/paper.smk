@@ -31,7 +31,7 @@ rule paper_generated:
 rule paper_pdf:
     input:
         rules.paper_generated.output,
-        tex=["paper/ms.tex", "paper/refs.bib", *sorted(glob.glob("paper/sections/*.tex"))],
+        tex=["paper/ms.tex", "paper/refs.bib", *sorted(glob.glob("paper/sections/**/*.tex", recursive=True))],
     output:
         f"{RESULTS}/paper/hypotrack_report.pdf",
     log:

@@ -41,3 +41,22 @@ def test_perf_claims_report_measured_ranges():
     table = pd.DataFrame(dict(benchmark=["mcmc"], label=["m"], variant=["paper"], per_second=[9.8e6],
                               target_per_second=[1e6], meets_target=[True], peak_bytes=[None]))
     assert throughput_claims(table)[0].reproduced == "9.80e+06 proposals/s"
+
+
+def test_swap_claims_follow_the_curves():
+    from hypotrack.experiments.ecmht import swap_claims
+
+    swaps = list(range(8))
+    rms = [2.6, 2.2, 1.9, 1.7, 1.6, 1.7, 1.9, 2.1]  # minimum at 4 swaps
+    curves = pd.DataFrame(dict(distance=10.0, swaps=swaps, rms=rms, log_prob_class=[-9 + abs(i - 5) * -1 for i in swaps],
+                               n_runs=100))
+    rates = pd.DataFrame(dict(distance=[0.0, 10.0, 30.0], rms_optimal_rate=[0.5, 0.13, 0.0],
+                              class_optimal_rate=[0.5, 0.2, 0.0]))
+    claims = swap_claims(curves, rates, distance=10.0, n_sensors=30)
+    assert [c.reproduced for c in claims[:2]] == ["4", "5"]
+    assert all(c.status == "reproduced" for c in claims)
+    shifted = curves.assign(rms=[1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2, 2.4])  # minimum at 0 swaps
+    assert swap_claims(shifted, rates.assign(rms_optimal_rate=[0.3, 0.1, 0.03]), distance=10.0,
+                       n_sensors=30)[0].status == "not reproduced"
+    bad_rates = swap_claims(curves, rates.assign(rms_optimal_rate=[0.3, 0.1, 0.03]), distance=10.0, n_sensors=30)
+    assert [c.status for c in bad_rates[2:]] == ["not reproduced", "not reproduced"]

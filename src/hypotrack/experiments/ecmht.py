@@ -22,6 +22,7 @@ from scipy.special import gammaln
 from .seeds import experiment_seeds
 from .._validation import check_finite_array, check_int, check_nonnegative, check_positive
 from ..models.motion import OrnsteinUhlenbeck
+from ..report import Claim
 from ..scenarios.closely_spaced import simulate_closely_spaced, static_pair_scans
 from ..trackers.ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter, mospa_two_targets
 
@@ -34,6 +35,8 @@ __all__ = [
     "pool_per_scan",
     "closely_spaced_monte_carlo",
     "closely_spaced_realisation",
+    "swap_claims",
+    "plot_swap_figures",
 ]
 
 #: Published MOSPA (m², see reconstruction §5.4) of Table 6.1.
@@ -279,3 +282,82 @@ def pool_per_scan(per_scan: pd.DataFrame) -> pd.DataFrame:
     g = df.groupby(["method", "scan", "time"], sort=False, as_index=False)[["weighted", "n_runs"]].sum()
     g["mospa"] = g["weighted"] / g["n_runs"]
     return g[["method", "scan", "time", "mospa", "n_runs"]]
+
+
+# ---------------------------------------------------------------- swaps: ledger and figures
+def _swap_curve(curves: pd.DataFrame, distance: float) -> pd.DataFrame:
+    return curves[np.isclose(curves["distance"], distance)].sort_values("swaps")
+
+
+def swap_claims(curves: pd.DataFrame, rates: pd.DataFrame, *, distance: float, n_sensors: int) -> list:
+    """Ledger rows of Figs 5.1–5.3: the RMS minimum near 4 swaps (3–5), the class-posterior peak
+    within 3 swaps of it, the optimal swap rate 0.5 (± 1/N) at zero distance and 0 for the
+    farthest distance simulated."""
+    c = _swap_curve(curves, distance)
+    i_min = int(c["swaps"].to_numpy()[np.argmin(c["rms"].to_numpy())])
+    i_cls = int(c["swaps"].to_numpy()[np.argmax(c["log_prob_class"].to_numpy())])
+    r = rates.set_index("distance").sort_index()
+    near, far = r["rms_optimal_rate"].iloc[0], r.index.max()
+    return [
+        Claim("swaps", "Fig 5.1 RMS minimum at about 4 swaps", "003 Sec. 5, Fig 5.1", "about 4", str(i_min),
+              "3-5 swaps", "reproduced" if 3 <= i_min <= 5 else "not reproduced",
+              f"RMS {c['rms'].iloc[0]:.3g} m with no swaps, {c['rms'].min():.3g} m at the minimum"),
+        Claim("swaps", "Fig 5.2 class posterior peak consistent with Fig 5.1", "003 Sec. 5, Fig 5.2",
+              "consistent with about 4", str(i_cls), "within 3 of the RMS minimum",
+              "reproduced" if abs(i_cls - i_min) <= 3 else "not reproduced",
+              "the single-hypothesis curve peaks at 0 swaps (the MAP hypothesis has none)"),
+        Claim("swaps", "Fig 5.3 optimal swap rate at zero distance", "003 Sec. 5, Fig 5.3", "0.5", f"{near:.3g}",
+              f"+/- 1/{n_sensors}", "reproduced" if abs(near - 0.5) <= 1 / n_sensors + 1e-12 else "not reproduced"),
+        Claim("swaps", "Fig 5.3 optimal swap rate for distant targets", "003 Sec. 5, Fig 5.3", "0",
+              f"{r.loc[far, 'rms_optimal_rate']:.3g} at {far:g} m", "exact",
+              "reproduced" if r.loc[far, "rms_optimal_rate"] == 0 else "not reproduced",
+              f"first zero at {r.index[r['rms_optimal_rate'] == 0].min():g} m"),
+    ]
+
+
+def plot_swap_figures(curves: pd.DataFrame, rates: pd.DataFrame, *, distance: float, n_sensors: int,
+                      sigma: float, paths: dict) -> None:
+    """Figs 5.1, 5.2 and 5.3; ``paths`` maps ``fig51/fig52/fig53`` to ``(pdf, png)``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    c = _swap_curve(curves, distance)
+    n = int(c["n_runs"].iloc[0])
+    setting = f"{distance:g} m apart, {n_sensors} sensors, sigma = {sigma:g} m, {n} runs"
+
+    def figure(key, draw, xlabel, ylabel, title):
+        fig, ax = plt.subplots(figsize=(6.5, 4.2))
+        draw(ax)
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title)
+        ax.legend()
+        fig.tight_layout()
+        for path, kw in zip(paths[key], ({}, {"dpi": 150})):
+            fig.savefig(path, **kw)
+        plt.close(fig)
+
+    i_min = int(c["swaps"].to_numpy()[np.argmin(c["rms"].to_numpy())])
+
+    def fig51(ax):
+        ax.plot(c["swaps"], c["rms"], "o-", ms=3)
+        ax.axvline(i_min, color="gray", ls=":", label=f"minimum at {i_min} swaps")
+
+    def fig52(ax):
+        ax.plot(c["swaps"], c["log_prob_single"], "o-", ms=3, label="unique hypothesis")
+        ax.plot(c["swaps"], c["log_prob_class"], "s-", ms=3, label="hypothesis class (Eq. 5.22)")
+
+    def fig53(ax):
+        ax.plot(rates["distance"], rates["rms_optimal_rate"], "o-", ms=3, label="minimum RMS error (Fig 5.1 criterion)")
+        ax.plot(rates["distance"], rates["class_optimal_rate"], "s--", ms=3, label="maximum class posterior (Eq. 5.22)")
+        ax.set_ylim(-0.02, 0.55)
+
+    figure("fig51", fig51, "number of random measurement swaps i", "RMS error of the equivalent measurement (m)",
+           f"Fig 5.1: equivalent-measurement error vs swaps\n({setting})")
+    figure("fig52", fig52, "number of swaps i", "average log posterior probability",
+           f"Fig 5.2: single-hypothesis vs class posterior\n({setting})")
+    figure("fig53", fig53, "distance between targets (m)", "optimal swap rate i*/N",
+           f"Fig 5.3: optimal swap rate vs target separation\n({n_sensors} sensors, sigma = {sigma:g} m, "
+           f"{n} runs per distance)")

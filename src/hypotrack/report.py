@@ -6,10 +6,25 @@ union of those files, so no number in the paper is typed by hand.
 
 Status vocabulary
 -----------------
-``reproduced``       measured value within the stated tolerance of the published one;
-``not reproduced``   outside it (the note gives the measured value's likely cause);
-``qualitative``      the paper states a shape or ordering, checked as such;
-``extension``        a result beyond the papers (no published value).
+``reproduced``         measured value within the stated tolerance of the published one (Monte Carlo:
+                       within three standard errors, see :func:`monte_carlo_claim`);
+``systematic offset``  Monte Carlo only: more than three standard errors away, but within the stated
+                       reconstruction tolerance (the difference is real, not noise, and small);
+``not reproduced``     outside it (the note gives the measured value's likely cause);
+``qualitative``        the paper states a shape or ordering, checked as such;
+``extension``          a result beyond the papers (no published value).
+
+Evidence vocabulary (:data:`EVIDENCE`)
+--------------------------------------
+Every row names what its verdict rests on. ``identity of the implementation`` (a check that shares
+the code path under test, e.g. a weight compared with the formula the engine itself used) never
+counts as a reproduction on its own.
+
+The Monte Carlo rule (one rule for every Monte Carlo row)
+---------------------------------------------------------
+With n runs, mean x̄, standard error s = sd/√n and published value p, z = (x̄ − p)/s:
+*reproduced* when |z| ≤ 3; *systematic offset* when |z| > 3 and |x̄ − p| ≤ the stated
+reconstruction tolerance; *not reproduced* otherwise.
 """
 
 from __future__ import annotations
@@ -24,8 +39,12 @@ import pandas as pd
 __all__ = [
     "CLAIM_COLUMNS",
     "STATUSES",
+    "EVIDENCE",
+    "Z_THRESHOLD",
     "Claim",
     "numeric_claim",
+    "monte_carlo_claim",
+    "monte_carlo_verdict",
     "write_claims",
     "read_claims",
     "latex_escape",
@@ -37,8 +56,12 @@ __all__ = [
     "claims_markdown",
 ]
 
-CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tolerance", "status", "note"]
-STATUSES = ("reproduced", "not reproduced", "qualitative", "extension")
+CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tolerance", "status", "evidence",
+                 "n", "mean", "se", "z", "note"]
+STATUSES = ("reproduced", "systematic offset", "not reproduced", "qualitative", "extension")
+EVIDENCE = ("published number", "independent oracle", "brute force", "peer implementation",
+            "identity of the implementation", "measurement")
+Z_THRESHOLD = 3.0
 
 
 @dataclass(frozen=True)
@@ -53,10 +76,17 @@ class Claim:
     tolerance: str
     status: str
     note: str = ""
+    evidence: str = ""
+    n: str = ""
+    mean: str = ""
+    se: str = ""
+    z: str = ""
 
     def __post_init__(self):
         if self.status not in STATUSES:
             raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
+        if self.evidence and self.evidence not in EVIDENCE:
+            raise ValueError(f"evidence must be one of {EVIDENCE}, got {self.evidence!r}")
 
 
 def _fmt(value, digits: int) -> str:
@@ -70,7 +100,7 @@ def _fmt(value, digits: int) -> str:
 
 
 def numeric_claim(experiment, item, source, published, reproduced, *, rel_tol=None, abs_tol=None,
-                  digits=4, note="") -> Claim:
+                  digits=4, note="", evidence="published number") -> Claim:
     """A claim decided by a relative or absolute tolerance on a published number."""
     if (rel_tol is None) == (abs_tol is None):
         raise ValueError("give exactly one of rel_tol, abs_tol")
@@ -83,7 +113,61 @@ def numeric_claim(experiment, item, source, published, reproduced, *, rel_tol=No
     if not math.isfinite(reproduced):
         ok = False
     return Claim(experiment, item, source, _fmt(published, digits), _fmt(reproduced, digits), tol,
-                 "reproduced" if ok else "not reproduced", note)
+                 "reproduced" if ok else "not reproduced", note, evidence)
+
+
+def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: float) -> tuple[float, str]:
+    """``(z, status)`` by the ledger's one Monte Carlo rule (module docstring).
+
+    ``tolerance`` is the stated reconstruction tolerance, absolute, in the units of ``mean``.
+    A zero standard error gives z = 0 when the mean equals the published value, else ±inf.
+    """
+    for name, v in (("mean", mean), ("published", published)):
+        if not math.isfinite(v):
+            raise ValueError(f"{name} must be finite, got {v!r}")
+    if not (se >= 0 and math.isfinite(se)):
+        raise ValueError(f"se must be finite and >= 0, got {se!r}")
+    if not tolerance >= 0:
+        raise ValueError(f"tolerance must be >= 0, got {tolerance!r}")
+    diff = mean - published
+    z = diff / se if se > 0 else (0.0 if diff == 0 else math.copysign(math.inf, diff))
+    if abs(z) <= Z_THRESHOLD:
+        return z, "reproduced"
+    if abs(diff) <= tolerance:
+        return z, "systematic offset"
+    return z, "not reproduced"
+
+
+def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=None, mean=None, se=None,
+                      rel_tol=None, abs_tol=None, digits=4, note="", evidence="published number") -> Claim:
+    """A Monte Carlo claim decided by :func:`monte_carlo_verdict`.
+
+    Give either ``samples`` (one value per run; s.e. = sample sd / √n) or ``n``, ``mean`` and ``se``,
+    and exactly one of ``rel_tol`` (relative to the published value) or ``abs_tol`` as the stated
+    reconstruction tolerance.
+    """
+    import numpy as np
+
+    if samples is not None:
+        if n is not None or mean is not None or se is not None:
+            raise ValueError("give either samples or (n, mean, se), not both")
+        x = np.asarray(samples, dtype=float).ravel()
+        if x.size < 2 or not np.isfinite(x).all():
+            raise ValueError(f"samples must hold at least 2 finite values, got {x.size}")
+        n, mean, se = int(x.size), float(x.mean()), float(x.std(ddof=1) / math.sqrt(x.size))
+    elif n is None or mean is None or se is None:
+        raise ValueError("give samples, or all of n, mean and se")
+    if int(n) < 2:
+        raise ValueError(f"n must be >= 2, got {n}")
+    if (rel_tol is None) == (abs_tol is None):
+        raise ValueError("give exactly one of rel_tol, abs_tol")
+    tol = rel_tol * abs(published) if rel_tol is not None else abs_tol
+    z, status = monte_carlo_verdict(float(mean), float(se), float(published), tol)
+    tol_text = f"|z| <= {Z_THRESHOLD:g} or {100 * rel_tol:g} %" if rel_tol is not None else \
+        f"|z| <= {Z_THRESHOLD:g} or +/- {abs_tol:g}"
+    return Claim(experiment, item, source, _fmt(float(published), digits), _fmt(float(mean), digits), tol_text,
+                 status, note, evidence, str(int(n)), f"{float(mean):.6g}", f"{float(se):.3g}",
+                 f"{z:.2f}" if math.isfinite(z) else ("inf" if z > 0 else "-inf"))
 
 
 def write_claims(claims, path) -> pd.DataFrame:
@@ -105,6 +189,9 @@ def read_claims(paths) -> pd.DataFrame:
         bad = set(df["status"]) - set(STATUSES)
         if bad:
             raise ValueError(f"{p}: status must be one of {STATUSES}, got {sorted(bad)}")
+        bad = set(df["evidence"]) - set(EVIDENCE) - {""}
+        if bad:
+            raise ValueError(f"{p}: evidence must be one of {EVIDENCE}, got {sorted(bad)}")
         frames.append(df[CLAIM_COLUMNS])
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=CLAIM_COLUMNS)
 
@@ -137,8 +224,8 @@ def macros_tex(values: dict) -> str:
 
 def claims_table_tex(claims: pd.DataFrame) -> str:
     """A longtable of the claims grouped by experiment; each note on its own line below its item."""
-    colour = {"reproduced": "ForestGreen", "not reproduced": "BrickRed", "qualitative": "NavyBlue",
-              "extension": "Gray"}
+    colour = {"reproduced": "ForestGreen", "systematic offset": "BurntOrange", "not reproduced": "BrickRed",
+              "qualitative": "NavyBlue", "extension": "Gray"}
     out = [r"\begin{longtable}{@{}p{0.30\linewidth}p{0.12\linewidth}>{\raggedleft}p{0.12\linewidth}"
            r">{\raggedleft}p{0.13\linewidth}p{0.1\linewidth}p{0.1\linewidth}@{}}",
            r"\toprule item & source & published & reproduced & tolerance & status\tabularnewline\midrule\endhead"]

@@ -52,3 +52,27 @@ def test_latex_helpers():
         experiment="e", item="i", source="s", published="1", reproduced="1", tolerance="0", status="reproduced",
         note="")])])))
     assert r"\textcolor{ForestGreen}" in table and "longtable" in table
+
+
+def test_monte_carlo_rule_hand_computed():
+    from hypotrack.report import monte_carlo_claim, monte_carlo_verdict
+
+    # samples 1, 2, 3, 4: mean 2.5, sd sqrt(5/3), se = sqrt(5/3)/2 = 0.6455; published 0.5 -> z = 3.098
+    c = monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=1.0)
+    assert (c.n, c.mean, c.se, c.z) == ("4", "2.5", "0.645", "3.10")
+    assert c.status == "not reproduced"  # |z| > 3 and |2.5 - 0.5| = 2 > 1
+    assert monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=2.0).status == "systematic offset"
+    assert monte_carlo_claim("e", "i", "s", 0.6, [1, 2, 3, 4], abs_tol=0.0).status == "reproduced"  # z = 2.94
+    # the rule at its boundary, and the relative tolerance
+    assert monte_carlo_verdict(1.375, 0.125, 1.0, 0.0) == (3.0, "reproduced")  # exact binary values
+    assert monte_carlo_verdict(1.5, 0.125, 1.0, 0.5)[1] == "systematic offset"
+    assert monte_carlo_verdict(1.5, 0.125, 1.0, 0.25)[1] == "not reproduced"
+    assert monte_carlo_claim("e", "i", "s", 1.0, n=100, mean=1.09, se=0.01, rel_tol=0.1).status == "systematic offset"
+    assert monte_carlo_claim("e", "i", "s", 1.0, n=100, mean=1.11, se=0.01, rel_tol=0.1).status == "not reproduced"
+    assert monte_carlo_verdict(2.0, 0.0, 2.0, 0.0) == (0.0, "reproduced")
+    with pytest.raises(ValueError, match="se must be"):
+        monte_carlo_verdict(1.0, -1.0, 1.0, 0.1)
+    with pytest.raises(ValueError, match="samples, or all of n"):
+        monte_carlo_claim("e", "i", "s", 1.0, n=10, mean=1.0, rel_tol=0.1)
+    with pytest.raises(ValueError, match="evidence must be one of"):
+        Claim("a", "b", "c", "d", "e", "f", "reproduced", evidence="vibes")

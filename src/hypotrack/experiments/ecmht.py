@@ -19,8 +19,7 @@ import numpy as np
 import pandas as pd
 from scipy.special import gammaln
 
-from .seeds import experiment_seeds
-from .._validation import check_finite_array, check_int, check_nonnegative, check_positive
+from .._validation import check_finite_array, check_int, check_positive
 from ..models.motion import OrnsteinUhlenbeck
 from ..report import Claim
 from ..scenarios.closely_spaced import simulate_closely_spaced, static_pair_scans

@@ -1,5 +1,7 @@
 """The reproduction ledger: tolerance decisions, CSV round trip, LaTeX escaping and macro names."""
 
+from dataclasses import asdict
+
 import pandas as pd
 import pytest
 
@@ -48,7 +50,74 @@ def test_latex_helpers():
     assert r"\newcommand{\htX}{0.5\%}" in tex
     with pytest.raises(ValueError, match="letters only"):
         macros_tex({"ht1": "x"})
-    table = claims_table_tex(read_claims([]).pipe(lambda d: pd.concat([d, pd.DataFrame([dict(
-        experiment="e", item="i", source="s", published="1", reproduced="1", tolerance="0", status="reproduced",
-        note="")])])))
+    table = claims_table_tex(read_claims([]).pipe(lambda d: pd.concat([d, pd.DataFrame([{
+        "experiment": "e", "item": "i", "source": "s", "published": "1", "reproduced": "1", "tolerance": "0", "status": "reproduced",
+        "note": ""}])])))
     assert r"\textcolor{ForestGreen}" in table and "longtable" in table
+
+
+def test_monte_carlo_rule_hand_computed():
+    from hypotrack.report import monte_carlo_claim, monte_carlo_verdict
+
+    # samples 1, 2, 3, 4: mean 2.5, sd sqrt(5/3), se = sqrt(5/3)/2 = 0.6455; published 0.5 -> z = 3.098
+    c = monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=1.0)
+    assert (c.n, c.mean, c.se, c.z) == ("4", "2.5", "0.645", "3.10")
+    assert c.status == "not reproduced"  # |z| > 3 and |2.5 - 0.5| = 2 > 1
+    assert monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=2.0).status == "systematic offset"
+    assert monte_carlo_claim("e", "i", "s", 0.6, [1, 2, 3, 4], abs_tol=0.0).status == "reproduced"  # z = 2.94
+    # the rule at its boundary, and the relative tolerance
+    assert monte_carlo_verdict(1.375, 0.125, 1.0, 0.0) == (3.0, "reproduced")  # exact binary values
+    assert monte_carlo_verdict(1.5, 0.125, 1.0, 0.5)[1] == "systematic offset"
+    assert monte_carlo_verdict(1.5, 0.125, 1.0, 0.25)[1] == "not reproduced"
+    assert monte_carlo_claim("e", "i", "s", 1.0, n=100, mean=1.09, se=0.01, rel_tol=0.1).status == "systematic offset"
+    assert monte_carlo_claim("e", "i", "s", 1.0, n=100, mean=1.11, se=0.01, rel_tol=0.1).status == "not reproduced"
+    assert monte_carlo_verdict(2.0, 0.0, 2.0, 0.0) == (0.0, "reproduced")
+    with pytest.raises(ValueError, match="se must be"):
+        monte_carlo_verdict(1.0, -1.0, 1.0, 0.1)
+    with pytest.raises(ValueError, match="samples, or all of n"):
+        monte_carlo_claim("e", "i", "s", 1.0, n=10, mean=1.0, rel_tol=0.1)
+    with pytest.raises(ValueError, match="evidence must be one of"):
+        Claim("a", "b", "c", "d", "e", "f", "reproduced", evidence="vibes")
+
+
+def test_stable_keys_name_macros_and_collisions_fail(tmp_path):
+    from hypotrack.report import claim_macros, monte_carlo_claim, read_macros, write_macros
+
+    a = numeric_claim("generation_time", "R-FISST finds the truth up to A = 1e165 (M = m = 100)", "Fig 15", 1e33,
+                      1e165, rel_tol=0.1, key="rfisst_reach")
+    b = monte_carlo_claim("closely_spaced", "ideal MOSPA", "Table 6.1", 0.0363, n=1000, mean=0.0345, se=0.0002,
+                          rel_tol=0.1, key="mospa_ideal")
+    write_claims([a, b], tmp_path / "claims.csv")
+    values = claim_macros(read_claims([tmp_path / "claims.csv"]))
+    # the item text (with its config values) does not reach the name; digits in keys become letters
+    assert values["htGenerationTimeRfisstReachRep"] == "1e+165" and "htCloselySpacedMospaIdealZ" in values
+    assert values["htCloselySpacedMospaIdealZ"] == "-9.00" and values["htCloselySpacedMospaIdealN"] == "1000"
+    assert values["htCloselySpacedMospaIdealStatus"] == "systematic offset"
+    assert not any("MEM" in k or "BAA" in k for k in values)
+    with pytest.raises(ValueError, match="key must be"):
+        numeric_claim("x", "y", "z", 1.0, 1.0, abs_tol=0, key="M = 100")
+    c = numeric_claim("closely_spaced", "other", "s", 1.0, 1.0, abs_tol=0, key="mospa_ideal")
+    with pytest.raises(ValueError, match="both give macro htCloselySpacedMospaIdeal"):
+        claim_macros(pd.DataFrame([asdict(b), asdict(c)]))
+    # claims files written before the key column existed still read (key empty)
+    old = tmp_path / "old.csv"
+    pd.read_csv(tmp_path / "claims.csv").drop(columns="key").to_csv(old, index=False)
+    assert read_claims([old])["key"].tolist() == ["", ""]
+    # extra numbers: results/<experiment>/macros.csv
+    write_macros("hypotheses", {"fisst_homht_max_diff": 3e-14, "n_children": 18_000_000}, tmp_path / "m.csv")
+    assert read_macros([tmp_path / "m.csv"]) == {"htHypothesesFisstHomhtMaxDiff": "3e-14",
+                                                  "htHypothesesNChildren": "18000000"}
+    with pytest.raises(ValueError, match="macro name must be"):
+        write_macros("x", {"seed 3": 1}, tmp_path / "bad.csv")
+    write_macros("hypotheses", {"fisst_homht_max_diff": 1.0}, tmp_path / "n.csv")
+    with pytest.raises(ValueError, match="defined twice"):
+        read_macros([tmp_path / "m.csv", tmp_path / "n.csv"])
+
+
+def test_latex_value_typesets_powers_of_ten():
+    from hypotrack.report import latex_value
+
+    assert latex_value("3e-14") == r"\ensuremath{3\times10^{-14}}"
+    assert latex_value("1e+08") == r"\ensuremath{10^{8}}"
+    assert latex_value("1.8e7") == r"\ensuremath{1.8\times10^{7}}"
+    assert latex_value("0.5 at 1e3 m") == "0.5 at 1e3 m" and latex_value("50%") == r"50\%"

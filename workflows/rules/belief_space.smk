@@ -6,7 +6,7 @@ BS_DIR = f"{RESULTS}/belief_space"
 
 rule belief_space_ratio:
     output:
-        table=f"{BS_DIR}/undetected_birth_ratio.csv",
+        table=report_table(f"{BS_DIR}/undetected_birth_ratio.csv", "belief_space", "ratio_table"),
     params:
         cfg=config["belief_space"],
     script:
@@ -25,7 +25,7 @@ rule belief_space_eq43:
 
 rule belief_space_equivalence:
     output:
-        table=f"{BS_DIR}/fisst_vs_homht.csv",
+        table=report_table(f"{BS_DIR}/fisst_vs_homht.csv", "belief_space", "equivalence_table"),
     params:
         cfg=config["belief_space"],
         seed=config["belief_space"]["seed"],
@@ -41,11 +41,11 @@ rule belief_space_report:
         equivalence=rules.belief_space_equivalence.output.table,
     output:
         ratio_pdf=f"{BS_DIR}/undetected_birth_ratio.pdf",
-        ratio_png=f"{BS_DIR}/undetected_birth_ratio.png",
+        ratio_png=report_figure(f"{BS_DIR}/undetected_birth_ratio.png", "belief_space", "undetected_birth_ratio"),
         eq43_pdf=f"{BS_DIR}/eq43_bound.pdf",
-        eq43_png=f"{BS_DIR}/eq43_bound.png",
+        eq43_png=report_figure(f"{BS_DIR}/eq43_bound.png", "belief_space", "eq43_bound"),
         equivalence_pdf=f"{BS_DIR}/fisst_vs_homht.pdf",
-        equivalence_png=f"{BS_DIR}/fisst_vs_homht.png",
+        equivalence_png=report_figure(f"{BS_DIR}/fisst_vs_homht.png", "belief_space", "fisst_vs_homht"),
         checks=f"{BS_DIR}/checks.csv",
         claims=f"{BS_DIR}/claims.csv",
     params:

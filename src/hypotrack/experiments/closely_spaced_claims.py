@@ -32,10 +32,10 @@ def conventions_table(cfg) -> pd.DataFrame:
                                    rounding=PUBLISHED_ROUNDING)
 
 
-def _mc(item, row, published, tol, note, evidence="published number", source=SOURCE, **tol_kw):
+def _mc(key, item, row, published, tol, note, evidence="published number", source=SOURCE, **tol_kw):
     kw = tol_kw or {"rel_tol": tol}
     return monte_carlo_claim("closely_spaced", item, source, published, n=int(row["n"]), mean=float(row["mean"]),
-                             se=float(row["se"]), note=note, evidence=evidence, **kw)
+                             se=float(row["se"]), note=note, evidence=evidence, key=key, **kw)
 
 
 def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg) -> list:
@@ -56,24 +56,24 @@ def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg) -> lis
             note = (f"multi-sensor PDAF form '{cfg['pdaf_variant']}' (the paper does not give one); other forms: "
                     f"{others}; all coalesce to about the midpoint error, far below the published value: the "
                     "published PDAF must differ in an unstated way")
-        claims.append(_mc(f"Table 6.1 MOSPA {method}", t.loc[method], TABLE_6_1[method], tol, note))
+        claims.append(_mc(f"Mospa{method.capitalize()}", f"Table 6.1 MOSPA {method}", t.loc[method], TABLE_6_1[method], tol, note))
     m = t["mean"]
     ordered = m["ideal"] < m["ECMHT"] < m["MHT"] < m["PDAF"]
     claims.append(Claim("closely_spaced", "ordering ideal < ECMHT < MHT < PDAF", "003 Table 6.1 / Sec. 6",
                         "ideal < ECMHT < MHT < PDAF",
                         " < ".join(sorted(["ideal", "ECMHT", "MHT", "PDAF"], key=lambda k: m[k])),
                         "exact order", "reproduced" if ordered else "not reproduced",
-                        f"means of {n} runs", "published number"))
+                        f"means of {n} runs", "published number", key="Ordering"))
 
     model = {**_model(cfg), "initial_variance": cfg["initial_variance"]}
     exact = ideal_mospa(**model)
     exact_labelled = ideal_mospa(**model, scoring="labelled", transient_scans=skip)
     oracle_note = ("Riccati closed form of E[squared OSPA] (exact moments of truth and estimate; no code shared "
                    "with the filters) against the Monte Carlo ideal filter")
-    claims.append(_mc("ideal filter MOSPA: closed form vs Monte Carlo", t.loc["ideal"], exact, tol,
+    claims.append(_mc("IdealClosedForm", "ideal filter MOSPA: closed form vs Monte Carlo", t.loc["ideal"], exact, tol,
                       f"{oracle_note}; {convention}", "independent oracle", "003 Eqs. 5.1-5.11, 6.1-6.4",
                       abs_tol=0.0))
-    claims.append(_mc("ideal filter labelled error: closed form vs Monte Carlo", s.loc[LABELLED_IDEAL],
+    claims.append(_mc("LabelledClosedForm", "ideal filter labelled error: closed form vs Monte Carlo", s.loc[LABELLED_IDEAL],
                       exact_labelled, tol, f"{oracle_note}; each track against its own target, after the "
                       "transient", "independent oracle", "003 Eqs. 5.1-5.11, 6.1-6.4", abs_tol=0.0))
 
@@ -87,7 +87,7 @@ def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg) -> lis
                     for r in matching.itertuples()})
     claims.append(numeric_claim(
         "closely_spaced", "Table 6.1 ideal is the steady-state prediction variance", SOURCE, TABLE_6_1["ideal"],
-        steady_value, abs_tol=PUBLISHED_ROUNDING, evidence="published number",
+        steady_value, abs_tol=PUBLISHED_ROUNDING, evidence="published number", key="IdealSteadyState",
         note=("the published ideal equals the Riccati steady state P(k|k-1), i.e. each track scored against its own "
               "target once the filter has converged; conventions within the published rounding: "
               + "; ".join(kinds) + ". With the best pairing per scan over every scan (this project's MOSPA) the "
@@ -95,12 +95,12 @@ def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg) -> lis
               "initial variances " + ", ".join(f"{v:g}" for v in pairing["initial_variance"]) + " m^2: the "
               "pairing lowers the error while the targets are close, and no initial variance reaches the "
               "published value")))
-    claims.append(_mc("Table 6.1 MOSPA ideal, labelled after the transient", s.loc[LABELLED_IDEAL],
+    claims.append(_mc("MospaIdealLabelled", "Table 6.1 MOSPA ideal, labelled after the transient", s.loc[LABELLED_IDEAL],
                       TABLE_6_1["ideal"], tol, "the ideal scored as the finding above says: against its own "
                       "targets, scans after the Riccati transient"))
     for method in ("MHT", "ECMHT"):
         moved = s.loc[method, "mean"] / t.loc[method, "mean"] - 1
-        claims.append(_mc(f"Table 6.1 MOSPA {method} after the transient", s.loc[method], TABLE_6_1[method], tol,
+        claims.append(_mc(f"Mospa{method.capitalize()}Steady", f"Table 6.1 MOSPA {method} after the transient", s.loc[method], TABLE_6_1[method], tol,
                           f"scans after the ideal's transient only (labels are not defined for a tracker that "
                           f"does not know the association, so the pairing stays): {100 * moved:+.1f} % against "
                           "every scan"))

@@ -50,6 +50,29 @@ def _gumbel_keys(lw, rng):
     return lw if rng is None else lw + rng.gumbel(size=lw.shape)
 
 
+def _twins_never_heavier(pop, ctx, p, in_view) -> bool:
+    """Whether every twin weighs at most its association child, for the twins actually made.
+
+    Then a child outside a parent's best ``keep`` association children cannot have a twin
+    inside the best ``keep`` children overall, and asking the generator for the best ``keep``
+    only (pre-trimming) is exact. The twins' full log-ratios are checked, with the detection
+    factors the twin changes: an undetected birth adds ``log(1 − p_D)``; a death removes the
+    dead object's miss factor, i.e. adds ``−log(1 − p_D,j)`` > 0 (e.g. β = 0.2, p_D = 0.99:
+    the population ratio is < 0 but the twin outweighs its child).
+    """
+    n_view, M = int(in_view.sum()), len(p)
+    if pop.n_birth_regions:
+        ub = np.max(pop.undetected_birth_log_ratio(n_view, M)) + np.log1p(-ctx.p_detect_birth)
+        if ub > 0:
+            return False
+    elig = pop.death_eligible(in_view)
+    if M and elig.any():
+        de = np.max(pop.death_log_ratio(n_view, M)) - np.min(np.log1p(-p[elig]))
+        if de > 0:
+            return False
+    return True
+
+
 class HypothesisFilter:
     """Multi-object filter on the hypothesis space (seed 000 Algorithm/Prop. 1–2).
 
@@ -200,14 +223,8 @@ class HypothesisFilter:
         pop_lp = pop.log_event_prob(n_view, len(tr)) if pop is not None else None
         problem = self.weights.problem(ctx, tr, float(self._log_w[h]), pop_lp)
         gen_keep = None
-        if keep is not None and keys_rng is None:
-            if pop is None:
-                gen_keep = keep
-            elif (np.all(pop.undetected_birth_log_ratio(n_view, len(tr)) <= 0)
-                  and np.all(pop.death_log_ratio(n_view, len(tr)) <= 0)):
-                # Each twin weighs no more than its association child, so children outside the
-                # best `keep` cannot have twins inside it: pre-trimming is exact.
-                gen_keep = keep
+        if keep is not None and keys_rng is None and (pop is None or _twins_never_heavier(pop, ctx, p, in_view)):
+            gen_keep = keep
         events, lw = self.generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
         n_generated = len(lw)

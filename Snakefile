@@ -3,9 +3,12 @@
 #   snakemake -c2                                              # paper fidelity (default.yaml)
 #   snakemake -c2 --configfile workflows/config/quick.yaml     # every rule at toy size
 #   snakemake -c2 <experiment>                                 # one experiment, e.g. generation_time
+#   snakemake --report results/report.html                     # browse the results with captions
 #
 # Each experiment lives in workflows/rules/<experiment>.smk, defines a rule named after the
 # experiment that collects its final outputs, and appends those outputs to ALL_TARGETS.
+# Figures and main tables are marked for the report with report_figure / report_table below
+# (captions in workflows/report/<experiment>/, see workflows/report/README.md).
 import glob
 
 from hypotrack.config import validate_config
@@ -20,9 +23,27 @@ RESULTS = config["results"]
 ALL_TARGETS = []
 
 
+report: "workflows/report/workflow.rst"
+
+
+def report_figure(path, experiment, caption, kind="Figures"):
+    """Mark an output for `snakemake --report`, captioned by workflows/report/<experiment>/<caption>.rst
+    and shown under the experiment's category. Only for rules in workflows/rules/ or workflows/report/
+    (the caption path is resolved relative to the including rule file)."""
+    return report(path, caption=f"../report/{experiment}/{caption}.rst", category=experiment, subcategory=kind)
+
+
+def report_table(path, experiment, caption):
+    """A main table (CSV, a download link in the report) with its caption; see report_figure."""
+    return report_figure(path, experiment, caption, kind="Tables")
+
+
 for _rules in sorted(glob.glob("workflows/rules/*.smk")):
 
     include: _rules
+
+
+include: "workflows/report/ledger.smk"
 
 
 rule all:

@@ -1,4 +1,4 @@
-"""The reproduction ledger: claims of the papers, their measured values, and their LaTeX form.
+r"""The reproduction ledger: claims of the papers, their measured values, and their LaTeX form.
 
 Every experiment writes ``results/<experiment>/claims.csv`` (one row per published item it
 checks, see :data:`CLAIM_COLUMNS`); the paper and the README's status table are built from the
@@ -20,6 +20,23 @@ Every row names what its verdict rests on. ``identity of the implementation`` (a
 the code path under test, e.g. a weight compared with the formula the engine itself used) never
 counts as a reproduction on its own.
 
+Stable macro keys (how the paper quotes a number)
+-------------------------------------------------
+Macro names never embed a configuration value (an item "M = m = 100" or a seed would change name
+with the config and leave the paper with an undefined macro). Two mechanisms give stable names:
+
+* a claim's optional ``key`` (letters, digits, underscore; unique within its experiment): its
+  macros are ``\ht<Experiment><Key>`` + ``Pub``, ``Rep``, ``Status``, ``Evidence`` and, for Monte
+  Carlo rows, ``N``, ``Mean``, ``Se``, ``Z`` (see :func:`claim_macros`). A claim without a key gets
+  names derived from its item text (kept for old rows; the paper must quote only keyed claims);
+* numbers the paper quotes that are not ledger rows: an experiment writes
+  ``results/<experiment>/macros.csv`` with :func:`write_macros` (columns ``experiment,name,value``;
+  ``name`` as a key), declares it as a rule output in ``ALL_TARGETS``, and the paper rule collects
+  every ``macros.csv`` into ``\ht<Experiment><Name>`` (see :func:`read_macros`).
+
+Digits in a key become letters in the command name (LaTeX names are letters only: 0->A ... 9->J).
+Values such as ``3e-14`` are typeset as :math:`3\times10^{-14}` (:func:`latex_value`).
+
 The Monte Carlo rule (one rule for every Monte Carlo row)
 ---------------------------------------------------------
 With n runs, mean x̄, standard error s = sd/√n and published value p, z = (x̄ − p)/s:
@@ -38,26 +55,35 @@ import pandas as pd
 
 __all__ = [
     "CLAIM_COLUMNS",
-    "STATUSES",
     "EVIDENCE",
+    "MACRO_COLUMNS",
+    "OPTIONAL_COLUMNS",
+    "STATUSES",
     "Z_THRESHOLD",
     "Claim",
-    "numeric_claim",
-    "monte_carlo_claim",
-    "monte_carlo_verdict",
-    "write_claims",
-    "read_claims",
+    "build_paper_inputs",
+    "claim_macros",
+    "claims_markdown",
+    "claims_table_tex",
     "latex_escape",
+    "latex_value",
     "macro_name",
     "macros_tex",
-    "claims_table_tex",
-    "claim_macros",
-    "build_paper_inputs",
-    "claims_markdown",
+    "monte_carlo_claim",
+    "monte_carlo_verdict",
+    "numeric_claim",
+    "read_claims",
+    "read_macros",
+    "write_claims",
+    "write_macros",
 ]
 
 CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tolerance", "status", "evidence",
-                 "n", "mean", "se", "z", "note"]
+                 "n", "mean", "se", "z", "note", "key"]
+#: Columns a claims file may lack (written before the column existed); read as empty.
+OPTIONAL_COLUMNS = ("key",)
+MACRO_COLUMNS = ["experiment", "name", "value"]
+_KEY = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 STATUSES = ("reproduced", "systematic offset", "not reproduced", "qualitative", "extension")
 EVIDENCE = ("published number", "independent oracle", "brute force", "peer implementation",
             "identity of the implementation", "measurement")
@@ -81,8 +107,11 @@ class Claim:
     mean: str = ""
     se: str = ""
     z: str = ""
+    key: str = ""
 
     def __post_init__(self):
+        if self.key and not _KEY.fullmatch(self.key):
+            raise ValueError(f"key must be letters, digits and underscores (starting with a letter), got {self.key!r}")
         if self.status not in STATUSES:
             raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
         if self.evidence and self.evidence not in EVIDENCE:
@@ -100,8 +129,10 @@ def _fmt(value, digits: int) -> str:
 
 
 def numeric_claim(experiment, item, source, published, reproduced, *, rel_tol=None, abs_tol=None,
-                  digits=4, note="", evidence="published number") -> Claim:
-    """A claim decided by a relative or absolute tolerance on a published number."""
+                  digits=4, note="", evidence="published number", key="") -> Claim:
+    """A claim decided by a relative or absolute tolerance on a published number.
+
+    ``key`` names the claim's macros stably (module docstring)."""
     if (rel_tol is None) == (abs_tol is None):
         raise ValueError("give exactly one of rel_tol, abs_tol")
     if rel_tol is not None:
@@ -113,7 +144,7 @@ def numeric_claim(experiment, item, source, published, reproduced, *, rel_tol=No
     if not math.isfinite(reproduced):
         ok = False
     return Claim(experiment, item, source, _fmt(published, digits), _fmt(reproduced, digits), tol,
-                 "reproduced" if ok else "not reproduced", note, evidence)
+                 "reproduced" if ok else "not reproduced", note, evidence, key=key)
 
 
 def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: float) -> tuple[float, str]:
@@ -139,7 +170,8 @@ def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: flo
 
 
 def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=None, mean=None, se=None,
-                      rel_tol=None, abs_tol=None, digits=4, note="", evidence="published number") -> Claim:
+                      rel_tol=None, abs_tol=None, digits=4, note="", evidence="published number",
+                      key="") -> Claim:
     """A Monte Carlo claim decided by :func:`monte_carlo_verdict`.
 
     Give either ``samples`` (one value per run; s.e. = sample sd / √n) or ``n``, ``mean`` and ``se``,
@@ -167,7 +199,7 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
         f"|z| <= {Z_THRESHOLD:g} or +/- {abs_tol:g}"
     return Claim(experiment, item, source, _fmt(float(published), digits), _fmt(float(mean), digits), tol_text,
                  status, note, evidence, str(int(n)), f"{float(mean):.6g}", f"{float(se):.3g}",
-                 f"{z:.2f}" if math.isfinite(z) else ("inf" if z > 0 else "-inf"))
+                 f"{z:.2f}" if math.isfinite(z) else ("inf" if z > 0 else "-inf"), key)
 
 
 def write_claims(claims, path) -> pd.DataFrame:
@@ -183,6 +215,9 @@ def read_claims(paths) -> pd.DataFrame:
     frames = []
     for p in sorted(map(Path, paths)):
         df = pd.read_csv(p, dtype=str, keep_default_na=False)
+        for col in OPTIONAL_COLUMNS:
+            if col not in df.columns:
+                df[col] = ""
         missing = set(CLAIM_COLUMNS) - set(df.columns)
         if missing:
             raise ValueError(f"{p}: claims file lacks columns {sorted(missing)}")
@@ -212,22 +247,76 @@ def macro_name(*parts) -> str:
     return "ht" + "".join(w[:1].upper() + w[1:] for w in words if w).translate(digits)
 
 
+_SCI = re.compile(r"([+-]?\d+(?:\.\d+)?)e([+-]?)0*(\d+)")
+
+
+def latex_value(value) -> str:
+    """A generated value in LaTeX: ``3e-14`` -> ``\\ensuremath{3\\times10^{-14}}``, else escaped text.
+
+    Only a value that is entirely one number in e-notation is typeset as a power of ten; a
+    mantissa of 1 is dropped (``1e8`` -> ``10^{8}``).
+    """
+    text = str(value).strip()
+    m = _SCI.fullmatch(text)
+    if not m:
+        return latex_escape(text)
+    mant, sign, exp = m.groups()
+    power = f"10^{{{'-' if sign == '-' else ''}{exp}}}"
+    return rf"\ensuremath{{{power}}}" if mant in ("1", "+1", "1.0") else rf"\ensuremath{{{mant}\times{power}}}"
+
+
 def macros_tex(values: dict) -> str:
-    """``\\newcommand`` lines for a mapping of macro name -> value (already formatted)."""
+    """``\\newcommand`` lines for a mapping of macro name -> value (plain text, see :func:`latex_value`)."""
     lines = ["% Generated by the pipeline (hypotrack.report); do not edit."]
     for name in sorted(values):
         if not re.fullmatch(r"[A-Za-z]+", name):
             raise ValueError(f"macro name must be letters only, got {name!r}")
-        lines.append(f"\\newcommand{{\\{name}}}{{{latex_escape(values[name])}}}")
+        lines.append(f"\\newcommand{{\\{name}}}{{{latex_value(values[name])}}}")
     return "\n".join(lines) + "\n"
+
+
+def write_macros(experiment: str, values: dict, path) -> pd.DataFrame:
+    """Write an experiment's non-claim numbers as ``macros.csv`` (``experiment,name,value``).
+
+    ``values`` maps a stable name (letters, digits, underscore; never a config value) to a value;
+    floats are written with 4 significant digits unless already formatted as text.
+    """
+    rows = []
+    for name, value in values.items():
+        if not _KEY.fullmatch(str(name)):
+            raise ValueError(f"macro name must be letters, digits and underscores, got {name!r}")
+        if isinstance(value, float):
+            value = _fmt(value, 4)
+        rows.append((experiment, name, str(value)))
+    df = pd.DataFrame(rows, columns=MACRO_COLUMNS)
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    df.to_csv(path, index=False)
+    return df
+
+
+def read_macros(paths) -> dict:
+    """Macros ``\\ht<Experiment><Name>`` from ``macros.csv`` files; a name defined twice is an error."""
+    values = {}
+    for p in sorted(map(Path, paths)):
+        df = pd.read_csv(p, dtype=str, keep_default_na=False)
+        if list(df.columns) != MACRO_COLUMNS:
+            raise ValueError(f"{p}: macros file must have columns {MACRO_COLUMNS}, got {list(df.columns)}")
+        for r in df.to_dict("records"):
+            if not _KEY.fullmatch(r["name"]):
+                raise ValueError(f"{p}: macro name must be letters, digits and underscores, got {r['name']!r}")
+            name = macro_name(r["experiment"], r["name"])
+            if name in values:
+                raise ValueError(f"{p}: macro {name} defined twice")
+            values[name] = r["value"]
+    return values
 
 
 def claims_table_tex(claims: pd.DataFrame) -> str:
     """A longtable of the claims grouped by experiment; each note on its own line below its item."""
     colour = {"reproduced": "ForestGreen", "systematic offset": "BurntOrange", "not reproduced": "BrickRed",
               "qualitative": "NavyBlue", "extension": "Gray"}
-    out = [r"\begin{longtable}{@{}p{0.30\linewidth}p{0.12\linewidth}>{\raggedleft}p{0.12\linewidth}"
-           r">{\raggedleft}p{0.13\linewidth}p{0.1\linewidth}p{0.1\linewidth}@{}}",
+    out = [(r"\begin{longtable}{@{}p{0.30\linewidth}p{0.12\linewidth}>{\raggedleft}p{0.12\linewidth}"
+           r">{\raggedleft}p{0.13\linewidth}p{0.1\linewidth}p{0.1\linewidth}@{}}"),
            r"\toprule item & source & published & reproduced & tolerance & status\tabularnewline\midrule\endhead"]
     for experiment, group in claims.groupby("experiment", sort=False):
         out.append(rf"\multicolumn{{6}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
@@ -244,16 +333,27 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
 
 
 def claim_macros(claims: pd.DataFrame) -> dict:
-    """Macros for the paper: published/reproduced value of every claim, and the status counts.
+    """Macros for the paper: the values of every claim, and the status counts.
 
-    A claim ``(experiment, item)`` gives ``\\ht<Experiment><Item>Pub`` and ``...Rep``.
+    A claim gives ``\\ht<Experiment><Key>`` + ``Pub``, ``Rep``, ``Status``, ``Evidence`` and, when it
+    has ``n``, ``N``, ``Mean``, ``Se``, ``Z``; without a key, ``<Item>`` stands for ``<Key>``. Two
+    claims with the same name are an error naming both. Counts: ``\\htClaimsTotal``,
+    ``\\htClaims<Status>`` for every status.
     """
-    values = {}
+    values, owner = {}, {}
     for r in claims.to_dict("records"):
-        base = macro_name(r["experiment"], r["item"])
+        base = macro_name(r["experiment"], r.get("key") or r["item"])
+        if base in owner:
+            raise ValueError(f"claims {owner[base]!r} and {r['item']!r} of {r['experiment']} both give macro "
+                             f"{base}; give them distinct keys")
+        owner[base] = r["item"]
         values[base + "Pub"] = r["published"]
         values[base + "Rep"] = r["reproduced"]
         values[base + "Status"] = r["status"]
+        values[base + "Evidence"] = r.get("evidence", "")
+        if r.get("n", ""):
+            for col in ("n", "mean", "se", "z"):
+                values[base + col.capitalize()] = r[col]
     counts = claims["status"].value_counts()
     values["htClaimsTotal"] = str(len(claims))
     for status in STATUSES:
@@ -261,8 +361,12 @@ def claim_macros(claims: pd.DataFrame) -> dict:
     return values
 
 
-def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_macros=None) -> pd.DataFrame:
+def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_macros=None,
+                       macros_paths=()) -> pd.DataFrame:
     """Write ``macros.tex``, ``claims_table.tex`` and copies of the figures under ``out_dir``.
+
+    Macros come from the claims (:func:`claim_macros`), the experiments' ``macros.csv`` files
+    (``macros_paths``, :func:`read_macros`) and ``extra_macros``; a name from two sources is an error.
 
     Figures keep their path relative to ``results_dir`` (``figures/<experiment>/<name>.pdf``) so
     the paper refers to them by experiment. Returns the union of the claims.
@@ -273,7 +377,11 @@ def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_m
     (out_dir / "figures").mkdir(parents=True, exist_ok=True)
     claims = read_claims(claims_paths)
     values = claim_macros(claims)
-    values.update(extra_macros or {})
+    for more in (read_macros(macros_paths), extra_macros or {}):
+        clash = sorted(set(values) & set(more))
+        if clash:
+            raise ValueError(f"macros defined twice: {clash}")
+        values.update(more)
     (out_dir / "macros.tex").write_text(macros_tex(values))
     (out_dir / "claims_table.tex").write_text(claims_table_tex(claims))
     for fig in map(Path, figure_paths):

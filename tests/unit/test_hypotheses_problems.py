@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from hypotrack.association import count_associations
-from hypotrack.hypotheses import ExhaustiveGenerator
 from hypotrack.experiments.generation_time import generation_time_point
+from hypotrack.hypotheses import ExhaustiveGenerator
 from hypotrack.hypotheses.problems import synthetic_problem, truth_rank
 
 PARAMS = dict(exhaustive_max_events=10**4, exhaustive_chunk_size=1 << 10, mcmc_steps=20_000, mcmc_burn_in=2000,
@@ -44,3 +44,52 @@ def test_generation_time_point_rows():
     assert mc["map_is_truth"] and mc["log10_hypotheses"] == pytest.approx(np.log10(count_associations(12, 12)))
     kb = generation_time_point("homht_kbest", 12, 12, PARAMS, seed=1)
     assert kb["map_is_truth"] and kb["n_generated"] == 20
+
+
+def test_paper_difficulty_is_the_default_problem():
+    a = synthetic_problem(5, 4, np.random.default_rng(3))
+    b = synthetic_problem(5, 4, seed=3, difficulty="paper")
+    assert np.array_equal(a.truth, b.truth) and np.array_equal(a.problem.score, b.problem.score)
+
+
+@pytest.mark.parametrize("difficulty", ["1sigma", "2sigma", "4sigma", "8sigma"])
+def test_ambiguous_difficulties(difficulty):
+    M = 20
+    draws = [synthetic_problem(M, difficulty=difficulty, seed=s) for s in range(40)]
+    m = np.array([d.problem.n_returns for d in draws])
+    assert (m > M).any() and (m < M).any()  # clutter-rich and miss-rich problems both occur
+    for d in draws:
+        det = d.truth[d.truth >= 0]
+        assert len(np.unique(det)) == len(det) and d.problem.n_objects == M
+    missed = M - np.array([np.sum(d.truth >= 0) for d in draws])
+    assert 0.05 < missed.mean() / M < 0.15  # p_D = 0.9
+    clutter = np.array([np.sum(d.truth < 0) for d in draws])
+    assert 1.0 < clutter.mean() < 3.5  # Poisson mean max(1, 0.1 M) = 2
+    again = synthetic_problem(M, difficulty=difficulty, seed=0)
+    assert np.array_equal(again.problem.score, draws[0].problem.score)  # seeded, deterministic
+
+
+def test_spacing_sets_ambiguity():
+    """At 1 sigma a detection is often more likely under a wrong object; at 8 sigma rarely."""
+    def confusable(difficulty):
+        n = 0
+        for s in range(10):
+            sp = synthetic_problem(16, difficulty=difficulty, seed=s)
+            t = sp.truth
+            for i in np.flatnonzero(t >= 0):
+                n += int(np.argmax(sp.context.loglik[i]) != t[i])
+        return n
+    assert confusable("1sigma") > 5 * max(confusable("8sigma"), 1)
+
+
+def test_synthetic_problem_bad_input():
+    with pytest.raises(ValueError, match="difficulty"):
+        synthetic_problem(3, difficulty="3sigma", seed=0)
+    with pytest.raises(ValueError, match="n_returns"):
+        synthetic_problem(3, 3, difficulty="4sigma", seed=0)
+    with pytest.raises(ValueError, match="n_returns"):
+        synthetic_problem(3, seed=0)
+    with pytest.raises(ValueError, match="exactly one"):
+        synthetic_problem(3, 3)
+    empty = synthetic_problem(0, difficulty="2sigma", seed=0)
+    assert empty.problem.n_objects == 0 and np.all(empty.truth == -1)

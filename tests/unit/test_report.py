@@ -1,5 +1,7 @@
 """The reproduction ledger: tolerance decisions, CSV round trip, LaTeX escaping and macro names."""
 
+from dataclasses import asdict
+
 import pandas as pd
 import pytest
 
@@ -48,9 +50,9 @@ def test_latex_helpers():
     assert r"\newcommand{\htX}{0.5\%}" in tex
     with pytest.raises(ValueError, match="letters only"):
         macros_tex({"ht1": "x"})
-    table = claims_table_tex(read_claims([]).pipe(lambda d: pd.concat([d, pd.DataFrame([dict(
-        experiment="e", item="i", source="s", published="1", reproduced="1", tolerance="0", status="reproduced",
-        note="")])])))
+    table = claims_table_tex(read_claims([]).pipe(lambda d: pd.concat([d, pd.DataFrame([{
+        "experiment": "e", "item": "i", "source": "s", "published": "1", "reproduced": "1", "tolerance": "0", "status": "reproduced",
+        "note": ""}])])))
     assert r"\textcolor{ForestGreen}" in table and "longtable" in table
 
 
@@ -76,3 +78,46 @@ def test_monte_carlo_rule_hand_computed():
         monte_carlo_claim("e", "i", "s", 1.0, n=10, mean=1.0, rel_tol=0.1)
     with pytest.raises(ValueError, match="evidence must be one of"):
         Claim("a", "b", "c", "d", "e", "f", "reproduced", evidence="vibes")
+
+
+def test_stable_keys_name_macros_and_collisions_fail(tmp_path):
+    from hypotrack.report import claim_macros, monte_carlo_claim, read_macros, write_macros
+
+    a = numeric_claim("generation_time", "R-FISST finds the truth up to A = 1e165 (M = m = 100)", "Fig 15", 1e33,
+                      1e165, rel_tol=0.1, key="rfisst_reach")
+    b = monte_carlo_claim("closely_spaced", "ideal MOSPA", "Table 6.1", 0.0363, n=1000, mean=0.0345, se=0.0002,
+                          rel_tol=0.1, key="mospa_ideal")
+    write_claims([a, b], tmp_path / "claims.csv")
+    values = claim_macros(read_claims([tmp_path / "claims.csv"]))
+    # the item text (with its config values) does not reach the name; digits in keys become letters
+    assert values["htGenerationTimeRfisstReachRep"] == "1e+165" and "htCloselySpacedMospaIdealZ" in values
+    assert values["htCloselySpacedMospaIdealZ"] == "-9.00" and values["htCloselySpacedMospaIdealN"] == "1000"
+    assert values["htCloselySpacedMospaIdealStatus"] == "systematic offset"
+    assert not any("MEM" in k or "BAA" in k for k in values)
+    with pytest.raises(ValueError, match="key must be"):
+        numeric_claim("x", "y", "z", 1.0, 1.0, abs_tol=0, key="M = 100")
+    c = numeric_claim("closely_spaced", "other", "s", 1.0, 1.0, abs_tol=0, key="mospa_ideal")
+    with pytest.raises(ValueError, match="both give macro htCloselySpacedMospaIdeal"):
+        claim_macros(pd.DataFrame([asdict(b), asdict(c)]))
+    # claims files written before the key column existed still read (key empty)
+    old = tmp_path / "old.csv"
+    pd.read_csv(tmp_path / "claims.csv").drop(columns="key").to_csv(old, index=False)
+    assert read_claims([old])["key"].tolist() == ["", ""]
+    # extra numbers: results/<experiment>/macros.csv
+    write_macros("hypotheses", {"fisst_homht_max_diff": 3e-14, "n_children": 18_000_000}, tmp_path / "m.csv")
+    assert read_macros([tmp_path / "m.csv"]) == {"htHypothesesFisstHomhtMaxDiff": "3e-14",
+                                                  "htHypothesesNChildren": "18000000"}
+    with pytest.raises(ValueError, match="macro name must be"):
+        write_macros("x", {"seed 3": 1}, tmp_path / "bad.csv")
+    write_macros("hypotheses", {"fisst_homht_max_diff": 1.0}, tmp_path / "n.csv")
+    with pytest.raises(ValueError, match="defined twice"):
+        read_macros([tmp_path / "m.csv", tmp_path / "n.csv"])
+
+
+def test_latex_value_typesets_powers_of_ten():
+    from hypotrack.report import latex_value
+
+    assert latex_value("3e-14") == r"\ensuremath{3\times10^{-14}}"
+    assert latex_value("1e+08") == r"\ensuremath{10^{8}}"
+    assert latex_value("1.8e7") == r"\ensuremath{1.8\times10^{7}}"
+    assert latex_value("0.5 at 1e3 m") == "0.5 at 1e3 m" and latex_value("50%") == r"50\%"

@@ -1,12 +1,13 @@
 # Seed 001's numeric claims, from the formulas and from the hypothesis engine's own weights:
 # the undetected-birth weight ratio (1 - p_D) alpha (Eq. 39), the Eq. 43 bound one scan later,
-# and FISST = HOMHT for a fixed number of targets (Sec. V-A). Small exhaustive problems: no shards.
+# and FISST = HOMHT for a fixed number of targets (Sec. V-A); and the engine's one-scan posterior against
+# an independent brute-force oracle of the seeds' densities. Small exhaustive problems: no shards.
 BS_DIR = f"{RESULTS}/belief_space"
 
 
 rule belief_space_ratio:
     output:
-        table=f"{BS_DIR}/undetected_birth_ratio.csv",
+        table=report_table(f"{BS_DIR}/undetected_birth_ratio.csv", "belief_space", "ratio_table"),
     params:
         cfg=config["belief_space"],
     script:
@@ -25,12 +26,22 @@ rule belief_space_eq43:
 
 rule belief_space_equivalence:
     output:
-        table=f"{BS_DIR}/fisst_vs_homht.csv",
+        table=report_table(f"{BS_DIR}/fisst_vs_homht.csv", "belief_space", "equivalence_table"),
     params:
         cfg=config["belief_space"],
         seed=config["belief_space"]["seed"],
     script:
         "../scripts/belief_space_equivalence.py"
+
+
+rule belief_space_oracle:
+    output:
+        table=report_table(f"{BS_DIR}/oracle.csv", "belief_space", "oracle_table"),
+    params:
+        cfg=config["belief_space"]["oracle"],
+        seed=config["belief_space"]["seed"],
+    script:
+        "../scripts/belief_space_oracle.py"
 
 
 rule belief_space_report:
@@ -39,13 +50,14 @@ rule belief_space_report:
         offsets=rules.belief_space_eq43.output.offsets,
         noise=rules.belief_space_eq43.output.noise,
         equivalence=rules.belief_space_equivalence.output.table,
+        oracle=rules.belief_space_oracle.output.table,
     output:
         ratio_pdf=f"{BS_DIR}/undetected_birth_ratio.pdf",
-        ratio_png=f"{BS_DIR}/undetected_birth_ratio.png",
+        ratio_png=report_figure(f"{BS_DIR}/undetected_birth_ratio.png", "belief_space", "undetected_birth_ratio"),
         eq43_pdf=f"{BS_DIR}/eq43_bound.pdf",
-        eq43_png=f"{BS_DIR}/eq43_bound.png",
+        eq43_png=report_figure(f"{BS_DIR}/eq43_bound.png", "belief_space", "eq43_bound"),
         equivalence_pdf=f"{BS_DIR}/fisst_vs_homht.pdf",
-        equivalence_png=f"{BS_DIR}/fisst_vs_homht.png",
+        equivalence_png=report_figure(f"{BS_DIR}/fisst_vs_homht.png", "belief_space", "fisst_vs_homht"),
         checks=f"{BS_DIR}/checks.csv",
         claims=f"{BS_DIR}/claims.csv",
     params:
@@ -58,6 +70,7 @@ BS_TARGETS = [
     *rules.belief_space_ratio.output,
     *rules.belief_space_eq43.output,
     *rules.belief_space_equivalence.output,
+    *rules.belief_space_oracle.output,
     *rules.belief_space_report.output,
 ]
 

@@ -21,8 +21,8 @@ rule cardinality_table:
         shards=expand(f"{CA_DIR}/shards/shard_{{shard}}.csv", shard=CA_SHARDS),
         realisation=f"{CA_DIR}/fig_4_2.csv",
     output:
-        table=f"{CA_DIR}/monte_carlo.csv",
-        optimality=f"{CA_DIR}/tetris_optimality.csv",
+        table=report_table(f"{CA_DIR}/monte_carlo.csv", "cardinality", "monte_carlo"),
+        optimality=report_table(f"{CA_DIR}/tetris_optimality.csv", "cardinality", "tetris_optimality"),
         claims=f"{CA_DIR}/claims.csv",
     params:
         cfg=config["cardinality"],
@@ -35,7 +35,7 @@ rule cardinality_realisation:
         counts=f"{CA_DIR}/fig_4_2.csv",
         tracks=f"{CA_DIR}/fig_4_2_tracks.csv",
         fig_pdf=f"{CA_DIR}/fig_4_2.pdf",
-        fig_png=f"{CA_DIR}/fig_4_2.png",
+        fig_png=report_figure(f"{CA_DIR}/fig_4_2.png", "cardinality", "fig_4_2"),
     params:
         cfg=config["cardinality"],
         seed=config["seed"],

@@ -22,10 +22,10 @@ rule generation_time_figure:
     input:
         expand(f"{GT_DIR}/shards/{{method}}.csv", method=GT_METHODS),
     output:
-        table=f"{GT_DIR}/generation_time.csv",
+        table=report_table(f"{GT_DIR}/generation_time.csv", "generation_time", "generation_time_table"),
         outcomes=f"{GT_DIR}/generation_time_outcomes.csv",
         pdf=f"{GT_DIR}/generation_time.pdf",
-        png=f"{GT_DIR}/generation_time.png",
+        png=report_figure(f"{GT_DIR}/generation_time.png", "generation_time", "generation_time"),
         claims=f"{GT_DIR}/claims.csv",
     params:
         cfg=config["generation_time"],

@@ -8,6 +8,10 @@ def _paper_claims(wildcards):
     return sorted(t for t in ALL_TARGETS if str(t).endswith("claims.csv"))
 
 
+def _paper_macros(wildcards):
+    return sorted(t for t in ALL_TARGETS if str(t).endswith("macros.csv"))
+
+
 def _paper_figures(wildcards):
     return sorted(t for t in ALL_TARGETS if str(t).endswith(".pdf") and "/paper/" not in str(t))
 
@@ -16,6 +20,7 @@ rule paper_generated:
     input:
         claims=_paper_claims,
         figures=_paper_figures,
+        macros=_paper_macros,
     output:
         macros="paper/generated/macros.tex",
         table="paper/generated/claims_table.tex",

@@ -6,9 +6,9 @@ PH_DIR = f"{RESULTS}/perf"
 
 rule perf_hypotheses_benchmark:
     output:
-        table=f"{PH_DIR}/hypotheses_throughput.csv",
+        table=report_table(f"{PH_DIR}/hypotheses_throughput.csv", "perf_hypotheses", "hypotheses_throughput_table"),
         pdf=f"{PH_DIR}/hypotheses_throughput.pdf",
-        png=f"{PH_DIR}/hypotheses_throughput.png",
+        png=report_figure(f"{PH_DIR}/hypotheses_throughput.png", "perf_hypotheses", "hypotheses_throughput"),
     params:
         cfg=config["perf_hypotheses"],
     threads: 2  # timings want the machine to themselves

@@ -9,11 +9,11 @@ PS_DIR = f"{RESULTS}/perf"
 rule perf_sht_benchmark:
     output:
         timings=f"{PS_DIR}/sht_timings.csv",
-        speedups=f"{PS_DIR}/sht_speedups.csv",
+        speedups=report_table(f"{PS_DIR}/sht_speedups.csv", "perf_sht", "sht_speedups"),
         largest_runs=f"{PS_DIR}/sht_largest_runs.csv",
         largest=f"{PS_DIR}/sht_largest_cluster.csv",
         pdf=f"{PS_DIR}/sht_timings.pdf",
-        png=f"{PS_DIR}/sht_timings.png",
+        png=report_figure(f"{PS_DIR}/sht_timings.png", "perf_sht", "sht_timings"),
     params:
         cfg=config["perf_sht"],
     threads: 2  # timings want the machine to themselves

@@ -8,7 +8,7 @@ SHT_SWEEP_SHARDS = range(config["sht"]["sweep"]["n_shards"])
 
 rule sht_lecture:
     output:
-        validation=f"{SHT_DIR}/lecture_validation.csv",
+        validation=report_table(f"{SHT_DIR}/lecture_validation.csv", "sht", "lecture_validation"),
         hypotheses=f"{SHT_DIR}/lecture_hypotheses.csv",
         summary=f"{SHT_DIR}/lecture_summary.csv",
         clusters=f"{SHT_DIR}/lecture_clusters.csv",
@@ -37,10 +37,10 @@ rule sht_crossing:
         per_run=expand(f"{SHT_DIR}/shards/crossing_per_run_{{shard}}.csv", shard=SHT_CROSS_SHARDS),
     output:
         curves=f"{SHT_DIR}/crossing_mospa.csv",
-        summary=f"{SHT_DIR}/crossing_summary.csv",
+        summary=report_table(f"{SHT_DIR}/crossing_summary.csv", "sht", "crossing_summary"),
         example=f"{SHT_DIR}/crossing_example.csv",
         fig_pdf=f"{SHT_DIR}/crossing_coalescence.pdf",
-        fig_png=f"{SHT_DIR}/crossing_coalescence.png",
+        fig_png=report_figure(f"{SHT_DIR}/crossing_coalescence.png", "sht", "crossing_coalescence"),
     params:
         cfg=config["sht"],
         seed=config["seed"],
@@ -66,7 +66,7 @@ rule sht_sweep:
     output:
         table=f"{SHT_DIR}/clutter_sweep.csv",
         fig_pdf=f"{SHT_DIR}/clutter_sweep.pdf",
-        fig_png=f"{SHT_DIR}/clutter_sweep.png",
+        fig_png=report_figure(f"{SHT_DIR}/clutter_sweep.png", "sht", "clutter_sweep"),
     params:
         cfg=config["sht"],
     script:

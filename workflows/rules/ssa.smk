@@ -32,7 +32,7 @@ rule ssa_figure:
         prior=f"{RESULTS}/ssa/{{case}}_prior.csv",
     output:
         pdf=f"{RESULTS}/ssa/{{case}}_scenario.pdf",
-        png=f"{RESULTS}/ssa/{{case}}_scenario.png",
+        png=report_figure(f"{RESULTS}/ssa/{{case}}_scenario.png", "ssa", "scenario"),
     params:
         ssa=config["ssa"],
     script:

@@ -45,13 +45,13 @@ rule ssa15_figures:
         scans=f"{RESULTS}/ssa/ssa15_scans.csv",
         prior=f"{RESULTS}/ssa/ssa15_prior.csv",
     output:
-        metrics=f"{SSA15_DIR}/metrics.csv",
-        agreement=f"{SSA15_DIR}/agreement.csv",
+        metrics=report_table(f"{SSA15_DIR}/metrics.csv", "ssa15", "metrics"),
+        agreement=report_table(f"{SSA15_DIR}/agreement.csv", "ssa15", "agreement"),
         snapshots=f"{SSA15_DIR}/estimate_snapshots.csv",
         fig12_pdf=f"{SSA15_DIR}/fig_12_14_estimates.pdf",
-        fig12_png=f"{SSA15_DIR}/fig_12_14_estimates.png",
+        fig12_png=report_figure(f"{SSA15_DIR}/fig_12_14_estimates.png", "ssa15", "fig_12_14_estimates"),
         comparison_pdf=f"{SSA15_DIR}/comparison.pdf",
-        comparison_png=f"{SSA15_DIR}/comparison.png",
+        comparison_png=report_figure(f"{SSA15_DIR}/comparison.png", "ssa15", "comparison"),
         claims=f"{SSA15_DIR}/claims.csv",
     params:
         section=config["ssa15"],

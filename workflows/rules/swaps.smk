@@ -20,13 +20,13 @@ rule swaps_figures:
         expand(f"{SW_DIR}/shards/shard_{{shard}}.csv", shard=SW_SHARDS),
     output:
         curves=f"{SW_DIR}/swap_curves.csv",
-        rates=f"{SW_DIR}/optimal_swap_rate.csv",
+        rates=report_table(f"{SW_DIR}/optimal_swap_rate.csv", "swaps", "optimal_swap_rate"),
         fig51_pdf=f"{SW_DIR}/fig_5_1.pdf",
-        fig51_png=f"{SW_DIR}/fig_5_1.png",
+        fig51_png=report_figure(f"{SW_DIR}/fig_5_1.png", "swaps", "fig_5_1"),
         fig52_pdf=f"{SW_DIR}/fig_5_2.pdf",
-        fig52_png=f"{SW_DIR}/fig_5_2.png",
+        fig52_png=report_figure(f"{SW_DIR}/fig_5_2.png", "swaps", "fig_5_2"),
         fig53_pdf=f"{SW_DIR}/fig_5_3.pdf",
-        fig53_png=f"{SW_DIR}/fig_5_3.png",
+        fig53_png=report_figure(f"{SW_DIR}/fig_5_3.png", "swaps", "fig_5_3"),
         claims=f"{SW_DIR}/claims.csv",
     params:
         cfg=config["swaps"],

@@ -15,9 +15,13 @@ TH_FIGURES = {
 TH_NOTEBOOKS = config["theory"]["notebooks"]
 
 
-def _theory_outputs(name):
-    figures = [f"{TH_DIR}/{name}_{stem}.{ext}" for stem in TH_FIGURES[name] for ext in ("pdf", "png")]
-    return [f"{TH_DIR}/{name}.json", f"{TH_DIR}/{name}.ipynb", f"{TH_DIR}/{name}.html", *figures]
+def _theory_outputs(name, for_report=False):
+    def mark(path, caption):  # report flags only on the rules' own outputs, not on ALL_TARGETS
+        return report_figure(path, "theory", caption) if for_report else path
+
+    figures = [f"{TH_DIR}/{name}_{stem}.pdf" for stem in TH_FIGURES[name]]
+    figures += [mark(f"{TH_DIR}/{name}_{stem}.png", "figure") for stem in TH_FIGURES[name]]
+    return [f"{TH_DIR}/{name}.json", f"{TH_DIR}/{name}.ipynb", mark(f"{TH_DIR}/{name}.html", "notebook"), *figures]
 
 
 for _name in TH_NOTEBOOKS:
@@ -29,7 +33,7 @@ for _name in TH_NOTEBOOKS:
             notebook=f"theory/{_name}.py",
             common="theory/_common.py",
         output:
-            _theory_outputs(_name),
+            _theory_outputs(_name, for_report=True),
         params:
             ipynb=f"{TH_DIR}/{_name}.ipynb",
             out=os.path.abspath(TH_DIR),

@@ -1,4 +1,5 @@
-"""Collect claims and figures into paper/generated/ (thin wrapper over hypotrack.report)."""
+"""Collect claims, the experiments' macros.csv files and figures into paper/generated/ (thin wrapper over
+hypotrack.report)."""
 
 import subprocess
 
@@ -11,5 +12,6 @@ claims = build_paper_inputs(
     out_dir="paper/generated",
     results_dir=snakemake.params.results,
     extra_macros={"htCommit": commit or "unknown"},
+    macros_paths=snakemake.input.macros,
 )
 claims.to_csv(snakemake.output.ledger, index=False)

@@ -50,6 +50,29 @@ def _gumbel_keys(lw, rng):
     return lw if rng is None else lw + rng.gumbel(size=lw.shape)
 
 
+def _twins_never_heavier(pop, ctx, p, in_view) -> bool:
+    """Whether every twin weighs at most its association child, for the twins actually made.
+
+    Then a child outside a parent's best ``keep`` association children cannot have a twin
+    inside the best ``keep`` children overall, and asking the generator for the best ``keep``
+    only (pre-trimming) is exact. The twins' full log-ratios are checked, with the detection
+    factors the twin changes: an undetected birth adds ``log(1 − p_D)``; a death removes the
+    dead object's miss factor, i.e. adds ``−log(1 − p_D,j)`` > 0 (e.g. β = 0.2, p_D = 0.99:
+    the population ratio is < 0 but the twin outweighs its child).
+    """
+    n_view, M = int(in_view.sum()), len(p)
+    if pop.n_birth_regions:
+        ub = np.max(pop.undetected_birth_log_ratio(n_view, M)) + np.log1p(-ctx.p_detect_birth)
+        if ub > 0:
+            return False
+    elig = pop.death_eligible(in_view)
+    if M and elig.any():
+        de = np.max(pop.death_log_ratio(n_view, M)) - np.min(np.log1p(-p[elig]))
+        if de > 0:
+            return False
+    return True
+
+
 class HypothesisFilter:
     """Multi-object filter on the hypothesis space (seed 000 Algorithm/Prop. 1–2).
 
@@ -211,14 +234,8 @@ class HypothesisFilter:
         pop_lp = pop.log_event_prob(n_view, len(tr)) if pop is not None else None
         problem = self.weights.problem(ctx, tr, float(self._log_w[h]), pop_lp)
         gen_keep = None
-        if keep is not None and keys_rng is None:
-            if pop is None:
-                gen_keep = keep
-            elif (np.all(pop.undetected_birth_log_ratio(n_view, len(tr)) <= 0)
-                  and np.all(pop.death_log_ratio(n_view, len(tr)) <= 0)):
-                # Each twin weighs no more than its association child, so children outside the
-                # best `keep` cannot have twins inside it: pre-trimming is exact.
-                gen_keep = keep
+        if keep is not None and keys_rng is None and (pop is None or _twins_never_heavier(pop, ctx, p, in_view)):
+            gen_keep = keep
         events, lw = self.generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
         n_generated = len(lw)
@@ -288,8 +305,18 @@ class HypothesisFilter:
     def step(self, Z, dt=None):
         """Advance one scan with returns ``Z`` (m, p); ``m = 0`` is a scan with no returns.
 
-        Returns the :class:`Posterior` after the scan.
+        Returns the :class:`Posterior` after the scan. All-or-nothing: if the step raises (bad
+        scan, a generator over its budget, no child left), the filter — hypotheses, tracks,
+        scan index and the random generator's state — is as before, so the scan can be retried.
         """
+        rng_state = self.rng.bit_generator.state
+        try:
+            return self._step(Z, dt)
+        except BaseException:
+            self.rng.bit_generator.state = rng_state
+            raise
+
+    def _step(self, Z, dt):
         t0 = time.perf_counter()
         dt = self.dt if dt is None else check_positive(dt, "dt")
         Z = check_measurements(Z, "Z", self.H.shape[0])
@@ -359,14 +386,16 @@ class HypothesisFilter:
         if old.any():
             means[old], covs[old] = update_pairs(pred, ctx.Z, self.H, self.R, src[old], ret[old])
             labels[old] = pred.labels[src[old]]
+        next_label = self._next_label
         for q in np.flatnonzero(~old):
             z = ctx.Z[ret[q]] if ret[q] >= 0 else None
             if src[q] == seeded_src:
                 means[q], covs[q] = self.weights.birth_density.initial_state(z, self.R)
             else:
                 means[q], covs[q] = self.population.birth_track(int(-1 - src[q]), z, self.R)
-            labels[q] = self._next_label
-            self._next_label += 1
+            labels[q] = next_label
+            next_label += 1
+        self._next_label = next_label
         self._store = TrackStore(means, covs, labels)
         self._tracks = new_lists
         self._keys = [

@@ -1,6 +1,9 @@
 """ssa15: MAP agreement of the compared trackers, Figs 12-14, OSPA of every tracker and the claims."""
 
 import matplotlib
+from hypotrack.experiments.joblog import claims_line, prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
@@ -60,4 +63,4 @@ write_macros("ssa15", timing_macros, out.timing_macros)
 write_claims(timing_claims, out.timing_claims)
 claims = st.ssa15_claims(metrics, agreements, matched, estimate_scans=snapshot_scans, n_scans=K,
                          error_bound_probability=sec["error_bound_probability"], labels=labels) + extra
-print(write_claims(claims, out.claims).to_string(index=False), flush=True)
+print(claims_line(write_claims(claims, out.claims), out.claims), flush=True)

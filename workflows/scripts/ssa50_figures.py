@@ -2,6 +2,9 @@
 time, the completion step's measured effect and the reproduction claims."""
 
 import matplotlib
+from hypotrack.experiments.joblog import claims_line, prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
@@ -68,5 +71,5 @@ st.save_figure(st.plot_expected_number(metrics[primary], read[primary]["cardinal
 st.save_figure(st.plot_ospa(all_metrics, st.OSPASettings(**sec["ospa"]), labels=labels,
                             title=f"OSPA of the top-hypothesis estimates ({n_all} objects, {n_all - n_known} births)"),
                out.ospa_pdf, out.ospa_png)
-print(write_claims(claims, out.claims).to_string(index=False), flush=True)
+print(claims_line(write_claims(claims, out.claims), out.claims), flush=True)
 write_claims(timing_claims, out.timing_claims)

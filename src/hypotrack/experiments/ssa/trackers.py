@@ -41,6 +41,9 @@ class TrackerSettings:
         MCMC proposals per parent per scan (R-FISST).
     mcmc_variant : {"paper", "symmetric", "gibbs"}
         The MCMC proposal (``"paper"``: seed 000 Sec. III-B).
+    completion_rounds : int
+        Rounds of this project's deterministic neighbour search after the chain
+        (:class:`hypotrack.hypotheses.MCMCGenerator`); ``0`` is the paper's chain alone (R-FISST).
     alpha, beta, n_birth_regions, birth_velocity_std :
         Seed 000's single-event birth/death model (Eq. 30) of the FISST trackers: birth
         probability per region per scan, death probability per in-view object per scan,
@@ -58,6 +61,7 @@ class TrackerSettings:
     gate_probability: float | None = None
     n_steps: int = 10_000
     mcmc_variant: str = "paper"
+    completion_rounds: int = 2
     alpha: float = 1e-3
     beta: float = 1e-4
     n_birth_regions: int = 10
@@ -73,6 +77,7 @@ class TrackerSettings:
             check_probability(self.gate_probability, "gate_probability", low_open=True, high_open=True)
         check_int(self.n_steps, "n_steps", minimum=1)
         check_int(self.max_events, "max_events", minimum=1)
+        check_int(self.completion_rounds, "completion_rounds", minimum=0)
         check_positive(self.birth_velocity_std, "birth_velocity_std")
         if self.kind == "homht" and self.population:
             raise ValueError("population must be False for homht "
@@ -80,8 +85,11 @@ class TrackerSettings:
 
     @property
     def label(self) -> str:
-        """Name for legends and claims, e.g. ``"R-FISST"`` or ``"R-FISST, fixed number"``."""
+        """Name for legends and claims, e.g. ``"R-FISST, paper chain"`` or
+        ``"R-FISST + completion, fixed number"``."""
         name = TRACKER_NAMES[self.kind]
+        if self.kind == "rfisst":
+            name += " + completion" if self.completion_rounds else ", paper chain"
         return name if self.population or self.kind == "homht" else f"{name}, fixed number"
 
     @classmethod
@@ -131,5 +139,5 @@ def make_tracker(scenario: SSAScenario, settings: TrackerSettings, seed):
                   if s.population else None)
     if s.kind == "rfisst":
         return rfisst(scenario.motion, scenario.sensor, n_steps=s.n_steps, variant=s.mcmc_variant,
-                      population=population, **common)
+                      completion_rounds=s.completion_rounds, population=population, **common)
     return hfisst(scenario.motion, scenario.sensor, max_events=s.max_events, population=population, **common)

@@ -15,7 +15,6 @@ snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 params = difficulty_params(snakemake.params.cfg)
 table = pd.concat([pd.read_csv(p) for p in snakemake.input.outcomes], ignore_index=True)
 timing = pd.concat([pd.read_csv(p) for p in snakemake.input.timing], ignore_index=True)
-bench = pd.read_csv(snakemake.input.benchmark).to_dict("records")
 table.to_csv(snakemake.output.table, index=False, float_format="%.10g")
 timing.to_csv(snakemake.output.timing, index=False, float_format="%.6g")
 summary = difficulty_summary(table)
@@ -23,6 +22,6 @@ summary.to_csv(snakemake.output.summary, index=False, float_format="%.10g")
 plot_difficulty(summary, snakemake.output.pdf, snakemake.output.png, labels=DIFFICULTY_LABELS,
                 mcmc_steps=int(params["mcmc_steps"]), keep=int(params["keep"]),
                 reference_k=int(params["reference_k"]), exhaustive_max_events=int(params["exhaustive_max_events"]))
-claims, macros = difficulty_claims(table, bench, params)
+claims, macros = difficulty_claims(table, params)
 write_claims(claims, snakemake.output.claims)
 write_macros("generation_time", macros, snakemake.output.macros)

@@ -258,3 +258,17 @@ def test_integer_input_gives_float_results():
     xu, Pu = g.update([0, 0], [[1, 0], [0, 1]], [1, 3], [[1, 0], [0, 1]], [[1, 0], [0, 1]])
     np.testing.assert_array_equal(xu, [0.5, 1.5])
     np.testing.assert_array_equal(Pu, [[0.5, 0.0], [0.0, 0.5]])
+
+
+def test_one_track_and_no_track_edge_shapes(rng):
+    S = _random_spd(rng, 2, 1)
+    z_pred = rng.normal(size=(1, 2))
+    Z = rng.normal(size=(2, 2))
+    d2, logdet = g.mahalanobis2_matrix(Z, z_pred, S)  # one track, two returns
+    for i in range(2):
+        assert d2[i, 0] == pytest.approx((Z[i] - z_pred[0]) @ np.linalg.solve(S[0], Z[i] - z_pred[0]), rel=1e-12)
+    d2, logdet = g.mahalanobis2_matrix(Z, np.zeros((0, 2)), np.zeros((0, 2, 2)))  # no track
+    assert d2.shape == (2, 0) and logdet.shape == (0,)
+    x1, P1 = g.predict_with(ConstantVelocity(0.3), np.ones(4), np.eye(4), 1.0)  # single-track form
+    assert x1.shape == (4,) and P1.shape == (4, 4)
+    np.testing.assert_allclose(x1, [2.0, 2.0, 1.0, 1.0])

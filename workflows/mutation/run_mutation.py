@@ -7,17 +7,18 @@ the package source and only the test files that exercise the module, and runs
 execute it, so each mutant runs only those). It then reads mutmut's per-file ``.meta`` results
 and writes ``results/quality/mutation.csv``::
 
-    module, mutants, killed, survived, no_tests, timeout, equivalent, killed_pct_non_equivalent, seconds
+    module, mutants, killed, survived, no_tests, timeout, not_run, equivalent, killed_pct_non_equivalent, seconds
 
+``not_run`` counts mutants an interrupted run did not reach (left out of the score).
 ``equivalent`` counts the surviving mutants listed, each with a one-line reason, in
 ``workflows/mutation/equivalent.yaml`` (mutants that change no observable behaviour); the score
-is ``killed / (mutants − equivalent)``, so a survivor, a mutant no selected test reaches
-("no tests") and a timeout all count against it. The surviving, non-equivalent mutants are
+is ``(killed + timeout) / (mutants − equivalent − not_run)`` (a mutant that makes the tests hang
+is detected), so a survivor and a mutant no selected test reaches ("no tests") count against it. The surviving, non-equivalent mutants are
 listed in ``results/quality/mutation_survivors.csv`` (``mutmut show <name>`` in the scratch
 directory prints the diff).
 
-Usage (from the repository root; about 3 min for ``gaussian`` on one core, far longer for the
-engine modules)::
+Usage (from the repository root; about 10 min for ``gaussian`` on one shared core, far longer for
+the engine modules)::
 
     python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
     python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
@@ -72,7 +73,7 @@ MODULES = {
 # mutmut 3 exit codes (mutmut.stats.status_by_exit_code)
 KILLED, SURVIVED, NO_TESTS = {1, 3}, {0}, {5, 33}
 TIMEOUT = {36, 24, -24, 152, 255}
-FIELDS = ["module", "mutants", "killed", "survived", "no_tests", "timeout", "equivalent",
+FIELDS = ["module", "mutants", "killed", "survived", "no_tests", "timeout", "not_run", "equivalent",
           "killed_pct_non_equivalent", "seconds"]
 
 
@@ -129,19 +130,25 @@ def summarise(module: str, seconds: float, equivalent: dict):
     survivors, row = [], dict.fromkeys(FIELDS[1:-2], 0)
     for name, code in sorted(codes.items()):
         row["mutants"] += 1
+        if code is None:  # an interrupted run: not tested yet, left out of the score
+            row["not_run"] += 1
+            continue
         if code in KILLED:
             row["killed"] += 1
             continue
         if name in equivalent:
             row["equivalent"] += 1
             continue
-        kind = "survived" if code in SURVIVED else "no_tests" if code in NO_TESTS else \
-            "timeout" if code in TIMEOUT else "survived"
+        if code in TIMEOUT:
+            row["timeout"] += 1
+            continue
+        kind = "no_tests" if code in NO_TESTS else "survived"
         row[kind] += 1
         survivors.append({"module": module, "mutant": name, "status": kind,
                           "function": re.sub(r"__mutmut_\d+$", "", name)})
-    denom = row["mutants"] - row["equivalent"]
-    row["killed_pct_non_equivalent"] = round(100.0 * row["killed"] / denom, 1) if denom else 100.0
+    denom = row["mutants"] - row["equivalent"] - row["not_run"]
+    detected = row["killed"] + row["timeout"]  # a mutant that hangs the tests is caught too
+    row["killed_pct_non_equivalent"] = round(100.0 * detected / denom, 1) if denom else 100.0
     return {"module": module, **row, "seconds": round(seconds)}, survivors
 
 

@@ -31,12 +31,12 @@ rule ssa_seeds_table:
         rows=expand(f"{SSA_SEEDS_DIR}/shards/seed_{{shard}}.csv", shard=SSA_SEEDS),
         timing=expand(f"{SSA_SEEDS_DIR}/shards/seed_{{shard}}_timing.csv", shard=SSA_SEEDS),
     output:
-        per_seed=f"{SSA_SEEDS_DIR}/per_seed.csv",
-        summary=f"{SSA_SEEDS_DIR}/summary.csv",
+        per_seed=report_table(f"{SSA_SEEDS_DIR}/per_seed.csv", "ssa_seeds", "per_seed"),
+        summary=report_table(f"{SSA_SEEDS_DIR}/summary.csv", "ssa_seeds", "summary"),
         timing=f"{SSA_SEEDS_DIR}/seed_timing.csv",
         claims=f"{SSA_SEEDS_DIR}/claims.csv",
         fig_pdf=f"{SSA_SEEDS_DIR}/distributions.pdf",
-        fig_png=f"{SSA_SEEDS_DIR}/distributions.png",
+        fig_png=report_figure(f"{SSA_SEEDS_DIR}/distributions.png", "ssa_seeds", "distributions"),
     script:
         "../scripts/ssa_seeds_table.py"
 

@@ -86,7 +86,7 @@ def sampler_macros(det: pd.DataFrame, timing: pd.DataFrame) -> tuple[dict, dict]
     out = {"Budget": int(b), "NProblems": int(det.n_problems.min())}
     times = {}
     for _, r in det[det.budget == b].iterrows():
-        name = r.difficulty.replace("sigma", "Sigma") + "".join(p.capitalize() for p in r.sampler.split("_"))
+        name = "At" + r.difficulty.replace("sigma", "Sigma") + "".join(p.capitalize() for p in r.sampler.split("_"))
         out[f"{name}Mass"] = f"{r.mass_mean:.4g}"
         out[f"{name}Map"] = f"{100 * r.map_found:.0f}"
         times[f"{name}Ms"] = f"{1e3 * t.loc[(r.difficulty, r.sampler, b), 'time_mean_s']:.3g}"

@@ -65,6 +65,7 @@ __all__ = [
     "claim_macros",
     "claims_markdown",
     "claims_table_tex",
+    "config_macros",
     "latex_escape",
     "latex_value",
     "macro_name",
@@ -177,6 +178,10 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
     Give either ``samples`` (one value per run; s.e. = sample sd / √n) or ``n``, ``mean`` and ``se``,
     and exactly one of ``rel_tol`` (relative to the published value) or ``abs_tol`` as the stated
     reconstruction tolerance.
+
+    ``published=None``: a Monte Carlo measurement the documents give no number for (status
+    ``extension``, evidence ``measurement``): n, mean and s.e. are reported, z is empty and no
+    tolerance is taken.
     """
     import numpy as np
 
@@ -191,6 +196,12 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
         raise ValueError("give samples, or all of n, mean and se")
     if int(n) < 2:
         raise ValueError(f"n must be >= 2, got {n}")
+    if published is None:
+        if rel_tol is not None or abs_tol is not None:
+            raise ValueError("a claim without a published value takes no tolerance")
+        return Claim(experiment, item, source, "--", _fmt(float(mean), digits), "--", "extension", note,
+                     "measurement" if evidence == "published number" else evidence, str(int(n)),
+                     f"{float(mean):.6g}", f"{float(se):.3g}", "", key)
     if (rel_tol is None) == (abs_tol is None):
         raise ValueError("give exactly one of rel_tol, abs_tol")
     tol = rel_tol * abs(published) if rel_tol is not None else abs_tol
@@ -257,6 +268,8 @@ def latex_value(value) -> str:
     mantissa of 1 is dropped (``1e8`` -> ``10^{8}``).
     """
     text = str(value).strip()
+    if re.fullmatch(r"-?\d{5,}", text):  # 100000 -> 100{,}000
+        return re.sub(r"(?<=\d)(?=(\d{3})+$)", "{,}", text)
     m = _SCI.fullmatch(text)
     if not m:
         return latex_escape(text)
@@ -308,6 +321,30 @@ def read_macros(paths) -> dict:
             if name in values:
                 raise ValueError(f"{p}: macro {name} defined twice")
             values[name] = r["value"]
+    return values
+
+
+def config_macros(config: dict) -> dict:
+    """``\\htCfg<Section><Key>...`` for every scalar of the run's config (lists are skipped).
+
+    The paper quotes a setting (runs, steps, sensors) through these, so a changed config changes
+    the text with it; the names are the config's keys, never its values.
+    """
+    values = {}
+
+    def walk(node, path):
+        for k, v in node.items():
+            if isinstance(v, dict):
+                walk(v, (*path, str(k)))
+            elif isinstance(v, bool) or v is None or isinstance(v, (list, tuple)):
+                continue
+            else:
+                name = macro_name("cfg", *path, k)
+                if name in values:
+                    raise ValueError(f"config keys {'.'.join((*path, str(k)))!r} and another both give {name}")
+                values[name] = _fmt(v, 6) if isinstance(v, (int, float)) else str(v)
+
+    walk({k: v for k, v in config.items() if k != "results"}, ())  # a path, not a setting
     return values
 
 
@@ -400,7 +437,11 @@ def claims_markdown(claims: pd.DataFrame) -> str:
     return "\n".join(rows) + "\n"
 
 
-if __name__ == "__main__":  # python -m hypotrack.report results/paper/ledger.csv -> Markdown ledger
-    import sys
+if __name__ == "__main__":  # python -m hypotrack.report <claims.csv ...>  -> the ledger as Markdown
+    import sys                 # python -m hypotrack.report readme <ledger.csv> <README.md> [--check]
 
+    if sys.argv[1:2] == ["readme"]:
+        from .readme import main
+
+        raise SystemExit(main(sys.argv[2:]))
     print(claims_markdown(read_claims(sys.argv[1:])), end="")

@@ -121,3 +121,14 @@ def test_latex_value_typesets_powers_of_ten():
     assert latex_value("1e+08") == r"\ensuremath{10^{8}}"
     assert latex_value("1.8e7") == r"\ensuremath{1.8\times10^{7}}"
     assert latex_value("0.5 at 1e3 m") == "0.5 at 1e3 m" and latex_value("50%") == r"50\%"
+
+
+def test_monte_carlo_measurement_without_published_value():
+    from hypotrack.report import monte_carlo_claim
+
+    c = monte_carlo_claim("sht", "JPDA track loss", "extension", None, [0.0, 1.0, 1.0, 0.0], key="jpda_loss")
+    # mean 0.5, sd sqrt(1/3), se = sqrt(1/3)/2 = 0.2887
+    assert (c.status, c.evidence, c.n, c.mean, c.se, c.z, c.published) == (
+        "extension", "measurement", "4", "0.5", "0.289", "", "--")
+    with pytest.raises(ValueError, match="no tolerance"):
+        monte_carlo_claim("sht", "x", "s", None, [0.0, 1.0], rel_tol=0.1)

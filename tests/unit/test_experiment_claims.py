@@ -75,12 +75,12 @@ def test_cardinality_claims_need_a_significant_difference():
     optimality = pd.DataFrame(dict(variant=["cardinality_tracker"], fraction_at_optimum=[0.25], worst_gap=[5.5],
                                    n_runs=[50]))
     fig42 = pd.DataFrame(dict(classical_mht=[0, 0, 0]))
-    claims = cardinality_claims(errors, optimality, fig42, p_d=0.9)
+    claims = cardinality_claims(errors, optimality, fig42, {"p_d": 0.9})
     assert [c.status for c in claims] == ["reproduced", "reproduced", "reproduced", "not reproduced"]
     # difference 88.3, s.e. of the difference hypot(3, 4) = 5 -> 17.7 s.e.
     assert claims[1].note == "50 runs; difference 88.3 = 17.7 s.e." and claims[3].evidence == "independent oracle"
     # the same means with s.e. 20 and 25 (difference 2.8 s.e. of hypot = 32.0) are not a significant difference
     noisy = errors.assign(std_error=[20.0, 25.0])
-    assert cardinality_claims(noisy, optimality, fig42, p_d=0.9)[1].status == "not reproduced"
-    assert cardinality_claims(errors, optimality, pd.DataFrame(dict(classical_mht=[0, 2])), p_d=0.9)[0].status == \
+    assert cardinality_claims(noisy, optimality, fig42, {"p_d": 0.9})[1].status == "not reproduced"
+    assert cardinality_claims(errors, optimality, pd.DataFrame(dict(classical_mht=[0, 2])), {"p_d": 0.9})[0].status == \
         "not reproduced"

@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from scipy import stats
 from scipy.special import logsumexp
 
 from hypotrack.association import EnumerationBudgetError
@@ -17,7 +18,7 @@ from hypotrack.hypotheses import (
 )
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.hypotheses.population_events import SingleEventPopulation
+from hypotrack.hypotheses.population_events import BinomialPopulation, SingleEventPopulation
 from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
 
 REGION = Box([-50.0, -50.0], [50.0, 50.0])
@@ -227,3 +228,82 @@ def test_binomial_survival_death_twins():
     for ev, dead, w in deaths:
         assert dead not in ev  # only a missed object can have died
         assert w - base[ev.tobytes()] == pytest.approx(np.log((1 - p_s) / (p_s * (1 - p_D))), abs=1e-12)
+
+
+def _hand_scene(population_model):
+    """One object in view at the origin, one out of view (x = 60), one return near the first;
+    the view is REGION (V = 100 × 100), the birth region is the whole view."""
+    view_sensor = Sensor(LinearPositionSensor(np.eye(2) * 0.5, 4), DetectionModel(0.8, REGION),
+                         PoissonClutter(1.0, REGION))
+    X = np.array([[0.0, 0.0, 1.0, 0.0], [60.0, 0.0, 0.0, 0.0]])
+    P = np.repeat(np.diag([1.0, 1.0, 0.2, 0.2])[None], 2, axis=0)
+    f = hfisst(MOTION, view_sensor, population=population_model, max_hypotheses=50, means=X, covs=P)
+    z = np.array([1.3, -0.2])
+    F, Q = MOTION.F(1.0), MOTION.Q(1.0)
+    H = np.hstack([np.eye(2), np.zeros((2, 2))])
+    S = H @ (F @ P[0] @ F.T + Q) @ H.T + np.eye(2) * 0.5
+    log_n = stats.multivariate_normal(H @ F @ X[0], S).logpdf(z)  # N(z; H x̂⁻, S) of the object in view
+    return f, z[None], log_n
+
+
+def _children_by_key(children):
+    return {(int(k), int(a), tuple(e)): lw
+            for k, a, e, lw in zip(children.kind, children.arg, children.events.tolist(), children.log_weights)}
+
+
+def test_single_event_children_weighed_by_hand():
+    """Seed 000 Eq. 8 × Eq. 30 child by child. Only the object in view counts in
+    M_d (P(no event) = 1 − α − 1·β, not 1 − α − 2β) and only it may die; the out-of-view object
+    has p_D = 0 (missed with probability 1). Columns: 0 object in view, 1 out of view, 2 birth."""
+    alpha, beta, p_D, V = 0.01, 0.05, 0.8, 100.0 * 100.0
+    pop = SingleEventPopulation(SingleEventBirthDeath(alpha, beta, 1),
+                                birth_densities=[UniformBirthDensity(REGION, np.eye(2) * 4.0)])
+    f, Z, log_n = _hand_scene(pop)
+    p_none = np.log(1 - alpha - beta)
+    a_detect = p_none + np.log(p_D) + log_n  # −log(C(1,1) 1!) = 0
+    a_clutter = p_none + np.log(1 - p_D) + np.log(1 / V)
+    a_birth = np.log(alpha) + np.log(p_D) - np.log(V) + np.log(1 - p_D)  # born and detected; object missed
+    expected = {
+        (0, -1, (0,)): a_detect,
+        (0, -1, (-1,)): a_clutter,
+        (0, -1, (2,)): a_birth,
+        (1, 0, (0,)): a_detect + np.log(alpha) - p_none + np.log(1 - p_D),  # undetected birth
+        (1, 0, (-1,)): a_clutter + np.log(alpha) - p_none + np.log(1 - p_D),
+        (2, 0, (-1,)): np.log(beta) + np.log(1 / V),  # object 0 died; the return is clutter
+    }
+    got = _children_by_key(f.expand(Z))
+    assert got.keys() == expected.keys()
+    for key, lw in expected.items():
+        assert got[key] == pytest.approx(lw, abs=1e-10), key
+    post = f.step(Z)
+    w = np.array(list(expected.values()))
+    np.testing.assert_allclose(np.sort(post.log_weights), np.sort(w - logsumexp(w)), atol=1e-10)
+    # cardinality: 1 object after a death, 3 after a birth (detected or not), 2 otherwise
+    card = {1: w[5], 2: np.logaddexp(w[0], w[1]), 3: np.logaddexp.reduce(w[2:5])}
+    for n, lw in card.items():
+        assert post.cardinality[n] == pytest.approx(np.exp(lw - logsumexp(w)), abs=1e-12)
+
+
+def test_binomial_children_weighed_by_hand():
+    """Seed 001's binomial model: every object may die (in view or not), the death ratio is
+    (1 − p_s)/p_s, and the out-of-view object's twin keeps its weight factor 1 − 0 = 1."""
+    alpha, p_s, p_D, V = 0.02, 0.9, 0.8, 100.0 * 100.0
+    pop = BinomialPopulation([UniformBirthDensity(REGION, np.eye(2) * 4.0)], alpha=alpha, p_survive=p_s)
+    f, Z, log_n = _hand_scene(pop)
+    base = np.log(1 - alpha) + 2 * np.log(p_s)  # no birth in the one pixel, both survive
+    a_detect = base + np.log(p_D) + log_n
+    a_clutter = base + np.log(1 - p_D) - np.log(V)
+    a_birth = np.log(alpha) + 2 * np.log(p_s) + np.log(p_D) - np.log(V) + np.log(1 - p_D)
+    death = np.log((1 - p_s) / p_s)
+    birth = np.log(alpha / (1 - alpha)) + np.log(1 - p_D)
+    expected = {
+        (0, -1, (0,)): a_detect, (0, -1, (-1,)): a_clutter, (0, -1, (2,)): a_birth,
+        (1, 0, (0,)): a_detect + birth, (1, 0, (-1,)): a_clutter + birth,
+        (2, 1, (0,)): a_detect + death, (2, 1, (-1,)): a_clutter + death, (2, 1, (2,)): a_birth + death,
+        (2, 0, (-1,)): a_clutter + death - np.log(1 - p_D),
+        (2, 0, (2,)): a_birth + death - np.log(1 - p_D),
+    }
+    got = _children_by_key(f.expand(Z))
+    assert got.keys() == expected.keys()
+    for key, lw in expected.items():
+        assert got[key] == pytest.approx(lw, abs=1e-10), key

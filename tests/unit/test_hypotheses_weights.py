@@ -90,6 +90,28 @@ def test_birth_column_holds_birth_likelihood_and_detection():
     assert w == pytest.approx(expected, abs=1e-12)
 
 
+@pytest.mark.parametrize("model", ["hfisst", "fisst_poisson"])
+def test_births_count_among_detections_m4(model):
+    """m = 4 returns, 2 objects, 1 birth region; event: z0 -> object 0, z1 -> birth, z2 clutter,
+    z3 -> object 1. The birth's return is a detection: k + b = 3 detections, so H-FISST divides
+    by C(4, 3) 3! = 24 (not C(4, 2) 2! = 12) and FISST-Poisson sees k' = 1 clutter return (not 2)."""
+    rng = np.random.default_rng(7)
+    loglik = rng.normal(size=(4, 2))
+    birth = np.log(np.full((4, 1), 1 / 20.0))
+    lam_v, V, p_b = 2.0, 50.0, 0.7
+    ctx = context(loglik, [0.9, 0.6], rate=lam_v, volume=V, birth_loglik=birth, p_birth=p_b)
+    pop = np.array([np.log(0.95), np.log(0.02)])
+    problem = make_weight_model(model).problem(ctx, np.arange(2), constant=0.25, population_log_prob=pop)
+    event = np.array([[0, 2, -1, 1]])  # column 2 is the birth region
+    common = (0.25 + math.log(0.02) + math.log(0.9 * 0.6) + loglik[0, 0] + loglik[3, 1]
+              + math.log(1 / 20.0) + math.log(p_b))
+    if model == "hfisst":
+        expected = common - math.log(math.comb(4, 3) * math.factorial(3)) + math.log(1 / V)
+    else:  # Eq. 6-7 with k' = 1: e^{-λV} (λV)^1 / 1! × 1! / V
+        expected = common - lam_v + math.log(lam_v) - math.log(V)
+    assert problem.log_weights(event)[0] == pytest.approx(expected, abs=1e-12)
+
+
 def test_bad_input():
     with pytest.raises(ValueError, match="birth_intensity"):
         ReidWeights(birth_intensity=-1.0)

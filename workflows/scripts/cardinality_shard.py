@@ -1,8 +1,8 @@
 """Cardinality Monte Carlo, one shard: per-run cardinality errors and Tetris optimality gaps."""
-from hypotrack.scenarios.tables import write_table
 from hypotrack.experiments.cardinality import cardinality_monte_carlo, monte_carlo_table
-from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.experiments.ecmht import shard_runs
+from hypotrack.experiments.seeds import experiment_seeds
+from hypotrack.scenarios.tables import write_table
 
 cfg = snakemake.params.cfg  # noqa: F821
 shard = int(snakemake.wildcards.shard)  # noqa: F821

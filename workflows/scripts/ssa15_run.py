@@ -1,6 +1,6 @@
 """Run one tracker (wildcard ``tracker``: rfisst or homht) over the ssa15 scenario tables."""
 
-from hypotrack.experiments.ssa_tracking import run_and_save
+from hypotrack.experiments.ssa import run_and_save
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 run_and_save(snakemake.config, "ssa15", snakemake.wildcards.tracker, snakemake.input, snakemake.output,

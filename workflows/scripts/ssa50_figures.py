@@ -5,7 +5,7 @@ import matplotlib
 matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
 
-from hypotrack.experiments import ssa_tracking as st  # noqa: E402
+from hypotrack.experiments import ssa as st  # noqa: E402
 from hypotrack.report import write_claims  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
 

@@ -1,6 +1,6 @@
 """Run R-FISST over the ssa50 scenario tables; save its per-scan posterior tables."""
 
-from hypotrack.experiments.ssa_tracking import run_and_save
+from hypotrack.experiments.ssa import run_and_save
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 run_and_save(snakemake.config, "ssa50", "rfisst", snakemake.input, snakemake.output, snakemake.log[0],

@@ -14,6 +14,7 @@ from .assignment import (
     k_best_events,
     murty_k_best,
 )
+from .cardinality_assignment import cardinality_k_best, cardinality_map
 from .clustering import Cluster, find_clusters, unassociated_measurements
 from .counting import count_associations, count_children, count_gated_associations
 from .enumeration import EnumerationBudgetError, enumerate_associations, event_dtype, iter_association_chunks
@@ -32,6 +33,8 @@ __all__ = [
     "association_score_matrix",
     "columns_to_event",
     "k_best_events",
+    "cardinality_k_best",
+    "cardinality_map",
     "gate_threshold",
     "validation_matrix",
     "gate_measurements",

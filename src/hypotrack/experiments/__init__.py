@@ -5,8 +5,8 @@ reproduction claims; the pipeline's scripts only read and write files. One modul
 
 Modules
 -------
-ssa_tracking              seed 000 Sec. IV–V: R-FISST on the 50-object birth scenario (Figs 6,
-                          8–11) and R-FISST vs HOMHT on the 15-object scenario (Figs 12–14).
+ssa                       seed 000 Sec. IV–V (a package, one module per step): R-FISST on the
+                          50-object birth scenario (Figs 6, 8–11) and R-FISST vs HOMHT on the 15-object scenario (Figs 12–14).
 generation_time           seed 000 Fig. 15: hypothesis-generation time; throughput benchmarks.
 generation_time_figures   figures of the hypothesis-engine experiments.
 belief_space              seed 001's numeric claims against the hypothesis engine.

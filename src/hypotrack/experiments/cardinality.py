@@ -3,7 +3,9 @@
 :func:`cardinality_run` simulates one counts-only realisation and runs the classical
 track-oriented MHT (exact MAP of Eq. 4.1), the cardinality tracker (Tetris extraction, both
 variants) and the exact equivalence-class MAP (count dynamic programme); :func:`cardinality_monte_carlo`
-repeats it over seeded runs and tabulates the cardinality errors and the Tetris optimality gap.
+repeats it over seeded runs and tabulates the cardinality errors and the Tetris optimality gap;
+:func:`realisation_tables` and :func:`plot_realisation` give Fig. 4.2, :func:`cardinality_claims`
+the reproduction claims.
 """
 
 from __future__ import annotations
@@ -12,11 +14,20 @@ import numpy as np
 import pandas as pd
 
 from .._validation import check_int, check_positive
+from ..report import Claim
 from ..scenarios.cardinality import simulate_cardinality
 from ..trackers.cardinality import CountModel, exact_count_dp, tetris_extract
 
-__all__ = ["CARDINALITY_METHODS", "cardinality_claims", "cardinality_monte_carlo", "cardinality_run", "monte_carlo_table",
-           "summarise_cardinality"]
+__all__ = [
+    "CARDINALITY_METHODS",
+    "cardinality_claims",
+    "cardinality_monte_carlo",
+    "cardinality_run",
+    "monte_carlo_table",
+    "plot_realisation",
+    "realisation_tables",
+    "summarise_cardinality",
+]
 
 #: Estimators compared in the cardinality experiment, in plotting order.
 CARDINALITY_METHODS = ("classical_mht", "cardinality_tracker", "tetris_group", "exact_class_map")
@@ -147,8 +158,43 @@ def summarise_cardinality(per_run: pd.DataFrame):
     return errors, optimality
 
 
-def cardinality_claims(errors: pd.DataFrame, optimality: pd.DataFrame, fig42: pd.DataFrame, *, p_d: float) -> list:
-    """Ledger rows of 003 Sec. 4 / Fig 4.2 from the Monte Carlo tables and the Fig 4.2 realisation.
+def realisation_tables(result: dict):
+    """Fig. 4.2's tables from one :func:`cardinality_run`: per-scan counts of every method
+    (``scan, n_true, r`` and one column per :data:`CARDINALITY_METHODS` entry) and the
+    cardinality tracker's tracks (``row, start, end, n_meas, log_score``)."""
+    counts = pd.DataFrame({"scan": np.arange(len(result["n_true"])), "n_true": result["n_true"], "r": result["r"]})
+    for m in CARDINALITY_METHODS:
+        counts[m] = result[m]
+    tracks = pd.DataFrame([{"row": t.row, "start": t.start, "end": t.end, "n_meas": len(t.scans),
+                            "log_score": t.log_score} for t in result["tracks"]],
+                          columns=["row", "start", "end", "n_meas", "log_score"])
+    return counts, tracks
+
+
+def plot_realisation(counts: pd.DataFrame, cfg):
+    """Seed 003 Fig. 4.2: truth, measured counts and every method's estimated number of targets
+    over one realisation (``counts`` from :func:`realisation_tables`; ``cfg`` the config section)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 4.8))
+    ax.plot(counts["scan"], counts["r"], ".", color="0.6", ms=3, label="measured count r_k")
+    ax.plot(counts["scan"], counts["n_true"], "k-", lw=2, label="truth n_k")
+    ax.plot(counts["scan"], counts["cardinality_tracker"], "-", color="tab:blue", label="cardinality tracker (Tetris)")
+    ax.plot(counts["scan"], counts["exact_class_map"], "--", color="tab:cyan", lw=1, label="exact class MAP (count DP)")
+    ax.plot(counts["scan"], counts["classical_mht"], "-", color="tab:red", label="classical MHT (MAP hypothesis)")
+    ax.set_xlabel("scan k")
+    ax.set_ylabel("number of targets")
+    ax.set_title(f"Fig 4.2: cardinality tracking, truth vs estimated number of targets\n"
+                 f"N = {cfg['n_scans']} scans, p_chi = {cfg['p_chi']:g}, "
+                 f"lambda_b = {cfg['lambda_b']:g}, lambda_fa = {cfg['lambda_fa']:g}, p_d = {cfg['p_d']:g}")
+    ax.legend(fontsize=8, loc="center right")
+    fig.tight_layout()
+    return fig
+
+
+def cardinality_claims(errors: pd.DataFrame, optimality: pd.DataFrame, counts: pd.DataFrame, cfg) -> list:
+    """Ledger rows of seed 003 §4 from the Monte Carlo tables of :func:`summarise_cardinality` and
+    Fig. 4.2's ``counts`` (:func:`realisation_tables`).
 
     * the classical MHT's MAP hypothesis is the null solution (no tracks) in the Fig 4.2 run;
     * the cardinality tracker "vastly outperforms" it: reproduced when its mean |n̂ − n| is below
@@ -157,8 +203,6 @@ def cardinality_claims(errors: pd.DataFrame, optimality: pd.DataFrame, fig42: pd
     * the Tetris extraction is optimal: the share of runs in which it reaches the exact optimum of
       the class objective, computed independently by the count dynamic programme.
     """
-    from ..report import Claim
-
     e, o = errors.set_index("method"), optimality.set_index("variant")
     n = int(e.loc["classical_mht", "n_runs"])
     trk, cls = e.loc["cardinality_tracker"], e.loc["classical_mht"]
@@ -168,9 +212,9 @@ def cardinality_claims(errors: pd.DataFrame, optimality: pd.DataFrame, fig42: pd
     frac = float(o.loc["cardinality_tracker", "fraction_at_optimum"])
     return [
         Claim("cardinality", "classical MHT returns no tracks (Fig 4.2)", "003 Sec. 4, Fig 4.2", "no tracks",
-              f"max n-hat = {int(fig42['classical_mht'].max())}", "exact",
-              "reproduced" if fig42["classical_mht"].max() == 0 else "not reproduced",
-              f"p_d = {p_d:g} (not given in the paper); exact MAP by the count DP", "published number",
+              f"max n-hat = {int(counts['classical_mht'].max())}", "exact",
+              "reproduced" if counts["classical_mht"].max() == 0 else "not reproduced",
+              f"p_d = {cfg['p_d']:g} (not given in the paper); exact MAP by the count DP", "published number",
               key="classical_no_tracks"),
         Claim("cardinality", "cardinality tracker vastly outperforms classical MHT", "003 Sec. 4", "qualitative",
               f"mean |n-hat - n| {trk['mean_abs_error']:.3g} ± {trk['std_error']:.2g} vs "

@@ -15,8 +15,11 @@ log-weights (:meth:`AssociationProblem.log_weights`); ``keep`` asks for the ``ke
     ``max_events``; with ``keep`` it streams chunks and holds only the running best.
 :class:`MurtyGenerator`
     The k best events by Murty's algorithm on the extended assignment matrix. Exact when the
-    count term is constant (HOMHT); otherwise (H-FISST's ``−log(C(m,k) k!)``) the k-best list is
-    grown until the k-th exact weight beats every unseen event's upper bound.
+    count term is constant (HOMHT); otherwise (H-FISST's ``−log(C(m,k) k!)``) Murty runs
+    within each block of equal counts and the blocks are merged best first
+    (:func:`hypotrack.association.cardinality_assignment.cardinality_k_best`, polynomial); with
+    a second row option (seeded births) and a count term the k-best list is grown until the
+    k-th exact weight beats every unseen event's upper bound.
 :class:`MCMCGenerator`
     R-FISST (seed 000 Sec. III): the distinct events an MCMC chain visits after burn-in, each
     weighted exactly (:func:`hypotrack.association.mcmc.mcmc_search`).
@@ -39,6 +42,7 @@ from ..association import (
     iter_association_chunks,
     murty_k_best,
 )
+from ..association.cardinality_assignment import cardinality_k_best
 from ..association.mcmc import MCMC_VARIANTS, mcmc_search
 from .association_problem import SEEDED_BIRTH, AssociationProblem
 
@@ -171,6 +175,10 @@ class MurtyGenerator(ChildGenerator):
         if problem.n_returns == 0:
             return _empty_scan(problem)
         k = self.k if keep is None else min(self.k, keep)
+        if problem.n_options == 1 and not problem.count_term_is_constant:
+            events, lw = cardinality_k_best(problem.target_scores, problem.option_scores[:, 0], problem.n_objects,
+                                            problem.count_term, k)
+            return events, lw + problem.constant
         score, n_cols = _murty_matrix(problem)
         finite_phi = problem.count_term[np.isfinite(problem.count_term)]
         phi_max = float(finite_phi.max()) if finite_phi.size else -np.inf

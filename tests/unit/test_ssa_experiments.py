@@ -1,4 +1,4 @@
-"""The SSA tracking driver (hypotrack.experiments.ssa_tracking) on tiny SSA scenarios.
+"""The SSA tracking driver (hypotrack.experiments.ssa) on tiny SSA scenarios.
 
 Oracles: the scenario's own truth (a near-perfect sensor must give the catalogue's size and
 measurement-level errors), exhaustive H-FISST (R-FISST must find the same posterior), and
@@ -12,7 +12,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from hypotrack.experiments import ssa_tracking as st
+from hypotrack.experiments import ssa as st
 from hypotrack.report import STATUSES
 from hypotrack.scenarios.ssa import SSAParams, prior_table, simulate_ssa
 from hypotrack.scenarios.tables import state_columns, write_table

@@ -46,6 +46,7 @@ def test_perf_claims_report_measured_ranges():
     table = pd.DataFrame(dict(benchmark=["mcmc"], label=["m"], variant=["paper"], per_second=[9.8e6],
                               target_per_second=[1e6], meets_target=[True], peak_bytes=[None]))
     assert throughput_claims(table)[0].reproduced == "9.80e+06 proposals/s"
+    assert throughput_claims(table)[0].key == "mcmc_paper"
 
 
 def test_swap_claims_follow_the_curves():

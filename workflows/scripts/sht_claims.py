@@ -1,10 +1,11 @@
-"""Ledger rows of the sht experiment (thin)."""
+"""Ledger rows and paper numbers of the sht experiment (thin)."""
 
 import pandas as pd
 
-from hypotrack.experiments.sht import sht_claims
-from hypotrack.report import write_claims
+from hypotrack.experiments.sht import lecture_macros, sht_claims
+from hypotrack.report import write_claims, write_macros
 
 inp = snakemake.input  # noqa: F821
 write_claims(sht_claims(pd.read_csv(inp.clusters), pd.read_csv(inp.curves), pd.read_csv(inp.summary)),
              snakemake.output.claims)  # noqa: F821
+write_macros("sht", lecture_macros(pd.read_csv(inp.lecture)), snakemake.output.macros)  # noqa: F821

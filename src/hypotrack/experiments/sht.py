@@ -54,6 +54,7 @@ __all__ = [
     "plot_crossing",
     "plot_sweep",
     "sht_claims",
+    "lecture_macros",
 ]
 
 LECTURE_VALIDATION = np.array([[0, 0, 1], [0, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=bool)
@@ -420,6 +421,14 @@ def plot_sweep(table, cfg, pdf, png):
 
 
 # ---------------------------------------------------------------- ledger
+def lecture_macros(summary: pd.DataFrame) -> dict:
+    """The worked example's counts the paper quotes (``results/sht/macros.csv``): targets, returns,
+    association hypotheses with FA and NT kept apart and with both merged into EX."""
+    v = summary.set_index("quantity")["value"]
+    return {"lecture_targets": int(v["targets"]), "lecture_returns": int(v["returns"]),
+            "lecture_hypotheses_fa_nt": int(v["hypotheses_FA_NT"]), "lecture_hypotheses_ex": int(v["hypotheses_EX"])}
+
+
 def sht_claims(clusters: pd.DataFrame, curves: pd.DataFrame, summary: pd.DataFrame) -> list:
     """The reproduction-ledger rows of the ``sht`` experiment.
 

@@ -27,14 +27,8 @@ from hypotrack.trackers.ecmht import (
     mospa_two_targets,
     swap_merge,
 )
-from hypotrack.experiments.ecmht import (
-    TABLE_6_1,
-    closely_spaced_monte_carlo,
-    experiment_seeds,
-    summarise_closely_spaced,
-    summarise_swaps,
-    swap_shard,
-)
+from hypotrack.experiments.closely_spaced import TABLE_6_1, closely_spaced_monte_carlo, summarise_closely_spaced
+from hypotrack.experiments.ecmht import experiment_seeds, summarise_swaps, swap_shard
 
 MODEL = OrnsteinUhlenbeck(0.01, 0.005)
 H = np.eye(1)
@@ -287,12 +281,20 @@ def test_swap_shards_pool_to_the_same_curves_as_one_run():
     np.testing.assert_allclose(curves["log_prob_class"] - curves["log_prob_single"], np.log(comb(6, np.arange(7))))
 
 
-def test_table_summary_pools_runs_with_standard_errors():
-    per_run = pd.DataFrame({"method": ["ideal"] * 4 + ["PDAF"] * 4 + ["PDAF[equivalent]"] * 4,
-                            "run": list(range(4)) * 3, "mospa": [1.0, 2.0, 3.0, 4.0] * 3})
-    t = summarise_closely_spaced(per_run, "sequential").set_index("method")
-    assert t.loc["ideal", "reproduced_mospa"] == 2.5
-    assert t.loc["ideal", "std_error"] == pytest.approx(np.std([1, 2, 3, 4], ddof=1) / 2)
-    assert t.loc["PDAF", "published_mospa"] == 0.8518 and t.loc["PDAF", "pdaf_variant"] == "sequential"
-    assert np.isnan(t.loc["PDAF[equivalent]", "published_mospa"])
+def test_table_summary_pools_runs_with_standard_errors_and_verdicts():
+    per_run = pd.DataFrame({"method": ["ideal"] * 4 + ["PDAF"] * 4 + ["PDAF[equivalent]"] * 4 + ["MHT"] * 4,
+                            "run": list(range(4)) * 4,
+                            "mospa": [0.0340, 0.0342, 0.0344, 0.0346] + [0.20, 0.21, 0.22, 0.23] + [1.0, 2.0, 3.0, 4.0]
+                            + [0.1376, 0.1386, 0.1366, 0.1376]})
+    t = summarise_closely_spaced(per_run, "sequential", rel_tol=0.10).set_index("method")
+    se = np.std([0.0340, 0.0342, 0.0344, 0.0346], ddof=1) / 2
+    assert t.loc["ideal", "n"] == 4 and t.loc["ideal", "mean"] == pytest.approx(0.0343)
+    assert t.loc["ideal", "se"] == pytest.approx(se)
+    # (0.0343 − 0.0363)/se = −15.5: more than 3 s.e. off but 5.5 % from 0.0363, within 10 % → systematic offset
+    assert t.loc["ideal", "z"] == pytest.approx((0.0343 - 0.0363) / se)
+    assert t.loc["ideal", "verdict"] == "systematic offset"
+    assert t.loc["MHT", "verdict"] == "reproduced" and t.loc["MHT", "z"] == pytest.approx(0.0)
+    assert t.loc["PDAF", "verdict"] == "not reproduced"  # 0.215 against 0.8518: z = −99, 75 % off
+    assert t.loc["PDAF", "published"] == 0.8518 and t.loc["PDAF", "pdaf_variant"] == "sequential"
+    assert np.isnan(t.loc["PDAF[equivalent]", "published"]) and t.loc["PDAF[equivalent]", "verdict"] == ""
     assert t.loc["PDAF[equivalent]", "pdaf_variant"] == "equivalent"

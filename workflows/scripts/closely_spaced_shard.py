@@ -1,29 +1,21 @@
 """Table 6.1, one Monte Carlo shard: per-run and per-scan MOSPA of every filter."""
-import numpy as np
-import pandas as pd
-
-from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.closely_spaced import closely_spaced_monte_carlo, shard_tables
+from hypotrack.experiments.ecmht import shard_runs
 from hypotrack.experiments.seeds import experiment_seeds
-from hypotrack.experiments.ecmht import closely_spaced_monte_carlo, shard_runs
+from hypotrack.scenarios.tables import write_table
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 shard = int(snakemake.wildcards.shard)  # noqa: F821
 n_runs = shard_runs(cfg["n_runs"], cfg["n_shards"], shard)
 first_run = sum(shard_runs(cfg["n_runs"], cfg["n_shards"], s) for s in range(shard))
 seed = experiment_seeds(snakemake.params.seed, "closely_spaced", cfg["n_shards"])[shard]  # noqa: F821
-print(f"closely_spaced shard {shard}: {n_runs} runs x {cfg['n_scans']} scans", flush=True)
+print(f"closely_spaced shard {shard}/{cfg['n_shards']}: {n_runs} runs x {cfg['n_scans']} scans", flush=True)
 res = closely_spaced_monte_carlo(
     sigma2=cfg["sigma2"], gamma=cfg["gamma"], n_runs=n_runs, n_scans=cfg["n_scans"], n_sensors=cfg["n_sensors"],
     R=cfg["R"], dt=cfg["dt"], initial_variance=cfg["initial_variance"], pdaf_variant=cfg["pdaf_variant"],
-    extra_pdaf_variants=[v for v in cfg["extra_pdaf_variants"] if v != cfg["pdaf_variant"]], seed=seed,
+    extra_pdaf_variants=[v for v in cfg["extra_pdaf_variants"] if v != cfg["pdaf_variant"]],
+    transient_scans=cfg["transient_scans"], seed=seed,
 )
-scans = np.arange(1, cfg["n_scans"])
-per_run = pd.concat(
-    [pd.DataFrame({"method": m, "run": first_run + np.arange(n_runs), "mospa": v}) for m, v in res["per_run"].items()]
-)
-per_scan = pd.concat(
-    [pd.DataFrame({"method": m, "scan": scans, "time": scans * cfg["dt"], "mospa": v, "n_runs": n_runs})
-     for m, v in res["per_scan"].items()]
-)
+per_run, per_scan = shard_tables(res, first_run=first_run, dt=cfg["dt"])
 write_table(per_run, snakemake.output.per_run)  # noqa: F821
 write_table(per_scan, snakemake.output.per_scan)  # noqa: F821

@@ -11,7 +11,11 @@ generation_time           seed 000 Fig. 15: hypothesis-generation time; throughp
 generation_time_figures   figures of the hypothesis-engine experiments.
 belief_space              seed 001's numeric claims against the hypothesis engine.
 cardinality               seed 003 §4, Fig. 4.2: cardinality tracking Monte Carlo.
-ecmht                     seed 003 §5–6: swap experiment and Table 6.1.
+ecmht                     seed 003 §5: the swap experiment (Figs 5.1–5.3); Monte Carlo shard sizes.
+closely_spaced            seed 003 Table 6.1, Figs 6.1–6.2: Monte Carlo of the four filters.
+closely_spaced_oracle     the ideal filter's MOSPA in closed form (Riccati moments), every convention.
+closely_spaced_claims     Table 6.1 ledger rows: Monte Carlo verdicts, closed form, published ideal.
+closely_spaced_figures    MOSPA over time and Figs 6.1–6.2.
 sht                       lecture notes 004: worked example, GNN vs JPDA on crossing targets.
 perf_sht                  per-scan timing of GNN and JPDA against a peer implementation.
 seeds                     seed streams: one master seed, independent children per experiment.

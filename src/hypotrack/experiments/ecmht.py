@@ -7,10 +7,9 @@ Snakemake scripts only read a config section, call one function per shard and wr
   measurement and the average single-hypothesis / hypothesis-class log-probability (Eq. 5.22)
   against the number of random swaps, for two static targets seen by N sensors, and the swap
   rate ``i*/N`` minimising that RMS (or maximising the class probability) against distance.
-* :func:`closely_spaced_monte_carlo` — Table 6.1: MOSPA of the ideal filter, PDAF, MHT and
-  ECMHT on the two-target OU problem, scored on the one-step prediction ``X(k|k−1)``.
-* :func:`summarise_closely_spaced` — pool shards into Table 6.1 with standard errors.
-* :func:`closely_spaced_realisation` — one realisation's tracks (Figs 6.1–6.2).
+* :func:`shard_runs` — how many Monte Carlo runs each shard of an experiment takes.
+
+Table 6.1 and Figs 6.1–6.2 (the closely spaced targets) live in :mod:`.closely_spaced`.
 """
 
 from __future__ import annotations
@@ -19,28 +18,18 @@ import numpy as np
 import pandas as pd
 from scipy.special import gammaln
 
-from .seeds import experiment_seeds
-from .._validation import check_finite_array, check_int, check_nonnegative, check_positive
-from ..models.motion import OrnsteinUhlenbeck
+from .seeds import experiment_seeds  # noqa: F401  (re-exported: callers seed swap shards from here)
+from .._validation import check_finite_array, check_int, check_positive
 from ..report import Claim
-from ..scenarios.closely_spaced import simulate_closely_spaced, static_pair_scans
-from ..trackers.ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter, mospa_two_targets
+from ..scenarios.closely_spaced import static_pair_scans
 
 __all__ = [
-    "TABLE_6_1",
     "swap_shard",
     "summarise_swaps",
     "shard_runs",
-    "summarise_closely_spaced",
-    "pool_per_scan",
-    "closely_spaced_monte_carlo",
-    "closely_spaced_realisation",
     "swap_claims",
     "plot_swap_figures",
 ]
-
-#: Published MOSPA (m², see reconstruction §5.4) of Table 6.1.
-TABLE_6_1 = {"ideal": 0.0363, "PDAF": 0.8518, "MHT": 0.1376, "ECMHT": 0.0586}
 
 
 def _swap_statistics(Z_lower, Z_upper, truth, sigma, rng):
@@ -149,139 +138,6 @@ def shard_runs(n_runs: int, n_shards: int, shard: int) -> int:
     n_shards = check_int(n_shards, "n_shards", minimum=1, maximum=n_runs)
     shard = check_int(shard, "shard", minimum=0, maximum=n_shards - 1)
     return n_runs // n_shards + (1 if shard < n_runs % n_shards else 0)
-
-
-def _filters(model, R, n_sensors, dt, ecmht_rng, pdaf_variant):
-    return {
-        "ideal": IdealFilter(model, R, n_sensors, dt),
-        "PDAF": PDAFilter(model, R, n_sensors, dt, variant=pdaf_variant),
-        "MHT": GNNFilter(model, R, n_sensors, dt),
-        "ECMHT": ECMHTFilter(model, R, n_sensors, dt, rng=ecmht_rng),
-    }
-
-
-def _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance, pdaf_variant, seed):
-    """Simulate the scenario and build the four filters from two independent child streams."""
-    model = OrnsteinUhlenbeck(sigma2, gamma)
-    scen_seed, ecmht_seed = (np.random.SeedSequence(seed) if isinstance(seed, int) else seed).spawn(2)
-    real = simulate_closely_spaced(
-        model, n_runs=n_runs, n_scans=n_scans, n_sensors=n_sensors, R=R, dt=dt,
-        initial_variance=initial_variance, rng=np.random.default_rng(scen_seed),
-    )
-    return model, real, _filters(model, R, n_sensors, dt, np.random.default_rng(ecmht_seed), pdaf_variant)
-
-
-def closely_spaced_monte_carlo(
-    *,
-    sigma2: float,
-    gamma: float,
-    n_runs: int,
-    n_scans: int,
-    n_sensors: int,
-    R: float,
-    dt: float = 1.0,
-    initial_variance: float = 0.01,
-    pdaf_variant: str = "sequential",
-    extra_pdaf_variants=(),
-    seed,
-) -> dict:
-    """Table 6.1: MOSPA of the ideal filter, PDAF, MHT and ECMHT over ``n_runs`` realisations.
-
-    Each scan ``k ≥ 2`` is scored with :func:`~hypotrack.trackers.ecmht.mospa_two_targets` of
-    the one-step predictions ``X(k|k−1)`` against the truth ``x_k`` (reconstruction §6.4).
-
-    Parameters
-    ----------
-    sigma2, gamma : float
-        OU intensity σ_q² (m²/s) and mean-reversion rate γ (1/s).
-    n_runs, n_scans, n_sensors : int
-    R : float
-        Per-sensor measurement variance (m²).
-    dt : float
-        Scan interval (s).
-    initial_variance : float
-        Variance of each target's initial position (m²).
-    pdaf_variant : str
-        Multi-sensor PDAF form reported as "PDAF" (see :data:`~hypotrack.trackers.ecmht.PDAF_VARIANTS`).
-    extra_pdaf_variants : sequence of str
-        Further PDAF forms scored as ``"PDAF[<variant>]"``.
-    seed : int or numpy.random.SeedSequence
-        Seeds the scenario and the ECMHT's sensor orders (two independent streams).
-
-    Returns
-    -------
-    dict
-        ``per_run`` — method → (n_runs,) mean MOSPA of each run; ``per_scan`` — method →
-        (n_scans − 1,) MOSPA averaged over runs for scans 2..n_scans; ``mean_swaps`` — the
-        ECMHT's mean ``i*`` per scan.
-    """
-    for v in (pdaf_variant, *extra_pdaf_variants):
-        if v not in PDAF_VARIANTS:
-            raise ValueError(f"PDAF variant must be one of {PDAF_VARIANTS}, got {v!r}")
-    n_scans = check_int(n_scans, "n_scans", minimum=2)
-    model, real, filters = _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance,
-                                                 pdaf_variant, seed)
-    for v in extra_pdaf_variants:
-        filters[f"PDAF[{v}]"] = PDAFilter(model, R, n_sensors, dt, variant=v)
-    scores = {name: np.empty((real.truth.shape[0], n_scans - 1)) for name in filters}
-    swaps = np.empty(n_scans - 1)
-    for k in range(n_scans):
-        for name, f in filters.items():
-            f.step(real.scans[:, k])
-            if k > 0:
-                scores[name][:, k - 1] = mospa_two_targets(f.predictions(), real.truth[:, k])
-        if k > 0:
-            swaps[k - 1] = filters["ECMHT"].last_swaps.mean()
-    return {
-        "per_run": {name: s.mean(axis=1) for name, s in scores.items()},
-        "per_scan": {name: s.mean(axis=0) for name, s in scores.items()},
-        "mean_swaps": swaps,
-    }
-
-
-def closely_spaced_realisation(
-    *, sigma2, gamma, n_scans, n_sensors, R, dt=1.0, initial_variance=0.01, pdaf_variant="sequential", seed
-) -> dict:
-    """One realisation's truth and filtered tracks ``X(k|k)`` of every method (Figs 6.1–6.2).
-
-    Returns
-    -------
-    dict
-        ``time`` (n_scans,), ``truth`` (n_scans, 2), and method → (n_scans, 2) estimates.
-    """
-    _, real, filters = _scenario_and_filters(sigma2, gamma, 1, n_scans, n_sensors, R, dt, initial_variance,
-                                             pdaf_variant, seed)
-    out = {"time": real.times, "truth": real.truth[0]}
-    for name, f in filters.items():
-        out[name] = np.stack([f.step(real.scans[:, k])[0].copy() for k in range(n_scans)])
-    return out
-
-
-def summarise_closely_spaced(per_run: pd.DataFrame, pdaf_variant: str) -> pd.DataFrame:
-    """Pool per-run MOSPA (columns ``method, run, mospa``) into Table 6.1.
-
-    Returns one row per method with ``published_mospa`` (NaN for methods the paper does not
-    list), ``reproduced_mospa`` (mean over runs and scans, m²), ``std_error`` (standard error
-    over runs), ``relative_difference`` and ``n_runs``; the row ``PDAF`` is the PDAF form
-    ``pdaf_variant``, the other forms follow as ``PDAF[<variant>]``.
-    """
-    g = per_run.groupby("method", sort=False)["mospa"]
-    table = pd.DataFrame({"reproduced_mospa": g.mean(), "std_error": g.std(ddof=1) / np.sqrt(g.count()), "n_runs": g.count()})
-    order = [m for m in TABLE_6_1] + sorted(m for m in table.index if m not in TABLE_6_1)
-    table = table.loc[[m for m in order if m in table.index]].reset_index()
-    table.insert(1, "published_mospa", table["method"].map(TABLE_6_1).astype(float))
-    table["relative_difference"] = table["reproduced_mospa"] / table["published_mospa"] - 1
-    table["pdaf_variant"] = np.where(table["method"] == "PDAF", pdaf_variant,
-                                     table["method"].str.extract(r"PDAF\[(\w+)\]", expand=False).fillna(""))
-    return table
-
-
-def pool_per_scan(per_scan: pd.DataFrame) -> pd.DataFrame:
-    """Pool per-shard per-scan MOSPA means (``method, scan, time, mospa, n_runs``), weighting by runs."""
-    df = per_scan.assign(weighted=per_scan["mospa"] * per_scan["n_runs"])
-    g = df.groupby(["method", "scan", "time"], sort=False, as_index=False)[["weighted", "n_runs"]].sum()
-    g["mospa"] = g["weighted"] / g["n_runs"]
-    return g[["method", "scan", "time", "mospa", "n_runs"]]
 
 
 # ---------------------------------------------------------------- swaps: ledger and figures

@@ -74,6 +74,7 @@ def bare_numbers(tex: str) -> list[tuple[int, str]]:
     text = _strip_htfigure(text)
     for name in _ARG_COMMANDS:
         text = _strip_command_args(text, name)
+    text = re.sub(r"\\S~?\s*\d+(?:\.\d+)*", " ", text)  # \S5: a section sign with its number
     text = re.sub(r"\\[A-Za-z]+", " ", text)  # remaining command names (\textbf, \linewidth, ...)
 
     def math(m):

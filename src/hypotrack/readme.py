@@ -20,7 +20,7 @@ from pathlib import Path
 
 import pandas as pd
 
-from .report import STATUSES, read_claims
+from .report import STATUSES, _measured_text, claims_markdown, read_claims
 
 __all__ = ["BEGIN", "END", "check_readme", "readme_block", "replace_block", "status_counts"]
 
@@ -30,20 +30,10 @@ NO_LEDGER = ("No ledger is committed yet. Run the pipeline (`snakemake -c2`), co
              "`results/paper/ledger.csv` and run `python -m hypotrack.readme results/paper/ledger.csv README.md`.")
 
 
-def _cell(text) -> str:
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
 def status_counts(claims: pd.DataFrame) -> dict:
     """Rows per status, in :data:`~hypotrack.report.STATUSES` order (zeros included)."""
     counts = claims["status"].value_counts()
     return {s: int(counts.get(s, 0)) for s in STATUSES}
-
-
-def _measured(r) -> str:
-    if r["n"]:
-        return f"{r['mean']} ± {r['se']} (n = {r['n']}, z = {r['z']})"
-    return r["reproduced"]
 
 
 def readme_block(claims: pd.DataFrame | None) -> str:
@@ -56,13 +46,7 @@ def readme_block(claims: pd.DataFrame | None) -> str:
              "decides them: *reproduced* when |z| ≤ 3, *systematic offset* when |z| > 3 but the difference is "
              "within the stated reconstruction tolerance, *not reproduced* otherwise. The evidence column says "
              "what a verdict rests on (an *identity of the implementation* never counts as a reproduction).",
-             "",
-             "| experiment | item | source | published | reproduced | tolerance | evidence | status |",
-             "|---|---|---|---|---|---|---|---|"]
-    for r in claims.to_dict("records"):
-        cells = [r["experiment"], r["item"], r["source"], r["published"], _measured(r), r["tolerance"],
-                 r["evidence"] or "—", f"**{r['status']}**"]
-        lines.append("| " + " | ".join(_cell(c) for c in cells) + " |")
+             "", claims_markdown(claims).rstrip("\n")]
     bad = claims[claims["status"].isin(["not reproduced", "systematic offset"])]
     lines += ["", "### What did not reproduce, and why", ""]
     if bad.empty:
@@ -70,7 +54,7 @@ def readme_block(claims: pd.DataFrame | None) -> str:
     for r in bad.to_dict("records"):
         why = f" {r['note']}" if r["note"] else ""
         lines.append(f"* **{r['experiment']}: {r['item']}** ({r['source']}; {r['status']}): published "
-                     f"{r['published']}, measured {_measured(r)}.{why}")
+                     f"{r['published']}, measured {_measured_text(r)}.{why}")
     return "\n".join(lines) + "\n"
 
 

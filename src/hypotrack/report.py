@@ -67,6 +67,7 @@ __all__ = [
     "claims_table_tex",
     "config_macros",
     "latex_escape",
+    "ledger_problems",
     "latex_value",
     "macro_name",
     "macros_tex",
@@ -213,6 +214,46 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
                  f"{z:.2f}" if math.isfinite(z) else ("inf" if z > 0 else "-inf"), key)
 
 
+_TOL_TEXT = re.compile(r"\|z\| <= (?P<z>[\d.]+) or (?:(?P<rel>[\d.eE+-]+) %|\+/- (?P<abs>[\d.eE+-]+))")
+
+
+def ledger_problems(claims: pd.DataFrame) -> list[str]:
+    """Rows that break the ledger's rules, each as a sentence naming the row.
+
+    * every row names its evidence (one of :data:`EVIDENCE`);
+    * a row with ``n`` gives ``mean`` and ``se``; with a numeric published value also ``z``, and its
+      status is the one :func:`monte_carlo_verdict` gives from n, mean, se and the tolerance stated in the
+      row (recomputed here, so a hand-edited or differently-decided verdict is caught);
+    * a row resting on an identity of the implementation is never *reproduced*.
+    """
+    problems = []
+    for r in claims.to_dict("records"):
+        name = f"{r['experiment']}: {r['item']!r}"
+        if r.get("evidence", "") not in EVIDENCE:
+            problems.append(f"{name} names no evidence (one of {EVIDENCE})")
+        if r.get("evidence") == "identity of the implementation" and r["status"] == "reproduced":
+            problems.append(f"{name} rests on an identity of the implementation and cannot be 'reproduced'")
+        if not r.get("n", ""):
+            continue
+        if not (r.get("mean", "") and r.get("se", "")):
+            problems.append(f"{name} has n but no mean or standard error")
+            continue
+        try:
+            published = float(r["published"])
+        except ValueError:
+            continue
+        m = _TOL_TEXT.fullmatch(r["tolerance"])
+        if not r.get("z", "") or not m:
+            problems.append(f"{name}: a Monte Carlo row against a published value needs z and a tolerance "
+                            f"'|z| <= 3 or <tol>', got z={r.get('z', '')!r}, tolerance={r['tolerance']!r}")
+            continue
+        tol = float(m["rel"]) / 100 * abs(published) if m["rel"] else float(m["abs"])
+        _, status = monte_carlo_verdict(float(r["mean"]), float(r["se"]), published, tol)
+        if status != r["status"]:
+            problems.append(f"{name}: status {r['status']!r} but the Monte Carlo rule gives {status!r}")
+    return problems
+
+
 def write_claims(claims, path) -> pd.DataFrame:
     """Write claims as CSV with :data:`CLAIM_COLUMNS`; returns the table."""
     df = pd.DataFrame([asdict(c) for c in claims], columns=CLAIM_COLUMNS)
@@ -348,24 +389,41 @@ def config_macros(config: dict) -> dict:
     return values
 
 
+def _measured_text(r) -> str:
+    """The measured value; a Monte Carlo row gives mean ± s.e., n and z."""
+    if r.get("n", ""):
+        z = f", z = {r['z']}" if r.get("z", "") else ""
+        return f"{r['mean']} ± {r['se']} (n = {r['n']}{z})"
+    return r["reproduced"]
+
+
 def claims_table_tex(claims: pd.DataFrame) -> str:
-    """A longtable of the claims grouped by experiment; each note on its own line below its item."""
+    """A longtable of the claims grouped by experiment; each note on its own line below its item.
+
+    Columns are set ragged right (no hyphenated verdicts); Monte Carlo rows show mean ± s.e., n and z.
+    """
     colour = {"reproduced": "ForestGreen", "systematic offset": "BurntOrange", "not reproduced": "BrickRed",
               "qualitative": "NavyBlue", "extension": "Gray"}
-    out = [(r"\begin{longtable}{@{}p{0.30\linewidth}p{0.12\linewidth}>{\raggedleft}p{0.12\linewidth}"
-           r">{\raggedleft}p{0.13\linewidth}p{0.1\linewidth}p{0.1\linewidth}@{}}"),
-           r"\toprule item & source & published & reproduced & tolerance & status\tabularnewline\midrule\endhead"]
+    widths = {"item": 0.25, "source": 0.10, "published": 0.10, "reproduced": 0.16, "tolerance": 0.10,
+              "evidence": 0.10, "status": 0.09}
+    spec = "".join(rf">{{\raggedright\arraybackslash}}p{{{w}\linewidth}}" for w in widths.values())
+    out = [r"\begingroup\setlength{\tabcolsep}{3pt}\footnotesize",
+           rf"\begin{{longtable}}{{@{{}}{spec}@{{}}}}",
+           r"\toprule " + " & ".join(widths) + r"\tabularnewline\midrule\endhead",
+           r"\bottomrule\endfoot"]
+    ncol = len(widths)
     for experiment, group in claims.groupby("experiment", sort=False):
-        out.append(rf"\multicolumn{{6}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
+        out.append(rf"\multicolumn{{{ncol}}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
         for r in group.to_dict("records"):
             status = rf"\textcolor{{{colour[r['status']]}}}{{\textbf{{{r['status']}}}}}"
             cells = [latex_escape(r["item"]), latex_escape(r["source"]), latex_escape(r["published"]),
-                     latex_escape(r["reproduced"]), latex_escape(r["tolerance"]), status]
+                     latex_escape(_measured_text(r)), latex_escape(r["tolerance"]),
+                     latex_escape(r.get("evidence", "") or "--"), status]
             out.append(" & ".join(cells) + r"\tabularnewline")
             if r["note"]:
-                out.append(rf"\multicolumn{{6}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\footnotesize\emph{{{latex_escape(r['note'])}}}}}"
+                out.append(rf"\multicolumn{{{ncol}}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\emph{{{latex_escape(r['note'])}}}}}"
                            r"\tabularnewline[2pt]")
-    out.append(r"\bottomrule\end{longtable}")
+    out.append(r"\end{longtable}\endgroup")
     return "\n".join(out) + "\n"
 
 
@@ -430,10 +488,12 @@ def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_m
 
 def claims_markdown(claims: pd.DataFrame) -> str:
     """The ledger as a Markdown table (for the README), one row per claim."""
-    rows = ["| experiment | item | source | published | reproduced | status |", "|---|---|---|---|---|---|"]
+    rows = ["| experiment | item | source | published | reproduced | tolerance | evidence | status |",
+            "|---|---|---|---|---|---|---|---|"]
     for r in claims.to_dict("records"):
-        cells = [r["experiment"], r["item"], r["source"], r["published"], r["reproduced"], f"**{r['status']}**"]
-        rows.append("| " + " | ".join(str(c).replace("|", "\\|") for c in cells) + " |")
+        cells = [r["experiment"], r["item"], r["source"], r["published"], _measured_text(r), r["tolerance"],
+                 r.get("evidence", "") or "—", f"**{r['status']}**"]
+        rows.append("| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |")
     return "\n".join(rows) + "\n"
 
 
@@ -444,4 +504,8 @@ if __name__ == "__main__":  # python -m hypotrack.report <claims.csv ...>  -> th
         from .readme import main
 
         raise SystemExit(main(sys.argv[2:]))
+    if sys.argv[1:2] == ["check"]:  # python -m hypotrack.report check <ledger.csv>: the ledger's rules
+        found = ledger_problems(read_claims(sys.argv[2:]))
+        print("\n".join(found) or "ledger: every row follows the rules")
+        raise SystemExit(1 if found else 0)
     print(claims_markdown(read_claims(sys.argv[1:])), end="")

@@ -35,7 +35,6 @@
 
 # %%
 from collections import Counter
-from math import comb, factorial
 
 import matplotlib.pyplot as plt
 import numpy as np

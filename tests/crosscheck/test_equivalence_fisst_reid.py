@@ -91,7 +91,7 @@ def test_b_hfisst_and_reid_children_same_weights_differ_by_known_terms():
         fr.step(Z)
         h, r = by_lineage(fh), by_lineage(fr)
         assert h.keys() == r.keys() and len(h) == len(ch)
-        for key, (lw, means, covs) in h.items():
+        for key, (_lw, means, covs) in h.items():
             np.testing.assert_allclose(means, r[key][1], rtol=0, atol=1e-12)
             np.testing.assert_allclose(covs, r[key][2], rtol=0, atol=1e-12)
         offsets = {key: h[key][0] - r[key][0] for key in h}

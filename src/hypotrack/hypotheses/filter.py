@@ -294,8 +294,18 @@ class HypothesisFilter:
     def step(self, Z, dt=None):
         """Advance one scan with returns ``Z`` (m, p); ``m = 0`` is a scan with no returns.
 
-        Returns the :class:`Posterior` after the scan.
+        Returns the :class:`Posterior` after the scan. All-or-nothing: if the step raises (bad
+        scan, a generator over its budget, no child left), the filter — hypotheses, tracks,
+        scan index and the random generator's state — is as before, so the scan can be retried.
         """
+        rng_state = self.rng.bit_generator.state
+        try:
+            return self._step(Z, dt)
+        except BaseException:
+            self.rng.bit_generator.state = rng_state
+            raise
+
+    def _step(self, Z, dt):
         t0 = time.perf_counter()
         dt = self.dt if dt is None else check_positive(dt, "dt")
         Z = check_measurements(Z, "Z", self.H.shape[0])
@@ -366,14 +376,16 @@ class HypothesisFilter:
         if old.any():
             means[old], covs[old] = update_pairs(pred, ctx.Z, self.H, self.R, src[old], ret[old])
             labels[old] = pred.labels[src[old]]
+        next_label = self._next_label
         for q in np.flatnonzero(~old):
             z = ctx.Z[ret[q]] if ret[q] >= 0 else None
             if src[q] == seeded_src:
                 means[q], covs[q] = self.weights.birth_density.initial_state(z, self.R)
             else:
                 means[q], covs[q] = self.population.birth_track(int(-1 - src[q]), z, self.R)
-            labels[q] = self._next_label
-            self._next_label += 1
+            labels[q] = next_label
+            next_label += 1
+        self._next_label = next_label
         self._store = TrackStore(means, covs, labels)
         self._tracks = new_lists
         self._keys = [

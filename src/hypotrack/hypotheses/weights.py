@@ -56,7 +56,6 @@ class WeightModel:
             (seed 000 Eq. 30 / seed 001 Eq. 59); default: no births, probability 1.
         """
         tracks = np.asarray(tracks, dtype=np.int64)
-        m = ctx.n_returns
         p = ctx.p_detect[tracks]
         log_miss = np.log1p(-p)
         with np.errstate(divide="ignore"):

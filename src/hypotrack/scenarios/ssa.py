@@ -158,7 +158,7 @@ class SSAParams:
             raise ValueError(f"a_max must be >= a_min = {self.a_min} km, got {self.a_max}")
         # The FOV must contain every orbit's range band, or an object could cross the
         # FOV's sector above r_max / below r_min and never be seen.
-        self.fov  # validates the wedge parameters
+        self.fov  # noqa: B018 (the property validates the wedge parameters)
         if perigee_floor < self.r_min:
             raise ValueError(
                 f"r_min must be <= Earth radius + min_perigee_altitude = {perigee_floor} km so every perigee "

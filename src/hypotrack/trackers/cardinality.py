@@ -531,7 +531,7 @@ class ClassicalCountMHT(_CountTracker):
 
     def __init__(self, p_d, p_chi, lambda_b, lambda_fa, *, max_alive: int | None = None):
         super().__init__(p_d, p_chi, lambda_b, lambda_fa)
-        self.max_alive = max_alive
+        self.max_alive = None if max_alive is None else check_int(max_alive, "max_alive", minimum=0)
 
     def _solve(self):
         return exact_count_dp(self.counts, self.model, equivalence_class=False, max_alive=self.max_alive)

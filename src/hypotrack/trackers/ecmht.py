@@ -112,14 +112,32 @@ class _TwoTargetOU:
     def step(self, Z) -> np.ndarray:
         """Process one scan; the first call initialises. Returns the filtered estimates ``X(k|k)``."""
         Z = _check_scan(Z, self.n_sensors)
-        if self.x is None:
-            self._initialise(Z)
-        else:
-            if Z.shape[0] != self.x.shape[0]:
-                raise ValueError(f"Z has {Z.shape[0]} runs, the filter was initialised with {self.x.shape[0]}")
-            self._predict()
-            self._update(Z)
+        if self.x is not None and Z.shape[0] != self.x.shape[0]:
+            raise ValueError(f"Z has {Z.shape[0]} runs, the filter was initialised with {self.x.shape[0]}")
+        saved = self._snapshot()
+        try:
+            if self.x is None:
+                self._initialise(Z)
+            else:
+                self._predict()
+                self._update(Z)
+        except BaseException:
+            self._restore(saved)  # all-or-nothing: a failed scan can be retried
+            raise
         return self.x
+
+    def _snapshot(self):
+        """The state a step changes: attributes (arrays are replaced, never written in place)
+        and the random generator's state."""
+        rng = getattr(self, "rng", None)
+        return dict(vars(self)), (None if rng is None else rng.bit_generator.state)
+
+    def _restore(self, saved) -> None:
+        attrs, rng_state = saved
+        vars(self).clear()
+        vars(self).update(attrs)
+        if rng_state is not None:
+            self.rng.bit_generator.state = rng_state
 
     def estimates(self) -> np.ndarray:
         """Filtered estimates ``X(k|k)`` of the latest scan, ``(n_runs, 2)``."""

@@ -91,7 +91,6 @@ class MOfNInitiator:
         dt = 0.0 if self._time is None else time - self._time
         if dt < 0:
             raise ValueError(f"time must not decrease: got {time} after {self._time}")
-        self._time = time
         d = self.model.ndim_state
 
         x, P = predict_tracks(self.motion, self.x, self.P, dt)
@@ -107,6 +106,7 @@ class MOfNInitiator:
 
         unused = Z[a < 0]
         k = len(unused)
+        self._time = time  # nothing below can fail: the step is all-or-nothing
         self.x = np.concatenate([x[alive], unused @ self._H_pinv.T])
         self.P = np.concatenate([P[alive], np.broadcast_to(self._P0, (k, d, d))])
         self.hits = np.concatenate([hits[alive], np.ones(k, dtype=np.int64)])

@@ -158,8 +158,10 @@ class SingleHypothesisTracker:
         dt = 0.0 if self.time is None else time - self.time
         if dt < 0:
             raise ValueError(f"scan time must not decrease: got {time} after {self.time}")
-        self.time = time
 
+        # Everything is computed into locals and committed at the end, so that a failure (e.g. a
+        # JPDA cluster over its marginals budget) leaves the tracker as it was and the scan can
+        # be retried.
         x, P = predict_tracks(self.motion, self.x, self.P, dt)
         gated = gate_tracks(x, P, Z, self.model)
         if self.association == "gnn":
@@ -168,27 +170,26 @@ class SingleHypothesisTracker:
                 if self.gnn_score == "lecture"
                 else mahalanobis_gains(gated, self.missed_distance)
             )
-            a = gnn_associate(gain)
-            self.x, self.P, detected = gnn_update(gated, a, self.model)
-            unused = a < 0
-            self.last_association = a
+            association = gnn_associate(gain)
+            x, P, detected = gnn_update(gated, association, self.model)
+            unused = association < 0
         else:
             lw = jpda_log_weights(gated, self.model)
-            beta = jpda_probabilities(gated, self.model, log_weights=lw) if self.association == "jpda" else (
+            association = jpda_probabilities(gated, self.model, log_weights=lw) if self.association == "jpda" else (
                 pdaf_probabilities(lw)
             )
-            self.x, self.P = pda_update(gated, beta, self.model)
+            x, P = pda_update(gated, association, self.model)
             detected = gated.valid.any(axis=0)
             unused = ~gated.valid.any(axis=1)
-            self.last_association = beta
-        self.last_gated = gated
+        misses = np.where(detected, 0, self.misses + 1)
+        keep = misses < self.max_misses
+        # The initiator's own step is transactional: it is the last thing that may fail.
+        new_x, new_P = self.initiator.step(time, Z[unused]) if self.initiator is not None else (None, None)
 
-        self.misses = np.where(detected, 0, self.misses + 1)
-        keep = self.misses < self.max_misses
-        self.ids, self.x, self.P, self.misses = self.ids[keep], self.x[keep], self.P[keep], self.misses[keep]
-
-        if self.initiator is not None:
-            new_x, new_P = self.initiator.step(time, Z[unused])
+        self.time = time
+        self.last_gated, self.last_association = gated, association
+        self.ids, self.x, self.P, self.misses = self.ids[keep], x[keep], P[keep], misses[keep]
+        if new_x is not None:
             self._add(new_x, new_P)
         return self.estimates()
 

@@ -1,0 +1,114 @@
+"""Overhead of the Stone Soup adapter over hypotrack's own API (a measurement, not a test).
+
+One Stone Soup scenario (``MultiTargetGroundTruthSimulator`` + ``SimpleDetectionSimulator``,
+``n_targets`` known objects crossing a square, Poisson clutter) is simulated once. For each
+algorithm, the same scans are tracked twice, alternating, ``repeats`` times:
+
+* **own API** — hypotrack models built directly, the scans as numpy arrays prepared beforehand,
+  ``tracker.step`` per scan (what a hypotrack user times);
+* **adapter** — :class:`hypotrack.interop.stonesoup.HypotrackTracker` iterated over the recorded
+  Stone Soup detections: the detections → array conversion, the tracker step and the Stone Soup
+  ``Track``/``GaussianState`` output.
+
+The overhead is ``min(adapter) / min(own) − 1`` (minimum over repeats: the least-disturbed run
+of each on a shared machine).
+"""
+
+from __future__ import annotations
+
+import datetime
+import time
+
+import numpy as np
+import pandas as pd
+
+from .stonesoup import _build, _region, translate_models
+
+__all__ = ["adapter_overhead", "simulate_scenario"]
+
+
+def simulate_scenario(*, n_targets, n_scans, clutter_rate, p_D, q, half_width, seed):
+    """Stone Soup models, the recorded scans ``[(time, set of detections)]`` and the priors."""
+    from stonesoup.models.measurement.linear import LinearGaussian
+    from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity
+    from stonesoup.simulator.simple import MultiTargetGroundTruthSimulator, SimpleDetectionSimulator
+    from stonesoup.types.state import GaussianState
+
+    rng = np.random.default_rng(seed)
+    t0 = datetime.datetime(2025, 1, 1)
+    transition = CombinedLinearGaussianTransitionModel(
+        [ConstantVelocity(q, seed=seed + 1), ConstantVelocity(q, seed=seed + 2)])
+    measurement = LinearGaussian(4, (0, 2), np.eye(2), seed=seed + 3)
+    pos = rng.uniform(-0.5 * half_width, 0.5 * half_width, size=(n_targets, 2))
+    vel = rng.normal(0.0, 1.0, size=(n_targets, 2))
+    starts = [np.array([[p[0]], [v[0]], [p[1]], [v[1]]]) for p, v in zip(pos, vel)]
+    truth = MultiTargetGroundTruthSimulator(
+        transition, GaussianState(np.zeros((4, 1)), np.eye(4), timestamp=t0), timestep=datetime.timedelta(seconds=1),
+        number_steps=n_scans, birth_rate=0.0, death_probability=0.0, preexisting_states=starts, seed=seed + 4)
+    region = [[-half_width, half_width], [-half_width, half_width]]
+    detector = SimpleDetectionSimulator(truth, measurement, meas_range=np.array(region, dtype=float),
+                                        detection_probability=p_D, clutter_rate=clutter_rate, seed=seed + 5)
+    scans = [(t, set(dets)) for t, dets in detector]
+    prior_time = t0 - datetime.timedelta(seconds=1)
+    priors = [GaussianState(s, np.diag([4.0, 1.0, 4.0, 1.0]), timestamp=prior_time) for s in starts]
+    return transition, measurement, region, scans, priors
+
+
+def _own_api_seconds(algorithm, transition, measurement_model, region, scans, priors, p_D, clutter_rate, options):
+    motion, measurement, perm = translate_models(transition, measurement_model)
+    means = np.array([np.ravel(s.state_vector)[perm] for s in priors])
+    covs = np.array([np.asarray(s.covar)[np.ix_(perm, perm)] for s in priors])
+    epoch = priors[0].timestamp
+    arrays = []
+    for t, dets in scans:
+        Z = np.array([np.ravel(d.state_vector) for d in dets], dtype=float).reshape(-1, 2)
+        arrays.append(((t - epoch).total_seconds(), Z[np.lexsort(Z.T[::-1])]))
+    tracker = _build(algorithm, motion, measurement, p_D, clutter_rate, _region(region, 2), means, covs, options)
+    start = time.perf_counter()
+    if algorithm in ("gnn", "jpda", "pdaf"):
+        for scan in arrays:
+            tracker.step(scan)
+    else:
+        previous = 0.0
+        for t, Z in arrays:
+            _ = tracker.step(Z, t - previous).map_estimate  # what a user reads
+            previous = t
+    return time.perf_counter() - start
+
+
+def _adapter_seconds(algorithm, transition, measurement_model, region, scans, priors, p_D, clutter_rate, options):
+    from .stonesoup import HypotrackTracker
+
+    tracker = HypotrackTracker(
+        transition_model=transition, measurement_model=measurement_model, algorithm=algorithm,
+        detection_probability=p_D, clutter_rate=clutter_rate, clutter_region=region, detector=scans,
+        initial_states=priors, options=options)
+    start = time.perf_counter()
+    for _ in tracker:
+        pass
+    return time.perf_counter() - start
+
+
+def adapter_overhead(algorithms: dict, *, n_targets=10, n_scans=50, clutter_rate=10.0, p_D=0.9, q=0.05,
+                     half_width=100.0, repeats=3, seed=0) -> pd.DataFrame:
+    """Seconds per run of the own API and of the adapter, and the relative overhead, per algorithm.
+
+    ``algorithms`` maps an algorithm name (:data:`hypotrack.interop.stonesoup.ALGORITHMS`) to its
+    hypotrack options.
+    """
+    transition, measurement, region, scans, priors = simulate_scenario(
+        n_targets=n_targets, n_scans=n_scans, clutter_rate=clutter_rate, p_D=p_D, q=q, half_width=half_width,
+        seed=seed)
+    args = (transition, measurement, region, scans, priors, p_D, clutter_rate)
+    rows = []
+    for algorithm, options in algorithms.items():
+        own, adapted = [], []
+        for _ in range(repeats):  # alternate, so a load change hits both
+            own.append(_own_api_seconds(algorithm, *args, dict(options)))
+            adapted.append(_adapter_seconds(algorithm, *args, dict(options)))
+        rows.append({
+            "algorithm": algorithm, "n_targets": n_targets, "n_scans": n_scans, "clutter_rate": clutter_rate,
+            "own_api_ms_per_scan": 1e3 * min(own) / n_scans, "adapter_ms_per_scan": 1e3 * min(adapted) / n_scans,
+            "overhead": min(adapted) / min(own) - 1.0,
+        })
+    return pd.DataFrame(rows)

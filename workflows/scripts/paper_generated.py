@@ -4,7 +4,9 @@
 import subprocess
 from pathlib import Path
 
-from hypotrack.report import build_paper_inputs, config_macros
+import sys
+
+from hypotrack.report import build_paper_inputs, config_macros, ledger_problems
 
 commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                         check=False).stdout.strip()
@@ -17,3 +19,10 @@ claims = build_paper_inputs(
     macros_paths=snakemake.input.macros,
 )
 claims.to_csv(snakemake.output.ledger, index=False)
+# A row without evidence is reported (its experiment must add it); a verdict off the ledger's rules fails the run.
+problems = ledger_problems(claims)
+for p in problems:
+    print(f"paper_generated: ledger: {p}", file=sys.stderr)
+hard = [p for p in problems if "names no evidence" not in p]
+if hard:
+    raise SystemExit(f"paper_generated: {len(hard)} ledger rows break the rules (see above)")

@@ -395,7 +395,8 @@ def plot_sweep(table, cfg, pdf, png):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4.4), constrained_layout=True)
+    # stacked, one panel per row: readable at the paper's full text width
+    fig, axes = plt.subplots(3, 1, figsize=(7.0, 9.0), sharex=True, constrained_layout=True)
     for method in METHODS:
         g = table[table["method"] == method]
         kw = dict(marker="o", capsize=3, color=COLORS[method])
@@ -405,11 +406,11 @@ def plot_sweep(table, cfg, pdf, png):
         axes[1].plot(g["clutter_rate"], g["mean_tracks"], marker="o", color=COLORS[method], label=LABELS[method])
         axes[2].errorbar(g["clutter_rate"], g["track_loss"], yerr=2 * g["track_loss_se"], label=LABELS[method], **kw)
     axes[1].axhline(cfg["scenario"]["n_targets"], color="k", ls="--", lw=1, label="true number of targets")
-    axes[0].set_ylabel(f"time-averaged OSPA (m), c = {cfg['ospa']['c']:g} m, p = {cfg['ospa']['p']:g}")
+    axes[0].set_ylabel(f"time-averaged OSPA (m)\nc = {cfg['ospa']['c']:g} m, p = {cfg['ospa']['p']:g}")
     axes[1].set_ylabel("mean number of confirmed tracks")
-    axes[2].set_ylabel(f"track-loss fraction (deleted or > {cfg['loss_distance']:g} m off at the end)")
+    axes[2].set_ylabel(f"track-loss fraction\n(deleted or > {cfg['loss_distance']:g} m off at the end)")
+    axes[-1].set_xlabel("expected clutter returns per scan")
     for ax in axes:
-        ax.set_xlabel("expected clutter returns per scan")
         ax.legend(fontsize=8)
     n = int(table["n_runs"].max())
     axes[0].set_title(f"Mean OSPA ± 2 s.e. ({n} runs per point)")

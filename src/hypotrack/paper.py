@@ -109,21 +109,31 @@ def overfull_boxes(log: str) -> list[str]:
 
 
 def latex_log_problems(log: str) -> list[str]:
-    """Problems that must fail the paper build, each a sentence naming its cause."""
+    """Problems that must fail the paper build, each a sentence naming its cause.
+
+    LaTeX errors (a missing generated macro by name, an undefined control sequence, any other ``!``
+    error) come first; when there are none, undefined references and citations and floats too large
+    for their page (which are only meaningful after a complete run).
+    """
     problems = []
-    for m in re.finditer(r"! Undefined control sequence\.\s*\nl\.\d+ .*?(\\[A-Za-z@]+)\s*$", log, re.M):
-        problems.append(f"undefined control sequence {m.group(1)} (a generated macro missing from macros.tex?)")
-    for m in re.finditer(r"hypotrack Error: generated value (\w+) is missing", log):
-        problems.append(f"generated macro \\{m.group(1)} is missing (no claim or macros.csv row defines it)")
-    for m in re.finditer(r"LaTeX Warning: Reference `([^']+)' on page \d+ undefined", log):
-        problems.append(f"undefined reference {m.group(1)}")
-    for m in re.finditer(r"(?:LaTeX|Package natbib) Warning: Citation `([^']+)' on page \d+ undefined", log):
-        problems.append(f"undefined citation {m.group(1)}")
+    for m in re.finditer(r"^! (.*)$", log, re.M):
+        msg = m.group(1)
+        missing = re.match(r"Package hypotrack Error: generated value (\w+) is missing", msg)
+        if missing:
+            problems.append(f"generated macro \\{missing.group(1)} is missing (no claim or macros.csv row defines it)")
+        elif msg.startswith("Undefined control sequence"):
+            cs = re.match(r"l\.\d+ .*?(\\[A-Za-z@]+)\s*$", log[m.end():].lstrip("\n").split("\n", 1)[0])
+            problems.append(f"undefined control sequence {cs.group(1) if cs else '(see the log)'}")
+        else:
+            problems.append(f"LaTeX error: {msg}")
+    if not problems:
+        for m in re.finditer(r"LaTeX Warning: Reference `([^']+)' on page \d+ undefined", log):
+            problems.append(f"undefined reference {m.group(1)}")
+        for m in re.finditer(r"(?:LaTeX|Package natbib) Warning: Citation `([^']+)' on page \d+ undefined", log):
+            problems.append(f"undefined citation {m.group(1)}")
     for m in re.finditer(r"LaTeX Warning: Float too large for page by ([\d.]+pt) on input line (\d+)", log):
         problems.append(f"float too large for its page by {m.group(1)} (input line {m.group(2)})")
-    if re.search(r"There were undefined references", log) and not any("reference" in p for p in problems):
-        problems.append("undefined references (see the log)")
-    return sorted(set(problems), key=problems.index)
+    return list(dict.fromkeys(problems))
 
 
 def build_pdf(source_dir, inputs_dir, build_dir, pdf, log) -> list[str]:
@@ -142,7 +152,7 @@ def build_pdf(source_dir, inputs_dir, build_dir, pdf, log) -> list[str]:
     source_dir, inputs_dir, build_dir = (Path(p).resolve() for p in (source_dir, inputs_dir, build_dir))
     build_dir.mkdir(parents=True, exist_ok=True)
     env = dict(os.environ, TEXINPUTS=f".{os.pathsep}{inputs_dir}{os.pathsep}",
-               BIBINPUTS=f"{source_dir}{os.pathsep}")
+               BIBINPUTS=f"{source_dir}{os.pathsep}", max_print_line="100000")  # unwrapped log lines
     cmd = ["latexmk", "-pdf", "-interaction=nonstopmode", f"-outdir={build_dir}", "ms.tex"]
     with open(log, "w") as out:
         run = subprocess.run(cmd, cwd=source_dir, env=env, stdout=out, stderr=subprocess.STDOUT, check=False)

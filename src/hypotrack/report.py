@@ -230,7 +230,7 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
     for r in claims.to_dict("records"):
         name = f"{r['experiment']}: {r['item']!r}"
         if r.get("evidence", "") not in EVIDENCE:
-            problems.append(f"{name} names no evidence (one of {EVIDENCE})")
+            problems.append(f"{name} names no evidence")
         if r.get("evidence") == "identity of the implementation" and r["status"] == "reproduced":
             problems.append(f"{name} rests on an identity of the implementation and cannot be 'reproduced'")
         if not r.get("n", ""):
@@ -397,6 +397,17 @@ def _measured_text(r) -> str:
     return r["reproduced"]
 
 
+def _cell_tex(text) -> str:
+    """A table cell: escaped, its first word hyphenatable (``\\hspace{0pt}``), and long tokens given break
+    points after ``_``, ``)``, ``:`` and at camel-case joins (so no cell overflows its column)."""
+    out = []
+    for token in latex_escape(text).split(" "):
+        if len(token) > 12:
+            token = re.sub(r"(?<=[a-z])(?=[A-Z0-9])|(?<=\\_)|(?<=[):;/])|(?=[(])", r"\\allowbreak{}", token)
+        out.append(token)
+    return r"\hspace{0pt}" + " ".join(out)
+
+
 def claims_table_tex(claims: pd.DataFrame) -> str:
     """A longtable of the claims grouped by experiment; each note on its own line below its item.
 
@@ -404,8 +415,8 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
     """
     colour = {"reproduced": "ForestGreen", "systematic offset": "BurntOrange", "not reproduced": "BrickRed",
               "qualitative": "NavyBlue", "extension": "Gray"}
-    widths = {"item": 0.25, "source": 0.10, "published": 0.10, "reproduced": 0.16, "tolerance": 0.10,
-              "evidence": 0.10, "status": 0.09}
+    widths = {"item": 0.22, "source": 0.09, "published": 0.09, "reproduced": 0.15, "tolerance": 0.10,
+              "evidence": 0.12, "status": 0.12}
     spec = "".join(rf">{{\raggedright\arraybackslash}}p{{{w}\linewidth}}" for w in widths.values())
     out = [r"\begingroup\setlength{\tabcolsep}{3pt}\footnotesize",
            rf"\begin{{longtable}}{{@{{}}{spec}@{{}}}}",
@@ -416,9 +427,9 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
         out.append(rf"\multicolumn{{{ncol}}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
         for r in group.to_dict("records"):
             status = rf"\textcolor{{{colour[r['status']]}}}{{\textbf{{{r['status']}}}}}"
-            cells = [latex_escape(r["item"]), latex_escape(r["source"]), latex_escape(r["published"]),
-                     latex_escape(_measured_text(r)), latex_escape(r["tolerance"]),
-                     latex_escape(r.get("evidence", "") or "--"), status]
+            cells = [_cell_tex(r["item"]), _cell_tex(r["source"]), _cell_tex(r["published"]),
+                     _cell_tex(_measured_text(r)), _cell_tex(r["tolerance"]), _cell_tex(r.get("evidence", "") or "--"),
+                     status]
             out.append(" & ".join(cells) + r"\tabularnewline")
             if r["note"]:
                 out.append(rf"\multicolumn{{{ncol}}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\emph{{{latex_escape(r['note'])}}}}}"

@@ -125,6 +125,11 @@ def test_checks_and_claims(ratio, equivalence, tmp_path):
     assert status["undetected-birth weight ratio in the engine"] == "reproduced"
     assert status["Eq. 43 bound, Gaussian undetected-birth pdf (engine)"] == "not reproduced"
     assert status["FISST = HOMHT for a fixed number of targets (engine)"] == "reproduced"
+    evidence = dict(zip(*read_claims([path])[["item", "evidence"]].to_numpy().T))
+    # engine-vs-formula rows share the code path under test: never a reproduction on their own
+    assert evidence["undetected-birth weight ratio in the engine"] == "identity of the implementation"
+    assert evidence["FISST = HOMHT for a fixed number of targets (engine)"] == "identity of the implementation"
+    assert all(evidence.values())
 
 
 def test_bad_input():
@@ -133,7 +138,9 @@ def test_bad_input():
     with pytest.raises(ValueError, match="model"):
         bs.engine_twin_ratios(0.9, 1e-3, "poisson", RATIO)
     schemas = ROOT / "workflows/config/schema"
-    good = {"belief_space": {"seed": 1, "ratio": RATIO, "eq43": EQ43, "equivalence": EQUIV}}
+    oracle = {"n_scenes": 2, "max_objects": 2, "max_returns": 2, "p_D": 0.8, "clutter_rate": 1.5, "alpha": 0.05,
+              "p_survive": 0.9, "pixel_size": 200.0, "measurement_std": 1.0, "q": 0.1, "tolerance": 1e-9}
+    good = {"belief_space": {"seed": 1, "ratio": RATIO, "eq43": EQ43, "equivalence": EQUIV, "oracle": oracle}}
     validate_config({k: dict(v) for k, v in good.items()}, schemas)
     with pytest.raises(ConfigError, match="belief_space.ratio.p_D"):
         validate_config({"belief_space": {**good["belief_space"], "ratio": {**RATIO, "p_D": [1.0]}}}, schemas)

@@ -5,6 +5,7 @@ matplotlib.use("Agg")
 import pandas as pd
 
 from hypotrack.experiments.belief_space import checks_table, claims_from_checks, plot_eq43, plot_equivalence, plot_ratio
+from hypotrack.experiments.belief_space_oracle import oracle_claims
 from hypotrack.report import write_claims
 from hypotrack.scenarios.tables import write_table
 
@@ -16,4 +17,5 @@ plot_eq43(offsets, noise, [out.eq43_pdf, out.eq43_png], cfg["eq43"])
 plot_equivalence(equiv, [out.equivalence_pdf, out.equivalence_png])
 checks = checks_table(ratio, offsets, noise, equiv, cfg)
 write_table(checks, out.checks)
-write_claims(claims_from_checks(checks), out.claims)
+oracle = pd.read_csv(inp.oracle)
+write_claims(claims_from_checks(checks) + oracle_claims(oracle, cfg["oracle"]["tolerance"]), out.claims)

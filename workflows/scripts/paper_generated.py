@@ -6,7 +6,7 @@ from pathlib import Path
 
 import sys
 
-from hypotrack.report import build_paper_inputs, config_macros, ledger_problems
+from hypotrack.report import build_paper_inputs, config_macros, ledger_problems, ledger_warnings
 
 commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                         check=False).stdout.strip()
@@ -21,7 +21,7 @@ claims = build_paper_inputs(
 claims.to_csv(snakemake.output.ledger, index=False)
 # A row without evidence is reported (its experiment must add it); a verdict off the ledger's rules fails the run.
 problems = ledger_problems(claims)
-for p in problems:
+for p in [*problems, *ledger_warnings(claims)]:
     print(f"paper_generated: ledger: {p}", file=sys.stderr)
 hard = [p for p in problems if "names no evidence" not in p]
 if hard:

@@ -83,6 +83,50 @@ def _count_delta(cur, new, n_obj, n_excl):
 
 
 @numba.njit(cache=True, nogil=True)
+def gibbs_draw(score, count_term, owner, i, cur, k, b, n_obj, n_excl, cond):
+    """Draw row ``i``'s column from its exact conditional given the other rows (``owner``:
+    which row holds each exclusive column; ``(k, b)`` the current counts). ``cond[c]`` is left
+    holding the log-weight change of moving row ``i`` from ``cur`` to ``c``."""
+    n_col = score.shape[1]
+    best = -np.inf
+    for c in range(n_col):
+        if c < n_excl and owner[c] != -1 and owner[c] != i:
+            cond[c] = -np.inf
+            continue
+        dk, db = _count_delta(cur, c, n_obj, n_excl)
+        v = score[i, c] - score[i, cur] + count_term[k + dk, b + db] - count_term[k, b]
+        cond[c] = v
+        best = max(best, v)
+    tot = 0.0
+    for c in range(n_col):
+        tot += np.exp(cond[c] - best)
+    u = np.random.random() * tot
+    acc = 0.0
+    new = n_col - 1
+    for c in range(n_col):
+        acc += np.exp(cond[c] - best)
+        if u < acc:
+            new = c
+            break
+    while cond[new] == -np.inf:  # guard against rounding at the top end
+        new -= 1
+    return new
+
+
+@numba.njit(cache=True, nogil=True)
+def move_row(state, owner, zobrist, h, k, b, i, new, n_obj, n_excl):
+    """Move row ``i`` to column ``new`` in place; return the updated hash and counts."""
+    cur = state[i]
+    dk, db = _count_delta(cur, new, n_obj, n_excl)
+    if cur < n_excl:
+        owner[cur] = -1
+    if new < n_excl:
+        owner[new] = i
+    state[i] = new
+    return h ^ zobrist[i, cur] ^ zobrist[i, new], k + dk, b + db
+
+
+@numba.njit(cache=True, nogil=True)
 def _owners_and_counts(state, n_obj, n_excl):
     """Which return holds each exclusive column, and the counts ``(k, b)`` of an event."""
     owner = np.full(n_excl, -1, dtype=np.int64)
@@ -148,40 +192,10 @@ def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_i
             cur = state[i]
             if variant == 2:
                 # Gibbs: exact conditional of return i's column given the others.
-                best = -np.inf
-                for c in range(n_col):
-                    if c < n_excl and owner[c] != -1 and owner[c] != i:
-                        cond[c] = -np.inf
-                        continue
-                    dk, db = _count_delta(cur, c, n_obj, n_excl)
-                    v = score[i, c] - score[i, cur] + count_term[k + dk, b + db] - count_term[k, b]
-                    cond[c] = v
-                    if v > best:
-                        best = v
-                tot = 0.0
-                for c in range(n_col):
-                    tot += np.exp(cond[c] - best)
-                u = np.random.random() * tot
-                acc = 0.0
-                new = n_col - 1
-                for c in range(n_col):
-                    acc += np.exp(cond[c] - best)
-                    if u < acc:
-                        new = c
-                        break
-                while cond[new] == -np.inf:  # guard against rounding at the top end
-                    new -= 1
+                new = gibbs_draw(score, count_term, owner, i, cur, k, b, n_obj, n_excl, cond)
                 if new != cur:
-                    dk, db = _count_delta(cur, new, n_obj, n_excl)
                     lw += cond[new]
-                    if cur < n_excl:
-                        owner[cur] = -1
-                    if new < n_excl:
-                        owner[new] = i
-                    h ^= zobrist[i, cur] ^ zobrist[i, new]
-                    state[i] = new
-                    k += dk
-                    b += db
+                    h, k, b = move_row(state, owner, zobrist, h, k, b, i, new, n_obj, n_excl)
                     moved = True
             else:
                 c = int(np.random.random() * n_col)

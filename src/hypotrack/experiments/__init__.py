@@ -10,6 +10,8 @@ ssa                       seed 000 Sec. IV–V (a package, one module per step):
 generation_time           seed 000 Fig. 15: hypothesis-generation time; throughput benchmarks.
 generation_time_figures   figures of the hypothesis-engine experiments.
 belief_space              seed 001's numeric claims against the hypothesis engine.
+belief_space_oracle       the engine's one-scan posterior against the independent density oracle.
+fisst_oracle              brute-force FISST / Reid densities of one scan (numpy and scipy only).
 cardinality               seed 003 §4, Fig. 4.2: cardinality tracking Monte Carlo.
 ecmht                     seed 003 §5: the swap experiment (Figs 5.1–5.3); Monte Carlo shard sizes.
 closely_spaced            seed 003 Table 6.1, Figs 6.1–6.2: Monte Carlo of the four filters.

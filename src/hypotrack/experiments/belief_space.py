@@ -407,27 +407,31 @@ def claims_from_checks(checks: pd.DataFrame) -> list:
     return [
         Claim("belief_space", "undetected-birth weight ratio in the engine", "001 Eq. 39", "(1 - p_D) alpha",
               f"max rel. deviation {eq39['deviation']:.1e}", f"{AGREEMENT_TOL:g} relative", ok(eq39),
-              f"engine weights over {eq39['engine']}, binomial birth in the Poisson limit",
-              key="eq39_engine"),
+              f"engine weights over {eq39['engine']}, binomial birth in the Poisson limit; not a reproduction: the "
+              "engine sets the twin's weight by this very formula (the independent-oracle row is the evidence)",
+              "identity of the implementation", key="BirthRatioEngine"),
         Claim("belief_space", "undetected-birth ratio, exact binomial birth", "001 Eq. 31, 39", "(1 - p_D) alpha",
               "(1 - p_D) alpha / (1 - alpha)", "--", "extension",
-              f"Eq. 39 holds only under Eq. 33; {exact['engine']}",
-              key="eq39_exact_binomial"),
+              f"Eq. 39 holds only under Eq. 33; {exact['engine']}", "identity of the implementation",
+              key="BirthRatioBinomial"),
         Claim("belief_space", "Eq. 43 bound, uniform pixel births", "001 Eq. 43", "< 1 - p_D",
               f"at most (1 - {uni['value']:.1e}) (1 - p_D)", "exact", ok(uni),
               "formula only (the engine carries Gaussian pdfs); proved for every return in theory/birth_poisson_limit",
-              key="eq43_uniform"),
+              "independent oracle", key="EqFortyThreeUniform"),
         Claim("belief_space", "Eq. 43 bound, Gaussian undetected-birth pdf (engine)", "001 Eq. 43", "< 1 - p_D",
               f"up to {gau['value']:.3f} (1 - p_D)", "exact", ok(gau),
               "the engine moment-matches an undetected birth to a Gaussian whose peak density exceeds 1/Vbar; "
               "the bound returns once the per-axis position variance added in a scan exceeds (6/pi - 1) Vbar / 12",
-              key="eq43_gaussian_engine"),
+              "measurement", key="EqFortyThreeEngine"),
         Claim("belief_space", "FISST = HOMHT for a fixed number of targets (engine)", "001 Sec. V-A, Eq. 18 vs 30",
               "identical", f"max |d log w|, |d mean| = {fh['deviation']:.1e}", f"{AGREEMENT_TOL:g}", ok(fh),
-              key="fisst_homht_engine"),
+              "not a reproduction: the engine's FISST and Reid weights share the association matrix and differ by "
+              "the constant e^(-lambda V) by construction (the independent-oracle row is the evidence)",
+              "identity of the implementation", key="FisstHomhtEngine"),
         Claim("belief_space", "H-FISST vs HOMHT posteriors (engine)", "000 Sec. II-B", "differ by C(m,k) k!",
-              f"TV distance up to {hf['value']:.3f}", "--", "extension", "seed 000's H-FISST weights are not Reid's; seed 001's FISST weights are",
-              key="hfisst_vs_homht"),
+              f"TV distance up to {hf['value']:.3f}", "--", "extension",
+              "seed 000's H-FISST weights are not Reid's; seed 001's FISST weights are", "measurement",
+              key="HfisstHomht"),
     ]
 
 

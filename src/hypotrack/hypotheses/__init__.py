@@ -5,24 +5,30 @@ discrete hypothesis space and differ only in how a child hypothesis is weighted;
 the recursion tractable by searching children with MCMC instead of enumerating them. The engine
 (:class:`HypothesisFilter`) therefore has two plug-in points:
 
-* a **weight model** — :class:`HFISSTWeights`, :class:`FISSTPoissonWeights`, :class:`ReidWeights`;
+* a **weight model** — :class:`HFISSTWeights`, :class:`FISSTPoissonWeights`, :class:`ReidWeights`,
+  :class:`GLMBWeights`;
 * a **child generator** — :class:`ExhaustiveGenerator`, :class:`MurtyGenerator`,
-  :class:`MCMCGenerator`;
+  :class:`MCMCGenerator`, :class:`GibbsGenerator`;
 
-and the papers' trackers are presets: :func:`hfisst`, :func:`rfisst`, :func:`homht`,
-:func:`homht_kbest`.
+(plus the population model: :class:`SingleEventPopulation`, :class:`BinomialPopulation`,
+:class:`LabeledMultiBernoulliPopulation`), and the trackers are presets: :func:`hfisst`,
+:func:`rfisst`, :func:`homht`, :func:`homht_kbest`, and the δ-GLMB filter :func:`glmb`,
+:func:`glmb_murty`.
 """
 
 from .association_problem import CLUTTER, SEEDED_BIRTH, AssociationProblem
 from .filter import HypothesisFilter
 from .generators import ChildGenerator, ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
+from .gibbs import GibbsGenerator
 from .hypothesis import ChildSet, Hypothesis
 from .population_events import BinomialPopulation, SingleEventPopulation
+from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from .posterior import HypothesisEstimate, Posterior
-from .presets import hfisst, homht, homht_kbest, rfisst
+from .presets import glmb, glmb_murty, hfisst, homht, homht_kbest, rfisst
 from .scan_context import ScanContext
 from .tracks import TrackStore
 from .weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights, WeightModel, make_weight_model
+from .weights_glmb import GLMBWeights
 
 __all__ = [
     "AssociationProblem",
@@ -33,10 +39,13 @@ __all__ = [
     "ExhaustiveGenerator",
     "MurtyGenerator",
     "MCMCGenerator",
+    "GibbsGenerator",
     "ChildSet",
     "Hypothesis",
     "SingleEventPopulation",
     "BinomialPopulation",
+    "LabeledMultiBernoulliPopulation",
+    "GaussianBirthTerm",
     "HypothesisEstimate",
     "Posterior",
     "ScanContext",
@@ -45,9 +54,12 @@ __all__ = [
     "HFISSTWeights",
     "FISSTPoissonWeights",
     "ReidWeights",
+    "GLMBWeights",
     "make_weight_model",
     "hfisst",
     "rfisst",
     "homht",
     "homht_kbest",
+    "glmb",
+    "glmb_murty",
 ]

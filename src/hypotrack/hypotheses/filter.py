@@ -85,9 +85,10 @@ class HypothesisFilter:
         clutter (its region's area is the clutter volume ``V``; its rate is ``λV``).
     weights : WeightModel
     generator : ChildGenerator
-    population : SingleEventPopulation or BinomialPopulation, optional
+    population : SingleEventPopulation, BinomialPopulation or LabeledMultiBernoulliPopulation, optional
         Birth/death model; ``None`` keeps the number of objects fixed (apart from HOMHT's
-        seeded births).
+        seeded births). A population with a ``children`` method (the labeled multi-Bernoulli)
+        generates each parent's children itself from the weight model and the generator.
     dt : float
         Default time between scans.
     max_hypotheses : int
@@ -216,10 +217,20 @@ class HypothesisFilter:
         weighted sample; the keys are returned so that the global cap uses the same draw.
         """
         tr = self._tracks[h]
+        pop = self.population
+        if hasattr(pop, "children"):
+            # Population models that generate whole children themselves (labeled multi-Bernoulli).
+            ev, kind, arg, lw = pop.children(self.weights, self.generator, ctx, tr, float(self._log_w[h]), self.rng,
+                                             keep=keep if keys_rng is None else None)
+            keys = _gumbel_keys(lw, keys_rng)
+            mass = np.logaddexp.reduce(lw) if len(lw) else -np.inf
+            if keep is not None and len(lw) > keep:
+                sel = top_k(keys, keep)
+                ev, kind, arg, lw, keys = ev[sel], kind[sel], arg[sel], lw[sel], keys[sel]
+            return ChildSet(np.full(len(lw), h, np.int64), ev, kind, arg, lw), keys, len(lw), mass, 0
         p = ctx.p_detect[tr]
         in_view = p > 0
         n_view = int(in_view.sum())
-        pop = self.population
         pop_lp = pop.log_event_prob(n_view, len(tr)) if pop is not None else None
         problem = self.weights.problem(ctx, tr, float(self._log_w[h]), pop_lp)
         gen_keep = None
@@ -352,12 +363,11 @@ class HypothesisFilter:
             ret = np.full(M, -1, dtype=np.int64)
             on_obj = np.flatnonzero((ev >= 0) & (ev < M))
             ret[ev[on_obj]] = on_obj
-            keys = [(int(tr[j]), int(ret[j])) for j in range(M)
-                    if not (kept.kind[c] == ChildSet.DEATH and j == kept.arg[c])]
+            dead, unseen_births = kept.silent_events(c, M)
+            keys = [(int(tr[j]), int(ret[j])) for j in range(M) if j not in dead]
             keys += [(-1 - int(ev[i] - M), int(i)) for i in np.flatnonzero(ev >= M)]
             keys += [(seeded_src, int(i)) for i in np.flatnonzero(ev == SEEDED_BIRTH)]
-            if kept.kind[c] == ChildSet.UNDETECTED_BIRTH:
-                keys.append((-1 - int(kept.arg[c]), -1))
+            keys += [(-1 - int(r), -1) for r in unseen_births]
             idx = []
             for key in keys:
                 if key not in pair_index:

@@ -33,9 +33,11 @@ class ChildSet:
     ----------
     parent : (E,) int — index of the parent hypothesis.
     events : (E, m) int — the association event (codes of :mod:`.association_problem`).
-    kind : (E,) int — 0 association child, 1 plus an undetected birth, 2 plus a death.
-    arg : (E,) int — the birth region (kind 1) or the parent-local index of the dead object
-        (kind 2); −1 otherwise.
+    kind : (E,) int — 0 association child, 1 plus an undetected birth, 2 plus a death, 3 plus a
+        set of silent events (labeled multi-Bernoulli population).
+    arg : (E,) int — the birth region (kind 1), the parent-local index of the dead object
+        (kind 2) or a bit mask (kind 3: bit ``j < M`` object ``j`` died, bit ``M + r`` birth
+        term ``r`` born undetected); −1 otherwise.
     log_weights : (E,) float — unnormalised log-weights (parent weight included).
     """
 
@@ -48,6 +50,19 @@ class ChildSet:
     ASSOCIATION = 0
     UNDETECTED_BIRTH = 1
     DEATH = 2
+    POPULATION_SET = 3
+
+    def silent_events(self, c: int, n_objects: int) -> tuple[list, list]:
+        """(dead parent-local objects, birth terms born undetected) of child ``c``."""
+        kind, arg = int(self.kind[c]), int(self.arg[c])
+        if kind == ChildSet.DEATH:
+            return [arg], []
+        if kind == ChildSet.UNDETECTED_BIRTH:
+            return [], [arg]
+        if kind == ChildSet.POPULATION_SET:
+            bits = [j for j in range(arg.bit_length()) if arg >> j & 1]
+            return [j for j in bits if j < n_objects], [j - n_objects for j in bits if j >= n_objects]
+        return [], []
 
     def __len__(self) -> int:
         return len(self.log_weights)

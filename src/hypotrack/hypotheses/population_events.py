@@ -64,7 +64,10 @@ def _region_loglik(densities, Z):
     out = np.full((m, len(densities)), -np.inf)
     if m:
         for r, d in enumerate(densities):
-            out[d.region.contains(Z), r] = d.log_position_density
+            if hasattr(d, "loglik"):  # a density with its own measurement likelihood (Gaussian birth)
+                out[:, r] = d.loglik(Z)
+            else:
+                out[d.region.contains(Z), r] = d.log_position_density
     return out
 
 
@@ -84,6 +87,8 @@ class _Population:
         the moment-matched birth pdf if ``z is None``."""
         d = self.birth_densities[region]
         if z is None:
+            if hasattr(d, "prior"):
+                return d.prior()
             if region not in self._undetected_cache:
                 self._undetected_cache[region] = birth_prior_gaussian(d)
             return self._undetected_cache[region]

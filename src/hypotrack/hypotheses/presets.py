@@ -7,7 +7,13 @@ preset          weight model                       child generator
 ``rfisst``      H-FISST                             MCMC search (seed 000 Sec. III)
 ``homht``       Reid (seed 001 Eq. 30, 35)          exhaustive
 ``homht_kbest`` Reid                                Murty k-best
+``glmb``        δ-GLMB joint prediction–update      Gibbs sampler (Vo, Vo & Hoang 2017)
+``glmb_murty``  δ-GLMB joint prediction–update      Murty ranked assignment (Vo & Vo 2014)
 =============== ================================= =================================
+
+The ``glmb`` presets need a :class:`~.population_lmb.LabeledMultiBernoulliPopulation` (per-object
+survival, labeled-Bernoulli births): with it a hypothesis is a δ-GLMB component (label set and
+association history) and the filter is the δ-GLMB filter (DESIGN.md §4.7).
 
 Every preset takes the motion model, the sensor and keyword options of
 :class:`HypothesisFilter` (``population``, ``dt``, ``max_hypotheses``, ``cap``,
@@ -19,10 +25,13 @@ from __future__ import annotations
 from ..models.population import SingleEventBirthDeath
 from .filter import HypothesisFilter
 from .generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
+from .gibbs import GibbsGenerator
 from .population_events import SingleEventPopulation
+from .population_lmb import LabeledMultiBernoulliPopulation
 from .weights import HFISSTWeights, ReidWeights
+from .weights_glmb import GLMBWeights
 
-__all__ = ["hfisst", "rfisst", "homht", "homht_kbest"]
+__all__ = ["hfisst", "rfisst", "homht", "homht_kbest", "glmb", "glmb_murty"]
 
 
 def _population(population):
@@ -67,3 +76,23 @@ def homht_kbest(motion, sensor, *, k=None, birth_intensity=0.0, birth_density=No
     weights = ReidWeights(birth_intensity=birth_intensity, birth_density=birth_density)
     k = options.get("max_hypotheses", 100) if k is None else k
     return _filter(motion, sensor, weights, MurtyGenerator(k=k), population, **options)
+
+
+def _labeled(population):
+    if not isinstance(population, LabeledMultiBernoulliPopulation):
+        raise ValueError("population must be a LabeledMultiBernoulliPopulation for the GLMB presets, "
+                         f"got {type(population).__name__}")
+    return population
+
+
+def glmb(motion, sensor, *, population, n_sweeps=1000, **options) -> HypothesisFilter:
+    """δ-GLMB filter with the joint prediction–update and Gibbs sampling (Vo, Vo & Hoang 2017):
+    ``n_sweeps`` Gibbs samples per parent per scan, distinct ones kept with exact weights."""
+    return _filter(motion, sensor, GLMBWeights(), GibbsGenerator(n_sweeps=n_sweeps), _labeled(population), **options)
+
+
+def glmb_murty(motion, sensor, *, population, k=None, **options) -> HypothesisFilter:
+    """δ-GLMB filter truncated by ranked assignment: the ``k`` best children of each parent
+    (Murty on the ``P × (m + 2P)`` matrix; ``k`` defaults to ``max_hypotheses``)."""
+    k = options.get("max_hypotheses", 100) if k is None else k
+    return _filter(motion, sensor, GLMBWeights(), MurtyGenerator(k=k), _labeled(population), **options)

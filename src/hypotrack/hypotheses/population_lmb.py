@@ -1,0 +1,167 @@
+"""Labeled multi-Bernoulli population: the event space of the δ-GLMB joint prediction–update.
+
+Vo, Vo & Hoang (IEEE TSP 65(8), 2017, Sec. III, Eq. 8–12) predict and update a δ-GLMB in one
+step. Given a parent (label set ``I`` with Gaussian tracks) and a scan ``Z = (z_1 .. z_m)``
+every *object* — each of the parent's ``M`` tracks and each of the ``B`` labeled-Bernoulli
+birth terms — takes one value of an association map ``γ``:
+
+=====================  ==========================================  ==============================
+object                  ``γ = −1``                                   ``γ = 0`` / ``γ = j``
+=====================  ==========================================  ==============================
+existing track ``ℓ``    died: ``1 − p_S``                             ``p_S (1 − p_D)`` / ``p_S p_D g(z_j|ℓ) / κ(z_j)``
+birth term ``b``        not born: ``1 − r_B``                         ``r_B (1 − p_D)`` / ``r_B p_D g_b(z_j) / κ(z_j)``
+=====================  ==========================================  ==============================
+
+(no two objects on one return), and the child's weight is the product ``Π_i η_i(γ_i)``
+(their Eq. 12) times the parent's weight and the common factor ``e^{−λ} Π_j κ(z_j)``.
+Survival is per object at every scan, in or out of view (out of view ``p_D = 0``: missed with
+``p_S``). The weight model :class:`~.weights_glmb.GLMBWeights` writes this as an
+:class:`~.AssociationProblem` whose *rows are the objects*; this module turns its events
+back into the engine's children (:meth:`LabeledMultiBernoulliPopulation.children`).
+
+How the three population models relate (DESIGN.md §4.7)
+--------------------------------------------------------
+Call a death or an undetected birth a *silent* event (it leaves the association untouched).
+
+* Seed 000's single-event model (Eq. 30) allows one birth *or* one death per scan per parent,
+  with probabilities ``α`` and ``β`` that do not depend on the number of objects.
+* Seed 001's binomial model (Eq. 31–33, 59) has independent survival ``p_s`` per object and
+  independent birth ``α`` per region — the labeled multi-Bernoulli probabilities with
+  ``p_S = p_s`` and ``r_B = α`` — but generates at most **one** silent event per child.
+* The labeled multi-Bernoulli (this module) generates every combination.
+
+So with Poisson clutter (:class:`~.FISSTPoissonWeights`) the binomial filter's children are the
+GLMB children with at most one silent event, **with identical weights**; the two coincide as
+posteriors exactly when no child can hold two silent events (one object and no birth term, or no
+object and one birth term), and otherwise the binomial filter misses exactly the mass of the GLMB
+children with two or more. With ``p_S = 1`` and no birth term all three reduce to the
+fixed-number posterior, which equals Reid's HOMHT (seed 001 Sec. V-A). The single-event model
+coincides with the others only when neither a birth nor a death is possible. Tests:
+``tests/crosscheck/test_equivalence_glmb.py``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._validation import check_covariance, check_finite_array, check_probability
+from ..gaussian import innovation, update
+from .association_problem import CLUTTER
+from .hypothesis import ChildSet
+from .population_events import _Population
+
+__all__ = ["GaussianBirthTerm", "LabeledMultiBernoulliPopulation", "DIED", "MISSED", "MAX_OBJECTS"]
+
+MISSED = -1  #: object code of "exists, not detected" (row option 0 of the labeled problem: always possible)
+DIED = -2  #: object code of "died / not born" (row option 1; impossible when ``p_S = 1``)
+MAX_OBJECTS = 62  #: tracks + birth terms per parent: one bit each in ``ChildSet.arg``
+
+
+@dataclass(frozen=True, eq=False)
+class GaussianBirthTerm:
+    """Birth density ``N(mean, cov)`` of a labeled-Bernoulli birth term, observed through
+    ``z = H x + v``, ``v ~ N(0, R)``."""
+
+    mean: np.ndarray
+    cov: np.ndarray
+    H: np.ndarray
+    R: np.ndarray
+
+    def __post_init__(self):
+        mean = check_finite_array(self.mean, "mean", ndim=1)
+        object.__setattr__(self, "mean", mean)
+        object.__setattr__(self, "cov", check_covariance(self.cov, "cov", dim=len(mean)))
+        H = check_finite_array(self.H, "H", ndim=2)
+        if H.shape[1] != len(mean):
+            raise ValueError(f"H must have {len(mean)} columns, got shape {H.shape}")
+        object.__setattr__(self, "H", H)
+        object.__setattr__(self, "R", check_covariance(self.R, "R", dim=H.shape[0]))
+
+    def loglik(self, Z) -> np.ndarray:
+        """``log ∫ N(z; H x, R) N(x; mean, cov) dx = log N(z; H mean, H cov Hᵀ + R)`` per return."""
+        Z = np.asarray(Z, dtype=float).reshape(-1, self.H.shape[0])
+        z_pred, S, _ = innovation(self.mean, self.cov, self.H, self.R)
+        L = np.linalg.cholesky(S)
+        r = np.linalg.solve(L, (Z - z_pred).T)
+        return -0.5 * np.sum(r * r, axis=0) - np.sum(np.log(np.diag(L))) - 0.5 * len(z_pred) * np.log(2 * np.pi)
+
+    def initial_state(self, z, R):
+        """The born object's Gaussian: the birth density updated with its first return ``z``."""
+        return update(self.mean, self.cov, z, self.H, R)
+
+    def prior(self):
+        return self.mean, self.cov
+
+
+@dataclass(eq=False)
+class LabeledMultiBernoulliPopulation(_Population):
+    """Per-object survival ``p_S`` and labeled-Bernoulli births (the δ-GLMB event space).
+
+    Parameters
+    ----------
+    birth_densities : sequence
+        One density per birth term: :class:`GaussianBirthTerm`, or any birth pdf of
+        :mod:`.population_events` (``loglik(Z)`` or a region with ``log_position_density``;
+        ``initial_state(z, R)``).
+    r_birth : float or sequence
+        Existence probability ``r_B`` of each birth term, in (0, 1).
+    p_survive : float
+        ``p_S`` in (0, 1]; every object survives each scan with it, in view or not.
+    """
+
+    birth_densities: tuple = ()
+    r_birth: object = 0.0
+    p_survive: float = 1.0
+    _undetected_cache: dict = field(default_factory=dict, repr=False)
+
+    def __post_init__(self):
+        self.birth_densities = tuple(self.birth_densities)
+        r = np.broadcast_to(np.asarray(self.r_birth, dtype=float), (self.n_birth_regions,)).copy()
+        for x in r:
+            check_probability(x, "r_birth", low_open=True, high_open=True)
+        self.r_birth = r
+        self.p_survive = check_probability(self.p_survive, "p_survive", low_open=True)
+
+    def log_existence(self, n_objects: int):
+        """``(log r, log(1 − r))`` per object row: ``p_S`` for the tracks, ``r_B`` for births."""
+        r = np.concatenate([np.full(n_objects, self.p_survive), self.r_birth])
+        with np.errstate(divide="ignore"):
+            return np.log(r), np.log1p(-r)
+
+    def children(self, weights, generator, ctx, tracks, log_weight, rng, keep=None):
+        """The parent's children: events, kind, arg and exact log-weights.
+
+        The weight model builds the object-indexed problem (:meth:`GLMBWeights.labeled_problem`),
+        the generator (exhaustive, Murty, Gibbs, MCMC) picks association maps ``γ``, and each is
+        turned into the engine's return-indexed event plus a bit mask of its silent events
+        (``ChildSet.POPULATION_SET``: bit ``j < M`` object ``j`` died, bit ``M + b`` birth term
+        ``b`` born undetected).
+        """
+        if not hasattr(weights, "labeled_problem"):
+            raise ValueError(f"a labeled multi-Bernoulli population needs GLMB weights, got {type(weights).__name__}")
+        tracks = np.asarray(tracks, dtype=np.int64)
+        M = len(tracks)
+        if M + self.n_birth_regions > MAX_OBJECTS:
+            raise ValueError(f"tracks + birth terms per parent must be <= {MAX_OBJECTS}, got {M + self.n_birth_regions}")
+        log_r, log_not = self.log_existence(M)
+        problem = weights.labeled_problem(ctx, tracks, log_r, log_not, log_weight)
+        gammas, lw = generator.generate(problem, rng, keep=keep)
+        events, masks = self.to_events(np.asarray(gammas), M, ctx.n_returns)
+        kind = np.full(len(lw), ChildSet.POPULATION_SET, np.int64)
+        return events, kind, masks, np.asarray(lw, dtype=float)
+
+    @staticmethod
+    def to_events(gammas, n_objects: int, n_returns: int):
+        """Object-indexed maps ``γ`` (E, M + B) → return-indexed events (E, m) and silent masks."""
+        gammas = np.asarray(gammas, dtype=np.int64).reshape(len(gammas), -1)
+        E, P = gammas.shape
+        events = np.full((E, n_returns), CLUTTER, dtype=np.int32)
+        rows, objs = np.nonzero(gammas >= 0)
+        events[rows, gammas[rows, objs]] = objs
+        silent = np.zeros((E, P), dtype=bool)
+        silent[:, :n_objects] = gammas[:, :n_objects] == DIED
+        silent[:, n_objects:] = gammas[:, n_objects:] == MISSED
+        bits = np.left_shift(np.int64(1), np.arange(P, dtype=np.int64))
+        return events, silent.astype(np.int64) @ bits

@@ -1,0 +1,109 @@
+"""Unit tests of the δ-GLMB pieces: population, weight model, Gibbs generator, presets."""
+
+import numpy as np
+import pytest
+from scipy.stats import multivariate_normal
+
+from hypotrack.hypotheses import (
+    BinomialPopulation,
+    ChildSet,
+    ExhaustiveGenerator,
+    GaussianBirthTerm,
+    GibbsGenerator,
+    GLMBWeights,
+    HypothesisFilter,
+    LabeledMultiBernoulliPopulation,
+    glmb,
+    glmb_murty,
+)
+from hypotrack.hypotheses.gibbs import gibbs_search
+from hypotrack.models.motion import ConstantVelocity
+from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+
+R = np.eye(2) * 0.5
+SENSOR = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)), DetectionModel(0.8),
+                PoissonClutter(2.0, Box([-10.0, -10.0], [10.0, 10.0])))
+H = SENSOR.measurement.H
+MOTION = ConstantVelocity(q=0.0)  # no process noise: the predicted covariance is F P Fᵀ
+
+
+def lmb(p_s=0.9, r_b=0.1, births=1):
+    terms = [GaussianBirthTerm([5.0, 5.0, 0.0, 0.0], np.eye(4), H, R)] * births
+    return LabeledMultiBernoulliPopulation(terms, r_birth=r_b, p_survive=p_s)
+
+
+def test_hand_computed_weights_of_one_object_and_one_birth_term():
+    x0, P0 = np.array([0.0, 0.0, 0.0, 0.0]), np.eye(4)
+    f = HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), population=lmb(),
+                         means=x0[None], covs=P0[None])
+    z = np.array([[0.5, -0.5]])
+    ch = f.expand(z)
+    kappa, lam = 2.0 / 400.0, 2.0
+    F = MOTION.F(1.0)
+    P = F @ P0 @ F.T
+    g_obj = multivariate_normal([0, 0], H @ P @ H.T + R).pdf(z[0])
+    g_birth = multivariate_normal([5, 5], H @ np.eye(4) @ H.T + R).pdf(z[0])
+    obj = {"died": 0.1, "missed": 0.9 * 0.2, "det": 0.9 * 0.8 * g_obj / kappa}
+    birth = {"no": 0.9, "missed": 0.1 * 0.2, "det": 0.1 * 0.8 * g_birth / kappa}
+    expect = {}
+    for o, wo in obj.items():
+        for b, wb in birth.items():
+            if o == b == "det":
+                continue
+            expect[(o, b)] = np.log(wo * wb) - lam + np.log(kappa)
+    got = {}
+    for c in range(len(ch)):
+        dead, unseen = ch.silent_events(c, 1)
+        e = ch.events[c, 0]
+        o = "died" if dead else ("det" if e == 0 else "missed")
+        b = "det" if e == 1 else ("missed" if unseen else "no")
+        got[(o, b)] = ch.log_weights[c]
+    assert got.keys() == expect.keys()
+    for k in expect:
+        assert got[k] == pytest.approx(expect[k], abs=1e-12)
+
+
+def test_to_events_codes_and_silent_masks():
+    # 2 objects, 1 birth term, 3 returns; codes: j >= 0 return, -1 missed, -2 died / not born
+    gammas = np.array([[2, -2, -1], [-1, 0, -2], [-2, -2, 1]])
+    ev, masks = LabeledMultiBernoulliPopulation.to_events(gammas, 2, 3)
+    np.testing.assert_array_equal(ev, [[-1, -1, 0], [1, -1, -1], [-1, 2, -1]])
+    # bit j < 2: object j died; bit 2: the birth term was born undetected
+    np.testing.assert_array_equal(masks, [0b110, 0b000, 0b011])
+    cs = ChildSet(np.zeros(3, np.int64), ev, np.full(3, ChildSet.POPULATION_SET), masks, np.zeros(3))
+    assert cs.silent_events(0, 2) == ([1], [0])
+    assert cs.silent_events(2, 2) == ([0, 1], [])
+
+
+def test_gibbs_starts_from_all_missed_and_is_reproducible():
+    f = glmb(MOTION, SENSOR, population=lmb(births=2), means=np.zeros((2, 4)), covs=np.repeat(np.eye(4)[None], 2, 0))
+    ctx = f._context(f.store.predict(MOTION, 1.0), np.array([[0.1, 0.0], [4.0, 5.0], [-3.0, 2.0]]))
+    log_r, log_not = f.population.log_existence(2)
+    problem = GLMBWeights().labeled_problem(ctx, np.arange(2), log_r, log_not)
+    ev, lw = gibbs_search(problem, 50, seed=7)
+    np.testing.assert_array_equal(ev[0], [-1, -1, -1, -1])  # the published starting point
+    ev2, lw2 = gibbs_search(problem, 50, seed=7)
+    assert ev.tobytes() == ev2.tobytes() and lw.tobytes() == lw2.tobytes()
+    assert len({e.tobytes() for e in ev}) == len(ev)  # distinct samples only
+
+
+@pytest.mark.parametrize("preset", [glmb, glmb_murty])
+def test_presets_run_empty_scans_and_zero_targets(preset):
+    f = preset(MOTION, SENSOR, population=lmb(), max_hypotheses=20, seed=1)
+    post = f.step(np.zeros((0, 2)))  # no objects, no returns: not born (0.9) or born undetected (0.1)
+    assert post.cardinality[1] == pytest.approx(0.1 * 0.2 / (0.9 + 0.1 * 0.2), abs=1e-12)
+    post = f.step(np.array([[5.0, 5.2], [-8.0, 3.0]]))
+    assert post.expected_number > 0.5
+
+
+def test_bad_input_is_refused_with_the_parameter_named():
+    with pytest.raises(ValueError, match="r_birth"):
+        lmb(r_b=1.0)
+    with pytest.raises(ValueError, match="p_survive"):
+        lmb(p_s=0.0)
+    with pytest.raises(ValueError, match="LabeledMultiBernoulliPopulation"):
+        glmb(MOTION, SENSOR, population=BinomialPopulation())
+    with pytest.raises(ValueError, match="n_sweeps"):
+        GibbsGenerator(n_sweeps=-1)
+    with pytest.raises(ValueError, match="cov"):
+        GaussianBirthTerm([0, 0, 0, 0], -np.eye(4), H, R)

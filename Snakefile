@@ -10,6 +10,7 @@
 # Figures and main tables are marked for the report with report_figure / report_table below
 # (captions in workflows/report/<experiment>/, see workflows/report/README.md).
 import glob
+from pathlib import Path
 
 from hypotrack.config import validate_config
 
@@ -50,3 +51,22 @@ rule all:
     default_target: True
     input:
         ALL_TARGETS,
+
+
+def _run_summary():
+    """The end of a successful run in a few lines: the ledger's verdicts and where to read the results."""
+    import pandas as pd
+
+    from hypotrack.experiments.joblog import claims_line
+
+    ledger, pdf = Path(rules.paper_generated.output.ledger), Path(rules.paper_pdf.output[0])
+    lines = [f"hypotrack: done; results in {RESULTS}"]
+    if ledger.exists():
+        lines.append("  ledger: " + claims_line(pd.read_csv(ledger, dtype=str, keep_default_na=False), ledger))
+    lines.append(f"  report PDF: {pdf}" if pdf.exists() else "  report PDF: not built yet (rule paper_pdf, needs latexmk)")
+    lines.append(f"  browse figures with captions: snakemake --report {RESULTS}/report.html (same --configfile/--config)")
+    print("\n".join(lines))
+
+
+onsuccess:
+    _run_summary()

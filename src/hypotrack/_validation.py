@@ -19,7 +19,9 @@ __all__ = [
     "check_int",
     "check_finite_array",
     "check_covariance",
+    "check_psd",
     "check_measurements",
+    "check_state_dimension",
 ]
 
 
@@ -115,6 +117,37 @@ def check_covariance(P, name: str, dim: int | None = None, *, batched: bool = Fa
     return sym
 
 
+def check_psd(M, name: str, *, definite: bool = False, what: str | None = None) -> np.ndarray:
+    """Check a matrix, or a stack of matrices ``(..., d, d)``, is finite, symmetric and positive
+    (semi-)definite; return it as a float array.
+
+    A Cholesky factorisation is the test: of ``M`` itself with ``definite=True``, otherwise of
+    ``M + ε I`` with ``ε`` a round-off allowance (``1e-9`` times the largest entry), so that a
+    singular but valid covariance (a noise-free component, ``Q = 0``) passes while an indefinite
+    one (a negative variance) does not. ``what`` describes ``M`` in the message (default: name).
+    """
+    arr = np.asarray(M, dtype=float)
+    what = what or name
+    if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2]:
+        raise ValueError(f"{name} must be a square matrix (d, d) or a stack (n, d, d), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} must be finite (no NaN or inf)")
+    if arr.size == 0:
+        return arr
+    scale = max(1.0, float(np.max(np.abs(arr))))
+    asym = float(np.max(np.abs(arr - np.swapaxes(arr, -1, -2))))
+    if asym > 1e-8 * scale:
+        raise ValueError(f"{what} must be symmetric (max asymmetry {asym:.3g})")
+    test = arr if definite else arr + (1e-9 * scale) * np.eye(arr.shape[-1])
+    try:
+        np.linalg.cholesky(test)
+    except np.linalg.LinAlgError:
+        kind = "positive definite" if definite else "positive semi-definite"
+        why = "a zero or negative variance" if definite else "a negative variance"
+        raise ValueError(f"{what} must be {kind} (Cholesky failed: {why})") from None
+    return arr
+
+
 def check_measurements(Z, name: str, dim: int) -> np.ndarray:
     """Return a scan as an (m, dim) float array; ``m = 0`` (an empty scan) is allowed."""
     arr = np.asarray(Z, dtype=float)
@@ -128,3 +161,16 @@ def check_measurements(Z, name: str, dim: int) -> np.ndarray:
         bad = np.flatnonzero(~np.all(np.isfinite(arr), axis=1))
         raise ValueError(f"{name} must be finite; rows {bad.tolist()} contain NaN or inf")
     return arr
+
+
+def check_state_dimension(motion, d: int, what: str) -> int:
+    """Check that a motion model's states have dimension ``d`` (that of ``what``), at construction
+    rather than as a matmul error inside the first ``step``. Returns ``d``."""
+    if not callable(getattr(motion, "transition", None)) or not callable(getattr(motion, "Q", None)):
+        raise TypeError(f"motion must be a motion model with transition(x, dt) and Q(dt), got {type(motion).__name__}")
+    nd = getattr(motion, "ndim", None)
+    if nd is None:
+        nd = np.shape(motion.Q(1.0))[-1]
+    if int(nd) != d:
+        raise ValueError(f"the motion model's states are {int(nd)}-dimensional but {what} expects {d}-dimensional states")
+    return d

@@ -6,6 +6,14 @@ same batch form. The update uses the Joseph form and symmetrises its output, so 
 stay symmetric positive definite; the log predictive likelihood ``log N(z; H x̂, S)`` is
 evaluated through a Cholesky factor of ``S``, never an explicit inverse.
 
+The public functions check their input (finite, matching shapes, ``P``, ``Q``, ``R``
+positive semi-definite and ``S`` positive definite, by Cholesky) and raise ``ValueError``
+naming the argument: a covariance with a negative variance would otherwise come out as a
+zero or negative variance, and a NaN as a NaN likelihood. The trackers call the unchecked
+batched forms (``_predict``, ``_innovation``, ``_update``, ``_mahalanobis2``,
+``_joseph_covariance``) once per scan on states they built themselves and checked at their
+own boundary (construction, ``initialise``, ``step``).
+
 References
 ----------
 Bar-Shalom, Li & Kirubarajan, *Estimation with Applications to Tracking and Navigation*
@@ -17,7 +25,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from ._validation import check_covariance, check_finite_array
+
+from ._validation import check_covariance, check_finite_array, check_psd
 
 __all__ = [
     "GaussianState",
@@ -65,12 +74,47 @@ def _batch(x, P):
     if single:
         x, P = x[None], P[None]
     if x.ndim != 2 or P.ndim != 3 or P.shape[0] != x.shape[0] or P.shape[1:] != (x.shape[1], x.shape[1]):
-        raise ValueError(f"means (n, d) and covariances (n, d, d) do not match: {x.shape} vs {P.shape}")
+        raise ValueError(f"means x (n, d) and covariances P (n, d, d) do not match: {x.shape} vs {P.shape}")
     return x, P, single
+
+
+def _checked_batch(x, P):
+    """``_batch`` plus the checks of every public function: finite means, PSD covariances."""
+    x, P, single = _batch(x, P)
+    check_finite_array(x, "x")
+    check_psd(P, "P", what="P (state covariance)")
+    return x, P, single
+
+
+def _matrix(A, name, shape, n):
+    """A matrix of ``shape`` shared by all ``n`` tracks, or one per track ``(n, *shape)``."""
+    A = np.asarray(A, dtype=float)
+    if A.shape != shape and A.shape != (n, *shape):
+        want = f"({shape[0]}, {shape[1]}) or ({n}, {shape[0]}, {shape[1]})"
+        raise ValueError(f"{name} must have shape {want}, got {A.shape}")
+    return check_finite_array(A, name)
+
+
+def _measurement_model(H, R, d, n=None):
+    H = np.asarray(H, dtype=float)
+    if H.ndim != 2 or H.shape[1] != d:
+        raise ValueError(f"H must have shape (p, {d}) for {d}-dimensional states, got {H.shape}")
+    check_finite_array(H, "H")
+    p = H.shape[0]
+    R = np.asarray(R, dtype=float)
+    if R.shape != (p, p):
+        raise ValueError(f"R must have shape ({p}, {p}) for H of shape {H.shape}, got {R.shape}")
+    return H, check_psd(R, "R", what="R (measurement-noise covariance)")
 
 
 def _unbatch(single, *arrays):
     return tuple(a[0] for a in arrays) if single else arrays
+
+
+def _predict(x, P, F, Q):
+    """Unchecked batched prediction (``x`` (n, d), ``P`` (n, d, d))."""
+    x_pred = np.einsum("...ij,...j->...i", F, x) if F.ndim == 3 else x @ F.T
+    return x_pred, symmetrize(F @ P @ np.swapaxes(F, -1, -2) + Q)
 
 
 def predict(x, P, F, Q):
@@ -83,17 +127,23 @@ def predict(x, P, F, Q):
     F, Q : array_like
         Transition matrix and process-noise covariance, ``(d, d)`` shared by all tracks or
         ``(n, d, d)`` per track (as for an EKF, where F is each track's Jacobian/STM).
+        ``P`` and ``Q`` must be positive semi-definite.
 
     Returns
     -------
     x_pred, P_pred
     """
-    x, P, single = _batch(x, P)
-    F = np.asarray(F, dtype=float)
-    Q = np.asarray(Q, dtype=float)
-    x_pred = np.einsum("...ij,...j->...i", F, x) if F.ndim == 3 else x @ F.T
-    P_pred = symmetrize(F @ P @ np.swapaxes(F, -1, -2) + Q)
-    return _unbatch(single, x_pred, P_pred)
+    x, P, single = _checked_batch(x, P)
+    n, d = x.shape
+    F = _matrix(F, "F", (d, d), n)
+    Q = check_psd(_matrix(Q, "Q", (d, d), n), "Q", what="Q (process-noise covariance)")
+    return _unbatch(single, *_predict(x, P, F, Q))
+
+
+def _predict_with(model, x, P, dt):
+    """Unchecked batched (E)KF prediction through a motion model."""
+    x_pred, F = model.transition(x, dt)
+    return x_pred, symmetrize(F @ P @ np.swapaxes(F, -1, -2) + model.Q(dt))
 
 
 def predict_with(model, x, P, dt):
@@ -102,10 +152,25 @@ def predict_with(model, x, P, dt):
     For a linear model this is :func:`predict`; for a nonlinear one the means are propagated
     through the dynamics and the covariances through the state-transition matrices (EKF).
     """
-    x, P, single = _batch(x, P)
-    x_pred, F = model.transition(x, dt)
-    P_pred = symmetrize(F @ P @ np.swapaxes(F, -1, -2) + model.Q(dt))
-    return _unbatch(single, x_pred, P_pred)
+    x, P, single = _checked_batch(x, P)
+    return _unbatch(single, *_predict_with(model, x, P, dt))
+
+
+def _innovation(x, P, H, R):
+    """Unchecked batched ``(z_pred, S, K)``; ``S`` must be positive definite."""
+    z_pred = x @ H.T
+    PHt = P @ H.T
+    S = symmetrize(H @ PHt + R)
+    # K = P Hᵀ S⁻¹, solved (S symmetric) rather than inverted.
+    K = np.swapaxes(np.linalg.solve(S, np.swapaxes(PHt, -1, -2)), -1, -2) if len(S) else PHt
+    return z_pred, S, K
+
+
+def _checked_innovation(x, P, H, R):
+    x, P, single = _checked_batch(x, P)
+    H, R = _measurement_model(H, R, x.shape[1])
+    check_psd(symmetrize(H @ P @ H.T + R), "S", definite=True, what="S = H P Hᵀ + R (innovation covariance)")
+    return x, P, H, R, single
 
 
 def innovation(x, P, H, R):
@@ -113,15 +178,15 @@ def innovation(x, P, H, R):
 
     Returns ``(z_pred, S, K)`` in the batch form of ``x``.
     """
-    x, P, single = _batch(x, P)
-    H = np.asarray(H, dtype=float)
-    R = np.asarray(R, dtype=float)
-    z_pred = x @ H.T
-    PHt = P @ H.T
-    S = symmetrize(H @ PHt + R)
-    # K = P Hᵀ S⁻¹, solved (S symmetric) rather than inverted.
-    K = np.swapaxes(np.linalg.solve(S, np.swapaxes(PHt, -1, -2)), -1, -2) if len(S) else PHt
-    return _unbatch(single, z_pred, S, K)
+    x, P, H, R, single = _checked_innovation(x, P, H, R)
+    return _unbatch(single, *_innovation(x, P, H, R))
+
+
+def _update(x, P, z, H, R):
+    """Unchecked batched Joseph-form update; ``z`` (n, p)."""
+    z_pred, _, K = _innovation(x, P, H, R)
+    x_upd = x + np.einsum("nij,nj->ni", K, z - z_pred)
+    return x_upd, _joseph_covariance(P, K, H, R)
 
 
 def update(x, P, z, H, R):
@@ -132,51 +197,77 @@ def update(x, P, z, H, R):
     Parameters
     ----------
     x, P : array_like
-        Predicted mean(s) and covariance(s).
+        Predicted mean(s) and covariance(s) (``P`` positive semi-definite).
     z : array_like
         Measurement ``(p,)`` or one per track ``(n, p)``.
     H, R : array_like
-        Measurement matrix ``(p, d)`` and noise covariance ``(p, p)``.
+        Measurement matrix ``(p, d)`` and noise covariance ``(p, p)`` (positive semi-definite,
+        with ``S = H P Hᵀ + R`` positive definite).
 
     Returns
     -------
     x_upd, P_upd
     """
-    x, P, single = _batch(x, P)
+    x, P, H, R, single = _checked_innovation(x, P, H, R)
+    n, p = x.shape[0], H.shape[0]
     z = np.asarray(z, dtype=float)
-    if z.ndim == 1:
-        z = np.broadcast_to(z, (x.shape[0], z.shape[0]))
-    if not np.all(np.isfinite(z)):
-        raise ValueError("z must be finite (no NaN or inf)")
-    H = np.asarray(H, dtype=float)
-    R = np.asarray(R, dtype=float)
-    z_pred, S, K = innovation(x, P, H, R)
-    x_upd = x + np.einsum("nij,nj->ni", K, z - z_pred)
-    return _unbatch(single, x_upd, joseph_covariance(P, K, H, R))
+    if z.shape == (p,):
+        z = np.broadcast_to(z, (n, p))
+    elif z.shape != (n, p):
+        raise ValueError(f"z must have shape ({p},) or ({n}, {p}), got {z.shape}")
+    check_finite_array(z, "z")
+    return _unbatch(single, *_update(x, P, z, H, R))
+
+
+def _joseph_covariance(P, K, H, R):
+    I_KH = np.eye(P.shape[-1]) - K @ H
+    return symmetrize(I_KH @ P @ np.swapaxes(I_KH, -1, -2) + K @ R @ np.swapaxes(K, -1, -2))
 
 
 def joseph_covariance(P, K, H, R):
     """Updated covariances ``(I − K H) P (I − K H)ᵀ + K R Kᵀ`` (Joseph form, symmetrised), batched.
 
     Valid for any gain ``K`` (not only the optimal one) and positive semi-definite by
-    construction, which is why every update in hypotrack goes through it. Callers that already
-    hold the gains (e.g. from :func:`innovation`) use it directly instead of :func:`update`.
+    construction (for ``P`` and ``R`` positive semi-definite, which is checked), which is why
+    every update in hypotrack goes through it. Callers that already hold the gains (e.g. from
+    :func:`innovation`) use it directly instead of :func:`update`.
     """
-    P = np.asarray(P, dtype=float)
-    I_KH = np.eye(P.shape[-1]) - K @ H
-    return symmetrize(I_KH @ P @ np.swapaxes(I_KH, -1, -2) + K @ R @ np.swapaxes(K, -1, -2))
+    P = check_psd(P, "P", what="P (state covariance)")
+    d = P.shape[-1]
+    H, R = _measurement_model(H, R, d)
+    K = check_finite_array(K, "K")
+    if K.shape[-2:] != (d, H.shape[0]):
+        raise ValueError(f"K must have shape (..., {d}, {H.shape[0]}), got {K.shape}")
+    return _joseph_covariance(P, K, H, R)
 
 
-def _chol_logdet(S):
-    L = np.linalg.cholesky(S)
+def _chol_logdet(S, name="S"):
+    try:
+        L = np.linalg.cholesky(S)
+    except np.linalg.LinAlgError:
+        raise ValueError(f"{name} must be positive definite (Cholesky failed)") from None
     return L, 2.0 * np.sum(np.log(np.diagonal(L, axis1=-2, axis2=-1)), axis=-1)
+
+
+def _check_pairs(z, z_pred, S, z_name):
+    S = np.asarray(S, dtype=float)
+    if S.ndim not in (2, 3) or S.shape[-1] != S.shape[-2]:
+        raise ValueError(f"S must have shape (p, p) or (n, p, p), got {S.shape}")
+    p = S.shape[-1]
+    z_pred = check_finite_array(np.atleast_2d(np.asarray(z_pred, dtype=float)), "z_pred")
+    if z_pred.shape[-1] != p or (S.ndim == 3 and z_pred.shape[0] != S.shape[0]):
+        raise ValueError(f"z_pred must have shape (n, {p}) matching S {S.shape}, got {z_pred.shape}")
+    z = check_finite_array(np.asarray(z, dtype=float), z_name)
+    if z.size and z.shape[-1] != p:
+        raise ValueError(f"{z_name} must have {p} components per measurement, got shape {z.shape}")
+    check_psd(S, "S", definite=True, what="S (innovation covariance)")
+    return z, z_pred, S
 
 
 def log_likelihood(z, z_pred, S):
     """Log density ``log N(z; z_pred, S)`` for matched batches (or a single pair)."""
-    z = np.atleast_2d(np.asarray(z, dtype=float))
-    z_pred = np.atleast_2d(np.asarray(z_pred, dtype=float))
-    S = np.asarray(S, dtype=float)
+    z, z_pred, S = _check_pairs(z, z_pred, S, "z")
+    z = np.atleast_2d(z)
     single = S.ndim == 2
     if single:
         S = S[None]
@@ -186,23 +277,9 @@ def log_likelihood(z, z_pred, S):
     return float(out[0]) if single else out
 
 
-def mahalanobis2_matrix(Z, z_pred, S):
-    """Squared Mahalanobis distances ``d²[i, j] = (z_i − ẑ_j)ᵀ S_j⁻¹ (z_i − ẑ_j)``.
-
-    Parameters
-    ----------
-    Z : (m, p) measurements.
-    z_pred : (n, p) predicted measurements of n tracks.
-    S : (n, p, p) innovation covariances.
-
-    Returns
-    -------
-    d2 : (m, n) array, and ``logdet`` : (n,) log-determinants of S.
-    """
-    Z = np.asarray(Z, dtype=float).reshape(-1, np.shape(z_pred)[-1] if np.ndim(z_pred) else 1)
-    z_pred = np.asarray(z_pred, dtype=float)
-    S = np.asarray(S, dtype=float)
-    n, p = z_pred.shape
+def _mahalanobis2(Z, z_pred, S):
+    """Unchecked :func:`mahalanobis2_matrix` (``Z`` (m, p), ``z_pred`` (n, p), ``S`` (n, p, p))."""
+    n = z_pred.shape[0]
     if n == 0 or Z.shape[0] == 0:
         return np.zeros((Z.shape[0], n)), (np.zeros(0) if n == 0 else _chol_logdet(S)[1])
     L, logdet = _chol_logdet(S)
@@ -210,6 +287,29 @@ def mahalanobis2_matrix(Z, z_pred, S):
     # Whitening with the (small, p×p) inverse Cholesky factor, vectorised over all pairs.
     u = np.einsum("njk,mnk->mnj", np.linalg.inv(L), r)
     return np.sum(u * u, axis=-1), logdet
+
+
+def mahalanobis2_matrix(Z, z_pred, S):
+    """Squared Mahalanobis distances ``d²[i, j] = (z_i − ẑ_j)ᵀ S_j⁻¹ (z_i − ẑ_j)``.
+
+    Parameters
+    ----------
+    Z : (m, p) measurements.
+    z_pred : (n, p) predicted measurements of n tracks.
+    S : (n, p, p) innovation covariances (positive definite).
+
+    Returns
+    -------
+    d2 : (m, n) array, and ``logdet`` : (n,) log-determinants of S.
+    """
+    p = np.shape(z_pred)[-1] if np.ndim(z_pred) else 1
+    Z = np.asarray(Z, dtype=float)
+    Z = Z.reshape(-1, p) if Z.size or Z.ndim < 2 else Z.reshape(0, p)
+    S = np.asarray(S, dtype=float).reshape(-1, p, p)
+    Z, z_pred, S = _check_pairs(Z, np.asarray(z_pred, dtype=float).reshape(-1, p), S, "Z")
+    if S.shape[0] != z_pred.shape[0]:
+        raise ValueError(f"S must hold one ({p}, {p}) covariance per track: {z_pred.shape[0]} tracks, got {S.shape}")
+    return _mahalanobis2(Z, z_pred, S)
 
 
 def log_likelihood_matrix(Z, z_pred, S):

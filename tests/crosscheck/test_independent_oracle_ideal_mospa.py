@@ -95,3 +95,14 @@ def test_bad_conventions_are_rejected():
         ideal_mospa_per_scan(**TABLE, n_scans=10, scoring="best")
     with pytest.raises(ValueError, match="transient_scans"):
         ideal_mospa(**TABLE, n_scans=10, transient_scans=9)
+
+
+def test_parameters_that_would_reach_the_published_ideal_under_best_pairing():
+    from hypotrack.experiments.closely_spaced_oracle import parameters_reaching
+
+    kw = dict(**TABLE, n_scans=100, initial_variance=0.01)
+    need = parameters_reaching(0.0363, **kw)
+    assert ideal_mospa(**{**kw, "R": need["R"]}) == pytest.approx(0.0363, rel=1e-9)
+    assert ideal_mospa(**{**kw, "sigma2": need["sigma2"]}) == pytest.approx(0.0363, rel=1e-9)
+    assert need["R"] > 1.1 and need["sigma2"] > 0.0105  # more than 10 % and 5 % away from the stated values
+    assert abs(need["one_sensor_fewer"] - 0.0363) > 5e-5  # nine sensors miss the published rounding too

@@ -4,7 +4,7 @@ Five closely spaced constant-velocity targets in Poisson clutter, 25 scans, trac
 the truth (no initiation), both libraries run side by side scan by scan, each on its own
 filtered states. Stone Soup orders the state [x, vx, y, vy], hypotrack [x, y, vx, vy].
 
-Conventions matched (issue 4): the clutter spatial density is passed explicitly to
+Conventions matched: the clutter spatial density is passed explicitly to
 ``PDAHypothesiser`` (otherwise Stone Soup estimates it from the data); GNN is compared in the
 criterion Stone Soup's ``GNNWith2DAssignment`` + ``DistanceHypothesiser`` actually solves (sum
 of unsquared Mahalanobis distances, ``gnn_score="mahalanobis"``) — the lecture's log-likelihood

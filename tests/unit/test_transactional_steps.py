@@ -175,7 +175,7 @@ def test_rfisst_failure_in_a_later_parent_restores_rng_and_retry_matches(monkeyp
     """The MCMC generator draws from the filter's generator for the first parent, then the
     second parent fails: the draws are given back and the retry equals an uninterrupted run."""
     make = lambda: rfisst(MOTION, _sensor(), population=_population(), n_steps=300, max_hypotheses=6,
-                          cap="sample", means=X0, covs=P0, seed=11)  # noqa: E731
+                          cap="sample", means=X0, covs=P0, seed=11)
     scans = _scans(3)
     f, ref = make(), make()
     for Z in scans[:2]:

@@ -1,4 +1,4 @@
-# Issue 3 performance targets of the hypothesis engine, measured (not asserted in tests):
+# Performance targets of the hypothesis engine, measured (not asserted in tests):
 # MCMC proposals per second at M = m = 28, exhaustive children enumerated and weighted per
 # second, and the memory bound of exhaustive generation (a budget error, never an OOM).
 PH_DIR = f"{RESULTS}/perf"

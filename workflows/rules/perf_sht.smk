@@ -1,4 +1,4 @@
-# Issue 4 performance targets, measured (not asserted in tests): hypotrack's GNN and JPDA per-scan
+# Speed-up targets, measured (not asserted in tests): hypotrack's GNN and JPDA per-scan
 # time against Stone Soup's GNNWith2DAssignment, JPDAwithEHM2 and brute-force JPDA on the same
 # closely spaced formations in one run (lock-step, alternating order), with the speed-up ratios,
 # the marginals/associations compared, and the largest formation each handles within 1 s/scan.

@@ -2,6 +2,9 @@
 
 from hypotrack.experiments.belief_space import eq43_noise_table, eq43_offsets_table
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg["eq43"]  # noqa: F821
 print("belief_space: Eq. 43 across the pixel and against the noise", flush=True)

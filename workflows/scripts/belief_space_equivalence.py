@@ -2,6 +2,9 @@
 
 from hypotrack.experiments.belief_space import equivalence_table
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 print(f"belief_space: {cfg['equivalence']['n_runs']} runs of FISST, HOMHT and H-FISST", flush=True)

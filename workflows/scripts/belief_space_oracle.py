@@ -2,6 +2,9 @@
 
 from hypotrack.experiments.belief_space_oracle import oracle_table
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 print(f"belief_space oracle: {cfg['n_scenes']} scans, FISST and HOMHT against the brute-force densities", flush=True)

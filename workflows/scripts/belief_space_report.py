@@ -8,6 +8,9 @@ from hypotrack.experiments.belief_space import checks_table, claims_from_checks,
 from hypotrack.experiments.belief_space_oracle import oracle_claims
 from hypotrack.report import write_claims
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 inp, out = snakemake.input, snakemake.output  # noqa: F821

@@ -1,5 +1,8 @@
 """Fig 4.2: one realisation of truth, measured counts, classical MHT and the cardinality tracker."""
 import matplotlib
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402

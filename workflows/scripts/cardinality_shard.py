@@ -3,6 +3,9 @@ from hypotrack.experiments.cardinality import cardinality_monte_carlo, monte_car
 from hypotrack.experiments.ecmht import shard_runs
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 shard = int(snakemake.wildcards.shard)  # noqa: F821

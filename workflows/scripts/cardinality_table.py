@@ -4,6 +4,9 @@ import pandas as pd
 from hypotrack.experiments.cardinality import cardinality_claims, summarise_cardinality
 from hypotrack.report import write_claims
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

@@ -3,6 +3,9 @@ from hypotrack.experiments.closely_spaced import closely_spaced_realisation, rea
 from hypotrack.experiments.closely_spaced_figures import plot_realisation
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

@@ -3,6 +3,9 @@ from hypotrack.experiments.closely_spaced import closely_spaced_monte_carlo, sha
 from hypotrack.experiments.ecmht import shard_runs
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 shard = int(snakemake.wildcards.shard)  # noqa: F821

@@ -7,6 +7,9 @@ from hypotrack.experiments.closely_spaced_claims import closely_spaced_claims, c
 from hypotrack.experiments.closely_spaced_figures import plot_mospa_vs_scan
 from hypotrack.report import write_claims
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

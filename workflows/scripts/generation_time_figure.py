@@ -6,6 +6,9 @@ import pandas as pd
 from hypotrack.experiments.generation_time import generation_time_claims
 from hypotrack.experiments.generation_time_figures import OUTCOME_COLUMNS, plot_generation_time
 from hypotrack.report import write_claims
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 cfg = snakemake.params.cfg

@@ -3,6 +3,9 @@
 import pandas as pd
 
 from hypotrack.experiments.generation_time import generation_time_sweep
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 method = snakemake.wildcards.method

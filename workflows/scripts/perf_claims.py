@@ -5,6 +5,9 @@ import pandas as pd
 from hypotrack.experiments.generation_time import throughput_claims
 from hypotrack.experiments.perf_sht import perf_sht_claims
 from hypotrack.report import write_claims
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 inp = snakemake.input  # noqa: F821
 if "throughput" in inp.keys():

@@ -1,7 +1,10 @@
-"""Hypothesis-engine throughput and memory benchmark (issue 3 performance targets)."""
+"""Hypothesis-engine throughput and memory benchmark (targets: 1e6 MCMC proposals/s, 5e6 children/s)."""
 
 from hypotrack.experiments.generation_time import throughput_table
 from hypotrack.experiments.generation_time_figures import plot_throughput
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 cfg = snakemake.params.cfg

@@ -25,6 +25,9 @@ from hypotrack.experiments.perf_sht import (
     speedup_table,
 )
 from hypotrack.models import ConstantVelocity
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg_all = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 cfg = {**cfg_all["scenario"], **cfg_all["tracker"]}

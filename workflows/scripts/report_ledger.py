@@ -3,6 +3,9 @@
 import html
 
 import pandas as pd
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 STATUS_COLOURS = {"reproduced": "#e6f4ea", "not reproduced": "#fce8e6", "qualitative": "#fef7e0"}
 

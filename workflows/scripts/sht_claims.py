@@ -2,8 +2,11 @@
 
 import pandas as pd
 
+from hypotrack.experiments.joblog import prefix_output
 from hypotrack.experiments.sht import lecture_macros, sht_claims
 from hypotrack.report import write_claims, write_macros
+
+prefix_output(snakemake)  # noqa: F821  every line this job prints names the job
 
 inp = snakemake.input  # noqa: F821
 write_claims(sht_claims(pd.read_csv(inp.clusters), pd.read_csv(inp.curves), pd.read_csv(inp.summary)),

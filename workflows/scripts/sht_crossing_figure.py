@@ -3,6 +3,9 @@ import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
 from hypotrack.experiments.sht import crossing_example, plot_crossing, summarise_crossing
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 per_scan = pd.concat([pd.read_csv(f) for f in snakemake.input.per_scan], ignore_index=True)  # noqa: F821

@@ -4,6 +4,9 @@ import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
 from hypotrack.experiments.sht import lecture_hypotheses, lecture_summary
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 valid = np.asarray(snakemake.params.cfg["lecture_validation"], dtype=bool)  # noqa: F821 (injected by Snakemake)
 m, n = valid.shape

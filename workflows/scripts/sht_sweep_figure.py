@@ -3,6 +3,9 @@ import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
 from hypotrack.experiments.sht import plot_sweep, summarise_sweep
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 per_run = pd.concat([pd.read_csv(f) for f in snakemake.input.per_run], ignore_index=True)  # noqa: F821

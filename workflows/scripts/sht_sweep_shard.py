@@ -3,6 +3,9 @@ import numpy as np
 
 from hypotrack.scenarios.tables import write_table
 from hypotrack.experiments.sht import sweep_runs
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 shard = int(snakemake.wildcards.shard)  # noqa: F821

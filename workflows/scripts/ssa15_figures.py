@@ -1,6 +1,9 @@
 """ssa15: MAP agreement of the compared trackers, Figs 12-14, OSPA of every tracker and the claims."""
 
 import matplotlib
+from hypotrack.experiments.joblog import claims_line, prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
@@ -43,4 +46,4 @@ st.save_figure(st.plot_comparison(agreements, metrics, ospa_settings, labels=lab
                out.comparison_pdf, out.comparison_png)
 claims = st.ssa15_claims(metrics, agreements, matched, estimate_scans=snapshot_scans, n_scans=K,
                          error_bound_probability=sec["error_bound_probability"], labels=labels)
-print(write_claims(claims, out.claims).to_string(index=False), flush=True)
+print(claims_line(write_claims(claims, out.claims), out.claims), flush=True)

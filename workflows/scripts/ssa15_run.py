@@ -1,6 +1,9 @@
 """Run one tracker (wildcard ``tracker``: rfisst or homht) over the ssa15 scenario tables."""
 
 from hypotrack.experiments.ssa import run_and_save
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 run_and_save(snakemake.config, "ssa15", snakemake.wildcards.tracker, snakemake.input, snakemake.output,

@@ -1,6 +1,9 @@
 """ssa50: MAP estimates vs truth, Figs 6, 8-10, 11, OSPA over time and the reproduction claims."""
 
 import matplotlib
+from hypotrack.experiments.joblog import claims_line, prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
@@ -40,4 +43,4 @@ st.save_figure(st.plot_ospa(metrics, st.OSPASettings(**sec["ospa"]), labels={"":
                out.ospa_pdf, out.ospa_png)
 claims = st.ssa50_claims(metrics, cardinality, weights, matched, births, estimate_scans=estimate_scans,
                          n_scans=K, error_bound_probability=sec["error_bound_probability"])
-print(write_claims(claims, out.claims).to_string(index=False), flush=True)
+print(claims_line(write_claims(claims, out.claims), out.claims), flush=True)

@@ -4,6 +4,9 @@ import time
 
 from hypotrack.scenarios.ssa import prior_table, scenario_from_config
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 case = snakemake.wildcards.case

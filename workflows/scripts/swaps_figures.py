@@ -5,6 +5,9 @@ import pandas as pd
 from hypotrack.experiments.ecmht import plot_swap_figures, summarise_swaps, swap_claims
 from hypotrack.report import write_claims
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 out = snakemake.output  # noqa: F821

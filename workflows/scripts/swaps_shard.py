@@ -4,6 +4,9 @@ import numpy as np
 from hypotrack.scenarios.tables import write_table
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.experiments.ecmht import shard_runs, swap_shard
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821
 shard = int(snakemake.wildcards.shard)  # noqa: F821

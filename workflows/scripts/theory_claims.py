@@ -2,6 +2,9 @@
 import json
 
 from hypotrack.report import Claim, write_claims
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # every line this job prints names the job
 
 claims = []
 for path in snakemake.input.findings:  # noqa: F821

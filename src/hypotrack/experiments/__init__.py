@@ -20,5 +20,7 @@ closely_spaced_claims     Table 6.1 ledger rows: Monte Carlo verdicts, closed fo
 closely_spaced_figures    MOSPA over time and Figs 6.1–6.2.
 sht                       lecture notes 004: worked example, GNN vs JPDA on crossing targets.
 perf_sht                  per-scan timing of GNN and JPDA against a peer implementation.
+glmb_benchmark            the GLMB papers' linear-Gaussian benchmark: δ-GLMB (Gibbs), R-FISST, HOMHT.
+glmb_benchmark_report     its side-by-side table, curves over time, figure and ledger rows.
 seeds                     seed streams: one master seed, independent children per experiment.
 """

@@ -12,7 +12,8 @@ import pandas as pd
 
 from ..report import Claim, monte_carlo_claim, numeric_claim
 from .closely_spaced import LABELLED_IDEAL, TABLE_6_1
-from .closely_spaced_oracle import ideal_conventions_table, ideal_mospa, riccati_steady_prediction
+from .closely_spaced_oracle import (ideal_conventions_table, ideal_mospa, parameters_reaching,
+                                    riccati_steady_prediction)
 
 __all__ = ["conventions_table", "closely_spaced_claims"]
 
@@ -34,8 +35,8 @@ def conventions_table(cfg) -> pd.DataFrame:
 
 def _mc(key, item, row, published, tol, note, evidence="published number", source=SOURCE, **tol_kw):
     kw = tol_kw or {"rel_tol": tol}
-    return monte_carlo_claim("closely_spaced", item, source, published, n=int(row["n"]), mean=float(row["mean"]),
-                             se=float(row["se"]), note=note, evidence=evidence, key=key, **kw)
+    return monte_carlo_claim("closely_spaced", item, source, published, n=int(row["n"]),
+                             mean=float(row["mean"]), se=float(row["se"]), note=note, evidence=evidence, key=key, **kw)
 
 
 def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg) -> list:
@@ -82,6 +83,7 @@ def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg) -> lis
     pairing = conv[(conv["scoring"] == "pairing") & (conv["estimate"] == "predicted")
                    & (conv["initialisation"] == "measurement") & (conv["transient_scans"] == 0)]
     matching = conv[conv["matches_published"]]
+    need = parameters_reaching(TABLE_6_1["ideal"], **model)
     kinds = sorted({"steady state" if r.initialisation == "steady state" else
                     f"{r.scoring}/{r.estimate}/{r.initialisation} init/after {r.transient_scans} scans"
                     for r in matching.itertuples()})
@@ -94,7 +96,9 @@ def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg) -> lis
               f"closed form gives {pairing['closed_form'].min():.4g} to {pairing['closed_form'].max():.4g} for "
               "initial variances " + ", ".join(f"{v:g}" for v in pairing["initial_variance"]) + " m^2: the "
               "pairing lowers the error while the targets are close, and no initial variance reaches the "
-              "published value")))
+              f"published value; it would need R = {need['R']:.3g} m^2 instead of {cfg['R']:g}, or sigma_q^2 = "
+              f"{need['sigma2']:.3g} instead of {cfg['sigma2']:g} (one sensor fewer gives "
+              f"{need['one_sensor_fewer']:.4g})")))
     claims.append(_mc("MospaIdealLabelled", "Table 6.1 MOSPA ideal, labelled after the transient", s.loc[LABELLED_IDEAL],
                       TABLE_6_1["ideal"], tol, "the ideal scored as the finding above says: against its own "
                       "targets, scans after the Riccati transient"))

@@ -33,6 +33,7 @@ __all__ = [
     "ideal_mospa",
     "riccati_steady_prediction",
     "ideal_conventions_table",
+    "parameters_reaching",
 ]
 
 SCORINGS = ("pairing", "labelled")
@@ -152,3 +153,18 @@ def ideal_conventions_table(*, sigma2, gamma, n_scans, n_sensors, R, dt, initial
     df["relative_difference"] = df["closed_form"] / published - 1
     df["matches_published"] = (df["closed_form"] - published).abs() <= rounding
     return df
+
+
+def parameters_reaching(target: float, *, sigma2, gamma, n_scans, n_sensors, R, dt, initial_variance) -> dict:
+    """How far a stated parameter would have to move for the best-pairing MOSPA (all scans) to equal ``target``.
+
+    Returns the per-sensor variance ``R`` and the OU intensity ``sigma2`` that reach it
+    (scipy.optimize.brentq, the MOSPA increases with both), and the MOSPA with one sensor fewer.
+    """
+    from scipy.optimize import brentq
+
+    kw = dict(gamma=gamma, n_scans=n_scans, dt=dt, initial_variance=initial_variance)
+    r_star = brentq(lambda r: ideal_mospa(**kw, sigma2=sigma2, n_sensors=n_sensors, R=r) - target, R / 4, 4 * R)
+    s_star = brentq(lambda s: ideal_mospa(**kw, sigma2=s, n_sensors=n_sensors, R=R) - target, sigma2 / 4, 4 * sigma2)
+    fewer = ideal_mospa(**kw, sigma2=sigma2, n_sensors=n_sensors - 1, R=R) if n_sensors > 1 else math.nan
+    return {"R": r_star, "sigma2": s_star, "one_sensor_fewer": fewer}

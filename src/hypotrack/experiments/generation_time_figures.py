@@ -68,7 +68,7 @@ def plot_generation_time(table: pd.DataFrame, pdf, png, *, budget: float, mcmc_s
 
 
 def plot_throughput(table: pd.DataFrame, pdf, png):
-    """Measured throughputs (bars) against the issue-3 targets (red ticks), log scale."""
+    """Measured throughputs (bars) against the performance targets (red ticks), log scale."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -87,7 +87,7 @@ def plot_throughput(table: pd.DataFrame, pdf, png):
     ax.set_xscale("log")
     ax.set_xlim(1e5, 10 ** np.ceil(np.log10(max(d["per_second"].max(), 1e7) * 1.5)))
     ax.set_xlabel("per second, one core (MCMC: proposals; exhaustive: children enumerated + weighted)")
-    ax.set_title("Hypothesis-engine throughput vs the issue-3 targets")
+    ax.set_title("Hypothesis-engine throughput vs its performance targets")
     ax.grid(True, axis="x", which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
     _save(fig, pdf, png)

@@ -1,6 +1,6 @@
 """Per-scan timing of hypotrack's GNN and JPDA trackers, and the tables of the ``perf_sht`` rule.
 
-The benchmark (issue 4) runs hypotrack and a peer implementation side by side in one process on
+The benchmark (speed-up targets) runs hypotrack and a peer implementation side by side in one process on
 the same scenarios: a formation of closely spaced constant-velocity targets
 (:func:`hypotrack.scenarios.cluttered.closely_spaced_targets`) in Poisson clutter, tracked from
 known initial tracks (no initiation), so every scan costs one prediction, gating, association
@@ -273,7 +273,7 @@ def perf_sht_claims(speedups: pd.DataFrame, largest: pd.DataFrame, timings: pd.D
         goal = float(g["goal"].iloc[0])
         lo, hi = float(g["speedup"].min()), float(g["speedup"].max())
         claims.append(Claim(
-            "perf_sht", f"{algorithm.upper()} per-scan speed-up vs Stone Soup {peer}", "extension (target)",
+            "perf_sht", f"{algorithm.upper()} per-scan speed-up vs Stone Soup {peer}", "extension (speed-up target)",
             f">= {goal:g}x", f"{lo:.0f}x to {hi:.0f}x", f"{int(g['n_targets'].min())}-{int(g['n_targets'].max())} targets",
             "extension", "identical associations/marginals; ratios from one run, same scenarios", "measurement",
             key=f"{algorithm}_speedup_{re.sub('[^A-Za-z0-9]', '', peer)}"))

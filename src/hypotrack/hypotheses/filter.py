@@ -30,9 +30,17 @@ import time
 import numpy as np
 from scipy.special import logsumexp
 
-from .._validation import check_finite_array, check_int, check_measurements, check_positive, check_probability
+from .._validation import (
+    check_covariance,
+    check_finite_array,
+    check_int,
+    check_measurements,
+    check_positive,
+    check_probability,
+    check_state_dimension,
+)
 from ..association import gate_threshold, validation_matrix
-from ..gaussian import innovation, mahalanobis2_matrix
+from ..gaussian import _innovation, _mahalanobis2
 from .association_problem import SEEDED_BIRTH
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
@@ -136,8 +144,9 @@ class HypothesisFilter:
         )
         self.p_D = p_D
         self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
-        self.H = np.asarray(sensor.measurement.H, dtype=float)
-        self.R = np.asarray(sensor.measurement.R, dtype=float)
+        self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
+        self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
+        check_state_dimension(motion, self.H.shape[1], f"the sensor (H of shape {self.H.shape})")
         self.last_stats = {}
         self.initialise(np.zeros((0, self.H.shape[1])) if means is None else means, covs, labels)
 
@@ -190,8 +199,8 @@ class HypothesisFilter:
         n, m = len(pred), len(Z)
         clutter = self.sensor.clutter
         if n:
-            z_pred, S, _ = innovation(pred.means, pred.covs, self.H, self.R)
-            d2, logdet = mahalanobis2_matrix(Z, z_pred, S)
+            z_pred, S, _ = _innovation(pred.means, pred.covs, self.H, self.R)
+            d2, logdet = _mahalanobis2(Z, z_pred, S)
             loglik = -0.5 * (d2 + logdet[None, :] + self.H.shape[0] * np.log(2 * np.pi))
             in_view = np.asarray(self.sensor.detection.in_view(z_pred), dtype=bool)
         else:

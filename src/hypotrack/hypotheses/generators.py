@@ -31,7 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_int
+from .._validation import check_int, check_positive
 from ..association import (
     EnumerationBudgetError,
     association_score_matrix,
@@ -246,6 +246,7 @@ class MCMCGenerator(ChildGenerator):
             check_int(self.burn_in, "burn_in", minimum=0, maximum=self.n_steps)
         if self.variant not in MCMC_VARIANTS:
             raise ValueError(f"variant must be one of {MCMC_VARIANTS}, got {self.variant!r}")
+        check_positive(self.temperature, "temperature")
         check_int(self.completion_rounds, "completion_rounds", minimum=0)
         if not 0 < self.completion_threshold < 1:
             raise ValueError(f"completion_threshold must lie in (0, 1), got {self.completion_threshold!r}")

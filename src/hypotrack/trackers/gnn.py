@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..association import association_score_matrix, best_assignment, columns_to_event, find_clusters
-from ..gaussian import joseph_covariance
+from ..gaussian import _joseph_covariance
 from ._sht_common import GatedTracks, ScanModel
 
 _JOINT_LIMIT = 64
@@ -183,6 +183,6 @@ def gnn_update(gated: GatedTracks, a, model: ScanModel):
         K = gated.K[tracks]
         nu = gated.Z[rows] - gated.z_pred[tracks]
         x[tracks] = gated.x[tracks] + np.einsum("ndp,np->nd", K, nu)
-        P[tracks] = joseph_covariance(gated.P[tracks], K, model.H, model.R)
+        P[tracks] = _joseph_covariance(gated.P[tracks], K, model.H, model.R)
         detected[tracks] = True
     return x, P, detected

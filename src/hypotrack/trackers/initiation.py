@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .._validation import check_int, check_measurements, check_positive
+from .._validation import check_int, check_measurements, check_positive, check_state_dimension
 from ._sht_common import ScanModel, gate_tracks, predict_tracks
 from .gnn import gnn_associate, gnn_gains, gnn_update
 
@@ -52,6 +52,7 @@ class MOfNInitiator:
     def __init__(self, motion, model: ScanModel, *, m: int = 2, n: int = 3, initial_velocity_std: float = 10.0):
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
+        check_state_dimension(motion, model.ndim_state, f"the scan model (H of shape {model.H.shape})")
         self.motion = motion
         self.model = model
         self.n = check_int(n, "n", minimum=1)

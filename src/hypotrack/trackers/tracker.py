@@ -23,7 +23,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_covariance, check_finite_array, check_int, check_measurements
+from .._validation import (
+    check_covariance,
+    check_finite_array,
+    check_int,
+    check_measurements,
+    check_positive,
+    check_state_dimension,
+)
 from ._sht_common import ScanModel, gate_tracks, predict_tracks
 from .gnn import gnn_associate, gnn_gains, gnn_update, mahalanobis_gains
 from .initiation import MOfNInitiator
@@ -103,13 +110,18 @@ class SingleHypothesisTracker:
             raise ValueError(f"gnn_score must be 'lecture' or 'mahalanobis', got {gnn_score!r}")
         if initiator is not None and not isinstance(initiator, MOfNInitiator):
             raise TypeError(f"initiator must be an MOfNInitiator or None, got {type(initiator).__name__}")
+        check_state_dimension(motion, model.ndim_state, f"the scan model (H of shape {model.H.shape})")
+        if initiator is not None and initiator.model.H.shape != model.H.shape:
+            raise ValueError(f"initiator's scan model has H of shape {initiator.model.H.shape}, the tracker's {model.H.shape}")
         self.motion = motion
         self.model = model
         self.association = association
         self.initiator = initiator
         self.max_misses = check_int(max_misses, "max_misses", minimum=1)
         self.gnn_score = gnn_score
-        self.missed_distance = float(np.sqrt(model.gate)) if missed_distance is None else float(missed_distance)
+        self.missed_distance = (
+            float(np.sqrt(model.gate)) if missed_distance is None else check_positive(missed_distance, "missed_distance")
+        )
         d = model.ndim_state
         self.ids = np.zeros(0, dtype=np.int64)
         self.x = np.zeros((0, d))
@@ -151,7 +163,10 @@ class SingleHypothesisTracker:
             time, Z = scan
         except (TypeError, ValueError):
             raise TypeError("scan must be a (time, Z) pair") from None
-        time = float(time)
+        try:
+            time = float(time)
+        except (TypeError, ValueError):
+            raise TypeError(f"scan must be a (time, Z) pair with a scalar time, got time {time!r}") from None
         if not np.isfinite(time):
             raise ValueError(f"scan time must be finite, got {time}")
         Z = check_measurements(Z, "Z", self.model.dim)

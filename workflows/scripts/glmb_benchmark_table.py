@@ -1,0 +1,18 @@
+"""GLMB benchmark: side-by-side table, curves over time, figure and ledger rows from the shards."""
+import pandas as pd
+
+from hypotrack.experiments.glmb_benchmark_report import benchmark_claims, curves, plot_benchmark, summary_table
+from hypotrack.report import write_claims
+from hypotrack.scenarios.tables import write_table
+
+cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
+out = snakemake.output  # noqa: F821
+per_scan = pd.concat([pd.read_csv(p) for p in snakemake.input.per_scan], ignore_index=True)  # noqa: F821
+summary, timing = summary_table(per_scan)
+write_table(summary, out.summary)
+write_table(timing, out.timing)
+curve = curves(per_scan)
+write_table(curve, out.curves)
+curve.attrs["n_runs"] = per_scan.run.nunique()
+plot_benchmark(curve, out.fig_pdf, out.fig_png)
+write_claims(benchmark_claims(summary, timing, cfg["reference_tracker"]), out.claims)

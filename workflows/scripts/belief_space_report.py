@@ -4,7 +4,8 @@ import matplotlib
 matplotlib.use("Agg")
 import pandas as pd
 
-from hypotrack.experiments.belief_space import checks_table, claims_from_checks, plot_eq43, plot_equivalence, plot_ratio
+from hypotrack.experiments.belief_space import plot_eq43, plot_equivalence, plot_ratio
+from hypotrack.experiments.belief_space_claims import checks_table, claims_from_checks
 from hypotrack.experiments.belief_space_oracle import oracle_claims
 from hypotrack.report import write_claims
 from hypotrack.scenarios.tables import write_table

@@ -10,6 +10,7 @@ ssa                       seed 000 Sec. IV–V (a package, one module per step):
 generation_time           seed 000 Fig. 15: hypothesis-generation time; throughput benchmarks.
 generation_time_figures   figures of the hypothesis-engine experiments.
 belief_space              seed 001's numeric claims against the hypothesis engine.
+belief_space_claims       the belief_space checks table and ledger rows, each with its evidence.
 belief_space_oracle       the engine's one-scan posterior against the independent density oracle.
 fisst_oracle              brute-force FISST / Reid densities of one scan (numpy and scipy only).
 cardinality               seed 003 §4, Fig. 4.2: cardinality tracking Monte Carlo.
@@ -22,5 +23,7 @@ sht                       lecture notes 004: worked example, GNN vs JPDA on cros
 perf_sht                  per-scan timing of GNN and JPDA against a peer implementation.
 glmb_benchmark            the GLMB papers' linear-Gaussian benchmark: δ-GLMB (Gibbs), R-FISST, HOMHT.
 glmb_benchmark_report     its side-by-side table, curves over time, figure and ledger rows.
+samplers                  R-FISST's chain vs the GLMB Gibbs sampler vs Murty on identical problems.
+samplers_report           its figure (mass missed vs budget and wall time) and ledger rows.
 seeds                     seed streams: one master seed, independent children per experiment.
 """

@@ -28,3 +28,20 @@ def test_run_problem_masses_are_fractions_and_murty_finds_the_map():
         assert r["n_distinct"] <= r["n_children_total"]
     murty = next(r for r in rows if r["sampler"] == "murty")
     assert murty["map_found"] and murty["n_distinct"] == 10  # ceil(40 / 4) ranked events
+
+
+def test_sampler_tables_macros_and_claims_from_a_small_sweep(tmp_path):
+    from hypotrack.experiments.samplers import samplers_sweep, summarise
+    from hypotrack.experiments.samplers_report import sampler_claims, sampler_macros
+    from hypotrack.report import write_claims, write_macros
+
+    raw = samplers_sweep({"difficulties": ["1sigma", "8sigma"], "n_problems": 2, "n_objects": 3, "budgets": [6, 30]},
+                         np.random.SeedSequence(0))
+    det, timing = summarise(raw)
+    values, times = sampler_macros(det, timing)
+    write_macros("samplers", values, tmp_path / "m.csv")  # names must be valid macro keys
+    write_macros("samplers", times, tmp_path / "t.csv")
+    assert values["At1SigmaMurtyMap"] == "100"  # Murty's first event is the best assignment: the MAP
+    claims = write_claims(sampler_claims(det, timing), tmp_path / "c.csv")
+    assert list(claims.key) == ["Mass1Sigma", "Mass8Sigma"]
+    assert set(claims.reproduced) <= {"rfisst_chain", "rfisst_completion", "gibbs", "murty"}

@@ -7,7 +7,8 @@ the package source and only the test files that exercise the module, and runs
 execute it, so each mutant runs only those). It then reads mutmut's per-file ``.meta`` results
 and writes ``results/quality/mutation.csv``::
 
-    module, mutants, killed, survived, no_tests, timeout, not_run, equivalent, killed_pct_non_equivalent, seconds
+    module, mutants, killed, survived, no_tests, timeout, not_run, equivalent, killed_pct_non_equivalent,
+    seconds, scope (the files mutated)
 
 ``not_run`` counts mutants an interrupted run did not reach (left out of the score).
 ``equivalent`` counts the surviving mutants listed, each with a one-line reason, in
@@ -74,16 +75,16 @@ MODULES = {
 KILLED, SURVIVED, NO_TESTS = {1, 3}, {0}, {5, 33}
 TIMEOUT = {36, 24, -24, 152, 255}
 FIELDS = ["module", "mutants", "killed", "survived", "no_tests", "timeout", "not_run", "equivalent",
-          "killed_pct_non_equivalent", "seconds"]
+          "killed_pct_non_equivalent", "seconds", "scope"]
 
 
 def _toml_list(values) -> str:
     return "[" + ", ".join(json.dumps(v) for v in values) + "]"
 
 
-def prepare(module: str) -> Path:
+def prepare(module: str, only=None) -> Path:
     """Scratch project: the package source, the module's tests and a pyproject for mutmut."""
-    only, tests = MODULES[module]
+    only, tests = only or MODULES[module][0], MODULES[module][1]
     work = WORK / module
     if work.exists():
         shutil.rmtree(work)
@@ -101,8 +102,8 @@ def prepare(module: str) -> Path:
     return work
 
 
-def run(module: str, max_children: int) -> float:
-    work = prepare(module)
+def run(module: str, max_children: int, only=None) -> float:
+    work = prepare(module, only)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # import the mutated copy only
     env.setdefault("NUMBA_CACHE_DIR", str(work / ".numba_cache"))
     t0 = time.perf_counter()
@@ -113,6 +114,14 @@ def run(module: str, max_children: int) -> float:
     if proc.returncode != 0:
         raise SystemExit(f"[mutation] {module}: mutmut exited {proc.returncode}; see {work / 'mutmut.log'}")
     return seconds
+
+
+def _scope(module: str) -> list:
+    """The files mutated in the module's last run (from its scratch pyproject)."""
+    cfg = WORK / module / "pyproject.toml"
+    if not cfg.exists():
+        return MODULES[module][0]
+    return tomllib.loads(cfg.read_text())["tool"]["mutmut"]["only_mutate"]
 
 
 def _equivalent() -> dict:
@@ -127,7 +136,7 @@ def summarise(module: str, seconds: float, equivalent: dict):
         codes.update(json.loads(meta.read_text())["exit_code_by_key"])
     if not codes:
         raise SystemExit(f"[mutation] {module}: no mutmut results under {WORK / module}")
-    survivors, row = [], dict.fromkeys(FIELDS[1:-2], 0)
+    survivors, row = [], dict.fromkeys(FIELDS[1:-3], 0)
     for name, code in sorted(codes.items()):
         row["mutants"] += 1
         if code is None:  # an interrupted run: not tested yet, left out of the score
@@ -171,11 +180,15 @@ def main(argv=None) -> None:
     ap.add_argument("modules", nargs="*", help=f"modules to mutate, of {', '.join(MODULES)} (default: all)")
     ap.add_argument("--max-children", type=int, default=1, help="parallel mutant runs (default 1)")
     ap.add_argument("--report-only", action="store_true", help="re-read finished runs, run nothing")
+    ap.add_argument("--only", nargs="+", metavar="GLOB",
+                    help="mutate only these files of one module (a partial run; its row says so)")
     args = ap.parse_args(argv)
     modules = args.modules or list(MODULES)
     unknown = sorted(set(modules) - set(MODULES))
     if unknown:
         ap.error(f"unknown module(s) {unknown}; choose from {list(MODULES)}")
+    if args.only and len(modules) != 1:
+        ap.error("--only needs exactly one module")
     OUT.mkdir(parents=True, exist_ok=True)
     table, surv_path = OUT / "mutation.csv", OUT / "mutation_survivors.csv"
     rows = {r["module"]: r for r in _read(table)}
@@ -185,9 +198,10 @@ def main(argv=None) -> None:
         if args.report_only:
             seconds = float(rows.get(module, {}).get("seconds") or 0.0)
         else:
-            print(f"[mutation] {module}: mutmut run over {', '.join(MODULES[module][0])}", flush=True)
-            seconds = run(module, args.max_children)
+            print(f"[mutation] {module}: mutmut run over {', '.join(args.only or MODULES[module][0])}", flush=True)
+            seconds = run(module, args.max_children, args.only)
         rows[module], surv = summarise(module, seconds, equivalent)
+        rows[module]["scope"] = " ".join(_scope(module))
         survivors += surv
         r = rows[module]
         print(f"[mutation] {module}: {r['mutants']} mutants, {r['killed']} killed, {r['equivalent']} equivalent, "

@@ -12,6 +12,8 @@ rule samplers_sweep:
         fig_pdf=f"{SAMPLERS_DIR}/mass_vs_budget.pdf",
         fig_png=report_figure(f"{SAMPLERS_DIR}/mass_vs_budget.png", "samplers", "mass_vs_budget"),
         claims=f"{SAMPLERS_DIR}/claims.csv",
+        macros=f"{SAMPLERS_DIR}/macros.csv",
+        timing_macros=f"{SAMPLERS_DIR}/timing_macros.csv",
     params:
         cfg=config["samplers"],
         seed=config["seed"],

@@ -1,8 +1,8 @@
 """Sampler head-to-head: run every sampler on the same problems; tables, figure, ledger rows."""
 from hypotrack.experiments.samplers import samplers_sweep, summarise
-from hypotrack.experiments.samplers_report import plot_mass, sampler_claims
+from hypotrack.experiments.samplers_report import plot_mass, sampler_claims, sampler_macros
 from hypotrack.experiments.seeds import experiment_seeds
-from hypotrack.report import write_claims
+from hypotrack.report import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
@@ -14,3 +14,6 @@ write_table(det, out.summary)
 write_table(timing, out.timing)
 plot_mass(det, timing, out.fig_pdf, out.fig_png)
 write_claims(sampler_claims(det, timing), out.claims)
+values, times = sampler_macros(det, timing)
+write_macros("samplers", values, out.macros)
+write_macros("samplers", times, out.timing_macros)

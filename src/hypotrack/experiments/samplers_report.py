@@ -7,7 +7,7 @@ import pandas as pd
 
 from ..report import Claim
 
-__all__ = ["plot_mass", "sampler_claims"]
+__all__ = ["plot_mass", "sampler_claims", "sampler_macros"]
 
 _LABELS = {"rfisst_chain": "R-FISST chain (paper proposal)", "rfisst_completion": "R-FISST + completion",
            "gibbs": "GLMB Gibbs (systematic scan)", "murty": "Murty k-best"}
@@ -76,3 +76,23 @@ def sampler_claims(det: pd.DataFrame, timing: pd.DataFrame, target_mass: float =
                             "brute force", n=str(int(g.n_problems.iloc[0])), mean=f"{g.loc[best, 'mass_mean']:.4g}",
                             se=f"{g.loc[best, 'mass_se']:.3g}", key=key))
     return claims
+
+
+def sampler_macros(det: pd.DataFrame, timing: pd.DataFrame) -> tuple[dict, dict]:
+    """Per difficulty and sampler at the largest budget: mass captured and MAP found rate (with
+    the largest budget and the number of problems); and, apart (not deterministic), the wall time (ms)."""
+    b = det.budget.max()
+    t = timing.set_index(["difficulty", "sampler", "budget"])
+    out = {"Budget": int(b), "NProblems": int(det.n_problems.min())}
+    # equal proposals, Gibbs against the paper's chain: in how many (difficulty, budget) cells it captures more
+    piv = det.pivot_table(index=["difficulty", "budget"], columns="sampler", values="mass_mean")
+    if {"gibbs", "rfisst_chain"} <= set(piv.columns):
+        out["GibbsAboveChainCells"] = int((piv["gibbs"] > piv["rfisst_chain"]).sum())
+        out["Cells"] = len(piv)
+    times = {}
+    for _, r in det[det.budget == b].iterrows():
+        name = "At" + r.difficulty.replace("sigma", "Sigma") + "".join(p.capitalize() for p in r.sampler.split("_"))
+        out[f"{name}Mass"] = f"{r.mass_mean:.4g}"
+        out[f"{name}Map"] = f"{100 * r.map_found:.0f}"
+        times[f"{name}Ms"] = f"{1e3 * t.loc[(r.difficulty, r.sampler, b), 'time_mean_s']:.3g}"
+    return out, times

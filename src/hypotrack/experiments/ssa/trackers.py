@@ -13,14 +13,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._validation import check_int, check_positive, check_probability
-from ...hypotheses import hfisst, homht, rfisst
+from ...hypotheses import LabeledMultiBernoulliPopulation, glmb, hfisst, homht, rfisst
 from ...scenarios.ssa import SSAScenario
 from ..seeds import experiment_seeds
 
 __all__ = ["TRACKER_KINDS", "TRACKER_NAMES", "TrackerSettings", "make_tracker", "tracker_seed"]
 
-TRACKER_KINDS = ("rfisst", "hfisst", "homht")
-TRACKER_NAMES = {"rfisst": "R-FISST", "hfisst": "H-FISST", "homht": "HOMHT"}
+TRACKER_KINDS = ("rfisst", "hfisst", "homht", "glmb")
+TRACKER_NAMES = {"rfisst": "R-FISST", "hfisst": "H-FISST", "homht": "HOMHT", "glmb": "GLMB (Gibbs)"}
 
 
 @dataclass(frozen=True)
@@ -54,6 +54,10 @@ class TrackerSettings:
         HOMHT always has a fixed number here.
     max_events : int
         Budget of the exhaustive generators (children per parent).
+    n_sweeps : int
+        Gibbs samples per parent per scan (``glmb``: the δ-GLMB filter with the labeled
+        multi-Bernoulli population built from the same α and birth regions, ``r_B = α`` per
+        region, and ``p_S = 1 − β`` for every object at every scan, in view or not).
     """
 
     kind: str = "rfisst"
@@ -68,6 +72,7 @@ class TrackerSettings:
     birth_velocity_std: float = 0.5
     population: bool = True
     max_events: int = 10**7
+    n_sweeps: int = 1000
 
     def __post_init__(self):
         if self.kind not in TRACKER_KINDS:
@@ -137,6 +142,12 @@ def make_tracker(scenario: SSAScenario, settings: TrackerSettings, seed):
         return homht(scenario.motion, scenario.sensor, max_events=s.max_events, **common)
     population = (scenario.birth_model(s.alpha, s.beta, s.n_birth_regions, s.birth_velocity_std)
                   if s.population else None)
+    if s.kind == "glmb":
+        if population is None:
+            raise ValueError("population must be true for glmb (its births and deaths are the labeled multi-Bernoulli)")
+        births = [population.birth_density(r) for r in range(population.n_birth_regions)]
+        lmb = LabeledMultiBernoulliPopulation(births, r_birth=s.alpha, p_survive=1.0 - s.beta)
+        return glmb(scenario.motion, scenario.sensor, population=lmb, n_sweeps=s.n_sweeps, **common)
     if s.kind == "rfisst":
         return rfisst(scenario.motion, scenario.sensor, n_steps=s.n_steps, variant=s.mcmc_variant,
                       completion_rounds=s.completion_rounds, population=population, **common)

@@ -88,22 +88,19 @@ def _checked_batch(x, P):
 
 def _matrix(A, name, shape, n):
     """A matrix of ``shape`` shared by all ``n`` tracks, or one per track ``(n, *shape)``."""
-    A = np.asarray(A, dtype=float)
-    if A.shape != shape and A.shape != (n, *shape):
+    if np.shape(A) not in (shape, (n, *shape)):
         want = f"({shape[0]}, {shape[1]}) or ({n}, {shape[0]}, {shape[1]})"
-        raise ValueError(f"{name} must have shape {want}, got {A.shape}")
+        raise ValueError(f"{name} must have shape {want}, got {np.shape(A)}")
     return check_finite_array(A, name)
 
 
-def _measurement_model(H, R, d, n=None):
-    H = np.asarray(H, dtype=float)
-    if H.ndim != 2 or H.shape[1] != d:
-        raise ValueError(f"H must have shape (p, {d}) for {d}-dimensional states, got {H.shape}")
-    check_finite_array(H, "H")
+def _measurement_model(H, R, d):
+    if np.ndim(H) != 2 or np.shape(H)[1] != d:
+        raise ValueError(f"H must have shape (p, {d}) for {d}-dimensional states, got {np.shape(H)}")
+    H = check_finite_array(H, "H")
     p = H.shape[0]
-    R = np.asarray(R, dtype=float)
-    if R.shape != (p, p):
-        raise ValueError(f"R must have shape ({p}, {p}) for H of shape {H.shape}, got {R.shape}")
+    if np.shape(R) != (p, p):
+        raise ValueError(f"R must have shape ({p}, {p}) for H of shape {H.shape}, got {np.shape(R)}")
     return H, check_psd(R, "R", what="R (measurement-noise covariance)")
 
 
@@ -307,8 +304,6 @@ def mahalanobis2_matrix(Z, z_pred, S):
     Z = Z.reshape(-1, p) if Z.size or Z.ndim < 2 else Z.reshape(0, p)
     S = np.asarray(S, dtype=float).reshape(-1, p, p)
     Z, z_pred, S = _check_pairs(Z, np.asarray(z_pred, dtype=float).reshape(-1, p), S, "Z")
-    if S.shape[0] != z_pred.shape[0]:
-        raise ValueError(f"S must hold one ({p}, {p}) covariance per track: {z_pred.shape[0]} tracks, got {S.shape}")
     return _mahalanobis2(Z, z_pred, S)
 
 

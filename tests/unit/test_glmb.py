@@ -73,6 +73,15 @@ def test_to_events_codes_and_silent_masks():
     cs = ChildSet(np.zeros(3, np.int64), ev, np.full(3, ChildSet.POPULATION_SET), masks, np.zeros(3))
     assert cs.silent_events(0, 2) == ([1], [0])
     assert cs.silent_events(2, 2) == ([0, 1], [])
+    # more objects than int64 bits: the masks are exact Python integers
+    big = np.full((1, 70), -1)
+    big[0, [3, 65, 69]] = -2
+    _, m = LabeledMultiBernoulliPopulation.to_events(big, 66, 0)
+    # objects 3 and 65 died; birth terms 0-2 (columns 66-68) born undetected, 3 (column 69) not born
+    assert int(m[0]) == (1 << 3) | (1 << 65) | (1 << 66) | (1 << 67) | (1 << 68)
+    cs = ChildSet(np.zeros(1, np.int64), np.zeros((1, 0), np.int32), np.full(1, ChildSet.POPULATION_SET), m,
+                  np.zeros(1))
+    assert cs.silent_events(0, 66) == ([3, 65], [0, 1, 2])
 
 
 def test_gibbs_starts_from_all_missed_and_is_reproducible():
@@ -107,3 +116,24 @@ def test_bad_input_is_refused_with_the_parameter_named():
         GibbsGenerator(n_sweeps=-1)
     with pytest.raises(ValueError, match="cov"):
         GaussianBirthTerm([0, 0, 0, 0], -np.eye(4), H, R)
+
+
+def test_ssa_named_tracker_glmb_finds_the_birth_and_keeps_the_catalogue():
+    from hypotrack.experiments import ssa as st
+    from hypotrack.scenarios.ssa import SSAParams, prior_table, simulate_ssa
+
+    params = SSAParams(n_objects=5, n_known=4, n_scans=30, p_D=0.99, clutter_rate=0.2)  # GLMB needs κ > 0
+    sim = simulate_ssa(params, 3)
+    scenario = st.scenario_from_tables(params, sim.truth, sim.scans, prior_table(sim))
+    settings = st.TrackerSettings(kind="glmb", max_hypotheses=10, n_birth_regions=2, beta=1e-6, n_sweeps=50)
+    assert settings.label == "GLMB (Gibbs)"
+    run = st.run_tracker(st.make_tracker(scenario, settings, 1), scenario, progress=None)
+    # 4 known objects, one birth mid-run: the labeled filter picks the birth up. With p_S = 1 - 1e-6 a
+    # clutter-born track that leaves the field of view is "missed" (p_D = 0 there), never "dead": this
+    # seed keeps one such track, so the end count is 6, not 5 (the model's behaviour, not a bug).
+    n = run.summary["expected_number"]
+    assert n.iloc[0] == pytest.approx(4.0)
+    assert n.max() == pytest.approx(6.0, abs=0.01) and n.iloc[-1] == pytest.approx(6.0, abs=0.01)
+    assert n.min() > 4.0 - 1e-6  # nothing known is lost
+    with pytest.raises(ValueError, match="population"):
+        st.make_tracker(scenario, st.TrackerSettings(kind="glmb", population=False), 1)

@@ -213,3 +213,66 @@ def test_bad_alpha_and_series_lengths():
         ospa_series([[[0.0]]], [], c=1)
     with pytest.raises(ValueError, match="c"):
         ospa_series([], [], c=0)
+
+
+def test_default_order_is_one_by_hand():
+    """Defaults p = 1 (OSPA, GOSPA) and α = 2 (GOSPA): X = {(0,0), (10,0)}, Y = {(1,0)}, c = 5.
+    OSPA: (1 + 5·1) / 2 = 3 (p = 2 would give √13). GOSPA: 1 + 5/2 = 3.5 (X's unassigned
+    point is a false estimate, c^p/α)."""
+    X = np.array([[0.0, 0.0], [10.0, 0.0]])
+    Y = np.array([[1.0, 0.0]])
+    assert ospa(X, Y, 5.0) == pytest.approx(3.0, abs=1e-12)
+    np.testing.assert_allclose(ospa_series([X, Y], [Y, X], 5.0), [3.0, 3.0], atol=1e-12)
+    r = gospa(X, Y, 5.0)
+    assert r.value == pytest.approx(3.5, abs=1e-12)
+    assert (r.localisation, r.missed, r.false) == pytest.approx((1.0, 0.0, 2.5), abs=1e-12)
+    np.testing.assert_array_equal(r.assignment, [[0, 0]])
+
+
+@pytest.mark.parametrize("call, exc, message", [
+    (lambda: gospa(np.zeros((1, 2)), np.zeros((1, 2)), 0.0), ValueError, "c must be a finite number > 0, got 0.0"),
+    (lambda: ospa_series([np.zeros((1, 2))], [np.zeros((1, 2))], -1.0), ValueError,
+     "c must be a finite number > 0, got -1.0"),
+    (lambda: gospa(np.zeros((1, 2)), np.zeros((1, 2)), 1.0, alpha=True), TypeError,
+     "alpha must be a real number in (0, 2], got bool"),
+    (lambda: gospa(np.zeros((1, 2)), np.zeros((1, 2)), 1.0, alpha="2"), TypeError,
+     "alpha must be a real number in (0, 2], got str"),
+])
+def test_metric_option_messages(call, exc, message):
+    with pytest.raises(exc) as info:
+        call()
+    assert str(info.value) == message
+
+
+def test_p_infinity_is_the_brute_force_bottleneck():
+    """p = ∞ with equal cardinalities: OSPA = min over assignments of the largest cut-off distance
+    (by enumerating all permutations); the binary search over distance levels must find the
+    smallest feasible level on every one of these random 4 × 4 problems."""
+    rng = np.random.default_rng(11)
+    for _ in range(40):
+        X, Y = rng.uniform(0, 10, size=(4, 2)), rng.uniform(0, 10, size=(4, 2))
+        D = np.minimum(np.linalg.norm(X[:, None] - Y[None], axis=-1), 6.0)
+        want = min(max(D[i, s[i]] for i in range(4)) for s in itertools.permutations(range(4)))
+        assert ospa(X, Y, 6.0, p=math.inf) == pytest.approx(want, abs=1e-12)
+        assert gospa(X, Y, 6.0, p=math.inf).value == pytest.approx(want, abs=1e-12)
+
+
+def test_empty_set_of_another_dimension_is_not_compared():
+    """An empty set has no points to compare, so its declared dimension is irrelevant."""
+    assert ospa(np.zeros((0, 3)), np.zeros((1, 2)), 2.0) == pytest.approx(2.0)
+    assert ospa(np.zeros((1, 2)), np.zeros((0, 3)), 2.0) == pytest.approx(2.0)
+
+
+@pytest.mark.parametrize("call, exc, message", [
+    (lambda: ospa(np.zeros((1, 2)), np.full((1, 2), np.nan), 1.0), ValueError, "Y must be finite (no NaN or inf)"),
+    (lambda: ospa(np.zeros((2, 2, 2)), np.zeros((1, 2)), 1.0), ValueError,
+     "X must be an (n, d) array of points, got shape (2, 2, 2)"),
+    (lambda: ospa(np.zeros((1, 2)), np.zeros((2, 2, 2)), 1.0), ValueError,
+     "Y must be an (n, d) array of points, got shape (2, 2, 2)"),
+    (lambda: ospa(np.zeros((1, 2)), np.zeros((1, 2)), 1.0, p="2"), TypeError,
+     "p must be a real number >= 1 or inf, got str"),
+])
+def test_metric_input_messages(call, exc, message):
+    with pytest.raises(exc) as info:
+        call()
+    assert str(info.value) == message

@@ -228,11 +228,17 @@ def test_tracker_settings_from_the_shipped_config():
     config = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())
     r = st.TrackerSettings.from_config(config["ssa50"], "rfisst")
     assert (r.kind, r.max_hypotheses, r.gate_probability, r.population) == ("rfisst", 100, None, True)
-    assert (r.alpha, r.beta, r.n_birth_regions, r.label) == (1e-3, 1e-4, 10, "R-FISST")
+    assert (r.alpha, r.beta, r.n_birth_regions, r.label) == (1e-3, 1e-4, 10, "R-FISST + completion")
+    chain = st.TrackerSettings.from_config(config["ssa50"], "rfisst_chain")
+    assert (chain.completion_rounds, chain.label) == (0, "R-FISST, paper chain")
+    assert config["ssa50"]["primary"] == "rfisst_chain"
+    for section in ("ssa50", "ssa15"):
+        settings = {n: st.TrackerSettings.from_config(config[section], n) for n in config[section]["trackers"]}
+        assert st.completion_pair(settings) == ("rfisst_chain", "rfisst")
     h = st.TrackerSettings.from_config(config["ssa15"], "homht")
     assert (h.kind, h.population, h.gate_probability) == ("homht", False, config["ssa15"]["gate_probability"])
     f = st.TrackerSettings.from_config(config["ssa15"], "rfisst_fixed")
-    assert (f.kind, f.population, f.label) == ("rfisst", False, "R-FISST, fixed number")
+    assert (f.kind, f.population, f.label) == ("rfisst", False, "R-FISST + completion, fixed number")
     for pair in config["ssa15"]["comparisons"]:
         assert set(pair) <= set(config["ssa15"]["trackers"])
     with pytest.raises(ValueError, match="unknown tracker"):
@@ -245,6 +251,43 @@ def test_tracker_settings_from_the_shipped_config():
         st.TrackerSettings(gate_probability=1.0)
     with pytest.raises(ValueError, match="max_hypotheses"):
         st.TrackerSettings(max_hypotheses=0)
+    with pytest.raises(ValueError, match="completion_rounds"):
+        st.TrackerSettings(completion_rounds=-1)
+
+
+def test_completion_rounds_reach_the_generator_and_the_comparison_tables(perfect):
+    """The named setting builds the paper's chain (0 rounds) or chain + completion, and the
+    completion tables and claims report hand-computable numbers."""
+    scenario = perfect[0]
+    for rounds in (0, 2):
+        tracker = st.make_tracker(scenario, st.TrackerSettings(completion_rounds=rounds, n_birth_regions=2), 1)
+        assert tracker.generator.completion_rounds == rounds
+    settings = {"chain": st.TrackerSettings(completion_rounds=0), "comp": st.TrackerSettings(completion_rounds=2),
+                "homht": st.TrackerSettings(kind="homht", population=False)}
+    assert st.completion_pair(settings) == ("chain", "comp")
+    assert st.completion_pair({"comp": settings["comp"], "homht": settings["homht"]}) is None
+    summary = lambda ch: pd.DataFrame({"scan": [0, 1, 2, 3], "n_children": ch, "effective_hypotheses": 1.0,
+                                       "expected_number": [3.0, 3.0, 3.5, 4.0]})
+    agree = lambda flags: pd.DataFrame({"agree": flags})
+    table = st.completion_table({"chain": summary([0, 2, 4, 9]), "comp": summary([0, 6, 6, 9]),
+                                 "homht": summary([0, 1, 1, 1])}, settings,
+                                {"chain": agree([True, False, True, True]), "comp": agree([True] * 4)},
+                                reference="homht")
+    t = table.set_index("tracker")
+    assert t.loc["chain", "children_per_scan_mean"] == 5.0 and t.loc["comp", "children_total"] == 21
+    assert (t.loc["chain", "map_agreement"], t.loc["comp", "map_agreement"]) == (0.75, 1.0)
+    assert np.isnan(t.loc["homht", "map_agreement"]) and t.loc["homht", "reference"] == ""
+    timing = st.completion_timing({n: pd.DataFrame({"scan": [0, 1, 2], "seconds": [0.0, 1.0, 3.0],
+                                                    "cpu_seconds": [0.0, 1.0, 1.0 + (n == "comp")]})
+                                   for n in settings}, settings)
+    claims, macros, timing_claims, timing_macros = st.completion_claims("ssa15", table, timing, ("chain", "comp"),
+                                                                        reference_label="HOMHT")
+    assert (macros["CompletionChildrenChain"], macros["CompletionChildrenCompletion"]) == (5.0, 7.0)
+    assert macros["CompletionChildrenRatio"] == pytest.approx(1.4)
+    assert (macros["CompletionAgreementChain"], macros["CompletionAgreement"]) == ("75.0", "100.0")
+    assert timing_macros["CompletionCpuRatio"] == pytest.approx(1.5)
+    assert {c.status for c in claims + timing_claims} == {"extension"}
+    assert {c.evidence for c in claims + timing_claims} == {"measurement"}
 
 
 # --- claims and figures -----------------------------------------------------------------------

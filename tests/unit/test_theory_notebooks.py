@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import math
 import os
 import subprocess
 import sys
@@ -21,12 +22,14 @@ from scipy.stats import binom, poisson
 
 ROOT = Path(__file__).resolve().parents[2]
 THEORY = ROOT / "theory"
-NOTEBOOKS = ["hypothesis_count", "likelihood_normalisation", "birth_poisson_limit", "set_integrals"]
+NOTEBOOKS = ["hypothesis_count", "likelihood_normalisation", "birth_poisson_limit", "set_integrals",
+             "ideal_filter_mospa"]
 FIGURES = {
     "hypothesis_count": ["growth"],
     "likelihood_normalisation": ["eq9"],
     "birth_poisson_limit": ["tv_distance", "eq43"],
     "set_integrals": [],
+    "ideal_filter_mospa": [],
 }
 
 
@@ -106,12 +109,28 @@ def test_birth_poisson_limit_values(executed):
     assert findings["values"]["eq43_variance_matched_counterexample"]["ratio_over_1_minus_pD"] > 1
 
 
+def test_ideal_filter_mospa_values(executed):
+    _, findings, _ = executed["ideal_filter_mospa"]
+    values = findings["values"]
+    # Independent of the notebook: iterate the scalar Riccati map to its fixed point.
+    A, r = math.exp(-0.005), 0.1
+    Q, P = 1.0 * (1 - A * A), 1.0
+    for _ in range(2000):
+        P = A * A * P * r / (P + r) + Q
+    assert values["steady_prediction_variance"] == pytest.approx(P, rel=1e-12)
+    assert abs(values["steady_prediction_variance"] - 0.0363) < 5e-5
+    assert max(values["best_pairing_mospa_by_initial_variance"].values()) < 0.0363 - 5e-5
+    assert abs(values["labelled_after_transient"] - 0.0363) <= 5e-5
+
+
 # One formula per notebook, and the check that must then fail first.
 PERTURBATIONS = [
     ("hypothesis_count", "eq4_count", "Eq. 4 equals brute-force enumeration"),
     ("likelihood_normalisation", "eq8_prior", "Eq. 9: sum_j p_ij = 1 exactly"),
     ("birth_poisson_limit", "binomial_birth_probability", "Eq. 32: the direct series of the binomial pmf"),
     ("set_integrals", "poisson_rfs_density", "Poisson RFS: the n-point term of the set integral"),
+    ("ideal_filter_mospa", "negative_part_formula", "polar integral = rho/2 - (sqrt(1 - rho^2) + rho arcsin rho)/pi"),
+    ("ideal_filter_mospa", "riccati_map", "fixed point of the Riccati map is a root"),
 ]
 
 

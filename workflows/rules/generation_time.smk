@@ -33,7 +33,56 @@ rule generation_time_figure:
         "../scripts/generation_time_figure.py"
 
 
-GT_TARGETS = [*rules.generation_time_figure.output]
+# The same figure on problems with real ambiguity: one job per difficulty (object spacing), the
+# exact top-k benchmark, then tables, figure, claims and macros.
+GT_DIFFICULTIES = config["generation_time"]["difficulty"]["difficulties"]
+
+
+rule generation_time_difficulty:
+    output:
+        outcomes=f"{GT_DIR}/shards/difficulty_{{difficulty}}.csv",
+        timing=f"{GT_DIR}/shards/difficulty_{{difficulty}}_timing.csv",
+    wildcard_constraints:
+        difficulty="paper|[1248]sigma",
+    params:
+        cfg=config["generation_time"],
+        seed=config["seed"],
+    script:
+        "../scripts/generation_time_difficulty.py"
+
+
+rule generation_time_benchmark:
+    output:
+        table=f"{GT_DIR}/exact_top_k_timing.csv",
+        claims=f"{GT_DIR}/exact_top_k_timing_claims.csv",
+        macros=f"{GT_DIR}/exact_top_k_timing_macros.csv",
+    params:
+        cfg=config["generation_time"],
+        seed=config["seed"],
+    script:
+        "../scripts/generation_time_benchmark.py"
+
+
+rule generation_time_difficulty_figure:
+    input:
+        outcomes=expand(f"{GT_DIR}/shards/difficulty_{{d}}.csv", d=GT_DIFFICULTIES),
+        timing=expand(f"{GT_DIR}/shards/difficulty_{{d}}_timing.csv", d=GT_DIFFICULTIES),
+    output:
+        table=report_table(f"{GT_DIR}/difficulty.csv", "generation_time", "difficulty_table"),
+        timing=f"{GT_DIR}/difficulty_timing.csv",
+        summary=f"{GT_DIR}/difficulty_summary.csv",
+        pdf=f"{GT_DIR}/difficulty.pdf",
+        png=report_figure(f"{GT_DIR}/difficulty.png", "generation_time", "difficulty"),
+        claims=f"{GT_DIR}/difficulty_claims.csv",
+        macros=f"{GT_DIR}/difficulty_macros.csv",
+    params:
+        cfg=config["generation_time"],
+    script:
+        "../scripts/generation_time_difficulty_figure.py"
+
+
+GT_TARGETS = [*rules.generation_time_figure.output, *rules.generation_time_difficulty_figure.output,
+              *rules.generation_time_benchmark.output]
 
 
 rule generation_time:

@@ -27,6 +27,8 @@ rule glmb_benchmark_table:
         fig_pdf=f"{GB_DIR}/ospa_cardinality.pdf",
         fig_png=report_figure(f"{GB_DIR}/ospa_cardinality.png", "glmb_benchmark", "ospa_cardinality"),
         claims=f"{GB_DIR}/claims.csv",
+        macros=f"{GB_DIR}/macros.csv",
+        timing_macros=f"{GB_DIR}/timing_macros.csv",
     params:
         cfg=config["glmb_benchmark"],
     script:

@@ -1,10 +1,10 @@
-# Seed 000 Sec. V-A, Figs 12-14: R-FISST vs HOMHT (same EKF) on the 15-object SSA scenario, all
-# objects known and starting in view. One sequential job per tracker (they run in parallel); the
+# Seed 000 Sec. V-A, Figs 12-14: R-FISST (the paper's chain alone, and chain + this project's completion
+# step) vs HOMHT (same EKF) on the 15-object SSA scenario, all objects known and starting in view. One sequential job per tracker (they run in parallel); the
 # comparisons, figures and claims are drawn from their tables.
 # Config section: ssa15 (workflows/config/schema/ssa15.schema.yaml); scenario: rule ssa_scenario.
 SSA15_DIR = f"{RESULTS}/ssa15"
 SSA15_TRACKERS = list(config["ssa15"]["trackers"])
-SSA15_TABLES = ["summary", "cardinality", "map_estimates", "weights"]
+SSA15_TABLES = ["summary", "cardinality", "map_estimates", "weights", "timing"]
 for _pair in config["ssa15"]["comparisons"]:
     if not set(_pair) <= set(SSA15_TRACKERS):
         raise ValueError(f"ssa15.comparisons: {_pair} names a tracker not in ssa15.trackers {SSA15_TRACKERS}")
@@ -41,6 +41,7 @@ rule ssa15_figures:
     input:
         **{f"{tr}_map": f"{SSA15_DIR}/{tr}_map_estimates.csv" for tr in SSA15_TRACKERS},
         **{f"{tr}_summary": f"{SSA15_DIR}/{tr}_summary.csv" for tr in SSA15_TRACKERS},
+        **{f"{tr}_timing": f"{SSA15_DIR}/{tr}_timing.csv" for tr in SSA15_TRACKERS},
         truth=f"{RESULTS}/ssa/ssa15_truth.csv",
         scans=f"{RESULTS}/ssa/ssa15_scans.csv",
         prior=f"{RESULTS}/ssa/ssa15_prior.csv",
@@ -48,11 +49,16 @@ rule ssa15_figures:
         metrics=report_table(f"{SSA15_DIR}/metrics.csv", "ssa15", "metrics"),
         agreement=report_table(f"{SSA15_DIR}/agreement.csv", "ssa15", "agreement"),
         snapshots=f"{SSA15_DIR}/estimate_snapshots.csv",
+        completion=f"{SSA15_DIR}/completion.csv",
+        completion_timing=f"{SSA15_DIR}/completion_timing.csv",
         fig12_pdf=f"{SSA15_DIR}/fig_12_14_estimates.pdf",
         fig12_png=report_figure(f"{SSA15_DIR}/fig_12_14_estimates.png", "ssa15", "fig_12_14_estimates"),
         comparison_pdf=f"{SSA15_DIR}/comparison.pdf",
         comparison_png=report_figure(f"{SSA15_DIR}/comparison.png", "ssa15", "comparison"),
         claims=f"{SSA15_DIR}/claims.csv",
+        macros=f"{SSA15_DIR}/macros.csv",
+        timing_claims=f"{SSA15_DIR}/timing_claims.csv",
+        timing_macros=f"{SSA15_DIR}/timing_macros.csv",
     params:
         section=config["ssa15"],
     script:

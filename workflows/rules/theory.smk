@@ -11,6 +11,7 @@ TH_FIGURES = {
     "likelihood_normalisation": ["eq9"],
     "birth_poisson_limit": ["tv_distance", "eq43"],
     "set_integrals": [],
+    "ideal_filter_mospa": [],
 }
 TH_NOTEBOOKS = config["theory"]["notebooks"]
 

@@ -1,8 +1,14 @@
 """GLMB benchmark: side-by-side table, curves over time, figure and ledger rows from the shards."""
 import pandas as pd
 
-from hypotrack.experiments.glmb_benchmark_report import benchmark_claims, curves, plot_benchmark, summary_table
-from hypotrack.report import write_claims
+from hypotrack.experiments.glmb_benchmark_report import (
+    benchmark_claims,
+    benchmark_macros,
+    curves,
+    plot_benchmark,
+    summary_table,
+)
+from hypotrack.report import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
@@ -16,3 +22,6 @@ write_table(curve, out.curves)
 curve.attrs["n_runs"] = per_scan.run.nunique()
 plot_benchmark(curve, out.fig_pdf, out.fig_png)
 write_claims(benchmark_claims(summary, timing, cfg["reference_tracker"]), out.claims)
+values, times = benchmark_macros(summary, timing)
+write_macros("glmb_benchmark", values, out.macros)
+write_macros("glmb_benchmark", times, out.timing_macros)

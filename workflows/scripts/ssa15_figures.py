@@ -9,12 +9,13 @@ matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
 
 from hypotrack.experiments import ssa as st  # noqa: E402
-from hypotrack.report import write_claims  # noqa: E402
+from hypotrack.report import write_claims, write_macros  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 inp, out, sec = snakemake.input, snakemake.output, snakemake.params.section
-labels = {name: st.TrackerSettings.from_config(sec, name).label for name in sec["trackers"]}
+settings = {name: st.TrackerSettings.from_config(sec, name) for name in sec["trackers"]}
+labels = {name: s.label for name, s in settings.items()}
 scenario = st.scenario_from_files(snakemake.config, "ssa15", inp.truth, inp.scans, inp.prior)
 K = len(scenario.times)
 maps = {tr: pd.read_csv(inp[f"{tr}_map"]) for tr in labels}
@@ -44,6 +45,22 @@ st.save_figure(st.plot_estimate_snapshots(snapshots, scenario.fov, K, columns=pa
 st.save_figure(st.plot_comparison(agreements, metrics, ospa_settings, labels=labels,
                                   title=f"{' vs '.join(labels[tr] for tr in paper_pair)} ({what})"),
                out.comparison_pdf, out.comparison_png)
+# The completion step's effect: children found, and each R-FISST's MAP agreement with the paper pair's reference.
+reference = sec["comparisons"][0][1]
+table = st.completion_table({tr: pd.read_csv(inp[f"{tr}_summary"]) for tr in labels}, settings,
+                            {a: ag for (a, b), ag in agreements.items() if b == reference}, reference=reference)
+timing = st.completion_timing({tr: pd.read_csv(inp[f"{tr}_timing"]) for tr in labels}, settings)
+write_table(table, out.completion)
+write_table(timing, out.completion_timing)
+print(table.to_string(index=False), "\n", timing.to_string(index=False), flush=True)
+extra, macros, timing_claims, timing_macros = [], {}, [], {}
+pair = st.completion_pair(settings)
+if pair:
+    extra, macros, timing_claims, timing_macros = st.completion_claims("ssa15", table, timing, pair,
+                                                                       reference_label=labels[reference])
+write_macros("ssa15", macros, out.macros)
+write_macros("ssa15", timing_macros, out.timing_macros)
+write_claims(timing_claims, out.timing_claims)
 claims = st.ssa15_claims(metrics, agreements, matched, estimate_scans=snapshot_scans, n_scans=K,
-                         error_bound_probability=sec["error_bound_probability"], labels=labels)
+                         error_bound_probability=sec["error_bound_probability"], labels=labels) + extra
 print(claims_line(write_claims(claims, out.claims), out.claims), flush=True)

@@ -1,4 +1,5 @@
-"""ssa50: MAP estimates vs truth, Figs 6, 8-10, 11, OSPA over time and the reproduction claims."""
+"""ssa50: MAP estimates vs truth for every tracker, Figs 6, 8-10, 11 of the primary tracker, OSPA over
+time, the completion step's measured effect and the reproduction claims."""
 
 import matplotlib
 from hypotrack.experiments.joblog import claims_line, prefix_output
@@ -9,38 +10,66 @@ matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
 
 from hypotrack.experiments import ssa as st  # noqa: E402
-from hypotrack.report import write_claims  # noqa: E402
+from hypotrack.report import write_claims, write_macros  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 inp, out, sec = snakemake.input, snakemake.output, snakemake.params.section
+settings = {name: st.TrackerSettings.from_config(sec, name) for name in sec["trackers"]}
+labels = {name: s.label for name, s in settings.items()}
+primary = sec["primary"]
 scenario = st.scenario_from_files(snakemake.config, "ssa50", inp.truth, inp.scans, inp.prior)
 K = len(scenario.times)
-summary, map_estimates = pd.read_csv(inp.summary), pd.read_csv(inp.map_estimates)
-metrics, matched = st.evaluate_configured(sec, scenario, summary, map_estimates)
-births = st.birth_recognition(matched, scenario)
 estimate_scans = st.snapshot_scans(K, sec["estimate_snapshots"])
-snapshots = matched[matched["scan"].isin(estimate_scans)]
-weights = pd.read_csv(inp.weights)
-cardinality = pd.read_csv(inp.cardinality)
-write_table(metrics, out.metrics)
-write_table(births, out.births)
+read = {tr: {t: pd.read_csv(inp[f"{tr}_{t}"]) for t in ("summary", "map_estimates", "weights", "cardinality",
+                                                         "timing")} for tr in settings}
+metrics, matched, births, claims = {}, {}, {}, []
+for tr in settings:
+    metrics[tr], matched[tr] = st.evaluate_configured(sec, scenario, read[tr]["summary"], read[tr]["map_estimates"])
+    births[tr] = st.birth_recognition(matched[tr], scenario)
+    own = st.ssa50_claims(metrics[tr], read[tr]["cardinality"], read[tr]["weights"], matched[tr], births[tr],
+                          estimate_scans=estimate_scans, n_scans=K,
+                          error_bound_probability=sec["error_bound_probability"])
+    claims += own if tr == primary else st.labelled(own, labels[tr], f"{tr}_")
+all_metrics = pd.concat([m.assign(tracker=tr) for tr, m in metrics.items()], ignore_index=True)
+write_table(all_metrics, out.metrics)
+write_table(pd.concat([b.assign(tracker=tr) for tr, b in births.items()], ignore_index=True), out.births)
+snapshots = matched[primary][matched[primary]["scan"].isin(estimate_scans)]
 write_table(snapshots, out.snapshots)
-print(births.to_string(index=False), flush=True)
+
+agreements = {tr: st.map_agreement(read[tr]["map_estimates"], read[primary]["map_estimates"], scenario.prior_ids)
+              for tr in settings if tr != primary}
+table = st.completion_table({tr: r["summary"] for tr, r in read.items()}, settings, agreements,
+                            reference=primary)
+timing = st.completion_timing({tr: r["timing"] for tr, r in read.items()}, settings)
+write_table(table, out.completion)
+write_table(timing, out.completion_timing)
+print(table.to_string(index=False), "\n", timing.to_string(index=False), flush=True)
+timing_claims, timing_macros = [], {}
+pair = st.completion_pair(settings)
+if pair:
+    extra, macros, timing_claims, timing_macros = st.completion_claims(
+        "ssa50", table, timing, pair, reference_label=labels[pair[0]])
+    claims += extra
+    write_macros("ssa50", macros, out.macros)
+else:
+    write_macros("ssa50", {}, out.macros)
+write_macros("ssa50", timing_macros, out.timing_macros)
 
 n_known, n_all = len(scenario.prior_ids), scenario.params.n_objects
-what = f"R-FISST; {n_all} objects: {n_known} in the initial hypothesis, {n_all - n_known} births"
-st.save_figure(st.plot_weight_snapshots(weights, K, title=f"Hypothesis weights during the run ({what})"),
+what = f"{labels[primary]}; {n_all} objects: {n_known} in the initial hypothesis, {n_all - n_known} births"
+st.save_figure(st.plot_weight_snapshots(read[primary]["weights"], K,
+                                        title=f"Hypothesis weights during the run ({what})"),
                out.fig6_pdf, out.fig6_png)
-fig8 = st.plot_estimate_snapshots(snapshots, scenario.fov, K, column_titles=["R-FISST top hypothesis"],
+fig8 = st.plot_estimate_snapshots(snapshots, scenario.fov, K, column_titles=[f"{labels[primary]}, top hypothesis"],
                                   birth_ids=scenario.birth_ids,
                                   title=f"True positions and top-hypothesis estimates ({what})")
 st.save_figure(fig8, out.fig8_pdf, out.fig8_png)
-st.save_figure(st.plot_expected_number(metrics, cardinality, title=f"Expected number of objects ({what})"),
+st.save_figure(st.plot_expected_number(metrics[primary], read[primary]["cardinality"],
+                                       title=f"Expected number of objects ({what})"),
                out.fig11_pdf, out.fig11_png)
-st.save_figure(st.plot_ospa(metrics, st.OSPASettings(**sec["ospa"]), labels={"": "R-FISST"},
-                            title=f"OSPA of the top-hypothesis estimates ({what})"),
+st.save_figure(st.plot_ospa(all_metrics, st.OSPASettings(**sec["ospa"]), labels=labels,
+                            title=f"OSPA of the top-hypothesis estimates ({n_all} objects, {n_all - n_known} births)"),
                out.ospa_pdf, out.ospa_png)
-claims = st.ssa50_claims(metrics, cardinality, weights, matched, births, estimate_scans=estimate_scans,
-                         n_scans=K, error_bound_probability=sec["error_bound_probability"])
 print(claims_line(write_claims(claims, out.claims), out.claims), flush=True)
+write_claims(timing_claims, out.timing_claims)

@@ -40,6 +40,8 @@ filter", IEEE TSP 65 (2017) — the Gibbs variant.
 
 from __future__ import annotations
 
+import threading
+
 import numba
 import numpy as np
 
@@ -49,6 +51,11 @@ __all__ = ["MCMC_VARIANTS", "mcmc_search", "neighbour_completion", "event_log_we
 
 MCMC_VARIANTS = ("paper", "symmetric", "gibbs")
 _VARIANT_CODE = {v: i for i, v in enumerate(MCMC_VARIANTS)}
+# Below this log-ratio a Metropolis test ``log(U) < delta`` can only pass for ``U = 0``: the smallest
+# positive uniform of the 53-bit generator is 2^-53 (log = -36.74). Testing ``U == 0`` there gives
+# the same decisions as the logarithm without computing it (most proposals of a chain that has found
+# its mode are far below the threshold).
+_LOG_U_FLOOR = -40.0
 
 
 @numba.njit(cache=True, nogil=True)
@@ -214,7 +221,11 @@ def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_i
                             dk += dk2
                             db += db2
                     delta += count_term[k + dk, b + db] - count_term[k, b]
-                    if delta >= 0.0 or np.log(np.random.random()) < delta:
+                    accept = delta >= 0.0
+                    if not accept:
+                        u = np.random.random()
+                        accept = (u == 0.0 and delta > -np.inf) if delta < _LOG_U_FLOOR else np.log(u) < delta
+                    if accept:
                         lw += delta
                         if cur < n_excl:
                             owner[cur] = -1
@@ -286,6 +297,17 @@ def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, 
                 if i2 != -1:
                     state[i2] = c
     return n_found, False
+
+
+@numba.njit(cache=True, nogil=True)
+def _clear_table(table, hashes, n):
+    """Reset the slots of the ``n`` recorded events to empty (−1): the table is reusable."""
+    mask = table.shape[0] - 1
+    for q in range(n):
+        pos = hashes[q] & mask
+        while table[pos] != q:  # q sits on its probe path; emptied slots are stepped over
+            pos = (pos + 1) & mask
+        table[pos] = -1
 
 
 @numba.njit(cache=True, nogil=True)
@@ -445,8 +467,16 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
     if not np.isfinite(_state_log_weight(score, state, n_obj, n_excl, count_term)):
         raise ValueError("init must have a finite log-weight (a feasible event)")
     ss = np.random.SeedSequence(seed)
-    key_seed, chain_seed = ss.generate_state(2, dtype=np.uint32)
-    visited = _Visited(m, n_col, n_steps - burn_in + 1, key_seed)
+    _, chain_seed = ss.generate_state(2, dtype=np.uint32)  # the first word once seeded the Zobrist keys
+    visited = _Visited(m, n_col, n_steps - burn_in + 1)
+    found = _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, variant, chain_seed,
+                    temperature, completion_rounds, completion_threshold)
+    visited.release()
+    return found
+
+
+def _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, variant, chain_seed, temperature,
+            completion_rounds, completion_threshold):
     tempered = temperature != 1.0
     visited.n = _run_chain(score / temperature if tempered else score, n_obj, n_excl,
                            count_term / temperature if tempered else count_term, state, visited.zobrist, n_steps,
@@ -460,21 +490,59 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
     return _to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()
 
 
-class _Visited:
-    """Growable buffers of the visited set: rows (states), exact log-weights, hashes, table."""
+_BUFFERS = threading.local()
+_ZOBRIST_CACHE_SIZE = 256
 
-    def __init__(self, m, n_col, capacity, key_seed):
-        self.zobrist = np.random.default_rng(key_seed).integers(
-            np.iinfo(np.int64).min, np.iinfo(np.int64).max, size=(m, max(n_col, 1)), dtype=np.int64
-        )
+
+def _zobrist(m, n_col):
+    """Zobrist keys of an (m, n_col) problem. The visited set compares rows exactly on every hash hit,
+    so the keys change only where events sit in the table, never which events are found or their
+    order: they are drawn once per shape and reused (a chain per parent per scan would
+    otherwise draw them tens of thousands of times)."""
+    cache = getattr(_BUFFERS, "zobrist", None)
+    if cache is None:
+        cache = _BUFFERS.zobrist = {}
+    key = (m, n_col)
+    z = cache.get(key)
+    if z is None:
+        if len(cache) >= _ZOBRIST_CACHE_SIZE:
+            cache.clear()
+        z = cache[key] = np.random.default_rng(0).integers(
+            np.iinfo(np.int64).min, np.iinfo(np.int64).max, size=(m, n_col), dtype=np.int64)
+    return z
+
+
+class _Visited:
+    """Growable buffers of the visited set: rows (states), exact log-weights, hashes, table.
+
+    The buffers of the last search of the same capacity are reused (per thread): :meth:`release`
+    empties the table slots it used, so a search costs what it visits, not a fresh 2·capacity-slot
+    table and row store (one per parent per scan).
+    """
+
+    def __init__(self, m, n_col, capacity, key_seed=None):  # key_seed: unused, see _zobrist
+        self.zobrist = _zobrist(m, max(n_col, 1))
         self.n = 0
         self._alloc(m, max(int(capacity), 1))
 
     def _alloc(self, m, capacity):
-        self.rows = np.empty((capacity, m), dtype=np.int64)
-        self.logw = np.empty(capacity)
-        self.hashes = np.empty(capacity, dtype=np.int64)
-        self.table = np.full(1 << int(2 * capacity - 1).bit_length(), -1, dtype=np.int64)
+        pool = getattr(_BUFFERS, "pool", None)
+        if pool is not None and pool[0] == capacity and pool[1].size >= capacity * m:
+            _, flat, self.logw, self.hashes, self.table = pool
+            _BUFFERS.pool = None
+        else:
+            flat = np.empty(capacity * max(m, 1), dtype=np.int64)
+            self.logw = np.empty(capacity)
+            self.hashes = np.empty(capacity, dtype=np.int64)
+            self.table = np.full(1 << int(2 * capacity - 1).bit_length(), -1, dtype=np.int64)
+        self._flat = flat
+        self.rows = flat[: capacity * m].reshape(capacity, m)
+
+    def release(self):
+        """Empty the table and hand the buffers to the next search of this thread."""
+        _clear_table(self.table, self.hashes, self.n)
+        _BUFFERS.pool = (self.rows.shape[0], self._flat, self.logw, self.hashes, self.table)
+        self.n = 0
 
     def grow(self):
         rows, logw, n = self.rows[: self.n].copy(), self.logw[: self.n].copy(), self.n
@@ -522,7 +590,7 @@ def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_
     m, n_col = score.shape
     if rounds == 0 or len(lw) == 0 or m == 0:
         return events.astype(np.int32), lw
-    visited = _Visited(m, n_col, 4 * len(lw) + 64, key_seed=0)
+    visited = _Visited(m, n_col, 4 * len(lw) + 64)
     visited.rows[: len(lw)] = _to_state(events, n_excl)
     visited.logw[: len(lw)] = lw
     visited.n = _insert_rows(visited.rows, visited.logw, len(lw), visited.zobrist, visited.table, visited.hashes)

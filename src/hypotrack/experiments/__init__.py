@@ -23,5 +23,7 @@ sht                       lecture notes 004: worked example, GNN vs JPDA on cros
 perf_sht                  per-scan timing of GNN and JPDA against a peer implementation.
 glmb_benchmark            the GLMB papers' linear-Gaussian benchmark: δ-GLMB (Gibbs), R-FISST, HOMHT.
 glmb_benchmark_report     its side-by-side table, curves over time, figure and ledger rows.
+samplers                  R-FISST's chain vs the GLMB Gibbs sampler vs Murty on identical problems.
+samplers_report           its figure (mass missed vs budget and wall time) and ledger rows.
 seeds                     seed streams: one master seed, independent children per experiment.
 """

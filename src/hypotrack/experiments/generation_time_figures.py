@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-__all__ = ["plot_generation_time", "plot_throughput", "OUTCOME_COLUMNS"]
+__all__ = ["plot_generation_time", "plot_throughput", "plot_difficulty", "OUTCOME_COLUMNS"]
 
 _STYLE = {
     "homht": dict(color="tab:blue", marker="o", label="HOMHT, exhaustive (Reid weights)", short="exhaustive HOMHT"),
@@ -90,5 +90,54 @@ def plot_throughput(table: pd.DataFrame, pdf, png):
     ax.set_title("Hypothesis-engine throughput vs its performance targets")
     ax.grid(True, axis="x", which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
+    _save(fig, pdf, png)
+    plt.close(fig)
+
+
+_DIFF_STYLE = {
+    "chain": dict(color="tab:green", marker="s", label="R-FISST: the paper's chain alone"),
+    "chain_completion": dict(color="tab:purple", marker="D", label="R-FISST: chain + neighbour completion"),
+    "murty": dict(color="tab:orange", marker="^", label="exact best k (Murty per detection count)"),
+}
+
+
+def plot_difficulty(summary: pd.DataFrame, pdf, png, *, labels: dict, mcmc_steps: int, keep: int,
+                    reference_k: int, exhaustive_max_events: int):
+    """Mass captured, MAP-found and truth-found rates vs log10 A, one column per difficulty."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    diffs = [d for d in labels if (summary["difficulty"] == d).any()]
+    rows = [("mass_captured_mean", "posterior mass captured\n(mean over problems)"),
+            ("map_found_rate", "MAP child found\n(fraction of problems)"),
+            ("truth_found_rate", "true association found\n(fraction of problems)")]
+    fig, axes = plt.subplots(len(rows), len(diffs), figsize=(3.0 * len(diffs) + 1.0, 7.8), sharex=True,
+                             sharey=True, layout="constrained", squeeze=False)
+    for c, d in enumerate(diffs):
+        sd = summary[summary["difficulty"] == d].sort_values("log10_hypotheses")
+        for r, (col, ylabel) in enumerate(rows):
+            ax = axes[r, c]
+            for method, style in _DIFF_STYLE.items():
+                m = sd[sd["method"] == method]
+                label = style["label"] + (f" ({mcmc_steps:,} steps)" if method != "murty" else f" (k = {keep})")
+                ax.plot(m["log10_hypotheses"], m[col], color=style["color"], marker=style["marker"], ms=3.5,
+                        lw=1.2, label=label)
+            ax.axvline(np.log10(exhaustive_max_events), color="grey", ls=":", lw=1)
+            ax.set_ylim(-0.05, 1.05)
+            ax.grid(True, alpha=0.3)
+            if c == 0:
+                ax.set_ylabel(ylabel)
+            if r == 0:
+                ax.set_title(labels[d], fontsize=9)
+            if r == len(rows) - 1:
+                ax.set_xlabel("log10 A(M, m)")
+    handles, texts = axes[0, 0].get_legend_handles_labels()
+    handles.append(plt.Line2D([], [], color="grey", ls=":"))
+    texts.append(f"mass relative to all children left of this line, to the exact best {reference_k} right of it")
+    fig.legend(handles, texts, loc="outside lower center", ncol=2, fontsize=8)
+    fig.suptitle("Hypothesis generation on problems with real ambiguity (p_D = 0.9, Poisson clutter; "
+                 "difficulty = object spacing)", fontsize=10)
     _save(fig, pdf, png)
     plt.close(fig)

@@ -7,7 +7,7 @@ import pandas as pd
 
 from ..report import Claim
 
-__all__ = ["summary_table", "curves", "plot_benchmark", "benchmark_claims"]
+__all__ = ["summary_table", "curves", "plot_benchmark", "benchmark_claims", "benchmark_macros"]
 
 
 def summary_table(per_scan: pd.DataFrame):
@@ -97,3 +97,25 @@ def benchmark_claims(summary: pd.DataFrame, timing: pd.DataFrame, reference: str
                             "extension", note, "measurement", n=str(int(row.n_runs)), mean=f"{row.ospa_mean:.4g}",
                             se=f"{row.ospa_se:.3g}", key=key))
     return claims
+
+
+def _camel(name: str) -> str:
+    return "".join(p.capitalize() for p in name.split("_"))
+
+
+def benchmark_macros(summary: pd.DataFrame, timing: pd.DataFrame) -> tuple[dict, dict]:
+    """Numbers the paper quotes beside the claims: per tracker the OSPA parts and the cardinality
+    error, the number of runs; and, apart (not deterministic), the time per scan (ms)."""
+    t = timing.set_index("tracker")
+    out = {"NRuns": int(summary.n_runs.min())}
+    times = {}
+    for _, r in summary.iterrows():
+        c = _camel(r.tracker)
+        out[f"{c}Ospa"] = f"{r.ospa_mean:.2f}"
+        out[f"{c}OspaSe"] = f"{r.ospa_se:.2f}"
+        out[f"{c}Loc"] = f"{r.ospa_loc_mean:.2f}"
+        out[f"{c}Card"] = f"{r.ospa_card_mean:.2f}"
+        out[f"{c}CardErr"] = f"{r.card_err_mean:.3f}"
+        out[f"{c}CardErrSe"] = f"{r.card_err_se:.3f}"
+        times[f"{c}MsPerScan"] = f"{1e3 * t.loc[r.tracker, 'time_per_scan_s']:.0f}"
+    return out, times

@@ -259,7 +259,9 @@ class HypothesisFilter:
                 for start in range(0, len(lw), _CHUNK):
                     sl = slice(start, start + _CHUNK)
                     ev = events[sl]
-                    used = np.stack([np.any(ev == M + r, axis=1) for r in range(B)], axis=1)
+                    used = np.zeros((len(ev), B), dtype=bool)  # birth regions each event detects
+                    rows, cols = np.nonzero(ev >= M)
+                    used[rows, ev[rows, cols] - M] = True
                     tw = np.where(used, -np.inf, (lw[sl] + ub[sl])[:, None])
                     parts.append(self._candidates(ev, tw, ChildSet.UNDETECTED_BIRTH, keep, keys_rng, mass))
             elig = pop.death_eligible(in_view)

@@ -258,10 +258,11 @@ class MCMCGenerator(ChildGenerator):
         init = np.full(m, -1, dtype=np.int64)
         if self.init == "random":
             perm = rng.permutation(problem.n_exclusive + 1)  # the +1 is the clutter column
-            for i in range(min(m, len(perm))):
-                c = perm[i]
-                if c < problem.n_exclusive and np.isfinite(problem.target_scores[i, c]):
-                    init[i] = c
+            # Return i takes column perm[i] when that is an exclusive column it may take.
+            cols = perm[: min(m, len(perm))]
+            rows = np.flatnonzero(cols < problem.n_exclusive)
+            rows = rows[np.isfinite(problem.target_scores[rows, cols[rows]])]
+            init[rows] = cols[rows]
         elif self.init == "best":
             score, n_cols = _murty_matrix(problem)
             _, cols = best_assignment(score)

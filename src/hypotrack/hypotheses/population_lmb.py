@@ -56,7 +56,7 @@ __all__ = ["GaussianBirthTerm", "LabeledMultiBernoulliPopulation", "DIED", "MISS
 
 MISSED = -1  #: object code of "exists, not detected" (row option 0 of the labeled problem: always possible)
 DIED = -2  #: object code of "died / not born" (row option 1; impossible when ``p_S = 1``)
-MAX_OBJECTS = 62  #: tracks + birth terms per parent: one bit each in ``ChildSet.arg``
+MAX_OBJECTS = 62  #: tracks + birth terms whose silent-event mask fits an int64 (beyond: Python ints)
 
 
 @dataclass(frozen=True, eq=False)
@@ -143,8 +143,6 @@ class LabeledMultiBernoulliPopulation(_Population):
             raise ValueError(f"a labeled multi-Bernoulli population needs GLMB weights, got {type(weights).__name__}")
         tracks = np.asarray(tracks, dtype=np.int64)
         M = len(tracks)
-        if M + self.n_birth_regions > MAX_OBJECTS:
-            raise ValueError(f"tracks + birth terms per parent must be <= {MAX_OBJECTS}, got {M + self.n_birth_regions}")
         log_r, log_not = self.log_existence(M)
         problem = weights.labeled_problem(ctx, tracks, log_r, log_not, log_weight)
         gammas, lw = generator.generate(problem, rng, keep=keep)
@@ -163,5 +161,10 @@ class LabeledMultiBernoulliPopulation(_Population):
         silent = np.zeros((E, P), dtype=bool)
         silent[:, :n_objects] = gammas[:, :n_objects] == DIED
         silent[:, n_objects:] = gammas[:, n_objects:] == MISSED
-        bits = np.left_shift(np.int64(1), np.arange(P, dtype=np.int64))
-        return events, silent.astype(np.int64) @ bits
+        if P <= MAX_OBJECTS:
+            bits = np.left_shift(np.int64(1), np.arange(P, dtype=np.int64))
+            return events, silent.astype(np.int64) @ bits
+        # more objects than int64 bits: exact Python integers
+        masks = np.empty(E, dtype=object)
+        masks[:] = [sum(1 << int(j) for j in np.flatnonzero(row)) for row in silent]
+        return events, masks

@@ -53,13 +53,16 @@ def hfisst(motion, sensor, *, max_events=10**7, population=None, **options) -> H
     return _filter(motion, sensor, HFISSTWeights(), ExhaustiveGenerator(max_events=max_events), population, **options)
 
 
-def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, variant="paper", init="random", population=None,
-           **options) -> HypothesisFilter:
+def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, variant="paper", init="random", completion_rounds=2,
+           population=None, **options) -> HypothesisFilter:
     """R-FISST: H-FISST weights on the children found by the MCMC search (seed 000 Sec. III).
 
-    ``n_steps`` proposals per parent per scan (seed 000 Fig. 15 uses 100,000).
+    ``n_steps`` proposals per parent per scan (seed 000 Fig. 15 uses 100,000);
+    ``completion_rounds`` rounds of this project's neighbour search after the chain
+    (:class:`MCMCGenerator`; ``0`` is the paper's chain alone).
     """
-    gen = MCMCGenerator(n_steps=n_steps, burn_in=burn_in, variant=variant, init=init)
+    gen = MCMCGenerator(n_steps=n_steps, burn_in=burn_in, variant=variant, init=init,
+                        completion_rounds=completion_rounds)
     return _filter(motion, sensor, HFISSTWeights(), gen, population, **options)
 
 

@@ -24,7 +24,9 @@ One module per step of the data's way; each step reads and writes tables:
    verdict of every estimate (Fig. 7: an estimate is correct when the true object lies inside
    its error bound); :func:`map_agreement` compares two trackers' MAP hypotheses scan by scan;
 4. :mod:`.figures` draws the figures from those tables only;
-5. :mod:`.claims` — ``ssa50_claims`` / ``ssa15_claims`` state what was and was not reproduced.
+5. :mod:`.claims` — ``ssa50_claims`` / ``ssa15_claims`` state what was and was not reproduced;
+   ``completion_*`` measure what this project's completion step (R-FISST's chain followed by a
+   deterministic neighbour search) changes against the paper's chain alone.
 
 Conventions
 -----------
@@ -45,7 +47,15 @@ Conventions
 
 from __future__ import annotations
 
-from .claims import ssa15_claims, ssa50_claims
+from .claims import (
+    completion_claims,
+    completion_pair,
+    completion_table,
+    completion_timing,
+    labelled,
+    ssa15_claims,
+    ssa50_claims,
+)
 from .evaluation import (
                          AGREEMENT_TOLERANCE_KM,
                          OSPASettings,
@@ -82,8 +92,13 @@ __all__ = [
     "TrackingRun",
     "birth_recognition",
     "catalogue_mask",
+    "completion_claims",
+    "completion_pair",
+    "completion_table",
+    "completion_timing",
     "evaluate_configured",
     "evaluate_map",
+    "labelled",
     "make_tracker",
     "map_agreement",
     "percent_of_run",

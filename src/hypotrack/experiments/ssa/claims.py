@@ -1,8 +1,10 @@
-"""SSA experiments, step 5: what was and was not reproduced (seed 000 Sec. IV-A and V-A)."""
+"""SSA experiments, step 5: what was and was not reproduced (seed 000 Sec. IV-A and V-A), and what
+this project's completion step (a deterministic neighbour search after R-FISST's chain) changes."""
 
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -11,7 +13,8 @@ from ...report import Claim, numeric_claim
 from .evaluation import AGREEMENT_TOLERANCE_KM
 from .run import percent_of_run as _percent
 
-__all__ = ["ssa15_claims", "ssa50_claims"]
+__all__ = ["completion_claims", "completion_pair", "completion_table", "completion_timing", "labelled",
+           "ssa15_claims", "ssa50_claims"]
 
 
 def _snapshot_verdict(matched: pd.DataFrame, scans, n_scans) -> tuple[str, bool]:
@@ -147,3 +150,89 @@ def ssa15_claims(metrics: pd.DataFrame, agreements: Mapping, matched: pd.DataFra
     claims.append(Claim(ex, "mean OSPA of the MAP estimates, objects in view", "extension", "--", means, "--",
                         "extension"))
     return claims
+
+
+def labelled(claims, label: str, key_prefix: str) -> list:
+    """One tracker's claims among several trackers': the item names the tracker, keys get a prefix."""
+    return [replace(c, item=f"{label}: {c.item}", key=f"{key_prefix}{c.key}" if c.key else "") for c in claims]
+
+
+def completion_pair(settings: Mapping):
+    """``(chain, completion)``: the first R-FISST tracker (with births and deaths) without and the
+    first with the completion step, among ``settings`` (name -> :class:`TrackerSettings`);
+    ``None`` when the section does not run both."""
+    rf = {n: s for n, s in settings.items() if s.kind == "rfisst" and s.population}
+    chain = next((n for n, s in rf.items() if s.completion_rounds == 0), None)
+    comp = next((n for n, s in rf.items() if s.completion_rounds > 0), None)
+    return (chain, comp) if chain and comp else None
+
+
+def completion_table(summaries: Mapping, settings: Mapping, agreements: Mapping | None = None,
+                     reference: str = "") -> pd.DataFrame:
+    """Per tracker: the children found per scan (summed over parents; scan 0 is the initial
+    hypothesis and is left out), the effective number of hypotheses, E[N] at the end, and — for
+    the trackers in ``agreements`` (name -> :func:`map_agreement` table against ``reference``) —
+    the fraction of scans with the same MAP hypothesis as the reference."""
+    rows = []
+    for tr, s in summaries.items():
+        run = s[s["scan"] > 0]
+        ch = run["n_children"]
+        ag = agreements.get(tr) if agreements else None
+        rows.append({
+            "tracker": tr, "label": settings[tr].label, "completion_rounds": settings[tr].completion_rounds,
+            "children_total": int(ch.sum()), "children_per_scan_mean": float(ch.mean()),
+            "children_per_scan_median": float(ch.median()), "children_per_scan_max": int(ch.max()),
+            "effective_hypotheses_mean": float(run["effective_hypotheses"].mean()),
+            "expected_number_end": float(s["expected_number"].iloc[-1]),
+            "reference": reference if ag is not None else "",
+            "map_agreement": float(ag["agree"].mean()) if ag is not None else np.nan,
+        })
+    return pd.DataFrame(rows)
+
+
+def completion_timing(timings: Mapping, settings: Mapping) -> pd.DataFrame:
+    """Per tracker: wall-clock and CPU seconds of the whole run (``*_timing.csv`` tables)."""
+    return pd.DataFrame([{"tracker": tr, "label": settings[tr].label, "seconds": float(t["seconds"].sum()),
+                          "cpu_seconds": float(t["cpu_seconds"].sum()),
+                          "median_scan_seconds": float(t.loc[t["scan"] > 0, "seconds"].median())}
+                         for tr, t in timings.items()])
+
+
+def completion_claims(experiment: str, table: pd.DataFrame, timing: pd.DataFrame, pair, *, reference_label: str):
+    """The completion step's measured effect: claims and macros of the deterministic results, and
+    the run-time claim and macros (kept apart: timings are not byte-identical between runs).
+
+    ``pair`` is :func:`completion_pair`; ``table`` :func:`completion_table`, ``timing``
+    :func:`completion_timing`. Returns ``(claims, macros, timing_claims, timing_macros)``.
+    """
+    chain, comp = pair
+    t, tm = table.set_index("tracker"), timing.set_index("tracker")
+    c0, c1 = t.loc[chain, "children_per_scan_mean"], t.loc[comp, "children_per_scan_mean"]
+    a0, a1 = t.loc[chain, "map_agreement"], t.loc[comp, "map_agreement"]
+    what = "this project's completion step (heavy single-move neighbours of the chain's children)"
+    agree = (f"{100 * a1:.1f} % of scans" if np.isnan(a0) else
+             f"{100 * a0:.1f} % (paper chain) vs {100 * a1:.1f} % (chain + completion) of scans")
+    claims = [
+        Claim(experiment, "completion step: children found per scan (all parents)", "extension", "--",
+              f"{c0:.4g} (paper chain) vs {c1:.4g} (chain + completion)", "--", "extension",
+              f"{what}; medians {t.loc[chain, 'children_per_scan_median']:.4g} vs "
+              f"{t.loc[comp, 'children_per_scan_median']:.4g}", "measurement", key="CompletionChildren"),
+        Claim(experiment, f"completion step: same MAP hypothesis as {reference_label}", "extension", "--", agree,
+              "exact", "extension", f"E[N] at the end {t.loc[chain, 'expected_number_end']:.5g} (paper chain) vs "
+              f"{t.loc[comp, 'expected_number_end']:.5g} (chain + completion)", "measurement",
+              key="CompletionAgreement"),
+    ]
+    macros = {"CompletionChildrenChain": float(c0), "CompletionChildrenCompletion": float(c1),
+              "CompletionChildrenRatio": float(c1 / c0) if c0 else float("nan"),
+              "CompletionAgreement": f"{100 * a1:.1f}"}
+    if not np.isnan(a0):
+        macros["CompletionAgreementChain"] = f"{100 * a0:.1f}"
+    s0, s1 = tm.loc[chain, "seconds"], tm.loc[comp, "seconds"]
+    p0, p1 = tm.loc[chain, "cpu_seconds"], tm.loc[comp, "cpu_seconds"]
+    timing_claims = [Claim(experiment, "completion step: run time of the whole run", "extension", "--",
+                           f"{s0:.0f} s (paper chain) vs {s1:.0f} s (chain + completion)", "--", "extension",
+                           f"CPU {p0:.0f} s vs {p1:.0f} s; machine shared, wall-clock times vary with its load",
+                           "measurement", key="CompletionTime")]
+    timing_macros = {"CompletionSecondsChain": f"{s0:.0f}", "CompletionSecondsCompletion": f"{s1:.0f}",
+                     "CompletionCpuRatio": float(p1 / p0) if p0 else float("nan")}
+    return claims, macros, timing_claims, timing_macros

@@ -73,8 +73,9 @@ class TrackingRun:
         ``scan, label, state_0..3, cov_0_0, cov_0_1, cov_1_1``: the MAP hypothesis's objects.
     weights : DataFrame
         ``scan, time, rank, weight, n_objects``: every hypothesis at the snapshot scans.
-    seconds : (K,) float
-        Wall-clock time of each scan (not part of the deterministic tables).
+    seconds, cpu_seconds : (K,) float
+        Wall-clock and CPU (process) time of each scan: the :meth:`timing_table`, never part
+        of the deterministic tables (on a shared machine the CPU time is the steadier one).
     """
 
     summary: pd.DataFrame
@@ -82,18 +83,27 @@ class TrackingRun:
     map_estimates: pd.DataFrame
     weights: pd.DataFrame
     seconds: np.ndarray = field(repr=False)
+    cpu_seconds: np.ndarray = field(repr=False, default=None)
 
     TABLES = ("summary", "cardinality", "map_estimates", "weights")
 
+    def timing_table(self) -> pd.DataFrame:
+        """``scan, seconds, cpu_seconds``: the run time of every scan (scan 0: the initial hypothesis)."""
+        cpu = np.full(len(self.seconds), np.nan) if self.cpu_seconds is None else self.cpu_seconds
+        return pd.DataFrame({"scan": np.arange(len(self.seconds)), "seconds": self.seconds, "cpu_seconds": cpu})
+
     def write(self, paths: Mapping) -> None:
-        """Write each table to ``paths[name]`` as CSV with fixed float formatting."""
+        """Write each table to ``paths[name]`` as CSV with fixed float formatting (and the
+        :meth:`timing_table` to ``paths["timing"]`` when given)."""
         for name in self.TABLES:
             write_table(getattr(self, name), paths[name])
+        if "timing" in paths:
+            write_table(self.timing_table(), paths["timing"])
 
     def timing(self) -> str:
         """One line of wall-clock times (total and per scan)."""
         s = self.seconds[1:] if len(self.seconds) > 1 else self.seconds
-        return (f"{self.seconds.sum():.1f} s in total; per scan median {np.median(s):.3f} s, "
+        return (f"{self.seconds.sum():.1f} s in total (CPU {np.nansum(self.timing_table()['cpu_seconds']):.1f} s); per scan median {np.median(s):.3f} s, "
                 f"95th percentile {np.quantile(s, 0.95):.3f} s, max {s.max():.3f} s")
 
 
@@ -130,12 +140,12 @@ def run_tracker(tracker, scenario: SSAScenario, *, snapshots: Sequence[int] = ()
     n_regions = population.n_birth_regions if population is not None else 0
     every = max(1, (K - 1) // max(1, n_progress))
     rows, card, est, weights = [], [], [], []
-    seconds = np.zeros(K)
+    seconds, cpu_seconds = np.zeros(K), np.zeros(K)
     start = time.perf_counter()
     for k, (t, Z) in enumerate(scans):
-        t0 = time.perf_counter()
+        t0, c0 = time.perf_counter(), time.process_time()
         post = tracker.step(Z, dt=t - scans[k - 1][0]) if k else tracker.posterior(n_top=1)
-        seconds[k] = time.perf_counter() - t0
+        seconds[k], cpu_seconds[k] = time.perf_counter() - t0, time.process_time() - c0
         w = post.weights
         stats = tracker.last_stats if k else {}
         top = post.map_estimate
@@ -172,6 +182,7 @@ def run_tracker(tracker, scenario: SSAScenario, *, snapshots: Sequence[int] = ()
         map_estimates=pd.concat(est, ignore_index=True),
         weights=pd.concat(weights, ignore_index=True) if weights else empty_w,
         seconds=seconds,
+        cpu_seconds=cpu_seconds,
     )
 
 
@@ -196,7 +207,8 @@ def run_and_save(config: Mapping, experiment: str, name: str, inputs: Mapping, o
     """The pipeline's run step: scenario tables in, tracker tables out, progress to stdout and log.
 
     ``inputs`` has the ``truth``, ``scans`` and ``prior`` paths of the scenario ``experiment``
-    (``"ssa50"`` / ``"ssa15"``); ``outputs`` one path per :attr:`TrackingRun.TABLES` entry.
+    (``"ssa50"`` / ``"ssa15"``); ``outputs`` one path per :attr:`TrackingRun.TABLES` entry
+    (and optionally ``timing``).
     """
     scenario = scenario_from_files(config, experiment, inputs["truth"], inputs["scans"], inputs["prior"])
     with open(log_path, "w") as log:
@@ -207,6 +219,6 @@ def run_and_save(config: Mapping, experiment: str, name: str, inputs: Mapping, o
 
         run = run_configured_tracker(config, experiment, name, scenario, snapshot_key=snapshot_key,
                                      progress=progress)
-        run.write(outputs)
+        run.write(dict(outputs.items()))  # a Snakemake output list or a mapping
         progress(f"{experiment} {name}: {run.timing()}")
     return run

@@ -13,14 +13,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._validation import check_int, check_positive, check_probability
-from ...hypotheses import hfisst, homht, rfisst
+from ...hypotheses import LabeledMultiBernoulliPopulation, glmb, hfisst, homht, rfisst
 from ...scenarios.ssa import SSAScenario
 from ..seeds import experiment_seeds
 
 __all__ = ["TRACKER_KINDS", "TRACKER_NAMES", "TrackerSettings", "make_tracker", "tracker_seed"]
 
-TRACKER_KINDS = ("rfisst", "hfisst", "homht")
-TRACKER_NAMES = {"rfisst": "R-FISST", "hfisst": "H-FISST", "homht": "HOMHT"}
+TRACKER_KINDS = ("rfisst", "hfisst", "homht", "glmb")
+TRACKER_NAMES = {"rfisst": "R-FISST", "hfisst": "H-FISST", "homht": "HOMHT", "glmb": "GLMB (Gibbs)"}
 
 
 @dataclass(frozen=True)
@@ -41,6 +41,9 @@ class TrackerSettings:
         MCMC proposals per parent per scan (R-FISST).
     mcmc_variant : {"paper", "symmetric", "gibbs"}
         The MCMC proposal (``"paper"``: seed 000 Sec. III-B).
+    completion_rounds : int
+        Rounds of this project's deterministic neighbour search after the chain
+        (:class:`hypotrack.hypotheses.MCMCGenerator`); ``0`` is the paper's chain alone (R-FISST).
     alpha, beta, n_birth_regions, birth_velocity_std :
         Seed 000's single-event birth/death model (Eq. 30) of the FISST trackers: birth
         probability per region per scan, death probability per in-view object per scan,
@@ -51,6 +54,10 @@ class TrackerSettings:
         HOMHT always has a fixed number here.
     max_events : int
         Budget of the exhaustive generators (children per parent).
+    n_sweeps : int
+        Gibbs samples per parent per scan (``glmb``: the δ-GLMB filter with the labeled
+        multi-Bernoulli population built from the same α and birth regions, ``r_B = α`` per
+        region, and ``p_S = 1 − β`` for every object at every scan, in view or not).
     """
 
     kind: str = "rfisst"
@@ -58,12 +65,14 @@ class TrackerSettings:
     gate_probability: float | None = None
     n_steps: int = 10_000
     mcmc_variant: str = "paper"
+    completion_rounds: int = 2
     alpha: float = 1e-3
     beta: float = 1e-4
     n_birth_regions: int = 10
     birth_velocity_std: float = 0.5
     population: bool = True
     max_events: int = 10**7
+    n_sweeps: int = 1000
 
     def __post_init__(self):
         if self.kind not in TRACKER_KINDS:
@@ -73,6 +82,7 @@ class TrackerSettings:
             check_probability(self.gate_probability, "gate_probability", low_open=True, high_open=True)
         check_int(self.n_steps, "n_steps", minimum=1)
         check_int(self.max_events, "max_events", minimum=1)
+        check_int(self.completion_rounds, "completion_rounds", minimum=0)
         check_positive(self.birth_velocity_std, "birth_velocity_std")
         if self.kind == "homht" and self.population:
             raise ValueError("population must be False for homht "
@@ -80,8 +90,11 @@ class TrackerSettings:
 
     @property
     def label(self) -> str:
-        """Name for legends and claims, e.g. ``"R-FISST"`` or ``"R-FISST, fixed number"``."""
+        """Name for legends and claims, e.g. ``"R-FISST, paper chain"`` or
+        ``"R-FISST + completion, fixed number"``."""
         name = TRACKER_NAMES[self.kind]
+        if self.kind == "rfisst":
+            name += " + completion" if self.completion_rounds else ", paper chain"
         return name if self.population or self.kind == "homht" else f"{name}, fixed number"
 
     @classmethod
@@ -129,7 +142,13 @@ def make_tracker(scenario: SSAScenario, settings: TrackerSettings, seed):
         return homht(scenario.motion, scenario.sensor, max_events=s.max_events, **common)
     population = (scenario.birth_model(s.alpha, s.beta, s.n_birth_regions, s.birth_velocity_std)
                   if s.population else None)
+    if s.kind == "glmb":
+        if population is None:
+            raise ValueError("population must be true for glmb (its births and deaths are the labeled multi-Bernoulli)")
+        births = [population.birth_density(r) for r in range(population.n_birth_regions)]
+        lmb = LabeledMultiBernoulliPopulation(births, r_birth=s.alpha, p_survive=1.0 - s.beta)
+        return glmb(scenario.motion, scenario.sensor, population=lmb, n_sweeps=s.n_sweeps, **common)
     if s.kind == "rfisst":
         return rfisst(scenario.motion, scenario.sensor, n_steps=s.n_steps, variant=s.mcmc_variant,
-                      population=population, **common)
+                      completion_rounds=s.completion_rounds, population=population, **common)
     return hfisst(scenario.motion, scenario.sensor, max_events=s.max_events, population=population, **common)

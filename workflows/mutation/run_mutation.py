@@ -1,0 +1,214 @@
+"""Mutation testing of hypotrack with mutmut 3, one module at a time (a standing quality measure,
+not a pipeline rule and not part of CI).
+
+For each module it builds a scratch project under ``results/quality/mutmut/<module>/`` holding
+the package source and only the test files that exercise the module, and runs
+``mutmut run --max-children <n>`` there (mutmut 3 maps every mutated function to the tests that
+execute it, so each mutant runs only those). It then reads mutmut's per-file ``.meta`` results
+and writes ``results/quality/mutation.csv``::
+
+    module, mutants, killed, survived, no_tests, timeout, not_run, equivalent, killed_pct_non_equivalent,
+    seconds, scope (the files mutated)
+
+``not_run`` counts mutants an interrupted run did not reach (left out of the score).
+``equivalent`` counts the surviving mutants listed, each with a one-line reason, in
+``workflows/mutation/equivalent.yaml`` (mutants that change no observable behaviour); the score
+is ``(killed + timeout) / (mutants − equivalent − not_run)`` (a mutant that makes the tests hang
+is detected), so a survivor and a mutant no selected test reaches ("no tests") count against it. The surviving, non-equivalent mutants are
+listed in ``results/quality/mutation_survivors.csv`` (``mutmut show <name>`` in the scratch
+directory prints the diff).
+
+Usage (from the repository root; about 10 min for ``gaussian`` on one shared core, far longer for
+the engine modules)::
+
+    python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
+    python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
+
+Modules already in ``mutation.csv`` and not named on the command line keep their rows.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+OUT = ROOT / "results" / "quality"
+WORK = OUT / "mutmut"
+EQUIVALENT = Path(__file__).with_name("equivalent.yaml")
+
+CATALOGUE = "tests/unit/test_bad_input_catalogue.py"
+MODULES = {
+    "gaussian": (["src/hypotrack/gaussian.py"], ["tests/unit/test_gaussian.py", CATALOGUE]),
+    "metrics": (["src/hypotrack/metrics.py"],
+                ["tests/unit/test_metrics.py", "tests/property/test_metrics_properties.py", CATALOGUE]),
+    "hypotheses": (["src/hypotrack/hypotheses/*"],
+                   ["tests/unit/test_hypotheses_filter.py", "tests/unit/test_hypotheses_weights.py",
+                    "tests/unit/test_hypotheses_problems.py", "tests/unit/test_transactional_steps.py",
+                    "tests/property/test_pretrim_exact.py", "tests/property/test_hypotheses_properties.py",
+                    CATALOGUE]),
+    "association": (["src/hypotrack/association/*"],
+                    ["tests/unit/test_association_assignment.py", "tests/unit/test_association_clustering.py",
+                     "tests/unit/test_association_counting.py", "tests/unit/test_association_enumeration.py",
+                     "tests/unit/test_association_gating.py", "tests/unit/test_marginals.py",
+                     "tests/unit/test_mcmc.py", "tests/property/test_association_assignment_properties.py",
+                     "tests/property/test_association_clustering_properties.py",
+                     "tests/property/test_association_enumeration_properties.py", CATALOGUE]),
+    "trackers": (["src/hypotrack/trackers/*"],
+                 ["tests/unit/test_gnn.py", "tests/unit/test_jpda.py", "tests/unit/test_initiation.py",
+                  "tests/unit/test_ecmht.py", "tests/unit/test_ecmht_mospa.py", "tests/unit/test_cardinality.py",
+                  "tests/unit/test_transactional_steps.py", CATALOGUE]),
+}
+
+# mutmut 3 exit codes (mutmut.stats.status_by_exit_code)
+KILLED, SURVIVED, NO_TESTS = {1, 3}, {0}, {5, 33}
+TIMEOUT = {36, 24, -24, 152, 255}
+FIELDS = ["module", "mutants", "killed", "survived", "no_tests", "timeout", "not_run", "equivalent",
+          "killed_pct_non_equivalent", "seconds", "scope"]
+
+
+def _toml_list(values) -> str:
+    return "[" + ", ".join(json.dumps(v) for v in values) + "]"
+
+
+def prepare(module: str, only=None) -> Path:
+    """Scratch project: the package source, the module's tests and a pyproject for mutmut."""
+    only, tests = only or MODULES[module][0], MODULES[module][1]
+    work = WORK / module
+    if work.exists():
+        shutil.rmtree(work)
+    shutil.copytree(ROOT / "src", work / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    for t in tests:
+        (work / t).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / t, work / t)
+    base = tomllib.loads((ROOT / "pyproject.toml").read_text()).get("tool", {}).get("mutmut", {})
+    lines = ["[tool.pytest.ini_options]", 'addopts = "-p no:cacheprovider"', "", "[tool.mutmut]"]
+    opts = {**base, "source_paths": ["src/hypotrack"], "only_mutate": only,
+            "pytest_add_cli_args_test_selection": tests}
+    for k, v in opts.items():
+        lines.append(f"{k} = {_toml_list(v) if isinstance(v, list) else json.dumps(v)}")
+    (work / "pyproject.toml").write_text("\n".join(lines) + "\n")
+    return work
+
+
+def run(module: str, max_children: int, only=None) -> float:
+    work = prepare(module, only)
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # import the mutated copy only
+    env.setdefault("NUMBA_CACHE_DIR", str(work / ".numba_cache"))
+    t0 = time.perf_counter()
+    with open(work / "mutmut.log", "w") as log:
+        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children)],
+                              cwd=work, env=env, stdout=log, stderr=subprocess.STDOUT)
+    seconds = time.perf_counter() - t0
+    if proc.returncode != 0:
+        raise SystemExit(f"[mutation] {module}: mutmut exited {proc.returncode}; see {work / 'mutmut.log'}")
+    return seconds
+
+
+def _scope(module: str) -> list:
+    """The files mutated in the module's last run (from its scratch pyproject)."""
+    cfg = WORK / module / "pyproject.toml"
+    if not cfg.exists():
+        return MODULES[module][0]
+    return tomllib.loads(cfg.read_text())["tool"]["mutmut"]["only_mutate"]
+
+
+def _equivalent() -> dict:
+    data = yaml.safe_load(EQUIVALENT.read_text()) if EQUIVALENT.exists() else None
+    return {k: str(v) for k, v in (data or {}).items()}
+
+
+def summarise(module: str, seconds: float, equivalent: dict):
+    """One CSV row and the surviving non-equivalent mutants of a finished run."""
+    codes = {}
+    for meta in (WORK / module / "mutants").rglob("*.meta"):
+        codes.update(json.loads(meta.read_text())["exit_code_by_key"])
+    if not codes:
+        raise SystemExit(f"[mutation] {module}: no mutmut results under {WORK / module}")
+    survivors, row = [], dict.fromkeys(FIELDS[1:-3], 0)
+    for name, code in sorted(codes.items()):
+        row["mutants"] += 1
+        if code is None:  # an interrupted run: not tested yet, left out of the score
+            row["not_run"] += 1
+            continue
+        if code in KILLED:
+            row["killed"] += 1
+            continue
+        if name in equivalent:
+            row["equivalent"] += 1
+            continue
+        if code in TIMEOUT:
+            row["timeout"] += 1
+            continue
+        kind = "no_tests" if code in NO_TESTS else "survived"
+        row[kind] += 1
+        survivors.append({"module": module, "mutant": name, "status": kind,
+                          "function": re.sub(r"__mutmut_\d+$", "", name)})
+    denom = row["mutants"] - row["equivalent"] - row["not_run"]
+    detected = row["killed"] + row["timeout"]  # a mutant that hangs the tests is caught too
+    row["killed_pct_non_equivalent"] = round(100.0 * detected / denom, 1) if denom else 100.0
+    return {"module": module, **row, "seconds": round(seconds)}, survivors
+
+
+def _read(path: Path) -> list:
+    if not path.exists():
+        return []
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def _write(path: Path, rows: list, fields: list) -> None:
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields)
+        w.writeheader()
+        w.writerows(rows)
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("modules", nargs="*", help=f"modules to mutate, of {', '.join(MODULES)} (default: all)")
+    ap.add_argument("--max-children", type=int, default=1, help="parallel mutant runs (default 1)")
+    ap.add_argument("--report-only", action="store_true", help="re-read finished runs, run nothing")
+    ap.add_argument("--only", nargs="+", metavar="GLOB",
+                    help="mutate only these files of one module (a partial run; its row says so)")
+    args = ap.parse_args(argv)
+    modules = args.modules or list(MODULES)
+    unknown = sorted(set(modules) - set(MODULES))
+    if unknown:
+        ap.error(f"unknown module(s) {unknown}; choose from {list(MODULES)}")
+    if args.only and len(modules) != 1:
+        ap.error("--only needs exactly one module")
+    OUT.mkdir(parents=True, exist_ok=True)
+    table, surv_path = OUT / "mutation.csv", OUT / "mutation_survivors.csv"
+    rows = {r["module"]: r for r in _read(table)}
+    survivors = [s for s in _read(surv_path) if s["module"] not in modules]
+    equivalent = _equivalent()
+    for module in modules:
+        if args.report_only:
+            seconds = float(rows.get(module, {}).get("seconds") or 0.0)
+        else:
+            print(f"[mutation] {module}: mutmut run over {', '.join(args.only or MODULES[module][0])}", flush=True)
+            seconds = run(module, args.max_children, args.only)
+        rows[module], surv = summarise(module, seconds, equivalent)
+        rows[module]["scope"] = " ".join(_scope(module))
+        survivors += surv
+        r = rows[module]
+        print(f"[mutation] {module}: {r['mutants']} mutants, {r['killed']} killed, {r['equivalent']} equivalent, "
+              f"{r['killed_pct_non_equivalent']} % of the non-equivalent killed ({r['seconds']} s)", flush=True)
+        _write(table, [rows[m] for m in MODULES if m in rows], FIELDS)
+        _write(surv_path, survivors, ["module", "mutant", "status", "function"])
+
+
+if __name__ == "__main__":
+    main()

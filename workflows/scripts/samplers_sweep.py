@@ -1,0 +1,19 @@
+"""Sampler head-to-head: run every sampler on the same problems; tables, figure, ledger rows."""
+from hypotrack.experiments.samplers import samplers_sweep, summarise
+from hypotrack.experiments.samplers_report import plot_mass, sampler_claims, sampler_macros
+from hypotrack.experiments.seeds import experiment_seeds
+from hypotrack.report import write_claims, write_macros
+from hypotrack.scenarios.tables import write_table
+
+cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
+out = snakemake.output  # noqa: F821
+raw = samplers_sweep(cfg, experiment_seeds(snakemake.params.seed, "samplers", 1)[0])  # noqa: F821
+det, timing = summarise(raw)
+write_table(raw, out.raw)
+write_table(det, out.summary)
+write_table(timing, out.timing)
+plot_mass(det, timing, out.fig_pdf, out.fig_png)
+write_claims(sampler_claims(det, timing), out.claims)
+values, times = sampler_macros(det, timing)
+write_macros("samplers", values, out.macros)
+write_macros("samplers", times, out.timing_macros)

@@ -123,3 +123,51 @@ def test_bad_input():
         FISSTPoissonWeights().problem(context(np.zeros((1, 1)), [0.9], rate=0.0), np.arange(1))
     with pytest.raises(ValueError, match="population_log_prob"):
         HFISSTWeights().problem(context(np.zeros((1, 1)), [0.9]), np.arange(1), population_log_prob=np.zeros(3))
+
+
+def test_fisst_poisson_no_clutter_and_overridden_rate():
+    """Every return detected (k' = 0): the count term is −λV alone; an explicit clutter_rate
+    replaces the scan's λV; more detections than returns are impossible (−inf)."""
+    ctx = context(np.zeros((2, 2)), [0.9, 0.9], rate=2.0, volume=50.0)
+    phi = FISSTPoissonWeights().count_term(ctx, 2, 0)
+    assert phi[2, 0] == pytest.approx(-2.0, abs=1e-14)  # k = m = 2, k' = 0
+    assert phi[1, 0] == pytest.approx(-2.0 + math.log(2.0) - math.log(50.0), abs=1e-14)  # k' = 1
+    phi3 = FISSTPoissonWeights(clutter_rate=3.0).count_term(ctx, 2, 0)
+    assert phi3[1, 0] == pytest.approx(-3.0 + math.log(3.0) - math.log(50.0), abs=1e-14)
+    ctx1 = context(np.zeros((1, 2)), [0.9, 0.9])
+    np.testing.assert_array_equal(FISSTPoissonWeights().count_term(ctx1, 2, 0)[2], [-np.inf])
+    np.testing.assert_array_equal(HFISSTWeights().count_term(ctx1, 2, 0)[2], [-np.inf])
+
+
+def test_reid_options_births_and_intensity():
+    """Reid: the clutter option is log λ_C (scan's λV/V, or the override), births are a row option
+    (no birth columns even if the scan has birth regions), λ_B is kept as a float."""
+    birth = np.log(np.full((2, 1), 1 / 20.0))
+    ctx = context(np.zeros((2, 1)), [0.9], rate=2.0, volume=50.0, birth_loglik=birth)
+    problem = ReidWeights().problem(ctx, np.arange(1))
+    assert problem.target_scores.shape == (2, 1)
+    np.testing.assert_allclose(problem.option_scores, np.full((2, 1), math.log(2.0 / 50.0)))
+    np.testing.assert_allclose(ReidWeights(clutter_intensity=0.5).option_scores(ctx), np.full((2, 1), math.log(0.5)))
+
+    class Density:
+        def initial_state(self, z, R):
+            return np.zeros(4), np.eye(4)
+
+    w = ReidWeights(birth_intensity=2, birth_density=Density())
+    assert isinstance(w.birth_intensity, float) and w.birth_intensity == 2.0
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: ReidWeights(birth_intensity=-1.0), "birth_intensity must be a finite number >= 0, got -1.0"),
+    (lambda: ReidWeights(birth_intensity=1.0),
+     "birth_density with initial_state(z, R) is required when birth_intensity > 0"),
+    (lambda: ReidWeights(clutter_intensity=0.0), "clutter_intensity must be a finite number > 0, got 0.0"),
+    (lambda: ReidWeights().problem(context(np.zeros((1, 1)), [0.9], rate=0.0), np.arange(1)),
+     "clutter intensity must be a finite number > 0, got 0.0"),
+    (lambda: FISSTPoissonWeights().problem(context(np.zeros((1, 1)), [0.9], rate=0.0), np.arange(1)),
+     "clutter_rate must be a finite number > 0, got 0.0"),
+])
+def test_weight_model_messages(call, message):
+    with pytest.raises(ValueError) as info:
+        call()
+    assert str(info.value) == message

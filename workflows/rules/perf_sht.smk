@@ -25,6 +25,7 @@ rule perf_sht_claims:
     input:
         speedups=rules.perf_sht_benchmark.output.speedups,
         largest=rules.perf_sht_benchmark.output.largest,
+        timings=rules.perf_sht_benchmark.output.timings,
     output:
         claims=f"{PS_DIR}/sht_claims.csv",
     script:

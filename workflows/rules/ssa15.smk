@@ -49,7 +49,7 @@ rule ssa15_figures:
         metrics=report_table(f"{SSA15_DIR}/metrics.csv", "ssa15", "metrics"),
         agreement=report_table(f"{SSA15_DIR}/agreement.csv", "ssa15", "agreement"),
         snapshots=f"{SSA15_DIR}/estimate_snapshots.csv",
-        completion=f"{SSA15_DIR}/completion.csv",
+        completion=report_table(f"{SSA15_DIR}/completion.csv", "ssa15", "completion"),
         completion_timing=f"{SSA15_DIR}/completion_timing.csv",
         fig12_pdf=f"{SSA15_DIR}/fig_12_14_estimates.pdf",
         fig12_png=report_figure(f"{SSA15_DIR}/fig_12_14_estimates.png", "ssa15", "fig_12_14_estimates"),

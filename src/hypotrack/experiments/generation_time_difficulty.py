@@ -21,10 +21,11 @@ the ``reference_k`` heaviest generated over the exact ``reference_k`` best). Tim
 separate table so that the outcome table is byte-identical across runs.
 
 The completion step adds every single-move neighbour above ``1e-9`` of the best; on ambiguous
-problems that is millions of children. It is run only when its work — single moves evaluated,
-counted from the chain's children before each round — stays within ``completion_max_moves``
-(a deterministic budget, so the outcome table does not depend on the machine); otherwise the row
-says so (``over_budget``).
+problems that is millions of children (minutes per parent). It is run only when each of its
+rounds evaluates at most ``completion_max_moves`` single moves — counted from the children above
+the threshold before the round (the first round's result is computed to count the second's) — a
+deterministic budget, so the outcome table does not depend on the machine; otherwise the row says
+so (``over_budget``).
 """
 
 from __future__ import annotations
@@ -136,14 +137,16 @@ def _completion_work(problem, lw, threshold):
 
 
 def _completion_within_budget(problem, chain_events, chain_lw, gen, budget):
-    """Deterministic check (counts only) that the completion's two rounds stay within ``budget`` moves."""
-    work = _completion_work(problem, chain_lw, gen.completion_threshold)
-    if work > budget:
+    """Deterministic check (counts only) that every completion round evaluates <= ``budget`` moves."""
+    if _completion_work(problem, chain_lw, gen.completion_threshold) > budget:
         return False
+    if gen.completion_rounds == 1:
+        return True
     p = problem
-    ev1, lw1 = neighbour_completion(p.score, p.n_objects, p.n_exclusive, p.count_term, chain_events,
-                                    chain_lw - p.constant, rounds=1, relative_threshold=gen.completion_threshold)
-    return work + _completion_work(p, lw1, gen.completion_threshold) * (gen.completion_rounds - 1) <= budget
+    _, lw1 = neighbour_completion(p.score, p.n_objects, p.n_exclusive, p.count_term, chain_events,
+                                  chain_lw - p.constant, rounds=1, relative_threshold=gen.completion_threshold)
+    # later rounds start from no more children than a round-1 set can seed again
+    return _completion_work(p, lw1, gen.completion_threshold) <= budget
 
 
 def _timed(gen, problem, seed, keep=None, repeats=1):

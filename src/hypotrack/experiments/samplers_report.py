@@ -84,6 +84,11 @@ def sampler_macros(det: pd.DataFrame, timing: pd.DataFrame) -> tuple[dict, dict]
     b = det.budget.max()
     t = timing.set_index(["difficulty", "sampler", "budget"])
     out = {"Budget": int(b), "NProblems": int(det.n_problems.min())}
+    # equal proposals, Gibbs against the paper's chain: in how many (difficulty, budget) cells it captures more
+    piv = det.pivot_table(index=["difficulty", "budget"], columns="sampler", values="mass_mean")
+    if {"gibbs", "rfisst_chain"} <= set(piv.columns):
+        out["GibbsAboveChainCells"] = int((piv["gibbs"] > piv["rfisst_chain"]).sum())
+        out["Cells"] = len(piv)
     times = {}
     for _, r in det[det.budget == b].iterrows():
         name = "At" + r.difficulty.replace("sigma", "Sigma") + "".join(p.capitalize() for p in r.sampler.split("_"))

@@ -196,7 +196,8 @@ class BinomialPopulation(_Population):
         b = np.arange(self.n_birth_regions + 1)
         out = np.full(len(b), -np.inf)
         free = b < self.n_birth_regions
-        out[free] = self._log_birth(b[free] + 1) - self._log_birth(b[free])
+        if self.alpha > 0:  # with α = 0 no birth is possible: the ratio stays −inf (not −inf − (−inf))
+            out[free] = self._log_birth(b[free] + 1) - self._log_birth(b[free])
         return out
 
     def death_log_ratio(self, n_in_view: int, n_objects: int) -> np.ndarray:

@@ -1,0 +1,97 @@
+"""The SSA Monte Carlo over seeds (hypotrack.experiments.ssa_seeds): seeds, distribution, verdicts."""
+
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from hypotrack.experiments import ssa_seeds as ss
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _config(n_seeds=3, n_scans=6):
+    config = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())
+    config["ssa_seeds"].update(n_seeds=n_seeds, n_scans=n_scans, n_steps=200)
+    for case in ("ssa50", "ssa15"):
+        config[case]["max_hypotheses"] = 3
+    return config
+
+
+def test_seed_i_is_the_same_whatever_the_number_of_seeds_and_seeds_differ():
+    a = ss.seed_scenario(_config(n_seeds=2), "ssa15", 1)
+    b = ss.seed_scenario(_config(n_seeds=7), "ssa15", 1)
+    c = ss.seed_scenario(_config(n_seeds=7), "ssa15", 2)
+    pd.testing.assert_frame_equal(a.scans, b.scans)
+    assert len(a.times) == 6 and not a.scans.equals(c.scans)
+    with pytest.raises(ValueError, match="case"):
+        ss.seed_scenario(_config(), "ssa20", 0)
+
+
+def test_tracker_settings_take_the_case_trackers_with_the_seeds_proposals():
+    s = ss.tracker_settings(_config(), "ssa15")
+    assert list(s) == ["homht", "rfisst_chain", "rfisst"]
+    assert (s["rfisst_chain"].n_steps, s["rfisst_chain"].completion_rounds, s["rfisst"].completion_rounds) == (200, 0, 2)
+    assert s["homht"].kind == "homht" and s["homht"].max_hypotheses == 3
+
+
+def test_run_seed_rows_on_a_short_realisation():
+    config = _config(n_scans=5)
+    config["ssa_seeds"]["trackers"] = {"ssa15": ["homht", "rfisst"]}
+    rows, timing = ss.run_seed(config, 0, progress=None)
+    assert list(rows.columns) == ss.SEED_COLUMNS and len(rows) == 2 and len(timing) == 2
+    r = rows.set_index("tracker")
+    assert r.loc["homht", "reference"] == "" and np.isnan(r.loc["homht", "map_agreement"])
+    assert r.loc["rfisst", "reference"] == "homht" and 0 <= r.loc["rfisst", "map_agreement"] <= 1
+    # HOMHT runs with a fixed number of objects: all 15 known objects, all weight on 15.
+    assert r.loc["homht", "n_catalogue_end"] == 15
+    assert (r.loc["homht", "p_n_end"], r.loc["homht", "expected_number_error"]) == pytest.approx((1.0, 0.0), abs=1e-12)
+    again, _ = ss.run_seed(config, 0, progress=None)
+    pd.testing.assert_frame_equal(rows, again)
+
+
+def _per_seed(p_end, agreement):
+    rows = []
+    for i, (p, a) in enumerate(zip(p_end, agreement)):
+        rows.append({"case": "ssa50", "seed_index": i, "tracker": "chain", "label": "R-FISST, paper chain",
+                     "n_catalogue_end": 50, "expected_number_end": 49 + p, "expected_number_error": p - 1,
+                     "p_n_end": p, "births": 5, "births_tracked_end": 5 - (i == 0), "birth_latency_mean": 2.0 + i,
+                     "birth_latency_max": 3.0 + i, "reference": "", "map_agreement": np.nan,
+                     "ospa_in_view_mean": 1.0, "ospa_catalogue_mean": 2.0, "children_per_scan_mean": 10.0})
+        rows.append({"case": "ssa15", "seed_index": i, "tracker": "homht", "label": "HOMHT", "n_catalogue_end": 15,
+                     "expected_number_end": 15.0, "expected_number_error": 0.0, "p_n_end": 1.0, "births": 0,
+                     "births_tracked_end": 0, "birth_latency_mean": np.nan, "birth_latency_max": np.nan,
+                     "reference": "", "map_agreement": np.nan, "ospa_in_view_mean": 1.0, "ospa_catalogue_mean": 2.0,
+                     "children_per_scan_mean": 5.0})
+        rows.append({**rows[-1], "tracker": "chain", "label": "R-FISST, paper chain", "reference": "homht",
+                     "map_agreement": a})
+    return pd.DataFrame(rows)
+
+
+def test_distribution_table_quantiles_by_hand():
+    d = ss.distribution_table(_per_seed([0.9, 1.0, 0.5, 0.7, 0.9], [1.0] * 5))
+    row = d[(d["case"] == "ssa50") & (d["metric"] == "p_n_end")].iloc[0]
+    # sorted 0.5 0.7 0.9 0.9 1.0: median 0.9, quartiles 0.7 and 0.9 (linear), q10 = 0.5 + 0.4 * 0.2
+    assert (row["n"], row["min"], row["median"], row["max"]) == (5, 0.5, 0.9, 1.0)
+    assert (row["q25"], row["q75"]) == pytest.approx((0.7, 0.9))
+    assert row["q10"] == pytest.approx(0.58) and row["mean"] == pytest.approx(0.8)
+    assert row["se"] == pytest.approx(np.std([0.9, 1.0, 0.5, 0.7, 0.9], ddof=1) / np.sqrt(5))
+    assert d[(d["case"] == "ssa15") & (d["tracker"] == "homht") & (d["metric"] == "birth_latency_mean")].empty
+
+
+def test_claims_apply_the_monte_carlo_rule_over_seeds():
+    claims = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([0.99, 1.0, 0.98, 1.0], [1.0, 1.0, 0.9, 1.0]))}
+    p = claims["ssa50_chain_PEnd"]  # mean 0.9925, se 0.0048: z = -1.57
+    assert (p.status, p.n, p.evidence) == ("reproduced", "4", "published number")
+    assert float(p.z) == pytest.approx((0.9925 - 1) / (np.std([0.99, 1.0, 0.98, 1.0], ddof=1) / 2), abs=0.01)
+    births = claims["ssa50_chain_Births"]
+    assert births.status == "not reproduced" and births.reproduced.startswith("19 of 20 births")
+    ag = claims["ssa15_chain_Agreement"]  # mean 0.975, se 0.025: |z| = 1 -> reproduced
+    assert ag.status == "reproduced" and "HOMHT" in ag.item
+    assert "ssa15_homht_Agreement" not in claims
+    bad = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([0.5, 0.52, 0.48], [1.0] * 3))}["ssa50_chain_PEnd"]
+    assert bad.status == "not reproduced"
+    one = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([1.0], [1.0]))}["ssa50_chain_PEnd"]
+    assert one.status == "qualitative" and "too few" in one.note

@@ -1,0 +1,52 @@
+# The SSA verdicts of seed 000 (ssa50, Sec. IV-A; ssa15, Sec. V-A) over scenario seeds: one shard per
+# seed runs R-FISST (paper chain; chain + completion) on a fresh ssa50 realisation and R-FISST and HOMHT
+# on a fresh ssa15 realisation; the table rule gives the per-seed table, the distribution over seeds,
+# the ledger rows and a figure.
+# Config section: ssa_seeds (workflows/config/schema/ssa_seeds.schema.yaml); trackers from ssa50 / ssa15.
+SSA_SEEDS_DIR = f"{RESULTS}/ssa_seeds"
+SSA_SEEDS = range(config["ssa_seeds"]["n_seeds"])
+for _case, _names in config["ssa_seeds"]["trackers"].items():
+    if not set(_names) <= set(config[_case]["trackers"]):
+        raise ValueError(f"ssa_seeds.trackers.{_case}: {_names} names a tracker not in {_case}.trackers")
+
+
+rule ssa_seeds_shard:
+    wildcard_constraints:
+        shard=r"\d+",
+    output:
+        rows=f"{SSA_SEEDS_DIR}/shards/seed_{{shard}}.csv",
+        timing=f"{SSA_SEEDS_DIR}/shards/seed_{{shard}}_timing.csv",
+    params:
+        # What a shard reads: a change of these reruns the shards.
+        settings={"seed": config["seed"], "ssa": config["ssa"], "ssa_seeds": config["ssa_seeds"],
+                  **{case: config[case] for case in config["ssa_seeds"]["trackers"]}},
+    log:
+        f"{RESULTS}/logs/ssa_seeds/seed_{{shard}}.log",
+    script:
+        "../scripts/ssa_seeds_shard.py"
+
+
+rule ssa_seeds_table:
+    input:
+        rows=expand(f"{SSA_SEEDS_DIR}/shards/seed_{{shard}}.csv", shard=SSA_SEEDS),
+        timing=expand(f"{SSA_SEEDS_DIR}/shards/seed_{{shard}}_timing.csv", shard=SSA_SEEDS),
+    output:
+        per_seed=report_table(f"{SSA_SEEDS_DIR}/per_seed.csv", "ssa_seeds", "per_seed"),
+        summary=report_table(f"{SSA_SEEDS_DIR}/summary.csv", "ssa_seeds", "summary"),
+        timing=f"{SSA_SEEDS_DIR}/seed_timing.csv",
+        claims=f"{SSA_SEEDS_DIR}/claims.csv",
+        fig_pdf=f"{SSA_SEEDS_DIR}/distributions.pdf",
+        fig_png=report_figure(f"{SSA_SEEDS_DIR}/distributions.png", "ssa_seeds", "distributions"),
+    script:
+        "../scripts/ssa_seeds_table.py"
+
+
+SSA_SEEDS_TARGETS = [*rules.ssa_seeds_table.output]
+
+
+rule ssa_seeds:
+    input:
+        SSA_SEEDS_TARGETS,
+
+
+ALL_TARGETS.extend(SSA_SEEDS_TARGETS)

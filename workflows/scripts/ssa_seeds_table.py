@@ -1,0 +1,26 @@
+"""SSA Monte Carlo over seeds: per-seed table, distribution over seeds, ledger rows and figure."""
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import pandas as pd  # noqa: E402
+
+from hypotrack.experiments.joblog import claims_line, prefix_output  # noqa: E402
+from hypotrack.experiments.ssa_seeds import distribution_table, plot_distributions, ssa_seeds_claims  # noqa: E402
+from hypotrack.report import write_claims  # noqa: E402
+from hypotrack.scenarios.tables import write_table  # noqa: E402
+
+snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
+prefix_output(snakemake)  # every line this job prints names the job
+inp, out = snakemake.input, snakemake.output
+per_seed = pd.concat([pd.read_csv(p) for p in inp.rows], ignore_index=True)
+timing = pd.concat([pd.read_csv(p) for p in inp.timing], ignore_index=True)
+write_table(per_seed, out.per_seed)
+write_table(distribution_table(per_seed), out.summary)
+write_table(timing, out.timing)
+fig = plot_distributions(per_seed, title="SSA verdicts over scenario seeds (seed 000 Sec. IV-A, V-A)")
+fig.savefig(out.fig_pdf)
+fig.savefig(out.fig_png, dpi=150)
+plt.close(fig)
+print(claims_line(write_claims(ssa_seeds_claims(per_seed), out.claims), out.claims), flush=True)

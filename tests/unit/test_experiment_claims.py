@@ -43,6 +43,12 @@ def test_perf_claims_report_measured_ranges():
     claims = perf_sht_claims(speedups, largest)
     assert claims[0].reproduced == "41x to 91x" and claims[1].reproduced == "10x to 10x"
     assert claims[2].reproduced == "G: 128; hypotrack: 867"
+    floor = pd.DataFrame(dict(algorithm=["gnn", "gnn"], peer=["numpy_scipy_gnn"] * 2, n_targets=[12, 24],
+                              speedup=[0.5, 0.8], hypotrack_over_peer=[2.0, 1.25], goal=[1 / 1.5] * 2,
+                              goal_met=[False, True]))
+    f = perf_sht_claims(floor, largest.iloc[:0])[0]
+    assert (f.published, f.reproduced, f.key) == ("<= 1.5x", "1.25x to 2.00x", "GnnFloor")
+    assert f.note.startswith("target not met")
     table = pd.DataFrame(dict(benchmark=["mcmc"], label=["m"], variant=["paper"], per_second=[9.8e6],
                               target_per_second=[1e6], meets_target=[True], peak_bytes=[None]))
     assert throughput_claims(table)[0].reproduced == "9.80e+06 proposals/s"

@@ -133,7 +133,7 @@ class Findings:
         if not ok:
             raise AssertionError(f"check failed: {label}: {details}")
 
-    def claim(self, item: str, source: str, published, reproduced, status: str, *, key: str,
+    def claim(self, item: str, source: str, published, reproduced, status: str, *, key: str = "",
               evidence: str = "independent oracle", tolerance: str = "exact", note: str = "") -> None:
         """A row of the reproduction ledger (:mod:`hypotrack.report`): a published statement and
         what this notebook found. ``status`` is one of :data:`hypotrack.report.STATUSES`; ``key``

@@ -5,7 +5,9 @@ The README quotes no result by hand: the text between :data:`BEGIN` and :data:`E
 
     python -m hypotrack.readme results/paper/ledger.csv README.md
 
-rewrites the block in place (``--check`` only compares and exits 1 on a difference). Why a committed
+rewrites the block in place (``--check`` only compares and exits 1 on a difference); the timing rows
+(speed-ups, throughput: ``ledger_timing.csv`` beside the ledger, kept apart so that ``ledger.csv`` is
+byte-identical for one config and seed) are read with it. Why a committed
 ledger and a developer command rather than a pipeline rule: the README is a source file, and no
 rule may write outside ``results``; the ledger it quotes is the default run's evidence, tracked in
 git next to the README so a reader (and the test) can see which run every number came from. When
@@ -68,7 +70,11 @@ def replace_block(readme: str, block: str) -> str:
 
 
 def _load(ledger) -> pd.DataFrame | None:
-    return read_claims([ledger]) if ledger is not None and Path(ledger).exists() else None
+    """The ledger and, when present beside it, its timing rows (``ledger_timing.csv``)."""
+    if ledger is None or not Path(ledger).exists():
+        return None
+    timing = Path(ledger).with_name(Path(ledger).stem + "_timing.csv")
+    return read_claims([ledger, *([timing] if timing.exists() else [])])
 
 
 def check_readme(readme_path, ledger_path) -> str | None:

@@ -66,6 +66,7 @@ __all__ = [
     "claims_markdown",
     "claims_table_tex",
     "config_macros",
+    "is_timing_table",
     "latex_escape",
     "ledger_problems",
     "ledger_warnings",
@@ -267,6 +268,12 @@ def write_claims(claims, path) -> pd.DataFrame:
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     df.to_csv(path, index=False)
     return df
+
+
+def is_timing_table(path) -> bool:
+    """Timing tables (and timing claims) are named so (``*timing*``): their values are measured run
+    times, not byte-reproducible; the paper rule writes their rows to ``ledger_timing.csv``."""
+    return "timing" in Path(path).name
 
 
 def read_claims(paths) -> pd.DataFrame:

@@ -60,3 +60,34 @@ def test_latex_log_problems_name_their_cause():
         "float too large for its page by 97.3pt (input line 88)"]
     assert overfull_boxes(complete) == [r"Overfull \hbox (12.3pt too wide) in paragraph at lines 4--9"]
     assert latex_log_problems("Output written on ms.pdf (12 pages).") == []
+
+
+def _mini_paper(tmp_path, body):
+    """A source tree with the report's own \\htval definition, and generated inputs elsewhere."""
+    src, gen = tmp_path / "src", tmp_path / "results" / "paper"
+    src.mkdir(parents=True)
+    (gen / "generated").mkdir(parents=True)
+    (gen / "generated" / "macros.tex").write_text("\\newcommand{\\htSwapsRmsMinimumRep}{4}\n")
+    preamble = (PAPER / "ms.tex").read_text().split("\\title{")[0]  # the report's preamble, macros included
+    (src / "ms.tex").write_text(preamble.replace("\\usepackage{natbib}", "") + "\\begin{document}\n" + body
+                                + "\n\\end{document}\n")
+    return src, gen
+
+
+def test_paper_build_fails_naming_a_missing_macro_and_writes_nothing_in_the_sources(tmp_path):
+    import pytest
+
+    from hypotrack.paper import build_pdf
+
+    if shutil.which("latexmk") is None:
+        pytest.skip("latexmk not installed")
+    src, gen = _mini_paper(tmp_path, "Minimum at \\htval{htSwapsRmsMinimumRep} swaps.")
+    build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "ok.log")
+    assert (gen / "out.pdf").stat().st_size > 0 and sorted(p.name for p in src.iterdir()) == ["ms.tex"]
+    src, gen = _mini_paper(tmp_path / "missing", "Minimum at \\htval{htSwapsRmsMinimumRep} swaps, rate "
+                           "\\htval{htSwapsRateFarRep}; see Section~\\ref{sec:nowhere}.")
+    with pytest.raises(RuntimeError, match=r"generated macro \\htSwapsRateFarRep is missing"):
+        build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "missing.log")
+    src, gen = _mini_paper(tmp_path / "ref", "See Section~\\ref{sec:nowhere}.")
+    with pytest.raises(RuntimeError, match="undefined reference sec:nowhere"):
+        build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "ref.log")

@@ -71,3 +71,11 @@ def test_readme_block_is_generated_and_an_edited_ledger_value_fails(tmp_path):
     readme.write_text(text.replace("**1 reproduced**", "**2 reproduced**"))
     assert check_readme(readme, ledger) is not None
     assert readme_block(None).startswith("No ledger is committed yet")
+    # timing rows beside the ledger (ledger_timing.csv) are part of the README's table
+    from hypotrack.report import Claim, write_claims
+
+    write_claims([Claim("perf_sht", "GNN speed-up", "extension", ">= 30x", "62x to 76x", "--", "extension", "",
+                        "measurement")], ledger.with_name("ledger_timing.csv"))
+    assert check_readme(readme, ledger) is not None  # the README no longer shows every row
+    assert main([str(ledger), str(readme)]) == 0 and "| perf_sht | GNN speed-up |" in readme.read_text()
+    assert "4 ledger rows" in readme.read_text()

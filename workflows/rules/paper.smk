@@ -26,6 +26,7 @@ rule paper_generated:
         macros=f"{RESULTS}/paper/generated/macros.tex",
         table=f"{RESULTS}/paper/generated/claims_table.tex",
         ledger=f"{RESULTS}/paper/ledger.csv",
+        ledger_timing=f"{RESULTS}/paper/ledger_timing.csv",
     params:
         results=RESULTS,
         config=config,

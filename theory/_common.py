@@ -133,11 +133,14 @@ class Findings:
         if not ok:
             raise AssertionError(f"check failed: {label}: {details}")
 
-    def claim(self, item: str, source: str, published, reproduced, status: str, *, tolerance: str = "exact",
-              note: str = "") -> None:
+    def claim(self, item: str, source: str, published, reproduced, status: str, *, key: str = "",
+              evidence: str = "independent oracle", tolerance: str = "exact", note: str = "") -> None:
         """A row of the reproduction ledger (:mod:`hypotrack.report`): a published statement and
-        what this notebook found. ``status`` is one of :data:`hypotrack.report.STATUSES`."""
-        row = Claim("theory", item, source, str(published), str(reproduced), tolerance, status, note)
+        what this notebook found. ``status`` is one of :data:`hypotrack.report.STATUSES`; ``key``
+        names the row's paper macros stably; ``evidence`` defaults to the symbolic computation here
+        (an oracle that shares no code with the engine)."""
+        row = Claim("theory", item, source, str(published), str(reproduced), tolerance, status, note, evidence,
+                    key=key)
         self.claims.append(asdict(row))
         print(f"[claim: {status}] {item}: published {published}, found {reproduced}")
 

@@ -101,7 +101,7 @@ for n_val in (0, 1):
 findings.record("eq32_leading_log_error", "-((n - lambdaV)^2 - n) / (2 M)")
 findings.claim("Eq. 32: binomial births = Poisson births", "001 Eq. 32", "equality",
                "limit M -> oo; ln(Bin/Pois) = -[(n - lambda V)^2 - n]/(2M) + O(M^-2)", "qualitative",
-               note="an equality only in the limit; TV distance ~ E|(K - lambda V)^2 - K| / (4M)")
+               note="an equality only in the limit; TV distance ~ E|(K - lambda V)^2 - K| / (4M)", key="eq32_poisson_limit")
 
 # %% [markdown]
 # ## 2. Eq. 33: the approximation of the birth-hypothesis probability
@@ -228,7 +228,7 @@ findings.check(
 findings.record("eq39_ratio", "(1 - p_D) * alpha")
 findings.claim("Eq. 39: undetected-birth weight ratio", "001 Eq. 37-39", "(1 - p_D) alpha", str(ratio_39.subs(lam_B, alpha / Vbar)),
                "reproduced", note="exact under the Eq. 33 approximation; the exact binomial factor of Eq. 31 gives "
-                                  "(1 - p_D) alpha / (1 - alpha)")
+                                  "(1 - p_D) alpha / (1 - alpha)", key="eq39_ratio")
 findings.record("eq31_exact_ratio", "(1 - p_D) * alpha / (1 - alpha)")
 
 # %% [markdown]
@@ -314,12 +314,12 @@ findings.check(
     counter_example > 1,
 )
 findings.claim("Eq. 43 bound, uniform pixel births", "001 Eq. 42-43", "< 1 - p_D",
-               "<= (1 - p_D) erf(Vbar / (2 sqrt(2 (Q + R))))", "reproduced", note="at every return z*")
+               "<= (1 - p_D) erf(Vbar / (2 sqrt(2 (Q + R))))", "reproduced", note="at every return z*", key="eq43_uniform")
 findings.claim("Eq. 43 bound, Gaussian birth pdfs", "001 Eq. 42-43, Fig. 10", "< 1 - p_D",
                f"{counter_example:.3f} (1 - p_D) for a variance-matched Gaussian, Q = R = 0.005 Vbar^2",
                "reproduced" if counter_example < 1 else "not reproduced",
                note="holds if the birth Gaussian's peak density is <= 1/Vbar, or (Gaussian new birth) within "
-                    "d^2 < ab ln(b/a)/(b - a) of the pixel centre; fails otherwise")
+                    "d^2 < ab ln(b/a)/(b - a) of the pixel centre; fails otherwise", key="eq43_gaussian")
 findings.record("eq43_variance_matched_counterexample", {"Vbar": 1, "P": 1 / 12, "Q": 0.005, "R": 0.005,
                                                            "ratio_over_1_minus_pD": counter_example})
 

@@ -104,7 +104,7 @@ findings.check("count_associations(10, 5) = 63,591", count_associations(10, 5) =
 findings.record("A_10_5", eq4_count(10, 5))
 findings.claim("A(10, 5) associations", "000 Sec. II-A, Eq. 4", f"{PUBLISHED_A_10_5:,}", f"{eq4_count(10, 5):,}",
                "reproduced" if eq4_count(10, 5) == PUBLISHED_A_10_5 else "not reproduced",
-               note="exact integer; also by brute-force enumeration for all M, m <= 6")
+               note="exact integer; also by brute-force enumeration for all M, m <= 6", key="count_example", evidence="brute force")
 findings.record("A_10_5_terms", terms_10_5)
 print("terms of A(10, 5):", terms_10_5)
 
@@ -230,7 +230,7 @@ findings.check(
 findings.record("children_example_M10_m5_Mb10_Md10", child_count(10, 5, 10, 10))
 findings.claim("children with single birth/death events", "000 Sec. II-C",
                "A(M,m) + M_b A(M+1,m) + M_d A(M-1,m)", f"equal to enumeration in {len(child_rows)} cases",
-               "reproduced", note="M, m <= 4, M_b <= 2, M_d <= M; e.g. 1,485,011 children for M=10, m=5, M_b=M_d=10")
+               "reproduced", note="M, m <= 4, M_b <= 2, M_d <= M; e.g. 1,485,011 children for M=10, m=5, M_b=M_d=10", key="child_count", evidence="brute force")
 print("children of a 10-object parent, 5 returns, 10 birth regions, 10 mortal objects:", child_count(10, 5, 10, 10))
 
 # %% [markdown]
@@ -291,7 +291,7 @@ findings.record("growth_table", growth)
 findings.claim("growth of A(n, n)", "000 Eq. 4 (extension)", "--",
                f"n! e^(2 sqrt n - 1/2) / (2 sqrt(pi) n^(1/4)) (ratio {growth[-1]['ratio_to_perron']:.4f} at n = 70)",
                "extension", note=f"A(n,n) first exceeds 1e8 at n = {first_over[8]}, 1e33 at n = {first_over[33]}, "
-                                 f"1e100 at n = {first_over[100]}; closed form n! L_n(-1)")
+                                 f"1e100 at n = {first_over[100]}; closed form n! L_n(-1)", key="count_growth")
 findings.record("first_n_with_A_nn_at_least_1e8_1e33_1e100", first_over)
 print(" n  digits  log10 A(n,n)  log10 n!  ratio to Perron")
 for row in growth:

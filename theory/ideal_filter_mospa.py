@@ -80,7 +80,8 @@ findings.check("steady-state P(k|k-1) at the table's parameters equals the libra
 findings.check("steady-state P(k|k-1) = 0.03634 m^2 (reconstruction §6.4)", abs(float(steady) - 0.03634) < 5e-6)
 findings.claim("steady-state one-step prediction variance of the ideal filter", "003 reconstruction §6.4",
                "0.03634", f"{float(steady):.5f}", "reproduced", tolerance="+/- 5e-06",
-               note="the scalar Riccati fixed point, solved symbolically; equals Table 6.1's ideal 0.0363 to its rounding")
+               note="the scalar Riccati fixed point, solved symbolically; equals Table 6.1's ideal 0.0363 to its rounding",
+               key="ideal_steady_state")
 
 # %% [markdown]
 # ## 2. The squared OSPA of two estimates

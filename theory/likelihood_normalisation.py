@@ -108,7 +108,7 @@ findings.record("eq9_sum_M10_m5_pD095", float(defect_10_5))
 findings.claim("Eq. 9: children's prior probabilities sum to 1", "000 Eq. 8-9", "1",
                f"P[Bin(M, p_D) <= m]; {float(defect_10_5):.3g} at M=10, m=5, p_D=0.95",
                "reproduced" if float(defect_10_5) == 1 else "not reproduced",
-               note="exactly 1 only when M <= m; the text assumes both M < m (Eq. 9) and m < M (Sec. II)")
+               note="exactly 1 only when M <= m; the text assumes both M < m (Eq. 9) and m < M (Sec. II)", key="eq9_prior_sum")
 print("sum_j p_ij at M=10, m=5, p_D=0.95:", float(defect_10_5))
 
 # %%
@@ -184,7 +184,7 @@ findings.check(
 findings.record("eq20_integral", {f"M={M},m={m}": str(v) for (M, m), v in eq20.items()})
 findings.claim("Eq. 20: the multi-target likelihood integrates to 1", "000 Eq. 20", "1",
                f"1 for M <= m; {eq20[3, 2]} for M=3, m=2", "not reproduced",
-               note="inherits the Eq. 9 defect: the integral equals P[Bin(M, p_D) <= m]")
+               note="inherits the Eq. 9 defect: the integral equals P[Bin(M, p_D) <= m]", key="eq20_integral")
 
 # %% [markdown]
 # ## 3. The appendix's two-target likelihood (Eq. 39)
@@ -220,7 +220,7 @@ findings.check("Eq. 39 integrates to 1 over (z1, z2) (symbolic)", sp.simplify(eq
 findings.check("Eq. 39's set integral over |Z| = 2 is 1/2! = 1/2", sp.simplify(eq39_integral / 2 - sp.Rational(1, 2)) == 0)
 findings.claim("Eq. 39: the two-target likelihood integrates to 1", "000 appendix Eq. 39", "1", str(eq39_integral),
                "reproduced" if eq39_integral == 1 else "not reproduced",
-               note="symbolic; a density of the ordered pair (z1, z2) given two returns")
+               note="symbolic; a density of the ordered pair (z1, z2) given two returns", key="eq39_integral")
 
 # %% [markdown]
 # ## 4. Seed 001: the Poisson-clutter likelihood is a set density (Eq. 5–7)
@@ -304,7 +304,7 @@ findings.check(
 findings.record("cardinality_pmf_n2_lamV3_pD09", numeric)
 findings.claim("Poisson-clutter likelihood is a set density", "001 Eq. 5-7", "set integral 1",
                f"{set_integrals[3]} (n = 0..3)", "reproduced" if all(v == 1 for v in set_integrals.values())
-               else "not reproduced", note="needs the 1/m! of the set integral")
+               else "not reproduced", note="needs the 1/m! of the set integral", key="poisson_set_density")
 
 # %% [markdown]
 # ## 5. Fixed number of targets: FISST weight = Reid's weight (seed 001 Eq. 18 vs Eq. 30)
@@ -338,7 +338,7 @@ findings.check(
 )
 findings.claim("FISST weight = Reid's weight for a fixed number of targets", "001 Eq. 18 vs 30",
                "identical after normalisation", f"ratio {', '.join(map(str, ratios))} for every child",
-               "reproduced" if len(ratios) == 1 else "not reproduced")
+               "reproduced" if len(ratios) == 1 else "not reproduced", key="fisst_reid_weights")
 
 # %%
 findings.write()

@@ -87,7 +87,7 @@ k = sp.symbols("k", integer=True, nonnegative=True)
 poisson_total = sp.simplify(sp.summation(sp.exp(-lam) * lam**k / sp.factorial(k), (k, 0, sp.oo)))
 findings.check("Poisson RFS: set integral = sum_n e^-lambda lambda^n / n! = 1", poisson_total == 1)
 findings.claim("set integral of a Poisson RFS density", "002 Eq. 4, 14", "1", str(poisson_total),
-               "reproduced" if poisson_total == 1 else "not reproduced", note="1-D Gaussian intensity, symbolic")
+               "reproduced" if poisson_total == 1 else "not reproduced", note="1-D Gaussian intensity, symbolic", key="poisson_set_integral")
 findings.check(
     f"Poisson RFS: the truncated set integral is the Poisson CDF at {N_TERMS - 1}",
     sp.simplify(sum(poisson_terms) - sum(sp.exp(-lam) * lam**n / sp.factorial(n) for n in range(N_TERMS))) == 0,
@@ -175,7 +175,7 @@ findings.check(
 findings.record("unit_scaling", "density of an n-point set in unit K = K^n x density in base units")
 findings.claim("unit dependence of the density, K^|X|", "002 Prop. 1, Eq. 10-11",
                "density x K^|X|, probabilities unchanged", "K^|X| f(X); dP/dK = 0 (n = 0..2)", "reproduced",
-               note="set derivatives by the limit definition, symbolic K")
+               note="set derivatives by the limit definition, symbolic K", key="unit_dependence")
 
 # %% [markdown]
 # ## 4. The set derivative recovers the density (generalised fundamental theorem)
@@ -203,7 +203,7 @@ findings.check(
 )
 findings.claim("set derivative of the belief mass is the density", "002 Sec. 2.2, Prop. 1",
                "f(X) = (d beta)_X(emptyset)", "Bernoulli and Poisson RFS, |X| <= 2", "reproduced",
-               note="and the set integral of f over S gives back beta(S)")
+               note="and the set integral of f over S gives back beta(S)", key="set_derivative")
 base_unit_densities = {n: poisson_rfs_density(xs[:n]) for n in range(4)}
 poisson_reintegrated = sum(probability_in_interval(base_unit_densities, n, 1) for n in range(4))
 q = sp.Symbol("q")

@@ -65,7 +65,11 @@ __all__ = [
     "claim_macros",
     "claims_markdown",
     "claims_table_tex",
+    "config_macros",
+    "is_timing_table",
     "latex_escape",
+    "ledger_problems",
+    "ledger_warnings",
     "latex_value",
     "macro_name",
     "macros_tex",
@@ -177,6 +181,10 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
     Give either ``samples`` (one value per run; s.e. = sample sd / √n) or ``n``, ``mean`` and ``se``,
     and exactly one of ``rel_tol`` (relative to the published value) or ``abs_tol`` as the stated
     reconstruction tolerance.
+
+    ``published=None``: a Monte Carlo measurement the documents give no number for (status
+    ``extension``, evidence ``measurement``): n, mean and s.e. are reported, z is empty and no
+    tolerance is taken.
     """
     import numpy as np
 
@@ -191,6 +199,12 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
         raise ValueError("give samples, or all of n, mean and se")
     if int(n) < 2:
         raise ValueError(f"n must be >= 2, got {n}")
+    if published is None:
+        if rel_tol is not None or abs_tol is not None:
+            raise ValueError("a claim without a published value takes no tolerance")
+        return Claim(experiment, item, source, "--", _fmt(float(mean), digits), "--", "extension", note,
+                     "measurement" if evidence == "published number" else evidence, str(int(n)),
+                     f"{float(mean):.6g}", f"{float(se):.3g}", "", key)
     if (rel_tol is None) == (abs_tol is None):
         raise ValueError("give exactly one of rel_tol, abs_tol")
     tol = rel_tol * abs(published) if rel_tol is not None else abs_tol
@@ -202,12 +216,64 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
                  f"{z:.2f}" if math.isfinite(z) else ("inf" if z > 0 else "-inf"), key)
 
 
+_TOL_TEXT = re.compile(r"\|z\| <= (?P<z>[\d.]+) or (?:(?P<rel>[\d.eE+-]+) %|\+/- (?P<abs>[\d.eE+-]+))")
+
+
+def ledger_problems(claims: pd.DataFrame) -> list[str]:
+    """Rows that break the ledger's rules, each as a sentence naming the row.
+
+    * every row names its evidence (one of :data:`EVIDENCE`);
+    * a row with ``n`` gives ``mean`` and ``se``; with a numeric published value also ``z``, and its
+      status is the one :func:`monte_carlo_verdict` gives from n, mean, se and the tolerance stated in the
+      row (recomputed here, so a hand-edited or differently-decided verdict is caught);
+    (:func:`ledger_warnings` lists what is allowed but worth a reader's attention.)
+    """
+    problems = []
+    for r in claims.to_dict("records"):
+        name = f"{r['experiment']}: {r['item']!r}"
+        if r.get("evidence", "") not in EVIDENCE:
+            problems.append(f"{name} names no evidence")
+        if not r.get("n", ""):
+            continue
+        if not (r.get("mean", "") and r.get("se", "")):
+            problems.append(f"{name} has n but no mean or standard error")
+            continue
+        try:
+            published = float(r["published"])
+        except ValueError:
+            continue
+        m = _TOL_TEXT.fullmatch(r["tolerance"])
+        if not r.get("z", "") or not m:
+            problems.append(f"{name}: a Monte Carlo row against a published value needs z and a tolerance "
+                            f"'|z| <= 3 or <tol>', got z={r.get('z', '')!r}, tolerance={r['tolerance']!r}")
+            continue
+        tol = float(m["rel"]) / 100 * abs(published) if m["rel"] else float(m["abs"])
+        _, status = monte_carlo_verdict(float(r["mean"]), float(r["se"]), published, tol)
+        if status != r["status"]:
+            problems.append(f"{name}: status {r['status']!r} but the Monte Carlo rule gives {status!r}")
+    return problems
+
+
+def ledger_warnings(claims: pd.DataFrame) -> list[str]:
+    """Rows marked *reproduced* whose only evidence is an identity of the implementation (a check that
+    shares the code path under test: it never counts as a reproduction on its own)."""
+    return [f"{r['experiment']}: {r['item']!r} is 'reproduced' on an identity of the implementation only"
+            for r in claims.to_dict("records")
+            if r.get("evidence") == "identity of the implementation" and r["status"] == "reproduced"]
+
+
 def write_claims(claims, path) -> pd.DataFrame:
     """Write claims as CSV with :data:`CLAIM_COLUMNS`; returns the table."""
     df = pd.DataFrame([asdict(c) for c in claims], columns=CLAIM_COLUMNS)
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     df.to_csv(path, index=False)
     return df
+
+
+def is_timing_table(path) -> bool:
+    """Timing tables (and timing claims) are named so (``*timing*``): their values are measured run
+    times, not byte-reproducible; the paper rule writes their rows to ``ledger_timing.csv``."""
+    return "timing" in Path(path).name
 
 
 def read_claims(paths) -> pd.DataFrame:
@@ -257,6 +323,8 @@ def latex_value(value) -> str:
     mantissa of 1 is dropped (``1e8`` -> ``10^{8}``).
     """
     text = str(value).strip()
+    if re.fullmatch(r"-?\d{5,}", text):  # 100000 -> 100{,}000
+        return re.sub(r"(?<=\d)(?=(\d{3})+$)", "{,}", text)
     m = _SCI.fullmatch(text)
     if not m:
         return latex_escape(text)
@@ -311,24 +379,76 @@ def read_macros(paths) -> dict:
     return values
 
 
+def config_macros(config: dict) -> dict:
+    """``\\htCfg<Section><Key>...`` for every scalar of the run's config (lists are skipped).
+
+    The paper quotes a setting (runs, steps, sensors) through these, so a changed config changes
+    the text with it; the names are the config's keys, never its values.
+    """
+    values = {}
+
+    def walk(node, path):
+        for k, v in node.items():
+            if isinstance(v, dict):
+                walk(v, (*path, str(k)))
+            elif isinstance(v, bool) or v is None or isinstance(v, (list, tuple)):
+                continue
+            else:
+                name = macro_name("cfg", *path, k)
+                if name in values:
+                    raise ValueError(f"config keys {'.'.join((*path, str(k)))!r} and another both give {name}")
+                values[name] = _fmt(v, 6) if isinstance(v, (int, float)) else str(v)
+
+    walk({k: v for k, v in config.items() if k != "results"}, ())  # a path, not a setting
+    return values
+
+
+def _measured_text(r) -> str:
+    """The measured value; a Monte Carlo row gives mean ± s.e., n and z."""
+    if r.get("n", ""):
+        z = f", z = {r['z']}" if r.get("z", "") else ""
+        return f"{r['mean']} ± {r['se']} (n = {r['n']}{z})"
+    return r["reproduced"]
+
+
+def _cell_tex(text) -> str:
+    """A table cell: escaped, its first word hyphenatable (``\\hspace{0pt}``), and long tokens given break
+    points after ``_``, ``)``, ``:`` and at camel-case joins (so no cell overflows its column)."""
+    out = []
+    for token in latex_escape(text).split(" "):
+        if len(token) > 12:
+            token = re.sub(r"(?<=[a-z])(?=[A-Z0-9])|(?<=\\_)|(?<=[):;/])|(?=[(])", r"\\allowbreak{}", token)
+        out.append(token)
+    return r"\hspace{0pt}" + " ".join(out)
+
+
 def claims_table_tex(claims: pd.DataFrame) -> str:
-    """A longtable of the claims grouped by experiment; each note on its own line below its item."""
+    """A longtable of the claims grouped by experiment; each note on its own line below its item.
+
+    Columns are set ragged right (no hyphenated verdicts); Monte Carlo rows show mean ± s.e., n and z.
+    """
     colour = {"reproduced": "ForestGreen", "systematic offset": "BurntOrange", "not reproduced": "BrickRed",
               "qualitative": "NavyBlue", "extension": "Gray"}
-    out = [(r"\begin{longtable}{@{}p{0.30\linewidth}p{0.12\linewidth}>{\raggedleft}p{0.12\linewidth}"
-           r">{\raggedleft}p{0.13\linewidth}p{0.1\linewidth}p{0.1\linewidth}@{}}"),
-           r"\toprule item & source & published & reproduced & tolerance & status\tabularnewline\midrule\endhead"]
+    widths = {"item": 0.22, "source": 0.09, "published": 0.09, "reproduced": 0.15, "tolerance": 0.10,
+              "evidence": 0.12, "status": 0.12}
+    spec = "".join(rf">{{\raggedright\arraybackslash}}p{{{w}\linewidth}}" for w in widths.values())
+    out = [r"\begingroup\setlength{\tabcolsep}{3pt}\footnotesize",
+           rf"\begin{{longtable}}{{@{{}}{spec}@{{}}}}",
+           r"\toprule " + " & ".join(widths) + r"\tabularnewline\midrule\endhead",
+           r"\bottomrule\endfoot"]
+    ncol = len(widths)
     for experiment, group in claims.groupby("experiment", sort=False):
-        out.append(rf"\multicolumn{{6}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
+        out.append(rf"\multicolumn{{{ncol}}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
         for r in group.to_dict("records"):
             status = rf"\textcolor{{{colour[r['status']]}}}{{\textbf{{{r['status']}}}}}"
-            cells = [latex_escape(r["item"]), latex_escape(r["source"]), latex_escape(r["published"]),
-                     latex_escape(r["reproduced"]), latex_escape(r["tolerance"]), status]
+            cells = [_cell_tex(r["item"]), _cell_tex(r["source"]), _cell_tex(r["published"]),
+                     _cell_tex(_measured_text(r)), _cell_tex(r["tolerance"]), _cell_tex(r.get("evidence", "") or "--"),
+                     status]
             out.append(" & ".join(cells) + r"\tabularnewline")
             if r["note"]:
-                out.append(rf"\multicolumn{{6}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\footnotesize\emph{{{latex_escape(r['note'])}}}}}"
+                out.append(rf"\multicolumn{{{ncol}}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\emph{{{latex_escape(r['note'])}}}}}"
                            r"\tabularnewline[2pt]")
-    out.append(r"\bottomrule\end{longtable}")
+    out.append(r"\end{longtable}\endgroup")
     return "\n".join(out) + "\n"
 
 
@@ -393,14 +513,24 @@ def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_m
 
 def claims_markdown(claims: pd.DataFrame) -> str:
     """The ledger as a Markdown table (for the README), one row per claim."""
-    rows = ["| experiment | item | source | published | reproduced | status |", "|---|---|---|---|---|---|"]
+    rows = ["| experiment | item | source | published | reproduced | tolerance | evidence | status |",
+            "|---|---|---|---|---|---|---|---|"]
     for r in claims.to_dict("records"):
-        cells = [r["experiment"], r["item"], r["source"], r["published"], r["reproduced"], f"**{r['status']}**"]
-        rows.append("| " + " | ".join(str(c).replace("|", "\\|") for c in cells) + " |")
+        cells = [r["experiment"], r["item"], r["source"], r["published"], _measured_text(r), r["tolerance"],
+                 r.get("evidence", "") or "—", f"**{r['status']}**"]
+        rows.append("| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |")
     return "\n".join(rows) + "\n"
 
 
-if __name__ == "__main__":  # python -m hypotrack.report results/paper/ledger.csv -> Markdown ledger
-    import sys
+if __name__ == "__main__":  # python -m hypotrack.report <claims.csv ...>  -> the ledger as Markdown
+    import sys                 # python -m hypotrack.report readme <ledger.csv> <README.md> [--check]
 
+    if sys.argv[1:2] == ["readme"]:
+        from .readme import main
+
+        raise SystemExit(main(sys.argv[2:]))
+    if sys.argv[1:2] == ["check"]:  # python -m hypotrack.report check <ledger.csv>: the ledger's rules
+        found = ledger_problems(read_claims(sys.argv[2:]))
+        print("\n".join(found) or "ledger: every row follows the rules")
+        raise SystemExit(1 if found else 0)
     print(claims_markdown(read_claims(sys.argv[1:])), end="")

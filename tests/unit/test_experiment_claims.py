@@ -17,13 +17,18 @@ def _curves(jpda_lag, gnn_lag):
 
 
 def _summary():
-    return pd.DataFrame(dict(method=["gnn", "jpda"], mospa_targets=[5.0, 4.6], track_loss=[0.3, 0.2], n_runs=[10, 10]))
+    return pd.DataFrame(dict(method=["gnn", "jpda"], mospa_targets=[5.0, 4.6], mospa_targets_se=[0.2, 0.3],
+                             track_loss=[0.3, 0.2], track_loss_se=[0.05, 0.04], n_runs=[10, 10]))
 
 
 def test_sht_claims_from_the_lecture_example_and_coalescence():
     _, clusters = lecture_summary()  # computed from the lecture's validation matrix
     claims = sht_claims(clusters, _curves(jpda_lag=7.0, gnn_lag=1.0), _summary())
-    assert [c.status for c in claims] == ["reproduced", "qualitative", "extension"]
+    assert [c.status for c in claims] == ["reproduced", "qualitative"] + ["extension"] * 4
+    assert [c.evidence for c in claims[:2]] == ["published number", "measurement"]
+    jpda_loss = claims[5]
+    assert (jpda_loss.key, jpda_loss.n, jpda_loss.mean, jpda_loss.se, jpda_loss.z) == ("jpda_track_loss", "10", "0.2",
+                                                                                       "0.04", "")
     assert "7.0 m" in claims[1].reproduced and "1.0 m" in claims[1].reproduced
     wrong = pd.DataFrame(dict(cluster=[1], tracks=["T1 T2 T3"], returns=["y1 y3 y4"]))
     assert sht_claims(wrong, _curves(1.0, 7.0), _summary())[0].status == "not reproduced"
@@ -38,9 +43,16 @@ def test_perf_claims_report_measured_ranges():
     claims = perf_sht_claims(speedups, largest)
     assert claims[0].reproduced == "41x to 91x" and claims[1].reproduced == "10x to 10x"
     assert claims[2].reproduced == "G: 128; hypotrack: 867"
+    floor = pd.DataFrame(dict(algorithm=["gnn", "gnn"], peer=["numpy_scipy_gnn"] * 2, n_targets=[12, 24],
+                              speedup=[0.5, 0.8], hypotrack_over_peer=[2.0, 1.25], goal=[1 / 1.5] * 2,
+                              goal_met=[False, True]))
+    f = perf_sht_claims(floor, largest.iloc[:0])[0]
+    assert (f.published, f.reproduced, f.key) == ("<= 1.5x", "1.25x to 2.00x", "GnnFloor")
+    assert f.note.startswith("target not met")
     table = pd.DataFrame(dict(benchmark=["mcmc"], label=["m"], variant=["paper"], per_second=[9.8e6],
                               target_per_second=[1e6], meets_target=[True], peak_bytes=[None]))
     assert throughput_claims(table)[0].reproduced == "9.80e+06 proposals/s"
+    assert throughput_claims(table)[0].key == "mcmc_paper"
 
 
 def test_swap_claims_follow_the_curves():
@@ -60,3 +72,22 @@ def test_swap_claims_follow_the_curves():
                        n_sensors=30)[0].status == "not reproduced"
     bad_rates = swap_claims(curves, rates.assign(rms_optimal_rate=[0.3, 0.1, 0.03]), distance=10.0, n_sensors=30)
     assert [c.status for c in bad_rates[2:]] == ["not reproduced", "not reproduced"]
+
+
+def test_cardinality_claims_need_a_significant_difference():
+    from hypotrack.experiments.cardinality import cardinality_claims
+
+    errors = pd.DataFrame(dict(method=["classical_mht", "cardinality_tracker"], mean_abs_error=[100.0, 11.7],
+                               std_error=[3.0, 4.0], mean_n=[0.0, 95.0], mean_n_true=[100.0, 100.0], n_runs=[50, 50]))
+    optimality = pd.DataFrame(dict(variant=["cardinality_tracker"], fraction_at_optimum=[0.25], worst_gap=[5.5],
+                                   n_runs=[50]))
+    fig42 = pd.DataFrame(dict(classical_mht=[0, 0, 0]))
+    claims = cardinality_claims(errors, optimality, fig42, {"p_d": 0.9})
+    assert [c.status for c in claims] == ["reproduced", "reproduced", "reproduced", "not reproduced"]
+    # difference 88.3, s.e. of the difference hypot(3, 4) = 5 -> 17.7 s.e.
+    assert claims[1].note == "50 runs; difference 88.3 = 17.7 s.e." and claims[3].evidence == "independent oracle"
+    # the same means with s.e. 20 and 25 (difference 2.8 s.e. of hypot = 32.0) are not a significant difference
+    noisy = errors.assign(std_error=[20.0, 25.0])
+    assert cardinality_claims(noisy, optimality, fig42, {"p_d": 0.9})[1].status == "not reproduced"
+    assert cardinality_claims(errors, optimality, pd.DataFrame(dict(classical_mht=[0, 2])), {"p_d": 0.9})[0].status == \
+        "not reproduced"

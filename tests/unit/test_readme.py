@@ -27,3 +27,55 @@ def test_readme_quick_start_matches_ci():
     test_cmd = re.findall(r"```bash\n(python -m pip install -r envs/requirements-test.txt[^\n]*)\n```", text)
     assert len(test_cmd) == 1 and test_cmd[0] in ci
     assert "python -m pip install -r envs/requirements.txt -e . && snakemake -c2\n" in text
+
+
+LEDGER = README.parent / "results" / "paper" / "ledger.csv"
+
+
+def _ledger(tmp_path):
+    """A small ledger of the real kinds: a Monte Carlo row, a deterministic row, a qualitative row."""
+    from hypotrack.report import Claim, monte_carlo_claim, numeric_claim, write_claims
+
+    rows = [monte_carlo_claim("closely_spaced", "ideal MOSPA", "003 Table 6.1", 0.0363, n=2000, mean=0.0345,
+                              se=0.0002, rel_tol=0.1, key="mospa_ideal", note="the OU set-up is reconstructed"),
+            numeric_claim("theory", "A(10, 5)", "000 Eq. 4", 63591, 63591, abs_tol=0, evidence="brute force"),
+            Claim("sht", "coalescence", "004", "qualitative", "holds", "--", "qualitative", "", "measurement")]
+    path = tmp_path / "ledger.csv"
+    write_claims(rows, path)
+    return path
+
+
+def test_readme_ledger_block_matches_the_committed_ledger():
+    from hypotrack.readme import check_readme
+
+    assert check_readme(README, LEDGER) is None  # regenerate: python -m hypotrack.readme <ledger> README.md
+
+
+def test_readme_block_is_generated_and_an_edited_ledger_value_fails(tmp_path):
+    from hypotrack.readme import check_readme, main, readme_block
+
+    ledger, readme = _ledger(tmp_path), tmp_path / "README.md"
+    readme.write_text(README.read_text())
+    assert main([str(ledger), str(readme)]) == 0
+    assert check_readme(readme, ledger) is None and main(["--check", str(ledger), str(readme)]) == 0
+    text = readme.read_text()
+    assert "3 ledger rows: **1 reproduced**, **1 systematic offset**, **0 not reproduced**" in text
+    assert "| closely_spaced | ideal MOSPA | 003 Table 6.1 | 0.0363 | 0.0345 ± 0.0002 (n = 2000, z = -9.00) |" in text
+    assert "| brute force | **reproduced** |" in text and "the OU set-up is reconstructed" in text
+    # one value changed in the ledger (not in the README) -> the check fails and names the line
+    ledger.write_text(ledger.read_text().replace("63591,63591", "63591,63590"))
+    msg = check_readme(readme, ledger)
+    assert msg is not None and "63590" in msg and main(["--check", str(ledger), str(readme)]) == 1
+    # a hand edit of the README block fails the same way
+    ledger.write_text(ledger.read_text().replace("63591,63590", "63591,63591"))
+    readme.write_text(text.replace("**1 reproduced**", "**2 reproduced**"))
+    assert check_readme(readme, ledger) is not None
+    assert readme_block(None).startswith("No ledger is committed yet")
+    # timing rows beside the ledger (ledger_timing.csv) are part of the README's table
+    from hypotrack.report import Claim, write_claims
+
+    write_claims([Claim("perf_sht", "GNN speed-up", "extension", ">= 30x", "62x to 76x", "--", "extension", "",
+                        "measurement")], ledger.with_name("ledger_timing.csv"))
+    assert check_readme(readme, ledger) is not None  # the README no longer shows every row
+    assert main([str(ledger), str(readme)]) == 0 and "| perf_sht | GNN speed-up |" in readme.read_text()
+    assert "4 ledger rows" in readme.read_text()

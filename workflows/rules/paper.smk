@@ -1,6 +1,7 @@
-# The reproduction report: reads every experiment's claims.csv and figures from results/,
-# writes paper/generated/ (macros, ledger table, figure copies) and, when LaTeX is installed,
-# compiles paper/ms.tex into results/paper/hypotrack_report.pdf.
+# The reproduction report: reads every experiment's claims.csv, macros.csv and figures from results/,
+# writes {results}/paper/generated/ (macros, ledger table, figure copies) and the ledger, and, when
+# LaTeX is installed, compiles paper/ms.tex (sources stay in the tree; latexmk's build directory is
+# {results}/paper/build) into {results}/paper/hypotrack_report.pdf. No rule writes outside results.
 import shutil
 
 
@@ -22,11 +23,13 @@ rule paper_generated:
         figures=_paper_figures,
         macros=_paper_macros,
     output:
-        macros="paper/generated/macros.tex",
-        table="paper/generated/claims_table.tex",
+        macros=f"{RESULTS}/paper/generated/macros.tex",
+        table=f"{RESULTS}/paper/generated/claims_table.tex",
         ledger=f"{RESULTS}/paper/ledger.csv",
+        ledger_timing=f"{RESULTS}/paper/ledger_timing.csv",
     params:
         results=RESULTS,
+        config=config,
     log:
         f"{RESULTS}/logs/paper_generated.log",
     script:
@@ -39,11 +42,13 @@ rule paper_pdf:
         tex=["paper/ms.tex", "paper/refs.bib", *sorted(glob.glob("paper/sections/**/*.tex", recursive=True))],
     output:
         f"{RESULTS}/paper/hypotrack_report.pdf",
+    params:
+        inputs=f"{RESULTS}/paper",
+        build=f"{RESULTS}/paper/build",
     log:
         f"{RESULTS}/logs/paper_pdf.log",
-    shell:
-        "cd paper && latexmk -pdf -interaction=nonstopmode -halt-on-error ms.tex > ../{log} 2>&1"
-        " && cd .. && cp paper/ms.pdf {output}"
+    script:
+        "../scripts/paper_pdf.py"
 
 
 _PAPER = [*rules.paper_generated.output]

@@ -78,8 +78,10 @@ rule sht_claims:
         clusters=rules.sht_lecture.output.clusters,
         curves=rules.sht_crossing.output.curves,
         summary=rules.sht_crossing.output.summary,
+        lecture=rules.sht_lecture.output.summary,
     output:
         claims=f"{SHT_DIR}/claims.csv",
+        macros=f"{SHT_DIR}/macros.csv",
     script:
         "../scripts/sht_claims.py"
 

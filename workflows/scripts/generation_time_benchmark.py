@@ -5,6 +5,9 @@ import pandas as pd
 
 from hypotrack.experiments.generation_time_difficulty import difficulty_params, exact_top_k_claims, murty_benchmark
 from hypotrack.report import write_claims, write_macros
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 rows = murty_benchmark(difficulty_params(snakemake.params.cfg), snakemake.params.seed,

@@ -8,6 +8,9 @@ from hypotrack.experiments.generation_time_difficulty import (
     difficulty_params,
     difficulty_sweep,
 )
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 params = difficulty_params(snakemake.params.cfg)

@@ -10,6 +10,9 @@ from hypotrack.experiments.generation_time_difficulty import (
 )
 from hypotrack.experiments.generation_time_figures import plot_difficulty
 from hypotrack.report import write_claims, write_macros
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive
 params = difficulty_params(snakemake.params.cfg)

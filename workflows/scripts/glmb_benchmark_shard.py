@@ -3,6 +3,9 @@ from hypotrack.experiments.ecmht import shard_runs
 from hypotrack.experiments.glmb_benchmark import benchmark_shard
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 shard = int(snakemake.wildcards.shard)  # noqa: F821

@@ -10,6 +10,9 @@ from hypotrack.experiments.glmb_benchmark_report import (
 )
 from hypotrack.report import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 out = snakemake.output  # noqa: F821

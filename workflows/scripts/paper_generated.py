@@ -1,17 +1,34 @@
-"""Collect claims, the experiments' macros.csv files and figures into paper/generated/ (thin wrapper over
-hypotrack.report)."""
+"""Collect claims, the experiments' macros.csv files, the config's settings and figures into
+{results}/paper/generated/ (thin wrapper over hypotrack.report)."""
 
 import subprocess
+from pathlib import Path
 
-from hypotrack.report import build_paper_inputs
+import sys
 
-commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+from hypotrack.report import (build_paper_inputs, config_macros, is_timing_table, ledger_problems, ledger_warnings,
+                              read_claims)
+
+commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                        check=False).stdout.strip()
 claims = build_paper_inputs(
     snakemake.input.claims,
     snakemake.input.figures,
-    out_dir="paper/generated",
+    out_dir=Path(snakemake.output.macros).parent,
     results_dir=snakemake.params.results,
-    extra_macros={"htCommit": commit or "unknown"},
+    extra_macros={"htCommit": commit or "unknown", **config_macros(dict(snakemake.params.config))},
     macros_paths=snakemake.input.macros,
 )
-claims.to_csv(snakemake.output.ledger, index=False)
+# Rows from timing claims files (*timing*claims.csv: speed-ups, throughput, run times) go to their own ledger so
+# that ledger.csv is byte-identical for the same config and seed.
+is_timing = [is_timing_table(p) for p in snakemake.input.claims]
+read_claims([p for p, t in zip(snakemake.input.claims, is_timing) if not t]).to_csv(snakemake.output.ledger, index=False)
+read_claims([p for p, t in zip(snakemake.input.claims, is_timing) if t]).to_csv(snakemake.output.ledger_timing,
+                                                                                  index=False)
+# A row without evidence is reported (its experiment must add it); a verdict off the ledger's rules fails the run.
+problems = ledger_problems(claims)
+for p in [*problems, *ledger_warnings(claims)]:
+    print(f"paper_generated: ledger: {p}", file=sys.stderr)
+hard = [p for p in problems if "names no evidence" not in p]
+if hard:
+    raise SystemExit(f"paper_generated: {len(hard)} ledger rows break the rules (see above)")

@@ -13,5 +13,5 @@ inp = snakemake.input  # noqa: F821
 if "throughput" in inp.keys():
     claims = throughput_claims(pd.read_csv(inp.throughput))
 else:
-    claims = perf_sht_claims(pd.read_csv(inp.speedups), pd.read_csv(inp.largest))
+    claims = perf_sht_claims(pd.read_csv(inp.speedups), pd.read_csv(inp.largest), pd.read_csv(inp.timings))
 write_claims(claims, snakemake.output.claims)  # noqa: F821

@@ -14,7 +14,9 @@ import pandas as pd
 from hypotrack.scenarios.tables import write_table
 from hypotrack.trackers._sht_common import gate_tracks, predict_tracks
 from hypotrack.experiments.perf_sht import (
+    BASELINE,
     HypotrackStepper,
+    NumpyGNNStepper,
     formation,
     largest_within,
     max_abs_difference,
@@ -122,8 +124,10 @@ def brute_force_products(scenario):
 def compare(algorithm, n, rate, peers, *, max_scans, budget_s, seed, spacing=None, warmup=True):
     sc = formation(n, rate, cfg if spacing is None else {**cfg, "spacing": spacing}, seed)
     steppers = {"hypotrack": HypotrackStepper(sc, algorithm, cfg)}
+    if algorithm == "gnn" and BASELINE in peers:
+        steppers[BASELINE] = NumpyGNNStepper(sc, cfg)  # the speed floor, same work, same process
     notes = {}
-    for kind in peers if HAVE_STONESOUP else []:
+    for kind in [p for p in peers if p != BASELINE] if HAVE_STONESOUP else []:
         if kind == "JPDA":
             products = brute_force_products(sc)
             if products > cfg_all["jpda"]["brute_force_max_products"]:
@@ -152,7 +156,7 @@ def compare(algorithm, n, rate, peers, *, max_scans, budget_s, seed, spacing=Non
 seed = cfg_all["seed"]
 rows = []
 for n in cfg_all["gnn"]["n_targets"]:
-    rows += compare("gnn", n, cfg_all["gnn"]["clutter_rate"], ["GNNWith2DAssignment"],
+    rows += compare("gnn", n, cfg_all["gnn"]["clutter_rate"], [BASELINE, "GNNWith2DAssignment"],
                     max_scans=cfg_all["max_scans"], budget_s=cfg_all["budget_s"], seed=seed)
 for rate in cfg_all["jpda"]["clutter_rates"]:
     for n in cfg_all["jpda"]["n_targets"]:

@@ -4,6 +4,9 @@ from hypotrack.experiments.samplers_report import plot_mass, sampler_claims, sam
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.report import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
+from hypotrack.experiments.joblog import prefix_output
+
+prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 out = snakemake.output  # noqa: F821

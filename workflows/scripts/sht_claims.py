@@ -1,13 +1,14 @@
-"""Ledger rows of the sht experiment (thin)."""
+"""Ledger rows and paper numbers of the sht experiment (thin)."""
 
 import pandas as pd
 
-from hypotrack.experiments.sht import sht_claims
-from hypotrack.report import write_claims
 from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.sht import lecture_macros, sht_claims
+from hypotrack.report import write_claims, write_macros
 
-prefix_output(snakemake)  # every line this job prints names the job
+prefix_output(snakemake)  # noqa: F821  every line this job prints names the job
 
 inp = snakemake.input  # noqa: F821
 write_claims(sht_claims(pd.read_csv(inp.clusters), pd.read_csv(inp.curves), pd.read_csv(inp.summary)),
              snakemake.output.claims)  # noqa: F821
+write_macros("sht", lecture_macros(pd.read_csv(inp.lecture)), snakemake.output.macros)  # noqa: F821

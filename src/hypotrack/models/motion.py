@@ -64,8 +64,13 @@ class ConstantVelocity:
     def Q(self, dt) -> np.ndarray:
         dt = _check_dt(dt)
         k = self.n_spatial
-        I = np.eye(k)
-        return self.q * np.block([[dt**3 / 3 * I, dt**2 / 2 * I], [dt**2 / 2 * I, dt * I]])
+        i = np.arange(k)
+        # Filled by index rather than np.block: Q is built every scan of every tracker.
+        Q = np.zeros((2 * k, 2 * k))
+        Q[i, i] = dt**3 / 3
+        Q[i, i + k] = Q[i + k, i] = dt**2 / 2
+        Q[i + k, i + k] = dt
+        return self.q * Q
 
     def propagate(self, x, dt) -> np.ndarray:
         return np.asarray(x, dtype=float) @ self.F(dt).T

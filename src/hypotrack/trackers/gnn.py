@@ -16,7 +16,8 @@ single best hypothesis: the assignment of every row to a distinct column maximis
 target pairs chosen, a return left to EX (and a target left undetected) gaining 0. That is how
 it is solved here: per cluster of the validation matrix (the problem separates), with
 :func:`hypotrack.association.best_assignment` (``scipy.optimize.linear_sum_assignment``) on
-the cluster's own assignment matrix; isolated tracks take their best positive-gain return
+the cluster's own assignment matrix (solved in its rectangular form, the EX columns' zero gains
+implicit); isolated tracks take their best positive-gain return
 directly, and a few small clusters are solved together in one assignment (same optimum, less
 overhead than finding them). Returns assigned to EX go to the initiation logic.
 
@@ -32,7 +33,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..association import association_score_matrix, best_assignment, columns_to_event, find_clusters
+from scipy.optimize import linear_sum_assignment
+
+from ..association import association_score_matrix, find_clusters
 from ..gaussian import _joseph_covariance
 from ._sht_common import GatedTracks, ScanModel
 
@@ -126,12 +129,13 @@ def gnn_associate(gain) -> np.ndarray:
         rows = np.flatnonzero(useful[:, cols].any(axis=1))
         if len(rows) == 0:
             continue
-        block = useful[np.ix_(rows, cols)]
-        score = association_score_matrix(np.where(block, gain[np.ix_(rows, cols)], -np.inf), np.zeros(len(rows)))
-        _, chosen = best_assignment(score)
-        event = columns_to_event(chosen, len(cols))
-        hit = event >= 0
-        a[rows[hit]] = cols[event[hit]]
+        ix = np.ix_(rows, cols)
+        block = useful[ix]
+        # Rectangular assignment on the gains, a pair outside ``useful`` gaining 0: the same optimum
+        # as the square (rows, cols + EX) matrix of the module docstring, without building it.
+        r, c = linear_sum_assignment(np.where(block, gain[ix], 0.0), maximize=True)
+        hit = block[r, c]
+        a[rows[r[hit]]] = cols[c[hit]]
     return a
 
 

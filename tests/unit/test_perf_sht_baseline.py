@@ -1,0 +1,31 @@
+"""The speed-floor baseline of the perf_sht benchmark: a minimal numpy + SciPy GNN must do the
+same work as hypotrack's GNN (identical associations and states), else the ratio means nothing."""
+
+import pandas as pd
+import pytest
+import yaml
+from pathlib import Path
+
+from hypotrack.experiments import perf_sht as ps
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_numpy_baseline_associates_and_updates_as_hypotrack():
+    cfg_all = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())["perf_sht"]
+    cfg = {**cfg_all["scenario"], **cfg_all["tracker"], "n_scans": 8}
+    sc = ps.formation(12, 20.0, cfg, 4)
+    runs = ps.run_side_by_side({"hypotrack": ps.HypotrackStepper(sc, "gnn", cfg),
+                                ps.BASELINE: ps.NumpyGNNStepper(sc, cfg)}, len(sc.times))
+    assert len(runs[ps.BASELINE].outputs) == 6  # scans 2..7 timed, scan 1 the warm-up
+    assert sum((o >= 0).sum() for o in runs["hypotrack"].outputs) > 30  # the formation is tracked
+    d_out, d_state = ps.max_abs_difference(runs["hypotrack"], runs[ps.BASELINE])
+    assert d_out == 0.0 and d_state < 1e-9
+
+
+def test_speedup_table_states_both_directions():
+    timings = pd.DataFrame(dict(algorithm="gnn", implementation=["hypotrack", ps.BASELINE, "G"], n_targets=12,
+                                clutter_rate=20.0, median_ms=[0.3, 0.2, 30.0]))
+    t = ps.speedup_table(timings, {ps.BASELINE: 1 / 1.5, "G": 40}).set_index("peer")
+    assert t.loc[ps.BASELINE, "hypotrack_over_peer"] == pytest.approx(1.5) and bool(t.loc[ps.BASELINE, "goal_met"])
+    assert t.loc["G", "speedup"] == 100.0 and bool(t.loc["G", "goal_met"])

@@ -149,12 +149,15 @@ def _completion_within_budget(problem, chain_events, chain_lw, gen, budget):
     return _completion_work(p, lw1, gen.completion_threshold) <= budget
 
 
-def _timed(gen, problem, seed, keep=None, repeats=1):
+def _timed(gen, problem, seed, keep=None, repeats=1, cpu=False):
+    """``(events, log_weights, seconds)``: fastest of ``repeats`` runs, wall clock (or this
+    process's CPU time with ``cpu``, which other jobs on a shared machine do not inflate)."""
+    clock = time.process_time if cpu else time.perf_counter
     best = np.inf
     for _ in range(repeats):
-        t0 = time.perf_counter()
+        t0 = clock()
         events, lw = gen.generate(problem, np.random.default_rng(seed), keep=keep)
-        best = min(best, time.perf_counter() - t0)
+        best = min(best, clock() - t0)
     return events, lw, best
 
 
@@ -253,7 +256,9 @@ def murty_benchmark(params, seed, progress=print):
     """Time of the exact ``keep`` best children at ``M = m = benchmark_size`` for every difficulty.
 
     For the ambiguous difficulties ``m`` is drawn; the first problem (in a seeded sequence) with
-    ``m = M`` is used. Best of ``repeats`` runs.
+    ``m = M`` is used. Fastest of ``benchmark_repeats`` runs, as CPU time of this process (the
+    generator is single-threaded; wall-clock time on a shared machine measures the other jobs too)
+    and as wall-clock time.
     """
     n = int(params["benchmark_size"])
     k = int(params["keep"])
@@ -266,10 +271,12 @@ def murty_benchmark(params, seed, progress=print):
             if sp.problem.n_returns == n:
                 break
         gen.generate(difficulty_problem(d, 3, 0).problem)
-        _, lw, sec = _timed(gen, sp.problem, None, repeats=int(params["repeats"]))
+        repeats = int(params["benchmark_repeats"])
+        _, lw, cpu = _timed(gen, sp.problem, None, repeats=repeats, cpu=True)
+        _, _, wall = _timed(gen, sp.problem, None, repeats=repeats)
         rows.append({"difficulty": d, "n_objects": n, "n_returns": sp.problem.n_returns, "k": k,
-                     "n_generated": len(lw), "seconds": sec})
-        progress(f"[generation_time] exact top-{k} at M = m = {n}, difficulty {d}: {sec:.3f} s")
+                     "n_generated": len(lw), "cpu_seconds": cpu, "seconds": wall})
+        progress(f"[generation_time] exact top-{k} at M = m = {n}, difficulty {d}: {cpu:.3f} s CPU, {wall:.3f} s wall")
     return rows
 
 
@@ -338,14 +345,16 @@ def exact_top_k_claims(bench):
     """Ledger row and macros of the exact top-k timing (:func:`murty_benchmark` rows)."""
     from ..report import Claim
 
-    worst = max(bench, key=lambda r: r["seconds"])
+    worst = max(bench, key=lambda r: r["cpu_seconds"])
     k, n = int(worst["k"]), int(worst["n_objects"])
-    per = ", ".join(f"{r['difficulty']} {r['seconds']:.2g} s" for r in bench)
+    per = ", ".join(f"{r['difficulty']} {r['cpu_seconds']:.2g} s" for r in bench)
+    wall = max(r["seconds"] for r in bench)
     claim = Claim(
         "generation_time", f"exact {k} best children under H-FISST weights (Murty per detection count), "
-        f"time per parent at M = m = {n}, slowest difficulty", "extension (target)", "<= 1 s",
-        f"{worst['seconds']:.2g} s", "target 1 s", "extension",
-        f"{per}; equal to exhaustive enumeration in the tests", "measurement", key="diffExactTopKSeconds")
-    macros = {"sweepExactTopKSeconds": f"{worst['seconds']:.2g}", "sweepExactTopKK": str(k),
+        f"CPU time per parent at M = m = {n}, slowest difficulty", "extension (target)", "<= 1 s",
+        f"{worst['cpu_seconds']:.2g} s", "target 1 s", "extension",
+        f"CPU seconds per difficulty: {per} (slowest wall clock on the shared machine {wall:.2g} s); equal to "
+        "exhaustive enumeration in the tests", "measurement", key="diffExactTopKSeconds")
+    macros = {"sweepExactTopKSeconds": f"{worst['cpu_seconds']:.2g}", "sweepExactTopKK": str(k),
               "sweepExactTopKSize": str(n)}
     return [claim], macros

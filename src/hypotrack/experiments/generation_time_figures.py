@@ -94,10 +94,13 @@ def plot_throughput(table: pd.DataFrame, pdf, png):
     plt.close(fig)
 
 
+# drawn in this order: the wide exact line underneath, the dashed completion over it, the chain on top
 _DIFF_STYLE = {
-    "chain": dict(color="tab:green", marker="s", label="R-FISST: the paper's chain alone"),
-    "chain_completion": dict(color="tab:purple", marker="D", label="R-FISST: chain + neighbour completion"),
-    "murty": dict(color="tab:orange", marker="^", label="exact best k (Murty per detection count)"),
+    "murty": dict(color="tab:orange", marker="^", lw=3.0, ls="-", alpha=0.55,
+                  label="exact best k (Murty per detection count)"),
+    "chain_completion": dict(color="tab:purple", marker="D", lw=1.4, ls="--", alpha=1.0,
+                             label="R-FISST: chain + neighbour completion (omitted where over its budget)"),
+    "chain": dict(color="tab:green", marker="s", lw=1.2, ls="-", alpha=1.0, label="R-FISST: the paper's chain alone"),
 }
 
 
@@ -123,7 +126,7 @@ def plot_difficulty(summary: pd.DataFrame, pdf, png, *, labels: dict, mcmc_steps
                 m = sd[sd["method"] == method]
                 label = style["label"] + (f" ({mcmc_steps:,} steps)" if method != "murty" else f" (k = {keep})")
                 ax.plot(m["log10_hypotheses"], m[col], color=style["color"], marker=style["marker"], ms=3.5,
-                        lw=1.2, label=label)
+                        lw=style["lw"], ls=style["ls"], alpha=style["alpha"], label=label)
             ax.axvline(np.log10(exhaustive_max_events), color="grey", ls=":", lw=1)
             ax.set_ylim(-0.05, 1.05)
             ax.grid(True, alpha=0.3)
@@ -137,7 +140,7 @@ def plot_difficulty(summary: pd.DataFrame, pdf, png, *, labels: dict, mcmc_steps
     handles.append(plt.Line2D([], [], color="grey", ls=":"))
     texts.append(f"mass relative to all children left of this line, to the exact best {reference_k} right of it")
     fig.legend(handles, texts, loc="outside lower center", ncol=2, fontsize=8)
-    fig.suptitle("Hypothesis generation on problems with real ambiguity (p_D = 0.9, Poisson clutter; "
-                 "difficulty = object spacing)", fontsize=10)
+    fig.suptitle("Hypothesis generation on problems with real ambiguity: objects 8 to 1 sigma apart with missed "
+                 "detections and Poisson clutter (left: the paper-style problem)", fontsize=10)
     _save(fig, pdf, png)
     plt.close(fig)

@@ -57,7 +57,7 @@ def _strip_command_args(text: str, name: str) -> str:
                 if depth == 0:
                     j = k + 1
                     break
-        out.append(" ")
+        out.append(" " + "\n" * text.count("\n", m.start(), j))  # keep line numbers
         i = j
 
 

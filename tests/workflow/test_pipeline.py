@@ -173,6 +173,8 @@ def test_every_experiment_rule_is_defined_and_complete(quick_runs):
 def test_report_captions_every_figure(quick_runs):
     assert quick_runs["local_run"].returncode == 0, _tail(quick_runs["local_run"])
     assert quick_runs["report"].returncode == 0, _tail(quick_runs["report"])
+    report_log = quick_runs["report"].stdout + quick_runs["report"].stderr
+    assert "(ERROR/" not in report_log, "a caption is not valid reStructuredText: " + _tail(quick_runs["report"])
     html = quick_runs["report_path"].read_text()
     results = json.loads(re.search(r"var results = (\{.*?\});\n", html, re.S).group(1))
     pngs = sorted(str(p) for p in quick_runs["local"].rglob("*.png"))

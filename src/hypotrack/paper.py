@@ -57,7 +57,7 @@ def _strip_command_args(text: str, name: str) -> str:
                 if depth == 0:
                     j = k + 1
                     break
-        out.append(" ")
+        out.append(" " + "\n" * text.count("\n", m.start(), j))  # keep line numbers
         i = j
 
 
@@ -119,8 +119,11 @@ def latex_log_problems(log: str) -> list[str]:
     for m in re.finditer(r"^! (.*)$", log, re.M):
         msg = m.group(1)
         missing = re.match(r"Package hypotrack Error: generated value (\w+) is missing", msg)
+        figure = re.match(r"Package hypotrack Error: figure (\S+) was not generated", msg)
         if missing:
             problems.append(f"generated macro \\{missing.group(1)} is missing (no claim or macros.csv row defines it)")
+        elif figure:
+            problems.append(f"figure {figure.group(1)} was not generated (no rule wrote it)")
         elif msg.startswith("Undefined control sequence"):
             cs = re.match(r"l\.\d+ .*?(\\[A-Za-z@]+)\s*$", log[m.end():].lstrip("\n").split("\n", 1)[0])
             problems.append(f"undefined control sequence {cs.group(1) if cs else '(see the log)'}")

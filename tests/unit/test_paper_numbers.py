@@ -88,6 +88,9 @@ def test_paper_build_fails_naming_a_missing_macro_and_writes_nothing_in_the_sour
                            "\\htval{htSwapsRateFarRep}; see Section~\\ref{sec:nowhere}.")
     with pytest.raises(RuntimeError, match=r"generated macro \\htSwapsRateFarRep is missing"):
         build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "missing.log")
+    src, gen = _mini_paper(tmp_path / "fig", "\\htfigure{generated/figures/swaps/fig_9_9}{0.5}{A renamed figure.}")
+    with pytest.raises(RuntimeError, match="figure generated/figures/swaps/fig_9_9 was not generated"):
+        build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "fig.log")
     src, gen = _mini_paper(tmp_path / "ref", "See Section~\\ref{sec:nowhere}.")
     with pytest.raises(RuntimeError, match="undefined reference sec:nowhere"):
         build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "ref.log")

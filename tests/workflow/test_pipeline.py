@@ -173,6 +173,8 @@ def test_every_experiment_rule_is_defined_and_complete(quick_runs):
 def test_report_captions_every_figure(quick_runs):
     assert quick_runs["local_run"].returncode == 0, _tail(quick_runs["local_run"])
     assert quick_runs["report"].returncode == 0, _tail(quick_runs["report"])
+    report_log = quick_runs["report"].stdout + quick_runs["report"].stderr
+    assert "(ERROR/" not in report_log, "a caption is not valid reStructuredText: " + _tail(quick_runs["report"])
     html = quick_runs["report_path"].read_text()
     results = json.loads(re.search(r"var results = (\{.*?\});\n", html, re.S).group(1))
     pngs = sorted(str(p) for p in quick_runs["local"].rglob("*.png"))
@@ -196,31 +198,47 @@ def test_cluster_run_reproduces_every_table(quick_runs):
     assert not differ, f"tables differ between two runs of the same config (name timing tables *timing*): {differ}"
 
 
+def _merged(base, over):
+    return {k: _merged(base[k], over[k]) if isinstance(base.get(k), dict) and isinstance(over.get(k), dict)
+            else over.get(k, base.get(k)) for k in base.keys() | over.keys()}
+
+
 @needs_snakemake
 def test_shard_counts_are_config_values(tmp_path):
-    """Every Monte Carlo shard rule runs as many jobs as its experiment's n_shards says."""
+    """Every Monte Carlo shard rule runs as many jobs as a config value of its experiment says.
+
+    The value is ``n_shards`` (or, for one shard per seed, ``n_seeds``) of the experiment's section or of
+    the sub-section the rule is named after; raising every such value by one adds one job to each rule.
+    """
     workdir = copy_workflow(tmp_path / "workflow")
-    config = yaml.safe_load((workdir / QUICK).read_text())
-    dry = snakemake(workdir, "-n", "--forceall", "--quiet", "rules", "--configfile", QUICK,
-                    "--config", f"results={tmp_path / 'results'}")
-    assert dry.returncode == 0, _tail(dry)
-    jobs = dict((m.group(1), int(m.group(2))) for m in re.finditer(r"^(\w+_shard)\s+(\d+)$", dry.stdout, re.M))
+    quick = yaml.safe_load((workdir / QUICK).read_text())
+    effective = _merged(yaml.safe_load((workdir / "workflows/config/default.yaml").read_text()), quick)
+
+    def shard_jobs(*extra):
+        dry = snakemake(workdir, "-n", "--forceall", "--quiet", "rules", "--configfile", QUICK, *extra,
+                        "--config", f"results={tmp_path / 'results'}")
+        assert dry.returncode == 0, _tail(dry)
+        return {m.group(1): int(m.group(2)) for m in re.finditer(r"^(\w+_shard)\s+(\d+)$", dry.stdout, re.M)}
+
+    jobs = shard_jobs()
     assert jobs, "no sharded Monte Carlo rule found"
-
-    def merged(base, over):
-        return {k: merged(base[k], over[k]) if isinstance(base.get(k), dict) and isinstance(over.get(k), dict)
-                else over.get(k, base.get(k)) for k in base.keys() | over.keys()}
-
-    effective = merged(yaml.safe_load((workdir / "workflows/config/default.yaml").read_text()), config)
+    bumped = {}
     for rule, count in jobs.items():
         experiment = next((e for e in sorted(effective, key=len, reverse=True) if rule.startswith(e + "_")), None)
         assert experiment is not None, f"{rule}: no config section names its experiment"
-        section = effective[experiment]
+        path, section = [experiment], effective[experiment]
         part = rule[len(experiment) + 1:-len("_shard")]  # e.g. sht_sweep_shard -> the `sweep` sub-section
-        if isinstance(section.get(part), dict) and "n_shards" in section[part]:
-            section = section[part]
-        assert section.get("n_shards") == count, f"{rule}: {count} jobs, but n_shards of {experiment} is " \
-                                                   f"{section.get('n_shards')}"
+        if isinstance(section.get(part), dict):
+            path, section = [experiment, part], section[part]
+        key = next((k for k in ("n_shards", "n_seeds") if section.get(k) == count), None)
+        assert key is not None, f"{rule}: {count} jobs, but no n_shards/n_seeds of {'.'.join(path)} says so"
+        node = bumped
+        for name in path:
+            node = node.setdefault(name, {})
+        node[key] = count + 1
+    more = tmp_path / "more_shards.yaml"
+    more.write_text(yaml.safe_dump(_merged(quick, bumped)))
+    assert shard_jobs(str(more)) == {rule: n + 1 for rule, n in jobs.items()}
 
 
 @needs_snakemake

@@ -12,7 +12,10 @@ Status vocabulary
                        reconstruction tolerance (the difference is real, not noise, and small);
 ``not reproduced``     outside it (the note gives the measured value's likely cause);
 ``qualitative``        the paper states a shape or ordering, checked as such;
-``extension``          a result beyond the papers (no published value).
+``extension``          a result beyond the papers (no published value);
+``consistency check``  the implementation agrees with the formula it implements: evidence of type
+                       *identity of the implementation*, which never counts as a reproduction (the
+                       reproduction, if any, is a separate row with independent evidence).
 
 Evidence vocabulary (:data:`EVIDENCE`)
 --------------------------------------
@@ -69,7 +72,6 @@ __all__ = [
     "is_timing_table",
     "latex_escape",
     "ledger_problems",
-    "ledger_warnings",
     "latex_value",
     "macro_name",
     "macros_tex",
@@ -88,7 +90,7 @@ CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tol
 OPTIONAL_COLUMNS = ("key",)
 MACRO_COLUMNS = ["experiment", "name", "value"]
 _KEY = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
-STATUSES = ("reproduced", "systematic offset", "not reproduced", "qualitative", "extension")
+STATUSES = ("reproduced", "systematic offset", "not reproduced", "qualitative", "extension", "consistency check")
 EVIDENCE = ("published number", "independent oracle", "brute force", "peer implementation",
             "identity of the implementation", "measurement")
 Z_THRESHOLD = 3.0
@@ -226,13 +228,17 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
     * a row with ``n`` gives ``mean`` and ``se``; with a numeric published value also ``z``, and its
       status is the one :func:`monte_carlo_verdict` gives from n, mean, se and the tolerance stated in the
       row (recomputed here, so a hand-edited or differently-decided verdict is caught);
-    (:func:`ledger_warnings` lists what is allowed but worth a reader's attention.)
+    * a row whose evidence is an identity of the implementation is never *reproduced* (its status is
+      *consistency check*: it shares the code path under test).
     """
     problems = []
     for r in claims.to_dict("records"):
         name = f"{r['experiment']}: {r['item']!r}"
         if r.get("evidence", "") not in EVIDENCE:
             problems.append(f"{name} names no evidence")
+        if r.get("evidence") == "identity of the implementation" and r["status"] == "reproduced":
+            problems.append(f"{name} is 'reproduced' on an identity of the implementation only "
+                            "(status must be 'consistency check')")
         if not r.get("n", ""):
             continue
         if not (r.get("mean", "") and r.get("se", "")):
@@ -252,14 +258,6 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
         if status != r["status"]:
             problems.append(f"{name}: status {r['status']!r} but the Monte Carlo rule gives {status!r}")
     return problems
-
-
-def ledger_warnings(claims: pd.DataFrame) -> list[str]:
-    """Rows marked *reproduced* whose only evidence is an identity of the implementation (a check that
-    shares the code path under test: it never counts as a reproduction on its own)."""
-    return [f"{r['experiment']}: {r['item']!r} is 'reproduced' on an identity of the implementation only"
-            for r in claims.to_dict("records")
-            if r.get("evidence") == "identity of the implementation" and r["status"] == "reproduced"]
 
 
 def write_claims(claims, path) -> pd.DataFrame:
@@ -428,7 +426,7 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
     Columns are set ragged right (no hyphenated verdicts); Monte Carlo rows show mean ± s.e., n and z.
     """
     colour = {"reproduced": "ForestGreen", "systematic offset": "BurntOrange", "not reproduced": "BrickRed",
-              "qualitative": "NavyBlue", "extension": "Gray"}
+              "qualitative": "NavyBlue", "extension": "Gray", "consistency check": "Gray"}
     widths = {"item": 0.22, "source": 0.09, "published": 0.09, "reproduced": 0.15, "tolerance": 0.10,
               "evidence": 0.12, "status": 0.12}
     spec = "".join(rf">{{\raggedright\arraybackslash}}p{{{w}\linewidth}}" for w in widths.values())

@@ -156,12 +156,12 @@ def test_ledger_rules_catch_missing_evidence_and_a_verdict_off_the_rule(tmp_path
     edited.loc[1, "se"] = ""
     assert ledger_problems(edited) == ["sht: 'loss' has n but no mean or standard error",
                                        "theory: 'A(10, 5)' names no evidence"]
-    from hypotrack.report import ledger_warnings
-
     edited = ledger.copy()
     edited.loc[2, "evidence"] = "identity of the implementation"
-    assert ledger_warnings(edited) == ["theory: 'A(10, 5)' is 'reproduced' on an identity of the implementation only"]
-    assert ledger_warnings(ledger) == []
+    assert ledger_problems(edited) == ["theory: 'A(10, 5)' is 'reproduced' on an identity of the implementation "
+                                       "only (status must be 'consistency check')"]
+    edited.loc[2, "status"] = "consistency check"
+    assert ledger_problems(edited) == []
 
 
 def test_committed_ledger_follows_the_rules():

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import sys
 
-from hypotrack.report import (build_paper_inputs, config_macros, is_timing_table, ledger_problems, ledger_warnings,
+from hypotrack.report import (build_paper_inputs, config_macros, is_timing_table, ledger_problems,
                               read_claims)
 
 commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
@@ -27,7 +27,7 @@ read_claims([p for p, t in zip(snakemake.input.claims, is_timing) if t]).to_csv(
                                                                                   index=False)
 # A row without evidence is reported (its experiment must add it); a verdict off the ledger's rules fails the run.
 problems = ledger_problems(claims)
-for p in [*problems, *ledger_warnings(claims)]:
+for p in problems:
     print(f"paper_generated: ledger: {p}", file=sys.stderr)
 hard = [p for p in problems if "names no evidence" not in p]
 if hard:

@@ -272,7 +272,9 @@ def perf_sht_claims(speedups: pd.DataFrame, largest: pd.DataFrame, timings: pd.D
             out, state = float(g["max_abs_output_diff"].max()), float(g["max_abs_state_diff"].max())
             claims.append(Claim(
                 "perf_sht", f"{algorithm.upper()} agrees with Stone Soup on the timed scans", "extension",
-                "--", f"max |difference| {out:.1e} (associations/marginals), {state:.1e} (states)", f"{PEER_TOL:g}",
+                # the scans timed depend on the time budget, so the row states the bound, not the last digits
+                "--", f"max |difference| below {PEER_TOL:g} (associations/marginals and states)"
+                if max(out, state) <= PEER_TOL else f"max |difference| {max(out, state):.1e}", f"{PEER_TOL:g}",
                 "extension" if max(out, state) <= PEER_TOL else "not reproduced",
                 ", ".join(sorted(set(g["implementation"]) - {"hypotrack"})), "peer implementation",
                 key=f"{algorithm}_peer_agreement"))

@@ -53,6 +53,11 @@ def test_perf_claims_report_measured_ranges():
                               target_per_second=[1e6], meets_target=[True], peak_bytes=[None]))
     assert throughput_claims(table)[0].reproduced == "9.80e+06 proposals/s"
     assert throughput_claims(table)[0].key == "mcmc_paper"
+    # two exhaustive sizes: the largest keeps the plain key, the smaller its rank (never a config value)
+    two = pd.DataFrame(dict(benchmark=["exhaustive"] * 2, label=["a", "b"], variant=["all"] * 2, n_objects=[9, 8],
+                            per_second=[1.7e7, 1.8e7], target_per_second=[5e6] * 2, meets_target=[True] * 2,
+                            peak_bytes=[None] * 2))
+    assert [c.key for c in throughput_claims(two)] == ["exhaustive_all", "exhaustive_all_size1"]
 
 
 def test_swap_claims_follow_the_curves():

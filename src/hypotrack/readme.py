@@ -47,10 +47,11 @@ def readme_block(claims: pd.DataFrame | None) -> str:
     lines = [f"{len(claims)} ledger rows: " + ", ".join(f"**{n} {s}**" for s, n in counts.items()) + ".",
              "Monte Carlo rows give mean ± standard error over n runs and z = (mean − published)/s.e.; one rule "
              "decides them: *reproduced* when |z| ≤ 3, *systematic offset* when |z| > 3 but the difference is "
-             "within the stated reconstruction tolerance, *not reproduced* otherwise. The evidence column says "
+             "within the stated reconstruction tolerance, *not reproduced* otherwise; with fewer than ten runs a row "
+             "is *inconclusive* (a standard error from so few runs is too uncertain). The evidence column says "
              "what a verdict rests on (an *identity of the implementation* never counts as a reproduction).",
              "", claims_markdown(claims).rstrip("\n")]
-    bad = claims[claims["status"].isin(["not reproduced", "systematic offset"])]
+    bad = claims[claims["status"].isin(["not reproduced", "systematic offset", "inconclusive"])]
     lines += ["", "### What did not reproduce, and why", ""]
     if bad.empty:
         lines.append("Every row with a published value reproduced.")

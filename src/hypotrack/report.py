@@ -44,7 +44,8 @@ The Monte Carlo rule (one rule for every Monte Carlo row)
 ---------------------------------------------------------
 With n runs, mean x̄, standard error s = sd/√n and published value p, z = (x̄ − p)/s:
 *reproduced* when |z| ≤ 3; *systematic offset* when |z| > 3 and |x̄ − p| ≤ the stated
-reconstruction tolerance; *not reproduced* otherwise.
+reconstruction tolerance; *not reproduced* otherwise. With fewer than :data:`MIN_RUNS` runs the standard
+error is itself too uncertain for z to mean anything: such a row is *inconclusive* whatever z is.
 """
 
 from __future__ import annotations
@@ -63,6 +64,7 @@ __all__ = [
     "OPTIONAL_COLUMNS",
     "STATUSES",
     "Z_THRESHOLD",
+    "MIN_RUNS",
     "Claim",
     "build_paper_inputs",
     "claim_macros",
@@ -90,10 +92,12 @@ CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tol
 OPTIONAL_COLUMNS = ("key",)
 MACRO_COLUMNS = ["experiment", "name", "value"]
 _KEY = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
-STATUSES = ("reproduced", "systematic offset", "not reproduced", "qualitative", "extension", "consistency check")
+STATUSES = ("reproduced", "systematic offset", "not reproduced", "inconclusive", "qualitative", "extension",
+            "consistency check")
 EVIDENCE = ("published number", "independent oracle", "brute force", "peer implementation",
             "identity of the implementation", "measurement")
 Z_THRESHOLD = 3.0
+MIN_RUNS = 10  # below this a sample standard deviation is too uncertain to judge |z| (t with < 9 d.o.f.)
 
 
 @dataclass(frozen=True)
@@ -153,11 +157,13 @@ def numeric_claim(experiment, item, source, published, reproduced, *, rel_tol=No
                  "reproduced" if ok else "not reproduced", note, evidence, key=key)
 
 
-def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: float) -> tuple[float, str]:
+def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: float,
+                        n: int | None = None) -> tuple[float, str]:
     """``(z, status)`` by the ledger's one Monte Carlo rule (module docstring).
 
     ``tolerance`` is the stated reconstruction tolerance, absolute, in the units of ``mean``.
     A zero standard error gives z = 0 when the mean equals the published value, else ±inf.
+    With ``n`` below :data:`MIN_RUNS` the status is *inconclusive* (z is still returned).
     """
     for name, v in (("mean", mean), ("published", published)):
         if not math.isfinite(v):
@@ -168,6 +174,8 @@ def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: flo
         raise ValueError(f"tolerance must be >= 0, got {tolerance!r}")
     diff = mean - published
     z = diff / se if se > 0 else (0.0 if diff == 0 else math.copysign(math.inf, diff))
+    if n is not None and int(n) < MIN_RUNS:
+        return z, "inconclusive"
     if abs(z) <= Z_THRESHOLD:
         return z, "reproduced"
     if abs(diff) <= tolerance:
@@ -210,7 +218,7 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
     if (rel_tol is None) == (abs_tol is None):
         raise ValueError("give exactly one of rel_tol, abs_tol")
     tol = rel_tol * abs(published) if rel_tol is not None else abs_tol
-    z, status = monte_carlo_verdict(float(mean), float(se), float(published), tol)
+    z, status = monte_carlo_verdict(float(mean), float(se), float(published), tol, int(n))
     tol_text = f"|z| <= {Z_THRESHOLD:g} or {100 * rel_tol:g} %" if rel_tol is not None else \
         f"|z| <= {Z_THRESHOLD:g} or +/- {abs_tol:g}"
     return Claim(experiment, item, source, _fmt(float(published), digits), _fmt(float(mean), digits), tol_text,
@@ -254,7 +262,7 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
                             f"'|z| <= 3 or <tol>', got z={r.get('z', '')!r}, tolerance={r['tolerance']!r}")
             continue
         tol = float(m["rel"]) / 100 * abs(published) if m["rel"] else float(m["abs"])
-        _, status = monte_carlo_verdict(float(r["mean"]), float(r["se"]), published, tol)
+        _, status = monte_carlo_verdict(float(r["mean"]), float(r["se"]), published, tol, int(r["n"]))
         if status != r["status"]:
             problems.append(f"{name}: status {r['status']!r} but the Monte Carlo rule gives {status!r}")
     return problems
@@ -426,7 +434,8 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
     Columns are set ragged right (no hyphenated verdicts); Monte Carlo rows show mean ± s.e., n and z.
     """
     colour = {"reproduced": "ForestGreen", "systematic offset": "BurntOrange", "not reproduced": "BrickRed",
-              "qualitative": "NavyBlue", "extension": "Gray", "consistency check": "Gray"}
+              "qualitative": "NavyBlue", "extension": "Gray", "consistency check": "Gray",
+              "inconclusive": "Gray"}
     widths = {"item": 0.22, "source": 0.09, "published": 0.09, "reproduced": 0.15, "tolerance": 0.10,
               "evidence": 0.12, "status": 0.12}
     spec = "".join(rf">{{\raggedright\arraybackslash}}p{{{w}\linewidth}}" for w in widths.values())

@@ -62,9 +62,13 @@ def test_monte_carlo_rule_hand_computed():
     # samples 1, 2, 3, 4: mean 2.5, sd sqrt(5/3), se = sqrt(5/3)/2 = 0.6455; published 0.5 -> z = 3.098
     c = monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=1.0)
     assert (c.n, c.mean, c.se, c.z) == ("4", "2.5", "0.645", "3.10")
-    assert c.status == "not reproduced"  # |z| > 3 and |2.5 - 0.5| = 2 > 1
-    assert monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=2.0).status == "systematic offset"
-    assert monte_carlo_claim("e", "i", "s", 0.6, [1, 2, 3, 4], abs_tol=0.0).status == "reproduced"  # z = 2.94
+    assert c.status == "inconclusive"  # 4 runs < MIN_RUNS: no verdict whatever z is
+    # the same mean and s.e. from ten runs decide by the rule
+    ten = dict(n=10, mean=2.5, se=0.6455)
+    assert monte_carlo_claim("e", "i", "s", 0.5, abs_tol=1.0, **ten).status == "not reproduced"  # |2.5 - 0.5| > 1
+    assert monte_carlo_claim("e", "i", "s", 0.5, abs_tol=2.0, **ten).status == "systematic offset"
+    assert monte_carlo_claim("e", "i", "s", 0.6, abs_tol=0.0, **ten).status == "reproduced"  # z = 2.94
+    assert monte_carlo_verdict(2.5, 0.6455, 0.6, 0.0, n=9)[1] == "inconclusive"
     # the rule at its boundary, and the relative tolerance
     assert monte_carlo_verdict(1.375, 0.125, 1.0, 0.0) == (3.0, "reproduced")  # exact binary values
     assert monte_carlo_verdict(1.5, 0.125, 1.0, 0.5)[1] == "systematic offset"

@@ -83,15 +83,21 @@ def test_distribution_table_quantiles_by_hand():
 
 def test_claims_apply_the_monte_carlo_rule_over_seeds():
     claims = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([0.99, 1.0, 0.98, 1.0], [1.0, 1.0, 0.9, 1.0]))}
-    p = claims["ssa50_chain_PEnd"]  # mean 0.9925, se 0.0048: z = -1.57
-    assert (p.status, p.n, p.evidence) == ("reproduced", "4", "published number")
+    p = claims["ssa50_chain_PEnd"]  # mean 0.9925, se 0.0048: z = -1.57, but 4 seeds < MIN_RUNS
+    assert (p.status, p.n, p.evidence) == ("inconclusive", "4", "published number")
     assert float(p.z) == pytest.approx((0.9925 - 1) / (np.std([0.99, 1.0, 0.98, 1.0], ddof=1) / 2), abs=0.01)
     births = claims["ssa50_chain_Births"]
     assert births.status == "not reproduced" and births.reproduced.startswith("19 of 20 births")
-    ag = claims["ssa15_chain_Agreement"]  # mean 0.975, se 0.025: |z| = 1 -> reproduced
-    assert ag.status == "reproduced" and "HOMHT" in ag.item
+    assert claims["ssa15_chain_Agreement"].status == "inconclusive"
     assert "ssa15_homht_Agreement" not in claims
-    bad = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([0.5, 0.52, 0.48], [1.0] * 3))}["ssa50_chain_PEnd"]
+    # ten seeds: the rule decides
+    p_end = [0.99, 1.0, 0.98, 1.0, 0.99, 1.0, 0.98, 1.0, 0.99, 1.0]  # mean 0.993, se 0.0026: z = -2.69
+    agree = [1.0, 1.0, 0.9, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]  # mean 0.99, se 0.01: z = -1
+    ten = {c.key: c for c in ss.ssa_seeds_claims(_per_seed(p_end, agree))}
+    assert (ten["ssa50_chain_PEnd"].status, ten["ssa50_chain_PEnd"].n) == ("reproduced", "10")
+    ag = ten["ssa15_chain_Agreement"]
+    assert ag.status == "reproduced" and "HOMHT" in ag.item and float(ag.z) == pytest.approx(-1.0, abs=0.01)
+    bad = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([0.5, 0.52, 0.48] * 4, [1.0] * 12))}["ssa50_chain_PEnd"]
     assert bad.status == "not reproduced"
     one = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([1.0], [1.0]))}["ssa50_chain_PEnd"]
     assert one.status == "qualitative" and "too few" in one.note

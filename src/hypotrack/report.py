@@ -70,6 +70,8 @@ __all__ = [
     "claim_macros",
     "claims_markdown",
     "claims_table_tex",
+    "claims_html",
+    "STATUS_COLOURS",
     "config_macros",
     "is_timing_table",
     "latex_escape",
@@ -428,14 +430,38 @@ def _cell_tex(text) -> str:
     return r"\hspace{0pt}" + " ".join(out)
 
 
+# one colour per status, shared by the LaTeX ledger and the HTML ledger of the Snakemake report
+STATUS_COLOURS = {"reproduced": ("ForestGreen", "#e6f4ea"), "systematic offset": ("BurntOrange", "#fdebd0"),
+                  "not reproduced": ("BrickRed", "#fce8e6"), "inconclusive": ("Gray", "#eeeeee"),
+                  "qualitative": ("NavyBlue", "#e8eefa"), "extension": ("Gray", "#ffffff"),
+                  "consistency check": ("Gray", "#f4f4f4")}
+
+
+def claims_html(claims: pd.DataFrame) -> str:
+    """The ledger as one HTML page (for ``snakemake --report``): a table per experiment, rows coloured by
+    status, the status counts on top."""
+    import html
+
+    parts = ["<!DOCTYPE html><html><head><meta charset='utf-8'><title>hypotrack ledger</title><style>"
+             "body{font-family:sans-serif;font-size:13px} table{border-collapse:collapse;margin-bottom:1.5em}"
+             "td,th{border:1px solid #ccc;padding:3px 6px;vertical-align:top;text-align:left}</style></head><body>",
+             f"<h2>Reproduction ledger: {len(claims)} claims</h2>"]
+    counts = claims["status"].value_counts()
+    parts.append("<p>" + ", ".join(f"{html.escape(s)}: {int(counts[s])}" for s in STATUSES if s in counts) + "</p>")
+    for experiment, rows in claims.groupby("experiment", sort=False):
+        styled = rows.drop(columns="experiment").style.hide(axis="index").apply(
+            lambda r: [f"background-color:{STATUS_COLOURS[r['status']][1]}"] * len(r), axis=1)
+        parts += [f"<h3>{html.escape(experiment)}</h3>", styled.to_html(escape="html")]
+    parts.append("</body></html>")
+    return "\n".join(parts) + "\n"
+
+
 def claims_table_tex(claims: pd.DataFrame) -> str:
     """A longtable of the claims grouped by experiment; each note on its own line below its item.
 
     Columns are set ragged right (no hyphenated verdicts); Monte Carlo rows show mean ± s.e., n and z.
     """
-    colour = {"reproduced": "ForestGreen", "systematic offset": "BurntOrange", "not reproduced": "BrickRed",
-              "qualitative": "NavyBlue", "extension": "Gray", "consistency check": "Gray",
-              "inconclusive": "Gray"}
+    colour = {status: latex for status, (latex, _html) in STATUS_COLOURS.items()}
     widths = {"item": 0.22, "source": 0.09, "published": 0.09, "reproduced": 0.15, "tolerance": 0.10,
               "evidence": 0.12, "status": 0.12}
     spec = "".join(rf">{{\raggedright\arraybackslash}}p{{{w}\linewidth}}" for w in widths.values())

@@ -7,6 +7,7 @@ import pytest
 
 from hypotrack.report import (
     CLAIM_COLUMNS,
+    STATUSES,
     Claim,
     claims_table_tex,
     latex_escape,
@@ -196,3 +197,16 @@ def test_ledger_table_keeps_verdicts_whole_and_cells_breakable():
     assert r"0.2 ± 0.01 (n = 100, z = -65.18)" in tex  # Monte Carlo rows: mean ± s.e., n and z
     assert r"GNNWith\allowbreak{}2DAssignment" in claims_table_tex(pd.DataFrame([asdict(
         numeric_claim("perf_sht", "GNNWith2DAssignment", "extension", 1, 1, abs_tol=0))]))
+
+
+def test_every_status_has_one_colour_in_both_ledgers():
+    from hypotrack.report import STATUS_COLOURS, claims_html
+
+    assert set(STATUS_COLOURS) == set(STATUSES)
+    rows = pd.DataFrame([dict(experiment="e", item=f"i{k}", source="s", published="1", reproduced="1", tolerance="-",
+                              status=s, evidence="measurement", n="", mean="", se="", z="", note="", key="")
+                         for k, s in enumerate(STATUSES)])
+    page = claims_html(rows)
+    assert all(f"background-color: {html}" in page for _, html in STATUS_COLOURS.values())  # each status styled
+    assert "systematic offset: 1" in page and "inconclusive: 1" in page
+    assert r"\textcolor{BurntOrange}{\textbf{systematic offset}}" in claims_table_tex(rows)

@@ -130,3 +130,39 @@ def test_gated_count_bad_input():
         count_gated_associations(np.ones(3, dtype=bool))
     with pytest.raises(ValueError, match="cap"):
         count_gated_associations(np.ones((2, 2), dtype=bool), cap=-1)
+
+
+def test_count_children_single_object_that_may_die():
+    """M = 1 keeps the death term: A(1,3) + 2 A(2,3) + 1 A(0,3) = 4 + 2*13 + 1 (object dies, all clutter)."""
+    assert count_children(1, 3, n_birth_regions=2, n_deaths=1) == 31
+    assert count_children(1, 3, n_birth_regions=2, n_deaths=0) == 30
+    # An empty scan: every population event has exactly one child (everything undetected).
+    assert count_children(2, 0, n_birth_regions=1, n_deaths=2) == 1 + 1 + 2
+
+
+@pytest.mark.parametrize(
+    "args, kwargs, message",
+    [
+        ((-1, 3), {}, r"^M must be an integer in \[0, inf\], got -1$"),
+        ((3, -2), {}, r"^m must be an integer in \[0, inf\], got -2$"),
+        ((2, 2), {"n_birth_regions": -1}, r"^n_birth_regions must be an integer in \[0, inf\], got -1$"),
+        ((2, 2), {"n_deaths": -1}, r"^n_deaths must be an integer in \[0, 2\], got -1$"),
+        ((2, 2), {"n_deaths": 3}, r"^n_deaths must be an integer in \[0, 2\], got 3$"),
+    ],
+)
+def test_count_children_messages_name_argument_and_range(args, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        count_children(*args, **kwargs)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        ((-1, 3), r"^M must be an integer in \[0, inf\], got -1$"),
+        ((3, -2), r"^m must be an integer in \[0, inf\], got -2$"),
+        ((3, None), r"^m must be an integer, got NoneType$"),
+    ],
+)
+def test_count_associations_messages_name_argument_and_range(args, message):
+    with pytest.raises((ValueError, TypeError), match=message):
+        count_associations(*args)

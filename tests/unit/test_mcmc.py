@@ -187,3 +187,70 @@ def test_bad_problem_shapes():
         mcmc_search(np.array([[0.0, -np.inf]]), 1, 1, np.zeros((2, 1)), n_steps=1, seed=0)
     with pytest.raises(ValueError, match="NaN"):
         mcmc_search(np.array([[np.nan, 0.0]]), 1, 1, np.zeros((2, 1)), n_steps=1, seed=0)
+
+
+def _events_with_at_most(m, n_obj, detections):
+    ev = brute_force_events(m, n_obj, 1)
+    return {tuple(e) for e in ev if (e >= 0).sum() <= detections}
+
+
+@pytest.mark.parametrize("rounds, count", [(0, 1), (1, 17), (2, 89), (3, 185)])
+def test_completion_adds_one_detection_per_round_on_a_flat_problem(rounds, count):
+    """All events weigh the same (zero scores, zero count term), so every single move passes the
+    threshold: from the all-clutter event round r adds exactly the events with r detections.
+    m = 4 returns, 4 objects: 1, 16, C(4,2)·4·3 = 72 and C(4,3)·4·3·2 = 96 events with 0..3
+    detections. From one event the visited set starts with room for 68 (it must grow)."""
+    m = n_obj = 4
+    score, phi = np.zeros((m, n_obj + 1)), np.zeros((n_obj + 1, 1))
+    start = np.full((1, m), -1)
+    ev, lw = neighbour_completion(score, n_obj, n_obj, phi, start, [0.0], rounds=rounds)
+    assert len(ev) == count and {tuple(e) for e in ev} == _events_with_at_most(m, n_obj, rounds)
+    assert tuple(ev[0]) == (-1,) * m and ev.dtype == np.int32
+    np.testing.assert_array_equal(lw, np.zeros(count))
+
+
+def test_completion_default_is_two_rounds():
+    m = n_obj = 4
+    score, phi = np.zeros((m, n_obj + 1)), np.zeros((n_obj + 1, 1))
+    ev, _ = neighbour_completion(score, n_obj, n_obj, phi, np.full((1, m), -1), [0.0])
+    assert {tuple(e) for e in ev} == _events_with_at_most(m, n_obj, 2)
+
+
+def test_completion_of_a_single_return():
+    """m = 1: return 0 on clutter (weight 0) has neighbours object 0 (log 1) and object 1 (log -30);
+    with relative threshold 1e-9 (log -20.7) only object 0 is added."""
+    score = np.array([[1.0, -30.0, 0.0]])
+    phi = np.zeros((3, 1))
+    ev, lw = neighbour_completion(score, 2, 2, phi, [[-1]], [0.0], rounds=1)
+    np.testing.assert_array_equal(ev, [[-1], [0]])
+    np.testing.assert_allclose(lw, [0.0, 1.0])
+
+
+def test_completion_with_no_rounds_returns_its_input_typed():
+    events = [[0, -1], [-1, 1]]
+    ev, lw = neighbour_completion(np.zeros((2, 3)), 2, 2, np.zeros((3, 1)), events, [0, -2], rounds=0)
+    assert ev.dtype == np.int32 and lw.dtype == np.float64
+    np.testing.assert_array_equal(ev, events)
+    np.testing.assert_array_equal(lw, [0.0, -2.0])
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(rounds=-1), r"^rounds must be an integer in \[0, inf\], got -1$"),
+        (dict(relative_threshold=0.0), r"^relative_threshold must lie in \(0, 1\), got 0\.0$"),
+        (dict(relative_threshold=1.0), r"^relative_threshold must lie in \(0, 1\), got 1\.0$"),
+    ],
+)
+def test_completion_bad_arguments(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        neighbour_completion(np.zeros((1, 2)), 1, 1, np.zeros((2, 1)), [[-1]], [0.0], **kwargs)
+
+
+def test_init_given_as_whole_floats_is_read_as_event_codes():
+    rng = np.random.default_rng(4)
+    score, n_excl, phi = random_problem(rng, 3, 3, 0, 1, forbid=0.0)
+    a = mcmc_search(score, 3, n_excl, phi, n_steps=200, seed=3, init=np.array([2, -1, 0]))
+    b = mcmc_search(score, 3, n_excl, phi, n_steps=200, seed=3, init=np.array([2.0, -1.0, 0.0]))
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])

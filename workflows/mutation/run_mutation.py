@@ -23,6 +23,8 @@ the engine modules)::
 
     python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
     python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
+    python workflows/mutation/run_mutation.py association --mutants 'hypotrack.association.gating*'
+        # after adding tests: rerun only some mutants (names or globs) in the last run's scratch copy
 
 Modules already in ``mutation.csv`` and not named on the command line keep their rows.
 """
@@ -65,7 +67,8 @@ MODULES = {
                      "tests/unit/test_association_gating.py", "tests/unit/test_marginals.py",
                      "tests/unit/test_mcmc.py", "tests/property/test_association_assignment_properties.py",
                      "tests/property/test_association_clustering_properties.py",
-                     "tests/property/test_association_enumeration_properties.py", CATALOGUE]),
+                     "tests/property/test_association_enumeration_properties.py",
+                     "tests/crosscheck/test_cardinality_assignment.py", CATALOGUE]),
     "trackers": (["src/hypotrack/trackers/*"],
                  ["tests/unit/test_gnn.py", "tests/unit/test_jpda.py", "tests/unit/test_initiation.py",
                   "tests/unit/test_ecmht.py", "tests/unit/test_ecmht_mospa.py", "tests/unit/test_cardinality.py",
@@ -103,13 +106,26 @@ def prepare(module: str, only=None) -> Path:
     return work
 
 
-def run(module: str, max_children: int, only=None) -> float:
-    work = prepare(module, only)
+def refresh_tests(module: str) -> Path:
+    """Copy the module's current test files into its existing scratch project (a rerun of some
+    mutants keeps every other result; mutmut collects coverage for the new tests only)."""
+    work = WORK / module
+    if not (work / "mutants").exists():
+        raise SystemExit(f"[mutation] {module}: no previous run under {work} to rerun mutants in")
+    for t in MODULES[module][1]:
+        (work / t).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / t, work / t)
+    return work
+
+
+def run(module: str, max_children: int, only=None, mutants=None) -> float:
+    work = refresh_tests(module) if mutants else prepare(module, only)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # import the mutated copy only
     env.setdefault("NUMBA_CACHE_DIR", str(work / ".numba_cache"))
     t0 = time.perf_counter()
     with open(work / "mutmut.log", "w") as log:
-        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children)],
+        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children),
+                               *(mutants or [])],
                               cwd=work, env=env, stdout=log, stderr=subprocess.STDOUT)
     seconds = time.perf_counter() - t0
     if proc.returncode != 0:
@@ -183,6 +199,10 @@ def main(argv=None) -> None:
     ap.add_argument("--report-only", action="store_true", help="re-read finished runs, run nothing")
     ap.add_argument("--only", nargs="+", metavar="GLOB",
                     help="mutate only these files of one module (a partial run; its row says so)")
+    ap.add_argument("--mutants", nargs="+", metavar="NAME",
+                    help="rerun only these mutants of one module (mutmut names or globs, e.g. "
+                         "'hypotrack.association.gating*') in its last run's scratch project, with the "
+                         "current test files; every other result of that run is kept")
     args = ap.parse_args(argv)
     modules = args.modules or list(MODULES)
     unknown = sorted(set(modules) - set(MODULES))
@@ -190,6 +210,8 @@ def main(argv=None) -> None:
         ap.error(f"unknown module(s) {unknown}; choose from {list(MODULES)}")
     if args.only and len(modules) != 1:
         ap.error("--only needs exactly one module")
+    if args.mutants and (len(modules) != 1 or args.only):
+        ap.error("--mutants needs exactly one module and no --only (it reruns within the last run's scope)")
     OUT.mkdir(parents=True, exist_ok=True)
     table, surv_path = OUT / "mutation.csv", OUT / "mutation_survivors.csv"
     rows = {r["module"]: r for r in _read(table)}
@@ -199,8 +221,11 @@ def main(argv=None) -> None:
         if args.report_only:
             seconds = float(rows.get(module, {}).get("seconds") or 0.0)
         else:
-            print(f"[mutation] {module}: mutmut run over {', '.join(args.only or MODULES[module][0])}", flush=True)
-            seconds = run(module, args.max_children, args.only)
+            what = args.mutants or args.only or MODULES[module][0]
+            print(f"[mutation] {module}: mutmut run over {', '.join(what)}", flush=True)
+            seconds = run(module, args.max_children, args.only, args.mutants)
+            if args.mutants:  # the row's time is the full run's plus the reruns'
+                seconds += float(rows.get(module, {}).get("seconds") or 0.0)
         rows[module], surv = summarise(module, seconds, equivalent)
         rows[module]["scope"] = " ".join(_scope(module))
         survivors += surv

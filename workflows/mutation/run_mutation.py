@@ -106,12 +106,17 @@ def prepare(module: str, only=None) -> Path:
     return work
 
 
-def refresh_tests(module: str) -> Path:
-    """Copy the module's current test files into its existing scratch project (a rerun of some
-    mutants keeps every other result; mutmut collects coverage for the new tests only)."""
+def refresh(module: str) -> Path:
+    """Copy the current package source and the module's test files into its existing scratch
+    project. mutmut regenerates the mutants of changed source files, resetting only the mutants of
+    changed functions, and collects coverage for new tests only, so a rerun of some mutants keeps
+    every other result."""
     work = WORK / module
     if not (work / "mutants").exists():
         raise SystemExit(f"[mutation] {module}: no previous run under {work} to rerun mutants in")
+    # copy2 keeps modification times, so unchanged files are not regenerated.
+    shutil.copytree(ROOT / "src", work / "src", dirs_exist_ok=True,
+                    ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
     for t in MODULES[module][1]:
         (work / t).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(ROOT / t, work / t)
@@ -119,7 +124,7 @@ def refresh_tests(module: str) -> Path:
 
 
 def run(module: str, max_children: int, only=None, mutants=None) -> float:
-    work = refresh_tests(module) if mutants else prepare(module, only)
+    work = refresh(module) if mutants else prepare(module, only)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # import the mutated copy only
     env.setdefault("NUMBA_CACHE_DIR", str(work / ".numba_cache"))
     t0 = time.perf_counter()
@@ -202,7 +207,7 @@ def main(argv=None) -> None:
     ap.add_argument("--mutants", nargs="+", metavar="NAME",
                     help="rerun only these mutants of one module (mutmut names or globs, e.g. "
                          "'hypotrack.association.gating*') in its last run's scratch project, with the "
-                         "current test files; every other result of that run is kept")
+                         "current source and test files; every other result of that run is kept")
     args = ap.parse_args(argv)
     modules = args.modules or list(MODULES)
     unknown = sorted(set(modules) - set(MODULES))

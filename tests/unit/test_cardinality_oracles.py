@@ -352,3 +352,16 @@ def test_detections_bounded_by_survivors_after_terminations():
     """τ = 2, χ = 1 leaves one survivor: two detections are infeasible."""
     with pytest.raises(ValueError, match="infeasible counts at scan 1"):
         count_objective([2, 2], [0, 1], [0, 2], [2, 0], MODELS[0])
+
+
+def test_vanishing_detection_probability_does_not_overflow():
+    """p_d = 1e-306: ln(p_d / (λ_fa (1 − p_d))) < −700, so no survivor is worth detecting (d = 0)."""
+    m = CountModel(1e-306, 0.2, 0.5, 1.0)
+    sol = exact_count_dp([1, 2, 1], m)
+    assert np.all(sol.d == 0) and np.isfinite(sol.J)
+    assert sol.J == pytest.approx(max(reference_objective([1, 2, 1], *s, m) for s in feasible_sequences([1, 2, 1])))
+
+
+def test_exact_dp_rejects_a_negative_cap():
+    with pytest.raises(ValueError, match=r"max_alive must be an integer in \[0, inf\]"):
+        exact_count_dp([1, 2], MODELS[0], max_alive=-1)

@@ -320,3 +320,17 @@ def test_trackers_prediction_reuses_the_model_and_equals_predict_tracks():
             np.testing.assert_array_equal(got[0], ref[0])
             np.testing.assert_array_equal(got[1], ref[1])
     assert not _ScanPredictor(TwoBodyOrbit()).linear
+
+
+def test_mahalanobis_tracker_skips_logdet_but_likelihood_is_still_right():
+    """The Mahalanobis criterion needs no log det S, so the tracker's gating leaves it out; the
+    predicted-measurement log density is then computed from S on demand, equal to the full gating's."""
+    model = scan_model()
+    x, P, Z = lecture_example()
+    tracker = SingleHypothesisTracker(ConstantVelocity(0.1), model, gnn_score="mahalanobis", max_misses=5)
+    tracker.initialise(x, P, 0.0)
+    tracker.step((0.0, Z))
+    assert tracker.last_gated.logdet is None
+    ref = gate_tracks(x, P, Z, model)
+    np.testing.assert_allclose(tracker.last_gated.log_likelihood(), ref.log_likelihood(), rtol=1e-12)
+    np.testing.assert_array_equal(tracker.last_gated.valid, LECTURE_VALIDATION)

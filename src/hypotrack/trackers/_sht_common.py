@@ -119,8 +119,9 @@ class GatedTracks:
         The scan's returns.
     d2 : (m, n)
         Squared Mahalanobis distances ``(z_i − ẑ_j)ᵀ S_j⁻¹ (z_i − ẑ_j)``.
-    logdet : (n,)
-        ``log det S_j``.
+    logdet : (n,) or None
+        ``log det S_j``; ``None`` when the tracker's criterion does not use it (the Mahalanobis
+        GNN criterion), :meth:`log_likelihood` then computes it.
     valid : (m, n) bool
         The validation matrix (lecture 004, "Gating"): return i lies in track j's gate.
     """
@@ -132,7 +133,7 @@ class GatedTracks:
     K: np.ndarray
     Z: np.ndarray
     d2: np.ndarray
-    logdet: np.ndarray
+    logdet: np.ndarray | None
     valid: np.ndarray
 
     @property
@@ -146,7 +147,8 @@ class GatedTracks:
     def log_likelihood(self) -> np.ndarray:
         """``log N(z_i; ẑ_j, S_j)``, shape (m, n) (the predicted measurement density)."""
         p = self.Z.shape[1]
-        return -0.5 * (self.d2 + self.logdet[None, :] + p * np.log(2.0 * np.pi))
+        logdet = np.linalg.slogdet(self.S)[1] if self.logdet is None else self.logdet
+        return -0.5 * (self.d2 + logdet[None, :] + p * np.log(2.0 * np.pi))
 
 
 def predict_tracks(motion, x, P, dt):
@@ -208,24 +210,27 @@ class _ScanPredictor:
         return x @ self._FT, symmetrize(self._F @ P @ self._FT + self._Q)
 
 
-def _gate_scan(x, P, Z, model: ScanModel) -> GatedTracks:
+def _gate_scan(x, P, Z, model: ScanModel, *, logdet: bool = True) -> GatedTracks:
     """Unchecked :func:`gate_tracks` for a tracker's own step (inputs checked at its boundary).
 
     One batched inverse of the innovation covariances serves the gains ``K = P Hᵀ S⁻¹``, the
     distances ``νᵀ S⁻¹ ν`` of all (return, track) pairs and ``log det S``: a few numpy calls per
     scan whatever the number of tracks. ``S`` is positive definite by construction (``P`` kept PSD
     by the Joseph form, ``R`` checked PD), so the plain inverse is safe here; the numbers equal
-    :func:`gate_tracks`' up to rounding.
+    :func:`gate_tracks`' up to rounding. Without ``logdet`` the result's ``logdet`` is ``None``.
     """
     if len(x) == 0:
         return gate_tracks(x, P, Z, model)
     H = model.H
     z_pred = x @ H.T
     PHt = P @ H.T
-    S = symmetrize(H @ PHt + model.R)
+    # P is symmetric (symmetrised by the prediction), so S is symmetric up to rounding (exactly
+    # for a selection H) and the distances below use only the symmetric part of S⁻¹.
+    S = H @ PHt + model.R
     S_inv = np.linalg.inv(S)
     d2 = _quadratic_forms(Z, z_pred, S_inv)
-    return GatedTracks(x, P, z_pred, S, PHt @ S_inv, Z, d2, np.log(np.linalg.det(S)), d2 <= model.gate)
+    log_det = np.log(np.linalg.det(S)) if logdet else None
+    return GatedTracks(x, P, z_pred, S, PHt @ S_inv, Z, d2, log_det, d2 <= model.gate)
 
 
 def _quadratic_forms(Z, z_pred, S_inv):

@@ -122,13 +122,11 @@ def _associate(gain) -> np.ndarray:
     # Only pairs that beat leaving both unassigned can be in an optimal assignment.
     useful = gain > 0
     if n <= _JOINT_LIMIT:
-        # One assignment over the returns with a useful pair and all tracks (a column without
-        # one stays unassigned): no cluster bookkeeping for a small problem.
-        rows = np.flatnonzero(useful.any(axis=1))
-        block = useful[rows]
-        r, c = linear_sum_assignment(np.where(block, gain[rows], 0.0), maximize=True)
-        hit = block[r, c]
-        a[rows[r[hit]]] = c[hit]
+        # One assignment over all returns and tracks (a row or column without a useful pair
+        # just stays unassigned): no cluster bookkeeping for a small problem.
+        r, c = linear_sum_assignment(np.where(useful, gain, 0.0), maximize=True)
+        hit = useful[r, c]
+        a[r[hit]] = c[hit]
         return a
     # A track none of whose useful returns is wanted by another track decides alone; the
     # others are solved in groups of whole clusters.

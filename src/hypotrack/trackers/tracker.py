@@ -181,7 +181,7 @@ class SingleHypothesisTracker:
         # Inputs are checked here and at construction/initialise; the per-scan work below runs on
         # the tracker's own states, in a few batched numpy calls whatever the number of tracks.
         x, P = self._predict(self.x, self.P, dt)
-        gated = _gate_scan(x, P, Z, self.model)
+        gated = _gate_scan(x, P, Z, self.model, logdet=self.association != "gnn" or self.gnn_score == "lecture")
         if self.association == "gnn":
             gain = (
                 gnn_gains(gated, self.model)
@@ -199,7 +199,8 @@ class SingleHypothesisTracker:
             x, P = pda_update(gated, association, self.model)
             detected = gated.valid.any(axis=0)
             unused = ~gated.valid.any(axis=1)
-        misses = np.where(detected, 0, self.misses + 1)
+        misses = self.misses + 1
+        misses[detected] = 0
         keep = misses < self.max_misses
         # The initiator's own step is transactional: it is the last thing that may fail.
         new_x, new_P = self.initiator.step(time, Z[unused]) if self.initiator is not None else (None, None)

@@ -250,8 +250,10 @@ def plot_benchmark(timings: pd.DataFrame, ratios: pd.DataFrame, pdf, png):
         g = g.sort_values("n_targets")
         ax.plot(g["n_targets"], g["speedup"], marker="o", label=f"{alg.upper()} vs {peer} ({rate:g} clutter/scan)")
     for goal in sorted(ratios["goal"].dropna().unique()):
+        sizes = ratios.loc[ratios["goal"] == goal, "n_targets"]
         ax.axhline(goal, color="k", ls=":", lw=1)
-        ax.annotate(f"goal {goal:g}x", (ax.get_xlim()[0], goal), fontsize=8, va="bottom")
+        ax.annotate(f"goal {goal:.3g}x ({sizes.min()}-{sizes.max()} targets)", (ax.get_xlim()[0], goal), fontsize=8,
+                    va="bottom")
     ax.set_yscale("log")
     ax.set_xlabel("number of closely spaced targets")
     ax.set_ylabel("speed-up (peer time / hypotrack time)")

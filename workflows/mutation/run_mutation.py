@@ -23,6 +23,8 @@ the engine modules)::
 
     python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
     python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
+    python workflows/mutation/run_mutation.py association --mutants 'hypotrack.association.gating*'
+        # after adding tests: rerun only some mutants (names or globs) in the last run's scratch copy
 
 Modules already in ``mutation.csv`` and not named on the command line keep their rows.
 """
@@ -55,6 +57,9 @@ MODULES = {
                 ["tests/unit/test_metrics.py", "tests/property/test_metrics_properties.py", CATALOGUE]),
     "hypotheses": (["src/hypotrack/hypotheses/*"],
                    ["tests/unit/test_hypotheses_filter.py", "tests/unit/test_hypotheses_weights.py",
+                    "tests/unit/test_hypotheses_engine_exact.py", "tests/unit/test_hypotheses_parts.py",
+                    "tests/unit/test_glmb.py", "tests/unit/test_glmb_exact.py",
+                    "tests/crosscheck/test_equivalence_glmb.py",
                     "tests/unit/test_hypotheses_problems.py", "tests/unit/test_population_events.py",
                     "tests/unit/test_transactional_steps.py",
                     "tests/property/test_pretrim_exact.py", "tests/property/test_hypotheses_properties.py",
@@ -103,13 +108,32 @@ def prepare(module: str, only=None) -> Path:
     return work
 
 
-def run(module: str, max_children: int, only=None) -> float:
-    work = prepare(module, only)
+def refresh_tests(module: str) -> Path:
+    """Copy the module's current source and test files into its existing scratch project (a rerun
+    of some mutants keeps every other result; mutmut collects coverage for the new tests only and
+    re-mutates only the functions whose source changed, resetting their results). Without a
+    previous run the scratch project is prepared over the module's whole scope first, so a long
+    module can be run a few files at a time (``--mutants 'hypotrack.hypotheses.gibbs*'``)."""
+    work = WORK / module
+    if not (work / "mutants").exists():
+        return prepare(module)
+    # copy2 keeps modification times, which is how mutmut tells an unchanged file
+    shutil.copytree(ROOT / "src", work / "src", dirs_exist_ok=True, copy_function=shutil.copy2,
+                    ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
+    for t in MODULES[module][1]:
+        (work / t).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / t, work / t)
+    return work
+
+
+def run(module: str, max_children: int, only=None, mutants=None) -> float:
+    work = refresh_tests(module) if mutants else prepare(module, only)
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # import the mutated copy only
     env.setdefault("NUMBA_CACHE_DIR", str(work / ".numba_cache"))
     t0 = time.perf_counter()
     with open(work / "mutmut.log", "w") as log:
-        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children)],
+        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children),
+                               *(mutants or [])],
                               cwd=work, env=env, stdout=log, stderr=subprocess.STDOUT)
     seconds = time.perf_counter() - t0
     if proc.returncode != 0:
@@ -125,6 +149,29 @@ def _scope(module: str) -> list:
     return tomllib.loads(cfg.read_text())["tool"]["mutmut"]["only_mutate"]
 
 
+def _results_by_file(module: str) -> dict:
+    """Source file (repository path) -> {mutant name: exit code or None} of the last run."""
+    mutants = WORK / module / "mutants"
+    out = {}
+    for meta in sorted(mutants.rglob("*.meta")):
+        codes = json.loads(meta.read_text())["exit_code_by_key"]
+        if codes:
+            out[str(meta.relative_to(mutants).with_suffix(""))] = codes
+    return out
+
+
+def scope_text(module: str) -> str:
+    """The row's scope: the mutated files whose mutants were all run, then those left (partly)
+    unrun with their count, so that a partial run says what it covers."""
+    done, left = [], []
+    for path, codes in _results_by_file(module).items():
+        n = sum(c is None for c in codes.values())
+        (left.append(f"{path} ({n} of {len(codes)})") if n else done.append(path))
+    if not left:
+        return " ".join(_scope(module)) if done else ""
+    return " ".join(done) + (" | not run: " + " ".join(left))
+
+
 def _equivalent() -> dict:
     data = yaml.safe_load(EQUIVALENT.read_text()) if EQUIVALENT.exists() else None
     return {k: str(v) for k, v in (data or {}).items()}
@@ -133,8 +180,8 @@ def _equivalent() -> dict:
 def summarise(module: str, seconds: float, equivalent: dict):
     """One CSV row and the surviving non-equivalent mutants of a finished run."""
     codes = {}
-    for meta in (WORK / module / "mutants").rglob("*.meta"):
-        codes.update(json.loads(meta.read_text())["exit_code_by_key"])
+    for file_codes in _results_by_file(module).values():
+        codes.update(file_codes)
     if not codes:
         raise SystemExit(f"[mutation] {module}: no mutmut results under {WORK / module}")
     survivors, row = [], dict.fromkeys(FIELDS[1:-3], 0)
@@ -183,6 +230,10 @@ def main(argv=None) -> None:
     ap.add_argument("--report-only", action="store_true", help="re-read finished runs, run nothing")
     ap.add_argument("--only", nargs="+", metavar="GLOB",
                     help="mutate only these files of one module (a partial run; its row says so)")
+    ap.add_argument("--mutants", nargs="+", metavar="NAME",
+                    help="rerun only these mutants of one module (mutmut names or globs, e.g. "
+                         "'hypotrack.association.gating*') in its last run's scratch project, with the "
+                         "current test files; every other result of that run is kept")
     args = ap.parse_args(argv)
     modules = args.modules or list(MODULES)
     unknown = sorted(set(modules) - set(MODULES))
@@ -190,6 +241,8 @@ def main(argv=None) -> None:
         ap.error(f"unknown module(s) {unknown}; choose from {list(MODULES)}")
     if args.only and len(modules) != 1:
         ap.error("--only needs exactly one module")
+    if args.mutants and (len(modules) != 1 or args.only):
+        ap.error("--mutants needs exactly one module and no --only (it reruns within the last run's scope)")
     OUT.mkdir(parents=True, exist_ok=True)
     table, surv_path = OUT / "mutation.csv", OUT / "mutation_survivors.csv"
     rows = {r["module"]: r for r in _read(table)}
@@ -199,10 +252,13 @@ def main(argv=None) -> None:
         if args.report_only:
             seconds = float(rows.get(module, {}).get("seconds") or 0.0)
         else:
-            print(f"[mutation] {module}: mutmut run over {', '.join(args.only or MODULES[module][0])}", flush=True)
-            seconds = run(module, args.max_children, args.only)
+            what = args.mutants or args.only or MODULES[module][0]
+            print(f"[mutation] {module}: mutmut run over {', '.join(what)}", flush=True)
+            seconds = run(module, args.max_children, args.only, args.mutants)
+            if args.mutants:  # the row's time is the full run's plus the reruns'
+                seconds += float(rows.get(module, {}).get("seconds") or 0.0)
         rows[module], surv = summarise(module, seconds, equivalent)
-        rows[module]["scope"] = " ".join(_scope(module))
+        rows[module]["scope"] = scope_text(module)
         survivors += surv
         r = rows[module]
         print(f"[mutation] {module}: {r['mutants']} mutants, {r['killed']} killed, {r['equivalent']} equivalent, "

@@ -27,6 +27,7 @@ from hypotrack.hypotheses import (
     rfisst,
 )
 from hypotrack.hypotheses.posterior import summarise
+from hypotrack.hypotheses.problems import DIFFICULTY_SPACING, synthetic_problem
 from hypotrack.hypotheses.tracks import update_pairs
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
@@ -272,3 +273,123 @@ def test_presets_wire_their_weight_model_generator_and_options():
         with pytest.raises(ValueError, match="population must be a LabeledMultiBernoulliPopulation for the GLMB "
                                              "presets, got SingleEventBirthDeath"):
             preset(motion, _SENSOR, population=se)
+
+
+# ---------------------------------------------------------------- synthetic problems
+def _recover_objects(sp):
+    """Each object's predicted return and scale from the problem's log-likelihoods alone:
+    ``L_i = log N(z_i; ẑ, (σ s)² I₂)`` is a quadratic ``a |z|² + b·z + c`` in the return."""
+    Z, L = sp.context.Z, sp.context.loglik
+    A = np.column_stack([np.sum(Z * Z, axis=1), Z, np.ones(len(Z))])
+    coef, *_ = np.linalg.lstsq(A, L, rcond=None)
+    a, b, c = coef[0], coef[1:3].T, coef[3]
+    var = -0.5 / a  # (σ s_j)²
+    z_pred = b * var[:, None]
+    np.testing.assert_allclose(c, -0.5 * np.sum(z_pred**2, axis=1) / var - np.log(2 * np.pi * var), atol=1e-6)
+    return z_pred, np.sqrt(var)
+
+
+@pytest.mark.parametrize("M, m, sigma, spacing", [(7, 9, 1.0, 8.0), (5, 12, 2.0, 3.0), (1, 4, 0.5, 6.0)])
+def test_paper_problem_objects_lie_on_a_jittered_grid_and_clutter_fills_the_square(M, m, sigma, spacing):
+    sp = synthetic_problem(M, m, seed=11, sigma=sigma, spacing=spacing, sigma_spread=0.3)
+    side_n = int(np.ceil(np.sqrt(M)))
+    side = side_n * spacing * sigma
+    assert sp.context.clutter_volume == pytest.approx(side**2, rel=1e-12)
+    z_pred, scale = _recover_objects(sp)
+    cell = spacing * sigma
+    centre = (np.floor(z_pred / cell) + 0.5) * cell
+    assert np.all(np.abs(z_pred - centre) <= cell / 4 + 1e-6)  # jitter within ±spacing/4
+    ids = np.floor(z_pred / cell) @ np.array([1, side_n])
+    assert len(set(ids.tolist())) == M and np.all((z_pred > 0) & (z_pred < side))
+    assert np.all((scale > sigma * np.exp(-4 * 0.3)) & (scale < sigma * np.exp(4 * 0.3)))
+    clutter = sp.context.Z[sp.truth < 0]
+    assert len(clutter) == m - M and np.all((clutter >= 0) & (clutter <= side))
+    # a detected object's return is N(ẑ_j, (σ s_j)² I): the truth is the heaviest child here
+    det = np.flatnonzero(sp.truth >= 0)
+    r = (sp.context.Z[det] - z_pred[sp.truth[det]]) / scale[sp.truth[det], None]
+    assert np.all(np.abs(r) < 5)
+    assert sp.context.p_detect_birth == 0.95 and sp.context.clutter_rate == 1.0
+    np.testing.assert_array_equal(sp.context.p_detect, np.full(M, 0.95))
+
+
+def test_object_scales_spread_as_log_normal_and_sigma_spread_zero_is_uniform():
+    sp = synthetic_problem(64, 70, seed=2, sigma=1.5, spacing=8.0, sigma_spread=0.0)
+    _, scale = _recover_objects(sp)
+    np.testing.assert_allclose(scale, 1.5, rtol=1e-6)
+    logs = np.concatenate([np.log(_recover_objects(synthetic_problem(64, 70, seed=s, sigma=1.5))[1] / 1.5)
+                           for s in range(3)])
+    assert abs(logs.mean()) < 0.05 and logs.std() == pytest.approx(0.25, abs=0.03)  # default sigma_spread
+
+
+def test_returns_scatter_with_the_objects_scale():
+    r2 = []
+    for s in range(6):
+        sp = synthetic_problem(36, 36, seed=s, sigma=0.7)
+        z_pred, scale = _recover_objects(sp)
+        t = sp.truth
+        r2.append(np.sum(((sp.context.Z - z_pred[t]) / scale[t, None]) ** 2, axis=1))
+    r2 = np.concatenate(r2)
+    assert r2.mean() == pytest.approx(2.0, abs=0.25)  # χ² with 2 degrees of freedom
+
+
+def _fingerprint(sp):
+    c = sp.context
+    return (sp.problem.score.tobytes(), sp.problem.count_term.tobytes(), sp.problem.constant, sp.truth.tobytes(),
+            c.clutter_rate, c.clutter_volume, c.p_detect_birth, c.p_detect.tobytes())
+
+
+def test_problem_defaults_are_the_documented_values():
+    x = synthetic_problem(6, 5, seed=4)
+    y = synthetic_problem(6, 5, seed=4, p_D=0.95, clutter_rate=1.0, spacing=8.0, sigma=1.0, sigma_spread=0.25)
+    assert _fingerprint(x) == _fingerprint(y)
+    for change in (dict(p_D=0.8), dict(clutter_rate=3.0), dict(spacing=5.0), dict(sigma=2.0), dict(sigma_spread=0.1)):
+        assert _fingerprint(synthetic_problem(6, 5, seed=4, **change)) != _fingerprint(x), change
+    for diff, spacing in DIFFICULTY_SPACING.items():
+        M = 30
+        x = synthetic_problem(M, difficulty=diff, seed=9)
+        y = synthetic_problem(M, difficulty=diff, seed=9, p_D=0.9, clutter_rate=(1 - 0.9) * M, spacing=spacing,
+                              sigma=1.0, sigma_spread=0.25)
+        assert _fingerprint(x) == _fingerprint(y)
+        assert x.context.clutter_rate == pytest.approx(3.0) and x.context.p_detect_birth == 0.9
+        assert x.context.clutter_volume == pytest.approx((6 * spacing) ** 2)
+        for change in (dict(p_D=0.7), dict(clutter_rate=1.5), dict(spacing=spacing * 2), dict(sigma=3.0),
+                       dict(sigma_spread=0.5)):
+            assert _fingerprint(synthetic_problem(M, difficulty=diff, seed=9, **change)) != _fingerprint(x), change
+    small = synthetic_problem(4, difficulty="2sigma", seed=1)
+    assert small.context.clutter_rate == 1.0  # max(1, 0.1 × 4)
+    fisst = synthetic_problem(4, 4, seed=1, weights="fisst_poisson")
+    assert np.all(fisst.problem.option_scores == 0.0)  # the FISST weight model, not H-FISST's 1/V
+    one = synthetic_problem(1, 1, seed=0)
+    assert one.context.clutter_volume == pytest.approx(64.0)
+    none = synthetic_problem(0, 2, seed=0, sigma=2.0)
+    assert none.context.clutter_volume == pytest.approx(256.0) and none.context.loglik.shape == (2, 0)
+
+
+@pytest.mark.parametrize("difficulty", ["paper", "4sigma"])
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(seed=-1), r"seed must be an integer in \[0, inf\], got -1"),
+    (dict(n_objects=-2), r"n_objects must be an integer in \[0, inf\], got -2"),
+    (dict(p_D=0.0), r"p_D must lie in \(0, 1\), got 0.0"),
+    (dict(p_D=1.0), r"p_D must lie in \(0, 1\), got 1.0"),
+    (dict(clutter_rate=0.0), r"clutter_rate must be a finite number > 0, got 0.0"),
+    (dict(sigma=-1.0), r"sigma must be a finite number > 0, got -1.0"),
+    (dict(spacing=0.0), r"spacing must be a finite number > 0, got 0.0"),
+])
+def test_synthetic_problem_names_the_bad_parameter_and_its_range(difficulty, kwargs, match):
+    args = dict(n_objects=3, seed=0, difficulty=difficulty, **({"n_returns": 3} if difficulty == "paper" else {}))
+    with pytest.raises(ValueError, match=match):
+        synthetic_problem(**{**args, **kwargs})
+
+
+def test_synthetic_problem_whole_messages():
+    with pytest.raises(ValueError, match=r"^give exactly one of rng \(a numpy Generator\) and seed \(an int\)$"):
+        synthetic_problem(3, 3, np.random.default_rng(0), seed=0)
+    with pytest.raises(ValueError, match=r"^n_returns \(m >= 0\) is required for the paper difficulty$"):
+        synthetic_problem(3, seed=0)
+    with pytest.raises(ValueError, match=r"^n_returns must be None for difficulty '2sigma' \(m is drawn\), got 3$"):
+        synthetic_problem(3, 3, seed=0, difficulty="2sigma")
+    with pytest.raises(ValueError, match=r"n_returns must be an integer in \[0, inf\], got -1"):
+        synthetic_problem(3, -1, seed=0)
+    with pytest.raises(ValueError, match=r"^difficulty must be one of \('paper', '1sigma', '2sigma', '4sigma', "
+                                         r"'8sigma'\), got 'hard'$"):
+        synthetic_problem(3, seed=0, difficulty="hard")

@@ -3,9 +3,11 @@ association problems, posterior summaries, presets and synthetic problems."""
 
 import numpy as np
 import pytest
+from scipy import stats
 
 from hypotrack.hypotheses import (
     AssociationProblem,
+    BinomialPopulation,
     ChildSet,
     ExhaustiveGenerator,
     GibbsGenerator,
@@ -267,7 +269,13 @@ def test_presets_wire_their_weight_model_generator_and_options():
     assert glmb(motion, _SENSOR, population=lmb).generator == GibbsGenerator(n_sweeps=1000)
     gm = glmb_murty(motion, _SENSOR, population=lmb, k=6)
     assert gm.weights == GLMBWeights() and gm.generator == MurtyGenerator(k=6)
-    assert glmb_murty(motion, _SENSOR, population=lmb, max_hypotheses=8).generator == MurtyGenerator(k=8)
+    gm8 = glmb_murty(motion, _SENSOR, population=lmb, max_hypotheses=8, seed=1)
+    assert gm8.generator == MurtyGenerator(k=8) and gm8.max_hypotheses == 8
+    assert glmb(motion, _SENSOR, population=lmb, max_hypotheses=8).max_hypotheses == 8
+    survival = BinomialPopulation([], p_survive=0.9)
+    for preset in (hfisst, rfisst, homht, homht_kbest):
+        assert preset(motion, _SENSOR, population=survival).population is survival
+        assert preset(motion, _SENSOR, max_hypotheses=6).max_hypotheses == 6
     assert glmb_murty(motion, _SENSOR, population=lmb).generator == MurtyGenerator(k=100)
     for preset in (glmb, glmb_murty):
         with pytest.raises(ValueError, match="population must be a LabeledMultiBernoulliPopulation for the GLMB "
@@ -393,3 +401,17 @@ def test_synthetic_problem_whole_messages():
     with pytest.raises(ValueError, match=r"^difficulty must be one of \('paper', '1sigma', '2sigma', '4sigma', "
                                          r"'8sigma'\), got 'hard'$"):
         synthetic_problem(3, seed=0, difficulty="hard")
+
+
+def test_clutter_is_uniform_over_the_square_and_types_are_exact():
+    sp = synthetic_problem(1, 301, seed=5, spacing=8.0, sigma=1.0)  # one object, 300 clutter returns
+    clutter = sp.context.Z[sp.truth < 0]
+    assert clutter.shape == (300, 2)
+    for axis in range(2):  # uniform on [0, side = 8]
+        assert stats.kstest(clutter[:, axis], stats.uniform(0.0, 8.0).cdf).pvalue > 1e-3
+    assert sp.truth.dtype == np.int64 and sp.context.allowed.dtype == bool
+    assert sp.context.allowed.shape == (301, 1) and sp.context.allowed.all()
+    amb = synthetic_problem(40, difficulty="8sigma", seed=5, clutter_rate=30.0)
+    clutter = amb.context.Z[amb.truth < 0]
+    assert stats.poisson(30.0).ppf(1e-4) <= len(clutter) <= stats.poisson(30.0).ppf(1 - 1e-4)
+    assert stats.kstest(clutter[:, 0] / (7 * 8.0), "uniform").pvalue > 1e-3

@@ -13,6 +13,7 @@ import pytest
 from scipy.stats import chi2, multivariate_normal
 
 from hypotrack.hypotheses import (
+    AssociationProblem,
     ChildSet,
     ExhaustiveGenerator,
     GaussianBirthTerm,
@@ -270,3 +271,20 @@ def test_gaussian_birth_term_likelihood_first_update_and_checks():
 def test_population_refuses_probabilities_out_of_range(kwargs, match):
     with pytest.raises(ValueError, match=match):
         LabeledMultiBernoulliPopulation(**{"birth_densities": [BIRTH, BIRTH], "r_birth": 0.1, **kwargs})
+
+
+def test_gibbs_search_and_generator_return_int32_events_also_without_rows():
+    empty = AssociationProblem(np.zeros((0, 3)), np.zeros((0, 2)), 3, np.zeros((4, 1)), constant=-2.5)
+    events, lw = gibbs_search(empty, 5, seed=0)
+    assert events.shape == (1, 0) and events.dtype == np.int32
+    np.testing.assert_array_equal(lw, [-2.5])
+    pop = _population(0.7, 0.3)
+    f = _filter(pop, n=2)
+    ctx = f._context(f.store.predict(MOTION, 1.0), Z)
+    log_r, log_not = pop.log_existence(2)
+    problem = GLMBWeights().labeled_problem(ctx, [0, 1], log_r, log_not)
+    events, lw = GibbsGenerator(n_sweeps=200).generate(problem, np.random.default_rng(1), keep=4)
+    assert events.dtype == np.int32 and events.shape == (4, 3)
+    full_ev, full_lw = GibbsGenerator(n_sweeps=200).generate(problem, np.random.default_rng(1))
+    np.testing.assert_array_equal(lw, np.sort(full_lw)[::-1][:4])
+    np.testing.assert_array_equal(lw, problem.log_weights(events))

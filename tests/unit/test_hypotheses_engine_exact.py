@@ -17,13 +17,17 @@ import pytest
 from scipy.special import logsumexp
 from scipy.stats import multivariate_normal
 
+from hypotrack.association import EnumerationBudgetError
 from hypotrack.hypotheses import (
+    AssociationProblem,
     BinomialPopulation,
     ChildSet,
     ExhaustiveGenerator,
     FISSTPoissonWeights,
     HFISSTWeights,
     HypothesisFilter,
+    MCMCGenerator,
+    MurtyGenerator,
     SingleEventPopulation,
 )
 from hypotrack.hypotheses.generators import top_k
@@ -183,3 +187,133 @@ def test_top_k_is_the_k_largest_best_first_with_stable_ties():
     np.testing.assert_array_equal(top_k(lw, 6), [5, 1, 3, 0, 4, 2])
     np.testing.assert_array_equal(top_k(lw, 1), [5])
     np.testing.assert_array_equal(top_k(lw, 5), [5, 1, 3, 0, 4])
+
+
+# ---------------------------------------------------------------- child generators on brute force
+def brute_force(problem):
+    """{event: constant + Σ_i score[i, a_i] + φ[k, b]} over every feasible event."""
+    C, T, m, n = problem.n_exclusive, problem.n_options, problem.n_returns, problem.n_objects
+    out = {}
+    for a in itertools.product([*range(C), *(-1 - t for t in range(T))], repeat=m):
+        excl = [x for x in a if x >= 0]
+        if len(set(excl)) != len(excl):
+            continue
+        k = sum(x < n for x in excl)
+        w = problem.constant + problem.count_term[k, len(excl) - k]
+        w += sum(problem.target_scores[i, x] if x >= 0 else problem.option_scores[i, -1 - x] for i, x in enumerate(a))
+        if np.isfinite(w):
+            out[a] = w
+    return out
+
+
+def _random_problem(seed, m=4, n_obj=3, n_birth=1, n_opt=1, constant_phi=False, gated=0.25):
+    rng = np.random.default_rng(seed)
+    target = rng.normal(scale=2.0, size=(m, n_obj + n_birth))
+    target[rng.random(target.shape) < gated] = -np.inf
+    options = rng.normal(size=(m, n_opt))
+    phi = np.full((n_obj + 1, n_birth + 1), -0.3) if constant_phi else rng.normal(size=(n_obj + 1, n_birth + 1))
+    return AssociationProblem(target, options, n_obj, phi, constant=float(rng.normal()))
+
+
+def _as_dict(ev, lw):
+    return {tuple(int(x) for x in e): w for e, w in zip(ev, lw)}
+
+
+def _assert_top(ev, lw, oracle, k):
+    best = sorted(oracle.values(), reverse=True)[:k]
+    assert ev.dtype == np.int32 and ev.shape == (len(best), next(iter(oracle)).__len__())
+    np.testing.assert_allclose(lw, best, atol=1e-10)  # best first, exactly the top k
+    for e, w in _as_dict(ev, lw).items():
+        assert w == pytest.approx(oracle[e], abs=1e-10)
+
+
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("n_opt", [1, 2])
+def test_exhaustive_generator_streams_the_exact_top_k(seed, n_opt):
+    problem = _random_problem(seed, n_opt=n_opt)
+    oracle = brute_force(problem)
+    ev, lw = ExhaustiveGenerator().generate(problem)
+    assert _as_dict(ev, lw).keys() == oracle.keys() and ev.dtype == np.int32
+    for keep in (1, 5, 17):
+        ev, lw = ExhaustiveGenerator(chunk_size=7).generate(problem, keep=keep)
+        _assert_top(ev, lw, oracle, keep)
+    ev, lw = ExhaustiveGenerator(chunk_size=7).generate(problem, keep=10**6)
+    assert _as_dict(ev, lw).keys() == oracle.keys()
+
+
+def test_exhaustive_generator_budget_and_empty_scan():
+    problem = _random_problem(0, m=4, n_obj=3, n_birth=1, gated=0.0)
+    n = len(brute_force(problem))
+    assert ExhaustiveGenerator(max_events=n).generate(problem)[0].shape == (n, 4)
+    assert ExhaustiveGenerator(max_events=n).generate(problem, keep=3)[0].shape == (3, 4)
+    for keep in (None, 3):
+        with pytest.raises(EnumerationBudgetError, match=str(n - 1)):
+            ExhaustiveGenerator(max_events=n - 1).generate(problem, keep=keep)
+    empty = AssociationProblem(np.zeros((0, 2)), np.zeros((0, 1)), 2, np.full((3, 1), -0.5), constant=1.5)
+    for gen in (ExhaustiveGenerator(), MurtyGenerator(k=3), MCMCGenerator(n_steps=10)):
+        ev, lw = gen.generate(empty, np.random.default_rng(0), keep=2)
+        assert ev.shape == (1, 0) and ev.dtype == np.int32
+        np.testing.assert_array_equal(lw, [1.0])  # constant + φ[0, 0]
+    for bad in (dict(max_events=0), dict(chunk_size=0)):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            ExhaustiveGenerator(**bad)
+
+
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("n_opt, constant_phi", [(1, True), (1, False), (2, True), (2, False)])
+def test_murty_generator_returns_the_exact_top_k(seed, n_opt, constant_phi):
+    problem = _random_problem(seed + 10, n_opt=n_opt, constant_phi=constant_phi)
+    oracle = brute_force(problem)
+    for k, keep in ((1, None), (6, None), (9, 4), (4, 9)):
+        ev, lw = MurtyGenerator(k=k).generate(problem, keep=keep)
+        _assert_top(np.asarray(ev, dtype=np.int32), lw, oracle, min(k, keep or k))
+    ev, lw = MurtyGenerator(k=10**4).generate(problem)  # more than exist: every event
+    assert _as_dict(ev, lw).keys() == oracle.keys()
+
+
+def test_murty_generator_budget_returns_the_best_found():
+    problem = _random_problem(3, n_opt=2, constant_phi=False)
+    oracle = brute_force(problem)
+    ev, lw = MurtyGenerator(k=5, max_solutions=5).generate(problem)
+    assert len(lw) <= 5 and np.all(np.diff(lw) <= 0)
+    for e, w in _as_dict(ev, lw).items():
+        assert w == pytest.approx(oracle[e], abs=1e-10)
+    for bad in (dict(k=0), dict(max_solutions=0)):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            MurtyGenerator(**bad)
+
+
+@pytest.mark.parametrize("init", ["random", "clutter", "best"])
+def test_mcmc_generator_finds_every_child_with_exact_weights(init):
+    problem = _random_problem(5, m=3, n_obj=2, n_birth=1, n_opt=2)
+    oracle = brute_force(problem)
+    gen = MCMCGenerator(n_steps=4000, init=init, completion_rounds=0)
+    ev, lw = gen.generate(problem, np.random.default_rng(2))
+    got = _as_dict(ev, lw)
+    total = logsumexp(list(oracle.values()))
+    heavy = {e for e, w in oracle.items() if w >= total + np.log(1e-2)}
+    assert heavy <= got.keys() <= oracle.keys() and len(heavy) >= 15  # the chain alone finds the heavy ones
+    completed = MCMCGenerator(n_steps=4000, init=init).generate(problem, np.random.default_rng(2))
+    assert _as_dict(*completed).keys() == oracle.keys()  # the neighbour completion finds the rest
+    for e, w in got.items():
+        assert w == pytest.approx(oracle[e], abs=1e-10)
+    ev, lw = gen.generate(problem, np.random.default_rng(2), keep=3)
+    _assert_top(np.asarray(ev, np.int32), lw, {e: oracle[e] for e in got}, 3)
+    ev2, lw2 = gen.generate(problem, np.random.default_rng(2), keep=3)
+    np.testing.assert_array_equal(ev2, ev)
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(n_steps=0), r"n_steps must be an integer in \[1, inf\], got 0"),
+    (dict(n_steps=10, burn_in=11), r"burn_in must be an integer in \[0, 10\], got 11"),
+    (dict(burn_in=-1), r"burn_in must be an integer in \[0, 100000\], got -1"),
+    (dict(variant="metropolis"), r"variant must be one of \('paper', 'symmetric', 'gibbs'\), got 'metropolis'"),
+    (dict(temperature=0.0), r"temperature must be a finite number > 0, got 0.0"),
+    (dict(completion_rounds=-1), r"completion_rounds must be an integer in \[0, inf\], got -1"),
+    (dict(completion_threshold=1.0), r"completion_threshold must lie in \(0, 1\), got 1.0"),
+    (dict(completion_threshold=0.0), r"completion_threshold must lie in \(0, 1\), got 0.0"),
+    (dict(init="greedy"), r"init must be 'random', 'clutter' or 'best', got 'greedy'"),
+])
+def test_mcmc_generator_options_are_checked(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        MCMCGenerator(**kwargs)

@@ -317,3 +317,53 @@ def test_mcmc_generator_finds_every_child_with_exact_weights(init):
 def test_mcmc_generator_options_are_checked(kwargs, match):
     with pytest.raises(ValueError, match=match):
         MCMCGenerator(**kwargs)
+
+
+# ---------------------------------------------------------------- the step's new hypotheses
+def _kalman(x, P, z):
+    S = H @ P @ H.T + R
+    K = P @ H.T @ np.linalg.inv(S)
+    A = np.eye(4) - K @ H
+    return x + K @ (z - H @ x), A @ P @ A.T + K @ R @ K.T
+
+
+@pytest.mark.parametrize("case", [CASES[0], CASES[2]], ids=["single", "binomial"])
+def test_kept_hypotheses_hold_the_updated_surviving_and_newborn_tracks(case):
+    f = _filter(**case)
+    f.step(Z)
+    kept, store, F, Q = f.last_kept, f.store, MOTION.F(1.0), MOTION.Q(1.0)
+    pred = [(F @ X0[j], F @ P0[j] @ F.T + Q) for j in range(3)]
+    births, pop = _births(), f.population
+    label_of, pairs = {}, set()
+    for c, tracks in enumerate(f.track_lists):
+        ev, kind, arg = kept.events[c], int(kept.kind[c]), int(kept.arg[c])
+        dead = [arg] if kind == ChildSet.DEATH else []
+        want = []
+        for j in range(3):
+            if j in dead:
+                continue
+            hit = np.flatnonzero(ev == j)
+            want.append(((j, int(hit[0])) if len(hit) else (j, -1),
+                         _kalman(*pred[j], Z[hit[0]]) if len(hit) else pred[j]))
+            if len(hit):
+                pairs.add((j, int(hit[0])))
+        for i in np.flatnonzero(ev >= 3):
+            want.append((("born", int(ev[i]) - 3, int(i)), births[ev[i] - 3].initial_state(Z[i], R)))
+        if kind == ChildSet.UNDETECTED_BIRTH:
+            want.append((("born", arg, -1), pop.birth_track(arg, None, R)))
+        assert len(tracks) == len(want)
+        for t, (key, (mean, cov)) in zip(tracks, want):
+            np.testing.assert_allclose(store.means[t], mean, atol=1e-10)
+            np.testing.assert_allclose(store.covs[t], cov, atol=1e-10)
+            if key[0] != "born":
+                assert store.labels[t] == key[0]  # an object keeps its label through updates
+            else:
+                assert store.labels[t] >= 3 and label_of.setdefault(key, store.labels[t]) == store.labels[t]
+        assert f.hypotheses[c].tracks == tuple(int(t) for t in tracks)
+        assert f.hypotheses[c].log_weight == pytest.approx(f.log_weights[c])
+        assert f.lineage_keys[c] == ((), kind, arg, ev.tobytes())
+    assert len(set(label_of.values())) == len(label_of)  # one fresh label per newborn track
+    assert f.last_stats["n_kalman_updates"] == len(pairs)
+    assert f.scan_index == 1 and f._next_label == 3 + len(label_of)
+    np.testing.assert_allclose(f.estimates(), store.means[f.track_lists[int(np.argmax(f.log_weights))]])
+    assert len(f.posterior(n_top=2).top) == 2 and len(f.posterior().top) == min(10, len(kept))

@@ -320,6 +320,16 @@ def test_paper_problem_objects_lie_on_a_jittered_grid_and_clutter_fills_the_squa
     np.testing.assert_array_equal(sp.context.p_detect, np.full(M, 0.95))
 
 
+def test_grid_jitter_is_uniform_over_a_quarter_cell_each_way():
+    offsets = []
+    for s in range(3):
+        z_pred, _ = _recover_objects(synthetic_problem(49, 52, seed=s, sigma=1.5, spacing=6.0))
+        cell = 6.0 * 1.5
+        offsets.append((z_pred - (np.floor(z_pred / cell) + 0.5) * cell) / cell)
+    offsets = np.concatenate(offsets).ravel()
+    assert stats.kstest(offsets, stats.uniform(-0.25, 0.5).cdf).pvalue > 1e-3
+
+
 def test_object_scales_spread_as_log_normal_and_sigma_spread_zero_is_uniform():
     sp = synthetic_problem(64, 70, seed=2, sigma=1.5, spacing=8.0, sigma_spread=0.0)
     _, scale = _recover_objects(sp)

@@ -160,7 +160,8 @@ def test_labeled_problem_rows_are_the_objects():
         GLMBWeights().labeled_problem(ctx, [1, 0], log_r[:2], log_not)
     with pytest.raises(ValueError, match=r"must have shape \(3,\), got \(3,\) and \(4,\)"):
         GLMBWeights().labeled_problem(ctx, [1, 0], log_r, np.zeros(4))
-    with pytest.raises(ValueError, match="GLMB weights index children by object"):
+    with pytest.raises(ValueError, match=r"^GLMB weights index children by object: use a "
+                                         r"LabeledMultiBernoulliPopulation, whose children\(\) calls labeled_problem$"):
         GLMBWeights().problem(ctx, [0, 1])
     with pytest.raises(ValueError, match="clutter_intensity"):
         GLMBWeights(clutter_intensity=0.0)

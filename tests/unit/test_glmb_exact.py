@@ -175,6 +175,13 @@ def test_murty_k_best_children_are_the_exact_top_k():
     f = _filter(pop, generator=MurtyGenerator(k=7))
     got = np.sort(f.expand(Z).log_weights)[::-1]
     np.testing.assert_allclose(got, want[:7], atol=1e-10)
+    # capped step: the generator is asked for the best H∞ only, and the stats count just those
+    f = _filter(pop, generator=MurtyGenerator(k=50))
+    f.max_hypotheses = 3
+    f.step(Z)
+    np.testing.assert_allclose(np.sort(f.last_kept.log_weights)[::-1], want[:3], atol=1e-10)
+    assert f.last_stats["n_association_children"] == 3
+    assert f.last_stats["log_mass_generated"] == pytest.approx(np.logaddexp.reduce(want[:3]), abs=1e-10)
 
 
 def test_gibbs_finds_every_child_above_1e3_of_the_mass_with_exact_weights():
@@ -289,3 +296,41 @@ def test_gibbs_search_and_generator_return_int32_events_also_without_rows():
     full_ev, full_lw = GibbsGenerator(n_sweeps=200).generate(problem, np.random.default_rng(1))
     np.testing.assert_array_equal(lw, np.sort(full_lw)[::-1][:4])
     np.testing.assert_array_equal(lw, problem.log_weights(events))
+
+
+def test_to_events_takes_integer_coded_floats_and_uses_int64_masks_up_to_62_objects():
+    events, masks = LabeledMultiBernoulliPopulation.to_events(np.array([[-2.0, -1.0, 0.0]]), 2, 1)
+    np.testing.assert_array_equal(events, [[2]])
+    assert masks.tolist() == [1]
+    gammas = np.full((1, MAX_OBJECTS), MISSED)
+    gammas[0, MAX_OBJECTS - 1] = DIED
+    _, masks = LabeledMultiBernoulliPopulation.to_events(gammas, MAX_OBJECTS, 0)
+    assert masks.dtype == np.int64 and masks[0] == 1 << (MAX_OBJECTS - 1)
+    _, masks = LabeledMultiBernoulliPopulation.to_events(np.full((1, MAX_OBJECTS + 1), DIED), MAX_OBJECTS + 1, 0)
+    assert masks.dtype == object and masks[0] == (1 << (MAX_OBJECTS + 1)) - 1
+
+
+def test_gaussian_birth_term_stores_validated_float_arrays():
+    cov = [[4.0, 1e-12], [0.0, 2.0]]  # asymmetric by 1e-12: symmetrised
+    term = GaussianBirthTerm([1, 2], cov, [[1, 0]], [[0.5]])
+    for name, shape in (("mean", (2,)), ("cov", (2, 2)), ("H", (1, 2)), ("R", (1, 1))):
+        value = getattr(term, name)
+        assert isinstance(value, np.ndarray) and value.dtype == float and value.shape == shape, name
+    assert term.cov[0, 1] == term.cov[1, 0] == 5e-13
+    np.testing.assert_array_equal(term.mean, [1.0, 2.0])
+    np.testing.assert_array_equal(term.H, [[1.0, 0.0]])
+    np.testing.assert_array_equal(term.R, [[0.5]])
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    (dict(mean=np.zeros((2, 2))), r"^mean must be a 1-D array, got shape \(2, 2\)$"),
+    (dict(mean=[0.0, np.nan]), r"^mean must be finite"),
+    (dict(cov=np.eye(3)), r"^cov must be 2x2, got shape \(3, 3\)$"),
+    (dict(H=[1.0, 0.0]), r"^H must be a 2-D array, got shape \(2,\)$"),
+    (dict(H=[[np.inf, 0.0]]), r"^H must be finite"),
+    (dict(R=[[-1.0]]), r"^R must be positive definite"),
+])
+def test_gaussian_birth_term_names_the_bad_argument(kwargs, match):
+    args = dict(mean=[0.0, 0.0], cov=np.eye(2), H=[[1.0, 0.0]], R=[[0.5]])
+    with pytest.raises(ValueError, match=match):
+        GaussianBirthTerm(**{**args, **kwargs})

@@ -334,3 +334,19 @@ def test_gaussian_birth_term_names_the_bad_argument(kwargs, match):
     args = dict(mean=[0.0, 0.0], cov=np.eye(2), H=[[1.0, 0.0]], R=[[0.5]])
     with pytest.raises(ValueError, match=match):
         GaussianBirthTerm(**{**args, **kwargs})
+
+
+def test_gibbs_buffers_grow_when_every_sweep_is_a_new_sample():
+    """12 objects with flat conditionals: every sweep visits a new map, so the visited set fills
+    its first buffer (4096) one sweep before the end and must grow to take the last sample."""
+    rng = np.random.default_rng(0)
+    P, m = 12, 12
+    problem = AssociationProblem(rng.normal(scale=0.1, size=(P, m)), np.zeros((P, 2)), m, np.zeros((m + 1, 1)))
+    events, lw = gibbs_search(problem, 4096, seed=3)
+    assert len(events) == 4097 and len({e.tobytes() for e in events}) == 4097
+    np.testing.assert_array_equal(lw, problem.log_weights(events))
+    short, _ = gibbs_search(problem, 100, seed=3)
+    np.testing.assert_array_equal(short, events[:101])  # a longer run extends the same chain
+    assert GibbsGenerator(n_sweeps=0).n_sweeps == 0
+    with pytest.raises(ValueError, match=r"^n_sweeps must be an integer in \[0, inf\], got -2$"):
+        GibbsGenerator(n_sweeps=-2)

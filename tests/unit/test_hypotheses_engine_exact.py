@@ -15,7 +15,7 @@ import math
 import numpy as np
 import pytest
 from scipy.special import logsumexp
-from scipy.stats import multivariate_normal
+from scipy.stats import chi2, multivariate_normal
 
 from hypotrack.association import EnumerationBudgetError
 from hypotrack.hypotheses import (
@@ -25,9 +25,11 @@ from hypotrack.hypotheses import (
     ExhaustiveGenerator,
     FISSTPoissonWeights,
     HFISSTWeights,
+    Hypothesis,
     HypothesisFilter,
     MCMCGenerator,
     MurtyGenerator,
+    ReidWeights,
     SingleEventPopulation,
 )
 from hypotrack.hypotheses.generators import top_k
@@ -367,3 +369,138 @@ def test_kept_hypotheses_hold_the_updated_surviving_and_newborn_tracks(case):
     assert f.scan_index == 1 and f._next_label == 3 + len(label_of)
     np.testing.assert_allclose(f.estimates(), store.means[f.track_lists[int(np.argmax(f.log_weights))]])
     assert len(f.posterior(n_top=2).top) == 2 and len(f.posterior().top) == min(10, len(kept))
+
+
+# ---------------------------------------------------------------- construction, state, messages
+def test_filter_construction_messages_name_the_argument():
+    s = _sensor(0.8)
+    with pytest.raises(TypeError, match=r"^weights must be a WeightModel, got str$"):
+        HypothesisFilter(MOTION, s, "hfisst", ExhaustiveGenerator())
+    with pytest.raises(TypeError, match=r"^generator must be a ChildGenerator, got str$"):
+        HypothesisFilter(MOTION, s, HFISSTWeights(), "exhaustive")
+    no_clutter = Sensor(LinearPositionSensor(R, 4), DetectionModel(0.8, REGION))
+    with pytest.raises(ValueError, match=r"^sensor.clutter must be a PoissonClutter: its region's area is the "
+                                         r"clutter volume V$"):
+        HypothesisFilter(MOTION, no_clutter, HFISSTWeights(), ExhaustiveGenerator())
+    for p_D in (1.0,):  # the sensor allows p_D = 1; the filter needs a possible miss
+        with pytest.raises(ValueError, match=r"^p_D must lie in \(0, 1\), got .*: hypothesis weights hold "
+                                             r"log\(1 - p_D\) for every missed object$"):
+            HypothesisFilter(MOTION, _sensor(p_D), HFISSTWeights(), ExhaustiveGenerator())
+    reid = ReidWeights(birth_intensity=1e-3, birth_density=_births()[0])
+    with pytest.raises(ValueError, match=r"^HOMHT's seeded births and population birth regions are two birth "
+                                         r"models; use one$"):
+        HypothesisFilter(MOTION, s, reid, ExhaustiveGenerator(), population=BinomialPopulation(_births(), alpha=0.1))
+    HypothesisFilter(MOTION, s, reid, ExhaustiveGenerator(), population=BinomialPopulation([], p_survive=0.9))
+    HypothesisFilter(MOTION, s, ReidWeights(), ExhaustiveGenerator(), population=BinomialPopulation(_births()))
+    with pytest.raises(ValueError, match=r"^cap must be 'top' or 'sample', got 'best'$"):
+        HypothesisFilter(MOTION, s, HFISSTWeights(), ExhaustiveGenerator(), cap="best")
+    for kw, match in ((dict(dt=0.0), r"^dt must be a finite number > 0, got 0.0$"),
+                      (dict(max_hypotheses=0), r"^max_hypotheses must be an integer in \[1, inf\], got 0$"),
+                      (dict(gate_probability=1.0), r"^gate_probability must lie in \(0, 1\), got 1.0$"),
+                      (dict(gate_probability=0.0), r"^gate_probability must lie in \(0, 1\), got 0.0$"),
+                      (dict(means=X0), r"^covs are required with means$"),
+                      (dict(means=X0[:, :3], covs=P0), r"^means must have shape \(n, 4\), got \(3, 3\)$")):
+        with pytest.raises(ValueError, match=match):
+            HypothesisFilter(MOTION, s, HFISSTWeights(), ExhaustiveGenerator(), **kw)
+    with pytest.raises(ValueError, match=r"^the motion model's states are 4-dimensional but the sensor \(H of "
+                                         r"shape \(2, 6\)\) expects 6-dimensional states$"):
+        HypothesisFilter(MOTION, Sensor(LinearPositionSensor(R, 6), DetectionModel(0.8, REGION),
+                                        PoissonClutter(1.0, REGION)), HFISSTWeights(), ExhaustiveGenerator())
+    f = HypothesisFilter(MOTION, s, HFISSTWeights(), ExhaustiveGenerator(), means=X0, covs=P0)
+    for bad, match in ((np.zeros((1, 3)), r"^Z must have shape \(m, 2\), got \(1, 3\)$"), ([[np.nan, 0.0]], "^Z must")):
+        with pytest.raises(ValueError, match=match):
+            f.step(bad)
+    with pytest.raises(ValueError, match=r"^dt must be a finite number > 0, got -1.0$"):
+        f.step(Z, dt=-1.0)
+    with pytest.raises(ValueError, match=r"^dt must be a finite number > 0, got 0.0$"):
+        f.expand(Z, dt=0.0)
+
+
+def test_filter_state_accessors_and_initialisation():
+    g = np.random.default_rng(5)
+    f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), seed=g, dt=0.5,
+                         max_hypotheses=7, gate_probability=0.95, means=X0[:2], covs=P0[:2], labels=[5, 2])
+    assert f.rng is g and f.dt == 0.5 and f.max_hypotheses == 7 and f.gate_probability == 0.95 and f.p_D == 0.8
+    assert f.scan_index == 0 and f.last_kept is None and f.lineage_keys == [()] and f.last_stats == {}
+    np.testing.assert_array_equal(f.store.labels, [5, 2])
+    assert f._next_label == 6
+    assert f.hypotheses == [Hypothesis(0.0, (0, 1))]
+    lw, lists, keys = f.log_weights, f.track_lists, f.lineage_keys
+    lw[0], lists[0][0] = 5.0, 9
+    keys.append("x")
+    assert f.log_weights[0] == 0.0 and f.track_lists[0][0] == 0 and f.lineage_keys == [()]  # copies
+    empty = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator())
+    assert len(empty.store) == 0 and empty.store.ndim == 4 and empty.hypotheses == [Hypothesis(0.0, ())]
+    assert empty._next_label == 0 and empty.posterior().expected_number == 0.0
+    np.testing.assert_array_equal(empty.store.labels, np.zeros(0))
+    assert empty.gate_probability is None
+    again = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), means=np.zeros((0, 4)))
+    assert len(again.store) == 0
+
+
+def test_expand_and_step_use_their_dt():
+    """A scan at dt = 3 predicts with F(3): the detection child's weight uses N(z; H F(3) x, S(3))."""
+    f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), means=X0[:1], covs=P0[:1],
+                         dt=2.0)
+    z = np.array([[3.2, 0.1]])
+    for dt in (None, 3.0):
+        t = 2.0 if dt is None else dt
+        F, Q = MOTION.F(t), MOTION.Q(t)
+        x, P = F @ X0[0], F @ P0[0] @ F.T + Q
+        want = np.log(0.8) + multivariate_normal(H @ x, H @ P @ H.T + R).logpdf(z[0]) - np.log(1)  # C(1,1) 1! = 1
+        ch = f.expand(z, dt=dt)
+        assert _by_key(ch)[(0, -1, (0,))] == pytest.approx(want, abs=1e-10)
+        g = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), means=X0[:1],
+                             covs=P0[:1], dt=2.0)
+        g.step(z, dt=dt)
+        np.testing.assert_allclose(g.store.means[g.track_lists[int(np.argmax(g.log_weights))]][0],
+                                   _kalman_t(x, P, z[0]), atol=1e-10)
+
+
+def _kalman_t(x, P, z):
+    return _kalman(x, P, z)[0]
+
+
+def test_gating_removes_exactly_the_pairs_outside_the_chi2_gate():
+    f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), means=X0[:2], covs=P0[:2],
+                         gate_probability=0.9)
+    F, Q = MOTION.F(1.0), MOTION.Q(1.0)
+    ok = np.zeros((3, 2), dtype=bool)
+    for j in range(2):
+        x, P = F @ X0[j], F @ P0[j] @ F.T + Q
+        S = H @ P @ H.T + R
+        d = Z - H @ x
+        ok[:, j] = np.einsum("ij,jk,ik->i", d, np.linalg.inv(S), d) <= chi2.ppf(0.9, 2)
+    assert ok.sum() == 2  # each object's own return only
+    got = _by_key(f.expand(Z))
+    for _, _, ev in got:
+        assert all(c < 0 or ok[i, c] for i, c in enumerate(ev))
+    assert len(got) == 4  # clutter or own return for each of the two objects
+
+
+def test_a_failed_step_raises_and_leaves_the_filter_as_before():
+    f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), MCMCGenerator(n_steps=50), means=X0[:2],
+                         covs=P0[:2], seed=4)
+    before = f.rng.bit_generator.state
+    with pytest.raises(ValueError, match="Z"):
+        f.step(np.zeros((2, 5)))
+    assert f.rng.bit_generator.state == before and f.scan_index == 0
+
+
+def test_sampled_cap_draws_without_replacement_in_proportion_to_weight():
+    case = CASES[0]
+    want = oracle(**case)
+    keys = list(want)
+    p = np.exp(np.array([want[k] for k in keys]) - logsumexp(list(want.values())))
+    counts = dict.fromkeys(keys, 0)
+    n = 150
+    for seed in range(n):
+        f = _filter(**case, max_hypotheses=1)
+        f.cap = "sample"
+        f.rng = np.random.default_rng(seed)
+        f.step(Z)
+        (key,) = _by_key(f.last_kept)
+        counts[key] += 1
+        assert f.log_weights[0] == 0.0
+    top = int(np.argmax(p))
+    assert counts[keys[top]] / n == pytest.approx(p[top], abs=4 * np.sqrt(p[top] * (1 - p[top]) / n))

@@ -7,6 +7,7 @@ out with scipy's Gaussian densities: ``log w = −λ + m log κ + Σ_i log η_i(
 """
 
 import itertools
+import warnings
 
 import numpy as np
 import pytest
@@ -23,6 +24,7 @@ from hypotrack.hypotheses import (
     HypothesisFilter,
     LabeledMultiBernoulliPopulation,
     MurtyGenerator,
+    ScanContext,
 )
 from hypotrack.hypotheses.gibbs import gibbs_search
 from hypotrack.hypotheses.population_lmb import DIED, MAX_OBJECTS, MISSED
@@ -350,3 +352,35 @@ def test_gibbs_buffers_grow_when_every_sweep_is_a_new_sample():
     assert GibbsGenerator(n_sweeps=0).n_sweeps == 0
     with pytest.raises(ValueError, match=r"^n_sweeps must be an integer in \[0, inf\], got -2$"):
         GibbsGenerator(n_sweeps=-2)
+
+
+def test_zero_survival_risk_and_out_of_view_objects_raise_no_warning():
+    """p_S = 1 (log(1 − p_S) = −inf) and an object out of view (log p_D = −inf) are exact
+    impossibilities, computed without a floating-point warning."""
+    pop = LabeledMultiBernoulliPopulation([BIRTH], r_birth=0.2, p_survive=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        log_r, log_not = pop.log_existence(2)
+        ch = _filter(pop).expand(Z)
+    assert log_not[0] == -np.inf and log_r[0] == 0.0
+    assert not any(int(a) & 0b111 for a in ch.arg)  # no track died
+
+
+def test_labeled_problem_of_a_parent_without_tracks_and_its_messages():
+    pop = _population(0.9, 0.2, births=2)
+    f = _filter(pop, n=0)
+    ctx = f._context(f.store.predict(MOTION, 1.0), Z)
+    log_r, log_not = pop.log_existence(0)
+    problem = GLMBWeights().labeled_problem(ctx, [], log_r, log_not)
+    assert problem.n_returns == 2 and problem.n_objects == 3  # rows: the two birth terms
+    np.testing.assert_allclose(problem.option_scores[:, 1], np.log([0.8, 0.8]), atol=1e-15)
+    dead = ScanContext(Z=Z, loglik=np.zeros((3, 0)), allowed=np.ones((3, 0), bool), p_detect=np.zeros(0),
+                       birth_loglik=np.zeros((3, 2)), p_detect_birth=0.9, clutter_rate=0.0, clutter_volume=4.0)
+    with pytest.raises(ValueError, match=r"^clutter intensity must be a finite number > 0, got 0.0$"):
+        GLMBWeights().labeled_problem(dead, [], log_r, log_not)
+    with pytest.raises(ValueError, match=r"^clutter_intensity must be a finite number > 0, got -1.0$"):
+        GLMBWeights(clutter_intensity=-1.0)
+    with pytest.raises(ValueError, match=r"^r_birth must lie in \(0, 1\), got "):
+        LabeledMultiBernoulliPopulation([BIRTH], r_birth=1.0)
+    with pytest.raises(ValueError, match=r"^p_survive must lie in \(0, 1\], got 0.0$"):
+        LabeledMultiBernoulliPopulation([BIRTH], r_birth=0.5, p_survive=0.0)

@@ -23,6 +23,13 @@ the engine modules)::
 
     python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
     python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
+    python workflows/mutation/run_mutation.py trackers --resume   # after adding tests: rerun the rest
+
+``--resume`` keeps the module's scratch directory, copies the current source and tests into it
+and reruns only the mutants not yet detected (survivors, "no tests", not run, and every mutant
+of a function whose source changed). A detected mutant stays detected when tests are only
+added, so its verdict is kept from the earlier run (mutmut itself clears all verdicts when the
+list of test files changes; they are restored for functions whose source hash is unchanged).
 
 Modules already in ``mutation.csv`` and not named on the command line keep their rows.
 """
@@ -69,7 +76,9 @@ MODULES = {
     "trackers": (["src/hypotrack/trackers/*"],
                  ["tests/unit/test_gnn.py", "tests/unit/test_jpda.py", "tests/unit/test_initiation.py",
                   "tests/unit/test_ecmht.py", "tests/unit/test_ecmht_mospa.py", "tests/unit/test_cardinality.py",
-                  "tests/unit/test_transactional_steps.py", CATALOGUE]),
+                  "tests/unit/test_cardinality_oracles.py", "tests/unit/test_sht_tracker_values.py", "tests/unit/test_jpda_values.py",
+                  "tests/unit/test_ecmht_values.py",
+                  "tests/unit/test_transactional_steps.py", "tests/crosscheck/test_stonesoup_sht.py", CATALOGUE]),
 }
 
 # mutmut 3 exit codes (mutmut.stats.status_by_exit_code)
@@ -85,10 +94,16 @@ def _toml_list(values) -> str:
 
 def prepare(module: str, only=None) -> Path:
     """Scratch project: the package source, the module's tests and a pyproject for mutmut."""
-    only, tests = only or MODULES[module][0], MODULES[module][1]
     work = WORK / module
     if work.exists():
         shutil.rmtree(work)
+    prepare_files(module, only or MODULES[module][0], work)
+    return work
+
+
+def prepare_files(module: str, only, work: Path) -> int:
+    """Copy the source and the module's tests into ``work`` and write its pyproject; the number of test files."""
+    tests = MODULES[module][1]
     shutil.copytree(ROOT / "src", work / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
     for t in tests:
         (work / t).parent.mkdir(parents=True, exist_ok=True)
@@ -100,21 +115,73 @@ def prepare(module: str, only=None) -> Path:
     for k, v in opts.items():
         lines.append(f"{k} = {_toml_list(v) if isinstance(v, list) else json.dumps(v)}")
     (work / "pyproject.toml").write_text("\n".join(lines) + "\n")
-    return work
+    return len(tests)
+
+
+def _mutmut(work: Path, max_children: int, names=(), mode: str = "w") -> None:
+    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # import the mutated copy only
+    env.setdefault("NUMBA_CACHE_DIR", str(work / ".numba_cache"))
+    with open(work / "mutmut.log", mode) as log:
+        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children), *names],
+                              cwd=work, env=env, stdout=log, stderr=subprocess.STDOUT)
+    if proc.returncode != 0:
+        raise SystemExit(f"[mutation] {work.name}: mutmut exited {proc.returncode}; see {work / 'mutmut.log'}")
 
 
 def run(module: str, max_children: int, only=None) -> float:
     work = prepare(module, only)
-    env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # import the mutated copy only
-    env.setdefault("NUMBA_CACHE_DIR", str(work / ".numba_cache"))
     t0 = time.perf_counter()
-    with open(work / "mutmut.log", "w") as log:
-        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children)],
-                              cwd=work, env=env, stdout=log, stderr=subprocess.STDOUT)
-    seconds = time.perf_counter() - t0
-    if proc.returncode != 0:
-        raise SystemExit(f"[mutation] {module}: mutmut exited {proc.returncode}; see {work / 'mutmut.log'}")
-    return seconds
+    _mutmut(work, max_children)
+    return time.perf_counter() - t0
+
+
+def _metas(work: Path) -> dict:
+    """Per mutated file: (module prefix of its mutant names, mutmut's meta data)."""
+    out = {}
+    for meta in (work / "mutants").rglob("*.py.meta"):
+        rel = meta.relative_to(work / "mutants" / "src").with_suffix("").with_suffix("")
+        out[meta] = (".".join(rel.parts) + ".", json.loads(meta.read_text()))
+    return out
+
+
+def _function(prefix: str, key: str) -> str:
+    return re.sub(r"__mutmut_\d+$", "", key[len(prefix):])
+
+
+def resume(module: str, max_children: int, only=None) -> float:
+    """Rerun the mutants an earlier run of ``module`` did not detect, with the current tests."""
+    work = WORK / module
+    if not (work / "mutants").exists():
+        raise SystemExit(f"[mutation] {module}: nothing to resume under {work}; run it first")
+    old = _metas(work)
+    detected = KILLED | TIMEOUT
+    pending = [k for _, data in old.values() for k, c in data["exit_code_by_key"].items() if c not in detected]
+    kept = {prefix + fn: h for prefix, data in old.values() for fn, h in data["hash_by_function_name"].items()}
+    old_codes = {k: c for _, data in old.values() for k, c in data["exit_code_by_key"].items()}
+    only = only or _scope(module)
+    # Refresh the scratch project in place (mutmut regenerates the mutants of changed files).
+    shutil.rmtree(work / "src")
+    staged = prepare_files(module, only, work)
+    t0 = time.perf_counter()
+    if pending:
+        _mutmut(work, max_children, pending)
+    # Restore the detected verdicts of unchanged functions that mutmut cleared.
+    for meta, (prefix, data) in _metas(work).items():
+        codes, hashes = data["exit_code_by_key"], data["hash_by_function_name"]
+        changed = False
+        for k, c in codes.items():
+            fn = _function(prefix, k)
+            if c is None and old_codes.get(k) in detected and kept.get(prefix + fn) == hashes.get(fn):
+                codes[k] = old_codes[k]
+                changed = True
+        if changed:
+            meta.write_text(json.dumps(data, indent=4))
+    rest = [k for _, data in _metas(work).values() for k, c in data["exit_code_by_key"].items() if c is None]
+    if rest:
+        _mutmut(work, max_children, rest, mode="a")
+    print(f"[mutation] {module}: resumed ({len(pending)} undetected, {len(rest)} new or changed; tests {staged})",
+          flush=True)
+    return time.perf_counter() - t0
 
 
 def _scope(module: str) -> list:
@@ -181,6 +248,8 @@ def main(argv=None) -> None:
     ap.add_argument("modules", nargs="*", help=f"modules to mutate, of {', '.join(MODULES)} (default: all)")
     ap.add_argument("--max-children", type=int, default=1, help="parallel mutant runs (default 1)")
     ap.add_argument("--report-only", action="store_true", help="re-read finished runs, run nothing")
+    ap.add_argument("--resume", action="store_true",
+                    help="keep the scratch results and rerun only the mutants not yet detected (after adding tests)")
     ap.add_argument("--only", nargs="+", metavar="GLOB",
                     help="mutate only these files of one module (a partial run; its row says so)")
     args = ap.parse_args(argv)
@@ -198,6 +267,9 @@ def main(argv=None) -> None:
     for module in modules:
         if args.report_only:
             seconds = float(rows.get(module, {}).get("seconds") or 0.0)
+        elif args.resume:
+            print(f"[mutation] {module}: resuming over {', '.join(args.only or _scope(module))}", flush=True)
+            seconds = float(rows.get(module, {}).get("seconds") or 0.0) + resume(module, args.max_children, args.only)
         else:
             print(f"[mutation] {module}: mutmut run over {', '.join(args.only or MODULES[module][0])}", flush=True)
             seconds = run(module, args.max_children, args.only)

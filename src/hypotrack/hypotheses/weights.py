@@ -16,6 +16,7 @@ Detection probabilities must lie in [0, 1): a missed detection must be possible 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.special import gammaln
@@ -113,11 +114,19 @@ class HFISSTWeights(WeightModel):
         return np.full((ctx.n_returns, 1), ctx.log_clutter_density)
 
     def count_term(self, ctx, n_objects, n_births):
-        m = ctx.n_returns
-        k, b, ok = _detected_counts(m, n_objects, n_births)
-        n = np.minimum(k + b, m)
-        # −log(C(m, n) n!) = −log(m! / (m − n)!), Eq. 8 / 31.
-        return np.where(ok, gammaln(m - n + 1) - gammaln(m + 1), -np.inf)
+        return _hfisst_count_term(ctx.n_returns, int(n_objects), int(n_births))
+
+
+@lru_cache(maxsize=4096)
+def _hfisst_count_term(m, n_objects, n_births):
+    # A function of three counts, asked for by every parent of every scan: computed once each
+    # (read-only, so no caller can change the shared array).
+    k, b, ok = _detected_counts(m, n_objects, n_births)
+    n = np.minimum(k + b, m)
+    # −log(C(m, n) n!) = −log(m! / (m − n)!), Eq. 8 / 31.
+    out = np.where(ok, gammaln(m - n + 1) - gammaln(m + 1), -np.inf)
+    out.setflags(write=False)
+    return out
 
 
 @dataclass(frozen=True)

@@ -157,7 +157,7 @@ def check_measurements(Z, name: str, dim: int) -> np.ndarray:
         arr = arr[:, None]
     if arr.ndim != 2 or arr.shape[1] != dim:
         raise ValueError(f"{name} must have shape (m, {dim}), got {arr.shape}")
-    if not np.all(np.isfinite(arr)):
+    if not np.isfinite(arr).all():
         bad = np.flatnonzero(~np.all(np.isfinite(arr), axis=1))
         raise ValueError(f"{name} must be finite; rows {bad.tolist()} contain NaN or inf")
     return arr

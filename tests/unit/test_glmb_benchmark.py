@@ -64,3 +64,38 @@ def test_glmb_tracks_the_two_objects_and_summary_has_standard_errors():
 def test_unknown_tracker_kind_is_refused():
     with pytest.raises(ValueError, match="tracker kind"):
         make_tracker("phd", benchmark_model(CFG), {"max_hypotheses": 5}, 0)
+
+
+def test_stonesoup_gmphd_peer_follows_the_gm_phd_update_by_hand():
+    """One return exactly at a birth mean, then an empty scan (Vo & Ma 2006 Eqs. 20-21)."""
+    model = benchmark_model(CFG)
+    peer = make_tracker("gmphd", model, {}, 0)
+    post = peer.step(np.array([[0.1, 0.1]]))
+    # birth term 1 predicts the return with N(z; Hm, HPH' + R) = 1 / (2 pi (100 + 100)); term 2 is gated out
+    q = 1.0 / (2 * np.pi * 200.0)
+    kappa = 30.0 / 2000.0**2
+    w = 0.98 * 0.03 * q / (kappa + 0.98 * 0.03 * q)
+    # Stone Soup's PHDUpdater drops the undetected part of the birth intensity: the mass is the one update
+    assert post.expected_number == pytest.approx(w, rel=1e-9)
+    assert w > 0.5 and post.map_estimate.means.shape == (1, 4)
+    np.testing.assert_allclose(post.map_estimate.means[0], [0.1, 0.1, 0.0, 0.0], atol=1e-9)
+    post = peer.step(np.zeros((0, 2)))
+    assert post.expected_number == pytest.approx(0.99 * 0.02 * w, rel=1e-9)  # p_S (1 - p_D) w, missed
+    assert post.map_estimate.means.shape == (0, 4)  # below the 0.5 extraction threshold
+
+
+def test_peer_is_labelled_in_the_summary():
+    from hypotrack.experiments.glmb_benchmark import implementation_labels, legend_labels
+
+    legend = legend_labels({"a": {"kind": "rfisst", "completion_rounds": 0}, "b": {"kind": "rfisst"},
+                            "phd": {"kind": "gmphd"}})
+    assert legend == {"a": "a (R-FISST, chain alone)", "b": "b (R-FISST + completion)",
+                      "phd": "phd (Stone Soup GM-PHD, peer implementation)"}
+
+    labels = implementation_labels({"glmb": {"kind": "glmb"}, "phd": {"kind": "gmphd"}})
+    assert labels == {"glmb": "hypotrack engine", "phd": "Stone Soup GM-PHD, peer implementation"}
+    per_scan = pd.DataFrame({"tracker": ["glmb", "phd"] * 2, "run": [0, 0, 1, 1], "scan": 1, "ospa": [1.0, 3.0, 2.0, 5.0],
+                             "ospa_loc": 0.0, "ospa_card": 0.0, "n_est": [1, 2, 1, 1], "n_true": 1, "time_s": 0.1})
+    summary, _ = summary_table(per_scan, labels)
+    assert list(summary.implementation) == ["hypotrack engine", "Stone Soup GM-PHD, peer implementation"]
+    assert list(summary.ospa_mean) == [1.5, 4.0] and list(summary.card_err_mean) == [0.0, 0.5]

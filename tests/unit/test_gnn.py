@@ -248,3 +248,89 @@ def test_lecture_worked_example_hypotheses_and_clusters():
     assert clusters["tracks"].tolist() == ["T1 T2", "T3", ""]
     assert clusters["returns"].tolist() == ["y3 y4", "y1", "y2"]
     assert clusters["events"].tolist() == [5, 2, 1]
+
+
+@pytest.mark.parametrize("n_clusters", [60, 200])
+def test_cluster_groups_pack_whole_clusters_and_keep_the_optimum(n_clusters):
+    """Many small clusters (more contested tracks than one joint solve takes): groups of whole
+    clusters, none above the limit unless a single cluster is, and the same optimum as one global
+    assignment (scipy on the full square matrix, the oracle)."""
+    from hypotrack.association import association_score_matrix, best_assignment, columns_to_event
+    from hypotrack.association import find_clusters
+    from hypotrack.trackers.gnn import _JOINT_LIMIT, _cluster_groups
+
+    rng = np.random.default_rng(n_clusters)
+    model = scan_model(beta_fa=1e-3)
+    centres = rng.uniform(0, 100 * n_clusters, size=(n_clusters, 2))
+    x, P = tracks_at(np.repeat(centres, 5, axis=0) + rng.normal(0, 3.0, size=(5 * n_clusters, 2)))
+    Z = np.concatenate([x[:, :2] + rng.normal(0, 2.0, size=(len(x), 2)), rng.uniform(0, 3000, size=(50, 2))])
+    gain = gnn_gains(gate_tracks(x, P, Z, model), model)
+    useful = gain > 0
+    tracks = np.flatnonzero(useful.any(axis=0))
+    groups = _cluster_groups(useful, tracks)
+    assert len(tracks) > _JOINT_LIMIT and len(groups) > 1
+    np.testing.assert_array_equal(np.sort(np.concatenate(groups)), tracks)
+    cluster_of = {int(t): k for k, c in enumerate(find_clusters(useful)) for t in c.tracks}
+    for g in groups:
+        clusters = {cluster_of[int(t)] for t in g}
+        assert sum(cluster_of[int(t)] in clusters for t in tracks) == len(g)  # whole clusters only
+        assert len(g) <= _JOINT_LIMIT or len(clusters) == 1
+    a = gnn_associate(gain)
+    _, cols = best_assignment(association_score_matrix(np.where(useful, gain, -np.inf), np.zeros(len(Z))))
+    np.testing.assert_array_equal(a, columns_to_event(cols, len(x)))
+
+
+@pytest.mark.parametrize("p", [1, 2, 3])
+def test_trackers_lean_gating_equals_checked_gating(p):
+    """The trackers' own gating (one inverse of S per scan) gives the checked path's predicted
+    measurements, gains, distances, log-determinants and validation matrix, up to rounding; empty
+    scans and no tracks included."""
+    from hypotrack.trackers._sht_common import _gate_scan
+
+    rng = np.random.default_rng(p)
+    d = 2 * p
+    H = np.eye(p, d)
+    A = rng.normal(size=(p, p))
+    model = ScanModel(H, A @ A.T + np.eye(p), 0.9, 0.99, 1e-3)
+    B = rng.normal(size=(7, d, d))
+    x, P = rng.normal(0, 3, size=(7, d)), B @ np.swapaxes(B, 1, 2) + 0.1 * np.eye(d)
+    for Z in (rng.normal(0, 3, size=(11, p)), np.zeros((0, p))):
+        for n in (7, 0):
+            ref, got = gate_tracks(x[:n], P[:n], Z, model), _gate_scan(x[:n], P[:n], Z, model)
+            for name in ("z_pred", "S", "K", "d2", "logdet"):
+                np.testing.assert_allclose(getattr(got, name), getattr(ref, name), rtol=1e-12, atol=1e-12, err_msg=name)
+            np.testing.assert_array_equal(got.valid, ref.valid)
+            assert got.d2.shape == (len(Z), n) and (got.d2 >= 0).all()
+
+
+def test_trackers_prediction_reuses_the_model_and_equals_predict_tracks():
+    """Linear models: F(dt), Q(dt) built once per scan period, the same numbers as predict_tracks
+    (bit for bit); a nonlinear model goes through predict_tracks itself."""
+    from hypotrack.models import OrnsteinUhlenbeck
+    from hypotrack.models.orbit import TwoBodyOrbit
+    from hypotrack.trackers._sht_common import _ScanPredictor, predict_tracks
+
+    rng = np.random.default_rng(3)
+    for motion, d in ((ConstantVelocity(0.3), 4), (OrnsteinUhlenbeck(2.0, 0.1), 1)):
+        B = rng.normal(size=(5, d, d))
+        x, P = rng.normal(size=(5, d)), B @ np.swapaxes(B, 1, 2)
+        predict = _ScanPredictor(motion)
+        for dt in (1.0, 1.0, 0.25, 0.0):
+            got, ref = predict(x, P, dt), predict_tracks(motion, x, P, dt)
+            np.testing.assert_array_equal(got[0], ref[0])
+            np.testing.assert_array_equal(got[1], ref[1])
+    assert not _ScanPredictor(TwoBodyOrbit()).linear
+
+
+def test_mahalanobis_tracker_skips_logdet_but_likelihood_is_still_right():
+    """The Mahalanobis criterion needs no log det S, so the tracker's gating leaves it out; the
+    predicted-measurement log density is then computed from S on demand, equal to the full gating's."""
+    model = scan_model()
+    x, P, Z = lecture_example()
+    tracker = SingleHypothesisTracker(ConstantVelocity(0.1), model, gnn_score="mahalanobis", max_misses=5)
+    tracker.initialise(x, P, 0.0)
+    tracker.step((0.0, Z))
+    assert tracker.last_gated.logdet is None
+    ref = gate_tracks(x, P, Z, model)
+    np.testing.assert_allclose(tracker.last_gated.log_likelihood(), ref.log_likelihood(), rtol=1e-12)
+    np.testing.assert_array_equal(tracker.last_gated.valid, LECTURE_VALIDATION)

@@ -93,3 +93,24 @@ def test_synthetic_problem_bad_input():
         synthetic_problem(3, 3)
     empty = synthetic_problem(0, difficulty="2sigma", seed=0)
     assert empty.problem.n_objects == 0 and np.all(empty.truth == -1)
+
+
+@pytest.mark.parametrize("completion_rounds", [0, 2])
+def test_mcmc_generator_is_the_public_search(completion_rounds):
+    """The generator's per-parent path (problem validated once, no re-check of its options) gives
+    the events and weights of the public ``mcmc_search`` with the same starting event and seed."""
+    from hypotrack.association.mcmc import mcmc_search
+    from hypotrack.hypotheses import MCMCGenerator
+
+    problem = synthetic_problem(6, 5, seed=3, spacing=1.0).problem  # ambiguous: many children
+    gen = MCMCGenerator(n_steps=3000, completion_rounds=completion_rounds)
+    ev, lw = gen.generate(problem, np.random.default_rng(9))
+    rng = np.random.default_rng(9)
+    init = gen._initial_event(problem, rng)
+    ev2, lw2 = mcmc_search(problem.score, problem.n_objects, problem.n_exclusive, problem.count_term,
+                           n_steps=3000, burn_in=300, seed=int(rng.integers(2**63 - 1)), init=init,
+                           completion_rounds=completion_rounds)
+    order = np.argsort(-(lw2 + problem.constant), kind="stable")
+    assert len(ev) > 5
+    np.testing.assert_array_equal(ev, ev2[order])
+    np.testing.assert_array_equal(lw, lw2[order] + problem.constant)

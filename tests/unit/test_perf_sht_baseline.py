@@ -29,3 +29,18 @@ def test_speedup_table_states_both_directions():
     t = ps.speedup_table(timings, {ps.BASELINE: 1 / 1.5, "G": 40}).set_index("peer")
     assert t.loc[ps.BASELINE, "hypotrack_over_peer"] == pytest.approx(1.5) and bool(t.loc[ps.BASELINE, "goal_met"])
     assert t.loc["G", "speedup"] == 100.0 and bool(t.loc["G", "goal_met"])
+
+
+def test_peer_goal_holds_only_at_its_formation_sizes():
+    """A Stone Soup goal set for 12-24 targets: 4 and 100 targets are tabled without a goal, and the
+    claim states the range and the verdict at 12-24 only (a 10x at 4 targets does not fail it)."""
+    timings = pd.DataFrame(dict(algorithm="jpda", implementation=["hypotrack", "E"] * 4,
+                                n_targets=[4, 4, 12, 12, 24, 24, 100, 100], clutter_rate=5.0,
+                                median_ms=[1.0, 10.0, 1.0, 60.0, 1.0, 250.0, 2.0, 9000.0]))
+    t = ps.speedup_table(timings, {"E": 40}, {"E": [12, 24]}).set_index("n_targets")
+    assert t["goal"].isna().tolist() == [True, False, False, True]
+    assert t.loc[12, "goal_met"] and t.loc[24, "goal_met"] and t.loc[4, "goal_met"] is None
+    largest = pd.DataFrame(dict(algorithm=["jpda"], implementation=["E"], largest_cluster_tracks=[8]))
+    claim = ps.perf_sht_claims(t.reset_index(), largest)[0]
+    assert (claim.reproduced, claim.tolerance) == ("60x to 250x", "12-24 targets") and claim.note.startswith("target met")
+    assert ps.speedup_table(timings, {"E": 40})["goal"].notna().all()  # no range: the goal holds at every size

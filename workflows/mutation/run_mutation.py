@@ -23,8 +23,18 @@ the engine modules)::
 
     python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
     python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
-    python workflows/mutation/run_mutation.py association --mutants 'hypotrack.association.gating*'
-        # after adding tests: rerun only some mutants (names or globs) in the last run's scratch copy
+    python workflows/mutation/run_mutation.py trackers --resume   # after adding tests: rerun the rest
+    python workflows/mutation/run_mutation.py hypotheses --mutants 'hypotrack.hypotheses.gibbs*'
+        # only these mutants (names or globs): a long module a few files at a time
+
+``--resume`` keeps the module's scratch directory, copies the current source and tests into it
+and reruns only the mutants not yet detected (survivors, "no tests", not run, and every mutant
+of a function whose source changed). A detected mutant stays detected when tests are only
+added, so its verdict is kept from the earlier run (mutmut itself clears all verdicts when the
+list of test files changes; they are restored for functions whose source hash is unchanged).
+``--mutants`` limits a run or a resume to the named mutants (the first such run prepares the
+scratch project over the module's whole scope and leaves the other mutants "not run"); the
+row's ``scope`` then names the files whose mutants all ran and, after ``| not run:``, the others.
 
 Modules already in ``mutation.csv`` and not named on the command line keep their rows.
 """
@@ -33,6 +43,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import fnmatch
 import json
 import os
 import re
@@ -57,6 +68,9 @@ MODULES = {
                 ["tests/unit/test_metrics.py", "tests/property/test_metrics_properties.py", CATALOGUE]),
     "hypotheses": (["src/hypotrack/hypotheses/*"],
                    ["tests/unit/test_hypotheses_filter.py", "tests/unit/test_hypotheses_weights.py",
+                    "tests/unit/test_hypotheses_engine_exact.py", "tests/unit/test_hypotheses_parts.py",
+                    "tests/unit/test_glmb.py", "tests/unit/test_glmb_exact.py",
+                    "tests/crosscheck/test_equivalence_glmb.py",
                     "tests/unit/test_hypotheses_problems.py", "tests/unit/test_population_events.py",
                     "tests/unit/test_transactional_steps.py",
                     "tests/property/test_pretrim_exact.py", "tests/property/test_hypotheses_properties.py",
@@ -72,7 +86,9 @@ MODULES = {
     "trackers": (["src/hypotrack/trackers/*"],
                  ["tests/unit/test_gnn.py", "tests/unit/test_jpda.py", "tests/unit/test_initiation.py",
                   "tests/unit/test_ecmht.py", "tests/unit/test_ecmht_mospa.py", "tests/unit/test_cardinality.py",
-                  "tests/unit/test_transactional_steps.py", CATALOGUE]),
+                  "tests/unit/test_cardinality_oracles.py", "tests/unit/test_sht_tracker_values.py", "tests/unit/test_jpda_values.py",
+                  "tests/unit/test_ecmht_values.py",
+                  "tests/unit/test_transactional_steps.py", "tests/crosscheck/test_stonesoup_sht.py", CATALOGUE]),
 }
 
 # mutmut 3 exit codes (mutmut.stats.status_by_exit_code)
@@ -88,10 +104,16 @@ def _toml_list(values) -> str:
 
 def prepare(module: str, only=None) -> Path:
     """Scratch project: the package source, the module's tests and a pyproject for mutmut."""
-    only, tests = only or MODULES[module][0], MODULES[module][1]
     work = WORK / module
     if work.exists():
         shutil.rmtree(work)
+    prepare_files(module, only or MODULES[module][0], work)
+    return work
+
+
+def prepare_files(module: str, only, work: Path) -> int:
+    """Copy the source and the module's tests into ``work`` and write its pyproject; the number of test files."""
+    tests = MODULES[module][1]
     shutil.copytree(ROOT / "src", work / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
     for t in tests:
         (work / t).parent.mkdir(parents=True, exist_ok=True)
@@ -103,39 +125,86 @@ def prepare(module: str, only=None) -> Path:
     for k, v in opts.items():
         lines.append(f"{k} = {_toml_list(v) if isinstance(v, list) else json.dumps(v)}")
     (work / "pyproject.toml").write_text("\n".join(lines) + "\n")
-    return work
+    return len(tests)
 
 
-def refresh(module: str) -> Path:
-    """Copy the current package source and the module's test files into its existing scratch
-    project. mutmut regenerates the mutants of changed source files, resetting only the mutants of
-    changed functions, and collects coverage for new tests only, so a rerun of some mutants keeps
-    every other result."""
-    work = WORK / module
-    if not (work / "mutants").exists():
-        raise SystemExit(f"[mutation] {module}: no previous run under {work} to rerun mutants in")
-    # copy2 keeps modification times, so unchanged files are not regenerated.
-    shutil.copytree(ROOT / "src", work / "src", dirs_exist_ok=True,
-                    ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
-    for t in MODULES[module][1]:
-        (work / t).parent.mkdir(parents=True, exist_ok=True)
-        shutil.copy2(ROOT / t, work / t)
-    return work
-
-
-def run(module: str, max_children: int, only=None, mutants=None) -> float:
-    work = refresh(module) if mutants else prepare(module, only)
+def _mutmut(work: Path, max_children: int, names=(), mode: str = "w") -> None:
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # import the mutated copy only
     env.setdefault("NUMBA_CACHE_DIR", str(work / ".numba_cache"))
-    t0 = time.perf_counter()
-    with open(work / "mutmut.log", "w") as log:
-        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children),
-                               *(mutants or [])],
+    with open(work / "mutmut.log", mode) as log:
+        proc = subprocess.run([sys.executable, "-m", "mutmut", "run", "--max-children", str(max_children), *names],
                               cwd=work, env=env, stdout=log, stderr=subprocess.STDOUT)
-    seconds = time.perf_counter() - t0
     if proc.returncode != 0:
-        raise SystemExit(f"[mutation] {module}: mutmut exited {proc.returncode}; see {work / 'mutmut.log'}")
-    return seconds
+        raise SystemExit(f"[mutation] {work.name}: mutmut exited {proc.returncode}; see {work / 'mutmut.log'}")
+
+
+def run(module: str, max_children: int, only=None) -> float:
+    work = prepare(module, only)
+    t0 = time.perf_counter()
+    _mutmut(work, max_children)
+    return time.perf_counter() - t0
+
+
+def _metas(work: Path) -> dict:
+    """Per mutated file: (module prefix of its mutant names, mutmut's meta data)."""
+    out = {}
+    for meta in (work / "mutants").rglob("*.py.meta"):
+        rel = meta.relative_to(work / "mutants" / "src").with_suffix("").with_suffix("")
+        out[meta] = (".".join(rel.parts) + ".", json.loads(meta.read_text()))
+    return out
+
+
+def _function(prefix: str, key: str) -> str:
+    return re.sub(r"__mutmut_\d+$", "", key[len(prefix):])
+
+
+def _named(keys, names) -> list:
+    """The mutant names among ``keys`` that match one of ``names`` (exact or glob); all without names."""
+    return [k for k in keys if not names or any(k == n or fnmatch.fnmatchcase(k, n) for n in names)]
+
+
+def resume(module: str, max_children: int, only=None, names=None) -> float:
+    """Rerun the mutants an earlier run of ``module`` did not detect, with the current tests
+    (only those matching ``names`` if given; without an earlier run, run just those)."""
+    work = WORK / module
+    if not (work / "mutants").exists():
+        if not names:
+            raise SystemExit(f"[mutation] {module}: nothing to resume under {work}; run it first")
+        prepare(module, only)
+        t0 = time.perf_counter()
+        _mutmut(work, max_children, names)
+        return time.perf_counter() - t0
+    old = _metas(work)
+    detected = KILLED | TIMEOUT
+    pending = _named([k for _, data in old.values() for k, c in data["exit_code_by_key"].items()
+                      if c not in detected], names)
+    kept = {prefix + fn: h for prefix, data in old.values() for fn, h in data["hash_by_function_name"].items()}
+    old_codes = {k: c for _, data in old.values() for k, c in data["exit_code_by_key"].items()}
+    only = only or _scope(module)
+    # Refresh the scratch project in place (mutmut regenerates the mutants of changed files).
+    shutil.rmtree(work / "src")
+    staged = prepare_files(module, only, work)
+    t0 = time.perf_counter()
+    if pending:
+        _mutmut(work, max_children, pending)
+    # Restore the detected verdicts of unchanged functions that mutmut cleared.
+    for meta, (prefix, data) in _metas(work).items():
+        codes, hashes = data["exit_code_by_key"], data["hash_by_function_name"]
+        changed = False
+        for k, c in codes.items():
+            fn = _function(prefix, k)
+            if c is None and old_codes.get(k) in detected and kept.get(prefix + fn) == hashes.get(fn):
+                codes[k] = old_codes[k]
+                changed = True
+        if changed:
+            meta.write_text(json.dumps(data, indent=4))
+    rest = _named([k for _, data in _metas(work).values() for k, c in data["exit_code_by_key"].items() if c is None],
+                  names)
+    if rest:
+        _mutmut(work, max_children, rest, mode="a")
+    print(f"[mutation] {module}: resumed ({len(pending)} undetected, {len(rest)} new or changed; tests {staged})",
+          flush=True)
+    return time.perf_counter() - t0
 
 
 def _scope(module: str) -> list:
@@ -144,6 +213,21 @@ def _scope(module: str) -> list:
     if not cfg.exists():
         return MODULES[module][0]
     return tomllib.loads(cfg.read_text())["tool"]["mutmut"]["only_mutate"]
+
+
+def scope_text(module: str) -> str:
+    """The row's scope: the mutated files whose mutants were all run, then those left (partly)
+    unrun with their count, so that a partial run says what it covers."""
+    done, left = [], []
+    for meta, (_, data) in sorted(_metas(WORK / module).items()):
+        codes = data["exit_code_by_key"]
+        n = sum(c is None for c in codes.values())
+        path = str(meta.relative_to(WORK / module / "mutants").with_suffix(""))
+        if codes:
+            (left.append(f"{path} ({n} of {len(codes)})") if n else done.append(path))
+    if not left:
+        return " ".join(_scope(module))
+    return " ".join(done) + " | not run: " + " ".join(left)
 
 
 def _equivalent() -> dict:
@@ -202,12 +286,14 @@ def main(argv=None) -> None:
     ap.add_argument("modules", nargs="*", help=f"modules to mutate, of {', '.join(MODULES)} (default: all)")
     ap.add_argument("--max-children", type=int, default=1, help="parallel mutant runs (default 1)")
     ap.add_argument("--report-only", action="store_true", help="re-read finished runs, run nothing")
+    ap.add_argument("--resume", action="store_true",
+                    help="keep the scratch results and rerun only the mutants not yet detected (after adding tests)")
     ap.add_argument("--only", nargs="+", metavar="GLOB",
                     help="mutate only these files of one module (a partial run; its row says so)")
     ap.add_argument("--mutants", nargs="+", metavar="NAME",
-                    help="rerun only these mutants of one module (mutmut names or globs, e.g. "
-                         "'hypotrack.association.gating*') in its last run's scratch project, with the "
-                         "current source and test files; every other result of that run is kept")
+                    help="limit one module's run to these mutants (mutmut names or globs such as "
+                         "'hypotrack.hypotheses.gibbs*'): a fresh scratch project runs just them, an existing "
+                         "one reruns those of them not yet detected (as --resume)")
     args = ap.parse_args(argv)
     modules = args.modules or list(MODULES)
     unknown = sorted(set(modules) - set(MODULES))
@@ -215,8 +301,8 @@ def main(argv=None) -> None:
         ap.error(f"unknown module(s) {unknown}; choose from {list(MODULES)}")
     if args.only and len(modules) != 1:
         ap.error("--only needs exactly one module")
-    if args.mutants and (len(modules) != 1 or args.only):
-        ap.error("--mutants needs exactly one module and no --only (it reruns within the last run's scope)")
+    if args.mutants and len(modules) != 1:
+        ap.error("--mutants needs exactly one module")
     OUT.mkdir(parents=True, exist_ok=True)
     table, surv_path = OUT / "mutation.csv", OUT / "mutation_survivors.csv"
     rows = {r["module"]: r for r in _read(table)}
@@ -225,14 +311,16 @@ def main(argv=None) -> None:
     for module in modules:
         if args.report_only:
             seconds = float(rows.get(module, {}).get("seconds") or 0.0)
+        elif args.resume or args.mutants:
+            print(f"[mutation] {module}: resuming over {', '.join(args.only or _scope(module))}"
+                  + (f" ({len(args.mutants)} mutant names or globs)" if args.mutants else ""), flush=True)
+            seconds = float(rows.get(module, {}).get("seconds") or 0.0) + resume(module, args.max_children, args.only,
+                                                                                  args.mutants)
         else:
-            what = args.mutants or args.only or MODULES[module][0]
-            print(f"[mutation] {module}: mutmut run over {', '.join(what)}", flush=True)
-            seconds = run(module, args.max_children, args.only, args.mutants)
-            if args.mutants:  # the row's time is the full run's plus the reruns'
-                seconds += float(rows.get(module, {}).get("seconds") or 0.0)
+            print(f"[mutation] {module}: mutmut run over {', '.join(args.only or MODULES[module][0])}", flush=True)
+            seconds = run(module, args.max_children, args.only)
         rows[module], surv = summarise(module, seconds, equivalent)
-        rows[module]["scope"] = " ".join(_scope(module))
+        rows[module]["scope"] = scope_text(module)
         survivors += surv
         r = rows[module]
         print(f"[mutation] {module}: {r['mutants']} mutants, {r['killed']} killed, {r['equivalent']} equivalent, "

@@ -35,7 +35,21 @@ rule glmb_benchmark_table:
         "../scripts/glmb_benchmark_table.py"
 
 
-GB_TARGETS = [*rules.glmb_benchmark_table.output]
+# One seeded realisation run by the glmb tracker; the association problems the engine builds on the
+# scans with the most children are saved for the sampler head-to-head (samplers.smk reads them).
+rule glmb_benchmark_record:
+    output:
+        problems=f"{GB_DIR}/recorded_problems.npz",
+        table=f"{GB_DIR}/recorded_problems.csv",
+    params:
+        cfg=config["glmb_benchmark"],
+        recorded=config["samplers"]["recorded"],
+        seed=config["seed"],
+    script:
+        "../scripts/glmb_benchmark_record.py"
+
+
+GB_TARGETS = [*rules.glmb_benchmark_table.output, *rules.glmb_benchmark_record.output]
 
 
 rule glmb_benchmark:

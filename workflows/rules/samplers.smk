@@ -1,10 +1,14 @@
 # R-FISST's chain (alone and with completion), the GLMB Gibbs sampler and Murty's k-best on
 # identical association problems of the difficulty axis: posterior mass captured (exact, by
-# enumeration), MAP found and distinct children per second, at equal proposal budgets.
+# enumeration), MAP found and distinct children per second, at equal proposal budgets; also on
+# association problems recorded from the GLMB benchmark's scans.
 SAMPLERS_DIR = f"{RESULTS}/samplers"
 
 
 rule samplers_sweep:
+    input:
+        # association problems recorded from the GLMB benchmark's scans (rule glmb_benchmark_record)
+        recorded=f"{RESULTS}/glmb_benchmark/recorded_problems.npz",
     output:
         raw=f"{SAMPLERS_DIR}/raw_timing.csv",
         summary=report_table(f"{SAMPLERS_DIR}/summary.csv", "samplers", "summary"),
@@ -14,6 +18,8 @@ rule samplers_sweep:
         claims=f"{SAMPLERS_DIR}/claims.csv",
         macros=f"{SAMPLERS_DIR}/macros.csv",
         timing_macros=f"{SAMPLERS_DIR}/timing_macros.csv",
+        time_to_mass=f"{SAMPLERS_DIR}/time_to_mass_timing.csv",
+        compute_claims=f"{SAMPLERS_DIR}/compute_timing_claims.csv",  # wall-time verdicts: not byte-reproducible
     params:
         cfg=config["samplers"],
         seed=config["seed"],

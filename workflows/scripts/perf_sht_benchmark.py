@@ -163,7 +163,7 @@ for rate in cfg_all["jpda"]["clutter_rates"]:
         rows += compare("jpda", n, rate, ["JPDAwithEHM2", "JPDA"],
                         max_scans=cfg_all["max_scans"], budget_s=cfg_all["budget_s"], seed=seed)
 timings = pd.DataFrame(rows)
-ratios = speedup_table(timings, cfg_all["goals"])
+ratios = speedup_table(timings, cfg_all["goals"], cfg_all.get("goal_n_targets"))
 
 # Largest formation each implementation handles within the limit, at a spacing that chains the
 # whole formation into one cluster. No warm-up scan and a budget of one limit: an

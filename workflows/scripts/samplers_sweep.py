@@ -1,6 +1,7 @@
 """Sampler head-to-head: run every sampler on the same problems; tables, figure, ledger rows."""
 from hypotrack.experiments.samplers import samplers_sweep, summarise
-from hypotrack.experiments.samplers_report import plot_mass, sampler_claims, sampler_macros
+from hypotrack.experiments.samplers_recorded import load_problems
+from hypotrack.experiments.samplers_report import compute_claims, plot_mass, sampler_claims, sampler_macros, time_to_mass
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.report import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
@@ -10,7 +11,8 @@ prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job
 
 cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 out = snakemake.output  # noqa: F821
-raw = samplers_sweep(cfg, experiment_seeds(snakemake.params.seed, "samplers", 1)[0])  # noqa: F821
+recorded = load_problems(snakemake.input.recorded)  # noqa: F821
+raw = samplers_sweep(cfg, experiment_seeds(snakemake.params.seed, "samplers", 1)[0], recorded)  # noqa: F821
 det, timing = summarise(raw)
 write_table(raw, out.raw)
 write_table(det, out.summary)
@@ -19,4 +21,7 @@ plot_mass(det, timing, out.fig_pdf, out.fig_png)
 write_claims(sampler_claims(det, timing), out.claims)
 values, times = sampler_macros(det, timing)
 write_macros("samplers", values, out.macros)
-write_macros("samplers", times, out.timing_macros)
+timed_claims, per_compute = compute_claims(det, timing)
+write_table(time_to_mass(det, timing), out.time_to_mass)
+write_claims(timed_claims, out.compute_claims)
+write_macros("samplers", {**times, **per_compute}, out.timing_macros)

@@ -29,8 +29,10 @@ for tr in settings:
     births[tr] = st.birth_recognition(matched[tr], scenario)
     own = st.ssa50_claims(metrics[tr], read[tr]["cardinality"], read[tr]["weights"], matched[tr], births[tr],
                           estimate_scans=estimate_scans, n_scans=K,
-                          error_bound_probability=sec["error_bound_probability"])
-    claims += own if tr == primary else st.labelled(own, labels[tr], f"{tr}_")
+                          error_bound_probability=sec["error_bound_probability"], tracker=labels[tr],
+                          per_object_death=settings[tr].kind == "glmb")
+    # every row names its tracker; the primary tracker's keys stay unprefixed (the paper quotes them)
+    claims += st.labelled(own, labels[tr], "" if tr == primary else f"{tr}_")
 all_metrics = pd.concat([m.assign(tracker=tr) for tr, m in metrics.items()], ignore_index=True)
 write_table(all_metrics, out.metrics)
 write_table(pd.concat([b.assign(tracker=tr) for tr, b in births.items()], ignore_index=True), out.births)

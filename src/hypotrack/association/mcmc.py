@@ -46,8 +46,18 @@ import numba
 import numpy as np
 
 from .._validation import check_int, check_positive, check_probability
+from .mt19937 import N_DOUBLES, fill_doubles, seed_state
 
-__all__ = ["MCMC_VARIANTS", "mcmc_search", "neighbour_completion", "event_log_weights"]
+__all__ = [
+    "MCMC_VARIANTS",
+    "check_problem",
+    "checked_event_log_weights",
+    "checked_search",
+    "event_log_weights",
+    "mcmc_search",
+    "neighbour_completion",
+    "to_state",
+]
 
 MCMC_VARIANTS = ("paper", "symmetric", "gibbs")
 _VARIANT_CODE = {v: i for i, v in enumerate(MCMC_VARIANTS)}
@@ -176,72 +186,127 @@ def _lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
 
 
 @numba.njit(cache=True, nogil=True)
-def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in, variant, seed,
-               table, hashes, rows, logw):
-    """Run the chain in place; return the number of distinct events recorded."""
-    np.random.seed(seed)
-    m = state.shape[0]
-    n_col = score.shape[1]
-    clutter = n_excl  # row option 0
+def _chain_start(score, n_obj, n_excl, count_term, state, zobrist, burn_in, table, hashes, rows, logw):
+    """Owners, counts, hash and log-weight of the starting event (recorded when ``burn_in == 0``)."""
     owner, k, b = _owners_and_counts(state, n_obj, n_excl)
     h = np.int64(0)
-    for i in range(m):
+    for i in range(state.shape[0]):
         h ^= zobrist[i, state[i]]
     lw = _state_log_weight(score, state, n_obj, n_excl, count_term)
     n_found = 0
     if burn_in == 0:
         n_found = _lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found)
-    cond = np.empty(n_col)
+    return owner, k, b, h, lw, n_found
+
+
+@numba.njit(cache=True, nogil=True)
+def _run_gibbs_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in, seed,
+                     table, hashes, rows, logw):
+    """The Gibbs variant of :func:`_run_chain` (numba's ``np.random`` stream, as :func:`gibbs_draw`)."""
+    np.random.seed(seed)
+    m = state.shape[0]
+    owner, k, b, h, lw, n_found = _chain_start(score, n_obj, n_excl, count_term, state, zobrist, burn_in,
+                                               table, hashes, rows, logw)
+    cond = np.empty(score.shape[1])
     for step in range(1, n_steps + 1):
         moved = False
         if m > 0:
             i = int(np.random.random() * m)
             cur = state[i]
-            if variant == 2:
-                # Gibbs: exact conditional of return i's column given the others.
-                new = gibbs_draw(score, count_term, owner, i, cur, k, b, n_obj, n_excl, cond)
-                if new != cur:
-                    lw += cond[new]
-                    h, k, b = move_row(state, owner, zobrist, h, k, b, i, new, n_obj, n_excl)
-                    moved = True
-            else:
-                c = int(np.random.random() * n_col)
-                if c != cur:
-                    delta = score[i, c] - score[i, cur]
-                    dk, db = _count_delta(cur, c, n_obj, n_excl)
-                    i2 = -1
-                    dest2 = clutter
+            new = gibbs_draw(score, count_term, owner, i, cur, k, b, n_obj, n_excl, cond)
+            if new != cur:
+                lw += cond[new]
+                h, k, b = move_row(state, owner, zobrist, h, k, b, i, new, n_obj, n_excl)
+                moved = True
+        if step == burn_in or (moved and step > burn_in):
+            n_found = _lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found)
+    return n_found
+
+
+@numba.njit(cache=True, nogil=True)
+def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in, variant, seed,
+               table, hashes, rows, logw):
+    """Run the chain in place; return the number of distinct events recorded.
+
+    The uniforms are numba's ``np.random`` stream seeded with ``seed``, read from a local
+    buffer (:mod:`.mt19937`, bit-identical and about twice as fast as ``np.random.random()``
+    per proposal). Column classes are looked up rather than branched on: ``owner`` covers every
+    column (−1 on the row options), ``is_obj`` / ``is_birth`` give the count changes.
+    """
+    if variant == 2:
+        return _run_gibbs_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in, seed,
+                                table, hashes, rows, logw)
+    mt = seed_state(seed)
+    buf = np.empty(N_DOUBLES)
+    pos = N_DOUBLES
+    m = state.shape[0]
+    n_col = score.shape[1]
+    clutter = n_excl  # row option 0
+    owner_excl, k, b, h, lw, n_found = _chain_start(score, n_obj, n_excl, count_term, state, zobrist, burn_in,
+                                                    table, hashes, rows, logw)
+    owner = np.full(n_col, -1, dtype=np.int64)
+    owner[:n_excl] = owner_excl
+    is_obj = np.zeros(n_col, dtype=np.int64)
+    is_obj[:n_obj] = 1
+    is_birth = np.zeros(n_col, dtype=np.int64)
+    is_birth[n_obj:n_excl] = 1
+    for step in range(1, n_steps + 1):
+        moved = False
+        if m > 0:
+            if pos >= N_DOUBLES:
+                fill_doubles(mt, buf)
+                pos = 0
+            i = int(buf[pos] * m)
+            cur = state[i]
+            if pos + 1 >= N_DOUBLES:
+                fill_doubles(mt, buf)
+                pos = -1
+            c = int(buf[pos + 1] * n_col)
+            pos += 2
+            if c != cur and score[i, c] == -np.inf:
+                # Forbidden pair (out of view, gated out): Δ = −inf whatever the conflict and
+                # count terms, so the test consumes its uniform and rejects (most proposals when
+                # most of a parent's objects are out of view).
+                if pos >= N_DOUBLES:
+                    fill_doubles(mt, buf)
+                    pos = 0
+                pos += 1
+            elif c != cur:
+                delta = score[i, c] - score[i, cur]
+                dk = is_obj[c] - is_obj[cur]
+                db = is_birth[c] - is_birth[cur]
+                i2 = owner[c]
+                dest2 = clutter
+                if i2 != -1:
+                    # paper: the conflicting return goes to clutter; symmetric: it takes cur.
+                    dest2 = clutter if variant == 0 else cur
+                    delta += score[i2, dest2] - score[i2, c]
+                    dk += is_obj[dest2] - is_obj[c]
+                    db += is_birth[dest2] - is_birth[c]
+                delta += count_term[k + dk, b + db] - count_term[k, b]
+                accept = delta >= 0.0
+                if not accept:
+                    if pos >= N_DOUBLES:
+                        fill_doubles(mt, buf)
+                        pos = 0
+                    u = buf[pos]
+                    pos += 1
+                    accept = (u == 0.0 and delta > -np.inf) if delta < _LOG_U_FLOOR else np.log(u) < delta
+                if accept:
+                    lw += delta
+                    owner[cur] = -1
+                    state[i] = c
+                    h ^= zobrist[i, cur] ^ zobrist[i, c]
+                    if i2 != -1:
+                        state[i2] = dest2
+                        h ^= zobrist[i2, c] ^ zobrist[i2, dest2]
+                        if dest2 < n_excl:
+                            owner[dest2] = i2
                     if c < n_excl:
-                        i2 = owner[c]
-                        if i2 != -1:
-                            # paper: the conflicting return goes to clutter; symmetric: it takes cur.
-                            dest2 = clutter if variant == 0 else cur
-                            delta += score[i2, dest2] - score[i2, c]
-                            dk2, db2 = _count_delta(c, dest2, n_obj, n_excl)
-                            dk += dk2
-                            db += db2
-                    delta += count_term[k + dk, b + db] - count_term[k, b]
-                    accept = delta >= 0.0
-                    if not accept:
-                        u = np.random.random()
-                        accept = (u == 0.0 and delta > -np.inf) if delta < _LOG_U_FLOOR else np.log(u) < delta
-                    if accept:
-                        lw += delta
-                        if cur < n_excl:
-                            owner[cur] = -1
-                        state[i] = c
-                        owner_c_new = i
-                        h ^= zobrist[i, cur] ^ zobrist[i, c]
-                        if i2 != -1:
-                            state[i2] = dest2
-                            h ^= zobrist[i2, c] ^ zobrist[i2, dest2]
-                            if dest2 < n_excl:
-                                owner[dest2] = i2
-                        if c < n_excl:
-                            owner[c] = owner_c_new
-                        k += dk
-                        b += db
-                        moved = True
+                        owner[c] = i
+                    k += dk
+                    b += db
+                    moved = True
         if step == burn_in or (moved and step > burn_in):
             n_found = _lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found)
     return n_found
@@ -346,7 +411,8 @@ def _gather_sum(score, events, n_obj, n_excl, count_term, out):
         out[e] = total + count_term[k, b]
 
 
-def _check_problem(score, n_objects, n_exclusive, count_term):
+def check_problem(score, n_objects, n_exclusive, count_term):
+    """Validated ``(score, n_objects, n_exclusive, count_term)`` (float, C-contiguous)."""
     score = np.ascontiguousarray(score, dtype=float)
     if score.ndim != 2:
         raise ValueError(f"score must be a 2-D (m, n_exclusive + n_options) array, got shape {score.shape}")
@@ -355,7 +421,7 @@ def _check_problem(score, n_objects, n_exclusive, count_term):
     n_obj = check_int(n_objects, "n_objects", minimum=0, maximum=n_excl)
     if m and n_col - n_excl < 1:
         raise ValueError("score needs at least one row-option column (clutter) after the exclusive columns")
-    if np.isnan(score).any() or np.isposinf(score).any():
+    if not (score < np.inf).all():  # one pass: NaN and +inf both fail the comparison
         raise ValueError("score must not contain NaN or +inf (use -inf for forbidden pairs)")
     if m and not np.all(np.isfinite(score[:, n_excl])):
         raise ValueError("score's clutter column (index n_exclusive) must be finite: clutter must always be possible")
@@ -365,12 +431,12 @@ def _check_problem(score, n_objects, n_exclusive, count_term):
             f"count_term must have shape (n_objects + 1, n_exclusive - n_objects + 1) = "
             f"{(n_obj + 1, n_excl - n_obj + 1)}, got {count_term.shape}"
         )
-    if np.isnan(count_term).any() or np.isposinf(count_term).any():
+    if not (count_term < np.inf).all():
         raise ValueError("count_term must not contain NaN or +inf")
     return score, n_obj, n_excl, count_term
 
 
-def _to_state(events, n_excl):
+def to_state(events, n_excl):
     ev = np.asarray(events, dtype=np.int64)
     return np.where(ev < 0, n_excl - 1 - ev, ev)
 
@@ -386,10 +452,16 @@ def event_log_weights(score, n_objects, n_exclusive, count_term, events) -> np.n
     Events use the public codes: ``a_i >= 0`` an exclusive column, ``a_i = -1 - t`` row option
     ``t`` (``-1`` clutter). Vectorised (compiled gather-sum), suitable for millions of events.
     """
-    score, n_obj, n_excl, count_term = _check_problem(score, n_objects, n_exclusive, count_term)
+    score, n_obj, n_excl, count_term = check_problem(score, n_objects, n_exclusive, count_term)
     events = np.asarray(events)
     if events.ndim != 2 or events.shape[1] != score.shape[0]:
         raise ValueError(f"events must have shape (E, {score.shape[0]}), got {events.shape}")
+    return checked_event_log_weights(score, n_obj, n_excl, count_term, events)
+
+
+def checked_event_log_weights(score, n_obj, n_excl, count_term, events) -> np.ndarray:
+    """:func:`event_log_weights` of a problem already validated (:func:`check_problem`) and an
+    ``(E, m)`` events array; the event codes are still checked."""
     out = np.empty(events.shape[0])
     if events.size:
         lo, hi = int(events.min()), int(events.max())
@@ -441,7 +513,7 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
     log_weights : (K,) array
         Their exact log-weights.
     """
-    score, n_obj, n_excl, count_term = _check_problem(score, n_objects, n_exclusive, count_term)
+    score, n_obj, n_excl, count_term = check_problem(score, n_objects, n_exclusive, count_term)
     n_steps = check_int(n_steps, "n_steps", minimum=0)
     burn_in = check_int(burn_in, "burn_in", minimum=0, maximum=n_steps)
     seed = check_int(seed, "seed", minimum=0)
@@ -462,10 +534,21 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
         if init.size and (init.min() < n_excl - n_col or init.max() >= n_excl):
             raise ValueError(f"init codes must lie in [{n_excl - n_col}, {n_excl - 1}], "
                              f"got [{init.min()}, {init.max()}]")
-        state = _to_state(init, n_excl)
+        state = to_state(init, n_excl)
         excl = state[state < n_excl]
         if len(np.unique(excl)) != len(excl):
             raise ValueError("init assigns two returns to the same exclusive column")
+    return checked_search(score, n_obj, n_excl, count_term, state, n_steps=n_steps, burn_in=burn_in, seed=seed,
+                          variant=variant, temperature=temperature, completion_rounds=completion_rounds,
+                          completion_threshold=completion_threshold)
+
+
+def checked_search(score, n_obj, n_excl, count_term, state, *, n_steps, burn_in, seed, variant, temperature,
+                   completion_rounds, completion_threshold):
+    """:func:`mcmc_search` from a validated problem (:func:`check_problem`), validated options and
+    a starting ``state`` in internal column codes (:func:`to_state`): the per-parent path of
+    :class:`hypotrack.hypotheses.MCMCGenerator`, which builds these once per problem."""
+    m, n_col = score.shape
     if not np.isfinite(_state_log_weight(score, state, n_obj, n_excl, count_term)):
         raise ValueError("init must have a finite log-weight (a feasible event)")
     ss = np.random.SeedSequence(seed)
@@ -584,7 +667,7 @@ def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_
 
     Returns the augmented ``(events, log_weights)``, the given (distinct) events first.
     """
-    score, n_obj, n_excl, count_term = _check_problem(score, n_objects, n_exclusive, count_term)
+    score, n_obj, n_excl, count_term = check_problem(score, n_objects, n_exclusive, count_term)
     rounds = check_int(rounds, "rounds", minimum=0)
     tau = check_probability(relative_threshold, "relative_threshold", low_open=True, high_open=True)
     events = np.asarray(events)
@@ -593,7 +676,7 @@ def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_
     if rounds == 0 or len(lw) == 0 or m == 0:
         return events.astype(np.int32), lw
     visited = _Visited(m, n_col, 4 * len(lw) + 64)
-    visited.rows[: len(lw)] = _to_state(events, n_excl)
+    visited.rows[: len(lw)] = to_state(events, n_excl)
     visited.logw[: len(lw)] = lw
     visited.n = _insert_rows(visited.rows, visited.logw, len(lw), visited.zobrist, visited.table, visited.hashes)
     visited.complete(score, n_obj, n_excl, count_term, rounds, tau)

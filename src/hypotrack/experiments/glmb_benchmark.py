@@ -10,9 +10,11 @@ constant-velocity motion) is the public demo's, given as data in the config.
 Trackers (named in the config): ``glmb`` (Gibbs), ``glmb_murty``, ``rfisst`` (the chain alone,
 ``completion_rounds = 0``, or with the neighbour completion) and ``homht_kbest``; R-FISST and
 HOMHT run with the same labeled multi-Bernoulli birth terms expressed as their own population
-models (see :func:`make_tracker`). Estimates are the MAP hypothesis's means. Metrics: OSPA
-(``c = 100 m``, ``p = 1``) on positions with its localisation and cardinality parts, the
-estimated number of objects, and the run time per scan.
+models (see :func:`make_tracker`); ``gmphd`` is Stone Soup's GM-PHD filter with the same models,
+the peer baseline (:mod:`.glmb_benchmark_gmphd`). Estimates are the MAP hypothesis's means (the
+GM-PHD's: its components with weight > 0.5). Metrics: OSPA (``c = 100 m``, ``p = 1``) on
+positions with its localisation and cardinality parts, the estimated number of objects, and the
+run time per scan.
 """
 
 from __future__ import annotations
@@ -32,8 +34,11 @@ from ..hypotheses.weights import FISSTPoissonWeights, HFISSTWeights
 from ..metrics import ospa
 from ..models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
 
-__all__ = ["DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
-           "simulate_scans", "make_tracker", "run_tracker", "ospa_parts"]
+__all__ = ["KINDS", "PEER_KINDS", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
+           "simulate_scans", "make_tracker", "implementation_labels", "legend_labels", "run_tracker", "ospa_parts"]
+
+KINDS = ("glmb", "glmb_murty", "rfisst", "homht_kbest", "gmphd")
+PEER_KINDS = {"gmphd": "Stone Soup GM-PHD, peer implementation"}
 
 
 @dataclass(frozen=True)
@@ -117,8 +122,11 @@ def _birth_terms(model):
     return [GaussianBirthTerm(m, model.birth_cov, H, R) for m in model.birth_means]
 
 
-def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed) -> HypothesisFilter:
+def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed):
     """A named tracker with the scenario's models.
+
+    ``gmphd``: Stone Soup's GM-PHD filter, the peer implementation
+    (:mod:`.glmb_benchmark_gmphd`; deterministic, ``seed`` unused).
 
     ``glmb`` / ``glmb_murty``: the δ-GLMB presets with the labeled multi-Bernoulli population.
     ``rfisst`` and ``homht_kbest``: H-FISST weights with the chain, and FISST weights with Poisson
@@ -126,6 +134,14 @@ def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed) -> Hypot
     (``α = r_B``) and survival — the nesting of :mod:`hypotrack.hypotheses.population_lmb`: at
     most one death or undetected birth per child.
     """
+    if kind == "gmphd":
+        from .glmb_benchmark_gmphd import make_gmphd
+
+        return make_gmphd(model, options)
+    if kind not in KINDS:
+        raise ValueError(f"tracker kind must be one of {', '.join(KINDS)}, got {kind!r}")
+    if "max_hypotheses" not in options:
+        raise ValueError(f"tracker kind {kind} needs max_hypotheses (H_inf, an integer >= 1)")
     common = {"max_hypotheses": options["max_hypotheses"], "gate_probability": options.get("gate_probability"),
               "seed": seed}
     lmb = LabeledMultiBernoulliPopulation(_birth_terms(model), r_birth=model.r_birth, p_survive=model.p_survive)
@@ -140,7 +156,26 @@ def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed) -> Hypot
     if kind == "homht_kbest":
         gen = MurtyGenerator(k=options["max_hypotheses"])
         return HypothesisFilter(model.motion, model.sensor, FISSTPoissonWeights(), gen, population=binom, **common)
-    raise ValueError(f"tracker kind must be glmb, glmb_murty, rfisst or homht_kbest, got {kind!r}")
+    raise ValueError(f"tracker kind must be one of {', '.join(KINDS)}, got {kind!r}")
+
+
+def implementation_labels(trackers: dict) -> dict:
+    """Per named tracker: ``"hypotrack engine"`` or the peer's name (tables and figure legends)."""
+    return {name: PEER_KINDS.get(spec["kind"], "hypotrack engine") for name, spec in trackers.items()}
+
+
+def legend_labels(trackers: dict) -> dict:
+    """Per named tracker: its name and what it is, for figure legends."""
+    what = {"glmb": "δ-GLMB, Gibbs", "glmb_murty": "δ-GLMB, Murty", "homht_kbest": "HOMHT, Murty k-best"}
+    out = {}
+    for name, spec in trackers.items():
+        kind = spec["kind"]
+        if kind == "rfisst":
+            desc = "R-FISST + completion" if spec.get("completion_rounds", 2) else "R-FISST, chain alone"
+        else:
+            desc = PEER_KINDS.get(kind) or what.get(kind, kind)
+        out[name] = f"{name} ({desc})"
+    return out
 
 
 def ospa_parts(X, Y, c: float):

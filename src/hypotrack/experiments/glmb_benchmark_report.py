@@ -10,16 +10,18 @@ from ..report import Claim
 __all__ = ["summary_table", "curves", "plot_benchmark", "benchmark_claims", "benchmark_macros"]
 
 
-def summary_table(per_scan: pd.DataFrame):
+def summary_table(per_scan: pd.DataFrame, implementations: dict | None = None):
     """One row per tracker: mean OSPA and mean |N̂ − N| over scans and runs with standard errors
-    across runs, and the mean run time per scan. Returns (deterministic table, timing table)."""
+    across runs, and the mean run time per scan; ``implementations`` (tracker -> label) names
+    whose code ran. Returns (deterministic table, timing table)."""
     per_scan = per_scan.assign(card_err=(per_scan.n_est - per_scan.n_true).abs())
     per_run = per_scan.groupby(["tracker", "run"], sort=False)[["ospa", "ospa_loc", "ospa_card", "card_err",
                                                                 "time_s"]].mean()
     rows, timing = [], []
     for name, g in per_run.groupby(level="tracker", sort=False):
         n = len(g)
-        row = {"tracker": name, "n_runs": n}
+        row = {"tracker": name, "implementation": (implementations or {}).get(name, "hypotrack engine"),
+               "n_runs": n}
         for col in ("ospa", "ospa_loc", "ospa_card", "card_err"):
             row[f"{col}_mean"] = g[col].mean()
             row[f"{col}_se"] = g[col].std(ddof=1) / np.sqrt(n) if n > 1 else np.nan
@@ -38,7 +40,7 @@ def curves(per_scan: pd.DataFrame) -> pd.DataFrame:
     return out.reset_index()
 
 
-def plot_benchmark(curve: pd.DataFrame, pdf, png):
+def plot_benchmark(curve: pd.DataFrame, pdf, png, labels: dict | None = None):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -48,15 +50,16 @@ def plot_benchmark(curve: pd.DataFrame, pdf, png):
     panels = [("ospa", "OSPA (m)"), ("ospa_loc", "OSPA localisation part (m)"),
               ("ospa_card", "OSPA cardinality part (m)")]
     styles = dict(zip(curve.tracker.unique(), ["-", "--", "-.", ":", (0, (5, 1)), (0, (1, 3))] * 3))
+    labels = {name: (labels or {}).get(name, name) for name in curve.tracker.unique()}
     for ax, (col, label) in zip(axes.flat, panels):
         for name, g in curve.groupby("tracker", sort=False):
-            ax.plot(g.scan, g[col], label=name, lw=1.4, ls=styles[name])
+            ax.plot(g.scan, g[col], label=labels[name], lw=1.4, ls=styles[name])
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
     ax = axes.flat[3]
     first = True
     for name, g in curve.groupby("tracker", sort=False):
-        line, = ax.plot(g.scan, g.n_est_mean, lw=1.4, ls=styles[name], label=name)
+        line, = ax.plot(g.scan, g.n_est_mean, lw=1.4, ls=styles[name], label=labels[name])
         ax.fill_between(g.scan, g.n_est_mean - g.n_est_std, g.n_est_mean + g.n_est_std, color=line.get_color(),
                         alpha=0.15)
         if first:
@@ -92,7 +95,9 @@ def benchmark_claims(summary: pd.DataFrame, timing: pd.DataFrame, reference: str
         if name != reference:
             note += f"; OSPA minus {reference}: {d:+.2f} +/- {se:.2f} m"
         key = "Ospa" + "".join(p.capitalize() for p in name.split("_"))
-        claims.append(Claim("glmb_benchmark", f"{name}: mean OSPA on the GLMB linear-Gaussian benchmark",
+        who = name if row.get("implementation", "hypotrack engine") == "hypotrack engine" else \
+            f"{name} ({row.implementation})"
+        claims.append(Claim("glmb_benchmark", f"{who}: mean OSPA on the GLMB linear-Gaussian benchmark",
                             "extension (Vo, Vo & Hoang 2017 scenario)", "--", f"{row.ospa_mean:.4g}", "--",
                             "extension", note, "measurement", n=str(int(row.n_runs)), mean=f"{row.ospa_mean:.4g}",
                             se=f"{row.ospa_se:.3g}", key=key))

@@ -13,7 +13,9 @@ one). Per budget ``B`` (proposals):
 * ``murty`` — the ``⌈B / M⌉`` best events (one ranked assignment per full event, like one sweep).
 
 Measured: posterior mass captured by the distinct children found (exact: the exhaustive total),
-whether the MAP child is found, distinct children per second, wall time.
+whether the MAP child is found, distinct children per second, wall time. One more difficulty,
+``recorded``, holds association problems recorded from the GLMB benchmark's scans
+(:mod:`.samplers_recorded`), where all four samplers run on the δ-GLMB's own object-indexed problem.
 """
 
 from __future__ import annotations
@@ -26,8 +28,9 @@ import pandas as pd
 
 from ..hypotheses import AssociationProblem, ExhaustiveGenerator, GibbsGenerator, MCMCGenerator, MurtyGenerator
 from ..hypotheses.problems import synthetic_problem
+from .samplers_recorded import run_recorded_problem
 
-__all__ = ["object_indexed", "to_return_indexed", "SAMPLERS", "run_problem", "samplers_sweep", "summarise", "warm_up"]
+__all__ = ["object_indexed", "to_return_indexed", "SAMPLERS", "run_problem", "timed_run", "samplers_sweep", "summarise", "warm_up"]
 
 SAMPLERS = ("rfisst_chain", "rfisst_completion", "gibbs", "murty")
 
@@ -59,17 +62,29 @@ def to_return_indexed(gammas, n_returns: int) -> np.ndarray:
 def _run(name, problem, obj_problem, budget, rng):
     M = max(problem.n_objects, 1)
     per_event = math.ceil(budget / M)
-    t0 = time.perf_counter()
     if name.startswith("rfisst"):
         gen = MCMCGenerator(n_steps=budget, completion_rounds=0 if name == "rfisst_chain" else 2)
-        ev, lw = gen.generate(problem, rng)
-    elif name == "gibbs":
+        return gen.generate(problem, rng)
+    if name == "gibbs":
         g, lw = GibbsGenerator(n_sweeps=per_event).generate(obj_problem, rng)
-        ev = to_return_indexed(g, problem.n_returns)
     else:
         g, lw = MurtyGenerator(k=per_event).generate(obj_problem)
-        ev = to_return_indexed(g, problem.n_returns)
-    return ev, lw, time.perf_counter() - t0
+    return to_return_indexed(g, problem.n_returns), lw
+
+
+def timed_run(fn, rng):
+    """``fn(rng)`` -> (events, log-weights); returns them with the wall time. Short runs (< 50 ms)
+    are timed twice more on side streams and the least time kept (shared CPU); the results and the
+    main stream are those of the first run, so the tables stay deterministic."""
+    t0 = time.perf_counter()
+    ev, lw = fn(rng)
+    dt = time.perf_counter() - t0
+    if dt < 0.05:
+        for rep in range(2):
+            t0 = time.perf_counter()
+            fn(np.random.default_rng(rep))
+            dt = min(dt, time.perf_counter() - t0)
+    return ev, lw, dt
 
 
 def run_problem(sp, budgets, rng) -> list:
@@ -82,11 +97,7 @@ def run_problem(sp, budgets, rng) -> list:
     rows = []
     for budget in budgets:
         for name in SAMPLERS:
-            ev, lw, dt = _run(name, problem, obj_problem, int(budget), rng)
-            if dt < 0.05:  # short runs: timed twice more on a side stream, keep the least (shared CPU);
-                # the results and the main stream are those of the first run (tables stay deterministic)
-                for rep in range(2):
-                    dt = min(dt, _run(name, problem, obj_problem, int(budget), np.random.default_rng(rep))[2])
+            ev, lw, dt = timed_run(lambda r, name=name, b=int(budget): _run(name, problem, obj_problem, b, r), rng)
             keys = {e.astype(np.int32).tobytes() for e in ev}
             rows.append({"sampler": name, "budget": int(budget), "n_children_total": len(lw_all),
                          "mass_captured": float(np.exp(np.logaddexp.reduce(lw) - log_total)) if len(lw) else 0.0,
@@ -94,18 +105,31 @@ def run_problem(sp, budgets, rng) -> list:
     return rows
 
 
-def samplers_sweep(cfg, seed_seq) -> pd.DataFrame:
-    """Every difficulty × problem × budget × sampler; one seed stream per difficulty."""
+def samplers_sweep(cfg, seed_seq, recorded=None) -> pd.DataFrame:
+    """Every difficulty × problem × budget × sampler; one seed stream per difficulty. ``recorded``
+    (problems recorded from the GLMB benchmark, :mod:`.samplers_recorded`) adds the difficulty
+    ``recorded`` with ``cfg["recorded"]``'s ``max_events`` and ``reference_k``."""
     warm_up()
     parts = []
-    for difficulty, ss in zip(cfg["difficulties"], seed_seq.spawn(len(cfg["difficulties"]))):
+    streams = seed_seq.spawn(len(cfg["difficulties"]) + 1)
+    for difficulty, ss in zip(cfg["difficulties"], streams[:-1]):
         for p, child in enumerate(ss.spawn(cfg["n_problems"])):
             prob_seed, run_seed = child.spawn(2)
             sp = synthetic_problem(cfg["n_objects"], difficulty=difficulty, rng=np.random.default_rng(prob_seed),
                                    weights="reid")
             print(f"samplers {difficulty} problem {p}: M = {cfg['n_objects']}, m = {sp.problem.n_returns}", flush=True)
             rows = run_problem(sp, cfg["budgets"], np.random.default_rng(run_seed))
-            parts.append(pd.DataFrame(rows).assign(difficulty=difficulty, problem=p, n_returns=sp.problem.n_returns))
+            parts.append(pd.DataFrame(rows).assign(difficulty=difficulty, problem=p, n_returns=sp.problem.n_returns,
+                                                   mass_exact=True))
+    if recorded:
+        rec_cfg = cfg["recorded"]
+        for p, (problem, child) in enumerate(zip(recorded, streams[-1].spawn(len(recorded)))):
+            print(f"samplers recorded problem {p}: {problem.n_returns} rows, {problem.n_exclusive} returns",
+                  flush=True)
+            rows = run_recorded_problem(problem, cfg["budgets"], np.random.default_rng(child),
+                                        max_events=int(rec_cfg["max_events"]), reference_k=int(rec_cfg["reference_k"]),
+                                        timed_run=timed_run)
+            parts.append(pd.DataFrame(rows).assign(difficulty="recorded", problem=p, n_returns=problem.n_exclusive))
     return pd.concat(parts, ignore_index=True)
 
 
@@ -113,10 +137,13 @@ def summarise(raw: pd.DataFrame):
     """Per difficulty × sampler × budget: mean mass captured (± s.e.), MAP found rate, mean
     distinct children. Returns (deterministic table, timing table with children per second)."""
     keys = ["difficulty", "sampler", "budget"]
+    if "mass_exact" not in raw:
+        raw = raw.assign(mass_exact=True)
     g = raw.groupby(keys, sort=False)
     det = g.agg(n_problems=("problem", "size"), mass_mean=("mass_captured", "mean"),
                 mass_se=("mass_captured", lambda x: x.std(ddof=1) / np.sqrt(len(x)) if len(x) > 1 else np.nan),
-                map_found=("map_found", "mean"), distinct_mean=("n_distinct", "mean")).reset_index()
+                map_found=("map_found", "mean"), distinct_mean=("n_distinct", "mean"),
+                mass_exact=("mass_exact", "all")).reset_index()
     timing = g.agg(time_mean_s=("time_s", "mean"), distinct_mean=("n_distinct", "mean")).reset_index()
     timing["children_per_s"] = timing.distinct_mean / timing.time_mean_s
     return det, timing

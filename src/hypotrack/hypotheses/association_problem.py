@@ -23,10 +23,11 @@ project-wide convention of :mod:`hypotrack.association` by the extra columns.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
-from ..association.mcmc import event_log_weights
+from ..association.mcmc import check_problem, checked_event_log_weights
 
 __all__ = ["AssociationProblem", "CLUTTER", "SEEDED_BIRTH"]
 
@@ -87,9 +88,10 @@ class AssociationProblem:
     def n_options(self) -> int:
         return self.option_scores.shape[1]
 
-    @property
+    @cached_property
     def score(self) -> np.ndarray:
-        """The full (m, C + T) data association matrix ``[target_scores | option_scores]``."""
+        """The full (m, C + T) data association matrix ``[target_scores | option_scores]``
+        (built once: the chain, its starting event and the children's weights all read it)."""
         return np.hstack([self.target_scores, self.option_scores])
 
     @property
@@ -104,9 +106,18 @@ class AssociationProblem:
         ct = self.count_term
         return bool(np.all(ct == ct.flat[0]))
 
+    @cached_property
+    def checked(self) -> tuple:
+        """``(score, n_objects, n_exclusive, count_term)`` validated once
+        (:func:`hypotrack.association.mcmc.check_problem`) for the searches and weights of this problem."""
+        return check_problem(self.score, self.n_objects, self.n_exclusive, self.count_term)
+
     def log_weights(self, events) -> np.ndarray:
         """Exact child log-weights ``constant + Σ_i score[i, a_i] + φ[k, b]`` of events (E, m)."""
-        return self.constant + event_log_weights(self.score, self.n_objects, self.n_exclusive, self.count_term, events)
+        events = np.asarray(events)
+        if events.ndim != 2 or events.shape[1] != self.n_returns:
+            raise ValueError(f"events must have shape (E, {self.n_returns}), got {events.shape}")
+        return self.constant + checked_event_log_weights(*self.checked, events)
 
     def counts(self, events) -> tuple[np.ndarray, np.ndarray]:
         """``(k, b)`` per event: returns on object columns and on birth columns."""

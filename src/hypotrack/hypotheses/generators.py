@@ -43,7 +43,7 @@ from ..association import (
     murty_k_best,
 )
 from ..association.cardinality_assignment import cardinality_k_best
-from ..association.mcmc import MCMC_VARIANTS, mcmc_search
+from ..association.mcmc import MCMC_VARIANTS, _state_log_weight, checked_search, to_state
 from .association_problem import SEEDED_BIRTH, AssociationProblem
 
 __all__ = ["ChildGenerator", "ExhaustiveGenerator", "MurtyGenerator", "MCMCGenerator", "top_k"]
@@ -267,7 +267,9 @@ class MCMCGenerator(ChildGenerator):
             score, n_cols = _murty_matrix(problem)
             _, cols = best_assignment(score)
             init = _decode_enumerated(np.asarray(columns_to_event(cols, n_cols))[None], problem)[0]
-        if not np.isfinite(problem.log_weights(init[None])[0]):
+        # Feasibility as problem.log_weights(init[None]) decides it (the same sum, in the same order).
+        score, n_obj, n_excl, count_term = problem.checked
+        if not np.isfinite(problem.constant + _state_log_weight(score, to_state(init, n_excl), n_obj, n_excl, count_term)):
             init = np.full(m, -1, dtype=np.int64)
         return init
 
@@ -277,11 +279,14 @@ class MCMCGenerator(ChildGenerator):
         rng = np.random.default_rng(rng)
         init = self._initial_event(problem, rng)
         burn_in = self.n_steps // 10 if self.burn_in is None else self.burn_in
-        events, lw = mcmc_search(
-            problem.score, problem.n_objects, problem.n_exclusive, problem.count_term,
+        # mcmc_search without re-validating the problem (checked once) and this generator's options
+        # (checked at construction); the starting event is feasible by construction.
+        score, n_obj, n_excl, count_term = problem.checked
+        events, lw = checked_search(
+            score, n_obj, n_excl, count_term, to_state(init, n_excl),
             n_steps=self.n_steps, burn_in=burn_in, seed=int(rng.integers(2**63 - 1)),
-            variant=self.variant, init=init, temperature=self.temperature,
-            completion_rounds=self.completion_rounds, completion_threshold=self.completion_threshold,
+            variant=self.variant, temperature=float(self.temperature),
+            completion_rounds=self.completion_rounds, completion_threshold=float(self.completion_threshold),
         )
         lw = lw + problem.constant
         sel = top_k(lw, keep)

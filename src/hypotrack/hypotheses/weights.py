@@ -16,6 +16,7 @@ Detection probabilities must lie in [0, 1): a missed detection must be possible 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from scipy.special import gammaln
@@ -56,15 +57,12 @@ class WeightModel:
             (seed 000 Eq. 30 / seed 001 Eq. 59); default: no births, probability 1.
         """
         tracks = np.asarray(tracks, dtype=np.int64)
-        p = ctx.p_detect[tracks]
-        log_miss = np.log1p(-p)
-        with np.errstate(divide="ignore"):
-            obj = ctx.loglik[:, tracks] + (np.log(p) - log_miss)[None, :]
-        obj = np.where(ctx.allowed[:, tracks], obj, -np.inf)
+        log_miss_all, obj_all = ctx.detection_scores  # per scan; the same numbers as per parent
+        log_miss = log_miss_all[tracks]
+        obj = obj_all[:, tracks]
         n_births = ctx.n_birth_regions if self.uses_birth_columns() else 0
         if n_births:
-            births = ctx.birth_loglik + np.log(ctx.p_detect_birth)
-            target = np.hstack([obj, births])
+            target = np.hstack([obj, ctx.birth_scores])
         else:
             target = obj
         pop = np.zeros(1) if population_log_prob is None else np.asarray(population_log_prob, dtype=float)
@@ -113,11 +111,19 @@ class HFISSTWeights(WeightModel):
         return np.full((ctx.n_returns, 1), ctx.log_clutter_density)
 
     def count_term(self, ctx, n_objects, n_births):
-        m = ctx.n_returns
-        k, b, ok = _detected_counts(m, n_objects, n_births)
-        n = np.minimum(k + b, m)
-        # −log(C(m, n) n!) = −log(m! / (m − n)!), Eq. 8 / 31.
-        return np.where(ok, gammaln(m - n + 1) - gammaln(m + 1), -np.inf)
+        return _hfisst_count_term(ctx.n_returns, int(n_objects), int(n_births))
+
+
+@lru_cache(maxsize=4096)
+def _hfisst_count_term(m, n_objects, n_births):
+    # A function of three counts, asked for by every parent of every scan: computed once each
+    # (read-only, so no caller can change the shared array).
+    k, b, ok = _detected_counts(m, n_objects, n_births)
+    n = np.minimum(k + b, m)
+    # −log(C(m, n) n!) = −log(m! / (m − n)!), Eq. 8 / 31.
+    out = np.where(ok, gammaln(m - n + 1) - gammaln(m + 1), -np.inf)
+    out.setflags(write=False)
+    return out
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,8 @@ from .._validation import (
     check_probability,
 )
 from ..association import gate_threshold, validation_matrix
-from ..gaussian import _innovation, _mahalanobis2, _predict_with
+from ..gaussian import _innovation, _mahalanobis2, _predict_with, symmetrize
+from ..models.motion import ConstantVelocity, OrnsteinUhlenbeck
 
 __all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks"]
 
@@ -118,8 +119,9 @@ class GatedTracks:
         The scan's returns.
     d2 : (m, n)
         Squared Mahalanobis distances ``(z_i − ẑ_j)ᵀ S_j⁻¹ (z_i − ẑ_j)``.
-    logdet : (n,)
-        ``log det S_j``.
+    logdet : (n,) or None
+        ``log det S_j``; ``None`` when the tracker's criterion does not use it (the Mahalanobis
+        GNN criterion), :meth:`log_likelihood` then computes it.
     valid : (m, n) bool
         The validation matrix (lecture 004, "Gating"): return i lies in track j's gate.
     """
@@ -131,7 +133,7 @@ class GatedTracks:
     K: np.ndarray
     Z: np.ndarray
     d2: np.ndarray
-    logdet: np.ndarray
+    logdet: np.ndarray | None
     valid: np.ndarray
 
     @property
@@ -145,7 +147,8 @@ class GatedTracks:
     def log_likelihood(self) -> np.ndarray:
         """``log N(z_i; ẑ_j, S_j)``, shape (m, n) (the predicted measurement density)."""
         p = self.Z.shape[1]
-        return -0.5 * (self.d2 + self.logdet[None, :] + p * np.log(2.0 * np.pi))
+        logdet = np.linalg.slogdet(self.S)[1] if self.logdet is None else self.logdet
+        return -0.5 * (self.d2 + logdet[None, :] + p * np.log(2.0 * np.pi))
 
 
 def predict_tracks(motion, x, P, dt):
@@ -180,3 +183,71 @@ def gate_tracks(x, P, Z, model: ScanModel, *, gate: float | None = None) -> Gate
     d2, logdet = _mahalanobis2(Z, z_pred, S)
     valid = validation_matrix(d2, model.gate if gate is None else gate)
     return GatedTracks(x, P, z_pred, S, K, Z, d2, logdet, valid)
+
+
+# Motion models whose prediction is ``F(dt) x`` with a constant ``F(dt)`` (their ``transition``).
+_LINEAR_MOTION = (ConstantVelocity, OrnsteinUhlenbeck)
+
+
+class _ScanPredictor:
+    """The trackers' own per-scan prediction: a linear model's ``F(dt)`` and ``Q(dt)`` are kept while
+    ``dt`` repeats (a fixed scan period builds them once), other models go through
+    :func:`predict_tracks`. Same numbers as :func:`predict_tracks` (same products, same order)."""
+
+    def __init__(self, motion):
+        self.motion = motion
+        self.linear = isinstance(motion, _LINEAR_MOTION)
+        self._dt, self._F, self._FT, self._Q = None, None, None, None
+
+    def __call__(self, x, P, dt):
+        if len(x) == 0 or dt == 0:
+            return x, P
+        if not self.linear:
+            return predict_tracks(self.motion, x, P, dt)
+        if dt != self._dt:
+            self._F = self.motion.F(dt)
+            self._FT, self._Q, self._dt = self._F.T, self.motion.Q(dt), dt
+        return x @ self._FT, symmetrize(self._F @ P @ self._FT + self._Q)
+
+
+def _gate_scan(x, P, Z, model: ScanModel, *, logdet: bool = True) -> GatedTracks:
+    """Unchecked :func:`gate_tracks` for a tracker's own step (inputs checked at its boundary).
+
+    One batched inverse of the innovation covariances serves the gains ``K = P Hᵀ S⁻¹``, the
+    distances ``νᵀ S⁻¹ ν`` of all (return, track) pairs and ``log det S``: a few numpy calls per
+    scan whatever the number of tracks. ``S`` is positive definite by construction (``P`` kept PSD
+    by the Joseph form, ``R`` checked PD), so the plain inverse is safe here; the numbers equal
+    :func:`gate_tracks`' up to rounding. Without ``logdet`` the result's ``logdet`` is ``None``.
+    """
+    if len(x) == 0:
+        return gate_tracks(x, P, Z, model)
+    H = model.H
+    z_pred = x @ H.T
+    PHt = P @ H.T
+    # P is symmetric (symmetrised by the prediction), so S is symmetric up to rounding (exactly
+    # for a selection H) and the distances below use only the symmetric part of S⁻¹.
+    S = H @ PHt + model.R
+    S_inv = np.linalg.inv(S)
+    d2 = _quadratic_forms(Z, z_pred, S_inv)
+    log_det = np.log(np.linalg.det(S)) if logdet else None
+    return GatedTracks(x, P, z_pred, S, PHt @ S_inv, Z, d2, log_det, d2 <= model.gate)
+
+
+def _quadratic_forms(Z, z_pred, S_inv):
+    """``d²[i, j] = (z_i − ẑ_j)ᵀ S_j⁻¹ (z_i − ẑ_j)`` as ``Σ_a Σ_b S⁻¹_j[a, b] r_a r_b`` over (m, n) planes.
+
+    Each innovation component ``r_a = z_{i,a} − ẑ_{j,a}`` is one (m, n) array, so every operation
+    runs over all pairs at once with contiguous inner loops; an (m, n, p) array with its tiny last
+    axis (or an ``einsum`` over it) costs several times more per pair.
+    """
+    p = Z.shape[1]
+    r = [Z[:, a, None] - z_pred[:, a] for a in range(p)]
+    d2 = None
+    for a in range(p):
+        w = S_inv[:, a, a] * r[a]
+        for b in range(a + 1, p):
+            w += (S_inv[:, a, b] + S_inv[:, b, a]) * r[b]
+        w *= r[a]
+        d2 = w if d2 is None else d2 + w
+    # Rounding can take the distance of a return on the prediction a hair below 0.
+    return np.maximum(d2, 0.0, out=d2)

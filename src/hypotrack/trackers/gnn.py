@@ -35,11 +35,12 @@ import numpy as np
 
 from scipy.optimize import linear_sum_assignment
 
-from ..association import association_score_matrix, find_clusters
+from ..association import association_score_matrix
+from ..association.clustering import component_labels
 from ..gaussian import _joseph_covariance
 from ._sht_common import GatedTracks, ScanModel
 
-_JOINT_LIMIT = 64
+_JOINT_LIMIT = 128
 
 __all__ = [
     "assignment_matrix",
@@ -109,26 +110,34 @@ def gnn_associate(gain) -> np.ndarray:
         raise ValueError(f"gain must have shape (m, n), got {gain.shape}")
     if np.isnan(gain).any() or np.isposinf(gain).any():
         raise ValueError("gain must not contain NaN or +inf")
+    return _associate(gain)
+
+
+def _associate(gain) -> np.ndarray:
+    """:func:`gnn_associate` without its input checks (the tracker's own, finite gains)."""
     m, n = gain.shape
     a = np.full(m, -1, dtype=np.int64)
     if m == 0 or n == 0:
         return a
     # Only pairs that beat leaving both unassigned can be in an optimal assignment.
     useful = gain > 0
+    if n <= _JOINT_LIMIT:
+        # One assignment over all returns and tracks (a row or column without a useful pair
+        # just stays unassigned): no cluster bookkeeping for a small problem.
+        r, c = linear_sum_assignment(np.where(useful, gain, 0.0), maximize=True)
+        hit = useful[r, c]
+        a[r[hit]] = c[hit]
+        return a
+    # A track none of whose useful returns is wanted by another track decides alone; the
+    # others are solved in groups of whole clusters.
     contested = useful.sum(axis=1) > 1
     track_contested = (useful & contested[:, None]).any(axis=0)
-    # A track none of whose useful returns is wanted by another track decides alone.
     alone = np.flatnonzero(~track_contested & useful.any(axis=0))
     if len(alone):
         best = np.argmax(np.where(useful[:, alone], gain[:, alone], -np.inf), axis=0)
         a[best] = alone
-    rest = np.flatnonzero(track_contested)
-    if len(rest) == 0:
-        return a
-    for cols in _cluster_groups(useful, rest):
+    for cols in _cluster_groups(useful, np.flatnonzero(track_contested)):
         rows = np.flatnonzero(useful[:, cols].any(axis=1))
-        if len(rows) == 0:
-            continue
         ix = np.ix_(rows, cols)
         block = useful[ix]
         # Rectangular assignment on the gains, a pair outside ``useful`` gaining 0: the same optimum
@@ -140,7 +149,8 @@ def gnn_associate(gain) -> np.ndarray:
 
 
 def _cluster_groups(useful, tracks):
-    """Contested tracks in groups of whole clusters, each group at most ``_JOINT_LIMIT`` tracks.
+    """Contested tracks in groups of whole clusters, each group at most ``_JOINT_LIMIT`` tracks
+    (a larger cluster is a group of its own).
 
     Clusters are independent, so one assignment over several of them has the same optimum as
     one per cluster; packing small clusters together saves the per-call overhead, while
@@ -148,16 +158,22 @@ def _cluster_groups(useful, tracks):
     clustering is needed at all.
     """
     if len(tracks) <= _JOINT_LIMIT:
-        return [tracks]
-    groups, current = [], []
-    for c in find_clusters(useful[:, tracks]):
-        members = tracks[c.tracks]
-        if current and len(current) + len(members) > _JOINT_LIMIT:
-            groups.append(np.asarray(current))
-            current = []
-        current.extend(members.tolist())
-    if current:
-        groups.append(np.asarray(current))
+        return [tracks] if len(tracks) else []
+    m = useful.shape[0]
+    _, labels = component_labels(useful[:, tracks])
+    col_lab = labels[m:]
+    order = np.argsort(col_lab, kind="stable")
+    members = tracks[order]
+    # Cluster boundaries in ``members`` (sorted by cluster label), then greedy packing.
+    starts = np.flatnonzero(np.diff(col_lab[order], prepend=-1))
+    sizes = np.diff(starts, append=len(members)).tolist()
+    groups, begin, size = [], 0, 0
+    for s0, sz in zip(starts.tolist(), sizes):
+        if size and size + sz > _JOINT_LIMIT:
+            groups.append(members[begin:s0])
+            begin, size = s0, 0
+        size += sz
+    groups.append(members[begin:])
     return groups
 
 

@@ -31,8 +31,8 @@ from .._validation import (
     check_positive,
     check_state_dimension,
 )
-from ._sht_common import ScanModel, gate_tracks, predict_tracks
-from .gnn import gnn_associate, gnn_gains, gnn_update, mahalanobis_gains
+from ._sht_common import ScanModel, _gate_scan, _ScanPredictor
+from .gnn import _associate, gnn_gains, gnn_update, mahalanobis_gains
 from .initiation import MOfNInitiator
 from .jpda import jpda_log_weights, jpda_probabilities, pda_update, pdaf_probabilities
 
@@ -114,6 +114,7 @@ class SingleHypothesisTracker:
         if initiator is not None and initiator.model.H.shape != model.H.shape:
             raise ValueError(f"initiator's scan model has H of shape {initiator.model.H.shape}, the tracker's {model.H.shape}")
         self.motion = motion
+        self._predict = _ScanPredictor(motion)
         self.model = model
         self.association = association
         self.initiator = initiator
@@ -177,15 +178,17 @@ class SingleHypothesisTracker:
         # Everything is computed into locals and committed at the end, so that a failure (e.g. a
         # JPDA cluster over its marginals budget) leaves the tracker as it was and the scan can
         # be retried.
-        x, P = predict_tracks(self.motion, self.x, self.P, dt)
-        gated = gate_tracks(x, P, Z, self.model)
+        # Inputs are checked here and at construction/initialise; the per-scan work below runs on
+        # the tracker's own states, in a few batched numpy calls whatever the number of tracks.
+        x, P = self._predict(self.x, self.P, dt)
+        gated = _gate_scan(x, P, Z, self.model, logdet=self.association != "gnn" or self.gnn_score == "lecture")
         if self.association == "gnn":
             gain = (
                 gnn_gains(gated, self.model)
                 if self.gnn_score == "lecture"
                 else mahalanobis_gains(gated, self.missed_distance)
             )
-            association = gnn_associate(gain)
+            association = _associate(gain)
             x, P, detected = gnn_update(gated, association, self.model)
             unused = association < 0
         else:
@@ -196,14 +199,18 @@ class SingleHypothesisTracker:
             x, P = pda_update(gated, association, self.model)
             detected = gated.valid.any(axis=0)
             unused = ~gated.valid.any(axis=1)
-        misses = np.where(detected, 0, self.misses + 1)
+        misses = self.misses + 1
+        misses[detected] = 0
         keep = misses < self.max_misses
         # The initiator's own step is transactional: it is the last thing that may fail.
         new_x, new_P = self.initiator.step(time, Z[unused]) if self.initiator is not None else (None, None)
 
         self.time = time
         self.last_gated, self.last_association = gated, association
-        self.ids, self.x, self.P, self.misses = self.ids[keep], x[keep], P[keep], misses[keep]
+        if keep.all():
+            self.x, self.P, self.misses = x, P, misses
+        else:
+            self.ids, self.x, self.P, self.misses = self.ids[keep], x[keep], P[keep], misses[keep]
         if new_x is not None:
             self._add(new_x, new_P)
         return self.estimates()

@@ -31,10 +31,14 @@ def _snapshot_verdict(matched: pd.DataFrame, scans, n_scans) -> tuple[str, bool]
 
 def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.DataFrame,
                  matched: pd.DataFrame, births: pd.DataFrame, *, estimate_scans, n_scans: int,
-                 error_bound_probability: float, note: str = "") -> list:
+                 error_bound_probability: float, note: str = "", tracker: str = "R-FISST",
+                 per_object_death: bool = False) -> list:
     """The ssa50 reproduction claims (seed 000 Sec. IV-A, Figs 6, 8–11).
 
-    ``metrics`` is the merged per-scan table (run summary and :func:`evaluate_map` metrics).
+    ``metrics`` is the merged per-scan table (run summary and :func:`evaluate_map` metrics);
+    ``tracker`` names the tracker in the rows that state what it does; ``per_object_death`` says
+    whether its population lets any object die (labeled multi-Bernoulli) rather than only objects
+    in view (Eq. 30), which changes the explanation of ``P(N > 50)``.
     """
     ex = "ssa50"
     m = metrics.set_index("scan")
@@ -58,8 +62,10 @@ def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.D
         ex, f"P(N = {n_end}) at the end (the {n_end}-object assumption holds all weight)", "000 Fig. 11", 1.0,
         p_end, abs_tol=0.05, digits=4,
         note=f"P(N > {n_end}) = {p_more:.3g}: hypotheses holding an extra object seeded by clutter (or an "
-             f"undetected birth) that has left the FOV, where Eq. 30 neither penalises nor kills it (only "
-             f"objects in view can die); P(N < {n_end}) = {p_less:.3g}", key="PEnd"))
+             + ("undetected birth); every object may die at every scan (labeled multi-Bernoulli survival)"
+                if per_object_death else "undetected birth) that has left the FOV, where Eq. 30 neither "
+                "penalises nor kills it (only objects in view can die)")
+             + f"; P(N < {n_end}) = {p_less:.3g}", key="PEnd"))
     seq = m["map_n_objects"].to_numpy()
     changes = seq[np.r_[True, seq[1:] != seq[:-1]]]
     single_file = bool(np.all(np.diff(changes) == 1)) and changes[0] == n_start and changes[-1] == n_end
@@ -71,7 +77,7 @@ def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.D
                         "a step back or a jump of two is a failure", "published number", key="SingleFile"))
     n_tracked = int(births["tracked_at_end"].sum())
     delays = ", ".join(f"{d}" for d in births["delay_scans"])
-    claims.append(Claim(ex, "R-FISST recognises every birth", "000 Sec. IV-A", f"{len(births)} births",
+    claims.append(Claim(ex, f"{tracker} recognises every birth", "000 Sec. IV-A", f"{len(births)} births",
                         f"{n_tracked} tracked at the end", "all", "reproduced" if n_tracked == len(births)
                         else "not reproduced", f"scans from first in view to a correct MAP track: {delays}",
                         "published number", key="BirthsTracked"))
@@ -163,8 +169,10 @@ def _key_part(name: str) -> str:
 
 
 def labelled(claims, label: str, key_prefix: str) -> list:
-    """One tracker's claims among several trackers': the item names the tracker, keys get a prefix."""
-    return [replace(c, item=f"{label}: {c.item}", key=f"{key_prefix}{c.key}" if c.key else "") for c in claims]
+    """One tracker's claims among several trackers': the item names the tracker (unless it starts
+    with its name already), keys get a prefix."""
+    return [replace(c, item=c.item if c.item.startswith(label) else f"{label}: {c.item}",
+                    key=f"{key_prefix}{c.key}" if c.key else "") for c in claims]
 
 
 def completion_pair(settings: Mapping):

@@ -213,3 +213,14 @@ def test_gated_count_messages_name_the_argument():
         enumerate_associations(2, 2, allowed=np.ones((2, 2)))
     with pytest.raises(ValueError, match=r"^cap must be an integer in \[0, inf\], got -1$"):
         count_gated_associations(np.ones((2, 2), dtype=bool), cap=-1)
+
+
+def test_fully_gated_component_is_counted_in_closed_form_next_to_an_ungated_track():
+    """A fully gated 25 x 25 block (too wide for the capped DP to count exactly) beside a track
+    that gates nothing: the block alone is the component, counted by Eq. 4, so the budget error
+    states the exact A(25, 25)."""
+    allowed = np.zeros((25, 26), dtype=bool)
+    allowed[:, :25] = True
+    with pytest.raises(EnumerationBudgetError,
+                       match=f"^enumeration would produce {count_associations(25, 25):,} association events"):
+        enumerate_associations(26, 25, allowed=allowed, max_events=1000)

@@ -421,7 +421,7 @@ def test_event_log_weights_reads_exact_rationals_as_numbers():
     from fractions import Fraction
 
     score = [[Fraction(1, 2), Fraction(-1, 4)], [Fraction(3, 2), Fraction(0)]]  # 1 object, clutter
-    lw = event_log_weights(score, 1, 1, [[0.0], [-1.0]], np.array([[0, -1], [-1, 0], [-1, -1]]))
+    lw = event_log_weights(score, 1, 1, [[Fraction(0)], [Fraction(-1)]], np.array([[0, -1], [-1, 0], [-1, -1]]))
     np.testing.assert_array_equal(lw, [0.5 + 0.0 - 1.0, -0.25 + 1.5 - 1.0, -0.25])
 
 
@@ -513,3 +513,37 @@ def test_chain_is_the_step_by_step_reference(variant):
     assert len(ev_ref) > 20
     np.testing.assert_array_equal(ev, ev_ref)
     np.testing.assert_array_equal(lw, lw_ref)
+
+
+_BAD_PROBLEMS = [
+    (np.zeros(3), 0, 0, np.zeros((1, 1)), r"^score must be a 2-D \(m, n_exclusive \+ n_options\) array, got shape \(3,\)$"),
+    (np.zeros((2, 3)), 1, 3, np.zeros((2, 3)), r"^n_exclusive must be an integer in \[0, 2\], got 3$"),
+    (np.zeros((2, 3)), 0, -1, np.zeros((1, 1)), r"^n_exclusive must be an integer in \[0, 2\], got -1$"),
+    (np.zeros((2, 3)), 3, 2, np.zeros((4, 1)), r"^n_objects must be an integer in \[0, 2\], got 3$"),
+    (np.zeros((2, 3)), -1, 2, np.zeros((1, 1)), r"^n_objects must be an integer in \[0, 2\], got -1$"),
+    (np.zeros((2, 0)), 0, 0, np.zeros((1, 1)),
+     r"^score needs at least one row-option column \(clutter\) after the exclusive columns$"),
+    (np.array([[0.0, np.nan, 0.0]]), 1, 2, np.zeros((2, 2)),
+     r"^score must not contain NaN or \+inf \(use -inf for forbidden pairs\)$"),
+    (np.array([[0.0, np.inf, 0.0]]), 1, 2, np.zeros((2, 2)),
+     r"^score must not contain NaN or \+inf \(use -inf for forbidden pairs\)$"),
+    (np.array([[0.0, 0.0, -np.inf]]), 1, 2, np.zeros((2, 2)),
+     r"^score's clutter column \(index n_exclusive\) must be finite: clutter must always be possible$"),
+    (np.zeros((1, 3)), 1, 2, np.zeros((2, 1)),
+     r"^count_term must have shape \(n_objects \+ 1, n_exclusive - n_objects \+ 1\) = \(2, 2\), got \(2, 1\)$"),
+    (np.zeros((1, 3)), 1, 2, np.array([[0.0, np.nan], [0.0, 0.0]]), r"^count_term must not contain NaN or \+inf$"),
+    (np.zeros((1, 3)), 1, 2, np.array([[0.0, np.inf], [0.0, 0.0]]), r"^count_term must not contain NaN or \+inf$"),
+]
+
+
+@pytest.mark.parametrize("score, n_obj, n_excl, phi, message", _BAD_PROBLEMS)
+def test_problem_messages_name_the_argument_and_the_rule(score, n_obj, n_excl, phi, message):
+    m = score.shape[0] if score.ndim == 2 else 1
+    with pytest.raises(ValueError, match=message):
+        event_log_weights(score, n_obj, n_excl, phi, np.full((1, m), -1))
+
+
+def test_empty_scan_needs_no_clutter_column():
+    """m = 0: no return needs clutter; the one (empty) event weighs the count term φ[0, 0]."""
+    lw = event_log_weights(np.zeros((0, 0)), 0, 0, [[0.25]], np.zeros((1, 0), dtype=int))
+    np.testing.assert_array_equal(lw, [0.25])

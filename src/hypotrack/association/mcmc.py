@@ -534,9 +534,11 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
         init = np.asarray(init)
         if init.shape != (m,):
             raise ValueError(f"init must have shape ({m},), got {init.shape}")
+        # Codes n_exclusive.. are no column (reading them as row options would be silent nonsense).
+        if init.size and (init.min() < n_excl - n_col or init.max() >= n_excl):
+            raise ValueError(f"init codes must lie in [{n_excl - n_col}, {n_excl - 1}], "
+                             f"got [{init.min()}, {init.max()}]")
         state = to_state(init, n_excl)
-        if state.size and (state.min() < 0 or state.max() >= n_col):
-            raise ValueError("init holds codes outside the score matrix")
         excl = state[state < n_excl]
         if len(np.unique(excl)) != len(excl):
             raise ValueError("init assigns two returns to the same exclusive column")

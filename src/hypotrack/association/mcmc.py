@@ -29,7 +29,11 @@ Visit counts are never returned.
 
 The inner loop is compiled with numba (``cache=True``); a visited-set is kept in an
 open-addressing hash table keyed by an incrementally updated Zobrist hash, with an exact row
-comparison on every hash hit, so two different events are never merged.
+comparison on every hash hit, so two different events are never merged. The paper and
+symmetric chains read numba's ``np.random`` stream from a local buffer (:mod:`.mt19937`) and
+reject forbidden pairs (``−inf`` scores) without evaluating the rest of the move: the same
+uniforms and decisions as ``np.random.random()`` and the full test, measured 32 → 12 ns per
+proposal on ssa50 parents (two shared cores).
 
 References
 ----------

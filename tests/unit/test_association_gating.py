@@ -104,6 +104,8 @@ def test_messages_name_the_offending_argument():
         validation_matrix(np.array([[1.0, np.nan]]), 1.0)
     with pytest.raises(ValueError, match=r"^threshold must be a finite number > 0, got -2\.0$"):
         validation_matrix(np.ones((2, 2)), -2.0)
+    with pytest.raises(ValueError, match=r"^dim must be an integer in \[1, inf\], got 0$"):
+        gate_threshold(0.9, 0)
 
 
 def test_innovation_covariance_of_another_dimension_is_refused():

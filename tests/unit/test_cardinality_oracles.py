@@ -365,3 +365,27 @@ def test_vanishing_detection_probability_does_not_overflow():
 def test_exact_dp_rejects_a_negative_cap():
     with pytest.raises(ValueError, match=r"max_alive must be an integer in \[0, inf\]"):
         exact_count_dp([1, 2], MODELS[0], max_alive=-1)
+
+
+def test_empty_data_and_integer_solutions():
+    sol = exact_count_dp([], MODELS[0])
+    assert sol.J == 0.0 and not sol.cap_reached
+    for a in (sol.chi, sol.d, sol.b, sol.f, sol.n):
+        assert a.shape == (0,)
+    sol = exact_count_dp([2, 0, 3], MODELS[1])
+    for a in (sol.chi, sol.d, sol.b, sol.f, sol.n):
+        assert a.dtype == np.int64
+
+
+@pytest.mark.parametrize("r", [[0, 0, 2, 2], [0, 0, 0, 2]])
+def test_cap_reached_late_in_the_data(r):
+    """The optimal path meets the cap only after the first scan (or only at the last): still reported."""
+    model = CountModel(p_d=0.9, p_chi=0.05, lambda_b=1.0, lambda_fa=0.3)
+    sol = exact_count_dp(r, model, max_alive=1)
+    assert sol.n.max() == 1 and sol.cap_reached
+
+
+def test_cap_not_reached_by_the_null_solution():
+    model = CountModel(p_d=0.9, p_chi=0.01, lambda_b=1.0, lambda_fa=10.0)
+    sol = exact_count_dp([1, 2, 1, 0], model, equivalence_class=False, max_alive=1)
+    assert np.all(sol.n == 0) and sol.J == 0.0 and not sol.cap_reached

@@ -126,3 +126,27 @@ def test_gnn_labels_follow_the_predicted_order():
     P = A * 0.5 * A + MODEL.Q(1.0)[0, 0]
     L = P / (P + 0.5)
     np.testing.assert_allclose(f.x[0], [A + L * (0.9 - A), L * 0.1], rtol=1e-12)
+
+
+def test_pda_weights_are_normalised_per_run_without_underflow():
+    """Run 1's returns lie ~60 σ from its prediction: its weights must not underflow against run 0's."""
+    from hypotrack.trackers.ecmht import _pda_update
+
+    x, P = np.array([0.0, 0.0]), np.array([1.0, 1.0])
+    Zc = np.array([[0.1, -0.2], [85.0, 86.0]])
+    x_new, P_new = _pda_update(x, P, Zc, 1.0)
+    for r in range(2):
+        want_x, want_P = mixture_update(x[r], P[r], Zc[r], 1.0)
+        assert x_new[r] == pytest.approx(want_x, rel=1e-12) and P_new[r] == pytest.approx(want_P, rel=1e-9)
+
+
+def test_mospa_shapes():
+    from hypotrack.trackers.ecmht import mospa_two_targets
+
+    e = np.zeros((3, 5, 2))
+    t = np.ones((3, 5, 2))
+    np.testing.assert_allclose(mospa_two_targets(e, t), np.ones((3, 5)))
+    with pytest.raises(ValueError, match=r"estimates and truth must have equal shapes \(\.\.\., 2\), got \(3, 2\) and \(4, 2\)"):
+        mospa_two_targets(np.zeros((3, 2)), np.zeros((4, 2)))
+    with pytest.raises(ValueError, match="estimates and truth must have equal shapes"):
+        mospa_two_targets(np.zeros((3, 3)), np.zeros((3, 3)))

@@ -126,24 +126,24 @@ def test_fresh_tracker_state_and_integer_ids():
     assert ids.dtype == np.int64 and tr.ids.dtype == np.int64 and tr.misses.dtype == np.int64
     assert tr.initialise(np.zeros((0, 4)), np.zeros((0, 4, 4)), 5.0).shape == (0,)
     np.testing.assert_array_equal(tr.initialise([[1.0, 1.0, 0.0, 0.0]], P1, 5.0), [2])  # same time: allowed
-    with pytest.raises(ValueError, match=r"initialise\(\) must be called before the first scan or at the current time"):
+    with pytest.raises(ValueError, match=r"^initialise\(\) must be called before the first scan or at the current time$"):
         tr.initialise([[1.0, 1.0, 0.0, 0.0]], P1, 6.0)
-    with pytest.raises(ValueError, match="P must hold one covariance per track: 2 means, 1 covariances"):
+    with pytest.raises(ValueError, match="^P must hold one covariance per track: 2 means, 1 covariances$"):
         tr.initialise(np.zeros((2, 4)), P1, 5.0)
 
 
 def test_tracker_messages_name_the_argument():
     mdl = model()
-    with pytest.raises(TypeError, match="model must be a ScanModel, got dict"):
+    with pytest.raises(TypeError, match="^model must be a ScanModel, got dict$"):
         SingleHypothesisTracker(MOTION, {})
-    with pytest.raises(ValueError, match="gnn_score must be 'lecture' or 'mahalanobis', got 'x'"):
+    with pytest.raises(ValueError, match="^gnn_score must be 'lecture' or 'mahalanobis', got 'x'$"):
         SingleHypothesisTracker(MOTION, mdl, gnn_score="x")
-    with pytest.raises(TypeError, match="initiator must be an MOfNInitiator or None, got str"):
+    with pytest.raises(TypeError, match="^initiator must be an MOfNInitiator or None, got str$"):
         SingleHypothesisTracker(MOTION, mdl, initiator="x")
     other = ScanModel(np.eye(4)[:3], np.eye(3), 0.9, 0.99, 1e-3)
-    with pytest.raises(ValueError, match=r"initiator's scan model has H of shape \(3, 4\), the tracker's \(2, 4\)"):
+    with pytest.raises(ValueError, match=r"^initiator's scan model has H of shape \(3, 4\), the tracker's \(2, 4\)"):
         SingleHypothesisTracker(MOTION, mdl, initiator=MOfNInitiator(MOTION, other))
-    with pytest.raises(TypeError, match=r"scan must be a \(time, Z\) pair$"):
+    with pytest.raises(TypeError, match=r"^scan must be a \(time, Z\) pair$"):
         SingleHypothesisTracker(MOTION, mdl).step(1.0)
 
 
@@ -193,9 +193,9 @@ def test_one_of_one_confirms_every_return_with_the_initial_covariance():
 
 def test_initiator_messages_name_the_argument():
     mdl = model()
-    with pytest.raises(TypeError, match="model must be a ScanModel, got str"):
+    with pytest.raises(TypeError, match="^model must be a ScanModel, got str$"):
         MOfNInitiator(MOTION, "model")
-    with pytest.raises(ValueError, match=r"but the scan model \(H of shape \(2, 4\)\) expects 4-dimensional states"):
+    with pytest.raises(ValueError, match=r"^the motion model's states are 2-dimensional but the scan model \(H of shape \(2, 4\)\) expects 4-dimensional states"):
         MOfNInitiator(ConstantVelocity(0.1, n_spatial=1), mdl)
     with pytest.raises(ValueError, match=r"^n must be an integer in \[1, inf\], got 0"):
         MOfNInitiator(MOTION, mdl, m=1, n=0)

@@ -201,3 +201,44 @@ def test_initiator_messages_name_the_argument():
         MOfNInitiator(MOTION, mdl, m=1, n=0)
     with pytest.raises(ValueError, match=r"^Z must be finite"):
         MOfNInitiator(MOTION, mdl).step(0.0, [[np.nan, 0.0]])
+
+
+class DragMotion:
+    """A motion model the tracker does not know (velocity decays by e^{−c dt}): predicted through its
+    own ``transition`` (mean and Jacobian) and ``Q``."""
+
+    ndim = 4
+
+    def __init__(self, c=0.5, q=0.2):
+        self.c, self.q = c, q
+
+    def jacobian(self, dt):  # no ``F``: the tracker must go through ``transition``
+        e = np.exp(-self.c * dt)
+        F = np.eye(4)
+        F[0, 2] = F[1, 3] = (1 - e) / self.c
+        F[2, 2] = F[3, 3] = e
+        return F
+
+    def transition(self, x, dt):
+        x = np.atleast_2d(x)
+        F = self.jacobian(dt)
+        return x @ F.T, np.broadcast_to(F, (len(x), 4, 4))
+
+    def Q(self, dt):
+        return self.q * dt * np.eye(4)
+
+
+def test_a_motion_model_of_its_own_predicts_through_its_transition():
+    mdl, motion = model(), DragMotion()
+    tr = SingleHypothesisTracker(motion, mdl)
+    assert tr.motion is motion
+    x0 = np.array([[0.0, 0.0, 2.0, -1.0]])
+    tr.initialise(x0, [P1], 0.0)
+    z = np.array([[3.1, -1.2], [30.0, 30.0], [-20.0, 5.0]])
+    est = tr.step((2.0, z))
+    F = motion.jacobian(2.0)
+    x_pred, P_pred = F @ x0[0], F @ P1 @ F.T + 0.4 * np.eye(4)
+    x_kf, P_kf = update(x_pred, P_pred, z[0], H, mdl.R)
+    np.testing.assert_allclose(est.x[0], x_kf, atol=1e-10)
+    np.testing.assert_allclose(est.P[0], P_kf, atol=1e-10)
+    np.testing.assert_array_equal(tr.last_association, [0, -1, -1])

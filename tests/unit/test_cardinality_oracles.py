@@ -356,8 +356,8 @@ def test_detections_bounded_by_survivors_after_terminations():
 
 
 def test_vanishing_detection_probability_does_not_overflow():
-    """p_d = 1e-306: ln(p_d / (λ_fa (1 − p_d))) < −700, so no survivor is worth detecting (d = 0)."""
-    m = CountModel(1e-306, 0.2, 0.5, 1.0)
+    """p_d = 1e-310: ln(p_d / (λ_fa (1 − p_d))) ≈ −714 (e^714 overflows), so no survivor is worth detecting."""
+    m = CountModel(1e-310, 0.2, 0.5, 1.0)
     sol = exact_count_dp([1, 2, 1], m)
     assert np.all(sol.d == 0) and np.isfinite(sol.J)
     assert sol.J == pytest.approx(max(reference_objective([1, 2, 1], *s, m) for s in feasible_sequences([1, 2, 1])))

@@ -25,7 +25,9 @@ def test_many_tracks_lone_contested_and_returnless():
     np.testing.assert_array_equal(gnn_associate(gain[:, [5, 7, 8]]), [0, 1, 2, -1])
     gain[2, 8] = 0.5  # now 1→8 (1.0) + nothing < 1→7 (2.0) + 2→8 (0.5)
     np.testing.assert_array_equal(gnn_associate(gain), [5, 7, 8, -1])
-    gain[1, 7] = -np.inf  # 1→8 (1.0) beats 2→8 (0.5)
+    gain[1, 7], gain[1, 8], gain[2, 8] = 0.4, 0.3, 0.2  # small gains: 1→7 + 2→8 (0.6) beats 1→8 alone (0.3)
+    np.testing.assert_array_equal(gnn_associate(gain), [5, 7, 8, -1])
+    gain[1, 7], gain[1, 8], gain[2, 8] = -np.inf, 1.0, 0.5  # 1→8 (1.0) beats 2→8 (0.5)
     np.testing.assert_array_equal(gnn_associate(gain), [5, 8, -1, -1])
 
 

@@ -242,3 +242,21 @@ def test_a_motion_model_of_its_own_predicts_through_its_transition():
     np.testing.assert_allclose(est.x[0], x_kf, atol=1e-10)
     np.testing.assert_allclose(est.P[0], P_kf, atol=1e-10)
     np.testing.assert_array_equal(tr.last_association, [0, -1, -1])
+
+
+def test_scan_model_from_a_sensor():
+    from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+
+    meas, det = LinearPositionSensor(2.0 * np.eye(2), 4), DetectionModel(0.8)
+    box = Box([0.0, 0.0], [100.0, 50.0])
+    mdl = ScanModel.from_sensor(Sensor(meas, det, PoissonClutter(10.0, box)))
+    np.testing.assert_array_equal(mdl.H, H)
+    np.testing.assert_array_equal(mdl.R, 2.0 * np.eye(2))
+    assert (mdl.p_D, mdl.p_gate, mdl.new_target_density) == (0.8, 0.99, 0.0)
+    assert mdl.clutter_density == pytest.approx(10.0 / 5000.0)
+    explicit = ScanModel.from_sensor(Sensor(meas, det), p_gate=0.9, new_target_density=1e-4, clutter_density=3e-3)
+    assert (explicit.p_gate, explicit.new_target_density, explicit.clutter_density) == (0.9, 1e-4, 3e-3)
+    no_clutter = "^sensor has no clutter \\(β_FA = 0\\): pass clutter_density > 0 for the JPDA/GNN scores$"
+    for sensor in (Sensor(meas, det), Sensor(meas, det, PoissonClutter(0.0, box))):
+        with pytest.raises(ValueError, match=no_clutter):
+            ScanModel.from_sensor(sensor)

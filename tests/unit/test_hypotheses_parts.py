@@ -109,6 +109,11 @@ def test_update_pairs_updates_each_pair_and_keeps_missed_tracks_predicted():
     x, P = update_pairs(pred, Z, H, R, [1, 0], [-1, -1])
     np.testing.assert_array_equal(x, means[[1, 0]])
     np.testing.assert_array_equal(P, covs[[1, 0]])
+    x, P = update_pairs(pred, Z, H, R, [], [])  # no pair: empty stores
+    assert x.shape == (0, 4) and P.shape == (0, 4, 4)
+    x, P = update_pairs(pred, Z, H, R, np.array([1.0, 0.0]), np.array([0.0, -1.0]))  # integer-coded floats
+    np.testing.assert_allclose(x[0], _kalman(means[1], covs[1], Z[0], H, R)[0], atol=1e-12)
+    np.testing.assert_array_equal(x[1], means[0])
 
 
 # ---------------------------------------------------------------- hypotheses and child sets
@@ -223,12 +228,26 @@ def test_summarise_orders_counts_and_truncates():
     np.testing.assert_array_equal(post.top[2].labels, [13, 11, 10])
     np.testing.assert_array_equal(post.top[2].covs, np.repeat(np.eye(2)[None], 3, axis=0))
     assert len(summarise(lw, lists, store).top) == 4  # default n_top = 10 keeps all four
+    many = summarise(np.log(np.full(12, 1 / 12)), [[0]] * 12, store)
+    assert len(many.top) == 10
+
+
+def test_summarise_breaks_ties_in_input_order():
+    """Equal weights keep their input order (a stable sort), also beyond insertion-sort sizes."""
+    rng = np.random.default_rng(0)
+    lw = np.log(rng.choice([0.1, 0.2, 0.3], size=200))
+    store = TrackStore.from_arrays(np.zeros((200, 2)), np.repeat(np.eye(2)[None], 200, axis=0),
+                                   labels=np.arange(200))
+    post = summarise(lw, [[i] for i in range(200)], store, n_top=200)
+    order = [int(h.labels[0]) for h in post.top]
+    assert order == sorted(range(200), key=lambda i: (-lw[i], i))
 
 
 def test_summarise_of_no_hypothesis_has_unit_mass_at_zero_objects():
     store = TrackStore.from_arrays([], None, ndim=2)
     post = summarise(np.zeros(0), [], store)
     np.testing.assert_array_equal(post.cardinality, [1.0])
+    assert post.n_objects.dtype == np.int64 and post.log_weights.dtype == float
     assert post.expected_number == 0.0 and post.top == ()
 
 

@@ -60,8 +60,14 @@ def _kalman(x, P, z, H, R):
 
 
 def test_track_store_validation_and_empty_store():
-    with pytest.raises(ValueError, match="an empty track store needs ndim"):
+    with pytest.raises(ValueError, match="^an empty track store needs ndim$"):
         TrackStore.from_arrays(np.zeros((0, 4)), None)
+    for means, match in ((np.zeros(4), r"^means must be a 2-D array, got shape \(4,\)$"),
+                         ([[0.0, np.nan]], r"^means must be finite")):
+        with pytest.raises(ValueError, match=match):
+            TrackStore.from_arrays(means, np.eye(2)[None])
+    with pytest.raises(ValueError, match=r"^covs must be 2x2, got shape \(1, 3, 3\)$"):
+        TrackStore.from_arrays(np.zeros((1, 2)), np.eye(3)[None])
     empty = TrackStore.from_arrays([], None, ndim=3)
     assert empty.means.shape == (0, 3) and empty.covs.shape == (0, 3, 3)
     assert empty.labels.shape == (0,) and empty.labels.dtype == np.int64
@@ -75,8 +81,9 @@ def test_track_store_validation_and_empty_store():
     store = TrackStore.from_arrays(np.arange(6.0).reshape(3, 2), covs)
     np.testing.assert_array_equal(store.labels, [0, 1, 2])
     assert store.labels.dtype == np.int64 and len(store) == 3 and store.ndim == 2
-    labelled = TrackStore.from_arrays(np.zeros((3, 2)), covs, labels=[7, 3, 9])
+    labelled = TrackStore.from_arrays(np.zeros((3, 2)), covs, labels=np.array([7.0, 3.0, 9.0]))
     np.testing.assert_array_equal(labelled.labels, [7, 3, 9])
+    assert labelled.labels.dtype == np.int64  # labels are integers even when given as floats
 
 
 def test_track_store_predicts_every_track_and_keeps_labels():

@@ -208,6 +208,14 @@ def test_association_problem_bad_shapes(kwargs, match):
         AssociationProblem(**{**args, **kwargs})
 
 
+def test_association_problem_stores_float_arrays():
+    p = AssociationProblem([[1, 2]], [[0]], 1, [[0, 0], [0, 0]], constant=2)
+    for a in (p.target_scores, p.option_scores, p.count_term, p.score):
+        assert a.dtype == np.float64
+    assert isinstance(p.constant, float)
+    np.testing.assert_array_equal(p.log_weights(np.array([[0], [1], [-1]])), [3.0, 4.0, 2.0])
+
+
 def test_association_problem_accepts_the_extreme_object_counts():
     assert AssociationProblem(np.zeros((2, 3)), np.zeros((2, 1)), 3, np.zeros((4, 1))).n_birth_columns == 0
     assert AssociationProblem(np.zeros((2, 3)), np.zeros((2, 1)), 0, np.zeros((1, 4))).n_birth_columns == 3

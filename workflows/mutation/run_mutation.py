@@ -91,8 +91,10 @@ MODULES = {
 }
 
 # mutmut 3 exit codes (mutmut.stats.status_by_exit_code)
-KILLED, SURVIVED, NO_TESTS = {1, 3}, {0}, {5, 33}
-TIMEOUT = {36, 24, -24, 152, 255}
+# (-11: the tests crashed with SIGSEGV, e.g. a mutant indexing out of bounds in compiled code: detected;
+# -9: SIGKILL, mutmut's hard stop one CPU second after the SIGXCPU of its time limit: a timeout)
+KILLED, SURVIVED, NO_TESTS = {1, 3, -11}, {0}, {5, 33}
+TIMEOUT = {36, 24, -24, 152, 255, -9}
 FIELDS = ["module", "mutants", "killed", "survived", "no_tests", "timeout", "not_run", "equivalent",
           "killed_pct_non_equivalent", "seconds", "scope"]
 

@@ -504,3 +504,42 @@ def test_sampled_cap_draws_without_replacement_in_proportion_to_weight():
         assert f.log_weights[0] == 0.0
     top = int(np.argmax(p))
     assert counts[keys[top]] / n == pytest.approx(p[top], abs=4 * np.sqrt(p[top] * (1 - p[top]) / n))
+
+
+def test_mcmc_default_burn_in_is_a_tenth_of_the_steps():
+    problem = _random_problem(5, m=3, n_obj=2, n_birth=1, n_opt=2)
+
+    def run(**kw):
+        ev, lw = MCMCGenerator(completion_rounds=0, init="clutter", **kw).generate(problem, np.random.default_rng(1))
+        return _as_dict(ev, lw)
+
+    default = run(n_steps=55)
+    assert default == run(n_steps=55, burn_in=5)  # 55 // 10
+    assert default != run(n_steps=55, burn_in=6)
+    assert len(run(n_steps=50, burn_in=50)) < len(run(n_steps=50))  # burn-in takes steps out of the record
+
+
+def test_mcmc_starting_events():
+    """``init``: the paper's random permutation of columns (a return keeps its column if it is an
+    allowed exclusive one, else clutter), all clutter, or the best separable assignment; an
+    infeasible start falls back to all clutter."""
+    problem = _random_problem(7, m=4, n_obj=3, n_birth=1, n_opt=1, constant_phi=True)
+    C = problem.n_exclusive
+    for seed in range(5):
+        perm = np.random.default_rng(seed).permutation(C + 1)[:4]
+        want = [int(c) if c < C and np.isfinite(problem.target_scores[i, c]) else -1 for i, c in enumerate(perm)]
+        got = MCMCGenerator(init="random")._initial_event(problem, np.random.default_rng(seed))
+        np.testing.assert_array_equal(got, want)
+        assert got.dtype == np.int64
+    np.testing.assert_array_equal(MCMCGenerator(init="clutter")._initial_event(problem, None), [-1] * 4)
+    oracle = brute_force(problem)
+    best = max(oracle, key=oracle.get)
+    np.testing.assert_array_equal(MCMCGenerator(init="best")._initial_event(problem, None), best)
+    seeded = _random_problem(8, m=3, n_obj=1, n_birth=0, n_opt=2, constant_phi=True)
+    oracle = brute_force(seeded)
+    np.testing.assert_array_equal(MCMCGenerator(init="best")._initial_event(seeded, None), max(oracle, key=oracle.get))
+    forbidding = AssociationProblem(problem.target_scores, problem.option_scores, 3,
+                                    np.where(np.arange(4)[:, None] == 0, 0.0, -np.inf) * np.ones((4, 2)))
+    for init in ("random", "best"):  # every detection forbidden by φ: the start is all clutter
+        np.testing.assert_array_equal(MCMCGenerator(init=init)._initial_event(forbidding, np.random.default_rng(0)),
+                                      [-1] * 4)

@@ -30,8 +30,10 @@ from hypotrack.hypotheses import (
     MCMCGenerator,
     MurtyGenerator,
     ReidWeights,
+    ScanContext,
     SingleEventPopulation,
 )
+from hypotrack.hypotheses.filter import _twins_never_heavier
 from hypotrack.hypotheses.generators import top_k
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
@@ -543,3 +545,51 @@ def test_mcmc_starting_events():
     for init in ("random", "best"):  # every detection forbidden by φ: the start is all clutter
         np.testing.assert_array_equal(MCMCGenerator(init=init)._initial_event(forbidding, np.random.default_rng(0)),
                                       [-1] * 4)
+
+
+def _twin_check(model, p_D, alpha=0.0, beta=0.0, p_s=1.0, p_view=(True, True, False)):
+    if model == "single":
+        pop = SingleEventPopulation(SingleEventBirthDeath(alpha, beta, 2), birth_densities=_births())
+    else:
+        pop = BinomialPopulation(_births(), alpha=alpha, p_survive=p_s)
+    in_view = np.array(p_view)
+    p = np.where(in_view, p_D, 0.0)
+    ctx = ScanContext(Z=Z, loglik=np.zeros((3, 3)), allowed=np.ones((3, 3), bool), p_detect=p,
+                      birth_loglik=np.zeros((3, 2)), p_detect_birth=p_D, clutter_rate=1.0, clutter_volume=V)
+    return _twins_never_heavier(pop, ctx, p, in_view)
+
+
+@pytest.mark.parametrize("case, exact", [
+    # single event, M_b = 2 regions, M_d = 2 objects in view: P(none) = 1 − 2α − 2β
+    (dict(model="single", p_D=0.8, alpha=0.01, beta=0.05), True),  # birth log-ratio −4.5 − 1.6, death −2.9 + 1.6
+    (dict(model="single", p_D=0.8, alpha=0.28, beta=0.01), True),  # birth twin log(0.28/0.42) + log 0.2 = −2.0
+    (dict(model="single", p_D=0.1, alpha=0.35, beta=0.01), False),  # birth twin log(0.35/0.28) + log 0.9 = +0.12
+    (dict(model="single", p_D=0.7, alpha=0.01, beta=0.2), False),  # death twin log(0.2/0.58) − log 0.3 = +0.14
+    (dict(model="single", p_D=0.99, alpha=0.01, beta=0.2), False),  # the reported case: death twin +3.5
+    (dict(model="single", p_D=0.4, alpha=0.01, beta=0.2), True),  # death twin log(0.2/0.58) − log 0.6 = −0.55
+    (dict(model="binomial", p_D=0.3, alpha=0.02, p_s=0.5), False),  # death twin log(1) − log 0.7 = +0.36
+    (dict(model="binomial", p_D=0.9, alpha=0.5, p_s=0.99), True),  # birth twin log(1) + log 0.1, death −4.6 + 2.3
+    (dict(model="binomial", p_D=0.5, alpha=0.7, p_s=0.99), False),  # birth twin log(7/3) + log 0.5 = +0.15
+])
+def test_pretrim_is_allowed_exactly_when_no_twin_can_outweigh_its_child(case, exact):
+    assert _twin_check(**case) is exact
+
+
+def test_pretrim_with_every_object_out_of_view():
+    out = (False, False, False)
+    # no single-event death out of view; the birth twin log(0.01/0.98) + log 0.01 < 0
+    assert _twin_check("single", 0.99, alpha=0.01, beta=0.2, p_view=out) is True
+    # with M_d = 0, P(none) = 1 − 2α: the birth twin log(0.35/0.3) + log 0.9 = +0.05
+    assert _twin_check("single", 0.1, alpha=0.35, beta=0.01, p_view=out) is False
+    # binomial deaths out of view remove no miss factor: log(0.5/0.5) − log 1 = 0, a tie
+    assert _twin_check("binomial", 0.3, alpha=0.02, p_s=0.5, p_view=out) is True
+    assert _twin_check("binomial", 0.3, alpha=0.02, p_s=0.4, p_view=out) is False
+
+
+def test_a_capped_step_asks_the_generator_only_for_the_best_when_that_is_exact():
+    for case, exact in ((CASES[0], True), (dict(model="single", p_D=0.8, alpha=0.28, beta=0.01), True),
+                        (CASES[1], False)):
+        f = _filter(**case, max_hypotheses=3)
+        f.step(Z)
+        n_assoc = sum(k[0] == ChildSet.ASSOCIATION for k in oracle(**case))
+        assert f.last_stats["n_association_children"] == (3 if exact else n_assoc)

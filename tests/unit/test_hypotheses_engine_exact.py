@@ -250,16 +250,24 @@ def test_exhaustive_generator_budget_and_empty_scan():
     n = len(brute_force(problem))
     assert ExhaustiveGenerator(max_events=n).generate(problem)[0].shape == (n, 4)
     assert ExhaustiveGenerator(max_events=n).generate(problem, keep=3)[0].shape == (3, 4)
-    for keep in (None, 3):
-        with pytest.raises(EnumerationBudgetError, match=str(n - 1)):
-            ExhaustiveGenerator(max_events=n - 1).generate(problem, keep=keep)
+    with pytest.raises(EnumerationBudgetError, match=f"^enumeration would produce {n:,} association events, "
+                                                     f"exceeding max_events={n - 1:,}; "):
+        ExhaustiveGenerator(max_events=n - 1).generate(problem)
+    with pytest.raises(EnumerationBudgetError, match=f"^enumeration would produce more than {n - 1:,} association "
+                                                     f"events, exceeding max_events={n - 1:,}; ") as err:
+        ExhaustiveGenerator(max_events=n - 1).generate(problem, keep=3)  # streaming: counting stops at the budget
+    assert err.value.budget == n - 1 and err.value.count > n - 1
+    ev1, lw1 = ExhaustiveGenerator(chunk_size=1).generate(problem, keep=5)  # one event per chunk
+    ev2, lw2 = ExhaustiveGenerator().generate(problem, keep=5)
+    np.testing.assert_array_equal(ev1, ev2)
+    np.testing.assert_array_equal(lw1, lw2)
     empty = AssociationProblem(np.zeros((0, 2)), np.zeros((0, 1)), 2, np.full((3, 1), -0.5), constant=1.5)
     for gen in (ExhaustiveGenerator(), MurtyGenerator(k=3), MCMCGenerator(n_steps=10)):
         ev, lw = gen.generate(empty, np.random.default_rng(0), keep=2)
         assert ev.shape == (1, 0) and ev.dtype == np.int32
         np.testing.assert_array_equal(lw, [1.0])  # constant + φ[0, 0]
     for bad in (dict(max_events=0), dict(chunk_size=0)):
-        with pytest.raises(ValueError, match=next(iter(bad))):
+        with pytest.raises(ValueError, match=rf"^{next(iter(bad))} must be an integer in \[1, inf\], got 0$"):
             ExhaustiveGenerator(**bad)
 
 

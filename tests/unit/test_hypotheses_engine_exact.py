@@ -21,6 +21,7 @@ from hypotrack.association import EnumerationBudgetError
 from hypotrack.hypotheses import (
     AssociationProblem,
     BinomialPopulation,
+    ChildGenerator,
     ChildSet,
     ExhaustiveGenerator,
     FISSTPoissonWeights,
@@ -601,3 +602,30 @@ def test_a_capped_step_asks_the_generator_only_for_the_best_when_that_is_exact()
         f.step(Z)
         n_assoc = sum(k[0] == ChildSet.ASSOCIATION for k in oracle(**case))
         assert f.last_stats["n_association_children"] == (3 if exact else n_assoc)
+
+
+class _NoChildren(ChildGenerator):
+    """A generator that finds nothing (every event forbidden)."""
+
+    def generate(self, problem, rng=None, keep=None):
+        return np.zeros((0, problem.n_returns), dtype=np.int32), np.zeros(0)
+
+
+def test_a_scan_without_any_child_is_refused_and_changes_nothing():
+    f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), _NoChildren(), means=X0, covs=P0)
+    ch = f.expand(Z)
+    assert len(ch) == 0 and ch.events.shape == (0, 3)
+    with pytest.raises(RuntimeError, match=r"^no child hypothesis has a positive weight \(every event was gated "
+                                           r"out or forbidden\)$"):
+        f.step(Z)
+    assert f.scan_index == 0 and f.hypotheses == [Hypothesis(0.0, (0, 1, 2))]
+    with pytest.raises(ValueError, match=r"^Z must have shape \(m, 2\), got \(3, 3\)$"):
+        f.expand(np.zeros((3, 3)))
+
+
+def test_capped_twins_keep_the_best_of_each_kind_with_integer_codes():
+    f = _filter(**CASES[1], max_hypotheses=3)  # death twins can outweigh: no pre-trim
+    f.step(Z)
+    # per parent: the best 3 association children, the best 3 undetected-birth and 3 death twins
+    assert f.last_stats["n_twin_children"] == 6
+    assert f.last_kept.arg.dtype == np.int64 and f.last_kept.kind.dtype == np.int64

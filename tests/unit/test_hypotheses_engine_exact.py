@@ -279,9 +279,18 @@ def test_murty_generator_returns_the_exact_top_k(seed, n_opt, constant_phi):
     oracle = brute_force(problem)
     for k, keep in ((1, None), (6, None), (9, 4), (4, 9)):
         ev, lw = MurtyGenerator(k=k).generate(problem, keep=keep)
-        _assert_top(np.asarray(ev, dtype=np.int32), lw, oracle, min(k, keep or k))
+        _assert_top(ev, lw, oracle, min(k, keep or k))
+    if n_opt == 1:  # blocks of equal counts (polynomial): exact whatever the ranking budget
+        ev, lw = MurtyGenerator(k=6, max_solutions=6).generate(problem)
+        _assert_top(ev, lw, oracle, 6)
     ev, lw = MurtyGenerator(k=10**4).generate(problem)  # more than exist: every event
     assert _as_dict(ev, lw).keys() == oracle.keys()
+
+
+def test_murty_generator_when_every_count_is_forbidden():
+    forbidden = AssociationProblem(np.zeros((2, 2)), np.zeros((2, 2)), 1, np.full((2, 2), -np.inf))
+    ev, lw = MurtyGenerator(k=3, max_solutions=50).generate(forbidden)
+    assert ev.shape == (0, 2) and lw.shape == (0,)
 
 
 def test_murty_generator_budget_returns_the_best_found():

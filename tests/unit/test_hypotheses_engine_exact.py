@@ -9,6 +9,7 @@ Eq. 31, 59 (FISST with Poisson clutter, binomial population), written out term b
 scipy's Gaussian densities.
 """
 
+import copy
 import itertools
 import math
 
@@ -638,3 +639,50 @@ def test_capped_twins_keep_the_best_of_each_kind_with_integer_codes():
     # per parent: the best 3 association children, the best 3 undetected-birth and 3 death twins
     assert f.last_stats["n_twin_children"] == 6
     assert f.last_kept.arg.dtype == np.int64 and f.last_kept.kind.dtype == np.int64
+
+
+def test_seeded_births_start_new_tracks_at_their_returns():
+    """HOMHT: a return taken by the seeded-birth option starts a track from that return
+    (``birth_density.initial_state``), one fresh label per (return) shared by the hypotheses."""
+    birth = _births()[1]
+    f = HypothesisFilter(MOTION, _sensor(0.8), ReidWeights(birth_intensity=1e-3, birth_density=birth),
+                         ExhaustiveGenerator(), means=X0[:1], covs=P0[:1], labels=[7])
+    f.step(Z)
+    F, Q = MOTION.F(1.0), MOTION.Q(1.0)
+    pred = (F @ X0[0], F @ P0[0] @ F.T + Q)
+    kept, store, seen = f.last_kept, f.store, {}
+    assert any((ev == -2).any() for ev in kept.events)
+    for c, tracks in enumerate(f.track_lists):
+        ev = kept.events[c]
+        hit = np.flatnonzero(ev == 0)
+        want = [_kalman(*pred, Z[hit[0]]) if len(hit) else pred]
+        want += [birth.initial_state(Z[i], R) for i in np.flatnonzero(ev == -2)]
+        assert len(tracks) == len(want)
+        for t, (mean, cov) in zip(tracks, want):
+            np.testing.assert_allclose(store.means[t], mean, atol=1e-10)
+            np.testing.assert_allclose(store.covs[t], cov, atol=1e-10)
+        assert store.labels[tracks[0]] == 7
+        for t, i in zip(tracks[1:], np.flatnonzero(ev == -2)):
+            assert store.labels[t] >= 8 and seen.setdefault(int(i), store.labels[t]) == store.labels[t]
+    assert sorted(seen.values()) == list(range(8, 8 + len(seen)))
+
+
+def test_second_scan_expands_every_kept_parent():
+    f = _filter(**CASES[0], max_hypotheses=4)
+    f.step(Z)
+    parents, keys1 = f.log_weights, f.lineage_keys
+    Z2 = Z + np.array([1.0, 0.0])
+    ch = f.expand(Z2)
+    np.testing.assert_array_equal(np.unique(ch.parent), np.arange(4))
+    for h in range(4):  # parent h alone, at its weight, has exactly its children
+        alone = copy.copy(f)
+        alone._log_w, alone._tracks = parents[h:h + 1], [f._tracks[h]]
+        mine = alone.expand(Z2)
+        np.testing.assert_array_equal(mine.events, ch.events[ch.parent == h])
+        np.testing.assert_allclose(mine.log_weights, ch.log_weights[ch.parent == h], rtol=0, atol=1e-12)
+    f.step(Z2)
+    st = f.last_stats
+    assert st["n_parents"] == 4 and st["n_kept"] == 4 and f.scan_index == 2
+    assert st["time_total"] >= st["time_generate"] >= 0.0
+    for c, key in enumerate(f.lineage_keys):
+        assert key[0] == keys1[f.last_kept.parent[c]] and key[3] == f.last_kept.events[c].tobytes()

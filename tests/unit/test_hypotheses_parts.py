@@ -258,6 +258,13 @@ def test_summarise_breaks_ties_in_input_order():
     assert order == sorted(range(200), key=lambda i: (-lw[i], i))
 
 
+def test_summarise_of_empty_hypotheses_has_one_cardinality_entry():
+    store = TrackStore.from_arrays([], None, ndim=2)
+    post = summarise(np.log([0.25, 0.75]), [[], []], store)
+    np.testing.assert_allclose(post.cardinality, [1.0], atol=1e-15)
+    assert post.expected_number == 0.0
+
+
 def test_summarise_of_no_hypothesis_has_unit_mass_at_zero_objects():
     store = TrackStore.from_arrays([], None, ndim=2)
     post = summarise(np.zeros(0), [], store)

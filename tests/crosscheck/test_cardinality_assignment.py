@@ -110,3 +110,48 @@ def test_bad_input():
         cardinality_k_best(np.zeros((2, 2)), np.zeros(2), 2, np.zeros((3, 1)), 0)
     with pytest.raises(ValueError, match="clutter_scores"):
         cardinality_k_best(np.zeros((2, 2)), np.array([0.0, np.inf]), 2, np.zeros((3, 1)), 3)
+
+
+@pytest.mark.parametrize(
+    "target, clutter, n_objects, message",
+    [
+        (np.zeros((2, 3)), np.zeros(3), 2,
+         r"^target_scores must be \(m, C\) and clutter_scores \(m,\), got \(2, 3\), \(3,\)$"),
+        (np.array([[np.nan, 0.0, 0.0], [0.0, 0.0, 0.0]]), np.zeros(2), 2,
+         r"^target_scores entries must be finite or -inf \(gated out\)$"),
+        (np.zeros((2, 3)), np.array([0.0, np.inf]), 2, "^clutter_scores must be finite$"),
+        (np.zeros((2, 3)), np.zeros(2), -1, r"^n_objects must be an integer in \[0, 3\], got -1$"),
+        (np.zeros((2, 3)), np.zeros(2), 4, r"^n_objects must be an integer in \[0, 3\], got 4$"),
+    ],
+)
+def test_bad_input_messages(target, clutter, n_objects, message):
+    with pytest.raises(ValueError, match=message):
+        cardinality_k_best(target, clutter, n_objects, np.zeros((3, 2)), 3)
+
+
+def test_rational_scores_read_as_floats():
+    """One object, one return: detected (1/2 + φ[1] = 1/2 - 1) or clutter (-1/4 + φ[0] = -1/4)."""
+    from fractions import Fraction
+
+    ev, lw = cardinality_k_best([[Fraction(1, 2)]], [Fraction(-1, 4)], 1, [[Fraction(0)], [Fraction(-1)]], 5)
+    assert ev.tolist() == [[-1], [0]] and ev.dtype == np.int32
+    np.testing.assert_array_equal(lw, [-0.25, -0.5])
+
+
+def test_empty_scan_weight_is_the_no_detection_count_term():
+    """m = 0: the one event detects nothing, so its weight is φ[0, 0] whatever φ[k > 0]."""
+    phi = np.array([[0.5], [-np.inf], [2.0], [3.0]])
+    ev, lw = cardinality_k_best(np.zeros((0, 3)), np.zeros(0), 3, phi, 5)
+    assert ev.shape == (1, 0) and ev.dtype == np.int32 and lw.tolist() == [0.5]
+
+
+def test_no_feasible_event_gives_empty_int_events():
+    ev, lw = cardinality_k_best(np.zeros((2, 0)), np.zeros(2), 0, np.full((1, 1), -np.inf), 5)
+    assert ev.shape == (0, 2) and ev.dtype == np.int32 and lw.shape == (0,)
+
+
+def test_count_term_and_k_messages():
+    with pytest.raises(ValueError, match=r"^count_term must have shape \(3, 2\), got \(2, 1\)$"):
+        cardinality_k_best(np.zeros((2, 3)), np.zeros(2), 2, np.zeros((2, 1)), 3)
+    with pytest.raises(ValueError, match=r"^k must be an integer in \[1, inf\], got 0$"):
+        cardinality_k_best(np.zeros((2, 3)), np.zeros(2), 2, np.zeros((3, 2)), 0)

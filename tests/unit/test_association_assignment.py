@@ -171,3 +171,42 @@ def test_bad_arguments():
         columns_to_event(np.array([-1]), 2)
     with pytest.raises(ValueError, match="n_tracks"):
         columns_to_event(np.array([0]), -2)
+
+
+def test_integer_scores_rank_like_floats():
+    """Integer score matrices (e.g. counts) rank exactly like their float copies; Murty forbids
+    entries by writing -inf, which needs a float working copy. 3 x 3, all six assignments:
+    totals 15 (0,1,2); 11 (1,0,2) and (0,2,1); 7 (1,2,0), (2,0,1) and (2,1,0)."""
+    score = np.array([[5, 3, 1], [3, 5, 3], [1, 3, 5]])
+    assert best_assignment(score)[0] == 15.0
+    ranked = murty_k_best(score, 6)
+    assert [t for t, _ in ranked] == [15.0, 11.0, 11.0, 7.0, 7.0, 7.0]
+    assert {tuple(c.tolist()) for _, c in ranked} == set(itertools.permutations(range(3)))
+    assert [t for t, _ in ranked] == brute_force_totals(score.astype(float))
+
+
+def test_messages_name_the_argument_and_the_rule():
+    with pytest.raises(ValueError, match=r"^score must be a 2-D \(m, N\) array, got shape \(3,\)$"):
+        best_assignment(np.ones(3))
+    with pytest.raises(ValueError, match="^score admits no feasible assignment: every complete assignment "
+                                         "uses a -inf entry$"):
+        best_assignment(np.array([[0.0, -np.inf], [1.0, -np.inf]]))
+    with pytest.raises(ValueError, match=r"^clutter_scores must be a 1-D array, got shape \(2, 1\)$"):
+        association_score_matrix(np.ones((2, 3)), [[0.0], [0.0]])
+    with pytest.raises(ValueError, match=r"^target_scores entries must be finite or -inf \(gated out\); "
+                                         r"NaN and \+inf are not allowed$"):
+        association_score_matrix(np.array([[np.nan]]), [0.0])
+    with pytest.raises(ValueError, match="^cols must be non-negative column indices$"):
+        columns_to_event(np.array([-1]), 2)
+    with pytest.raises(ValueError, match=r"^n_tracks must be an integer in \[0, inf\], got -2$"):
+        columns_to_event(np.array([0]), -2)
+    with pytest.raises(ValueError, match=r"^n_tracks must be"):  # checked before the columns
+        columns_to_event(np.array([-1]), -2)
+
+
+def test_score_matrix_reads_exact_rationals_as_numbers():
+    """target_scores given as Python fractions become the same float matrix."""
+    from fractions import Fraction
+
+    out = association_score_matrix([[Fraction(1, 2)], [Fraction(-3, 4)]], [0.25, -1.0])
+    np.testing.assert_array_equal(out, [[0.5, 0.25, -np.inf], [-0.75, -np.inf, -1.0]])

@@ -82,3 +82,12 @@ def test_bad_input():
         find_clusters(np.ones(3, dtype=bool))
     with pytest.raises(TypeError, match="validation"):
         unassociated_measurements([[1, 0]])
+
+
+def test_clusters_differing_in_tracks_or_returns_are_unequal():
+    """Equality needs the same tracks *and* the same returns."""
+    c = Cluster([0, 1], [2])
+    assert c != Cluster([0, 1], [3])  # same tracks, other return
+    assert c != Cluster([0, 2], [2])  # same return, other tracks
+    assert c != "Cluster(tracks=[0, 1], measurements=[2])"
+    assert len({c, Cluster([0, 1], [3]), Cluster([0, 1], [2])}) == 2

@@ -6,7 +6,13 @@ import math
 import numpy as np
 import pytest
 
-from hypotrack.association import count_associations, count_children, count_gated_associations
+from hypotrack.association import (
+    EnumerationBudgetError,
+    count_associations,
+    count_children,
+    count_gated_associations,
+    enumerate_associations,
+)
 
 
 def brute_force_events(n_tracks, n_meas, allowed=None):
@@ -78,12 +84,10 @@ def test_gated_count_full_matrix_equals_eq4():
     assert count_gated_associations(np.ones((9, 12), dtype=bool)) == count_associations(12, 9)
 
 
-def test_gated_count_banded_uses_narrow_frontier():
-    # A 40 x 40 band (return k gates objects k and k+1): too many events for brute force, so the
-    # oracle is an independent two-state transfer recursion along the band, the state being
-    # whether object k+1 was already taken by return k.
-    n = 40
-    allowed = np.eye(n, dtype=bool) | np.eye(n, k=1, dtype=bool)
+def band_count(n):
+    """Events of an n x n band (return k gates objects k and k+1) by an independent two-state
+    transfer recursion along the band, the state being whether object k+1 was already taken by
+    return k."""
     free, taken = 1, 0  # counts of partial events after return k with object k+1 free / taken
     for k in range(n):
         # return k: clutter, object k (needs it untaken), or object k+1 (last return has none).
@@ -91,7 +95,14 @@ def test_gated_count_banded_uses_narrow_frontier():
         to_own = free
         to_next = total if k + 1 < n else 0
         free, taken = total + to_own, to_next
-    assert count_gated_associations(allowed) == free + taken
+    return free + taken
+
+
+def test_gated_count_banded_uses_narrow_frontier():
+    # A 40 x 40 band: too many events for brute force, so the oracle is the transfer recursion.
+    n = 40
+    allowed = np.eye(n, dtype=bool) | np.eye(n, k=1, dtype=bool)
+    assert count_gated_associations(allowed) == band_count(n)
 
 
 def test_gated_count_with_cap_stops_on_wide_component():
@@ -130,3 +141,86 @@ def test_gated_count_bad_input():
         count_gated_associations(np.ones(3, dtype=bool))
     with pytest.raises(ValueError, match="cap"):
         count_gated_associations(np.ones((2, 2), dtype=bool), cap=-1)
+
+
+def test_count_children_single_object_that_may_die():
+    """M = 1 keeps the death term: A(1,3) + 2 A(2,3) + 1 A(0,3) = 4 + 2*13 + 1 (object dies, all clutter)."""
+    assert count_children(1, 3, n_birth_regions=2, n_deaths=1) == 31
+    assert count_children(1, 3, n_birth_regions=2, n_deaths=0) == 30
+    # An empty scan: every population event has exactly one child (everything undetected).
+    assert count_children(2, 0, n_birth_regions=1, n_deaths=2) == 1 + 1 + 2
+
+
+@pytest.mark.parametrize(
+    "args, kwargs, message",
+    [
+        ((-1, 3), {}, r"^M must be an integer in \[0, inf\], got -1$"),
+        ((3, -2), {}, r"^m must be an integer in \[0, inf\], got -2$"),
+        ((2, 2), {"n_birth_regions": -1}, r"^n_birth_regions must be an integer in \[0, inf\], got -1$"),
+        ((2, 2), {"n_deaths": -1}, r"^n_deaths must be an integer in \[0, 2\], got -1$"),
+        ((2, 2), {"n_deaths": 3}, r"^n_deaths must be an integer in \[0, 2\], got 3$"),
+    ],
+)
+def test_count_children_messages_name_argument_and_range(args, kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        count_children(*args, **kwargs)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        ((-1, 3), r"^M must be an integer in \[0, inf\], got -1$"),
+        ((3, -2), r"^m must be an integer in \[0, inf\], got -2$"),
+        ((3, None), r"^m must be an integer, got NoneType$"),
+    ],
+)
+def test_count_associations_messages_name_argument_and_range(args, message):
+    with pytest.raises((ValueError, TypeError), match=message):
+        count_associations(*args)
+
+
+LECTURE_VALIDATION = np.array([[0, 0, 1], [0, 0, 0], [1, 1, 0], [0, 1, 0]], dtype=bool)
+
+
+def test_budget_error_states_the_exact_count_of_a_narrow_gated_problem():
+    """Narrow components are counted exactly even with a budget: the error gives the count."""
+    with pytest.raises(EnumerationBudgetError, match="^enumeration would produce 10 association events, "
+                                                     "exceeding max_events=5;"):
+        enumerate_associations(3, 4, allowed=LECTURE_VALIDATION, max_events=5)
+    band = np.eye(40, dtype=bool) | np.eye(40, k=1, dtype=bool)  # frontier of one or two columns
+    with pytest.raises(EnumerationBudgetError, match=f"^enumeration would produce {band_count(40):,} "):
+        enumerate_associations(40, 40, allowed=band, max_events=1000)
+
+
+def test_capped_count_stops_only_once_strictly_above_the_cap():
+    """~I(30): a wide frontier, so the capped DP is used. Its first row (29 gated objects) already
+    gives 1 + 29 = 30 partial events; a budget of exactly 30 is not yet exceeded there, so counting
+    goes on and the budget error says "more than 30" (instead of enumerating a wrong 30 events)."""
+    allowed = ~np.eye(30, dtype=bool)
+    assert count_gated_associations(allowed, cap=30) > 30
+    with pytest.raises(EnumerationBudgetError, match="more than 30 association events"):
+        enumerate_associations(30, 30, allowed=allowed, max_events=30)
+
+
+def test_cap_zero_still_counts_a_narrow_problem_exactly():
+    assert count_gated_associations(LECTURE_VALIDATION, cap=0) == 10
+
+
+def test_gated_count_messages_name_the_argument():
+    with pytest.raises(TypeError, match=r"^allowed must be a boolean \(m, n\) array, got dtype float64$"):
+        count_gated_associations(np.ones((2, 2)))
+    with pytest.raises(TypeError, match=r"^allowed must be a boolean \(m, n\) array, got dtype float64$"):
+        enumerate_associations(2, 2, allowed=np.ones((2, 2)))
+    with pytest.raises(ValueError, match=r"^cap must be an integer in \[0, inf\], got -1$"):
+        count_gated_associations(np.ones((2, 2), dtype=bool), cap=-1)
+
+
+def test_fully_gated_component_is_counted_in_closed_form_next_to_an_ungated_track():
+    """A fully gated 25 x 25 block (too wide for the capped DP to count exactly) beside a track
+    that gates nothing: the block alone is the component, counted by Eq. 4, so the budget error
+    states the exact A(25, 25)."""
+    allowed = np.zeros((25, 26), dtype=bool)
+    allowed[:, :25] = True
+    with pytest.raises(EnumerationBudgetError,
+                       match=f"^enumeration would produce {count_associations(25, 25):,} association events"):
+        enumerate_associations(26, 25, allowed=allowed, max_events=1000)

@@ -135,3 +135,30 @@ def test_chunk_iterator_validates_eagerly():
         iter_association_chunks(2, 2, chunk_size=0)
     with pytest.raises(ValueError, match="allowed"):
         iter_association_chunks(2, 2, allowed=np.ones((3, 3), dtype=bool))
+
+
+def test_chunks_have_the_enumeration_dtype():
+    """Blocks use the same small signed dtype as the full enumeration (int8 below 127 objects)."""
+    for n, dtype in ((3, np.int8), (130, np.int16)):
+        chunks = list(iter_association_chunks(n, 2, chunk_size=5))
+        assert {c.dtype for c in chunks} == {np.dtype(dtype)}
+        assert sum(len(c) for c in chunks) == count_associations(n, 2)
+
+
+def test_budget_error_message_exact_and_capped():
+    """The message states the count (or that it exceeds the budget) and what the caller can do."""
+    advice = "raise max_events, gate more tightly, or sample instead of enumerating"
+    exact = EnumerationBudgetError(130_922, 1000)  # the count is exact unless the caller says otherwise
+    assert str(exact) == (
+        f"enumeration would produce 130,922 association events, exceeding max_events=1,000; {advice}"
+    )
+    capped = EnumerationBudgetError(10_001, 10_000, exact=False)
+    assert str(capped) == (
+        f"enumeration would produce more than 10,000 association events, exceeding max_events=10,000; {advice}"
+    )
+    assert (capped.count, capped.budget) == (10_001, 10_000)
+
+
+def test_chunk_size_message_names_argument_and_range():
+    with pytest.raises(ValueError, match=r"^chunk_size must be an integer in \[1, inf\], got 0$"):
+        iter_association_chunks(2, 2, chunk_size=0)

@@ -91,3 +91,30 @@ def test_bad_arguments():
         gate_measurements([[1.0, 2.0]], [0.0, 0.0], S, 0.9)
     with pytest.raises(ValueError, match="p_gate"):
         gate_measurements([[1.0, 2.0]], [[0.0, 0.0]], S, 0.0)
+
+
+def test_messages_name_the_offending_argument():
+    """Each bad argument is named at the start of the message, with the rule it breaks."""
+    S = np.eye(2)[None]
+    with pytest.raises(ValueError, match=r"^Z must have shape \(m, 2\), got \(1, 3\)$"):
+        gate_measurements([[1.0, 2.0, 3.0]], [[0.0, 0.0]], S, 0.9)
+    with pytest.raises(ValueError, match=r"^z_pred must be a 2-D array, got shape \(2,\)$"):
+        gate_measurements([[1.0, 2.0]], [0.0, 0.0], S, 0.9)
+    with pytest.raises(ValueError, match=r"^d2 must hold squared distances: >= 0 and not NaN$"):
+        validation_matrix(np.array([[1.0, np.nan]]), 1.0)
+    with pytest.raises(ValueError, match=r"^threshold must be a finite number > 0, got -2\.0$"):
+        validation_matrix(np.ones((2, 2)), -2.0)
+
+
+def test_innovation_covariance_of_another_dimension_is_refused():
+    """A 3x3 innovation covariance for 2-D returns is a caller's mistake, caught before any distance."""
+    with pytest.raises(ValueError, match=r"^S must be 2x2, got shape \(1, 3, 3\)$"):
+        gate_measurements([[1.0, 2.0]], [[0.0, 0.0]], np.eye(3)[None], 0.9)
+
+
+def test_exact_rational_distances_are_read_as_numbers():
+    """d2 given as exact fractions (e.g. from a symbolic check) is compared as real numbers."""
+    from fractions import Fraction
+
+    d2 = [[Fraction(1, 2), Fraction(19, 2)], [Fraction(9), Fraction(0)]]
+    np.testing.assert_array_equal(validation_matrix(d2, 9.0), [[True, False], [True, True]])

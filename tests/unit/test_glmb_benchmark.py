@@ -85,7 +85,12 @@ def test_stonesoup_gmphd_peer_follows_the_gm_phd_update_by_hand():
 
 
 def test_peer_is_labelled_in_the_summary():
-    from hypotrack.experiments.glmb_benchmark import implementation_labels
+    from hypotrack.experiments.glmb_benchmark import implementation_labels, legend_labels
+
+    legend = legend_labels({"a": {"kind": "rfisst", "completion_rounds": 0}, "b": {"kind": "rfisst"},
+                            "phd": {"kind": "gmphd"}})
+    assert legend == {"a": "a (R-FISST, chain alone)", "b": "b (R-FISST + completion)",
+                      "phd": "phd (Stone Soup GM-PHD, peer implementation)"}
 
     labels = implementation_labels({"glmb": {"kind": "glmb"}, "phd": {"kind": "gmphd"}})
     assert labels == {"glmb": "hypotrack engine", "phd": "Stone Soup GM-PHD, peer implementation"}

@@ -229,3 +229,46 @@ def test_budget_error_instead_of_exhausting_memory():
         jpda_marginals(np.zeros((40, 41)), max_nodes=100_000)
     with pytest.raises(ValueError, match="max_nodes"):
         jpda_marginals(np.zeros((2, 3)), max_nodes=0)
+
+
+def test_no_tracks_total_is_the_empty_product():
+    beta, log_total = jpda_marginals(np.zeros((0, 4)), return_log_total=True)
+    assert beta.shape == (0, 4) and log_total == 0.0  # one (empty) joint event of weight 1
+
+
+def test_smallest_budgets_are_accepted():
+    """max_nodes = 1 is a valid budget (too small for any track: the root and one child), refused by
+    the recursion, not by the argument check; one track with no return needs a single edge."""
+    with pytest.raises(MarginalsBudgetError):
+        jpda_marginals(np.zeros((1, 1)), max_nodes=1)
+    np.testing.assert_array_equal(jpda_marginals(np.zeros((1, 1)), max_edges=1), [[1.0]])
+
+
+def test_integer_and_rational_log_weights_read_as_floats():
+    """Two tracks, one shared return, all log-weights 0: events {} {T1} {T2}, so each track takes
+    the return with probability 1/3."""
+    from fractions import Fraction
+
+    expected = np.array([[2 / 3, 1 / 3], [2 / 3, 1 / 3]])
+    np.testing.assert_allclose(jpda_marginals([[0, 0], [0, 0]]), expected, rtol=1e-15)
+    rational = [[Fraction(0), Fraction(0)], [Fraction(0), Fraction(0)]]
+    np.testing.assert_allclose(jpda_marginals(rational), expected, rtol=1e-15)
+
+
+def test_messages_say_what_is_wrong():
+    with pytest.raises(ValueError, match=r"^log_weights must not contain NaN or \+inf \(use -inf for gated-out "
+                                         r"pairs\)$"):
+        jpda_marginals(np.array([[0.0, np.nan]]))
+    with pytest.raises(ValueError, match="^every track needs at least one option with finite log weight$"):
+        jpda_marginals(np.array([[0.0, 0.0], [-np.inf, -np.inf]]))
+    with pytest.raises(ValueError, match=r"^no feasible joint association event \(some track can be neither "
+                                         r"missed nor detected\)$"):
+        jpda_marginals(np.array([[-np.inf, 0.0], [-np.inf, 0.0]]))  # both must take the one return
+    for name in ("max_nodes", "max_edges"):
+        with pytest.raises(ValueError, match=rf"^{name} must be an integer in \[1, inf\], got 0$"):
+            jpda_marginals(np.zeros((2, 3)), **{name: 0})
+    with pytest.raises(MarginalsBudgetError, match=(
+            r"^cluster of 40 tracks and 40 returns is too large for exact JPDA marginals within "
+            r"max_nodes=100,000 and max_edges=10,000,000; raise the budget, gate more tightly or use an "
+            r"approximation$")):
+        jpda_marginals(np.zeros((40, 41)), max_nodes=100_000)

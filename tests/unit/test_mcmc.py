@@ -189,6 +189,242 @@ def test_bad_problem_shapes():
         mcmc_search(np.array([[np.nan, 0.0]]), 1, 1, np.zeros((2, 1)), n_steps=1, seed=0)
 
 
+def _events_with_at_most(m, n_obj, detections):
+    ev = brute_force_events(m, n_obj, 1)
+    return {tuple(e) for e in ev if (e >= 0).sum() <= detections}
+
+
+@pytest.mark.parametrize("rounds, count", [(0, 1), (1, 17), (2, 89), (3, 185)])
+def test_completion_adds_one_detection_per_round_on_a_flat_problem(rounds, count):
+    """All events weigh the same (zero scores, zero count term), so every single move passes the
+    threshold: from the all-clutter event round r adds exactly the events with r detections.
+    m = 4 returns, 4 objects: 1, 16, C(4,2)·4·3 = 72 and C(4,3)·4·3·2 = 96 events with 0..3
+    detections. From one event the visited set starts with room for 68 (it must grow)."""
+    m = n_obj = 4
+    score, phi = np.zeros((m, n_obj + 1)), np.zeros((n_obj + 1, 1))
+    start = np.full((1, m), -1)
+    ev, lw = neighbour_completion(score, n_obj, n_obj, phi, start, [0.0], rounds=rounds)
+    assert len(ev) == count and {tuple(e) for e in ev} == _events_with_at_most(m, n_obj, rounds)
+    assert tuple(ev[0]) == (-1,) * m and ev.dtype == np.int32
+    np.testing.assert_array_equal(lw, np.zeros(count))
+
+
+def test_completion_default_is_two_rounds():
+    m = n_obj = 4
+    score, phi = np.zeros((m, n_obj + 1)), np.zeros((n_obj + 1, 1))
+    ev, _ = neighbour_completion(score, n_obj, n_obj, phi, np.full((1, m), -1), [0.0])
+    assert {tuple(e) for e in ev} == _events_with_at_most(m, n_obj, 2)
+
+
+def test_completion_of_a_single_return():
+    """m = 1: return 0 on clutter (weight 0) has neighbours object 0 (log 1) and object 1 (log -30);
+    with relative threshold 1e-9 (log -20.7) only object 0 is added."""
+    score = np.array([[1.0, -30.0, 0.0]])
+    phi = np.zeros((3, 1))
+    ev, lw = neighbour_completion(score, 2, 2, phi, [[-1]], [0.0], rounds=1)
+    np.testing.assert_array_equal(ev, [[-1], [0]])
+    np.testing.assert_allclose(lw, [0.0, 1.0])
+
+
+def test_completion_with_no_rounds_returns_its_input_typed():
+    events = [[0, -1], [-1, 1]]
+    ev, lw = neighbour_completion(np.zeros((2, 3)), 2, 2, np.zeros((3, 1)), events, [0, -2], rounds=0)
+    assert ev.dtype == np.int32 and lw.dtype == np.float64
+    np.testing.assert_array_equal(ev, events)
+    np.testing.assert_array_equal(lw, [0.0, -2.0])
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        (dict(rounds=-1), r"^rounds must be an integer in \[0, inf\], got -1$"),
+        (dict(relative_threshold=0.0), r"^relative_threshold must lie in \(0, 1\), got 0\.0$"),
+        (dict(relative_threshold=1.0), r"^relative_threshold must lie in \(0, 1\), got 1\.0$"),
+    ],
+)
+def test_completion_bad_arguments(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        neighbour_completion(np.zeros((1, 2)), 1, 1, np.zeros((2, 1)), [[-1]], [0.0], **kwargs)
+
+
+def test_init_given_as_whole_floats_is_read_as_event_codes():
+    rng = np.random.default_rng(4)
+    score, n_excl, phi = random_problem(rng, 3, 3, 0, 1, forbid=0.0)
+    a = mcmc_search(score, 3, n_excl, phi, n_steps=200, seed=3, init=np.array([2, -1, 0]))
+    b = mcmc_search(score, 3, n_excl, phi, n_steps=200, seed=3, init=np.array([2.0, -1.0, 0.0]))
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])
+
+
+def test_paper_proposal_sends_the_displaced_return_to_clutter_symmetric_swaps():
+    """Returns 0 and 1 hold objects 0 and 1 (log-weight 0); the swapped event weighs 10 and any
+    event with clutter about -1000. The paper's move of return 0 to object 1 sends return 1 to
+    clutter (rejected), so the paper chain, like Gibbs (object 1 is taken), never leaves its start;
+    the symmetric move swaps the two and finds the heavier event."""
+    score = np.array([[0.0, 5.0, -1000.0], [5.0, 0.0, -1000.0]])
+    phi = np.zeros((3, 1))
+    for variant in ("paper", "gibbs"):
+        ev, lw = mcmc_search(score, 2, 2, phi, n_steps=300, seed=0, init=[0, 1], variant=variant)
+        np.testing.assert_array_equal(ev, [[0, 1]])
+        np.testing.assert_array_equal(lw, [0.0])
+    ev, lw = mcmc_search(score, 2, 2, phi, n_steps=300, seed=0, init=[0, 1], variant="symmetric")
+    np.testing.assert_array_equal(ev, [[0, 1], [1, 0]])
+    np.testing.assert_array_equal(lw, [0.0, 10.0])
+
+
+@pytest.mark.parametrize("barrier", ["score", "count_term"])
+def test_temperature_two_crosses_a_barrier_and_keeps_exact_weights(barrier):
+    """One return, one object: detecting it costs 16 in log-weight (in the score or in the count
+    term). Over 10^5 steps the chain at T = 1 proposes it ~5·10^4 times and accepts each with
+    e^-16 (~0.006 acceptances expected); at T = 2 with e^-8 (~17 expected). The weight recorded is
+    the exact -16 whatever T."""
+    score = np.array([[-16.0, 0.0]]) if barrier == "score" else np.zeros((1, 2))
+    phi = np.zeros((2, 1)) if barrier == "score" else np.array([[0.0], [-16.0]])
+    ev, lw = mcmc_search(score, 1, 1, phi, n_steps=100_000, seed=1)
+    np.testing.assert_array_equal(ev, [[-1]])
+    ev, lw = mcmc_search(score, 1, 1, phi, n_steps=100_000, seed=1, temperature=2.0)
+    np.testing.assert_array_equal(ev, [[-1], [0]])
+    np.testing.assert_array_equal(lw, [0.0, -16.0])
+
+
+def _in_fresh_thread(fn):
+    """fn() in a new thread: its thread-local buffers and key cache start empty."""
+    import threading
+
+    out = {}
+    t = threading.Thread(target=lambda: out.setdefault("result", fn()))
+    t.start()
+    t.join()
+    return out["result"]
+
+
+def test_search_in_a_fresh_thread_equals_the_main_thread():
+    rng = np.random.default_rng(8)
+    score, n_excl, phi = random_problem(rng, 4, 3, 1, 1)
+
+    def run():
+        ev, lw = mcmc_search(score, 3, n_excl, phi, n_steps=2000, seed=5, completion_rounds=2)
+        return neighbour_completion(score, 3, n_excl, phi, ev[:1], lw[:1], rounds=1) + (ev, lw)
+
+    main, fresh = run(), _in_fresh_thread(run)
+    for a, b in zip(main, fresh):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_zobrist_keys_drawn_once_per_shape_deterministic_and_bounded(monkeypatch):
+    import hypotrack.association.mcmc as mc
+
+    monkeypatch.setattr(mc._BUFFERS, "zobrist", {}, raising=False)
+    z = mc._zobrist(10, 12)
+    assert z.shape == (10, 12) and z.dtype == np.int64
+    assert mc._zobrist(10, 12) is z  # reused, not redrawn
+    assert mc._zobrist(12, 10).shape == (12, 10)  # another shape, other keys
+    assert len(np.unique(z)) == z.size and (z < 0).any() and (z > 0).any()  # 64-bit keys, both signs
+    monkeypatch.setattr(mc._BUFFERS, "zobrist", {})
+    again = mc._zobrist(10, 12)
+    assert again is not z
+    np.testing.assert_array_equal(again, z)  # a fresh cache draws the same keys
+    cache = mc._BUFFERS.zobrist
+    for n_col in range(1, mc._ZOBRIST_CACHE_SIZE):  # with (10, 12): the cache is full
+        mc._zobrist(1, n_col)
+    assert len(cache) == mc._ZOBRIST_CACHE_SIZE
+    mc._zobrist(2, 1)  # one shape more: the cache is emptied first
+    assert len(cache) == 1
+
+
+def test_buffers_of_equal_capacity_are_reused_and_others_are_not(monkeypatch):
+    """A search hands its buffers to the next search of the same capacity (same row store), not to
+    one whose rows do not fit; a reused search that grows its buffers during the completion gives
+    the same events as in a fresh thread."""
+    import hypotrack.association.mcmc as mc
+
+    monkeypatch.setattr(mc._BUFFERS, "pool", None, raising=False)
+    m = n_obj = 4
+    score, phi = np.zeros((m, n_obj + 1)), np.zeros((n_obj + 1, 1))
+    mcmc_search(score, n_obj, n_obj, phi, n_steps=20, seed=0)
+    store = mc._BUFFERS.pool[1]
+    assert mc._BUFFERS.pool[0] == 21  # capacity n_steps - burn_in + 1
+
+    def grown():  # 20 steps record at most 21 events; two completion rounds reach far more
+        return mcmc_search(score, n_obj, n_obj, phi, n_steps=20, seed=1, completion_rounds=2)
+
+    ev, lw = grown()
+    assert mc._BUFFERS.pool[1] is not store  # the reused store was replaced by a grown one
+    ev_fresh, lw_fresh = _in_fresh_thread(grown)
+    np.testing.assert_array_equal(ev, ev_fresh)
+    np.testing.assert_array_equal(lw, lw_fresh)
+    assert len(ev) > 21
+    mcmc_search(score, n_obj, n_obj, phi, n_steps=20, seed=2)
+    store = mc._BUFFERS.pool[1]
+    mcmc_search(score, n_obj, n_obj, phi, n_steps=20, seed=3)
+    assert mc._BUFFERS.pool[1] is store  # same capacity and m: the same row store
+    wide = np.zeros((6, n_obj + 1))
+    ev6, lw6 = mcmc_search(wide, n_obj, n_obj, phi, n_steps=20, seed=3)  # 6 rows per event: too big
+    assert mc._BUFFERS.pool[1] is not store
+    ev6_fresh, _ = _in_fresh_thread(lambda: mcmc_search(wide, n_obj, n_obj, phi, n_steps=20, seed=3))
+    np.testing.assert_array_equal(ev6, ev6_fresh)
+
+
+_BAD_SEARCH = [
+    (dict(init=[0, 2]), r"^init codes must lie in \[-1, 1\], got \[0, 2\]$"),  # 2 is no column, not clutter
+    (dict(init=[-2, 0]), r"^init codes must lie in \[-1, 1\], got \[-2, 0\]$"),
+    (dict(init=[0, 0, 1]), r"^init must have shape \(2,\), got \(3,\)$"),
+    (dict(init=[1, 1]), "^init assigns two returns to the same exclusive column$"),
+    (dict(init=[-1, 1]), r"^init must have a finite log-weight \(a feasible event\)$"),
+    (dict(burn_in=-1), r"^burn_in must be an integer in \[0, 10\], got -1$"),
+    (dict(burn_in=11), r"^burn_in must be an integer in \[0, 10\], got 11$"),
+    (dict(seed=-1), r"^seed must be an integer in \[0, inf\], got -1$"),
+    (dict(completion_rounds=-1), r"^completion_rounds must be an integer in \[0, inf\], got -1$"),
+    (dict(completion_threshold=0.0), r"^completion_threshold must lie in \(0, 1\), got 0\.0$"),
+    (dict(completion_threshold=1.0), r"^completion_threshold must lie in \(0, 1\), got 1\.0$"),
+]
+
+
+@pytest.mark.parametrize("kwargs, message", _BAD_SEARCH)
+def test_search_messages_name_the_argument_and_its_range(kwargs, message):
+    score = np.array([[0.0, 0.0, -1.0], [0.0, -np.inf, -1.0]])  # 2 objects, clutter; return 1 not on object 1
+    with pytest.raises(ValueError, match=message):
+        mcmc_search(score, 2, 2, np.zeros((3, 1)), **{"n_steps": 10, "seed": 0, **kwargs})
+
+
+def test_init_may_put_several_returns_on_clutter():
+    score = np.zeros((3, 3))
+    ev, lw = mcmc_search(score, 2, 2, np.zeros((3, 1)), n_steps=0, seed=0, init=[-1, 1, -1])
+    np.testing.assert_array_equal(ev, [[-1, 1, -1]])
+
+
+def test_every_step_to_a_new_event_fills_the_visited_set_exactly():
+    """One return, 1000 equally weighted objects: every proposal is accepted and, for this seed,
+    each of the 3 steps reaches a new event (a revisit has probability ~3e-3), so 4 = n_steps + 1
+    events are recorded: the visited set must hold exactly that many."""
+    score = np.zeros((1, 1001))
+    ev, lw = mcmc_search(score, 1000, 1000, np.zeros((1001, 1)), n_steps=3, seed=0)
+    assert len(ev) == 4 and len({tuple(e) for e in ev}) == 4 and ev[0, 0] == -1
+    np.testing.assert_array_equal(lw, np.zeros(4))
+
+
+@pytest.mark.parametrize(
+    "events, message",
+    [
+        (np.zeros((2, 2), dtype=int), r"^events must have shape \(E, 3\), got \(2, 2\)$"),
+        (np.array([[0, 0, 2]]), r"^event codes must lie in \[-2, 1\], got \[0, 2\]$"),  # 2 = n_exclusive
+        (np.array([[0, -3, 1]]), r"^event codes must lie in \[-2, 1\], got \[-3, 1\]$"),
+    ],
+)
+def test_event_log_weights_checks_shape_and_codes(events, message):
+    score = np.zeros((3, 4))  # 2 exclusive columns, clutter and one more row option
+    with pytest.raises(ValueError, match=message):
+        event_log_weights(score, 1, 2, np.zeros((2, 2)), events)
+
+
+def test_event_log_weights_reads_exact_rationals_as_numbers():
+    from fractions import Fraction
+
+    score = [[Fraction(1, 2), Fraction(-1, 4)], [Fraction(3, 2), Fraction(0)]]  # 1 object, clutter
+    lw = event_log_weights(score, 1, 1, [[Fraction(0)], [Fraction(-1)]], np.array([[0, -1], [-1, 0], [-1, -1]]))
+    np.testing.assert_array_equal(lw, [0.5 + 0.0 - 1.0, -0.25 + 1.5 - 1.0, -0.25])
+
+
 def test_buffered_stream_is_numbas_np_random():
     """The chain's local generator (hypotrack.association.mt19937) must be numba's np.random
     stream bit for bit: NumPy's legacy RandomState (the same MT19937 seeding and 53-bit
@@ -277,3 +513,37 @@ def test_chain_is_the_step_by_step_reference(variant):
     assert len(ev_ref) > 20
     np.testing.assert_array_equal(ev, ev_ref)
     np.testing.assert_array_equal(lw, lw_ref)
+
+
+_BAD_PROBLEMS = [
+    (np.zeros(3), 0, 0, np.zeros((1, 1)), r"^score must be a 2-D \(m, n_exclusive \+ n_options\) array, got shape \(3,\)$"),
+    (np.zeros((2, 3)), 1, 3, np.zeros((2, 3)), r"^n_exclusive must be an integer in \[0, 2\], got 3$"),
+    (np.zeros((2, 3)), 0, -1, np.zeros((1, 1)), r"^n_exclusive must be an integer in \[0, 2\], got -1$"),
+    (np.zeros((2, 3)), 3, 2, np.zeros((4, 1)), r"^n_objects must be an integer in \[0, 2\], got 3$"),
+    (np.zeros((2, 3)), -1, 2, np.zeros((1, 1)), r"^n_objects must be an integer in \[0, 2\], got -1$"),
+    (np.zeros((2, 0)), 0, 0, np.zeros((1, 1)),
+     r"^score needs at least one row-option column \(clutter\) after the exclusive columns$"),
+    (np.array([[0.0, np.nan, 0.0]]), 1, 2, np.zeros((2, 2)),
+     r"^score must not contain NaN or \+inf \(use -inf for forbidden pairs\)$"),
+    (np.array([[0.0, np.inf, 0.0]]), 1, 2, np.zeros((2, 2)),
+     r"^score must not contain NaN or \+inf \(use -inf for forbidden pairs\)$"),
+    (np.array([[0.0, 0.0, -np.inf]]), 1, 2, np.zeros((2, 2)),
+     r"^score's clutter column \(index n_exclusive\) must be finite: clutter must always be possible$"),
+    (np.zeros((1, 3)), 1, 2, np.zeros((2, 1)),
+     r"^count_term must have shape \(n_objects \+ 1, n_exclusive - n_objects \+ 1\) = \(2, 2\), got \(2, 1\)$"),
+    (np.zeros((1, 3)), 1, 2, np.array([[0.0, np.nan], [0.0, 0.0]]), r"^count_term must not contain NaN or \+inf$"),
+    (np.zeros((1, 3)), 1, 2, np.array([[0.0, np.inf], [0.0, 0.0]]), r"^count_term must not contain NaN or \+inf$"),
+]
+
+
+@pytest.mark.parametrize("score, n_obj, n_excl, phi, message", _BAD_PROBLEMS)
+def test_problem_messages_name_the_argument_and_the_rule(score, n_obj, n_excl, phi, message):
+    m = score.shape[0] if score.ndim == 2 else 1
+    with pytest.raises(ValueError, match=message):
+        event_log_weights(score, n_obj, n_excl, phi, np.full((1, m), -1))
+
+
+def test_empty_scan_needs_no_clutter_column():
+    """m = 0: no return needs clutter; the one (empty) event weighs the count term φ[0, 0]."""
+    lw = event_log_weights(np.zeros((0, 0)), 0, 0, [[0.25]], np.zeros((1, 0), dtype=int))
+    np.testing.assert_array_equal(lw, [0.25])

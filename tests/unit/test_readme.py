@@ -33,6 +33,7 @@ LEDGER = README.parent / "results" / "paper" / "ledger.csv"
 
 
 def _ledger(tmp_path):
+    tmp_path.mkdir(parents=True, exist_ok=True)
     """A small ledger of the real kinds: a Monte Carlo row, a deterministic row, a qualitative row."""
     from hypotrack.report import Claim, monte_carlo_claim, numeric_claim, write_claims
 
@@ -79,3 +80,43 @@ def test_readme_block_is_generated_and_an_edited_ledger_value_fails(tmp_path):
     assert check_readme(readme, ledger) is not None  # the README no longer shows every row
     assert main([str(ledger), str(readme)]) == 0 and "| perf_sht | GNN speed-up |" in readme.read_text()
     assert "4 ledger rows" in readme.read_text()
+
+
+def _benchmark(root, rule, name, wall, cpu, rss, mtime):
+    path = root / "benchmarks" / rule / f"{name}.tsv"
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text("s\th:m:s\tmax_rss\tmax_vms\tmax_uss\tmax_pss\tio_in\tio_out\tmean_load\tcpu_time\n"
+                    f"{wall}\t0:00:00\t{rss}\t0\t0\t0\t0\t0\t0\t{cpu}\n")
+    import os
+
+    os.utime(path, (mtime, mtime))
+
+
+def test_pipeline_time_record_counts_only_this_run_and_feeds_the_readme(tmp_path):
+    import pandas as pd
+
+    from hypotrack.pipeline_time import WHOLE_RUN, write_run_record
+    from hypotrack.readme import check_readme, main
+
+    # two shards of one rule and one job of another in this run; one older job from an earlier run
+    _benchmark(tmp_path, "ssa50_run", "rfisst", 600.0, 590.5, 300.0, 2000)
+    _benchmark(tmp_path, "sht_shard", "0", 30.0, 20.0, 100.0, 2000)
+    _benchmark(tmp_path, "sht_shard", "1", 40.0, 25.0, 120.0, 2000)
+    _benchmark(tmp_path, "theory_claims", "job", 5.0, 4.0, 50.0, 500)
+    path = write_run_record(tmp_path, started=1000, finished=1000 + 1500, cores=2)
+    record = pd.read_csv(path)
+    assert list(record["rule"]) == [WHOLE_RUN, "ssa50_run", "sht_shard"]  # sorted by CPU, old job left out
+    whole = record.iloc[0]
+    assert (whole["jobs"], whole["wall_s"], whole["cpu_s"], whole["max_rss_mib"], whole["cores"]) == (3, 1500, 635.5, 300, 2)
+    assert tuple(record.iloc[2][["jobs", "wall_s", "cpu_s", "max_rss_mib"]]) == (2, 70.0, 45.0, 120.0)
+    assert write_run_record(tmp_path, started=3000, finished=3100, cores=2) is None  # nothing ran: kept
+    # the README's run-time span is generated from the record beside the ledger
+    ledger = _ledger(tmp_path / "paper")
+    readme = tmp_path / "README.md"
+    readme.write_text(README.read_text())
+    assert main([str(ledger), str(readme)]) == 0
+    assert ("25 minutes measured on 2 cores (11 CPU-minutes over 3 jobs; largest, in CPU-minutes: ssa50_run 10, "
+            "sht_shard 1)") in readme.read_text()
+    record.loc[0, "wall_s"] = 3000
+    record.to_csv(path, index=False)
+    assert "50 minutes" in check_readme(readme, ledger)

@@ -148,6 +148,16 @@ def test_quick_pipeline_writes_every_declared_output(quick_runs):
     job_rules = set(_job_counts(dry.stdout)) - {"total"}
     # Every rule that declares outputs ran and wrote them (target-only rules such as `all` have none).
     assert job_rules - rules_with_outputs <= set(_experiments()) | {"all"}, job_rules - rules_with_outputs
+    # Every job wrote a benchmark, and the run's time record (the README's run time) counts them all.
+    import pandas as pd
+
+    record = pd.read_csv(quick_runs["local"] / "paper" / "pipeline_timing.csv")
+    whole = record.iloc[0]
+    assert whole["rule"] == "(whole run)" and whole["cores"] == 2
+    counts = _job_counts(dry.stdout)
+    jobs_with_outputs = sum(n for r, n in counts.items() if r not in set(_experiments()) | {"all", "total"})
+    assert whole["jobs"] == record["jobs"].iloc[1:].sum() == jobs_with_outputs
+    assert 0 < whole["wall_s"] <= quick_runs["local_seconds"] and whole["cpu_s"] > 0
 
 
 def _job_counts(stdout):

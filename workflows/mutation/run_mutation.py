@@ -24,12 +24,17 @@ the engine modules)::
     python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
     python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
     python workflows/mutation/run_mutation.py trackers --resume   # after adding tests: rerun the rest
+    python workflows/mutation/run_mutation.py hypotheses --mutants 'hypotrack.hypotheses.gibbs*'
+        # only these mutants (names or globs): a long module a few files at a time
 
 ``--resume`` keeps the module's scratch directory, copies the current source and tests into it
 and reruns only the mutants not yet detected (survivors, "no tests", not run, and every mutant
 of a function whose source changed). A detected mutant stays detected when tests are only
 added, so its verdict is kept from the earlier run (mutmut itself clears all verdicts when the
 list of test files changes; they are restored for functions whose source hash is unchanged).
+``--mutants`` limits a run or a resume to the named mutants (the first such run prepares the
+scratch project over the module's whole scope and leaves the other mutants "not run"); the
+row's ``scope`` then names the files whose mutants all ran and, after ``| not run:``, the others.
 
 Modules already in ``mutation.csv`` and not named on the command line keep their rows.
 """
@@ -38,6 +43,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import fnmatch
 import json
 import os
 import re
@@ -62,6 +68,9 @@ MODULES = {
                 ["tests/unit/test_metrics.py", "tests/property/test_metrics_properties.py", CATALOGUE]),
     "hypotheses": (["src/hypotrack/hypotheses/*"],
                    ["tests/unit/test_hypotheses_filter.py", "tests/unit/test_hypotheses_weights.py",
+                    "tests/unit/test_hypotheses_engine_exact.py", "tests/unit/test_hypotheses_parts.py",
+                    "tests/unit/test_glmb.py", "tests/unit/test_glmb_exact.py",
+                    "tests/crosscheck/test_equivalence_glmb.py",
                     "tests/unit/test_hypotheses_problems.py", "tests/unit/test_population_events.py",
                     "tests/unit/test_transactional_steps.py",
                     "tests/property/test_pretrim_exact.py", "tests/property/test_hypotheses_properties.py",
@@ -72,7 +81,8 @@ MODULES = {
                      "tests/unit/test_association_gating.py", "tests/unit/test_marginals.py",
                      "tests/unit/test_mcmc.py", "tests/property/test_association_assignment_properties.py",
                      "tests/property/test_association_clustering_properties.py",
-                     "tests/property/test_association_enumeration_properties.py", CATALOGUE]),
+                     "tests/property/test_association_enumeration_properties.py",
+                     "tests/crosscheck/test_cardinality_assignment.py", CATALOGUE]),
     "trackers": (["src/hypotrack/trackers/*"],
                  ["tests/unit/test_gnn.py", "tests/unit/test_jpda.py", "tests/unit/test_initiation.py",
                   "tests/unit/test_ecmht.py", "tests/unit/test_ecmht_mospa.py", "tests/unit/test_cardinality.py",
@@ -82,8 +92,10 @@ MODULES = {
 }
 
 # mutmut 3 exit codes (mutmut.stats.status_by_exit_code)
-KILLED, SURVIVED, NO_TESTS = {1, 3}, {0}, {5, 33}
-TIMEOUT = {36, 24, -24, 152, 255}
+# (-11: the tests crashed with SIGSEGV, e.g. a mutant indexing out of bounds in compiled code: detected;
+# -9: SIGKILL, mutmut's hard stop one CPU second after the SIGXCPU of its time limit: a timeout)
+KILLED, SURVIVED, NO_TESTS = {1, 3, -11}, {0}, {5, 33}
+TIMEOUT = {36, 24, -24, 152, 255, -9}
 FIELDS = ["module", "mutants", "killed", "survived", "no_tests", "timeout", "not_run", "equivalent",
           "killed_pct_non_equivalent", "seconds", "scope"]
 
@@ -148,14 +160,26 @@ def _function(prefix: str, key: str) -> str:
     return re.sub(r"__mutmut_\d+$", "", key[len(prefix):])
 
 
-def resume(module: str, max_children: int, only=None) -> float:
-    """Rerun the mutants an earlier run of ``module`` did not detect, with the current tests."""
+def _named(keys, names) -> list:
+    """The mutant names among ``keys`` that match one of ``names`` (exact or glob); all without names."""
+    return [k for k in keys if not names or any(k == n or fnmatch.fnmatchcase(k, n) for n in names)]
+
+
+def resume(module: str, max_children: int, only=None, names=None) -> float:
+    """Rerun the mutants an earlier run of ``module`` did not detect, with the current tests
+    (only those matching ``names`` if given; without an earlier run, run just those)."""
     work = WORK / module
     if not (work / "mutants").exists():
-        raise SystemExit(f"[mutation] {module}: nothing to resume under {work}; run it first")
+        if not names:
+            raise SystemExit(f"[mutation] {module}: nothing to resume under {work}; run it first")
+        prepare(module, only)
+        t0 = time.perf_counter()
+        _mutmut(work, max_children, names)
+        return time.perf_counter() - t0
     old = _metas(work)
     detected = KILLED | TIMEOUT
-    pending = [k for _, data in old.values() for k, c in data["exit_code_by_key"].items() if c not in detected]
+    pending = _named([k for _, data in old.values() for k, c in data["exit_code_by_key"].items()
+                      if c not in detected], names)
     kept = {prefix + fn: h for prefix, data in old.values() for fn, h in data["hash_by_function_name"].items()}
     old_codes = {k: c for _, data in old.values() for k, c in data["exit_code_by_key"].items()}
     only = only or _scope(module)
@@ -176,7 +200,8 @@ def resume(module: str, max_children: int, only=None) -> float:
                 changed = True
         if changed:
             meta.write_text(json.dumps(data, indent=4))
-    rest = [k for _, data in _metas(work).values() for k, c in data["exit_code_by_key"].items() if c is None]
+    rest = _named([k for _, data in _metas(work).values() for k, c in data["exit_code_by_key"].items() if c is None],
+                  names)
     if rest:
         _mutmut(work, max_children, rest, mode="a")
     print(f"[mutation] {module}: resumed ({len(pending)} undetected, {len(rest)} new or changed; tests {staged})",
@@ -190,6 +215,21 @@ def _scope(module: str) -> list:
     if not cfg.exists():
         return MODULES[module][0]
     return tomllib.loads(cfg.read_text())["tool"]["mutmut"]["only_mutate"]
+
+
+def scope_text(module: str) -> str:
+    """The row's scope: the mutated files whose mutants were all run, then those left (partly)
+    unrun with their count, so that a partial run says what it covers."""
+    done, left = [], []
+    for meta, (_, data) in sorted(_metas(WORK / module).items()):
+        codes = data["exit_code_by_key"]
+        n = sum(c is None for c in codes.values())
+        path = str(meta.relative_to(WORK / module / "mutants").with_suffix(""))
+        if codes:
+            (left.append(f"{path} ({n} of {len(codes)})") if n else done.append(path))
+    if not left:
+        return " ".join(_scope(module))
+    return " ".join(done) + " | not run: " + " ".join(left)
 
 
 def _equivalent() -> dict:
@@ -252,6 +292,10 @@ def main(argv=None) -> None:
                     help="keep the scratch results and rerun only the mutants not yet detected (after adding tests)")
     ap.add_argument("--only", nargs="+", metavar="GLOB",
                     help="mutate only these files of one module (a partial run; its row says so)")
+    ap.add_argument("--mutants", nargs="+", metavar="NAME",
+                    help="limit one module's run to these mutants (mutmut names or globs such as "
+                         "'hypotrack.hypotheses.gibbs*'): a fresh scratch project runs just them, an existing "
+                         "one reruns those of them not yet detected (as --resume)")
     args = ap.parse_args(argv)
     modules = args.modules or list(MODULES)
     unknown = sorted(set(modules) - set(MODULES))
@@ -259,6 +303,8 @@ def main(argv=None) -> None:
         ap.error(f"unknown module(s) {unknown}; choose from {list(MODULES)}")
     if args.only and len(modules) != 1:
         ap.error("--only needs exactly one module")
+    if args.mutants and len(modules) != 1:
+        ap.error("--mutants needs exactly one module")
     OUT.mkdir(parents=True, exist_ok=True)
     table, surv_path = OUT / "mutation.csv", OUT / "mutation_survivors.csv"
     rows = {r["module"]: r for r in _read(table)}
@@ -267,14 +313,16 @@ def main(argv=None) -> None:
     for module in modules:
         if args.report_only:
             seconds = float(rows.get(module, {}).get("seconds") or 0.0)
-        elif args.resume:
-            print(f"[mutation] {module}: resuming over {', '.join(args.only or _scope(module))}", flush=True)
-            seconds = float(rows.get(module, {}).get("seconds") or 0.0) + resume(module, args.max_children, args.only)
+        elif args.resume or args.mutants:
+            print(f"[mutation] {module}: resuming over {', '.join(args.only or _scope(module))}"
+                  + (f" ({len(args.mutants)} mutant names or globs)" if args.mutants else ""), flush=True)
+            seconds = float(rows.get(module, {}).get("seconds") or 0.0) + resume(module, args.max_children, args.only,
+                                                                                  args.mutants)
         else:
             print(f"[mutation] {module}: mutmut run over {', '.join(args.only or MODULES[module][0])}", flush=True)
             seconds = run(module, args.max_children, args.only)
         rows[module], surv = summarise(module, seconds, equivalent)
-        rows[module]["scope"] = " ".join(_scope(module))
+        rows[module]["scope"] = scope_text(module)
         survivors += surv
         r = rows[module]
         print(f"[mutation] {module}: {r['mutants']} mutants, {r['killed']} killed, {r['equivalent']} equivalent, "

@@ -1,7 +1,7 @@
 """GLMB benchmark: side-by-side table, curves over time, figure and ledger rows from the shards."""
 import pandas as pd
 
-from hypotrack.experiments.glmb_benchmark import implementation_labels
+from hypotrack.experiments.glmb_benchmark import implementation_labels, legend_labels
 from hypotrack.experiments.glmb_benchmark_report import (
     benchmark_claims,
     benchmark_macros,
@@ -25,7 +25,7 @@ write_table(timing, out.timing)
 curve = curves(per_scan)
 write_table(curve, out.curves)
 curve.attrs["n_runs"] = per_scan.run.nunique()
-plot_benchmark(curve, out.fig_pdf, out.fig_png, implementations)
+plot_benchmark(curve, out.fig_pdf, out.fig_png, legend_labels(cfg["trackers"]))
 write_claims(benchmark_claims(summary, timing, cfg["reference_tracker"]), out.claims)
 values, times = benchmark_macros(summary, timing)
 write_macros("glmb_benchmark", values, out.macros)

@@ -29,7 +29,11 @@ Visit counts are never returned.
 
 The inner loop is compiled with numba (``cache=True``); a visited-set is kept in an
 open-addressing hash table keyed by an incrementally updated Zobrist hash, with an exact row
-comparison on every hash hit, so two different events are never merged.
+comparison on every hash hit, so two different events are never merged. The paper and
+symmetric chains read numba's ``np.random`` stream from a local buffer (:mod:`.mt19937`) and
+reject forbidden pairs (``−inf`` scores) without evaluating the rest of the move: the same
+uniforms and decisions as ``np.random.random()`` and the full test, measured 32 → 12 ns per
+proposal on ssa50 parents (two shared cores).
 
 References
 ----------
@@ -530,9 +534,11 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
         init = np.asarray(init)
         if init.shape != (m,):
             raise ValueError(f"init must have shape ({m},), got {init.shape}")
+        # Codes n_exclusive.. are no column (reading them as row options would be silent nonsense).
+        if init.size and (init.min() < n_excl - n_col or init.max() >= n_excl):
+            raise ValueError(f"init codes must lie in [{n_excl - n_col}, {n_excl - 1}], "
+                             f"got [{init.min()}, {init.max()}]")
         state = to_state(init, n_excl)
-        if state.size and (state.min() < 0 or state.max() >= n_col):
-            raise ValueError("init holds codes outside the score matrix")
         excl = state[state < n_excl]
         if len(np.unique(excl)) != len(excl):
             raise ValueError("init assigns two returns to the same exclusive column")

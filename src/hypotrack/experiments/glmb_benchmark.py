@@ -35,7 +35,7 @@ from ..metrics import ospa
 from ..models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
 
 __all__ = ["KINDS", "PEER_KINDS", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
-           "simulate_scans", "make_tracker", "implementation_labels", "run_tracker", "ospa_parts"]
+           "simulate_scans", "make_tracker", "implementation_labels", "legend_labels", "run_tracker", "ospa_parts"]
 
 KINDS = ("glmb", "glmb_murty", "rfisst", "homht_kbest", "gmphd")
 PEER_KINDS = {"gmphd": "Stone Soup GM-PHD, peer implementation"}
@@ -162,6 +162,20 @@ def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed):
 def implementation_labels(trackers: dict) -> dict:
     """Per named tracker: ``"hypotrack engine"`` or the peer's name (tables and figure legends)."""
     return {name: PEER_KINDS.get(spec["kind"], "hypotrack engine") for name, spec in trackers.items()}
+
+
+def legend_labels(trackers: dict) -> dict:
+    """Per named tracker: its name and what it is, for figure legends."""
+    what = {"glmb": "δ-GLMB, Gibbs", "glmb_murty": "δ-GLMB, Murty", "homht_kbest": "HOMHT, Murty k-best"}
+    out = {}
+    for name, spec in trackers.items():
+        kind = spec["kind"]
+        if kind == "rfisst":
+            desc = "R-FISST + completion" if spec.get("completion_rounds", 2) else "R-FISST, chain alone"
+        else:
+            desc = PEER_KINDS.get(kind) or what.get(kind, kind)
+        out[name] = f"{name} ({desc})"
+    return out
 
 
 def ospa_parts(X, Y, c: float):

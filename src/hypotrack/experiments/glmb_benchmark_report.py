@@ -40,7 +40,7 @@ def curves(per_scan: pd.DataFrame) -> pd.DataFrame:
     return out.reset_index()
 
 
-def plot_benchmark(curve: pd.DataFrame, pdf, png, implementations: dict | None = None):
+def plot_benchmark(curve: pd.DataFrame, pdf, png, labels: dict | None = None):
     import matplotlib
 
     matplotlib.use("Agg")
@@ -50,8 +50,7 @@ def plot_benchmark(curve: pd.DataFrame, pdf, png, implementations: dict | None =
     panels = [("ospa", "OSPA (m)"), ("ospa_loc", "OSPA localisation part (m)"),
               ("ospa_card", "OSPA cardinality part (m)")]
     styles = dict(zip(curve.tracker.unique(), ["-", "--", "-.", ":", (0, (5, 1)), (0, (1, 3))] * 3))
-    peers = {k: v for k, v in (implementations or {}).items() if v != "hypotrack engine"}
-    labels = {name: f"{name} ({peers[name]})" if name in peers else name for name in curve.tracker.unique()}
+    labels = {name: (labels or {}).get(name, name) for name in curve.tracker.unique()}
     for ax, (col, label) in zip(axes.flat, panels):
         for name, g in curve.groupby("tracker", sort=False):
             ax.plot(g.scan, g[col], label=labels[name], lw=1.4, ls=styles[name])

@@ -43,7 +43,7 @@ from ..association import (
     murty_k_best,
 )
 from ..association.cardinality_assignment import cardinality_k_best
-from ..association.mcmc import MCMC_VARIANTS, checked_search, to_state
+from ..association.mcmc import MCMC_VARIANTS, _state_log_weight, checked_search, to_state
 from .association_problem import SEEDED_BIRTH, AssociationProblem
 
 __all__ = ["ChildGenerator", "ExhaustiveGenerator", "MurtyGenerator", "MCMCGenerator", "top_k"]
@@ -267,7 +267,9 @@ class MCMCGenerator(ChildGenerator):
             score, n_cols = _murty_matrix(problem)
             _, cols = best_assignment(score)
             init = _decode_enumerated(np.asarray(columns_to_event(cols, n_cols))[None], problem)[0]
-        if not np.isfinite(problem.log_weights(init[None])[0]):
+        # Feasibility as problem.log_weights(init[None]) decides it (the same sum, in the same order).
+        score, n_obj, n_excl, count_term = problem.checked
+        if not np.isfinite(problem.constant + _state_log_weight(score, to_state(init, n_excl), n_obj, n_excl, count_term)):
             init = np.full(m, -1, dtype=np.int64)
         return init
 

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -42,6 +43,23 @@ class ScanContext:
     @property
     def n_birth_regions(self) -> int:
         return self.birth_loglik.shape[1]
+
+    @cached_property
+    def detection_scores(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(log_miss, obj)``: ``log(1 − p_D,j)`` (N,) of every predicted track and its column
+        of the association matrix ``log N(z_i; ·) + log p_D,j − log(1 − p_D,j)`` (m, N), ``−inf``
+        where gated out or out of view (seed 000 Eq. 8, 18). Elementwise, so a parent's columns
+        are a gather of these: computed once per scan instead of once per parent."""
+        p = self.p_detect
+        log_miss = np.log1p(-p)
+        with np.errstate(divide="ignore"):
+            obj = self.loglik + (np.log(p) - log_miss)[None, :]
+        return log_miss, np.where(self.allowed, obj, -np.inf)
+
+    @cached_property
+    def birth_scores(self) -> np.ndarray:
+        """(m, B) birth columns ``log ∫ p(z_i|x) p_b,r(x) dx + log p_D`` (seed 000 Eq. 30)."""
+        return self.birth_loglik + np.log(self.p_detect_birth)
 
     @property
     def log_clutter_density(self) -> float:

@@ -57,15 +57,12 @@ class WeightModel:
             (seed 000 Eq. 30 / seed 001 Eq. 59); default: no births, probability 1.
         """
         tracks = np.asarray(tracks, dtype=np.int64)
-        p = ctx.p_detect[tracks]
-        log_miss = np.log1p(-p)
-        with np.errstate(divide="ignore"):
-            obj = ctx.loglik[:, tracks] + (np.log(p) - log_miss)[None, :]
-        obj = np.where(ctx.allowed[:, tracks], obj, -np.inf)
+        log_miss_all, obj_all = ctx.detection_scores  # per scan; the same numbers as per parent
+        log_miss = log_miss_all[tracks]
+        obj = obj_all[:, tracks]
         n_births = ctx.n_birth_regions if self.uses_birth_columns() else 0
         if n_births:
-            births = ctx.birth_loglik + np.log(ctx.p_detect_birth)
-            target = np.hstack([obj, births])
+            target = np.hstack([obj, ctx.birth_scores])
         else:
             target = obj
         pop = np.zeros(1) if population_log_prob is None else np.asarray(population_log_prob, dtype=float)

@@ -260,3 +260,31 @@ def test_scan_model_from_a_sensor():
     for sensor in (Sensor(meas, det), Sensor(meas, det, PoissonClutter(0.0, box))):
         with pytest.raises(ValueError, match=no_clutter):
             ScanModel.from_sensor(sensor)
+
+
+def test_scan_model_stores_validated_arrays_and_names_bad_input():
+    mdl = ScanModel([[1, 0, 0, 0], [0, 1, 0, 0]], [[1, 0], [0, 1]], 1, 0.5, 2, 0)
+    assert isinstance(mdl.H, np.ndarray) and isinstance(mdl.R, np.ndarray) and mdl.H.dtype == float
+    assert [type(v) for v in (mdl.p_D, mdl.p_gate, mdl.clutter_density, mdl.new_target_density)] == [float] * 4
+    assert set(vars(mdl)) == {"H", "R", "p_D", "p_gate", "clutter_density", "new_target_density", "gate"}
+    good = dict(H=H, R=np.eye(2), p_D=0.9, p_gate=0.99, clutter_density=1e-3)
+    for bad, msg in [(dict(H=np.full((2, 4), np.nan)), "^H must be finite"),
+                     (dict(H=np.zeros((1, 2, 4))), "^H must be a 2-D array"),
+                     (dict(p_D=0.0), r"^p_D must lie in \(0, 1\]"),
+                     (dict(new_target_density=-1.0), "^new_target_density must be a finite number >= 0")]:
+        with pytest.raises(ValueError, match=msg):
+            ScanModel(**{**good, **bad})
+
+
+def test_gating_without_tracks_and_with_an_explicit_gate():
+    mdl = model()
+    Z = np.array([[0.5, 0.0], [2.0, 0.0], [3.0, 1.0]])
+    empty = gate_tracks(np.zeros((0, 4)), np.zeros((0, 4, 4)), Z, mdl)
+    assert empty.S.shape == (0, 2, 2) and empty.K.shape == (0, 4, 2) and empty.z_pred.shape == (0, 2)
+    assert empty.valid.shape == (3, 0) and empty.log_likelihood().shape == (3, 0)
+    x, P = np.zeros((1, 4)), P1[None]
+    default, tight = gate_tracks(x, P, Z, mdl), gate_tracks(x, P, Z, mdl, gate=1.0)  # S = 2 I: d² = 0.125, 2, 5
+    np.testing.assert_array_equal(default.valid[:, 0], [True, True, True])
+    np.testing.assert_array_equal(tight.valid[:, 0], [True, False, False])
+    with pytest.raises(ValueError, match=r"^Z must be finite; rows \[1\]"):
+        gate_tracks(x, P, [[0.0, 0.0], [np.nan, 1.0]], mdl)

@@ -152,6 +152,8 @@ def test_labeled_problem_rows_are_the_objects():
     assert problem.n_returns == 3 and problem.n_objects == 3 and problem.n_exclusive == 3
     kappa = RATE / V
     assert problem.constant == pytest.approx(-0.75 - RATE + 3 * np.log(kappa), abs=1e-12)
+    default = GLMBWeights().labeled_problem(ctx, [1, 0], log_r, log_not)  # the parent's log-weight defaults to 0
+    assert default.constant == pytest.approx(-RATE + 3 * np.log(kappa), abs=1e-12)
     np.testing.assert_array_equal(problem.count_term, np.zeros((4, 1)))
     # row 0 is parent track 1: option 0 missed, option 1 died
     np.testing.assert_allclose(problem.option_scores[0], [np.log(0.9 * (1 - P_D)), np.log(0.1)], atol=1e-12)
@@ -217,13 +219,14 @@ def test_gibbs_search_starts_all_missed_and_refuses_an_impossible_start():
     np.testing.assert_array_equal(lw, problem.log_weights(events))
     again = gibbs_search(problem, 40, seed=5)
     np.testing.assert_array_equal(again[0], events)
-    with pytest.raises(ValueError, match="n_sweeps"):
+    with pytest.raises(ValueError, match=r"^n_sweeps must be an integer in \[0, inf\], got -1$"):
         gibbs_search(problem, -1, seed=5)
     with pytest.raises(ValueError, match="n_sweeps"):
         GibbsGenerator(n_sweeps=-2)
     bad = type(problem)(problem.target_scores, np.column_stack([np.r_[-np.inf, 0.0, 0.0], np.zeros(3)]),
                         problem.n_objects, problem.count_term)
-    with pytest.raises(ValueError, match="row option 0 must be finite for every row"):
+    with pytest.raises(ValueError, match="^row option 0 must be finite for every row: it is the sampler's "
+                                         "starting point$"):
         gibbs_search(bad, 10, seed=1)
 
 

@@ -9,6 +9,7 @@ Eq. 31, 59 (FISST with Poisson clutter, binomial population), written out term b
 scipy's Gaussian densities.
 """
 
+import copy
 import itertools
 import math
 
@@ -21,6 +22,7 @@ from hypotrack.association import EnumerationBudgetError
 from hypotrack.hypotheses import (
     AssociationProblem,
     BinomialPopulation,
+    ChildGenerator,
     ChildSet,
     ExhaustiveGenerator,
     FISSTPoissonWeights,
@@ -30,8 +32,10 @@ from hypotrack.hypotheses import (
     MCMCGenerator,
     MurtyGenerator,
     ReidWeights,
+    ScanContext,
     SingleEventPopulation,
 )
+from hypotrack.hypotheses.filter import _twins_never_heavier
 from hypotrack.hypotheses.generators import top_k
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
@@ -248,16 +252,24 @@ def test_exhaustive_generator_budget_and_empty_scan():
     n = len(brute_force(problem))
     assert ExhaustiveGenerator(max_events=n).generate(problem)[0].shape == (n, 4)
     assert ExhaustiveGenerator(max_events=n).generate(problem, keep=3)[0].shape == (3, 4)
-    for keep in (None, 3):
-        with pytest.raises(EnumerationBudgetError, match=str(n - 1)):
-            ExhaustiveGenerator(max_events=n - 1).generate(problem, keep=keep)
+    with pytest.raises(EnumerationBudgetError, match=f"^enumeration would produce {n:,} association events, "
+                                                     f"exceeding max_events={n - 1:,}; "):
+        ExhaustiveGenerator(max_events=n - 1).generate(problem)
+    with pytest.raises(EnumerationBudgetError, match=f"^enumeration would produce more than {n - 1:,} association "
+                                                     f"events, exceeding max_events={n - 1:,}; ") as err:
+        ExhaustiveGenerator(max_events=n - 1).generate(problem, keep=3)  # streaming: counting stops at the budget
+    assert err.value.budget == n - 1 and err.value.count > n - 1
+    ev1, lw1 = ExhaustiveGenerator(chunk_size=1).generate(problem, keep=5)  # one event per chunk
+    ev2, lw2 = ExhaustiveGenerator().generate(problem, keep=5)
+    np.testing.assert_array_equal(ev1, ev2)
+    np.testing.assert_array_equal(lw1, lw2)
     empty = AssociationProblem(np.zeros((0, 2)), np.zeros((0, 1)), 2, np.full((3, 1), -0.5), constant=1.5)
     for gen in (ExhaustiveGenerator(), MurtyGenerator(k=3), MCMCGenerator(n_steps=10)):
         ev, lw = gen.generate(empty, np.random.default_rng(0), keep=2)
         assert ev.shape == (1, 0) and ev.dtype == np.int32
         np.testing.assert_array_equal(lw, [1.0])  # constant + φ[0, 0]
     for bad in (dict(max_events=0), dict(chunk_size=0)):
-        with pytest.raises(ValueError, match=next(iter(bad))):
+        with pytest.raises(ValueError, match=rf"^{next(iter(bad))} must be an integer in \[1, inf\], got 0$"):
             ExhaustiveGenerator(**bad)
 
 
@@ -268,9 +280,18 @@ def test_murty_generator_returns_the_exact_top_k(seed, n_opt, constant_phi):
     oracle = brute_force(problem)
     for k, keep in ((1, None), (6, None), (9, 4), (4, 9)):
         ev, lw = MurtyGenerator(k=k).generate(problem, keep=keep)
-        _assert_top(np.asarray(ev, dtype=np.int32), lw, oracle, min(k, keep or k))
+        _assert_top(ev, lw, oracle, min(k, keep or k))
+    if n_opt == 1:  # blocks of equal counts (polynomial): exact whatever the ranking budget
+        ev, lw = MurtyGenerator(k=6, max_solutions=6).generate(problem)
+        _assert_top(ev, lw, oracle, 6)
     ev, lw = MurtyGenerator(k=10**4).generate(problem)  # more than exist: every event
     assert _as_dict(ev, lw).keys() == oracle.keys()
+
+
+def test_murty_generator_when_every_count_is_forbidden():
+    forbidden = AssociationProblem(np.zeros((2, 2)), np.zeros((2, 2)), 1, np.full((2, 2), -np.inf))
+    ev, lw = MurtyGenerator(k=3, max_solutions=50).generate(forbidden)
+    assert ev.shape == (0, 2) and lw.shape == (0,)
 
 
 def test_murty_generator_budget_returns_the_best_found():
@@ -504,3 +525,164 @@ def test_sampled_cap_draws_without_replacement_in_proportion_to_weight():
         assert f.log_weights[0] == 0.0
     top = int(np.argmax(p))
     assert counts[keys[top]] / n == pytest.approx(p[top], abs=4 * np.sqrt(p[top] * (1 - p[top]) / n))
+
+
+def test_mcmc_default_burn_in_is_a_tenth_of_the_steps():
+    problem = _random_problem(5, m=3, n_obj=2, n_birth=1, n_opt=2)
+
+    def run(**kw):
+        ev, lw = MCMCGenerator(completion_rounds=0, init="clutter", **kw).generate(problem, np.random.default_rng(1))
+        return _as_dict(ev, lw)
+
+    default = run(n_steps=55)
+    assert default == run(n_steps=55, burn_in=5)  # 55 // 10
+    assert default != run(n_steps=55, burn_in=6)
+    assert len(run(n_steps=50, burn_in=50)) < len(run(n_steps=50))  # burn-in takes steps out of the record
+
+
+def test_mcmc_starting_events():
+    """``init``: the paper's random permutation of columns (a return keeps its column if it is an
+    allowed exclusive one, else clutter), all clutter, or the best separable assignment; an
+    infeasible start falls back to all clutter."""
+    problem = _random_problem(7, m=4, n_obj=3, n_birth=1, n_opt=1, constant_phi=True)
+    C = problem.n_exclusive
+    for seed in range(5):
+        perm = np.random.default_rng(seed).permutation(C + 1)[:4]
+        want = [int(c) if c < C and np.isfinite(problem.target_scores[i, c]) else -1 for i, c in enumerate(perm)]
+        got = MCMCGenerator(init="random")._initial_event(problem, np.random.default_rng(seed))
+        np.testing.assert_array_equal(got, want)
+        assert got.dtype == np.int64
+    np.testing.assert_array_equal(MCMCGenerator(init="clutter")._initial_event(problem, None), [-1] * 4)
+    oracle = brute_force(problem)
+    best = max(oracle, key=oracle.get)
+    np.testing.assert_array_equal(MCMCGenerator(init="best")._initial_event(problem, None), best)
+    seeded = _random_problem(8, m=3, n_obj=1, n_birth=0, n_opt=2, constant_phi=True)
+    oracle = brute_force(seeded)
+    np.testing.assert_array_equal(MCMCGenerator(init="best")._initial_event(seeded, None), max(oracle, key=oracle.get))
+    forbidding = AssociationProblem(problem.target_scores, problem.option_scores, 3,
+                                    np.where(np.arange(4)[:, None] == 0, 0.0, -np.inf) * np.ones((4, 2)))
+    for init in ("random", "best"):  # every detection forbidden by φ: the start is all clutter
+        np.testing.assert_array_equal(MCMCGenerator(init=init)._initial_event(forbidding, np.random.default_rng(0)),
+                                      [-1] * 4)
+
+
+def _twin_check(model, p_D, alpha=0.0, beta=0.0, p_s=1.0, p_view=(True, True, False)):
+    if model == "single":
+        pop = SingleEventPopulation(SingleEventBirthDeath(alpha, beta, 2), birth_densities=_births())
+    else:
+        pop = BinomialPopulation(_births(), alpha=alpha, p_survive=p_s)
+    in_view = np.array(p_view)
+    p = np.where(in_view, p_D, 0.0)
+    ctx = ScanContext(Z=Z, loglik=np.zeros((3, 3)), allowed=np.ones((3, 3), bool), p_detect=p,
+                      birth_loglik=np.zeros((3, 2)), p_detect_birth=p_D, clutter_rate=1.0, clutter_volume=V)
+    return _twins_never_heavier(pop, ctx, p, in_view)
+
+
+@pytest.mark.parametrize("case, exact", [
+    # single event, M_b = 2 regions, M_d = 2 objects in view: P(none) = 1 − 2α − 2β
+    (dict(model="single", p_D=0.8, alpha=0.01, beta=0.05), True),  # birth log-ratio −4.5 − 1.6, death −2.9 + 1.6
+    (dict(model="single", p_D=0.8, alpha=0.28, beta=0.01), True),  # birth twin log(0.28/0.42) + log 0.2 = −2.0
+    (dict(model="single", p_D=0.1, alpha=0.35, beta=0.01), False),  # birth twin log(0.35/0.28) + log 0.9 = +0.12
+    (dict(model="single", p_D=0.7, alpha=0.01, beta=0.2), False),  # death twin log(0.2/0.58) − log 0.3 = +0.14
+    (dict(model="single", p_D=0.99, alpha=0.01, beta=0.2), False),  # the reported case: death twin +3.5
+    (dict(model="single", p_D=0.4, alpha=0.01, beta=0.2), True),  # death twin log(0.2/0.58) − log 0.6 = −0.55
+    (dict(model="binomial", p_D=0.3, alpha=0.02, p_s=0.5), False),  # death twin log(1) − log 0.7 = +0.36
+    (dict(model="binomial", p_D=0.9, alpha=0.5, p_s=0.99), True),  # birth twin log(1) + log 0.1, death −4.6 + 2.3
+    (dict(model="binomial", p_D=0.5, alpha=0.7, p_s=0.99), False),  # birth twin log(7/3) + log 0.5 = +0.15
+])
+def test_pretrim_is_allowed_exactly_when_no_twin_can_outweigh_its_child(case, exact):
+    assert _twin_check(**case) is exact
+
+
+def test_pretrim_with_every_object_out_of_view():
+    out = (False, False, False)
+    # no single-event death out of view; the birth twin log(0.01/0.98) + log 0.01 < 0
+    assert _twin_check("single", 0.99, alpha=0.01, beta=0.2, p_view=out) is True
+    # with M_d = 0, P(none) = 1 − 2α: the birth twin log(0.35/0.3) + log 0.9 = +0.05
+    assert _twin_check("single", 0.1, alpha=0.35, beta=0.01, p_view=out) is False
+    # binomial deaths out of view remove no miss factor: log(0.5/0.5) − log 1 = 0, a tie
+    assert _twin_check("binomial", 0.3, alpha=0.02, p_s=0.5, p_view=out) is True
+    assert _twin_check("binomial", 0.3, alpha=0.02, p_s=0.4, p_view=out) is False
+
+
+def test_a_capped_step_asks_the_generator_only_for_the_best_when_that_is_exact():
+    for case, exact in ((CASES[0], True), (dict(model="single", p_D=0.8, alpha=0.28, beta=0.01), True),
+                        (CASES[1], False)):
+        f = _filter(**case, max_hypotheses=3)
+        f.step(Z)
+        n_assoc = sum(k[0] == ChildSet.ASSOCIATION for k in oracle(**case))
+        assert f.last_stats["n_association_children"] == (3 if exact else n_assoc)
+
+
+class _NoChildren(ChildGenerator):
+    """A generator that finds nothing (every event forbidden)."""
+
+    def generate(self, problem, rng=None, keep=None):
+        return np.zeros((0, problem.n_returns), dtype=np.int32), np.zeros(0)
+
+
+def test_a_scan_without_any_child_is_refused_and_changes_nothing():
+    f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), _NoChildren(), means=X0, covs=P0)
+    ch = f.expand(Z)
+    assert len(ch) == 0 and ch.events.shape == (0, 3)
+    with pytest.raises(RuntimeError, match=r"^no child hypothesis has a positive weight \(every event was gated "
+                                           r"out or forbidden\)$"):
+        f.step(Z)
+    assert f.scan_index == 0 and f.hypotheses == [Hypothesis(0.0, (0, 1, 2))]
+    with pytest.raises(ValueError, match=r"^Z must have shape \(m, 2\), got \(3, 3\)$"):
+        f.expand(np.zeros((3, 3)))
+
+
+def test_capped_twins_keep_the_best_of_each_kind_with_integer_codes():
+    f = _filter(**CASES[1], max_hypotheses=3)  # death twins can outweigh: no pre-trim
+    f.step(Z)
+    # per parent: the best 3 association children, the best 3 undetected-birth and 3 death twins
+    assert f.last_stats["n_twin_children"] == 6
+    assert f.last_kept.arg.dtype == np.int64 and f.last_kept.kind.dtype == np.int64
+
+
+def test_seeded_births_start_new_tracks_at_their_returns():
+    """HOMHT: a return taken by the seeded-birth option starts a track from that return
+    (``birth_density.initial_state``), one fresh label per (return) shared by the hypotheses."""
+    birth = _births()[1]
+    f = HypothesisFilter(MOTION, _sensor(0.8), ReidWeights(birth_intensity=1e-3, birth_density=birth),
+                         ExhaustiveGenerator(), means=X0[:1], covs=P0[:1], labels=[7])
+    f.step(Z)
+    F, Q = MOTION.F(1.0), MOTION.Q(1.0)
+    pred = (F @ X0[0], F @ P0[0] @ F.T + Q)
+    kept, store, seen = f.last_kept, f.store, {}
+    assert any((ev == -2).any() for ev in kept.events)
+    for c, tracks in enumerate(f.track_lists):
+        ev = kept.events[c]
+        hit = np.flatnonzero(ev == 0)
+        want = [_kalman(*pred, Z[hit[0]]) if len(hit) else pred]
+        want += [birth.initial_state(Z[i], R) for i in np.flatnonzero(ev == -2)]
+        assert len(tracks) == len(want)
+        for t, (mean, cov) in zip(tracks, want):
+            np.testing.assert_allclose(store.means[t], mean, atol=1e-10)
+            np.testing.assert_allclose(store.covs[t], cov, atol=1e-10)
+        assert store.labels[tracks[0]] == 7
+        for t, i in zip(tracks[1:], np.flatnonzero(ev == -2)):
+            assert store.labels[t] >= 8 and seen.setdefault(int(i), store.labels[t]) == store.labels[t]
+    assert sorted(seen.values()) == list(range(8, 8 + len(seen)))
+
+
+def test_second_scan_expands_every_kept_parent():
+    f = _filter(**CASES[0], max_hypotheses=4)
+    f.step(Z)
+    parents, keys1 = f.log_weights, f.lineage_keys
+    Z2 = Z + np.array([1.0, 0.0])
+    ch = f.expand(Z2)
+    np.testing.assert_array_equal(np.unique(ch.parent), np.arange(4))
+    for h in range(4):  # parent h alone, at its weight, has exactly its children
+        alone = copy.copy(f)
+        alone._log_w, alone._tracks = parents[h:h + 1], [f._tracks[h]]
+        mine = alone.expand(Z2)
+        np.testing.assert_array_equal(mine.events, ch.events[ch.parent == h])
+        np.testing.assert_allclose(mine.log_weights, ch.log_weights[ch.parent == h], rtol=0, atol=1e-12)
+    f.step(Z2)
+    st = f.last_stats
+    assert st["n_parents"] == 4 and st["n_kept"] == 4 and f.scan_index == 2
+    assert st["time_total"] >= st["time_generate"] >= 0.0
+    for c, key in enumerate(f.lineage_keys):
+        assert key[0] == keys1[f.last_kept.parent[c]] and key[3] == f.last_kept.events[c].tobytes()

@@ -60,8 +60,14 @@ def _kalman(x, P, z, H, R):
 
 
 def test_track_store_validation_and_empty_store():
-    with pytest.raises(ValueError, match="an empty track store needs ndim"):
+    with pytest.raises(ValueError, match="^an empty track store needs ndim$"):
         TrackStore.from_arrays(np.zeros((0, 4)), None)
+    for means, match in ((np.zeros(4), r"^means must be a 2-D array, got shape \(4,\)$"),
+                         ([[0.0, np.nan]], r"^means must be finite")):
+        with pytest.raises(ValueError, match=match):
+            TrackStore.from_arrays(means, np.eye(2)[None])
+    with pytest.raises(ValueError, match=r"^covs must be 2x2, got shape \(1, 3, 3\)$"):
+        TrackStore.from_arrays(np.zeros((1, 2)), np.eye(3)[None])
     empty = TrackStore.from_arrays([], None, ndim=3)
     assert empty.means.shape == (0, 3) and empty.covs.shape == (0, 3, 3)
     assert empty.labels.shape == (0,) and empty.labels.dtype == np.int64
@@ -75,8 +81,9 @@ def test_track_store_validation_and_empty_store():
     store = TrackStore.from_arrays(np.arange(6.0).reshape(3, 2), covs)
     np.testing.assert_array_equal(store.labels, [0, 1, 2])
     assert store.labels.dtype == np.int64 and len(store) == 3 and store.ndim == 2
-    labelled = TrackStore.from_arrays(np.zeros((3, 2)), covs, labels=[7, 3, 9])
+    labelled = TrackStore.from_arrays(np.zeros((3, 2)), covs, labels=np.array([7.0, 3.0, 9.0]))
     np.testing.assert_array_equal(labelled.labels, [7, 3, 9])
+    assert labelled.labels.dtype == np.int64  # labels are integers even when given as floats
 
 
 def test_track_store_predicts_every_track_and_keeps_labels():
@@ -109,6 +116,11 @@ def test_update_pairs_updates_each_pair_and_keeps_missed_tracks_predicted():
     x, P = update_pairs(pred, Z, H, R, [1, 0], [-1, -1])
     np.testing.assert_array_equal(x, means[[1, 0]])
     np.testing.assert_array_equal(P, covs[[1, 0]])
+    x, P = update_pairs(pred, Z, H, R, [], [])  # no pair: empty stores
+    assert x.shape == (0, 4) and P.shape == (0, 4, 4)
+    x, P = update_pairs(pred, Z, H, R, np.array([1.0, 0.0]), np.array([0.0, -1.0]))  # integer-coded floats
+    np.testing.assert_allclose(x[0], _kalman(means[1], covs[1], Z[0], H, R)[0], atol=1e-12)
+    np.testing.assert_array_equal(x[1], means[0])
 
 
 # ---------------------------------------------------------------- hypotheses and child sets
@@ -196,6 +208,14 @@ def test_association_problem_bad_shapes(kwargs, match):
         AssociationProblem(**{**args, **kwargs})
 
 
+def test_association_problem_stores_float_arrays():
+    p = AssociationProblem([[1, 2]], [[0]], 1, [[0, 0], [0, 0]], constant=2)
+    for a in (p.target_scores, p.option_scores, p.count_term, p.score):
+        assert a.dtype == np.float64
+    assert isinstance(p.constant, float)
+    np.testing.assert_array_equal(p.log_weights(np.array([[0], [1], [-1]])), [3.0, 4.0, 2.0])
+
+
 def test_association_problem_accepts_the_extreme_object_counts():
     assert AssociationProblem(np.zeros((2, 3)), np.zeros((2, 1)), 3, np.zeros((4, 1))).n_birth_columns == 0
     assert AssociationProblem(np.zeros((2, 3)), np.zeros((2, 1)), 0, np.zeros((1, 4))).n_birth_columns == 3
@@ -223,12 +243,33 @@ def test_summarise_orders_counts_and_truncates():
     np.testing.assert_array_equal(post.top[2].labels, [13, 11, 10])
     np.testing.assert_array_equal(post.top[2].covs, np.repeat(np.eye(2)[None], 3, axis=0))
     assert len(summarise(lw, lists, store).top) == 4  # default n_top = 10 keeps all four
+    many = summarise(np.log(np.full(12, 1 / 12)), [[0]] * 12, store)
+    assert len(many.top) == 10
+
+
+def test_summarise_breaks_ties_in_input_order():
+    """Equal weights keep their input order (a stable sort), also beyond insertion-sort sizes."""
+    rng = np.random.default_rng(0)
+    lw = np.log(rng.choice([0.1, 0.2, 0.3], size=200))
+    store = TrackStore.from_arrays(np.zeros((200, 2)), np.repeat(np.eye(2)[None], 200, axis=0),
+                                   labels=np.arange(200))
+    post = summarise(lw, [[i] for i in range(200)], store, n_top=200)
+    order = [int(h.labels[0]) for h in post.top]
+    assert order == sorted(range(200), key=lambda i: (-lw[i], i))
+
+
+def test_summarise_of_empty_hypotheses_has_one_cardinality_entry():
+    store = TrackStore.from_arrays([], None, ndim=2)
+    post = summarise(np.log([0.25, 0.75]), [[], []], store)
+    np.testing.assert_allclose(post.cardinality, [1.0], atol=1e-15)
+    assert post.expected_number == 0.0
 
 
 def test_summarise_of_no_hypothesis_has_unit_mass_at_zero_objects():
     store = TrackStore.from_arrays([], None, ndim=2)
     post = summarise(np.zeros(0), [], store)
     np.testing.assert_array_equal(post.cardinality, [1.0])
+    assert post.n_objects.dtype == np.int64 and post.log_weights.dtype == float
     assert post.expected_number == 0.0 and post.top == ()
 
 

@@ -62,14 +62,20 @@ def run_summary(jobs: pd.DataFrame, elapsed_s: float, cores: int) -> pd.DataFram
     return out.round({"wall_s": 1, "cpu_s": 1, "max_rss_mib": 1})
 
 
-def write_run_record(results, started: float, finished: float, cores: int) -> Path | None:
-    """Write ``{results}/paper/pipeline_timing.csv`` for the jobs run since ``started``; ``None`` if none ran."""
+def write_run_record(results, started: float, finished: float, cores: int,
+                     elapsed_s: float | None = None) -> Path | None:
+    """Write ``{results}/paper/pipeline_timing.csv`` for the jobs run since ``started``; ``None`` if none ran.
+
+    ``elapsed_s`` (default ``finished - started``) is for a run completed by a second invocation
+    (``--rerun-incomplete`` after an interruption): the sum of the invocations' elapsed times, so the
+    pause between them is not counted.
+    """
     jobs = job_benchmarks(results, since=started)
     if jobs.empty:
         return None
     path = Path(results) / "paper" / "pipeline_timing.csv"
     path.parent.mkdir(parents=True, exist_ok=True)
-    run_summary(jobs, finished - started, cores).to_csv(path, index=False)
+    run_summary(jobs, finished - started if elapsed_s is None else elapsed_s, cores).to_csv(path, index=False)
     return path
 
 

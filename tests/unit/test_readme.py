@@ -110,6 +110,9 @@ def test_pipeline_time_record_counts_only_this_run_and_feeds_the_readme(tmp_path
     assert (whole["jobs"], whole["wall_s"], whole["cpu_s"], whole["max_rss_mib"], whole["cores"]) == (3, 1500, 635.5, 300, 2)
     assert tuple(record.iloc[2][["jobs", "wall_s", "cpu_s", "max_rss_mib"]]) == (2, 70.0, 45.0, 120.0)
     assert write_run_record(tmp_path, started=3000, finished=3100, cores=2) is None  # nothing ran: kept
+    # a run resumed after an interruption: the two invocations' elapsed times, not the pause between
+    resumed = pd.read_csv(write_run_record(tmp_path, started=1000, finished=9000, cores=2, elapsed_s=1500))
+    assert resumed.equals(record)
     # the README's run-time span is generated from the record beside the ledger
     ledger = _ledger(tmp_path / "paper")
     readme = tmp_path / "README.md"

@@ -509,7 +509,7 @@ def test_a_failed_step_raises_and_leaves_the_filter_as_before():
 
 
 def test_sampled_cap_draws_without_replacement_in_proportion_to_weight():
-    case = CASES[0]
+    case = CASES[3]  # the two heaviest children hold 54 % and 33 % of the mass
     want = oracle(**case)
     keys = list(want)
     p = np.exp(np.array([want[k] for k in keys]) - logsumexp(list(want.values())))
@@ -523,8 +523,8 @@ def test_sampled_cap_draws_without_replacement_in_proportion_to_weight():
         (key,) = _by_key(f.last_kept)
         counts[key] += 1
         assert f.log_weights[0] == 0.0
-    top = int(np.argmax(p))
-    assert counts[keys[top]] / n == pytest.approx(p[top], abs=4 * np.sqrt(p[top] * (1 - p[top]) / n))
+    for i in np.argsort(-p)[:2]:
+        assert counts[keys[i]] / n == pytest.approx(p[i], abs=4 * np.sqrt(p[i] * (1 - p[i]) / n))
 
 
 def test_mcmc_default_burn_in_is_a_tenth_of_the_steps():

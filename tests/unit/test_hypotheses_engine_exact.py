@@ -302,8 +302,23 @@ def test_murty_generator_budget_returns_the_best_found():
     for e, w in _as_dict(ev, lw).items():
         assert w == pytest.approx(oracle[e], abs=1e-10)
     for bad in (dict(k=0), dict(max_solutions=0)):
-        with pytest.raises(ValueError, match=next(iter(bad))):
+        with pytest.raises(ValueError, match=rf"^{next(iter(bad))} must be an integer in \[1, inf\], got 0$"):
             MurtyGenerator(**bad)
+    assert MurtyGenerator(k=1, max_solutions=1).max_solutions == 1
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_murty_generator_grows_past_events_the_count_term_forbids(seed):
+    """Seeded births and a count term that forbids exactly one detected object: the best
+    separable events are often infeasible, and the k-best list grows until k feasible ones are proven."""
+    base = _random_problem(seed + 20, m=4, n_obj=3, n_birth=1, n_opt=2)
+    phi = base.count_term.copy()
+    phi[1, :] = -np.inf
+    problem = AssociationProblem(base.target_scores, base.option_scores, 3, phi, constant=base.constant)
+    oracle = brute_force(problem)
+    for k in (1, 3, 8):
+        ev, lw = MurtyGenerator(k=k).generate(problem)
+        _assert_top(ev, lw, oracle, k)
 
 
 @pytest.mark.parametrize("init", ["random", "clutter", "best"])

@@ -12,6 +12,7 @@ scipy's Gaussian densities.
 import copy
 import itertools
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -708,3 +709,38 @@ def test_second_scan_expands_every_kept_parent():
     assert 600.0 > st["time_total"] >= st["time_generate"] >= 0.0  # seconds of this step, not a clock reading
     for c, key in enumerate(f.lineage_keys):
         assert key[0] == keys1[f.last_kept.parent[c]] and key[3] == f.last_kept.events[c].tobytes()
+
+
+def test_duck_typed_sensors_are_checked_by_name_and_defaults():
+    meas = LinearPositionSensor(R, 4)
+    no_clutter = SimpleNamespace(measurement=meas, detection=DetectionModel(0.8, REGION))
+    with pytest.raises(ValueError, match=r"^sensor.clutter must be a PoissonClutter"):
+        HypothesisFilter(MOTION, no_clutter, HFISSTWeights(), ExhaustiveGenerator())
+    flat_h = SimpleNamespace(measurement=SimpleNamespace(H=np.zeros(4), R=np.eye(1)),
+                             detection=DetectionModel(0.8, REGION), clutter=PoissonClutter(1.0, REGION))
+    with pytest.raises(ValueError, match=r"^sensor H must be a 2-D array, got shape \(4,\)$"):
+        HypothesisFilter(MOTION, flat_h, HFISSTWeights(), ExhaustiveGenerator())
+    f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), means=X0, covs=P0)
+    assert f.max_hypotheses == 100 and f.dt == 1.0 and f.cap == "top"
+    f.step(Z)
+    assert f.store.labels.dtype == np.int64
+
+
+def test_more_association_children_than_one_chunk_get_each_twin_once():
+    """Five objects, two birth regions and seven returns: over 2^15 association children, so the
+    twins are built chunk by chunk; each appears once, for exactly the children that allow it."""
+    X = np.array([[0.0, 0.0, 0, 0], [3.0, 1.0, 0, 0], [-4.0, 2.0, 0, 0], [6.0, -3.0, 0, 0], [-2.0, -5.0, 0, 0]])
+    P = np.repeat(np.eye(4)[None], 5, axis=0)
+    pop = SingleEventPopulation(SingleEventBirthDeath(0.01, 0.02, 2), birth_densities=_births())
+    f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), population=pop,
+                         means=X, covs=P)
+    Z7 = np.array([[0.2, 0.1], [3.1, 1.2], [-4.2, 2.1], [6.1, -2.8], [-2.2, -4.9], [-30.0, 10.0], [30.0, 10.0]])
+    ch = f.expand(Z7)
+    assoc = ch.kind == ChildSet.ASSOCIATION
+    assert assoc.sum() > 1 << 15
+    keys = {(int(k), int(a), e.tobytes()) for k, a, e in zip(ch.kind, ch.arg, ch.events)}
+    assert len(keys) == len(ch)  # no twin twice
+    no_birth = assoc & np.all(ch.events < 5, axis=1)
+    assert np.sum(ch.kind == ChildSet.UNDETECTED_BIRTH) == 2 * no_birth.sum()  # one per birth region
+    undetected = sum(5 - len(set(e[e >= 0].tolist())) for e in ch.events[no_birth])
+    assert np.sum(ch.kind == ChildSet.DEATH) == undetected  # one per object that went undetected

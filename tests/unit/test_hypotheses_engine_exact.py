@@ -187,6 +187,16 @@ def test_stats_of_an_uncapped_step_count_every_child(case):
     assert st["mass_retained"] == pytest.approx(1.0, abs=1e-12)
 
 
+def test_top_k_is_stable_beyond_insertion_sort_sizes():
+    lw = np.log(np.random.default_rng(3).choice([0.1, 0.2, 0.3, 0.4], size=300))
+    stable = sorted(range(300), key=lambda i: (-lw[i], i))
+    np.testing.assert_array_equal(top_k(lw, None), stable)
+    for k in (1, 40, 120, 299, 300):
+        sel = top_k(lw, k)
+        np.testing.assert_array_equal(lw[sel], lw[stable[:k]])  # the k largest, best first
+        assert len(set(sel.tolist())) == k
+
+
 def test_top_k_is_the_k_largest_best_first_with_stable_ties():
     lw = np.array([0.5, 2.0, -1.0, 2.0, 0.5, 3.0])
     np.testing.assert_array_equal(top_k(lw, 3), [5, 1, 3])
@@ -720,6 +730,10 @@ def test_duck_typed_sensors_are_checked_by_name_and_defaults():
                              detection=DetectionModel(0.8, REGION), clutter=PoissonClutter(1.0, REGION))
     with pytest.raises(ValueError, match=r"^sensor H must be a 2-D array, got shape \(4,\)$"):
         HypothesisFilter(MOTION, flat_h, HFISSTWeights(), ExhaustiveGenerator())
+    bad_r = SimpleNamespace(measurement=SimpleNamespace(H=H, R=np.eye(3)), detection=DetectionModel(0.8, REGION),
+                            clutter=PoissonClutter(1.0, REGION))
+    with pytest.raises(ValueError, match=r"^sensor R must be 2x2, got shape \(3, 3\)$"):
+        HypothesisFilter(MOTION, bad_r, HFISSTWeights(), ExhaustiveGenerator())
     f = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), means=X0, covs=P0)
     assert f.max_hypotheses == 100 and f.dt == 1.0 and f.cap == "top"
     f.step(Z)

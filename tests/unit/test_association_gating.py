@@ -118,3 +118,8 @@ def test_exact_rational_distances_are_read_as_numbers():
 
     d2 = [[Fraction(1, 2), Fraction(19, 2)], [Fraction(9), Fraction(0)]]
     np.testing.assert_array_equal(validation_matrix(d2, 9.0), [[True, False], [True, True]])
+
+
+def test_dimension_message_names_dim_and_its_range():
+    with pytest.raises(ValueError, match=r"^dim must be an integer in \[1, inf\], got 0$"):
+        gate_threshold(0.9, 0)

@@ -119,9 +119,9 @@ def test_infeasible_counts_name_the_scan(chi, d, b):
 
 
 def test_count_objective_rejects_unequal_lengths_and_bad_counts():
-    with pytest.raises(ValueError, match="same length"):
+    with pytest.raises(ValueError, match="^r, chi, d and b must have the same length$"):
         count_objective([1, 1], [0, 0], [0, 0], [0], MODELS[0])
-    with pytest.raises(ValueError, match="same length"):
+    with pytest.raises(ValueError, match="^r, chi, d and b must have the same length$"):
         count_objective([1, 1], [0], [0, 0], [0, 0], MODELS[0])
     with pytest.raises(ValueError, match="r must be a 1-D sequence of counts"):
         check_counts([[1, 2]])
@@ -147,11 +147,11 @@ def test_track_score_with_certain_detection_and_its_bounds():
     assert got == pytest.approx(math.log(0.5 * 0.2 * 0.8**2))
     assert track_log_score(1, 1, m, starts_at_data_start=False, reaches_data_end=True) == pytest.approx(math.log(0.5))
     assert track_log_score(2, 1, m, starts_at_data_start=False, reaches_data_end=True) == -math.inf
-    with pytest.raises(ValueError, match="n_meas"):
+    with pytest.raises(ValueError, match=r"^n_meas must be an integer in \[1, 2\]"):
         track_log_score(2, 3, m, starts_at_data_start=False, reaches_data_end=True)
-    with pytest.raises(ValueError, match="n_scans"):
+    with pytest.raises(ValueError, match=r"^n_scans must be an integer in \[1, inf\]"):
         track_log_score(0, 1, m, starts_at_data_start=False, reaches_data_end=True)
-    with pytest.raises(ValueError, match="n_meas"):
+    with pytest.raises(ValueError, match=r"^n_meas must be an integer in \[1, 2\]"):
         track_log_score(2, 0, m, starts_at_data_start=False, reaches_data_end=True)
 
 
@@ -228,8 +228,9 @@ def test_counts_from_tracks_by_hand():
     np.testing.assert_array_equal(d, [0, 0, 1, 1, 1])
     np.testing.assert_array_equal(chi, [0, 0, 0, 1, 1])  # tracks ending at 2 and 3 terminate at 3 and 4; 4 is the end
     assert [a.dtype for a in (chi, d, b)] == [np.int64] * 3
-    with pytest.raises(ValueError, match="n_scans"):
+    with pytest.raises(ValueError, match=r"^n_scans must be an integer in \[0, inf\]"):
         counts_from_tracks(tracks, -1)
+    assert [a.shape for a in counts_from_tracks([], 0)] == [(0,)] * 3  # no scans, no tracks
 
 
 def test_count_trackers_by_hand_and_bad_options():
@@ -355,8 +356,8 @@ def test_detections_bounded_by_survivors_after_terminations():
 
 
 def test_vanishing_detection_probability_does_not_overflow():
-    """p_d = 1e-306: ln(p_d / (λ_fa (1 − p_d))) < −700, so no survivor is worth detecting (d = 0)."""
-    m = CountModel(1e-306, 0.2, 0.5, 1.0)
+    """p_d = 1e-310: ln(p_d / (λ_fa (1 − p_d))) ≈ −714 (e^714 overflows), so no survivor is worth detecting."""
+    m = CountModel(1e-310, 0.2, 0.5, 1.0)
     sol = exact_count_dp([1, 2, 1], m)
     assert np.all(sol.d == 0) and np.isfinite(sol.J)
     assert sol.J == pytest.approx(max(reference_objective([1, 2, 1], *s, m) for s in feasible_sequences([1, 2, 1])))
@@ -365,3 +366,107 @@ def test_vanishing_detection_probability_does_not_overflow():
 def test_exact_dp_rejects_a_negative_cap():
     with pytest.raises(ValueError, match=r"max_alive must be an integer in \[0, inf\]"):
         exact_count_dp([1, 2], MODELS[0], max_alive=-1)
+
+
+def test_empty_data_and_integer_solutions():
+    sol = exact_count_dp([], MODELS[0])
+    assert sol.J == 0.0 and not sol.cap_reached
+    for a in (sol.chi, sol.d, sol.b, sol.f, sol.n):
+        assert a.shape == (0,)
+    sol = exact_count_dp([2, 0, 3], MODELS[1])
+    for a in (sol.chi, sol.d, sol.b, sol.f, sol.n):
+        assert a.dtype == np.int64
+
+
+@pytest.mark.parametrize("r", [[0, 0, 2, 2], [0, 0, 0, 2]])
+def test_cap_reached_late_in_the_data(r):
+    """The optimal path meets the cap only after the first scan (or only at the last): still reported."""
+    model = CountModel(p_d=0.9, p_chi=0.05, lambda_b=1.0, lambda_fa=0.3)
+    sol = exact_count_dp(r, model, max_alive=1)
+    assert sol.n.max() == 1 and sol.cap_reached
+
+
+def test_cap_not_reached_by_the_null_solution():
+    model = CountModel(p_d=0.9, p_chi=0.01, lambda_b=1.0, lambda_fa=10.0)
+    sol = exact_count_dp([1, 2, 1, 0], model, equivalence_class=False, max_alive=1)
+    assert np.all(sol.n == 0) and sol.J == 0.0 and not sol.cap_reached
+
+
+@pytest.mark.parametrize("model,r,want", [
+    # adjacent one-scan tracks in one row (a track ends where the next begins)
+    (CountModel(0.93, 0.45, 2.5, 0.75), [2, 1, 1, 2], [(1, 0, 0), (1, 1, 1), (1, 2, 2), (1, 3, 3), (2, 0, 0), (2, 3, 3)]),
+    # a lower-row track ending before its group does: the next scan's return stays for the rows above
+    (CountModel(0.45, 0.36, 2.15, 0.33), [4, 3, 4], [(1, 0, 0), (1, 1, 1), (1, 2, 2), (2, 0, 2), (3, 0, 2), (4, 2, 2)]),
+])
+def test_multi_row_extractions(model, r, want):
+    res = tetris_extract(r, model)
+    assert [(t.row, t.start, t.end) for t in res.tracks] == want
+    chi, d, b = counts_from_tracks(res.tracks, len(r))
+    assert res.J == pytest.approx(reference_objective(r, chi, d, b, model), abs=1e-9)
+
+
+@pytest.mark.parametrize("model", MODELS + [CountModel(0.5, 0.3, 20.0, 2.0), CountModel(0.6, 0.1, 1.0, 0.5)])
+@pytest.mark.parametrize("ec", [True, False])
+def test_best_detections_maximise_the_scan_term(model, ec):
+    """For every (r, s, b): the chosen d maximises the scan term over 0 ≤ d ≤ min(s, r − b) (brute force)."""
+    from hypotrack.trackers.cardinality import _best_detections
+
+    for r in range(6):
+        s = np.arange(6)[:, None]
+        b = np.arange(r + 1)[None, :]
+        d = _best_detections(model, r, s, b, ec)
+        for si in range(6):
+            for bi in range(r + 1):
+                def term(dd):
+                    return reference_objective([si, r], [0, 0], [0, dd], [si, bi], model, ec)
+
+                best = max(term(dd) for dd in range(min(si, r - bi) + 1))
+                assert 0 <= d[si, bi] <= min(si, r - bi)
+                assert term(int(d[si, bi])) == pytest.approx(best, abs=1e-9)
+
+
+def test_capped_dp_path_scores_its_j_and_a_full_cap_is_not_binding():
+    model = CountModel(p_d=0.9, p_chi=0.05, lambda_b=1.0, lambda_fa=0.3)
+    for cap in (1, 2):
+        sol = exact_count_dp([2, 3, 3, 1], model, max_alive=cap)
+        assert reference_objective([2, 3, 3, 1], sol.chi, sol.d, sol.b, model) == pytest.approx(sol.J, abs=1e-9)
+    births = CountModel(p_d=0.9, p_chi=0.05, lambda_b=5.0, lambda_fa=10.0)
+    sol = exact_count_dp([2], births)  # both returns are births: the live count reaches Σ r
+    assert sol.n.tolist() == [2] and not sol.cap_reached
+
+
+def test_count_model_stores_validated_floats_and_names_bad_parameters():
+    m = CountModel(1, 0.5, 2, 3)
+    assert [type(v) for v in (m.p_d, m.p_chi, m.lambda_b, m.lambda_fa)] == [float] * 4
+    assert set(vars(m)) == {"p_d", "p_chi", "lambda_b", "lambda_fa"}
+    for kwargs, msg in [(dict(p_d=0.0), r"^p_d must lie in \(0, 1\]"), (dict(p_chi=1.0), r"^p_chi must lie in \(0, 1\)"),
+                        (dict(lambda_b=0.0), "^lambda_b must be a finite number > 0"),
+                        (dict(lambda_fa=-1.0), "^lambda_fa must be a finite number > 0")]:
+        with pytest.raises(ValueError, match=msg):
+            CountModel(**{**dict(p_d=0.9, p_chi=0.1, lambda_b=1.0, lambda_fa=1.0), **kwargs})
+    with pytest.raises(ValueError, match="^r must be finite"):
+        check_counts([1.0, np.nan])
+
+
+def test_certain_detection_scores_without_warnings():
+    """p_d = 1: 0 · ln(1 − p_d) is taken as 0 without a RuntimeWarning."""
+    import warnings
+
+    m = CountModel(1.0, 0.2, 1.0, 0.5)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        J = count_objective([1, 1], [0, 0], [0, 1], [1, 0], m)
+        exact_count_dp([1, 1, 2], m)
+    assert J == pytest.approx(reference_objective([1, 1], [0, 0], [0, 1], [1, 0], m))
+
+
+@pytest.mark.parametrize("model,r,cap", [
+    (CountModel(0.81, 0.38, 2.6, 2.2), [2, 4, 0], 1),  # at the cap, one target terminates
+    (CountModel(0.64, 0.19, 1.0, 2.24), [3, 2], None),  # λ_fa (1 − p_d) > p_d: some survivors go undetected
+    (CountModel(0.59, 0.11, 1.7, 1.9), [2, 2, 5, 1], None),
+])
+def test_exact_dp_on_cases_with_partial_detection_and_a_binding_cap(model, r, cap):
+    best = max(reference_objective(r, *s, model) for s in feasible_sequences(r, cap=cap))
+    sol = exact_count_dp(r, model, max_alive=cap)
+    assert sol.J == pytest.approx(best, abs=1e-9)
+    assert reference_objective(r, sol.chi, sol.d, sol.b, model) == pytest.approx(sol.J, abs=1e-9)

@@ -44,3 +44,12 @@ def test_pdaf_probabilities_of_no_targets_and_bad_shapes():
     with pytest.raises(ValueError, match=r"log_weights must have shape \(n, m \+ 1\), got \(2, 3, 1\)"):
         pdaf_probabilities(np.zeros((2, 3, 1)))
     np.testing.assert_allclose(pdaf_probabilities([[0.0, np.log(3.0), -np.inf]]), [[0.25, 0.75, 0.0]], rtol=1e-12)
+
+
+def test_pdaf_probabilities_are_normalised_per_row_without_underflow():
+    """Rows of very different scale (one target's returns all ~40 σ away): each row its own softmax."""
+    lw = np.array([[0.0, -1.0, -np.inf], [-900.0, -901.0, -899.0]])
+    e = np.exp([[0.0, -1.0], [-1.0, -2.0]])
+    want = np.array([[e[0, 0], e[0, 1], 0.0], [e[1, 0], e[1, 1], 1.0]])
+    want /= want.sum(axis=1, keepdims=True)
+    np.testing.assert_allclose(pdaf_probabilities(lw), want, rtol=1e-12)

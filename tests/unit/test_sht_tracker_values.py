@@ -126,24 +126,24 @@ def test_fresh_tracker_state_and_integer_ids():
     assert ids.dtype == np.int64 and tr.ids.dtype == np.int64 and tr.misses.dtype == np.int64
     assert tr.initialise(np.zeros((0, 4)), np.zeros((0, 4, 4)), 5.0).shape == (0,)
     np.testing.assert_array_equal(tr.initialise([[1.0, 1.0, 0.0, 0.0]], P1, 5.0), [2])  # same time: allowed
-    with pytest.raises(ValueError, match=r"initialise\(\) must be called before the first scan or at the current time"):
+    with pytest.raises(ValueError, match=r"^initialise\(\) must be called before the first scan or at the current time$"):
         tr.initialise([[1.0, 1.0, 0.0, 0.0]], P1, 6.0)
-    with pytest.raises(ValueError, match="P must hold one covariance per track: 2 means, 1 covariances"):
+    with pytest.raises(ValueError, match="^P must hold one covariance per track: 2 means, 1 covariances$"):
         tr.initialise(np.zeros((2, 4)), P1, 5.0)
 
 
 def test_tracker_messages_name_the_argument():
     mdl = model()
-    with pytest.raises(TypeError, match="model must be a ScanModel, got dict"):
+    with pytest.raises(TypeError, match="^model must be a ScanModel, got dict$"):
         SingleHypothesisTracker(MOTION, {})
-    with pytest.raises(ValueError, match="gnn_score must be 'lecture' or 'mahalanobis', got 'x'"):
+    with pytest.raises(ValueError, match="^gnn_score must be 'lecture' or 'mahalanobis', got 'x'$"):
         SingleHypothesisTracker(MOTION, mdl, gnn_score="x")
-    with pytest.raises(TypeError, match="initiator must be an MOfNInitiator or None, got str"):
+    with pytest.raises(TypeError, match="^initiator must be an MOfNInitiator or None, got str$"):
         SingleHypothesisTracker(MOTION, mdl, initiator="x")
     other = ScanModel(np.eye(4)[:3], np.eye(3), 0.9, 0.99, 1e-3)
-    with pytest.raises(ValueError, match=r"initiator's scan model has H of shape \(3, 4\), the tracker's \(2, 4\)"):
+    with pytest.raises(ValueError, match=r"^initiator's scan model has H of shape \(3, 4\), the tracker's \(2, 4\)"):
         SingleHypothesisTracker(MOTION, mdl, initiator=MOfNInitiator(MOTION, other))
-    with pytest.raises(TypeError, match=r"scan must be a \(time, Z\) pair$"):
+    with pytest.raises(TypeError, match=r"^scan must be a \(time, Z\) pair$"):
         SingleHypothesisTracker(MOTION, mdl).step(1.0)
 
 
@@ -193,11 +193,98 @@ def test_one_of_one_confirms_every_return_with_the_initial_covariance():
 
 def test_initiator_messages_name_the_argument():
     mdl = model()
-    with pytest.raises(TypeError, match="model must be a ScanModel, got str"):
+    with pytest.raises(TypeError, match="^model must be a ScanModel, got str$"):
         MOfNInitiator(MOTION, "model")
-    with pytest.raises(ValueError, match=r"but the scan model \(H of shape \(2, 4\)\) expects 4-dimensional states"):
+    with pytest.raises(ValueError, match=r"^the motion model's states are 2-dimensional but the scan model \(H of shape \(2, 4\)\) expects 4-dimensional states"):
         MOfNInitiator(ConstantVelocity(0.1, n_spatial=1), mdl)
     with pytest.raises(ValueError, match=r"^n must be an integer in \[1, inf\], got 0"):
         MOfNInitiator(MOTION, mdl, m=1, n=0)
     with pytest.raises(ValueError, match=r"^Z must be finite"):
         MOfNInitiator(MOTION, mdl).step(0.0, [[np.nan, 0.0]])
+
+
+class DragMotion:
+    """A motion model the tracker does not know (velocity decays by e^{−c dt}): predicted through its
+    own ``transition`` (mean and Jacobian) and ``Q``."""
+
+    ndim = 4
+
+    def __init__(self, c=0.5, q=0.2):
+        self.c, self.q = c, q
+
+    def jacobian(self, dt):  # no ``F``: the tracker must go through ``transition``
+        e = np.exp(-self.c * dt)
+        F = np.eye(4)
+        F[0, 2] = F[1, 3] = (1 - e) / self.c
+        F[2, 2] = F[3, 3] = e
+        return F
+
+    def transition(self, x, dt):
+        x = np.atleast_2d(x)
+        F = self.jacobian(dt)
+        return x @ F.T, np.broadcast_to(F, (len(x), 4, 4))
+
+    def Q(self, dt):
+        return self.q * dt * np.eye(4)
+
+
+def test_a_motion_model_of_its_own_predicts_through_its_transition():
+    mdl, motion = model(), DragMotion()
+    tr = SingleHypothesisTracker(motion, mdl)
+    assert tr.motion is motion
+    x0 = np.array([[0.0, 0.0, 2.0, -1.0]])
+    tr.initialise(x0, [P1], 0.0)
+    z = np.array([[3.1, -1.2], [30.0, 30.0], [-20.0, 5.0]])
+    est = tr.step((2.0, z))
+    F = motion.jacobian(2.0)
+    x_pred, P_pred = F @ x0[0], F @ P1 @ F.T + 0.4 * np.eye(4)
+    x_kf, P_kf = update(x_pred, P_pred, z[0], H, mdl.R)
+    np.testing.assert_allclose(est.x[0], x_kf, atol=1e-10)
+    np.testing.assert_allclose(est.P[0], P_kf, atol=1e-10)
+    np.testing.assert_array_equal(tr.last_association, [0, -1, -1])
+
+
+def test_scan_model_from_a_sensor():
+    from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+
+    meas, det = LinearPositionSensor(2.0 * np.eye(2), 4), DetectionModel(0.8)
+    box = Box([0.0, 0.0], [100.0, 50.0])
+    mdl = ScanModel.from_sensor(Sensor(meas, det, PoissonClutter(10.0, box)))
+    np.testing.assert_array_equal(mdl.H, H)
+    np.testing.assert_array_equal(mdl.R, 2.0 * np.eye(2))
+    assert (mdl.p_D, mdl.p_gate, mdl.new_target_density) == (0.8, 0.99, 0.0)
+    assert mdl.clutter_density == pytest.approx(10.0 / 5000.0)
+    explicit = ScanModel.from_sensor(Sensor(meas, det), p_gate=0.9, new_target_density=1e-4, clutter_density=3e-3)
+    assert (explicit.p_gate, explicit.new_target_density, explicit.clutter_density) == (0.9, 1e-4, 3e-3)
+    no_clutter = "^sensor has no clutter \\(β_FA = 0\\): pass clutter_density > 0 for the JPDA/GNN scores$"
+    for sensor in (Sensor(meas, det), Sensor(meas, det, PoissonClutter(0.0, box))):
+        with pytest.raises(ValueError, match=no_clutter):
+            ScanModel.from_sensor(sensor)
+
+
+def test_scan_model_stores_validated_arrays_and_names_bad_input():
+    mdl = ScanModel([[1, 0, 0, 0], [0, 1, 0, 0]], [[1, 0], [0, 1]], 1, 0.5, 2, 0)
+    assert isinstance(mdl.H, np.ndarray) and isinstance(mdl.R, np.ndarray) and mdl.H.dtype == float
+    assert [type(v) for v in (mdl.p_D, mdl.p_gate, mdl.clutter_density, mdl.new_target_density)] == [float] * 4
+    assert set(vars(mdl)) == {"H", "R", "p_D", "p_gate", "clutter_density", "new_target_density", "gate"}
+    good = dict(H=H, R=np.eye(2), p_D=0.9, p_gate=0.99, clutter_density=1e-3)
+    for bad, msg in [(dict(H=np.full((2, 4), np.nan)), "^H must be finite"),
+                     (dict(H=np.zeros((1, 2, 4))), "^H must be a 2-D array"),
+                     (dict(p_D=0.0), r"^p_D must lie in \(0, 1\]"),
+                     (dict(new_target_density=-1.0), "^new_target_density must be a finite number >= 0")]:
+        with pytest.raises(ValueError, match=msg):
+            ScanModel(**{**good, **bad})
+
+
+def test_gating_without_tracks_and_with_an_explicit_gate():
+    mdl = model()
+    Z = np.array([[0.5, 0.0], [2.0, 0.0], [3.0, 1.0]])
+    empty = gate_tracks(np.zeros((0, 4)), np.zeros((0, 4, 4)), Z, mdl)
+    assert empty.S.shape == (0, 2, 2) and empty.K.shape == (0, 4, 2) and empty.z_pred.shape == (0, 2)
+    assert empty.valid.shape == (3, 0) and empty.log_likelihood().shape == (3, 0)
+    x, P = np.zeros((1, 4)), P1[None]
+    default, tight = gate_tracks(x, P, Z, mdl), gate_tracks(x, P, Z, mdl, gate=1.0)  # S = 2 I: d² = 0.125, 2, 5
+    np.testing.assert_array_equal(default.valid[:, 0], [True, True, True])
+    np.testing.assert_array_equal(tight.valid[:, 0], [True, False, False])
+    with pytest.raises(ValueError, match=r"^Z must be finite; rows \[1\]"):
+        gate_tracks(x, P, [[0.0, 0.0], [np.nan, 1.0]], mdl)

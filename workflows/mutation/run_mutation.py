@@ -87,7 +87,7 @@ MODULES = {
                  ["tests/unit/test_gnn.py", "tests/unit/test_jpda.py", "tests/unit/test_initiation.py",
                   "tests/unit/test_ecmht.py", "tests/unit/test_ecmht_mospa.py", "tests/unit/test_cardinality.py",
                   "tests/unit/test_cardinality_oracles.py", "tests/unit/test_sht_tracker_values.py", "tests/unit/test_jpda_values.py",
-                  "tests/unit/test_ecmht_values.py",
+                  "tests/unit/test_ecmht_values.py", "tests/unit/test_gnn_values.py",
                   "tests/unit/test_transactional_steps.py", "tests/crosscheck/test_stonesoup_sht.py", CATALOGUE]),
 }
 

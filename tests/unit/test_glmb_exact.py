@@ -387,3 +387,25 @@ def test_labeled_problem_of_a_parent_without_tracks_and_its_messages():
         LabeledMultiBernoulliPopulation([BIRTH], r_birth=1.0)
     with pytest.raises(ValueError, match=r"^p_survive must lie in \(0, 1\], got 0.0$"):
         LabeledMultiBernoulliPopulation([BIRTH], r_birth=0.5, p_survive=0.0)
+
+
+def test_glmb_step_stats_and_the_sampled_cap():
+    pop = _population(0.7, 0.3)
+    want = oracle_children(0.7, 0.3)
+    f = _filter(pop)
+    f.step(Z)
+    st = f.last_stats
+    assert st["n_association_children"] == len(want) and st["n_twin_children"] == 0
+    assert st["log_mass_generated"] == pytest.approx(np.logaddexp.reduce(list(want.values())), abs=1e-10)
+    keys = list(want)
+    lw = np.array([want[k] for k in keys])
+    p = np.exp(lw - np.logaddexp.reduce(lw))
+    counts, n = dict.fromkeys(keys, 0), 120
+    for seed in range(n):
+        g = HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), population=pop, max_hypotheses=1,
+                             cap="sample", means=X0, covs=P0, seed=seed)
+        g.step(Z)
+        (key,) = engine_children(g.last_kept)
+        counts[key] += 1
+    for i in np.argsort(-p)[:2]:  # 45 % and 19 % of the mass
+        assert counts[keys[i]] / n == pytest.approx(p[i], abs=4 * np.sqrt(p[i] * (1 - p[i]) / n))

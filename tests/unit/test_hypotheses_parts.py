@@ -1,6 +1,8 @@
 """The hypothesis engine's parts by hand: scan context, track store, hypotheses and child sets,
 association problems, posterior summaries, presets and synthetic problems."""
 
+import re
+
 import numpy as np
 import pytest
 from scipy import stats
@@ -206,6 +208,13 @@ def test_association_problem_bad_shapes(kwargs, match):
                 count_term=np.zeros((3, 2)))
     with pytest.raises(ValueError, match=match):
         AssociationProblem(**{**args, **kwargs})
+
+
+def test_association_problem_refuses_events_of_the_wrong_shape():
+    p = _problem()
+    for ev in (np.zeros(3, int), np.zeros((2, 2), int)):
+        with pytest.raises(ValueError, match=rf"^events must have shape \(E, 3\), got {re.escape(str(ev.shape))}$"):
+            p.log_weights(ev)
 
 
 def test_association_problem_stores_float_arrays():

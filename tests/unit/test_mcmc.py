@@ -547,3 +547,9 @@ def test_empty_scan_needs_no_clutter_column():
     """m = 0: no return needs clutter; the one (empty) event weighs the count term φ[0, 0]."""
     lw = event_log_weights(np.zeros((0, 0)), 0, 0, [[0.25]], np.zeros((1, 0), dtype=int))
     np.testing.assert_array_equal(lw, [0.25])
+
+
+def test_single_column_problem_has_no_exclusive_column():
+    """With one column that column is clutter: n_exclusive may only be 0."""
+    with pytest.raises(ValueError, match=r"^n_exclusive must be an integer in \[0, 0\], got 1$"):
+        event_log_weights(np.zeros((0, 1)), 0, 1, np.zeros((1, 2)), np.zeros((1, 0), dtype=int))

@@ -92,8 +92,14 @@ onsuccess:
 
     from hypotrack.pipeline_time import write_run_record
 
+    from snakemake.exceptions import WorkflowError
+
+    try:
+        _cores = workflow.cores
+    except WorkflowError:  # an executor run (cluster profile) sets a number of jobs, not of cores
+        _cores = None
     if _RUN_STARTED:
-        _record = write_run_record(RESULTS, _RUN_STARTED[0], time.time(), workflow.cores)
+        _record = write_run_record(RESULTS, _RUN_STARTED[0], time.time(), _cores)
         if _record:
             print(f"hypotrack: run time per rule -> {_record}")
     _run_summary()

@@ -9,7 +9,7 @@ this invocation ran (benchmark written after it started) and writes ``{results}/
 
 one row per rule, sorted by CPU time, and a first row ``(whole run)`` whose ``wall_s`` is the
 invocation's elapsed time, ``cpu_s`` the sum over its jobs, ``jobs`` their number and ``cores`` the
-cores it was given. The README's run-time sentence is generated from that file
+cores it was given (empty for a run through an executor, e.g. a cluster profile). The README's run-time sentence is generated from that file
 (:mod:`hypotrack.readme`), so the budget it states is the one measured by the last full run.
 """
 
@@ -46,10 +46,10 @@ def job_benchmarks(results, since: float | None = None) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["rule", "wall_s", "cpu_s", "max_rss_mib"])
 
 
-def run_summary(jobs: pd.DataFrame, elapsed_s: float, cores: int) -> pd.DataFrame:
+def run_summary(jobs: pd.DataFrame, elapsed_s: float, cores: int | None) -> pd.DataFrame:
     """Per-rule totals of ``jobs`` (sorted by CPU time, largest first) under a ``(whole run)`` row."""
-    if elapsed_s < 0 or not cores or cores < 1:
-        raise ValueError(f"elapsed_s must be >= 0 and cores >= 1, got {elapsed_s} and {cores}")
+    if elapsed_s < 0 or (cores is not None and cores < 1):
+        raise ValueError(f"elapsed_s must be >= 0 and cores >= 1 (None on an executor), got {elapsed_s} and {cores}")
     per_rule = (jobs.groupby("rule")
                 .agg(jobs=("rule", "size"), wall_s=("wall_s", "sum"), cpu_s=("cpu_s", "sum"),
                      max_rss_mib=("max_rss_mib", "max"))
@@ -62,7 +62,7 @@ def run_summary(jobs: pd.DataFrame, elapsed_s: float, cores: int) -> pd.DataFram
     return out.round({"wall_s": 1, "cpu_s": 1, "max_rss_mib": 1})
 
 
-def write_run_record(results, started: float, finished: float, cores: int,
+def write_run_record(results, started: float, finished: float, cores: int | None,
                      elapsed_s: float | None = None) -> Path | None:
     """Write ``{results}/paper/pipeline_timing.csv`` for the jobs run since ``started``; ``None`` if none ran.
 
@@ -87,5 +87,6 @@ def runtime_sentence(record: pd.DataFrame) -> str:
     w = whole.iloc[0]
     rules = record[record["rule"] != WHOLE_RUN]
     top = ", ".join(f"{r.rule} {r.cpu_s / 60:.0f}" for r in rules.head(3).itertuples())
-    return (f"{w.wall_s / 60:.0f} minutes measured on {int(w.cores)} cores "
+    where = "through an executor (a cluster)" if pd.isna(w.cores) else f"on {int(w.cores)} cores"
+    return (f"{w.wall_s / 60:.0f} minutes measured {where} "
             f"({w.cpu_s / 60:.0f} CPU-minutes over {int(w.jobs)} jobs; largest, in CPU-minutes: {top})")

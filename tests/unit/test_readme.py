@@ -113,6 +113,13 @@ def test_pipeline_time_record_counts_only_this_run_and_feeds_the_readme(tmp_path
     # a run resumed after an interruption: the two invocations' elapsed times, not the pause between
     resumed = pd.read_csv(write_run_record(tmp_path, started=1000, finished=9000, cores=2, elapsed_s=1500))
     assert resumed.equals(record)
+    # a run through an executor (cluster profile) has no number of cores
+    from hypotrack.pipeline_time import runtime_sentence
+
+    cluster = pd.read_csv(write_run_record(tmp_path, started=1000, finished=1600, cores=None))
+    assert pd.isna(cluster.loc[0, "cores"]) and runtime_sentence(cluster).startswith(
+        "10 minutes measured through an executor (a cluster) (11 CPU-minutes over 3 jobs")
+    write_run_record(tmp_path, started=1000, finished=2500, cores=2)
     # the README's run-time span is generated from the record beside the ledger
     ledger = _ledger(tmp_path / "paper")
     readme = tmp_path / "README.md"

@@ -224,3 +224,51 @@ def test_fully_gated_component_is_counted_in_closed_form_next_to_an_ungated_trac
     with pytest.raises(EnumerationBudgetError,
                        match=f"^enumeration would produce {count_associations(25, 25):,} association events"):
         enumerate_associations(26, 25, allowed=allowed, max_events=1000)
+
+
+def _double_cross_count(n, special=2):
+    """Matchings of any size when only the first ``special`` rows and columns of an n x n block
+    are gated (each to everything): the special rows pick distinct columns (or none) by loops, then
+    each special column still free is left unmatched or taken by a distinct ordinary row."""
+    ordinary = n - special
+    total = 0
+    for picks in itertools.product([None, *range(n)], repeat=special):
+        used = [c for c in picks if c is not None]
+        if len(used) != len(set(used)):
+            continue
+        free = sum(c not in used for c in range(special))
+        total += sum(math.comb(free, k) * math.perm(ordinary, k) for k in range(free + 1))
+    return total
+
+
+def test_frontier_exactly_at_the_exact_limit_is_counted_exactly_under_a_cap():
+    """Two rows and two columns gated to everything in a 20 x 20 block: 20 columns are open at once
+    in either orientation, exactly the limit up to which a capped count is still exact, so a cap
+    of 5 does not stop it: the exact count (oracle: closed form above) comes back."""
+    n = 20
+    allowed = np.zeros((n, n), dtype=bool)
+    allowed[:2, :] = True
+    allowed[:, :2] = True
+    small = np.zeros((5, 5), dtype=bool)
+    small[:2, :] = True
+    small[:, :2] = True
+    assert _double_cross_count(5) == len(brute_force_events(5, 5, small))  # the oracle itself, by brute force
+    exact = _double_cross_count(n)
+    assert count_gated_associations(allowed) == exact
+    assert count_gated_associations(allowed, cap=5) == exact
+    with pytest.raises(EnumerationBudgetError, match=f"^enumeration would produce {exact:,} association events"):
+        enumerate_associations(n, n, allowed=allowed, max_events=5)
+
+
+def test_frontier_plan_keeps_only_the_columns_later_rows_use():
+    """Rows {0,3}, {0,1}, {1,2} of a 3 x 4 block are ordered by (first, last) gated column:
+    {0,1}, {0,3}, {1,2}. After the first row every column is still wanted (mask 0b1111); after the
+    second only columns 1 and 2 (0b0110; column 3 is used by no later row, though it lies right of
+    the next row's first column); after the last none. Open columns: {0,1}, then {1}: width 2."""
+    from hypotrack.association.counting import _frontier_plan
+
+    block = np.array([[1, 0, 0, 1], [1, 1, 0, 0], [0, 1, 1, 0]], dtype=bool)
+    ordered, keep, width = _frontier_plan(block)
+    np.testing.assert_array_equal(ordered, block[[1, 0, 2]])
+    assert keep == [0b1111, 0b0110, 0]
+    assert width == 2

@@ -171,3 +171,37 @@ def test_weight_model_messages(call, message):
     with pytest.raises(ValueError) as info:
         call()
     assert str(info.value) == message
+
+
+def test_count_terms_with_a_birth_column_by_hand():
+    """m = 2 returns, 2 objects, 1 birth region: φ[k, b] over k detected objects and b detected
+    births. Births are detections too, so k + b = 3 > m is impossible (−inf) while k − b is not
+    the test (k = 2, b = 1). H-FISST: −log(m! / (m − n)!) with n = k + b; FISST-Poisson (λV = 2,
+    V = 50): −λV + k' log(λV) − k' log V with k' = m − k − b clutter returns (the k'! cancel)."""
+    ctx = context(np.zeros((2, 2)), [0.9, 0.9], rate=2.0, volume=50.0, birth_loglik=np.zeros((2, 1)))
+    l2 = math.log(2.0)
+    np.testing.assert_allclose(HFISSTWeights().count_term(ctx, 2, 1),
+                               [[0.0, -l2], [-l2, -l2], [-l2, -np.inf]], rtol=0, atol=1e-14)
+    c = math.log(2.0 / 50.0)
+    np.testing.assert_allclose(FISSTPoissonWeights().count_term(ctx, 2, 1),
+                               [[-2 + 2 * c, -2 + c], [-2 + c, -2.0], [-2.0, -np.inf]], rtol=0, atol=1e-14)
+
+
+@pytest.mark.parametrize("model, phi", [("hfisst", 0.0), ("fisst_poisson", -2.0 + 2 * math.log(2.0 / 50.0))])
+def test_a_parent_without_objects_gives_a_clutter_only_problem(model, phi):
+    """Zero objects is a normal case: tracks given as an empty list, the only child of a scan
+    with two returns (and no birth region) is "both clutter", weighed constant + φ[0, 0] + 2 log g
+    with g = 1/V for H-FISST, and the FISST-Poisson clutter factor carried by φ alone."""
+    ctx = context(np.zeros((2, 0)), [], rate=2.0, volume=50.0)
+    problem = make_weight_model(model).problem(ctx, [], constant=-0.5)
+    assert problem.n_objects == 0 and problem.target_scores.shape == (2, 0)
+    np.testing.assert_allclose(problem.count_term, [[phi]], rtol=0, atol=1e-14)
+    clutter = 2 * math.log(1 / 50.0) if model == "hfisst" else 0.0
+    assert problem.log_weights(np.array([[-1, -1]]))[0] == pytest.approx(-0.5 + phi + clutter, abs=1e-12)
+
+
+def test_population_probability_shape_message_counts_the_birth_columns():
+    ctx = context(np.zeros((1, 1)), [0.9], birth_loglik=np.zeros((1, 1)))  # one birth region: b = 0 or 1
+    with pytest.raises(ValueError) as info:
+        HFISSTWeights().problem(ctx, np.arange(1), population_log_prob=np.zeros(3))
+    assert str(info.value) == "population_log_prob must have shape (2,), got (3,)"

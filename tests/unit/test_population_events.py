@@ -61,3 +61,18 @@ def test_binomial_bad_object_count():
     with pytest.raises(ValueError) as info:
         BinomialPopulation(DENSITIES, alpha=0.1).log_event_prob(0, -1)
     assert str(info.value) == "n_objects must be an integer in [0, inf], got -1"
+
+
+def test_single_event_death_eligibility_reads_flags_as_a_mask():
+    """0/1 in-view flags are a boolean mask: its complement (the objects that may not die) is
+    the out-of-view ones, not a bitwise complement of integers."""
+    pop = SingleEventPopulation(SingleEventBirthDeath(0.02, 0.05, 2), birth_densities=DENSITIES)
+    elig = pop.death_eligible([1, 0, 1])
+    assert elig.dtype == bool
+    np.testing.assert_array_equal(~elig, [False, True, False])
+
+
+def test_single_event_population_needs_one_density_per_region():
+    with pytest.raises(ValueError) as info:
+        SingleEventPopulation(SingleEventBirthDeath(0.02, 0.05, 2), birth_densities=DENSITIES[:1])
+    assert str(info.value) == "birth_densities must hold n_birth_regions = 2 densities, got 1"

@@ -241,6 +241,19 @@ _X, _I2, _H = np.zeros(2), np.eye(2), np.array([[1.0, 0.0]])
         (lambda: g.mahalanobis2_matrix(np.zeros((1, 2)), np.zeros((2, 2)), _I2[None]),
          "z_pred must have shape (n, 2) matching S (1, 2, 2), got (2, 2)"),
         (lambda: g.log_likelihood_matrix([[np.inf, 0.0]], np.zeros((1, 2)), _I2[None]), "Z must be finite (no NaN or inf)"),
+        (lambda: g.predict(np.zeros((2, 2, 1)), np.stack([_I2] * 2), _I2, _I2),
+         "means x (n, d) and covariances P (n, d, d) do not match: (2, 2, 1) vs (2, 2, 2)"),
+        (lambda: g.log_likelihood(np.zeros((2, 2)), np.zeros((2, 2)), np.ones((2, 2, 3))),
+         "S must have shape (p, p) or (n, p, p), got (2, 2, 3)"),
+        (lambda: g.log_likelihood(_X, _X, np.ones((2, 3))), "S must have shape (p, p) or (n, p, p), got (2, 3)"),
+        (lambda: g.log_likelihood(_X, np.zeros((1, 2, 3)), _I2),
+         "z_pred must have shape (n, 2) matching S (2, 2), got (1, 2, 3)"),
+        (lambda: g.log_likelihood(_X, _X, [[np.nan, 0.0], [0.0, 1.0]]), "S must be finite (no NaN or inf)"),
+        (lambda: g.update(_X, _I2, [0.0], _H, [[np.nan]]), "R must be finite (no NaN or inf)"),
+        (lambda: g.joseph_covariance([[np.nan, 0.0], [0.0, 1.0]], np.zeros((2, 1)), _H, [[1.0]]),
+         "P must be finite (no NaN or inf)"),
+        (lambda: g.GaussianState(np.zeros((1, 2)), _I2), "mean must be a 1-D array, got shape (1, 2)"),
+        (lambda: g.GaussianState([np.nan, 0.0], _I2), "mean must be finite (no NaN or inf)"),
     ],
 )
 def test_error_messages_name_the_argument_exactly(call, message):
@@ -272,3 +285,30 @@ def test_one_track_and_no_track_edge_shapes(rng):
     x1, P1 = g.predict_with(ConstantVelocity(0.3), np.ones(4), np.eye(4), 1.0)  # single-track form
     assert x1.shape == (4,) and P1.shape == (4, 4)
     np.testing.assert_allclose(x1, [2.0, 2.0, 1.0, 1.0])
+
+
+def test_an_innovation_covariance_that_overflows_is_named():
+    """Finite P and H whose product overflows: S = H P Hᵀ + R is inf, reported as S, not as a
+    failed Cholesky or a NaN gain."""
+    with np.errstate(over="ignore"), pytest.raises(ValueError) as info:
+        g.update(_X, 1e300 * _I2, [0.0], [[1e10, 0.0]], [[1.0]])
+    assert str(info.value) == "S must be finite (no NaN or inf)"
+
+
+def test_joseph_covariance_per_track_gains():
+    """Gains (n, d, p) for n tracks: each track's P⁺ = (I − K H) P (I − K H)ᵀ + K R Kᵀ by hand."""
+    P = np.stack([_I2, 2.0 * _I2])
+    K = np.array([[[0.5], [0.0]], [[0.25], [1.0]]])
+    out = g.joseph_covariance(P, K, _H, [[1.0]])
+    np.testing.assert_allclose(out[0], [[0.5, 0.0], [0.0, 1.0]], rtol=0, atol=1e-15)
+    # track 1: I − K H = [[0.75, 0], [-1, 1]]; 2 (I − K H)(I − K H)ᵀ + K Kᵀ
+    np.testing.assert_allclose(out[1], [[1.1875, -1.25], [-1.25, 5.0]], rtol=0, atol=1e-15)
+
+
+def test_mahalanobis_of_one_dimensional_and_single_track_predictions():
+    """A scalar predicted measurement is one track with p = 1; a (p,) vector is one track."""
+    d2, logdet = g.mahalanobis2_matrix([[0.5], [2.0]], 0.0, [[[4.0]]])
+    np.testing.assert_allclose(d2, [[0.0625], [1.0]], rtol=1e-15)
+    np.testing.assert_allclose(logdet, [np.log(4.0)], rtol=1e-15)
+    d2, _ = g.mahalanobis2_matrix([[0.5, 1.0]], [0.0, 0.0], [[[4.0, 0.0], [0.0, 1.0]]])
+    np.testing.assert_allclose(d2, [[1.0625]], rtol=1e-15)

@@ -272,3 +272,14 @@ def test_frontier_plan_keeps_only_the_columns_later_rows_use():
     np.testing.assert_array_equal(ordered, block[[1, 0, 2]])
     assert keep == [0b1111, 0b0110, 0]
     assert width == 2
+
+
+def test_a_capped_component_keeps_the_whole_count_inexact():
+    """~I(30) (wide, counted only up to the cap) followed by a small narrow component (counted
+    exactly): the product is a lower bound, so the budget error must say "more than", even
+    though the last component counted was exact."""
+    allowed = np.zeros((32, 32), dtype=bool)
+    allowed[:30, :30] = ~np.eye(30, dtype=bool)
+    allowed[30, 30] = allowed[30, 31] = allowed[31, 31] = True
+    with pytest.raises(EnumerationBudgetError, match="^enumeration would produce more than 1,000 association events"):
+        enumerate_associations(32, 32, allowed=allowed, max_events=1000)

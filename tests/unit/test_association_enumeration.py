@@ -162,3 +162,15 @@ def test_budget_error_message_exact_and_capped():
 def test_chunk_size_message_names_argument_and_range():
     with pytest.raises(ValueError, match=r"^chunk_size must be an integer in \[1, inf\], got 0$"):
         iter_association_chunks(2, 2, chunk_size=0)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: enumerate_associations(-1, 2), "n_tracks must be an integer in [0, inf], got -1"),
+    (lambda: enumerate_associations(2, -3), "n_meas must be an integer in [0, inf], got -3"),
+    (lambda: list(iter_association_chunks(-1, 2)), "n_tracks must be an integer in [0, inf], got -1"),
+    (lambda: event_dtype(-2), "n_tracks must be an integer in [0, inf], got -2"),
+])
+def test_negative_sizes_are_named_exactly(call, message):
+    with pytest.raises(ValueError) as info:
+        call()
+    assert str(info.value) == message

@@ -278,7 +278,7 @@ def _read(path: Path) -> list:
 
 def _write(path: Path, rows: list, fields: list) -> None:
     with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields)
+        w = csv.DictWriter(f, fieldnames=fields, lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
 

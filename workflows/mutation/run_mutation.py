@@ -316,8 +316,10 @@ def main(argv=None) -> None:
         elif args.resume or args.mutants:
             print(f"[mutation] {module}: resuming over {', '.join(args.only or _scope(module))}"
                   + (f" ({len(args.mutants)} mutant names or globs)" if args.mutants else ""), flush=True)
-            seconds = float(rows.get(module, {}).get("seconds") or 0.0) + resume(module, args.max_children, args.only,
-                                                                                  args.mutants)
+            # A resume adds to the time already spent on the same scratch copy; a fresh one starts at 0.
+            fresh = not (WORK / module / "mutants").exists()
+            before = 0.0 if fresh else float(rows.get(module, {}).get("seconds") or 0.0)
+            seconds = before + resume(module, args.max_children, args.only, args.mutants)
         else:
             print(f"[mutation] {module}: mutmut run over {', '.join(args.only or MODULES[module][0])}", flush=True)
             seconds = run(module, args.max_children, args.only)

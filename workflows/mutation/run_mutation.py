@@ -308,7 +308,6 @@ def main(argv=None) -> None:
     OUT.mkdir(parents=True, exist_ok=True)
     table, surv_path = OUT / "mutation.csv", OUT / "mutation_survivors.csv"
     rows = {r["module"]: r for r in _read(table)}
-    survivors = [s for s in _read(surv_path) if s["module"] not in modules]
     equivalent = _equivalent()
     for module in modules:
         if args.report_only:
@@ -325,12 +324,14 @@ def main(argv=None) -> None:
             seconds = run(module, args.max_children, args.only)
         rows[module], surv = summarise(module, seconds, equivalent)
         rows[module]["scope"] = scope_text(module)
-        survivors += surv
         r = rows[module]
         print(f"[mutation] {module}: {r['mutants']} mutants, {r['killed']} killed, {r['equivalent']} equivalent, "
               f"{r['killed_pct_non_equivalent']} % of the non-equivalent killed ({r['seconds']} s)", flush=True)
-        _write(table, [rows[m] for m in MODULES if m in rows], FIELDS)
-        _write(surv_path, survivors, ["module", "mutant", "status", "function"])
+        # Re-read the tables just before writing: another module's run may have finished meanwhile.
+        current = {r["module"]: r for r in _read(table)} | {module: rows[module]}
+        kept = [s for s in _read(surv_path) if s["module"] != module]
+        _write(table, [current[m] for m in MODULES if m in current], FIELDS)
+        _write(surv_path, kept + surv, ["module", "mutant", "status", "function"])
 
 
 if __name__ == "__main__":

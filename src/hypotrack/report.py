@@ -66,6 +66,7 @@ __all__ = [
     "Z_THRESHOLD",
     "MIN_RUNS",
     "Claim",
+    "LiteralText",
     "build_paper_inputs",
     "claim_macros",
     "claims_markdown",
@@ -324,12 +325,19 @@ def macro_name(*parts) -> str:
 _SCI = re.compile(r"([+-]?\d+(?:\.\d+)?)e([+-]?)0*(\d+)")
 
 
+class LiteralText(str):
+    """A macro value that is an identifier, not a number (a commit hash such as ``95e7490``):
+    :func:`latex_value` escapes it and never typesets it as a power of ten or groups its digits."""
+
+
 def latex_value(value) -> str:
     """A generated value in LaTeX: ``3e-14`` -> ``\\ensuremath{3\\times10^{-14}}``, else escaped text.
 
     Only a value that is entirely one number in e-notation is typeset as a power of ten; a
-    mantissa of 1 is dropped (``1e8`` -> ``10^{8}``).
+    mantissa of 1 is dropped (``1e8`` -> ``10^{8}``). A :class:`LiteralText` is always text.
     """
+    if isinstance(value, LiteralText):
+        return latex_escape(value)
     text = str(value).strip()
     if re.fullmatch(r"-?\d{5,}", text):  # 100000 -> 100{,}000
         return re.sub(r"(?<=\d)(?=(\d{3})+$)", "{,}", text)

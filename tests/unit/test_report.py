@@ -128,6 +128,17 @@ def test_latex_value_typesets_powers_of_ten():
     assert latex_value("0.5 at 1e3 m") == "0.5 at 1e3 m" and latex_value("50%") == r"50\%"
 
 
+def test_commit_hashes_are_text_not_numbers(tmp_path):
+    """A short hash can look like e-notation (95e7490) or a long integer (1234567): as LiteralText it
+    is printed as it is, in macros.tex too."""
+    from hypotrack.report import LiteralText, latex_value, macros_tex
+
+    assert latex_value("95e7490") == r"\ensuremath{95\times10^{7490}}"  # a number, when it is one
+    assert latex_value(LiteralText("95e7490")) == "95e7490"
+    assert latex_value(LiteralText("1234567")) == "1234567"
+    assert r"\newcommand{\htCommit}{95e7490}" in macros_tex({"htCommit": LiteralText("95e7490")})
+
+
 def test_monte_carlo_measurement_without_published_value():
     from hypotrack.report import monte_carlo_claim
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import sys
 
-from hypotrack.report import (build_paper_inputs, config_macros, is_timing_table, ledger_problems,
+from hypotrack.report import (LiteralText, build_paper_inputs, config_macros, is_timing_table, ledger_problems,
                               read_claims)
 
 commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
@@ -16,7 +16,8 @@ claims = build_paper_inputs(
     snakemake.input.figures,
     out_dir=Path(snakemake.output.macros).parent,
     results_dir=snakemake.params.results,
-    extra_macros={"htCommit": commit or "unknown", **config_macros(dict(snakemake.params.config))},
+    extra_macros={"htCommit": LiteralText(commit or "unknown"),  # a hash such as 95e7490 is not a number
+                  **config_macros(dict(snakemake.params.config))},
     macros_paths=snakemake.input.macros,
 )
 # Rows from timing claims files (*timing*claims.csv: speed-ups, throughput, run times) go to their own ledger so

@@ -7,7 +7,8 @@ import pytest
 
 import hypotrack.trackers.tracker as tracker_module
 from hypotrack import _validation
-from hypotrack.experiments.validation_cost import kernel_overhead, recorded_checks, tracker_validation_share
+from hypotrack.experiments.validation_cost import (_kernel_calls, kernel_overhead, recorded_checks,
+                                                   tracker_validation_share)
 from hypotrack.models import ConstantVelocity
 from hypotrack.trackers._sht_common import ScanModel
 from hypotrack.trackers.tracker import SingleHypothesisTracker
@@ -29,17 +30,21 @@ def test_recording_sees_one_scan_check_per_step_and_restores_the_checks():
     assert all(f.__module__ == "hypotrack._validation" for f, _, _ in calls)
 
 
-def test_kernel_table_ratio_is_checked_over_unchecked():
+def test_checked_and_unchecked_kernels_do_the_same_work():
+    """The comparison is fair only if both forms compute the same thing: equal outputs, bit for bit."""
+    for name, checked, unchecked in _kernel_calls(5, 3, np.random.default_rng(2)):
+        a, b = checked(), unchecked()
+        for x, y in zip(a, b):
+            np.testing.assert_array_equal(x, y, err_msg=name)
     table = kernel_overhead((1, 4), n_returns=3, repeats=1, target_seconds=1e-3)
     assert list(table["kernel"]) == ["predict", "innovation", "update", "mahalanobis2_matrix"] * 2
     assert list(table["n_tracks"]) == [1] * 4 + [4] * 4
-    np.testing.assert_allclose(table["ratio"], table["checked_us"] / table["unchecked_us"], rtol=1e-12)
 
 
-def test_tracker_share_is_replayed_check_time_over_step_time():
+def test_tracker_share_counts_every_scans_check():
     pytest.importorskip("stonesoup")
     table = tracker_validation_share({"gnn": {}}, n_targets=3, n_scans=4, clutter_rate=2.0, repeats=1, seed=1)
     (row,) = table.itertuples()
     assert row.check_calls_per_scan >= 1.0  # every scan's returns are checked
-    assert row.validation_share == pytest.approx(row.validation_ms_per_scan / row.step_ms_per_scan, rel=1e-9)
+    assert 0.0 < row.validation_ms_per_scan < row.step_ms_per_scan
     assert collections.Counter(table["algorithm"]) == {"gnn": 1}

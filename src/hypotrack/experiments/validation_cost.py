@@ -29,20 +29,17 @@ import pandas as pd
 
 from .. import _validation
 from .. import gaussian as g
+from ..interop.benchmark import own_api_setup, run_own_api, simulate_scenario
 
 __all__ = ["kernel_overhead", "tracker_validation_share", "recorded_checks", "plot_validation_cost"]
 
 
-def _best(fn, repeats: int, number: int) -> float:
-    """Minimum over ``repeats`` of the mean seconds per call over ``number`` calls."""
-    fn()  # warm-up
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        best = min(best, (time.perf_counter() - t0) / number)
-    return best
+def _seconds_per_call(fn, number: int) -> float:
+    """Mean seconds per call over ``number`` calls."""
+    t0 = time.perf_counter()
+    for _ in range(number):
+        fn()
+    return (time.perf_counter() - t0) / number
 
 
 def _kernel_calls(n: int, m: int, rng):
@@ -82,10 +79,11 @@ def kernel_overhead(sizes=(1, 10, 100, 1000), *, n_returns: int = 20, repeats: i
             unchecked()
             number = max(1, int(target_seconds / max(time.perf_counter() - t1, 1e-7)))
             # Alternate the two forms within each repeat, so a load change hits both.
+            checked()  # warm-up
             tc, tu = np.inf, np.inf
             for _ in range(repeats):
-                tc = min(tc, _best(checked, 1, number))
-                tu = min(tu, _best(unchecked, 1, number))
+                tc = min(tc, _seconds_per_call(checked, number))
+                tu = min(tu, _seconds_per_call(unchecked, number))
             rows.append({"kernel": name, "n_tracks": int(n), "n_returns": n_returns, "checked_us": 1e6 * tc,
                          "unchecked_us": 1e6 * tu, "ratio": tc / tu})
     return pd.DataFrame(rows)
@@ -129,70 +127,33 @@ def recorded_checks():
             setattr(mod, attr, value)
 
 
-def _replay_seconds(calls, repeats: int) -> float:
-    def replay():
-        for f, args, kwargs in calls:
-            f(*args, **kwargs)
-
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        replay()
-        best = min(best, time.perf_counter() - t0)
-    return best
-
-
-def _scans_and_builder(n_targets, n_scans, clutter_rate, seed, p_D=0.9):
-    from ..interop.benchmark import simulate_scenario
-    from ..interop.stonesoup import _build, _region, translate_models
-
-    transition, measurement_model, region, scans, priors = simulate_scenario(
-        n_targets=n_targets, n_scans=n_scans, clutter_rate=clutter_rate, p_D=p_D, q=0.05, half_width=100.0,
-        seed=seed)
-    motion, measurement, perm = translate_models(transition, measurement_model)
-    means = np.array([np.ravel(s.state_vector)[perm] for s in priors])
-    covs = np.array([np.asarray(s.covar)[np.ix_(perm, perm)] for s in priors])
-    epoch = priors[0].timestamp
-    arrays = []
-    for t, dets in scans:
-        Z = np.array([np.ravel(d.state_vector) for d in dets], dtype=float).reshape(-1, 2)
-        arrays.append(((t - epoch).total_seconds(), Z[np.lexsort(Z.T[::-1])]))
-
-    def build(algorithm, options):
-        return _build(algorithm, motion, measurement, p_D, clutter_rate, _region(region, 2), means, covs,
-                      dict(options))
-
-    return arrays, build
-
-
-def _run(tracker, algorithm, arrays) -> None:
-    if algorithm in ("gnn", "jpda", "pdaf"):
-        for scan in arrays:
-            tracker.step(scan)
-    else:
-        previous = 0.0
-        for t, Z in arrays:
-            _ = tracker.step(Z, t - previous).map_estimate
-            previous = t
+def _replay_seconds(calls) -> float:
+    """Seconds to make the recorded check calls again, alone."""
+    t0 = time.perf_counter()
+    for f, args, kwargs in calls:
+        f(*args, **kwargs)
+    return time.perf_counter() - t0
 
 
 def tracker_validation_share(algorithms: dict, *, n_targets=10, n_scans=30, clutter_rate=10.0, repeats=3,
                              seed=0) -> pd.DataFrame:
     """Per-scan step time, time in validation checks (recorded and replayed) and their ratio, per tracker."""
-    arrays, build = _scans_and_builder(n_targets, n_scans, clutter_rate, seed)
+    p_D = 0.9
+    arrays, build = own_api_setup(*simulate_scenario(n_targets=n_targets, n_scans=n_scans, clutter_rate=clutter_rate,
+                                                     p_D=p_D, q=0.05, half_width=100.0, seed=seed), p_D, clutter_rate)
     rows = []
     for algorithm, options in algorithms.items():
-        _run(build(algorithm, options), algorithm, arrays)  # warm-up (numba)
+        run_own_api(build(algorithm, options), algorithm, arrays)  # warm-up (numba)
         tracker = build(algorithm, options)
         with recorded_checks() as calls:
-            _run(tracker, algorithm, arrays)
+            run_own_api(tracker, algorithm, arrays)
         run_s, check_s = np.inf, np.inf
         for _ in range(repeats):  # alternate, so a load change hits both
             tracker = build(algorithm, options)
             t0 = time.perf_counter()
-            _run(tracker, algorithm, arrays)
+            run_own_api(tracker, algorithm, arrays)
             run_s = min(run_s, time.perf_counter() - t0)
-            check_s = min(check_s, _replay_seconds(calls, 1))
+            check_s = min(check_s, _replay_seconds(calls))
         rows.append({"algorithm": algorithm, "n_targets": n_targets, "n_scans": n_scans, "clutter_rate": clutter_rate,
                      "check_calls_per_scan": len(calls) / n_scans, "step_ms_per_scan": 1e3 * run_s / n_scans,
                      "validation_ms_per_scan": 1e3 * check_s / n_scans, "validation_share": check_s / run_s})

@@ -24,7 +24,7 @@ import pandas as pd
 
 from .stonesoup import _build, _region, translate_models
 
-__all__ = ["adapter_overhead", "plot_overhead", "simulate_scenario"]
+__all__ = ["adapter_overhead", "own_api_setup", "plot_overhead", "run_own_api", "simulate_scenario"]
 
 
 def simulate_scenario(*, n_targets, n_scans, clutter_rate, p_D, q, half_width, seed):
@@ -54,7 +54,9 @@ def simulate_scenario(*, n_targets, n_scans, clutter_rate, p_D, q, half_width, s
     return transition, measurement, region, scans, priors
 
 
-def _own_api_seconds(algorithm, transition, measurement_model, region, scans, priors, p_D, clutter_rate, options):
+def own_api_setup(transition, measurement_model, region, scans, priors, p_D, clutter_rate):
+    """The recorded scans as numpy arrays ``[(t, Z)]`` and ``build(algorithm, options)``, which
+    constructs the hypotrack tracker from the translated models as a hypotrack user would."""
     motion, measurement, perm = translate_models(transition, measurement_model)
     means = np.array([np.ravel(s.state_vector)[perm] for s in priors])
     covs = np.array([np.asarray(s.covar)[np.ix_(perm, perm)] for s in priors])
@@ -63,16 +65,31 @@ def _own_api_seconds(algorithm, transition, measurement_model, region, scans, pr
     for t, dets in scans:
         Z = np.array([np.ravel(d.state_vector) for d in dets], dtype=float).reshape(-1, 2)
         arrays.append(((t - epoch).total_seconds(), Z[np.lexsort(Z.T[::-1])]))
-    tracker = _build(algorithm, motion, measurement, p_D, clutter_rate, _region(region, 2), means, covs, options)
-    start = time.perf_counter()
+
+    def build(algorithm, options):
+        return _build(algorithm, motion, measurement, p_D, clutter_rate, _region(region, 2), means, covs,
+                      dict(options))
+
+    return arrays, build
+
+
+def run_own_api(tracker, algorithm, arrays) -> None:
+    """Step ``tracker`` through the scans, reading what a user reads (the MAP estimate of a filter)."""
     if algorithm in ("gnn", "jpda", "pdaf"):
         for scan in arrays:
             tracker.step(scan)
     else:
         previous = 0.0
         for t, Z in arrays:
-            _ = tracker.step(Z, t - previous).map_estimate  # what a user reads
+            _ = tracker.step(Z, t - previous).map_estimate
             previous = t
+
+
+def _own_api_seconds(algorithm, transition, measurement_model, region, scans, priors, p_D, clutter_rate, options):
+    arrays, build = own_api_setup(transition, measurement_model, region, scans, priors, p_D, clutter_rate)
+    tracker = build(algorithm, options)
+    start = time.perf_counter()
+    run_own_api(tracker, algorithm, arrays)
     return time.perf_counter() - start
 
 

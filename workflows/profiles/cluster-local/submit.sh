@@ -9,8 +9,11 @@ jobscript="$1"
 workdir=$(sed -n 's/^cd \([^ ]*\) && .*/\1/p' "$jobscript")
 [ -n "$workdir" ] || { echo "submit.sh: no 'cd <workdir> &&' line in $jobscript" >&2; exit 1; }
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/hypotrack-job.XXXXXX")
+# -p keeps the modification times, as a shared filesystem would: a script copied with a new mtime
+# looks newer than the outputs it made, and Snakemake's code trigger would then rerun finished
+# upstream rules inside a downstream job (seen once: paper_pdf re-running paper_generated).
 for src in Snakefile workflows theory paper; do
-    cp -r "$workdir/$src" "$scratch/"
+    cp -rp "$workdir/$src" "$scratch/"
 done
 rm -rf "$scratch/paper/generated"
 logs="$workdir/.snakemake/cluster-logs"

@@ -49,7 +49,7 @@ include: "workflows/report/ledger.smk"
 
 # Every job writes a Snakemake benchmark (wall, CPU, peak memory) to {RESULTS}/benchmarks/<rule>/, one
 # file per wildcard combination; at the end of a run they become {RESULTS}/paper/pipeline_timing.csv
-# (hypotrack.pipeline_time), the run-time record the README quotes.
+# (hypotrack.reporting.pipeline_time), the run-time record the README quotes.
 for _rule in workflow.rules:
     if _rule.output and _rule.benchmark is None:
         _wc = sorted(_rule.wildcard_names)
@@ -67,7 +67,7 @@ def _run_summary():
     """The end of a successful run in a few lines: the ledger's verdicts and where to read the results."""
     import pandas as pd
 
-    from hypotrack.experiments.joblog import claims_line
+    from hypotrack.reporting.joblog import claims_line
 
     ledger, pdf = Path(rules.paper_generated.output.ledger), Path(rules.paper_pdf.output[0])
     lines = [f"hypotrack: done; results in {RESULTS}"]
@@ -90,7 +90,7 @@ onstart:
 onsuccess:
     import time
 
-    from hypotrack.pipeline_time import write_run_record
+    from hypotrack.reporting.pipeline_time import write_run_record
 
     from snakemake.exceptions import WorkflowError
 

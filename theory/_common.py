@@ -29,7 +29,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from hypotrack.report import Claim
+from hypotrack.reporting.ledger import Claim
 
 OUT_ENV = "HYPOTRACK_THEORY_OUT"
 PERTURB_ENV = "HYPOTRACK_THEORY_PERTURB"
@@ -135,8 +135,8 @@ class Findings:
 
     def claim(self, item: str, source: str, published, reproduced, status: str, *, key: str = "",
               evidence: str = "independent oracle", tolerance: str = "exact", note: str = "") -> None:
-        """A row of the reproduction ledger (:mod:`hypotrack.report`): a published statement and
-        what this notebook found. ``status`` is one of :data:`hypotrack.report.STATUSES`; ``key``
+        """A row of the reproduction ledger (:mod:`hypotrack.reporting.ledger`): a published statement and
+        what this notebook found. ``status`` is one of :data:`hypotrack.reporting.ledger.STATUSES`; ``key``
         names the row's paper macros stably; ``evidence`` defaults to the symbolic computation here
         (an oracle that shares no code with the engine)."""
         row = Claim("theory", item, source, str(published), str(reproduced), tolerance, status, note, evidence,

@@ -28,7 +28,7 @@
 #    `½ Σ e_j² + min(0, Δ s)` with `Δ` the true and `s` the estimated separation;
 # 3. for a zero-mean bivariate normal with correlation ρ, `E[XY; XY < 0] = σ_x σ_y (ρ/2 −
 #    (√(1−ρ²) + ρ arcsin ρ)/π)`, derived in polar coordinates;
-# 4. the library's closed form (`hypotrack.experiments.closely_spaced_oracle`) agrees with these,
+# 4. the library's closed form (`hypotrack.experiments.closely_spaced.oracle`) agrees with these,
 #    and under the best pairing per scan no initial variance gives the published value.
 
 # %%
@@ -36,7 +36,7 @@ import numpy as np
 import sympy as sp
 
 from _common import Findings, formula
-from hypotrack.experiments.closely_spaced_oracle import (expected_negative_part, ideal_mospa, ideal_mospa_per_scan,
+from hypotrack.experiments.closely_spaced.oracle import (expected_negative_part, ideal_mospa, ideal_mospa_per_scan,
                                                          riccati_steady_prediction)
 
 findings = Findings("ideal_filter_mospa", "seed 003 Eqs. 5.1-5.11, 6.1-6.4, Table 6.1 (reconstruction §5.4, §6.4)")

@@ -1,5 +1,5 @@
 """Independent oracle for FISST = HOMHT and Eq. 39: the engine's one-scan posterior against the
-seeds' densities evaluated by brute force (:mod:`hypotrack.experiments.fisst_oracle`, which shares
+seeds' densities evaluated by brute force (:mod:`hypotrack.experiments.belief_space.fisst_oracle`, which shares
 no code with the weight models). Mutations of the engine's birth and clutter terms must make the
 comparison fail."""
 
@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 from scipy import integrate, stats
 
-import hypotrack.experiments.fisst_oracle as fo
-from hypotrack.experiments.belief_space_oracle import (_oracle_scene, engine_children, oracle_table,
+import hypotrack.experiments.belief_space.fisst_oracle as fo
+from hypotrack.experiments.belief_space.oracle import (_oracle_scene, engine_children, oracle_table,
                                                        random_scene)
 from hypotrack.hypotheses import FISSTPoissonWeights, ReidWeights
 from hypotrack.hypotheses.population_events import BinomialPopulation
@@ -123,7 +123,7 @@ def test_mutated_reid_clutter_density_fails(monkeypatch):
 
 
 def test_oracle_claims_follow_the_table(table):
-    from hypotrack.experiments.belief_space_oracle import oracle_claims
+    from hypotrack.experiments.belief_space.oracle import oracle_claims
 
     claims = oracle_claims(table, TOL)
     assert {c.evidence for c in claims} == {"independent oracle"}

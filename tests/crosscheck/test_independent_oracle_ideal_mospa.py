@@ -1,6 +1,6 @@
 """Independent oracle: the ideal filter's MOSPA on the two-target OU problem in closed form.
 
-:mod:`hypotrack.experiments.closely_spaced_oracle` computes E[squared OSPA] from the exact
+:mod:`hypotrack.experiments.closely_spaced.oracle` computes E[squared OSPA] from the exact
 second moments of truth and estimate (no code shared with :class:`~hypotrack.trackers.ecmht.IdealFilter`
 or with :func:`~hypotrack.trackers.ecmht.mospa_two_targets`). Here its pieces are checked by
 numerical integration, and the Monte Carlo of Table 6.1 is checked against it; a mutation of the
@@ -13,9 +13,9 @@ import numpy as np
 import pytest
 from scipy import integrate, stats
 
-import hypotrack.experiments.closely_spaced as cs
-from hypotrack.experiments.closely_spaced import LABELLED_IDEAL, closely_spaced_monte_carlo
-from hypotrack.experiments.closely_spaced_oracle import (expected_negative_part, ideal_conventions_table,
+import hypotrack.experiments.closely_spaced.run as cs
+from hypotrack.experiments.closely_spaced.run import LABELLED_IDEAL, closely_spaced_monte_carlo
+from hypotrack.experiments.closely_spaced.oracle import (expected_negative_part, ideal_conventions_table,
                                                          ideal_mospa, ideal_mospa_per_scan,
                                                          riccati_steady_prediction)
 
@@ -98,7 +98,7 @@ def test_bad_conventions_are_rejected():
 
 
 def test_parameters_that_would_reach_the_published_ideal_under_best_pairing():
-    from hypotrack.experiments.closely_spaced_oracle import parameters_reaching
+    from hypotrack.experiments.closely_spaced.oracle import parameters_reaching
 
     kw = dict(**TABLE, n_scans=100, initial_variance=0.01)
     need = parameters_reaching(0.0363, **kw)

@@ -1,4 +1,4 @@
-"""The belief_space experiment (hypotrack.experiments.belief_space): seed 001's Eq. 39, Eq. 43
+"""The belief_space experiment (hypotrack.experiments.belief_space.run): seed 001's Eq. 39, Eq. 43
 and FISST = HOMHT, each computed from the engine's weights and checked against an oracle that does
 not use the code under test (hand formulas, scipy's multivariate normal, numerical quadrature)."""
 
@@ -12,12 +12,12 @@ from scipy import integrate
 from scipy.stats import multivariate_normal
 
 from hypotrack.config import ConfigError, validate_config
-from hypotrack.experiments import belief_space as bs
+from hypotrack.experiments.belief_space import run as bs
 from hypotrack.hypotheses.population_events import birth_prior_gaussian
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import UniformBirthDensity
 from hypotrack.models.sensors import Box
-from hypotrack.report import read_claims, write_claims
+from hypotrack.reporting.ledger import read_claims, write_claims
 
 ROOT = Path(__file__).resolve().parents[2]
 

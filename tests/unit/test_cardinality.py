@@ -152,7 +152,7 @@ def test_scenario_statistics():
 
 def test_monte_carlo_driver_and_summary():
     """Per-run errors pool into the table; the row-DP gap is never negative (DP is the optimum)."""
-    from hypotrack.experiments.cardinality import (
+    from hypotrack.experiments.cardinality.run import (
         cardinality_monte_carlo,
         monte_carlo_table,
         summarise_cardinality,

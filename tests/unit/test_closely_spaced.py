@@ -6,7 +6,7 @@ import pytest
 from hypotrack.models import OrnsteinUhlenbeck
 from hypotrack.scenarios.closely_spaced import simulate_closely_spaced, static_pair_scans
 from hypotrack.experiments.seeds import experiment_seeds
-from hypotrack.experiments.closely_spaced import closely_spaced_realisation
+from hypotrack.experiments.closely_spaced.run import closely_spaced_realisation
 
 MODEL = OrnsteinUhlenbeck(0.01, 0.005)
 

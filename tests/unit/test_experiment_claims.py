@@ -2,9 +2,9 @@
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time import throughput_claims
-from hypotrack.experiments.perf_sht import perf_sht_claims
-from hypotrack.experiments.sht import lecture_summary, sht_claims
+from hypotrack.experiments.generation_time.run import throughput_claims
+from hypotrack.experiments.perf_sht.run import perf_sht_claims
+from hypotrack.experiments.sht.run import lecture_summary, sht_claims
 
 
 def _curves(jpda_lag, gnn_lag):
@@ -61,7 +61,7 @@ def test_perf_claims_report_measured_ranges():
 
 
 def test_swap_claims_follow_the_curves():
-    from hypotrack.experiments.ecmht import swap_claims
+    from hypotrack.experiments.swaps.run import swap_claims
 
     swaps = list(range(8))
     rms = [2.6, 2.2, 1.9, 1.7, 1.6, 1.7, 1.9, 2.1]  # minimum at 4 swaps
@@ -80,7 +80,7 @@ def test_swap_claims_follow_the_curves():
 
 
 def test_cardinality_claims_need_a_significant_difference():
-    from hypotrack.experiments.cardinality import cardinality_claims
+    from hypotrack.experiments.cardinality.run import cardinality_claims
 
     errors = pd.DataFrame(dict(method=["classical_mht", "cardinality_tracker"], mean_abs_error=[100.0, 11.7],
                                std_error=[3.0, 4.0], mean_n=[0.0, 95.0], mean_n_true=[100.0, 100.0], n_runs=[50, 50]))

@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 from hypotrack.association import count_associations
-from hypotrack.experiments.generation_time_difficulty import (
+from hypotrack.experiments.generation_time.difficulty import (
     OUTCOME_COLUMNS,
     difficulty_claims,
     difficulty_point,

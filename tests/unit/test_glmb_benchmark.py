@@ -4,7 +4,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from hypotrack.experiments.glmb_benchmark import (
+from hypotrack.experiments.glmb_benchmark.run import (
     DiscreteWhiteNoiseAcceleration,
     benchmark_model,
     make_tracker,
@@ -13,7 +13,7 @@ from hypotrack.experiments.glmb_benchmark import (
     simulate_scans,
     truth_states,
 )
-from hypotrack.experiments.glmb_benchmark_report import summary_table
+from hypotrack.experiments.glmb_benchmark.summary import summary_table
 
 CFG = dict(sigma_r=10.0, half_width=1000.0, p_D=0.98, clutter_rate=30.0, sigma_v=5.0, p_S=0.99, r_birth=0.03,
            birth_means=[[0.1, 0.1, 0, 0], [400, -600, 0, 0]], birth_std=10.0, n_scans=6)
@@ -85,7 +85,7 @@ def test_stonesoup_gmphd_peer_follows_the_gm_phd_update_by_hand():
 
 
 def test_peer_is_labelled_in_the_summary():
-    from hypotrack.experiments.glmb_benchmark import implementation_labels, legend_labels
+    from hypotrack.experiments.glmb_benchmark.run import implementation_labels, legend_labels
 
     legend = legend_labels({"a": {"kind": "rfisst", "completion_rounds": 0}, "b": {"kind": "rfisst"},
                             "phd": {"kind": "gmphd"}})

@@ -230,7 +230,7 @@ def test_lecture_worked_example_hypotheses_and_clusters():
     """Lecture 004: θ maps y1–y4 to {FA, T1, T2, T3, NT}; brute force over all 5⁴ maps is the oracle."""
     import itertools
 
-    from hypotrack.experiments.sht import lecture_hypotheses, lecture_summary
+    from hypotrack.experiments.sht.run import lecture_hypotheses, lecture_summary
 
     labels = ["FA", "T1", "T2", "T3", "NT"]
     valid = [

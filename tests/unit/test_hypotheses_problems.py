@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from hypotrack.association import count_associations
-from hypotrack.experiments.generation_time import generation_time_point
+from hypotrack.experiments.generation_time.run import generation_time_point
 from hypotrack.hypotheses import ExhaustiveGenerator
 from hypotrack.hypotheses.problems import synthetic_problem, truth_rank
 

@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 import pandas as pd
 
-from hypotrack.experiments import joblog
+from hypotrack.reporting import joblog
 
 
 class _Wildcards(dict):

@@ -1,4 +1,4 @@
-"""The committed mutation-testing record (results/quality/) is internally consistent.
+"""The committed mutation-testing record (paper/record/) is internally consistent.
 
 The record is produced by ``workflows/mutation/run_mutation.py`` (hours, so not rerun here);
 these checks catch a hand-edited or half-merged table: every mutant is accounted for once,
@@ -14,7 +14,7 @@ import pytest
 import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
-QUALITY = ROOT / "results" / "quality"
+QUALITY = ROOT / "paper" / "record"
 MODULES = {"gaussian", "metrics", "hypotheses", "association", "trackers"}
 NAME = re.compile(r"^hypotrack\.[a-z_]+(\.[a-z_]+)*\.x.+__mutmut_\d+$")
 

@@ -4,7 +4,7 @@ and the build fails loudly (missing macro by name, undefined reference, oversize
 import shutil
 from pathlib import Path
 
-from hypotrack.paper import bare_numbers, latex_log_problems, overfull_boxes, scan_sections
+from hypotrack.reporting.paper import bare_numbers, latex_log_problems, overfull_boxes, scan_sections
 
 PAPER = Path(__file__).resolve().parents[2] / "paper"
 
@@ -77,7 +77,7 @@ def _mini_paper(tmp_path, body):
 def test_paper_build_fails_naming_a_missing_macro_and_writes_nothing_in_the_sources(tmp_path):
     import pytest
 
-    from hypotrack.paper import build_pdf
+    from hypotrack.reporting.paper import build_pdf
 
     if shutil.which("latexmk") is None:
         pytest.skip("latexmk not installed")

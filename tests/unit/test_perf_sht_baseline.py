@@ -6,7 +6,7 @@ import pytest
 import yaml
 from pathlib import Path
 
-from hypotrack.experiments import perf_sht as ps
+from hypotrack.experiments.perf_sht import run as ps
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -29,13 +29,13 @@ def test_readme_quick_start_matches_ci():
     assert "python -m pip install -r envs/requirements.txt -e . && snakemake -c2\n" in text
 
 
-LEDGER = README.parent / "results" / "paper" / "ledger.csv"
+LEDGER = README.parent / "paper" / "record" / "ledger.csv"
 
 
 def _ledger(tmp_path):
     tmp_path.mkdir(parents=True, exist_ok=True)
     """A small ledger of the real kinds: a Monte Carlo row, a deterministic row, a qualitative row."""
-    from hypotrack.report import Claim, monte_carlo_claim, numeric_claim, write_claims
+    from hypotrack.reporting.ledger import Claim, monte_carlo_claim, numeric_claim, write_claims
 
     rows = [monte_carlo_claim("closely_spaced", "ideal MOSPA", "003 Table 6.1", 0.0363, n=2000, mean=0.0345,
                               se=0.0002, rel_tol=0.1, key="mospa_ideal", note="the OU set-up is reconstructed"),
@@ -47,13 +47,13 @@ def _ledger(tmp_path):
 
 
 def test_readme_ledger_block_matches_the_committed_ledger():
-    from hypotrack.readme import check_readme
+    from hypotrack.reporting.readme import check_readme
 
-    assert check_readme(README, LEDGER) is None  # regenerate: python -m hypotrack.readme <ledger> README.md
+    assert check_readme(README, LEDGER) is None  # regenerate: python -m hypotrack.reporting.readme <ledger> README.md
 
 
 def test_readme_block_is_generated_and_an_edited_ledger_value_fails(tmp_path):
-    from hypotrack.readme import check_readme, main, readme_block
+    from hypotrack.reporting.readme import check_readme, main, readme_block
 
     ledger, readme = _ledger(tmp_path), tmp_path / "README.md"
     readme.write_text(README.read_text())
@@ -71,9 +71,9 @@ def test_readme_block_is_generated_and_an_edited_ledger_value_fails(tmp_path):
     ledger.write_text(ledger.read_text().replace("63591,63590", "63591,63591"))
     readme.write_text(text.replace("**1 reproduced**", "**2 reproduced**"))
     assert check_readme(readme, ledger) is not None
-    assert readme_block(None).startswith("No ledger is committed yet")
+    assert readme_block(None).startswith("No ledger is recorded yet")
     # timing rows beside the ledger (ledger_timing.csv) are part of the README's table
-    from hypotrack.report import Claim, write_claims
+    from hypotrack.reporting.ledger import Claim, write_claims
 
     write_claims([Claim("perf_sht", "GNN speed-up", "extension", ">= 30x", "62x to 76x", "--", "extension", "",
                         "measurement")], ledger.with_name("ledger_timing.csv"))
@@ -95,8 +95,8 @@ def _benchmark(root, rule, name, wall, cpu, rss, mtime):
 def test_pipeline_time_record_counts_only_this_run_and_feeds_the_readme(tmp_path):
     import pandas as pd
 
-    from hypotrack.pipeline_time import WHOLE_RUN, write_run_record
-    from hypotrack.readme import check_readme, main
+    from hypotrack.reporting.pipeline_time import WHOLE_RUN, write_run_record
+    from hypotrack.reporting.readme import check_readme, main
 
     # two shards of one rule and one job of another in this run; one older job from an earlier run
     _benchmark(tmp_path, "ssa50_run", "rfisst", 600.0, 590.5, 300.0, 2000)
@@ -114,7 +114,7 @@ def test_pipeline_time_record_counts_only_this_run_and_feeds_the_readme(tmp_path
     resumed = pd.read_csv(write_run_record(tmp_path, started=1000, finished=9000, cores=2, elapsed_s=1500))
     assert resumed.equals(record)
     # a run through an executor (cluster profile) has no number of cores
-    from hypotrack.pipeline_time import runtime_sentence
+    from hypotrack.reporting.pipeline_time import runtime_sentence
 
     cluster = pd.read_csv(write_run_record(tmp_path, started=1000, finished=1600, cores=None))
     assert pd.isna(cluster.loc[0, "cores"]) and runtime_sentence(cluster).startswith(

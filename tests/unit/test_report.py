@@ -5,7 +5,7 @@ from dataclasses import asdict
 import pandas as pd
 import pytest
 
-from hypotrack.report import (
+from hypotrack.reporting.ledger import (
     CLAIM_COLUMNS,
     STATUSES,
     Claim,
@@ -58,7 +58,7 @@ def test_latex_helpers():
 
 
 def test_monte_carlo_rule_hand_computed():
-    from hypotrack.report import monte_carlo_claim, monte_carlo_verdict
+    from hypotrack.reporting.ledger import monte_carlo_claim, monte_carlo_verdict
 
     # samples 1, 2, 3, 4: mean 2.5, sd sqrt(5/3), se = sqrt(5/3)/2 = 0.6455; published 0.5 -> z = 3.098
     c = monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=1.0)
@@ -86,7 +86,7 @@ def test_monte_carlo_rule_hand_computed():
 
 
 def test_stable_keys_name_macros_and_collisions_fail(tmp_path):
-    from hypotrack.report import claim_macros, monte_carlo_claim, read_macros, write_macros
+    from hypotrack.reporting.ledger import claim_macros, monte_carlo_claim, read_macros, write_macros
 
     a = numeric_claim("generation_time", "R-FISST finds the truth up to A = 1e165 (M = m = 100)", "Fig 15", 1e33,
                       1e165, rel_tol=0.1, key="rfisst_reach")
@@ -120,7 +120,7 @@ def test_stable_keys_name_macros_and_collisions_fail(tmp_path):
 
 
 def test_latex_value_typesets_powers_of_ten():
-    from hypotrack.report import latex_value
+    from hypotrack.reporting.ledger import latex_value
 
     assert latex_value("3e-14") == r"\ensuremath{3\times10^{-14}}"
     assert latex_value("1e+08") == r"\ensuremath{10^{8}}"
@@ -131,7 +131,7 @@ def test_latex_value_typesets_powers_of_ten():
 def test_commit_hashes_are_text_not_numbers(tmp_path):
     """A short hash can look like e-notation (95e7490) or a long integer (1234567): as LiteralText it
     is printed as it is, in macros.tex too."""
-    from hypotrack.report import LiteralText, latex_value, macros_tex
+    from hypotrack.reporting.ledger import LiteralText, latex_value, macros_tex
 
     assert latex_value("95e7490") == r"\ensuremath{95\times10^{7490}}"  # a number, when it is one
     assert latex_value(LiteralText("95e7490")) == "95e7490"
@@ -140,7 +140,7 @@ def test_commit_hashes_are_text_not_numbers(tmp_path):
 
 
 def test_monte_carlo_measurement_without_published_value():
-    from hypotrack.report import monte_carlo_claim
+    from hypotrack.reporting.ledger import monte_carlo_claim
 
     c = monte_carlo_claim("sht", "JPDA track loss", "extension", None, [0.0, 1.0, 1.0, 0.0], key="jpda_loss")
     # mean 0.5, sd sqrt(1/3), se = sqrt(1/3)/2 = 0.2887
@@ -151,7 +151,7 @@ def test_monte_carlo_measurement_without_published_value():
 
 
 def test_ledger_rules_catch_missing_evidence_and_a_verdict_off_the_rule(tmp_path):
-    from hypotrack.report import ledger_problems, monte_carlo_claim
+    from hypotrack.reporting.ledger import ledger_problems, monte_carlo_claim
 
     rows = [monte_carlo_claim("closely_spaced", "ideal", "003", 0.0363, n=2000, mean=0.0345, se=0.0002, rel_tol=0.1),
             monte_carlo_claim("sht", "loss", "extension", None, n=200, mean=0.2, se=0.03),
@@ -181,23 +181,23 @@ def test_ledger_rules_catch_missing_evidence_and_a_verdict_off_the_rule(tmp_path
 
 
 def test_committed_ledger_follows_the_rules():
-    """The ledger the README quotes (results/paper/ledger.csv, when committed) follows every rule."""
+    """The ledger the README quotes (paper/record/ledger.csv) follows every rule."""
     from pathlib import Path
 
-    from hypotrack.report import ledger_problems
+    from hypotrack.reporting.ledger import ledger_problems
 
-    path = Path(__file__).resolve().parents[2] / "results" / "paper" / "ledger.csv"
+    path = Path(__file__).resolve().parents[2] / "paper" / "record" / "ledger.csv"
     if path.exists():
         timing = path.with_name("ledger_timing.csv")
         assert ledger_problems(read_claims([path, *([timing] if timing.exists() else [])])) == []
     else:  # nothing committed yet: the README says so (test_readme checks the statement)
-        from hypotrack.readme import NO_LEDGER
+        from hypotrack.reporting.readme import NO_LEDGER
 
         assert NO_LEDGER in (path.parents[2] / "README.md").read_text()
 
 
 def test_ledger_table_keeps_verdicts_whole_and_cells_breakable():
-    from hypotrack.report import monte_carlo_claim
+    from hypotrack.reporting.ledger import monte_carlo_claim
 
     rows = [monte_carlo_claim("closely_spaced", "PDAF", "003 Table 6.1", 0.8518, n=100, mean=0.2, se=0.01,
                               rel_tol=0.1, evidence="published number"),
@@ -211,7 +211,7 @@ def test_ledger_table_keeps_verdicts_whole_and_cells_breakable():
 
 
 def test_every_status_has_one_colour_in_both_ledgers():
-    from hypotrack.report import STATUS_COLOURS, claims_html
+    from hypotrack.reporting.ledger import STATUS_COLOURS, claims_html
 
     assert set(STATUS_COLOURS) == set(STATUSES)
     rows = pd.DataFrame([dict(experiment="e", item=f"i{k}", source="s", published="1", reproduced="1", tolerance="-",
@@ -221,3 +221,48 @@ def test_every_status_has_one_colour_in_both_ledgers():
     assert all(f"background-color: {html}" in page for _, html in STATUS_COLOURS.values())  # each status styled
     assert "systematic offset: 1" in page and "inconclusive: 1" in page
     assert r"\textcolor{BurntOrange}{\textbf{systematic offset}}" in claims_table_tex(rows)
+
+
+def test_timing_in_text_finds_run_times_and_nothing_else():
+    from hypotrack.reporting.ledger import timing_in_text
+
+    rows = pd.DataFrame([
+        {"experiment": "a", "item": "x", "published": "", "reproduced": "", "tolerance": "", "note": "9 ms per scan"},
+        {"experiment": "b", "item": "y", "published": "", "reproduced": "0.36 s", "tolerance": "", "note": ""},
+        {"experiment": "c", "item": "z", "published": "", "reproduced": "", "tolerance": "max > 1.5 min",
+         "note": "difference 88.5 = 118.1 s.e.; 2e6 proposals per step, 5 s.e."},
+        {"experiment": "d", "item": "w", "published": "", "reproduced": "", "tolerance": "", "note": "took 3 CPU-minutes"},
+    ])
+    found = timing_in_text(rows)
+    assert [f.split(":")[0] for f in found] == ["a", "b", "d"]
+    assert "'9 ms'" in found[0] and "reproduced" in found[1]
+
+
+def test_glmb_and_generation_time_claims_do_not_change_with_the_machine():
+    """The claim writers give identical non-timing rows whatever the measured times (two runs of one seed)."""
+    from dataclasses import asdict
+
+    from hypotrack.experiments.generation_time.run import generation_time_claims, generation_time_timing_claims
+    from hypotrack.experiments.glmb_benchmark.summary import benchmark_claims
+    from hypotrack.reporting.ledger import timing_in_text
+
+    summary = pd.DataFrame({"tracker": ["glmb", "homht_kbest"], "n_runs": [100, 100], "ospa_mean": [11.0, 11.5],
+                            "ospa_se": [0.07, 0.13], "card_err_mean": [0.118, 0.171], "card_err_se": [0.005, 0.012]})
+    fast = pd.DataFrame({"tracker": ["glmb", "homht_kbest"], "n_runs": [100, 100], "time_per_scan_s": [0.009, 0.013]})
+    slow = fast.assign(time_per_scan_s=[0.024, 0.031])
+    a, b = (pd.DataFrame([asdict(c) for c in benchmark_claims(summary, t, "glmb")]) for t in (fast, slow))
+    assert a.equals(b) and timing_in_text(a) == []
+    rows = []
+    times = {"homht": lambda n: 1e-6 * 10.0 ** n, "rfisst": lambda n: 0.01, "homht_kbest": lambda n: 1e-3 * n}
+    for method, time_of in times.items():
+        for n in range(2, 9):
+            rows.append({"method": method, "n_objects": n, "n_returns": n, "log10_hypotheses": float(n),
+                         "seconds": time_of(n) if method != "homht" or n < 8 else float("nan"),
+                         "broken": method == "homht" and n >= 8, "truth_found": n < 7 or method != "homht_kbest"})
+    table = pd.DataFrame(rows)
+    params = {"exhaustive_max_events": 1e7, "mcmc_steps": 1000, "keep": 100}
+    slower = table.assign(seconds=table["seconds"] * 3.0)
+    one, two = (pd.DataFrame([asdict(c) for c in generation_time_claims(t, params)]) for t in (table, slower))
+    assert one.equals(two) and timing_in_text(one) == []
+    crossover = [c for c in generation_time_timing_claims(table, params) if c.key == "crossover"][0]
+    assert crossover.reproduced == "A = 1e+05"  # 1e-6 * 10^n s exceeds R-FISST's 0.01 s first at n = 5

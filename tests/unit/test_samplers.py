@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from hypotrack.experiments.samplers import object_indexed, run_problem, to_return_indexed
+from hypotrack.experiments.samplers.run import object_indexed, run_problem, to_return_indexed
 from hypotrack.hypotheses import ExhaustiveGenerator
 from hypotrack.hypotheses.problems import synthetic_problem
 
@@ -31,9 +31,9 @@ def test_run_problem_masses_are_fractions_and_murty_finds_the_map():
 
 
 def test_sampler_tables_macros_and_claims_from_a_small_sweep(tmp_path):
-    from hypotrack.experiments.samplers import samplers_sweep, summarise
-    from hypotrack.experiments.samplers_report import sampler_claims, sampler_macros
-    from hypotrack.report import write_claims, write_macros
+    from hypotrack.experiments.samplers.run import samplers_sweep, summarise
+    from hypotrack.experiments.samplers.summary import sampler_claims, sampler_macros
+    from hypotrack.reporting.ledger import write_claims, write_macros
 
     raw = samplers_sweep({"difficulties": ["1sigma", "8sigma"], "n_problems": 2, "n_objects": 3, "budgets": [6, 30]},
                          np.random.SeedSequence(0))

@@ -4,15 +4,15 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from hypotrack.experiments.samplers import summarise, timed_run
-from hypotrack.experiments.samplers_recorded import (
+from hypotrack.experiments.samplers.run import summarise, timed_run
+from hypotrack.experiments.samplers.recorded import (
     load_problems,
     n_children,
     record_problems,
     run_recorded_problem,
     save_problems,
 )
-from hypotrack.experiments.samplers_report import compute_claims, sampler_claims, time_to_mass
+from hypotrack.experiments.samplers.summary import compute_claims, sampler_claims, time_to_mass
 from hypotrack.hypotheses import ExhaustiveGenerator
 
 CFG = dict(sigma_r=10.0, half_width=1000.0, p_D=0.98, clutter_rate=30.0, sigma_v=5.0, p_S=0.99, r_birth=0.03,

@@ -13,7 +13,7 @@ import pytest
 import yaml
 
 from hypotrack.experiments import ssa as st
-from hypotrack.report import STATUSES
+from hypotrack.reporting.ledger import STATUSES
 from hypotrack.scenarios.ssa import SSAParams, prior_table, simulate_ssa
 from hypotrack.scenarios.tables import state_columns, write_table
 

@@ -1,4 +1,4 @@
-"""The SSA Monte Carlo over seeds (hypotrack.experiments.ssa_seeds): seeds, distribution, verdicts."""
+"""The SSA Monte Carlo over seeds (hypotrack.experiments.ssa_seeds.run): seeds, distribution, verdicts."""
 
 from pathlib import Path
 
@@ -7,7 +7,7 @@ import pandas as pd
 import pytest
 import yaml
 
-from hypotrack.experiments import ssa_seeds as ss
+from hypotrack.experiments.ssa_seeds import run as ss
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -7,7 +7,7 @@ import pytest
 
 import hypotrack.trackers.tracker as tracker_module
 from hypotrack import _validation
-from hypotrack.experiments.validation_cost import (_kernel_calls, kernel_overhead, recorded_checks,
+from hypotrack.experiments.perf_validation.run import (_kernel_calls, kernel_overhead, recorded_checks,
                                                    tracker_validation_share)
 from hypotrack.models import ConstantVelocity
 from hypotrack.trackers._sht_common import ScanModel

@@ -5,7 +5,10 @@ paper/) with an absolute temporary results folder, so Snakemake's .snakemake/ me
 any stray output stay out of the checkout. (``--directory`` would not do: the rules name inputs
 such as ``theory/<name>.py`` and ``paper/ms.tex`` relative to the working directory.)
 
-1. a local run of every rule (``snakemake -c2``), then ``--summary``: every declared output exists;
+1. a local run of every rule with the README's command (``snakemake -c2 --configfile=...quick.yaml``,
+   results in the default ``results/``) in a temporary git clone of the checkout: afterwards
+   ``git status --porcelain`` is empty (no run changes a tracked file); then ``--summary``: every
+   declared output exists;
 2. ``--report``: every PNG the run wrote is in the report with a caption;
 3. a second run from scratch through snakemake-executor-plugin-cluster-generic
    (workflows/profiles/cluster-local: each job a separate process in its own scratch copy of the
@@ -70,6 +73,27 @@ def copy_workflow(dest: Path) -> Path:
     return dest
 
 
+def clone_checkout(dest: Path) -> Path:
+    """A git repository holding the checkout's files as they are now (committed or not, ignored ones left out)."""
+    listed = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"], cwd=ROOT,
+                            capture_output=True, text=True, check=True).stdout.split("\0")
+    dest.mkdir(parents=True)
+    for name in filter(None, listed):
+        src = ROOT / name
+        if src.is_file():
+            (dest / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dest / name)
+    git = ["git", "-c", "user.name=test", "-c", "user.email=test@example.org"]
+    for cmd in (["init", "-q"], ["add", "-A"], ["commit", "-q", "-m", "checkout"]):
+        subprocess.run(git + cmd, cwd=dest, check=True, capture_output=True)
+    return dest
+
+
+def git_status(workdir: Path) -> str:
+    return subprocess.run(["git", "status", "--porcelain"], cwd=workdir, capture_output=True, text=True,
+                          check=True).stdout
+
+
 def snakemake(workdir, *args, timeout=1800):
     env = {**os.environ, "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT / "src"), os.environ.get("PYTHONPATH")]))}
     return subprocess.run([SNAKEMAKE, *args], cwd=workdir, capture_output=True, text=True, timeout=timeout, env=env)
@@ -107,17 +131,20 @@ def quick_runs(tmp_path_factory):
         pytest.skip("snakemake not installed")
     before = _checkout_state()
     tmp = tmp_path_factory.mktemp("pipeline")
-    workdir = copy_workflow(tmp / "workflow")
-    out = {"workdir": workdir, "local": tmp / "results_local", "cluster": tmp / "results_cluster"}
+    workdir = clone_checkout(tmp / "checkout")
+    local_args = [f"--configfile={QUICK}"]  # the README's quick run, writing to the default results/
+    out = {"workdir": workdir, "local": workdir / "results", "cluster": tmp / "results_cluster",
+           "local_args": local_args}
     config = ["--configfile", QUICK, "--config"]
 
     start = time.perf_counter()
-    out["local_run"] = snakemake(workdir, "-c2", *config, f"results={out['local']}")
+    out["local_run"] = snakemake(workdir, "-c2", *local_args)
     out["local_seconds"] = time.perf_counter() - start
+    out["git_status"] = git_status(workdir)
     if out["local_run"].returncode == 0:
-        out["summary"] = snakemake(workdir, "--summary", *config, f"results={out['local']}")
+        out["summary"] = snakemake(workdir, "--summary", *local_args)
         out["report_path"] = tmp / "report.html"
-        out["report"] = snakemake(workdir, "--report", str(out["report_path"]), *config, f"results={out['local']}")
+        out["report"] = snakemake(workdir, "--report", str(out["report_path"]), *local_args)
 
     cluster_workdir = copy_workflow(tmp / "workflow_cluster")
     out["cluster_logs"] = cluster_workdir / ".snakemake" / "cluster-logs"
@@ -138,13 +165,12 @@ def test_quick_pipeline_writes_every_declared_output(quick_runs):
     assert run.returncode == 0, _tail(run)
     summary = quick_runs["summary"]
     assert summary.returncode == 0, _tail(summary)
-    rows = [line.split("\t") for line in summary.stdout.splitlines() if line.startswith(str(quick_runs["local"]))]
+    rows = [line.split("\t") for line in summary.stdout.splitlines() if line.startswith("results/")]
     assert len(rows) > 50
-    missing = [r[0] for r in rows if not Path(r[0]).exists() or "missing" in r]
+    missing = [r[0] for r in rows if not (quick_runs["workdir"] / r[0]).exists() or "missing" in r]
     assert not missing, f"declared outputs not written: {missing}"
     rules_with_outputs = {r[2] for r in rows}
-    dry = snakemake(quick_runs["workdir"], "-n", "--forceall", "--quiet", "rules", "--configfile", QUICK,
-                    "--config", f"results={quick_runs['local']}")
+    dry = snakemake(quick_runs["workdir"], "-n", "--forceall", "--quiet", "rules", *quick_runs["local_args"])
     job_rules = set(_job_counts(dry.stdout)) - {"total"}
     # Every rule that declares outputs ran and wrote them (target-only rules such as `all` have none).
     assert job_rules - rules_with_outputs <= set(_experiments()) | {"all"}, job_rules - rules_with_outputs
@@ -168,7 +194,7 @@ def _job_counts(stdout):
 def test_every_experiment_rule_is_defined_and_complete(quick_runs):
     """One rule per workflows/rules/<experiment>.smk, and after the quick run none has work left."""
     assert quick_runs["local_run"].returncode == 0, _tail(quick_runs["local_run"])
-    config = ["--configfile", QUICK, "--config", f"results={quick_runs['local']}"]
+    config = quick_runs["local_args"]
     listed = snakemake(quick_runs["workdir"], "--list-rules", *config)
     assert listed.returncode == 0, _tail(listed)
     missing = [e for e in _experiments() if e not in listed.stdout.split()]
@@ -187,12 +213,25 @@ def test_report_captions_every_figure(quick_runs):
     assert "(ERROR/" not in report_log, "a caption is not valid reStructuredText: " + _tail(quick_runs["report"])
     html = quick_runs["report_path"].read_text()
     results = json.loads(re.search(r"var results = (\{.*?\});\n", html, re.S).group(1))
-    pngs = sorted(str(p) for p in quick_runs["local"].rglob("*.png"))
+    pngs = sorted(str(p.relative_to(quick_runs["workdir"])) for p in quick_runs["local"].rglob("*.png"))
     assert pngs
     uncaptioned = [p for p in pngs if not re.sub(r"<[^>]+>|\s", "", results.get(p, {}).get("caption", ""))]
     assert not uncaptioned, f"figures missing from the report or without a caption: {uncaptioned}"
     ledger = [entry for entry in results.values() if entry["name"] == "ledger.html"]
     assert len(ledger) == 1 and ledger[0]["caption"] and ledger[0]["mime_type"] == "text/html"
+
+
+@needs_snakemake
+def test_the_readme_quick_run_changes_no_tracked_file(quick_runs):
+    """The README's smaller run (quick config, default results/) leaves ``git status`` clean, so the
+    README test still passes after it (the README quotes the committed record, not results/)."""
+    assert quick_runs["local_run"].returncode == 0, _tail(quick_runs["local_run"])
+    assert (quick_runs["local"] / "paper" / "ledger.csv").exists()
+    assert quick_runs["git_status"] == "", f"the quick run changed tracked files:\n{quick_runs['git_status']}"
+    from hypotrack.reporting.readme import check_readme
+
+    workdir = quick_runs["workdir"]
+    assert check_readme(workdir / "README.md", workdir / "paper" / "record" / "ledger.csv") is None
 
 
 @needs_snakemake

@@ -5,7 +5,7 @@ For each module it builds a scratch project under ``results/quality/mutmut/<modu
 the package source and only the test files that exercise the module, and runs
 ``mutmut run --max-children <n>`` there (mutmut 3 maps every mutated function to the tests that
 execute it, so each mutant runs only those). It then reads mutmut's per-file ``.meta`` results
-and writes ``results/quality/mutation.csv``::
+and writes ``paper/record/mutation.csv``::
 
     module, mutants, killed, survived, no_tests, timeout, not_run, equivalent, killed_pct_non_equivalent,
     seconds, scope (the files mutated)
@@ -15,7 +15,7 @@ and writes ``results/quality/mutation.csv``::
 ``workflows/mutation/equivalent.yaml`` (mutants that change no observable behaviour); the score
 is ``(killed + timeout) / (mutants − equivalent − not_run)`` (a mutant that makes the tests hang
 is detected), so a survivor and a mutant no selected test reaches ("no tests") count against it. The surviving, non-equivalent mutants are
-listed in ``results/quality/mutation_survivors.csv`` (``mutmut show <name>`` in the scratch
+listed in ``paper/record/mutation_survivors.csv`` (``mutmut show <name>`` in the scratch
 directory prints the diff).
 
 Usage (from the repository root; about 10 min for ``gaussian`` on one shared core, far longer for
@@ -57,8 +57,8 @@ from pathlib import Path
 import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
-OUT = ROOT / "results" / "quality"
-WORK = OUT / "mutmut"
+OUT = ROOT / "paper" / "record"  # the committed record; scratch copies stay under results/quality/
+WORK = ROOT / "results" / "quality" / "mutmut"
 EQUIVALENT = Path(__file__).with_name("equivalent.yaml")
 
 CATALOGUE = "tests/unit/test_bad_input_catalogue.py"

@@ -1,6 +1,6 @@
 # Seed 003 Table 6.1 and Figs 6.1-6.2: two closely spaced OU targets, 10 sensors; MOSPA of the
 # ideal filter, PDAF, MHT (GNNF) and ECMHT. Monte Carlo runs are sharded (vectorised within a shard);
-# the ideal filter's closed form (hypotrack.experiments.closely_spaced_oracle) checks it and finds the
+# the ideal filter's closed form (hypotrack.experiments.closely_spaced.oracle) checks it and finds the
 # convention behind the published ideal value.
 CS_DIR = f"{RESULTS}/closely_spaced"
 CS_SHARDS = range(config["closely_spaced"]["n_shards"])

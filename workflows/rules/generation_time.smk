@@ -27,6 +27,7 @@ rule generation_time_figure:
         pdf=f"{GT_DIR}/generation_time.pdf",
         png=report_figure(f"{GT_DIR}/generation_time.png", "generation_time", "generation_time"),
         claims=f"{GT_DIR}/claims.csv",
+        timing_claims=f"{GT_DIR}/timing_claims.csv",
     params:
         cfg=config["generation_time"],
     script:

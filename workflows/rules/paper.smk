@@ -27,6 +27,7 @@ rule paper_generated:
         table=f"{RESULTS}/paper/generated/claims_table.tex",
         ledger=f"{RESULTS}/paper/ledger.csv",
         ledger_timing=f"{RESULTS}/paper/ledger_timing.csv",
+        run_config=f"{RESULTS}/paper/run_config.json",
     params:
         results=RESULTS,
         config=config,

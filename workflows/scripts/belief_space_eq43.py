@@ -1,8 +1,8 @@
 """Seed 001 Eq. 42-43: one scan after an undetected birth, formulas and engine (thin)."""
 
-from hypotrack.experiments.belief_space import eq43_noise_table, eq43_offsets_table
+from hypotrack.experiments.belief_space.run import eq43_noise_table, eq43_offsets_table
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -1,8 +1,8 @@
 """Seed 001 Sec. V-A: FISST vs HOMHT (and H-FISST) posteriors for a fixed number of targets (thin)."""
 
-from hypotrack.experiments.belief_space import equivalence_table
+from hypotrack.experiments.belief_space.run import equivalence_table
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

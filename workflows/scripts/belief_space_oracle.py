@@ -1,8 +1,8 @@
 """Engine vs the independent oracle of the seeds' densities on small random scans (thin)."""
 
-from hypotrack.experiments.belief_space_oracle import oracle_table
+from hypotrack.experiments.belief_space.oracle import oracle_table
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -1,8 +1,8 @@
 """Seed 001 Eq. 39: undetected-birth weight ratio, formulas and engine, over (p_D, alpha) (thin)."""
 
-from hypotrack.experiments.belief_space import ratio_table
+from hypotrack.experiments.belief_space.run import ratio_table
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

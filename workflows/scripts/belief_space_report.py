@@ -4,12 +4,12 @@ import matplotlib
 matplotlib.use("Agg")
 import pandas as pd
 
-from hypotrack.experiments.belief_space import plot_eq43, plot_equivalence, plot_ratio
-from hypotrack.experiments.belief_space_claims import checks_table, claims_from_checks
-from hypotrack.experiments.belief_space_oracle import oracle_claims
-from hypotrack.report import write_claims
+from hypotrack.experiments.belief_space.run import plot_eq43, plot_equivalence, plot_ratio
+from hypotrack.experiments.belief_space.claims import checks_table, claims_from_checks
+from hypotrack.experiments.belief_space.oracle import oracle_claims
+from hypotrack.reporting.ledger import write_claims
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

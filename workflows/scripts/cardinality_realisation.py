@@ -1,6 +1,6 @@
 """Fig 4.2: one realisation of truth, measured counts, classical MHT and the cardinality tracker."""
 import matplotlib
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 
@@ -8,7 +8,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from hypotrack.experiments.cardinality import cardinality_run, plot_realisation, realisation_tables  # noqa: E402
+from hypotrack.experiments.cardinality.run import cardinality_run, plot_realisation, realisation_tables  # noqa: E402
 from hypotrack.experiments.seeds import experiment_seeds  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
 

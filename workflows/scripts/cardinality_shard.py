@@ -1,9 +1,9 @@
 """Cardinality Monte Carlo, one shard: per-run cardinality errors and Tetris optimality gaps."""
-from hypotrack.experiments.cardinality import cardinality_monte_carlo, monte_carlo_table
-from hypotrack.experiments.ecmht import shard_runs
+from hypotrack.experiments.cardinality.run import cardinality_monte_carlo, monte_carlo_table
+from hypotrack.experiments.swaps.run import shard_runs
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -1,10 +1,10 @@
 """Cardinality Monte Carlo table, Tetris optimality table and the reproduction claims."""
 import pandas as pd
 
-from hypotrack.experiments.cardinality import cardinality_claims, summarise_cardinality
-from hypotrack.report import write_claims
+from hypotrack.experiments.cardinality.run import cardinality_claims, summarise_cardinality
+from hypotrack.reporting.ledger import write_claims
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -1,9 +1,9 @@
 """Figs 6.1-6.2: one realisation's truth and the MHT, PDAF and ECMHT tracks."""
-from hypotrack.experiments.closely_spaced import closely_spaced_realisation, realisation_table
-from hypotrack.experiments.closely_spaced_figures import plot_realisation
+from hypotrack.experiments.closely_spaced.run import closely_spaced_realisation, realisation_table
+from hypotrack.experiments.closely_spaced.figures import plot_realisation
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

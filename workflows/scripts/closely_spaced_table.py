@@ -2,12 +2,12 @@
 the MOSPA-over-time figure and the ledger rows."""
 import pandas as pd
 
-from hypotrack.experiments.closely_spaced import pool_per_scan, summarise_closely_spaced
-from hypotrack.experiments.closely_spaced_claims import closely_spaced_claims, conventions_table
-from hypotrack.experiments.closely_spaced_figures import plot_mospa_vs_scan
-from hypotrack.report import write_claims
+from hypotrack.experiments.closely_spaced.run import pool_per_scan, summarise_closely_spaced
+from hypotrack.experiments.closely_spaced.claims import closely_spaced_claims, conventions_table
+from hypotrack.experiments.closely_spaced.figures import plot_mospa_vs_scan
+from hypotrack.reporting.ledger import write_claims
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

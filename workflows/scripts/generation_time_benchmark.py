@@ -3,9 +3,9 @@ with its ledger row and macros (named *timing*: measured, not byte-reproducible)
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time_difficulty import difficulty_params, exact_top_k_claims, murty_benchmark
-from hypotrack.report import write_claims, write_macros
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.generation_time.difficulty import difficulty_params, exact_top_k_claims, murty_benchmark
+from hypotrack.reporting.ledger import write_claims, write_macros
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 

@@ -2,13 +2,13 @@
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time_difficulty import (
+from hypotrack.experiments.generation_time.difficulty import (
     OUTCOME_COLUMNS,
     TIMING_COLUMNS,
     difficulty_params,
     difficulty_sweep,
 )
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 

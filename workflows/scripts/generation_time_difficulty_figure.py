@@ -2,15 +2,15 @@
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time_difficulty import (
+from hypotrack.experiments.generation_time.difficulty import (
     DIFFICULTY_LABELS,
     difficulty_claims,
     difficulty_params,
     difficulty_summary,
 )
-from hypotrack.experiments.generation_time_figures import plot_difficulty
-from hypotrack.report import write_claims, write_macros
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.generation_time.figures import plot_difficulty
+from hypotrack.reporting.ledger import write_claims, write_macros
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 

@@ -2,8 +2,8 @@
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time import generation_time_sweep
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.generation_time.run import generation_time_sweep
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

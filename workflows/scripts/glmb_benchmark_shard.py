@@ -1,9 +1,9 @@
 """GLMB benchmark, one Monte Carlo shard: per-scan metrics of every named tracker (with run times)."""
-from hypotrack.experiments.ecmht import shard_runs
-from hypotrack.experiments.glmb_benchmark import benchmark_shard
+from hypotrack.experiments.swaps.run import shard_runs
+from hypotrack.experiments.glmb_benchmark.run import benchmark_shard
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 

@@ -1,17 +1,17 @@
 """GLMB benchmark: side-by-side table, curves over time, figure and ledger rows from the shards."""
 import pandas as pd
 
-from hypotrack.experiments.glmb_benchmark import implementation_labels, legend_labels
-from hypotrack.experiments.glmb_benchmark_report import (
+from hypotrack.experiments.glmb_benchmark.run import implementation_labels, legend_labels
+from hypotrack.experiments.glmb_benchmark.summary import (
     benchmark_claims,
     benchmark_macros,
     curves,
     plot_benchmark,
     summary_table,
 )
-from hypotrack.report import write_claims, write_macros
+from hypotrack.reporting.ledger import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 

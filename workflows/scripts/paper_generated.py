@@ -1,13 +1,14 @@
 """Collect claims, the experiments' macros.csv files, the config's settings and figures into
-{results}/paper/generated/ (thin wrapper over hypotrack.report)."""
+{results}/paper/generated/ (thin wrapper over hypotrack.reporting.ledger)."""
 
+import json
 import subprocess
 from pathlib import Path
 
 import sys
 
-from hypotrack.report import (LiteralText, build_paper_inputs, config_macros, is_timing_table, ledger_problems,
-                              read_claims)
+from hypotrack.reporting.ledger import (LiteralText, build_paper_inputs, config_macros, is_timing_table, ledger_problems,
+                                       read_claims, timing_in_text)
 
 commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
                         check=False).stdout.strip()
@@ -23,11 +24,15 @@ claims = build_paper_inputs(
 # Rows from timing claims files (*timing*claims.csv: speed-ups, throughput, run times) go to their own ledger so
 # that ledger.csv is byte-identical for the same config and seed.
 is_timing = [is_timing_table(p) for p in snakemake.input.claims]
-read_claims([p for p, t in zip(snakemake.input.claims, is_timing) if not t]).to_csv(snakemake.output.ledger, index=False)
+ledger = read_claims([p for p, t in zip(snakemake.input.claims, is_timing) if not t])
+ledger.to_csv(snakemake.output.ledger, index=False)
 read_claims([p for p, t in zip(snakemake.input.claims, is_timing) if t]).to_csv(snakemake.output.ledger_timing,
                                                                                   index=False)
+# The config this run computed with: `python -m hypotrack.reporting.record` records only a default run.
+Path(snakemake.output.run_config).write_text(json.dumps(dict(snakemake.params.config), indent=1, sort_keys=True) + "\n")
 # A row without evidence is reported (its experiment must add it); a verdict off the ledger's rules fails the run.
-problems = ledger_problems(claims)
+# A run time quoted in ledger.csv would make two runs of one config and seed differ: it fails the run too.
+problems = ledger_problems(claims) + timing_in_text(ledger)
 for p in problems:
     print(f"paper_generated: ledger: {p}", file=sys.stderr)
 hard = [p for p in problems if "names no evidence" not in p]

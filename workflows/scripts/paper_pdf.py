@@ -1,6 +1,6 @@
-"""Compile the report: paper/ sources, generated inputs and build directory under results (hypotrack.paper)."""
+"""Compile the report: paper/ sources, generated inputs and build directory under results (hypotrack.reporting.paper)."""
 
-from hypotrack.paper import build_pdf
+from hypotrack.reporting.paper import build_pdf
 
 overfull = build_pdf("paper", snakemake.params.inputs, snakemake.params.build, snakemake.output[0],
                      snakemake.log[0])

@@ -2,10 +2,10 @@
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time import throughput_claims
-from hypotrack.experiments.perf_sht import perf_sht_claims
-from hypotrack.report import write_claims
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.generation_time.run import throughput_claims
+from hypotrack.experiments.perf_sht.run import perf_sht_claims
+from hypotrack.reporting.ledger import write_claims
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -1,8 +1,8 @@
 """Hypothesis-engine throughput and memory benchmark (targets: 1e6 MCMC proposals/s, 5e6 children/s)."""
 
-from hypotrack.experiments.generation_time import throughput_table
-from hypotrack.experiments.generation_time_figures import plot_throughput
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.generation_time.run import throughput_table
+from hypotrack.experiments.generation_time.figures import plot_throughput
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

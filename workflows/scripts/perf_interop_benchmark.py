@@ -1,6 +1,6 @@
 """Stone Soup adapter overhead over hypotrack's own API (thin: hypotrack.interop.benchmark)."""
 
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 from hypotrack.interop.benchmark import adapter_overhead, plot_overhead
 
 prefix_output(snakemake)  # every line this job prints names the job

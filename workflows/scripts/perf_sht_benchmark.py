@@ -2,8 +2,8 @@
 
 Stone Soup is a benchmark/test-only dependency that the library never imports, so its side of
 the benchmark (an adapter with the same ``step``/``record`` surface as
-:class:`hypotrack.experiments.perf_sht.HypotrackStepper`) lives here; everything else is in
-:mod:`hypotrack.experiments.perf_sht`. Stone Soup's state order is [x, vx, y, vy].
+:class:`hypotrack.experiments.perf_sht.run.HypotrackStepper`) lives here; everything else is in
+:mod:`hypotrack.experiments.perf_sht.run`. Stone Soup's state order is [x, vx, y, vy].
 """
 import datetime
 import math
@@ -13,7 +13,7 @@ import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
 from hypotrack.trackers._sht_common import gate_tracks, predict_tracks
-from hypotrack.experiments.perf_sht import (
+from hypotrack.experiments.perf_sht.run import (
     BASELINE,
     HypotrackStepper,
     NumpyGNNStepper,
@@ -27,7 +27,7 @@ from hypotrack.experiments.perf_sht import (
     speedup_table,
 )
 from hypotrack.models import ConstantVelocity
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -1,7 +1,7 @@
-"""Cost of input validation (thin: hypotrack.experiments.validation_cost)."""
+"""Cost of input validation (thin: hypotrack.experiments.perf_validation.run)."""
 
-from hypotrack.experiments.joblog import prefix_output
-from hypotrack.experiments.validation_cost import kernel_overhead, plot_validation_cost, tracker_validation_share
+from hypotrack.reporting.joblog import prefix_output
+from hypotrack.experiments.perf_validation.run import kernel_overhead, plot_validation_cost, tracker_validation_share
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -1,8 +1,8 @@
-"""Render the ledger CSV as one HTML page for the Snakemake report (thin wrapper over hypotrack.report)."""
+"""Render the ledger CSV as one HTML page for the Snakemake report (thin wrapper over hypotrack.reporting.ledger)."""
 
 import pandas as pd
-from hypotrack.experiments.joblog import prefix_output
-from hypotrack.report import claims_html
+from hypotrack.reporting.joblog import prefix_output
+from hypotrack.reporting.ledger import claims_html
 
 prefix_output(snakemake)  # every line this job prints names the job
 

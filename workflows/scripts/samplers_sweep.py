@@ -1,11 +1,11 @@
 """Sampler head-to-head: run every sampler on the same problems; tables, figure, ledger rows."""
-from hypotrack.experiments.samplers import samplers_sweep, summarise
-from hypotrack.experiments.samplers_recorded import load_problems
-from hypotrack.experiments.samplers_report import compute_claims, plot_mass, sampler_claims, sampler_macros, time_to_mass
+from hypotrack.experiments.samplers.run import samplers_sweep, summarise
+from hypotrack.experiments.samplers.recorded import load_problems
+from hypotrack.experiments.samplers.summary import compute_claims, plot_mass, sampler_claims, sampler_macros, time_to_mass
 from hypotrack.experiments.seeds import experiment_seeds
-from hypotrack.report import write_claims, write_macros
+from hypotrack.reporting.ledger import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
 

@@ -2,9 +2,9 @@
 
 import pandas as pd
 
-from hypotrack.experiments.joblog import prefix_output
-from hypotrack.experiments.sht import lecture_macros, sht_claims
-from hypotrack.report import write_claims, write_macros
+from hypotrack.reporting.joblog import prefix_output
+from hypotrack.experiments.sht.run import lecture_macros, sht_claims
+from hypotrack.reporting.ledger import write_claims, write_macros
 
 prefix_output(snakemake)  # noqa: F821  every line this job prints names the job
 

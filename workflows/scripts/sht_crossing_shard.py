@@ -2,8 +2,8 @@
 import numpy as np
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.sht import crossing_runs
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.sht.run import crossing_runs
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

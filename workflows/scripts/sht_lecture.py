@@ -3,8 +3,8 @@ import numpy as np
 import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.sht import lecture_hypotheses, lecture_summary
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.sht.run import lecture_hypotheses, lecture_summary
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

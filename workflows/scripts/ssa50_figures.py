@@ -2,7 +2,7 @@
 time, the completion step's measured effect and the reproduction claims."""
 
 import matplotlib
-from hypotrack.experiments.joblog import claims_line, prefix_output
+from hypotrack.reporting.joblog import claims_line, prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 
@@ -10,7 +10,7 @@ matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
 
 from hypotrack.experiments import ssa as st  # noqa: E402
-from hypotrack.report import write_claims, write_macros  # noqa: E402
+from hypotrack.reporting.ledger import write_claims, write_macros  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive

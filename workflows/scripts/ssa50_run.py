@@ -1,7 +1,7 @@
 """Run one tracker (wildcard ``tracker``) over the ssa50 scenario tables; save its per-scan tables."""
 
 from hypotrack.experiments.ssa import run_and_save
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -7,7 +7,7 @@ import matplotlib.pyplot as plt
 import pandas as pd
 
 from hypotrack.scenarios.ssa import params_from_config, plot_scenario, read_prior
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -4,7 +4,7 @@ import time
 
 from hypotrack.scenarios.ssa import prior_table, scenario_from_config
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

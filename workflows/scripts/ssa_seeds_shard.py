@@ -1,7 +1,7 @@
 """One seed of the SSA Monte Carlo: every configured tracker on fresh ssa50 and ssa15 realisations."""
 
-from hypotrack.experiments.joblog import prefix_output
-from hypotrack.experiments.ssa_seeds import run_seed
+from hypotrack.reporting.joblog import prefix_output
+from hypotrack.experiments.ssa_seeds.run import run_seed
 from hypotrack.scenarios.tables import write_table
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive

@@ -6,9 +6,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from hypotrack.experiments.joblog import claims_line, prefix_output  # noqa: E402
-from hypotrack.experiments.ssa_seeds import distribution_table, plot_distributions, ssa_seeds_claims  # noqa: E402
-from hypotrack.report import write_claims  # noqa: E402
+from hypotrack.reporting.joblog import claims_line, prefix_output  # noqa: E402
+from hypotrack.experiments.ssa_seeds.run import distribution_table, plot_distributions, ssa_seeds_claims  # noqa: E402
+from hypotrack.reporting.ledger import write_claims  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
 
 snakemake = globals()["snakemake"]  # injected by Snakemake's script directive

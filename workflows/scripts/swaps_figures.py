@@ -2,10 +2,10 @@
 
 import pandas as pd
 
-from hypotrack.experiments.ecmht import plot_swap_figures, summarise_swaps, swap_claims
-from hypotrack.report import write_claims
+from hypotrack.experiments.swaps.run import plot_swap_figures, summarise_swaps, swap_claims
+from hypotrack.reporting.ledger import write_claims
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

@@ -3,8 +3,8 @@ import numpy as np
 
 from hypotrack.scenarios.tables import write_table
 from hypotrack.experiments.seeds import experiment_seeds
-from hypotrack.experiments.ecmht import shard_runs, swap_shard
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.experiments.swaps.run import shard_runs, swap_shard
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

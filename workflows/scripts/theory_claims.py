@@ -1,8 +1,8 @@
 """Collect the ledger rows the theory notebooks recorded in their findings JSON (thin)."""
 import json
 
-from hypotrack.report import Claim, write_claims
-from hypotrack.experiments.joblog import prefix_output
+from hypotrack.reporting.ledger import Claim, write_claims
+from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job
 

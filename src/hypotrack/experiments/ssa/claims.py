@@ -9,7 +9,7 @@ from dataclasses import replace
 import numpy as np
 import pandas as pd
 
-from ...report import Claim, numeric_claim
+from ...reporting.ledger import Claim, numeric_claim
 from .evaluation import AGREEMENT_TOLERANCE_KM
 from .run import percent_of_run as _percent
 

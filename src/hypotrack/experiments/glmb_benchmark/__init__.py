@@ -1,0 +1,8 @@
+"""The GLMB papers' linear-Gaussian benchmark: δ-GLMB (Gibbs), R-FISST, HOMHT, GM-PHD (rule ``glmb_benchmark``).
+
+Modules
+-------
+run      scenario, trackers and Monte Carlo shards
+gmphd    Stone Soup's GM-PHD on the same scans (the peer baseline)
+summary  the side-by-side table, curves over time, figure, ledger rows and macros
+"""

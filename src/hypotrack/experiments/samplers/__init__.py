@@ -1,0 +1,8 @@
+"""R-FISST's chain vs the GLMB Gibbs sampler vs Murty on identical problems (rule ``samplers``).
+
+Modules
+-------
+run       the sweep over budgets and difficulties on synthetic problems
+recorded  association problems recorded from the GLMB benchmark's scans
+summary   mass captured per budget and wall time: figure, ledger rows, macros
+"""

@@ -1,0 +1,229 @@
+"""SSA verdicts over scenario seeds: ssa50 and ssa15 (seed 000 Sec. IV-A, V-A) as a Monte Carlo.
+
+The ``ssa50`` and ``ssa15`` experiments judge one realisation each; a verdict such as "P(N = 50) at
+the end is 1" or "R-FISST and HOMHT agree at every scan" may be that realisation's luck. This
+experiment draws ``n_seeds`` independent realisations of both scenarios (objects, births, clutter,
+initial hypothesis) and runs the same named trackers on each — R-FISST as the paper's chain alone
+and with this project's completion step, and HOMHT on ssa15 — one shard per seed.
+
+Steps: :func:`seed_scenario` draws realisation ``i``; :func:`run_seed` runs every tracker on both
+cases and reduces each run to one row of :data:`SEED_COLUMNS`; :func:`distribution_table` gives
+the distribution over seeds (quantiles, min, max, mean and standard error);
+:func:`ssa_seeds_claims` states each SSA verdict over seeds with the ledger's Monte Carlo rule
+(:func:`hypotrack.reporting.ledger.monte_carlo_claim`); :func:`plot_distributions` draws them.
+
+Seeds: realisation ``i`` of case ``c`` uses child ``i`` of ``experiment_seeds(seed, "ssa_seeds/c")``
+and tracker ``t`` on it the stream ``"ssa_seeds/c/i/t"``: a seed's result does not depend on how
+many seeds are run.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+
+from ..._validation import check_int
+from ...reporting.ledger import Claim, monte_carlo_claim
+from ...scenarios.ssa import SSAScenario, params_from_config, simulate_ssa
+from ..seeds import experiment_seeds
+from ..ssa import (TrackerSettings, birth_recognition, evaluate_map, make_tracker, map_agreement, run_tracker,
+                  OSPASettings)
+
+__all__ = ["CASES", "METRICS", "SEED_COLUMNS", "distribution_table", "plot_distributions", "run_seed",
+           "seed_scenario", "ssa_seeds_claims", "tracker_settings"]
+
+CASES = ("ssa50", "ssa15")
+SEED_COLUMNS = ["case", "seed_index", "tracker", "label", "n_scans", "n_catalogue_end", "expected_number_end",
+                "expected_number_error", "p_n_end", "births", "births_tracked_end", "birth_latency_mean", "birth_latency_max", "reference",
+                "map_agreement", "ospa_in_view_mean", "ospa_catalogue_mean", "children_per_scan_mean"]
+#: Per-seed metrics summarised over seeds, with their meaning (figure labels).
+METRICS = {
+    "p_n_end": "P(N = true number) at the end",
+    "expected_number_error": "E[N] minus the true number at the end",
+    "births_tracked_end": "births tracked at the end",
+    "birth_latency_mean": "mean scans from first in view to a correct track",
+    "map_agreement": "fraction of scans with the reference's MAP hypothesis",
+    "ospa_in_view_mean": "mean OSPA in view (km)",
+}
+
+
+def seed_scenario(config: Mapping, case: str, index: int) -> SSAScenario:
+    """Realisation ``index`` of SSA ``case`` under the config's ``ssa`` section (its ``n_scans``
+    overridden by ``ssa_seeds.n_scans`` when set)."""
+    if case not in CASES:
+        raise ValueError(f"case must be one of {CASES}, got {case!r}")
+    index = check_int(index, "index", minimum=0)
+    section = dict(config["ssa"])
+    if config["ssa_seeds"].get("n_scans"):
+        section["n_scans"] = config["ssa_seeds"]["n_scans"]
+    params = params_from_config(section, case)
+    return simulate_ssa(params, experiment_seeds(config["seed"], f"ssa_seeds/{case}", index + 1)[index])
+
+
+def tracker_settings(config: Mapping, case: str) -> dict:
+    """The trackers ``ssa_seeds.trackers[case]`` as configured in the ``case`` section, with the
+    MCMC proposals per parent overridden by ``ssa_seeds.n_steps`` when set."""
+    own = config["ssa_seeds"]
+    section = config[case]
+    out = {}
+    for name in own["trackers"][case]:
+        s = TrackerSettings.from_config(section, name)
+        if own.get("n_steps") and s.kind == "rfisst":
+            s = replace(s, n_steps=int(own["n_steps"]))
+        out[name] = s
+    return out
+
+
+def _row(case, index, name, settings, scenario, run, section, reference_map, reference):
+    metrics, matched = evaluate_map(run.map_estimates, scenario, ospa_settings=OSPASettings(**section["ospa"]),
+                                    error_bound_probability=section["error_bound_probability"])
+    births = birth_recognition(matched, scenario)
+    last = int(run.summary["scan"].max())
+    n_end = int(metrics["n_catalogue"].iloc[-1])
+    card = run.cardinality[run.cardinality["scan"] == last]
+    delays = births.loc[births["delay_scans"] >= 0, "delay_scans"]
+    agreement = np.nan
+    if reference_map is not None:
+        agreement = float(map_agreement(run.map_estimates, reference_map, scenario.prior_ids)["agree"].mean())
+    return {
+        "case": case, "seed_index": index, "tracker": name, "label": settings.label, "n_scans": last + 1,
+        "n_catalogue_end": n_end, "expected_number_end": float(run.summary["expected_number"].iloc[-1]),
+        "expected_number_error": float(run.summary["expected_number"].iloc[-1]) - n_end,
+        "p_n_end": float(card.loc[card["n_objects"] == n_end, "probability"].sum()),
+        "births": len(births), "births_tracked_end": int(births["tracked_at_end"].sum()),
+        "birth_latency_mean": float(delays.mean()) if len(delays) else np.nan,
+        "birth_latency_max": float(delays.max()) if len(delays) else np.nan,
+        "reference": reference if reference_map is not None else "", "map_agreement": agreement,
+        "ospa_in_view_mean": float(np.nanmean(metrics["ospa_in_view"])),
+        "ospa_catalogue_mean": float(metrics["ospa_catalogue"].mean()),
+        "children_per_scan_mean": float(run.summary.loc[run.summary["scan"] > 0, "n_children"].mean()),
+    }
+
+
+def _reference(config, case, settings):
+    """ssa15: the configured reference (HOMHT); ssa50: the paper's chain (the first tracker)."""
+    ref = config["ssa_seeds"].get("reference", {}).get(case)
+    return ref if ref in settings else next(iter(settings))
+
+
+def run_seed(config: Mapping, index: int, progress: Callable[[str], None] | None = print):
+    """Every configured tracker on realisation ``index`` of both cases.
+
+    Returns ``(rows, timing)``: one :data:`SEED_COLUMNS` row per case and tracker (deterministic
+    given the config) and ``case, seed_index, tracker, seconds, cpu_seconds``.
+    """
+    rows, timing = [], []
+    for case in config["ssa_seeds"]["trackers"]:
+        scenario = seed_scenario(config, case, index)
+        settings = tracker_settings(config, case)
+        ref = _reference(config, case, settings)
+        runs = {}
+        for name in [ref, *[n for n in settings if n != ref]]:  # the reference first: the others compare
+            s = settings[name]
+            rng = np.random.default_rng(experiment_seeds(config["seed"], f"ssa_seeds/{case}/{index}/{name}", 1)[0])
+            c0, t0 = time.process_time(), time.perf_counter()
+            runs[name] = run_tracker(make_tracker(scenario, s, rng), scenario, name=f"ssa_seeds seed {index} {case} "
+                                     f"{s.label}", progress=progress, n_progress=4)
+            timing.append({"case": case, "seed_index": index, "tracker": name,
+                           "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0})
+        for name, s in settings.items():
+            ref_map = runs[ref].map_estimates if name != ref else None
+            rows.append(_row(case, index, name, s, scenario, runs[name], config[case], ref_map, ref))
+    return pd.DataFrame(rows, columns=SEED_COLUMNS), pd.DataFrame(timing)
+
+
+def distribution_table(per_seed: pd.DataFrame) -> pd.DataFrame:
+    """Per case, tracker and metric of :data:`METRICS` (and the birth latency maximum and OSPA
+    over the catalogue): ``n, mean, se, sd, min, q10, q25, median, q75, q90, max`` over seeds."""
+    metrics = [*METRICS, "expected_number_end", "birth_latency_max", "ospa_catalogue_mean", "children_per_scan_mean"]
+    rows = []
+    for (case, tracker), g in per_seed.groupby(["case", "tracker"], sort=False):
+        for m in metrics:
+            x = g[m].to_numpy(dtype=float)
+            x = x[np.isfinite(x)]
+            if not len(x):
+                continue
+            q = np.quantile(x, [0.1, 0.25, 0.5, 0.75, 0.9])
+            sd = float(x.std(ddof=1)) if len(x) > 1 else np.nan
+            rows.append({"case": case, "tracker": tracker, "label": g["label"].iloc[0], "metric": m, "n": len(x),
+                         "mean": float(x.mean()), "se": sd / np.sqrt(len(x)) if len(x) > 1 else np.nan, "sd": sd,
+                         "min": float(x.min()), "q10": q[0], "q25": q[1], "median": q[2], "q75": q[3], "q90": q[4],
+                         "max": float(x.max())})
+    return pd.DataFrame(rows)
+
+
+def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
+    """Each SSA verdict over seeds (one stated Monte Carlo rule, :func:`monte_carlo_claim`).
+
+    Published values: E[N] at the end equals the true number and the whole weight sits on it
+    (000 Fig. 11, ssa50); R-FISST and HOMHT give the same estimates at every scan (000 Sec. V-A,
+    ssa15). Births tracked are counted over all seeds. With fewer than two seeds a row reports the
+    single value as not decidable.
+    """
+    ex, claims = "ssa_seeds", []
+    per_seed = per_seed.assign(reference=per_seed["reference"].fillna(""))  # "" reads back as NaN
+    names = dict(zip(zip(per_seed["case"], per_seed["tracker"]), per_seed["label"]))
+    for (case, tracker), g in per_seed.groupby(["case", "tracker"], sort=False):
+        label, n, ref = g["label"].iloc[0], len(g), g["reference"].iloc[0]
+        tests = []
+        if case == "ssa50":
+            tests = [("expected_number_end", "E[N] at the end equals the true number", "000 Fig. 11",
+                      g["n_catalogue_end"].mean(), 0.1, "ExpectedEnd"),
+                     ("p_n_end", "P(N = true number) at the end", "000 Fig. 11", 1.0, 0.05, "PEnd")]
+        elif ref:
+            tests = [("map_agreement", f"same MAP hypothesis as {names[(case, ref)]} (fraction of scans)",
+                      "000 Sec. V-A, Figs 12-14", 1.0, 0.01, "Agreement")]
+        key = f"{case}_{tracker}_"
+        for col, item, source, published, tol, k in tests:
+            x = g[col].to_numpy(dtype=float)
+            if n >= 2 and np.isfinite(x).all():
+                claims.append(monte_carlo_claim(ex, f"{case}, {label}: {item}", source, float(published), x,
+                                                abs_tol=tol, digits=4, key=key + k,
+                                                note=f"over {n} scenario seeds; min {x.min():.4g}, median "
+                                                     f"{np.median(x):.4g}, max {x.max():.4g}"))
+            else:
+                claims.append(Claim(ex, f"{case}, {label}: {item}", source, f"{published:.4g}",
+                                    "; ".join(f"{v:.4g}" for v in x), f"+/- {tol:g}", "qualitative",
+                                    f"{n} seed(s): too few for a Monte Carlo verdict", "measurement",
+                                    key=key + k))
+        if g["births"].sum():
+            tracked, total = int(g["births_tracked_end"].sum()), int(g["births"].sum())
+            claims.append(Claim(ex, f"{case}, {label}: every birth tracked at the end", "000 Sec. IV-A",
+                                "all", f"{tracked} of {total} births over {n} seeds", "all",
+                                "reproduced" if tracked == total else "not reproduced",
+                                f"latency (scans from first in view to a correct MAP track): median "
+                                f"{np.nanmedian(g['birth_latency_mean']):.3g}, worst {np.nanmax(g['birth_latency_max']):.3g}",
+                                "published number", key=key + "Births"))
+    return claims
+
+
+def plot_distributions(per_seed: pd.DataFrame, *, title: str):
+    """One panel per metric of :data:`METRICS`: every seed's value (dots) and the box of the
+    quartiles per case and tracker, so the spread over seeds is seen, not only the mean."""
+    import matplotlib.pyplot as plt
+
+    groups = list(per_seed.groupby(["case", "tracker"], sort=False))
+    names = [f"{case}\n{g['label'].iloc[0]}" for (case, _), g in groups]
+    fig, axes = plt.subplots(2, 3, figsize=(13, 7.5))
+    for ax, (metric, what) in zip(axes.flat, METRICS.items()):
+        data = [g[metric].to_numpy(dtype=float) for _, g in groups]
+        pos = [i for i, x in enumerate(data) if np.isfinite(x).any()]
+        if pos:
+            ax.boxplot([data[i][np.isfinite(data[i])] for i in pos], positions=pos, widths=0.5, showfliers=False)
+        for i in pos:
+            x = data[i][np.isfinite(data[i])]
+            jitter = np.linspace(-0.12, 0.12, len(x)) if len(x) > 1 else np.zeros(1)
+            ax.plot(i + jitter, x, "o", ms=3.5, alpha=0.7, color="#2c7bb6")
+        ax.set_xticks(range(len(names)))
+        ax.set_xticklabels(names, fontsize=6.5, rotation=30, ha="right")
+        ax.set_xlim(-0.6, len(names) - 0.4)
+        ax.set_title(what, fontsize=9)
+        ax.grid(alpha=0.3, axis="y")
+    n = per_seed["seed_index"].nunique()
+    fig.suptitle(f"{title}\n{n} scenario seeds; boxes: quartiles, whiskers: 1.5 IQR, dots: one seed each")
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,6 @@
+"""Seed 003 §5: the track-swap experiment, Figs 5.1–5.3 (rule ``swaps``).
+
+Modules
+-------
+run  GNNF vs MHT vs ECMHT on the static pair; swap rates over Monte Carlo runs
+"""

@@ -1,0 +1,10 @@
+"""Reporting: the ledger and its verdict rule, README generation, paper inputs, run timing, job logs.
+
+Modules
+-------
+ledger         claims, the verdict rule, ledger checks and the ledger's LaTeX/Markdown/HTML forms
+readme         the README's generated blocks, from the committed record
+paper          checks and build of the report PDF
+pipeline_time  what a pipeline run cost, from Snakemake's job benchmarks
+joblog         every line a pipeline job prints names the job
+"""

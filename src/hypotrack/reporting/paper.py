@@ -1,0 +1,172 @@
+r"""Checks and build of the reproduction report (``paper/``): no typed result, no silent LaTeX failure.
+
+Two rules keep the report honest:
+
+* **No bare number.** Every digit in ``paper/sections/**/*.tex`` that describes a result comes from a
+  generated macro (``\htval{...}``, see :mod:`hypotrack.reporting.ledger`). :func:`bare_numbers` lists the
+  digits that remain after removing what is allowed: macro arguments, references and citations
+  (``\ref``, ``\label``, ``\cite*``, ``\input``, file names in ``\texttt``/``\htfigure``), the
+  documents' own numbering (``Eq.~39``, ``Figs.~8--11``, ``Table~6.1``, ``Sec.~IV-A``, ``Prop.~1``,
+  ``Algorithm~1``, the document ids ``000``--``004``), display equations (formulas, not results),
+  single digits inside inline math (formula constants such as :math:`1-p_D`), and the text of
+  ``\stated{...}`` (a value the documents state or the reader is told as a definition, never a
+  measurement; use it sparingly).
+* **The build fails loudly.** :func:`latex_log_problems` reads the LaTeX log and reports undefined
+  control sequences (a missing generated macro, named), undefined references and citations, floats
+  too large for their page, and missing generated values.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+__all__ = ["bare_numbers", "build_pdf", "latex_log_problems", "overfull_boxes", "scan_sections"]
+
+_DOC_REF = re.compile(
+    r"(?:Eqs?\.|Figs?\.|Tables?|Secs?\.|Sections?|Prop\.|Propositions?|Algorithms?|Appendix|Lemma|Theorem|"
+    r"Chapter|\\S|§)(?:~|\s)*"
+    r"(?:[0-9IVX]+(?:[.\-][0-9A-Z]+)*(?:\s*(?:--|–|,|and|or|~)\s*)?)+")
+_DOC_ID = re.compile(r"(?<![\d.])00[0-4](?![\d.])")
+_ARG_COMMANDS = ("htval", "ref", "eqref", "label", "cite", "citep", "citet", "citealp", "input", "include",
+                 "texttt", "url", "includegraphics", "stated", "begin", "end", "hspace", "vspace")
+_DISPLAY = re.compile(r"\\begin\{(equation|align|gather|multline|eqnarray)\*?\}.*?\\end\{\1\*?\}", re.S)
+_INLINE_MATH = re.compile(r"\$[^$]*\$")
+_NUMBER = re.compile(r"\d+(?:[.,{}]*\d+)*")
+
+
+def _strip_command_args(text: str, name: str) -> str:
+    r"""Remove ``\name[opt]{arg}`` (balanced braces) from ``text``."""
+    out, i = [], 0
+    pat = re.compile(r"\\" + name + r"\*?(?![A-Za-z])")
+    while True:
+        m = pat.search(text, i)
+        if not m:
+            out.append(text[i:])
+            return "".join(out)
+        out.append(text[i:m.start()])
+        j = m.end()
+        while j < len(text) and text[j] in " \t":
+            j += 1
+        if j < len(text) and text[j] == "[":
+            j = text.index("]", j) + 1
+        if j < len(text) and text[j] == "{":
+            depth = 0
+            for k in range(j, len(text)):
+                depth += {"{": 1, "}": -1}.get(text[k], 0)
+                if depth == 0:
+                    j = k + 1
+                    break
+        out.append(" " + "\n" * text.count("\n", m.start(), j))  # keep line numbers
+        i = j
+
+
+def _strip_htfigure(text: str) -> str:
+    r"""``\htfigure{path}{width}{caption}``: the path and width are not results; keep the caption."""
+    return re.sub(r"\\htfigure\{[^}]*\}\{[^}]*\}", r"\\htfigure", text)
+
+
+def bare_numbers(tex: str) -> list[tuple[int, str]]:
+    """``(line, context)`` for every digit run in ``tex`` outside the allowed contexts (module docstring)."""
+    lines = tex.split("\n")
+    text = "\n".join(re.sub(r"(?<!\\)%.*", "", ln) for ln in lines)  # comments
+    text = _DISPLAY.sub(lambda m: "\n" * m.group(0).count("\n"), text)
+    text = _strip_htfigure(text)
+    for name in _ARG_COMMANDS:
+        text = _strip_command_args(text, name)
+    text = re.sub(r"\\S~?\s*\d+(?:\.\d+)*", " ", text)  # \S5: a section sign with its number
+    text = re.sub(r"\\[A-Za-z]+", " ", text)  # remaining command names (\textbf, \linewidth, ...)
+
+    def math(m):
+        # digits in inline math: single-digit formula constants (1-p_D, 6/\pi) and ^/_ indices are allowed
+        body = re.sub(r"[\^_]\{?\d+\}?", " ", m.group(0))
+        return re.sub(r"(?<![\d.])\d(?!\.?\d|\{,\}\d)", " ", body)
+
+    text = _INLINE_MATH.sub(math, text)
+    text = _DOC_REF.sub(" ", text)
+    text = _DOC_ID.sub(" ", text)
+    hits = []
+    for no, line in enumerate(text.split("\n"), 1):
+        for m in _NUMBER.finditer(line):
+            hits.append((no, lines[no - 1].strip()[:160] if no <= len(lines) else m.group(0)))
+    return hits
+
+
+def scan_sections(sections_dir) -> dict[str, list[tuple[int, str]]]:
+    """:func:`bare_numbers` of every ``.tex`` file under ``sections_dir`` (relative path -> hits)."""
+    root = Path(sections_dir)
+    found = {}
+    for path in sorted(root.rglob("*.tex")):
+        hits = bare_numbers(path.read_text())
+        if hits:
+            found[str(path.relative_to(root))] = hits
+    return found
+
+
+def overfull_boxes(log: str) -> list[str]:
+    """The ``Overfull \\hbox``/``\\vbox`` lines of a LaTeX log."""
+    return re.findall(r"^Overfull \\[hv]box .*$", log, re.M)
+
+
+def latex_log_problems(log: str) -> list[str]:
+    """Problems that must fail the paper build, each a sentence naming its cause.
+
+    LaTeX errors (a missing generated macro by name, an undefined control sequence, any other ``!``
+    error) come first; when there are none, undefined references and citations and floats too large
+    for their page (which are only meaningful after a complete run).
+    """
+    problems = []
+    for m in re.finditer(r"^! (.*)$", log, re.M):
+        msg = m.group(1)
+        missing = re.match(r"Package hypotrack Error: generated value (\w+) is missing", msg)
+        figure = re.match(r"Package hypotrack Error: figure (\S+) was not generated", msg)
+        if missing:
+            problems.append(f"generated macro \\{missing.group(1)} is missing (no claim or macros.csv row defines it)")
+        elif figure:
+            problems.append(f"figure {figure.group(1)} was not generated (no rule wrote it)")
+        elif msg.startswith("Undefined control sequence"):
+            cs = re.match(r"l\.\d+ .*?(\\[A-Za-z@]+)\s*$", log[m.end():].lstrip("\n").split("\n", 1)[0])
+            problems.append(f"undefined control sequence {cs.group(1) if cs else '(see the log)'}")
+        else:
+            problems.append(f"LaTeX error: {msg}")
+    if not problems:
+        for m in re.finditer(r"LaTeX Warning: Reference `([^']+)' on page \d+ undefined", log):
+            problems.append(f"undefined reference {m.group(1)}")
+        for m in re.finditer(r"(?:LaTeX|Package natbib) Warning: Citation `([^']+)' on page \d+ undefined", log):
+            problems.append(f"undefined citation {m.group(1)}")
+    for m in re.finditer(r"LaTeX Warning: Float too large for page by ([\d.]+pt) on input line (\d+)", log):
+        problems.append(f"float too large for its page by {m.group(1)} (input line {m.group(2)})")
+    return list(dict.fromkeys(problems))
+
+
+def build_pdf(source_dir, inputs_dir, build_dir, pdf, log) -> list[str]:
+    """Compile ``<source_dir>/ms.tex`` into ``pdf``; return the overfull-box lines, raise on a problem.
+
+    The sources stay where they are: latexmk runs in ``source_dir`` with ``-outdir=build_dir``, and
+    ``generated/...`` (macros, ledger table, figures) is found under ``inputs_dir`` through
+    ``TEXINPUTS``; nothing is written into the source tree. Any path may be relative or absolute.
+    Raises ``RuntimeError`` listing :func:`latex_log_problems` (a missing macro by name, an undefined
+    reference or citation, a float too large for its page) or LaTeX's own failure.
+    """
+    import os
+    import shutil
+    import subprocess
+
+    source_dir, inputs_dir, build_dir = (Path(p).resolve() for p in (source_dir, inputs_dir, build_dir))
+    build_dir.mkdir(parents=True, exist_ok=True)
+    env = dict(os.environ, TEXINPUTS=f".{os.pathsep}{inputs_dir}{os.pathsep}",
+               BIBINPUTS=f"{source_dir}{os.pathsep}", max_print_line="100000")  # unwrapped log lines
+    cmd = ["latexmk", "-pdf", "-interaction=nonstopmode", f"-outdir={build_dir}", "ms.tex"]
+    with open(log, "w") as out:
+        run = subprocess.run(cmd, cwd=source_dir, env=env, stdout=out, stderr=subprocess.STDOUT, check=False)
+    tex_log = (build_dir / "ms.log").read_text(errors="replace") if (build_dir / "ms.log").exists() else ""
+    problems = latex_log_problems(tex_log)
+    overfull = overfull_boxes(tex_log)
+    with open(log, "a") as out:
+        out.write(f"\nhypotrack: {len(overfull)} overfull boxes; problems: {problems or 'none'}\n")
+    if problems or run.returncode != 0:
+        raise RuntimeError(f"paper build failed ({build_dir / 'ms.log'}): "
+                           + ("; ".join(problems) if problems else f"latexmk exited with {run.returncode}"))
+    Path(pdf).parent.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(build_dir / "ms.pdf", pdf)
+    return overfull

@@ -1,0 +1,77 @@
+"""The committed record of the default run (paper/record/) is written only by its explicit step."""
+
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pytest
+import yaml
+
+from hypotrack.reporting import readme as readme_mod
+from hypotrack.reporting.record import FILES, RECORD, config_differences, default_config, update_record
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _fake_run(tmp_path: Path, config: dict) -> Path:
+    """A finished run's paper/ folder: the committed record's tables and the given config."""
+    paper = tmp_path / "results" / "paper"
+    paper.mkdir(parents=True)
+    for name in ("ledger.csv", "ledger_timing.csv", "pipeline_timing.csv"):
+        shutil.copyfile(RECORD / name, paper / name)
+    (paper / "run_config.json").write_text(json.dumps(config))
+    return tmp_path / "results"
+
+
+def _quick_config() -> dict:
+    default = yaml.safe_load((ROOT / "workflows/config/default.yaml").read_text())
+    quick = yaml.safe_load((ROOT / "workflows/config/quick.yaml").read_text())
+    for key, value in quick.items():  # Snakemake merges a --configfile over the default, section by section
+        default[key] = {**default[key], **value} if isinstance(value, dict) and isinstance(default.get(key), dict) else value
+    return default
+
+
+def test_the_record_refuses_a_quick_run_and_names_what_differs(tmp_path):
+    results = _fake_run(tmp_path, _quick_config())
+    readme = tmp_path / "README.md"
+    shutil.copyfile(ROOT / "README.md", readme)
+    with pytest.raises(ValueError, match=r"not workflows/config/default.yaml \(differs at belief_space\.eq43\.n_offsets, .*cardinality\.n_runs"):
+        update_record(results, record=tmp_path / "record", readme=readme)
+    assert not (tmp_path / "record").exists()
+    assert readme.read_text() == (ROOT / "README.md").read_text()
+
+
+def test_the_record_takes_a_default_run_wherever_it_wrote(tmp_path):
+    config = {**default_config(), "results": "/scratch/elsewhere"}
+    results = _fake_run(tmp_path, config)
+    readme = tmp_path / "README.md"
+    readme.write_text((ROOT / "README.md").read_text().replace("**57 reproduced**", "**0 reproduced**"))
+    written = update_record(results, record=tmp_path / "record", readme=readme)
+    assert sorted(p.name for p in written) == sorted([*FILES, "README.md"])
+    for name in ("ledger.csv", "ledger_timing.csv", "pipeline_timing.csv"):
+        assert (tmp_path / "record" / name).read_bytes() == (RECORD / name).read_bytes()
+    # the README is regenerated from the new record: equal to the committed README's generated text
+    assert readme_mod.check_readme(readme, tmp_path / "record" / "ledger.csv") is None
+
+
+def test_an_unfinished_run_is_not_recorded(tmp_path):
+    (tmp_path / "results" / "paper").mkdir(parents=True)
+    with pytest.raises(FileNotFoundError, match="ledger.csv"):
+        update_record(tmp_path / "results", record=tmp_path / "record", readme=tmp_path / "README.md")
+
+
+def test_config_differences_are_dotted_keys():
+    assert config_differences({"a": {"b": 1, "c": 2}, "d": 3}, {"a": {"b": 1, "c": 5}, "d": 3, "e": 1}) == ["a.c", "e"]
+    assert config_differences({"a": {"b": [1, 2]}}, {"a": {"b": [1, 2]}}) == []
+
+
+def test_the_record_holds_a_default_run():
+    """The committed record's run_config.json is the default config (when a record with it is committed)."""
+    path = RECORD / "run_config.json"
+    if not path.exists():
+        pytest.skip("record made before run_config.json was written")
+    from hypotrack.reporting.record import comparable
+
+    assert config_differences(comparable(json.loads(path.read_text())), comparable(default_config())) == []

@@ -3,6 +3,8 @@
 from dataclasses import asdict
 
 import pandas as pd
+import math
+
 import pytest
 
 from hypotrack.reporting.ledger import (
@@ -58,31 +60,89 @@ def test_latex_helpers():
 
 
 def test_monte_carlo_rule_hand_computed():
-    from hypotrack.reporting.ledger import monte_carlo_claim, monte_carlo_verdict
+    """The equivalence rule on numbers worked by hand (q: t quantile at 99.73 %, 4.0942 for 9 d.o.f.)."""
+    from hypotrack.reporting.ledger import monte_carlo_claim
+    from hypotrack.reporting.verdict import interval_quantile, monte_carlo_verdict
 
-    # samples 1, 2, 3, 4: mean 2.5, sd sqrt(5/3), se = sqrt(5/3)/2 = 0.6455; published 0.5 -> z = 3.098
-    c = monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=1.0)
-    assert (c.n, c.mean, c.se, c.z) == ("4", "2.5", "0.645", "3.10")
-    assert c.status == "inconclusive"  # 4 runs < MIN_RUNS: no verdict whatever z is
-    # the same mean and s.e. from ten runs decide by the rule
-    ten = dict(n=10, mean=2.5, se=0.6455)
-    assert monte_carlo_claim("e", "i", "s", 0.5, abs_tol=1.0, **ten).status == "not reproduced"  # |2.5 - 0.5| > 1
-    assert monte_carlo_claim("e", "i", "s", 0.5, abs_tol=2.0, **ten).status == "systematic offset"
-    assert monte_carlo_claim("e", "i", "s", 0.6, abs_tol=0.0, **ten).status == "reproduced"  # z = 2.94
-    assert monte_carlo_verdict(2.5, 0.6455, 0.6, 0.0, n=9)[1] == "inconclusive"
-    # the rule at its boundary, and the relative tolerance
-    assert monte_carlo_verdict(1.375, 0.125, 1.0, 0.0) == (3.0, "reproduced")  # exact binary values
-    assert monte_carlo_verdict(1.5, 0.125, 1.0, 0.5)[1] == "systematic offset"
-    assert monte_carlo_verdict(1.5, 0.125, 1.0, 0.25)[1] == "not reproduced"
-    assert monte_carlo_claim("e", "i", "s", 1.0, n=100, mean=1.09, se=0.01, rel_tol=0.1).status == "systematic offset"
-    assert monte_carlo_claim("e", "i", "s", 1.0, n=100, mean=1.11, se=0.01, rel_tol=0.1).status == "not reproduced"
-    assert monte_carlo_verdict(2.0, 0.0, 2.0, 0.0) == (0.0, "reproduced")
+    assert interval_quantile(10) == pytest.approx(4.0942, abs=1e-4)
+    assert interval_quantile(None) == 3.0 and interval_quantile(10**6) == pytest.approx(3.0, abs=1e-4)
+    # ssa15 MAP agreement over 10 seeds, 0.899 +/- 0.067 against 1 +/- 0.01: the interval 0.899 +/- 0.274
+    # straddles 0.99 -> inconclusive (|z| = 1.5 would have said "reproduced"); to clear 1 - 0.01 by
+    # 0.091 takes n = (3 * 0.067 * sqrt(10) / 0.091)^2 = 48.8 -> 49 runs
+    v = monte_carlo_verdict(0.899, 0.067, 1.0, 0.01, n=10)
+    assert v.status == "inconclusive" and v.runs_to_decide == 49
+    assert (v.low, v.high) == pytest.approx((0.899 - 4.0942 * 0.067, 0.899 + 4.0942 * 0.067), abs=1e-4)
+    # ssa50 E[N] 50.064 +/- 0.008 against 50 +/- 0.1: interval 50.039 to 50.089 inside -> reproduced
+    # (z = 8, which the old rule called a systematic offset)
+    v = monte_carlo_verdict(50.064, 0.008, 50.0, 0.1, n=100)
+    assert v.status == "reproduced" and v.z == pytest.approx(8.0)
+    # wholly outside: 1.5 +/- 0.0125 * 3 against 1 +/- 0.25 -> not reproduced
+    assert monte_carlo_verdict(1.5, 0.0125, 1.0, 0.25).status == "not reproduced"
+    # touching the edge counts as inside: 1.375 + 3 * 0.125 = 1.75 = 1 + 0.75
+    assert monte_carlo_verdict(1.375, 0.125, 1.0, 0.75).status == "reproduced"
+    assert monte_carlo_verdict(1.375, 0.125, 1.0, 0.7).status == "inconclusive"
+    # a zero tolerance never reproduces a noisy mean, but does an exact one
+    assert monte_carlo_verdict(1.0, 0.1, 1.0, 0.0, n=50).status == "inconclusive"
+    assert monte_carlo_verdict(2.0, 0.0, 2.0, 0.0) == (0.0, "reproduced", 2.0, 2.0, None)
+    # the published number's own Monte Carlo error: sd = 0.0002 * sqrt(2000) = 0.00894; over 10 published runs
+    # its s.e. 0.00283 dominates -> interval +/- 3.004 * 0.00283 = 0.0085 is wider than 10 % of 0.0363
+    v = monte_carlo_verdict(0.0345, 0.0002, 0.0363, 0.00363, n=2000, published_runs=10)
+    assert v.status == "inconclusive" and v.runs_to_decide == math.inf
+    assert monte_carlo_verdict(0.0345, 0.0002, 0.0363, 0.00363, n=2000).status == "reproduced"
     with pytest.raises(ValueError, match="se must be"):
         monte_carlo_verdict(1.0, -1.0, 1.0, 0.1)
+    with pytest.raises(ValueError, match="published_runs must be >= 1"):
+        monte_carlo_verdict(1.0, 0.1, 1.0, 0.1, n=5, published_runs=0)
+    # samples 1, 2, 3, 4: mean 2.5, se = sqrt(5/3)/2 = 0.6455; q(3 d.o.f.) = 9.2187 -> +/- 5.95
+    c = monte_carlo_claim("e", "i", "s", 0.5, [1, 2, 3, 4], abs_tol=1.0)
+    assert (c.n, c.mean, c.se, c.z, c.status) == ("4", "2.5", "0.645", "3.10", "inconclusive")
+    assert c.tolerance == "99.73 % interval within +/- 1" and "runs would decide it" in c.note
+    assert monte_carlo_claim("e", "i", "s", 1.0, n=100, mean=1.05, se=0.01, rel_tol=0.1).status == "reproduced"
+    assert monte_carlo_claim("e", "i", "s", 1.0, n=100, mean=1.2, se=0.01, rel_tol=0.1).status == "not reproduced"
     with pytest.raises(ValueError, match="samples, or all of n"):
         monte_carlo_claim("e", "i", "s", 1.0, n=10, mean=1.0, rel_tol=0.1)
     with pytest.raises(ValueError, match="evidence must be one of"):
         Claim("a", "b", "c", "d", "e", "f", "reproduced", evidence="vibes")
+
+
+def test_controls_demote_a_check_without_power():
+    from hypotrack.reporting.ledger import ledger_problems
+    from hypotrack.reporting.verdict import control_text, parse_control, with_control
+
+    row = numeric_claim("ssa15", "no red stars at the snapshots", "000", 15, 15, abs_tol=0, key="stars")
+    blind = with_control(row, "blind tracker (prediction only)", "15/15 correct", passes=True)
+    assert blind.status == "uninformative" and blind.control.endswith("-> also passes")
+    kept = with_control(row, "blind tracker (prediction only)", "71 of 720 scans wrong", passes=False)
+    assert kept.status == "reproduced" and parse_control(kept.control) == (
+        "blind tracker (prediction only)", "71 of 720 scans wrong", False)
+    bad = numeric_claim("x", "y", "z", 1.0, 2.0, abs_tol=0)
+    assert with_control(bad, "c", "v", passes=True).status == "not reproduced"  # only passing checks demote
+    with pytest.raises(ValueError, match="what must name the control"):
+        control_text("a: b", "v", False)
+    frame = pd.DataFrame([{**asdict_claim(c), "evidence": "brute force"} for c in (row, blind, kept)])
+    problems = ledger_problems(frame)
+    assert problems == ["ssa15: 'no red stars at the snapshots' is 'reproduced' and names no negative control yet"]
+    frame.loc[1, "status"] = "reproduced"  # a passing control cannot stand behind "reproduced"
+    assert "its control also passes" in ledger_problems(frame)[1]
+
+
+def test_one_claim_gets_one_verdict():
+    from hypotrack.reporting.ledger import ledger_problems, monte_carlo_claim
+    from hypotrack.reporting.verdict import with_control
+
+    seeds = with_control(monte_carlo_claim("ssa_seeds", "P(N = 50)", "000", 1.0, n=10, mean=0.93, se=0.03,
+                                           abs_tol=0.05, claim="000:PN50"), "c", "v", passes=False)
+    single = numeric_claim("ssa50", "P(N = 50)", "000", 1.0, 0.931, abs_tol=0.05)
+    frame = pd.DataFrame([asdict_claim(seeds), {**asdict_claim(single), "claim": "000:PN50"}])
+    assert any("claim '000:PN50' has 2 rows with a verdict" in p for p in ledger_problems(frame))
+    frame.loc[1, "status"] = "illustration"
+    assert not any("000:PN50" in p for p in ledger_problems(frame))
+
+
+def asdict_claim(c):
+    from dataclasses import asdict
+
+    return asdict(c)
 
 
 def test_stable_keys_name_macros_and_collisions_fail(tmp_path):
@@ -97,7 +157,7 @@ def test_stable_keys_name_macros_and_collisions_fail(tmp_path):
     # the item text (with its config values) does not reach the name; digits in keys become letters
     assert values["htGenerationTimeRfisstReachRep"] == "1e+165" and "htCloselySpacedMospaIdealZ" in values
     assert values["htCloselySpacedMospaIdealZ"] == "-9.00" and values["htCloselySpacedMospaIdealN"] == "1000"
-    assert values["htCloselySpacedMospaIdealStatus"] == "systematic offset"
+    assert values["htCloselySpacedMospaIdealStatus"] == "reproduced"  # 0.0345 +/- 3.004 * 0.0002 within 10 %
     assert not any("MEM" in k or "BAA" in k for k in values)
     with pytest.raises(ValueError, match="key must be"):
         numeric_claim("x", "y", "z", 1.0, 1.0, abs_tol=0, key="M = 100")
@@ -153,20 +213,24 @@ def test_monte_carlo_measurement_without_published_value():
 def test_ledger_rules_catch_missing_evidence_and_a_verdict_off_the_rule(tmp_path):
     from hypotrack.reporting.ledger import ledger_problems, monte_carlo_claim
 
-    rows = [monte_carlo_claim("closely_spaced", "ideal", "003", 0.0363, n=2000, mean=0.0345, se=0.0002, rel_tol=0.1),
+    from hypotrack.reporting.verdict import with_control
+
+    rows = [with_control(monte_carlo_claim("closely_spaced", "ideal", "003", 0.0363, n=2000, mean=0.0345, se=0.0002,
+                                           rel_tol=0.1), "blind filter (prediction only)", "0.36", passes=False),
             monte_carlo_claim("sht", "loss", "extension", None, n=200, mean=0.2, se=0.03),
-            numeric_claim("theory", "A(10, 5)", "000 Eq. 4", 63591, 63591, abs_tol=0, evidence="brute force")]
+            with_control(numeric_claim("theory", "A(10, 5)", "000 Eq. 4", 63591, 63591, abs_tol=0,
+                                       evidence="brute force"), "the count without n!", "638", passes=False)]
     write_claims(rows, tmp_path / "ledger.csv")
     ledger = read_claims([tmp_path / "ledger.csv"])
     assert ledger_problems(ledger) == []
-    # z = -9 and |diff| = 0.0018 <= 10 % of 0.0363: systematic offset; a ledger saying "reproduced" is caught
+    # interval 0.0339 to 0.0351 inside 0.0363 +/- 10 %: reproduced; a ledger saying "not reproduced" is caught
     edited = ledger.copy()
-    edited.loc[0, "status"] = "reproduced"
-    assert ledger_problems(edited) == ["closely_spaced: 'ideal': status 'reproduced' but the Monte Carlo rule "
-                                       "gives 'systematic offset'"]
-    # with a 4 % tolerance (0.00145 < 0.0018) the same numbers are not reproduced
-    edited.loc[0, "tolerance"] = "|z| <= 3 or 4 %"
-    assert "gives 'not reproduced'" in ledger_problems(edited)[0]
+    edited.loc[0, "status"] = "not reproduced"
+    assert ledger_problems(edited)[0] == ("closely_spaced: 'ideal': status 'not reproduced' but the Monte Carlo "
+                                          "rule gives 'reproduced'")
+    # with a 4 % tolerance (0.0363 - 0.00145 = 0.03485 inside the interval) the same numbers are inconclusive
+    edited.loc[0, "tolerance"] = "99.73 % interval within 4 %"
+    assert "gives 'inconclusive'" in ledger_problems(edited)[0]
     edited = ledger.copy()
     edited.loc[2, "evidence"] = ""
     edited.loc[1, "se"] = ""
@@ -219,8 +283,8 @@ def test_every_status_has_one_colour_in_both_ledgers():
                          for k, s in enumerate(STATUSES)])
     page = claims_html(rows)
     assert all(f"background-color: {html}" in page for _, html in STATUS_COLOURS.values())  # each status styled
-    assert "systematic offset: 1" in page and "inconclusive: 1" in page
-    assert r"\textcolor{BurntOrange}{\textbf{systematic offset}}" in claims_table_tex(rows)
+    assert "uninformative: 1" in page and "inconclusive: 1" in page
+    assert r"\textcolor{BurntOrange}{\textbf{uninformative}}" in claims_table_tex(rows)
 
 
 def test_timing_in_text_finds_run_times_and_nothing_else():

@@ -61,6 +61,7 @@ rule ssa15_figures:
         timing_macros=f"{SSA15_DIR}/timing_macros.csv",
     params:
         section=config["ssa15"],
+        seed_trackers=config["ssa_seeds"]["trackers"]["ssa15"],
     script:
         "../scripts/ssa15_figures.py"
 

@@ -61,6 +61,7 @@ rule ssa50_figures:
         timing_macros=f"{SSA50_DIR}/timing_macros.csv",
     params:
         section=config["ssa50"],
+        seed_trackers=config["ssa_seeds"]["trackers"]["ssa50"],
     script:
         "../scripts/ssa50_figures.py"
 

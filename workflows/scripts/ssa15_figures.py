@@ -62,5 +62,6 @@ write_macros("ssa15", macros, out.macros)
 write_macros("ssa15", timing_macros, out.timing_macros)
 write_claims(timing_claims, out.timing_claims)
 claims = st.ssa15_claims(metrics, agreements, matched, estimate_scans=snapshot_scans, n_scans=K,
-                         error_bound_probability=sec["error_bound_probability"], labels=labels) + extra
+                         error_bound_probability=sec["error_bound_probability"], labels=labels)
+claims = st.one_verdict(claims, "ssa15", paper_pair[0], seed_trackers=snakemake.params.seed_trackers) + extra
 print(claims_line(write_claims(claims, out.claims), out.claims), flush=True)

@@ -31,6 +31,8 @@ for tr in settings:
                           estimate_scans=estimate_scans, n_scans=K,
                           error_bound_probability=sec["error_bound_probability"], tracker=labels[tr],
                           per_object_death=settings[tr].kind == "glmb")
+    own = st.one_verdict(own, "ssa50", tr, seed_trackers=snakemake.params.seed_trackers,
+                         extension=settings[tr].kind == "glmb")  # one verdict per claim; GLMB: not 000's method
     # every row names its tracker; the primary tracker's keys stay unprefixed (the paper quotes them)
     claims += st.labelled(own, labels[tr], "" if tr == primary else f"{tr}_")
 all_metrics = pd.concat([m.assign(tracker=tr) for tr, m in metrics.items()], ignore_index=True)

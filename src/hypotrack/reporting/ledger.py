@@ -7,12 +7,18 @@ union of those files, so no number in the paper is typed by hand.
 Status vocabulary
 -----------------
 ``reproduced``         measured value within the stated tolerance of the published one (Monte Carlo:
-                       within three standard errors, see :func:`monte_carlo_claim`);
-``systematic offset``  Monte Carlo only: more than three standard errors away, but within the stated
-                       reconstruction tolerance (the difference is real, not noise, and small);
-``not reproduced``     outside it (the note gives the measured value's likely cause);
-``qualitative``        the paper states a shape or ordering, checked as such;
-``extension``          a result beyond the papers (no published value);
+                       the row's whole 99.73 % interval inside it, :mod:`.verdict`), and a negative
+                       control (``control`` column) *fails* the same check;
+``not reproduced``     outside it (Monte Carlo: the whole interval outside); the note gives the likely cause;
+``inconclusive``       Monte Carlo only: the interval straddles the tolerance's edge (the note says how
+                       many runs would decide);
+``uninformative``      the check passed, but so did its negative control: it cannot tell the method
+                       from a broken one, so it is no evidence either way;
+``qualitative``        the paper states a shape or ordering, checked as such (with a failing control);
+``extension``          a result beyond the papers (no published value), or a paper's claim tested
+                       beyond the problem it was made on;
+``illustration``       one realisation shown for a claim whose verdict is taken over many (the row
+                       names the verdict row in its note); it carries no verdict of its own;
 ``consistency check``  the implementation agrees with the formula it implements: evidence of type
                        *identity of the implementation*, which never counts as a reproduction (the
                        reproduction, if any, is a separate row with independent evidence).
@@ -42,10 +48,11 @@ Values such as ``3e-14`` are typeset as :math:`3\times10^{-14}` (:func:`latex_va
 
 The Monte Carlo rule (one rule for every Monte Carlo row)
 ---------------------------------------------------------
-With n runs, mean x̄, standard error s = sd/√n and published value p, z = (x̄ − p)/s:
-*reproduced* when |z| ≤ 3; *systematic offset* when |z| > 3 and |x̄ − p| ≤ the stated
-reconstruction tolerance; *not reproduced* otherwise. With fewer than :data:`MIN_RUNS` runs the standard
-error is itself too uncertain for z to mean anything: such a row is *inconclusive* whatever z is.
+An equivalence test (:func:`hypotrack.reporting.verdict.monte_carlo_verdict`): with n runs, mean x̄
+and standard error s, the interval x̄ ± q·s (q the t quantile of n − 1 d.o.f. at 99.73 %, 3 for
+large n; the published number's own Monte Carlo error added when it is an estimate over a known
+number of runs) must lie wholly inside published ± tolerance to *reproduce*, wholly outside to be
+*not reproduced*; otherwise the row is *inconclusive*. z = (x̄ − p)/s is reported for reference.
 """
 
 from __future__ import annotations
@@ -57,15 +64,19 @@ from pathlib import Path
 
 import pandas as pd
 
+from .verdict import monte_carlo_verdict
+
 __all__ = [
     "CLAIM_COLUMNS",
     "EVIDENCE",
     "MACRO_COLUMNS",
     "OPTIONAL_COLUMNS",
     "STATUSES",
-    "Z_THRESHOLD",
-    "MIN_RUNS",
+    "STATUS_MEANING",
+    "NEEDS_CONTROL",
+    "VERDICT_STATUSES",
     "Claim",
+    "tolerance_text",
     "LiteralText",
     "build_paper_inputs",
     "claim_macros",
@@ -90,17 +101,29 @@ __all__ = [
 ]
 
 CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tolerance", "status", "evidence",
-                 "n", "mean", "se", "z", "note", "key"]
+                 "n", "mean", "se", "z", "note", "key", "control", "claim"]
 #: Columns a claims file may lack (written before the column existed); read as empty.
-OPTIONAL_COLUMNS = ("key",)
+OPTIONAL_COLUMNS = ("key", "control", "claim")
 MACRO_COLUMNS = ["experiment", "name", "value"]
 _KEY = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
-STATUSES = ("reproduced", "systematic offset", "not reproduced", "inconclusive", "qualitative", "extension",
+STATUSES = ("reproduced", "not reproduced", "inconclusive", "uninformative", "qualitative", "extension", "illustration",
             "consistency check")
 EVIDENCE = ("published number", "independent oracle", "brute force", "peer implementation",
             "identity of the implementation", "measurement")
-Z_THRESHOLD = 3.0
-MIN_RUNS = 10  # below this a sample standard deviation is too uncertain to judge |z| (t with < 9 d.o.f.)
+#: One sentence per status (the README and the report define every status with these).
+STATUS_MEANING = {
+    "reproduced": "the measured value is within the stated tolerance of the published one (Monte Carlo: the whole "
+                  "99.73 % interval is inside it) and a negative control fails the same check",
+    "not reproduced": "the measured value (Monte Carlo: its whole interval) is outside the tolerance",
+    "inconclusive": "the Monte Carlo interval straddles the tolerance's edge; the note says how many runs would decide",
+    "uninformative": "the check passed, but so did its negative control, so it cannot tell the method from a broken one",
+    "qualitative": "a shape or ordering the document states, checked as such, with a control that fails it",
+    "extension": "a result beyond the documents, or a document's claim tested beyond its own problem",
+    "illustration": "one realisation of a claim whose verdict is taken over many runs (no verdict of its own)",
+    "consistency check": "the code agrees with the formula it implements (shares the code path: never a reproduction)",
+}
+VERDICT_STATUSES = ("reproduced", "not reproduced", "inconclusive", "uninformative", "qualitative")
+NEEDS_CONTROL = ("reproduced", "qualitative")  # statuses that claim power: a control must fail them
 
 
 @dataclass(frozen=True)
@@ -121,6 +144,8 @@ class Claim:
     se: str = ""
     z: str = ""
     key: str = ""
+    control: str = ""  # what ran as a negative control, its value, and whether it fails (verdict.control_text)
+    claim: str = ""  # the published claim this row decides, shared by rows measuring one claim in two ways
 
     def __post_init__(self):
         if self.key and not _KEY.fullmatch(self.key):
@@ -129,6 +154,10 @@ class Claim:
             raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
         if self.evidence and self.evidence not in EVIDENCE:
             raise ValueError(f"evidence must be one of {EVIDENCE}, got {self.evidence!r}")
+        if self.control:
+            from .verdict import parse_control
+
+            parse_control(self.control)
 
 
 def _fmt(value, digits: int) -> str:
@@ -160,40 +189,15 @@ def numeric_claim(experiment, item, source, published, reproduced, *, rel_tol=No
                  "reproduced" if ok else "not reproduced", note, evidence, key=key)
 
 
-def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: float,
-                        n: int | None = None) -> tuple[float, str]:
-    """``(z, status)`` by the ledger's one Monte Carlo rule (module docstring).
-
-    ``tolerance`` is the stated reconstruction tolerance, absolute, in the units of ``mean``.
-    A zero standard error gives z = 0 when the mean equals the published value, else ±inf.
-    With ``n`` below :data:`MIN_RUNS` the status is *inconclusive* (z is still returned).
-    """
-    for name, v in (("mean", mean), ("published", published)):
-        if not math.isfinite(v):
-            raise ValueError(f"{name} must be finite, got {v!r}")
-    if not (se >= 0 and math.isfinite(se)):
-        raise ValueError(f"se must be finite and >= 0, got {se!r}")
-    if not tolerance >= 0:
-        raise ValueError(f"tolerance must be >= 0, got {tolerance!r}")
-    diff = mean - published
-    z = diff / se if se > 0 else (0.0 if diff == 0 else math.copysign(math.inf, diff))
-    if n is not None and int(n) < MIN_RUNS:
-        return z, "inconclusive"
-    if abs(z) <= Z_THRESHOLD:
-        return z, "reproduced"
-    if abs(diff) <= tolerance:
-        return z, "systematic offset"
-    return z, "not reproduced"
-
-
 def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=None, mean=None, se=None,
                       rel_tol=None, abs_tol=None, digits=4, note="", evidence="published number",
-                      key="") -> Claim:
+                      key="", published_runs=None, claim="") -> Claim:
     """A Monte Carlo claim decided by :func:`monte_carlo_verdict`.
 
     Give either ``samples`` (one value per run; s.e. = sample sd / √n) or ``n``, ``mean`` and ``se``,
     and exactly one of ``rel_tol`` (relative to the published value) or ``abs_tol`` as the stated
-    reconstruction tolerance.
+    reconstruction tolerance; ``published_runs`` when the published number is itself a Monte Carlo
+    estimate over that many runs (its standard error enters the interval).
 
     ``published=None``: a Monte Carlo measurement the documents give no number for (status
     ``extension``, evidence ``measurement``): n, mean and s.e. are reported, z is empty and no
@@ -217,19 +221,31 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
             raise ValueError("a claim without a published value takes no tolerance")
         return Claim(experiment, item, source, "--", _fmt(float(mean), digits), "--", "extension", note,
                      "measurement" if evidence == "published number" else evidence, str(int(n)),
-                     f"{float(mean):.6g}", f"{float(se):.3g}", "", key)
+                     f"{float(mean):.6g}", f"{float(se):.3g}", "", key, claim=claim)
     if (rel_tol is None) == (abs_tol is None):
         raise ValueError("give exactly one of rel_tol, abs_tol")
     tol = rel_tol * abs(published) if rel_tol is not None else abs_tol
-    z, status = monte_carlo_verdict(float(mean), float(se), float(published), tol, int(n))
-    tol_text = f"|z| <= {Z_THRESHOLD:g} or {100 * rel_tol:g} %" if rel_tol is not None else \
-        f"|z| <= {Z_THRESHOLD:g} or +/- {abs_tol:g}"
+    v = monte_carlo_verdict(float(mean), float(se), float(published), tol, int(n), published_runs)
+    tol_text = tolerance_text(rel_tol, abs_tol, published_runs)
+    if v.status == "inconclusive":
+        decide = ("no number of runs decides it (the published number's own error is too large)"
+                  if v.runs_to_decide is None or math.isinf(v.runs_to_decide) else
+                  f"about {int(v.runs_to_decide):,} runs would decide it")
+        note = f"{note}; interval {v.low:.4g} to {v.high:.4g}: {decide}" if note else \
+            f"interval {v.low:.4g} to {v.high:.4g}: {decide}"
     return Claim(experiment, item, source, _fmt(float(published), digits), _fmt(float(mean), digits), tol_text,
-                 status, note, evidence, str(int(n)), f"{float(mean):.6g}", f"{float(se):.3g}",
-                 f"{z:.2f}" if math.isfinite(z) else ("inf" if z > 0 else "-inf"), key)
+                 v.status, note, evidence, str(int(n)), f"{float(mean):.6g}", f"{float(se):.3g}",
+                 f"{v.z:.2f}" if math.isfinite(v.z) else ("inf" if v.z > 0 else "-inf"), key, claim=claim)
 
 
-_TOL_TEXT = re.compile(r"\|z\| <= (?P<z>[\d.]+) or (?:(?P<rel>[\d.eE+-]+) %|\+/- (?P<abs>[\d.eE+-]+))")
+def tolerance_text(rel_tol=None, abs_tol=None, published_runs=None) -> str:
+    """The tolerance cell of a Monte Carlo row (parsed back by :func:`ledger_problems`)."""
+    text = "99.73 % interval within " + (f"{100 * rel_tol:g} %" if rel_tol is not None else f"+/- {abs_tol:g}")
+    return text + (f"; published over {int(published_runs)} runs" if published_runs else "")
+
+
+_TOL_TEXT = re.compile(r"99\.73 % interval within (?:(?P<rel>[\d.eE+-]+) %|\+/- (?P<abs>[\d.eE+-]+))"
+                       r"(?:; published over (?P<runs>\d+) runs)?")
 
 
 def ledger_problems(claims: pd.DataFrame) -> list[str]:
@@ -237,11 +253,17 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
 
     * every row names its evidence (one of :data:`EVIDENCE`);
     * a row with ``n`` gives ``mean`` and ``se``; with a numeric published value also ``z``, and its
-      status is the one :func:`monte_carlo_verdict` gives from n, mean, se and the tolerance stated in the
-      row (recomputed here, so a hand-edited or differently-decided verdict is caught);
+      status is the one :func:`~hypotrack.reporting.verdict.monte_carlo_verdict` gives from n, mean,
+      se and the tolerance stated in the row (recomputed here, so a hand-edited verdict is caught);
+      a control that also passes demotes it to *uninformative*;
+    * every *reproduced* or *qualitative* row names a negative control that *fails* its check; a row
+      whose control also passes is *uninformative*;
     * a row whose evidence is an identity of the implementation is never *reproduced* (its status is
-      *consistency check*: it shares the code path under test).
+      *consistency check*: it shares the code path under test);
+    * rows sharing a ``claim`` give it at most one verdict (the others are illustrations or extensions).
     """
+    from .verdict import parse_control
+
     problems = []
     for r in claims.to_dict("records"):
         name = f"{r['experiment']}: {r['item']!r}"
@@ -250,6 +272,17 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
         if r.get("evidence") == "identity of the implementation" and r["status"] == "reproduced":
             problems.append(f"{name} is 'reproduced' on an identity of the implementation only "
                             "(status must be 'consistency check')")
+        try:
+            control = parse_control(r.get("control", ""))
+        except ValueError as exc:
+            problems.append(f"{name}: {exc}")
+            control = None
+        if r["status"] in NEEDS_CONTROL and control is not None and control[2]:
+            problems.append(f"{name} is {r['status']!r} but its control also passes (status must be 'uninformative')")
+        if r["status"] in NEEDS_CONTROL and control is None:
+            problems.append(f"{name} is {r['status']!r} and names no negative control yet")
+        if r["status"] == "uninformative" and (control is None or not control[2]):
+            problems.append(f"{name} is 'uninformative' but names no control that also passes")
         if not r.get("n", ""):
             continue
         if not (r.get("mean", "") and r.get("se", "")):
@@ -262,12 +295,21 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
         m = _TOL_TEXT.fullmatch(r["tolerance"])
         if not r.get("z", "") or not m:
             problems.append(f"{name}: a Monte Carlo row against a published value needs z and a tolerance "
-                            f"'|z| <= 3 or <tol>', got z={r.get('z', '')!r}, tolerance={r['tolerance']!r}")
+                            f"'99.73 % interval within <tol>', got z={r.get('z', '')!r}, tolerance={r['tolerance']!r}")
             continue
         tol = float(m["rel"]) / 100 * abs(published) if m["rel"] else float(m["abs"])
-        _, status = monte_carlo_verdict(float(r["mean"]), float(r["se"]), published, tol, int(r["n"]))
+        status = monte_carlo_verdict(float(r["mean"]), float(r["se"]), published, tol, int(r["n"]),
+                                     int(m["runs"]) if m["runs"] else None).status
+        if status in NEEDS_CONTROL and control is not None and control[2]:
+            status = "uninformative"
         if status != r["status"]:
             problems.append(f"{name}: status {r['status']!r} but the Monte Carlo rule gives {status!r}")
+    if "claim" in claims.columns:
+        decided = claims[(claims["claim"] != "") & claims["status"].isin(VERDICT_STATUSES)]
+        for claim_id, rows in decided.groupby("claim"):
+            if len(rows) > 1:
+                problems.append(f"claim {claim_id!r} has {len(rows)} rows with a verdict "
+                                f"({', '.join(rows['status'])}): one decides it, the others are illustrations")
     return problems
 
 
@@ -460,10 +502,10 @@ def _cell_tex(text) -> str:
 
 
 # one colour per status, shared by the LaTeX ledger and the HTML ledger of the Snakemake report
-STATUS_COLOURS = {"reproduced": ("ForestGreen", "#e6f4ea"), "systematic offset": ("BurntOrange", "#fdebd0"),
-                  "not reproduced": ("BrickRed", "#fce8e6"), "inconclusive": ("Gray", "#eeeeee"),
+STATUS_COLOURS = {"reproduced": ("ForestGreen", "#e6f4ea"), "not reproduced": ("BrickRed", "#fce8e6"),
+                  "inconclusive": ("Gray", "#eeeeee"), "uninformative": ("BurntOrange", "#fdebd0"),
                   "qualitative": ("NavyBlue", "#e8eefa"), "extension": ("Gray", "#ffffff"),
-                  "consistency check": ("Gray", "#f4f4f4")}
+                  "illustration": ("Gray", "#ffffff"), "consistency check": ("Gray", "#f4f4f4")}
 
 
 def claims_html(claims: pd.DataFrame) -> str:
@@ -510,6 +552,9 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
             if r["note"]:
                 out.append(rf"\multicolumn{{{ncol}}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\emph{{{latex_escape(r['note'])}}}}}"
                            r"\tabularnewline[2pt]")
+            if r.get("control", ""):
+                out.append(rf"\multicolumn{{{ncol}}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}control: "
+                           rf"{latex_escape(r['control'])}}}\tabularnewline[2pt]")
     out.append(r"\end{longtable}\endgroup")
     return "\n".join(out) + "\n"
 
@@ -575,11 +620,11 @@ def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_m
 
 def claims_markdown(claims: pd.DataFrame) -> str:
     """The ledger as a Markdown table (for the README), one row per claim."""
-    rows = ["| experiment | item | source | published | reproduced | tolerance | evidence | status |",
-            "|---|---|---|---|---|---|---|---|"]
+    rows = ["| experiment | item | source | published | reproduced | tolerance | evidence | control | status |",
+            "|---|---|---|---|---|---|---|---|---|"]
     for r in claims.to_dict("records"):
         cells = [r["experiment"], r["item"], r["source"], r["published"], _measured_text(r), r["tolerance"],
-                 r.get("evidence", "") or "—", f"**{r['status']}**"]
+                 r.get("evidence", "") or "—", r.get("control", "") or "—", f"**{r['status']}**"]
         rows.append("| " + " | ".join(str(c).replace("|", "\\|").replace("\n", " ") for c in cells) + " |")
     return "\n".join(rows) + "\n"
 

@@ -28,7 +28,7 @@ from pathlib import Path
 import pandas as pd
 
 from .pipeline_time import runtime_sentence
-from .ledger import STATUSES, _measured_text, claims_markdown, read_claims
+from .ledger import STATUS_MEANING, STATUSES, _measured_text, claims_markdown, read_claims
 
 __all__ = ["BEGIN", "END", "RUNTIME_BEGIN", "RUNTIME_END", "check_readme", "readme_block", "replace_block",
            "status_counts"]
@@ -53,15 +53,19 @@ def readme_block(claims: pd.DataFrame | None) -> str:
     if claims is None:
         return NO_LEDGER + "\n"
     counts = status_counts(claims)
-    lines = [f"{len(claims)} ledger rows: " + ", ".join(f"**{n} {s}**" for s, n in counts.items()) + ".",
-             "Monte Carlo rows give mean ± standard error over n runs and z = (mean − published)/s.e.; one rule "
-             "decides them: *reproduced* when |z| ≤ 3, *systematic offset* when |z| > 3 but the difference is "
-             "within the stated reconstruction tolerance, *not reproduced* otherwise; with fewer than ten runs a row "
-             "is *inconclusive* (a standard error from so few runs is too uncertain). The evidence column says "
-             "what a verdict rests on (an *identity of the implementation* never counts as a reproduction).",
-             "", claims_markdown(claims).rstrip("\n")]
-    bad = claims[claims["status"].isin(["not reproduced", "systematic offset", "inconclusive"])]
-    lines += ["", "### What did not reproduce, and why", ""]
+    lines = [f"{len(claims)} ledger rows: " + ", ".join(f"**{n} {s}**" for s, n in counts.items()) + ".", ""]
+    lines += [f"* *{s}*: {STATUS_MEANING[s]}." for s in STATUSES]
+    lines += ["",
+              "Monte Carlo rows give mean ± standard error over n runs; the verdict is an equivalence test: the "
+              "interval mean ± q·s.e. (q the Student-t quantile of n − 1 degrees of freedom at 99.73 %, 3 for "
+              "many runs; the published number's own Monte Carlo error added where its number of runs is known) "
+              "must lie wholly inside published ± tolerance to reproduce, wholly outside not to; z = "
+              "(mean − published)/s.e. is shown for reference. The evidence column says what a verdict rests on "
+              "(an *identity of the implementation* never counts as a reproduction); the control column, what "
+              "ran as a negative control and whether it fails the same check.",
+              "", claims_markdown(claims).rstrip("\n")]
+    bad = claims[claims["status"].isin(["not reproduced", "inconclusive", "uninformative"])]
+    lines += ["", "### What did not reproduce or has no power, and why", ""]
     if bad.empty:
         lines.append("Every row with a published value reproduced.")
     for r in bad.to_dict("records"):

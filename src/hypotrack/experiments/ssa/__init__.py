@@ -53,6 +53,8 @@ from .claims import (
     completion_table,
     completion_timing,
     labelled,
+    one_verdict,
+    seed_claim_id,
     ssa15_claims,
     ssa50_claims,
 )
@@ -91,6 +93,8 @@ __all__ = [
     "TrackerSettings",
     "TrackingRun",
     "birth_recognition",
+    "one_verdict",
+    "seed_claim_id",
     "catalogue_mask",
     "completion_claims",
     "completion_pair",

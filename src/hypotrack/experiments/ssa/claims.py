@@ -163,6 +163,40 @@ def ssa15_claims(metrics: pd.DataFrame, agreements: Mapping, matched: pd.DataFra
     return claims
 
 
+#: Claims of 000 that ssa_seeds decides over scenario seeds: (case, key of the single-run row) -> what.
+#: The single run of ssa50 / ssa15 then illustrates the claim and carries no verdict of its own.
+OVER_SEEDS = {("ssa50", "ExpectedEnd"): "E[N] at the end", ("ssa50", "PEnd"): "P(N = true number) at the end",
+              ("ssa50", "BirthsTracked"): "every birth tracked", ("ssa15", "SameMap"): "same MAP hypothesis"}
+
+
+def seed_claim_id(case: str, tracker: str, what: str) -> str:
+    """The ledger's ``claim`` id shared by a single-run row and the over-seed row deciding the same claim."""
+    return f"000 {case}, {tracker}: {what}"
+
+
+def one_verdict(claims, case: str, tracker: str, *, seed_trackers=(), extension: bool = False) -> list:
+    """One tracker's single-run rows of ``case``, so that every claim of 000 gets one verdict.
+
+    * a claim that ssa_seeds decides over seeds for this tracker (:data:`OVER_SEEDS`, ``tracker`` in
+      ``seed_trackers``) becomes an *illustration* naming the verdict row (same ``claim`` id);
+    * ``extension``: a tracker 000 never ran (this project's δ-GLMB) scored against 000's claims: its
+      rows are *extensions*, not reproductions.
+    """
+    out = []
+    for c in claims:
+        what = OVER_SEEDS.get((case, c.key))
+        if extension and c.status not in ("extension", "consistency check"):
+            c = replace(c, status="extension", source=f"extension ({c.source}'s claim)",
+                        note=("this project's filter, which 000 never ran, scored against 000's claim; "
+                              + c.note).rstrip("; "))
+        elif what and tracker in seed_trackers:
+            c = replace(c, status="illustration", claim=seed_claim_id(case, tracker, what),
+                        note=("one realisation; the verdict is the ssa_seeds row over scenario seeds; "
+                              + c.note).rstrip("; "))
+        out.append(c)
+    return out
+
+
 def _key_part(name: str) -> str:
     """A tracker name as part of a macro key (``rfisst_chain`` -> ``RfisstChain``)."""
     return "".join(w[:1].upper() + w[1:] for w in str(name).split("_") if w)

@@ -30,6 +30,7 @@ from ..._validation import check_int
 from ...reporting.ledger import Claim, monte_carlo_claim
 from ...scenarios.ssa import SSAScenario, params_from_config, simulate_ssa
 from ..seeds import experiment_seeds
+from ..ssa.claims import OVER_SEEDS, seed_claim_id
 from ..ssa import (TrackerSettings, birth_recognition, evaluate_map, make_tracker, map_agreement, run_tracker,
                   OSPASettings)
 
@@ -182,12 +183,12 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
             x = g[col].to_numpy(dtype=float)
             if n >= 2 and np.isfinite(x).all():
                 claims.append(monte_carlo_claim(ex, f"{case}, {label}: {item}", source, float(published), x,
-                                                abs_tol=tol, digits=4, key=key + k,
+                                                abs_tol=tol, digits=4, key=key + k, claim=_claim_id(case, tracker, k),
                                                 note=f"over {n} scenario seeds; min {x.min():.4g}, median "
                                                      f"{np.median(x):.4g}, max {x.max():.4g}"))
             else:
                 claims.append(Claim(ex, f"{case}, {label}: {item}", source, f"{published:.4g}",
-                                    "; ".join(f"{v:.4g}" for v in x), f"+/- {tol:g}", "qualitative",
+                                    "; ".join(f"{v:.4g}" for v in x), f"+/- {tol:g}", "inconclusive",
                                     f"{n} seed(s): too few for a Monte Carlo verdict", "measurement",
                                     key=key + k))
         if g["births"].sum():
@@ -197,8 +198,18 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
                                 "reproduced" if tracked == total else "not reproduced",
                                 f"latency (scans from first in view to a correct MAP track): median "
                                 f"{np.nanmedian(g['birth_latency_mean']):.3g}, worst {np.nanmax(g['birth_latency_max']):.3g}",
-                                "published number", key=key + "Births"))
+                                "published number", key=key + "Births", claim=_claim_id(case, tracker, "Births")))
     return claims
+
+
+_SINGLE_RUN_KEY = {"ExpectedEnd": ("ssa50", "ExpectedEnd"), "PEnd": ("ssa50", "PEnd"),
+                   "Births": ("ssa50", "BirthsTracked"), "Agreement": ("ssa15", "SameMap")}
+
+
+def _claim_id(case: str, tracker: str, key: str) -> str:
+    """The claim id this over-seed row decides, shared with the single run's illustration row."""
+    single_case, single_key = _SINGLE_RUN_KEY[key]
+    return seed_claim_id(case, tracker, OVER_SEEDS[(single_case, single_key)])
 
 
 def plot_distributions(per_seed: pd.DataFrame, *, title: str):

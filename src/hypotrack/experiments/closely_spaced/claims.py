@@ -2,8 +2,9 @@
 and the convention that gives the published ideal value.
 
 Every Monte Carlo row uses :func:`hypotrack.reporting.ledger.monte_carlo_claim` (one rule: reproduced when
-|z| ≤ 3; systematic offset when |z| > 3 but within the stated reconstruction tolerance; not
-reproduced otherwise) with the tolerance of the ``closely_spaced`` config section.
+the whole 99.73 % interval lies within the stated tolerance, not reproduced when wholly outside it,
+inconclusive otherwise; :mod:`hypotrack.reporting.verdict`) with the tolerance of the ``closely_spaced``
+config section.
 """
 
 from __future__ import annotations

@@ -5,7 +5,7 @@
   per run over every scored scan and over the scans after the filters' transient.
 * :func:`summarise_closely_spaced` — pool shards into Table 6.1: n, mean, standard error,
   published value, z and the ledger's one Monte Carlo verdict
-  (:func:`hypotrack.reporting.ledger.monte_carlo_verdict`).
+  (:func:`hypotrack.reporting.verdict.monte_carlo_verdict`).
 * :func:`closely_spaced_realisation` — one realisation's tracks (Figs 6.1–6.2).
 
 The ideal filter's MOSPA has a closed form (:mod:`.closely_spaced_oracle`); the ledger rows and
@@ -20,7 +20,7 @@ import pandas as pd
 
 from ..._validation import check_int, check_nonnegative
 from ...models.motion import OrnsteinUhlenbeck
-from ...reporting.ledger import monte_carlo_verdict
+from ...reporting.verdict import monte_carlo_verdict
 from ...scenarios.closely_spaced import simulate_closely_spaced
 from ...trackers.ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter, mospa_two_targets
 
@@ -210,9 +210,9 @@ def summarise_closely_spaced(per_run: pd.DataFrame, pdaf_variant: str, *, rel_to
             z.append(np.nan)
             verdict.append("")
             continue
-        zi, v = monte_carlo_verdict(r.mean, r.se, r.published, rel_tol * r.published)
-        z.append(zi)
-        verdict.append(v)
+        v = monte_carlo_verdict(r.mean, r.se, r.published, rel_tol * r.published, int(r.n))
+        z.append(v.z)
+        verdict.append(v.status)
     table["z"] = z
     table["verdict"] = verdict
     table["pdaf_variant"] = np.where(table["method"] == "PDAF", pdaf_variant,

@@ -25,6 +25,8 @@ rule paper_generated:
     output:
         macros=f"{RESULTS}/paper/generated/macros.tex",
         table=f"{RESULTS}/paper/generated/claims_table.tex",
+        status_summary=f"{RESULTS}/paper/generated/status_summary.tex",
+        gaps=f"{RESULTS}/paper/generated/gaps_rows.tex",
         ledger=f"{RESULTS}/paper/ledger.csv",
         ledger_timing=f"{RESULTS}/paper/ledger_timing.csv",
         run_config=f"{RESULTS}/paper/run_config.json",

@@ -2,6 +2,7 @@
 
 from .motion import ConstantVelocity, OrnsteinUhlenbeck
 from .orbit import TwoBodyOrbit
+from .orbit3d import TwoBodyOrbit3D
 from .population import (
     BinomialBirth,
     BinomialSurvival,
@@ -23,6 +24,7 @@ __all__ = [
     "ConstantVelocity",
     "OrnsteinUhlenbeck",
     "TwoBodyOrbit",
+    "TwoBodyOrbit3D",
     "LinearPositionSensor",
     "FieldOfView",
     "Box",

@@ -96,22 +96,34 @@ def _stumpff(z):
     return c, s
 
 
+def _rowdot(a, b):
+    """Row-wise ``a · b`` of (N, d) arrays without conjugation (analytic, so the complex step is exact).
+
+    Written out component by component: for d = 2 it is ``a0 b0 + a1 b1`` exactly as before the
+    3-D model shared this kernel, so the planar results are bit-identical.
+    """
+    out = a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]
+    for j in range(2, a.shape[1]):
+        out = out + a[:, j] * b[:, j]
+    return out
+
+
 def _kepler_universal(r0v, v0v, dt, mu):
     """Propagate position/velocity rows (real or complex) by ``dt`` on Keplerian orbits.
 
     Parameters
     ----------
-    r0v, v0v : (N, 2) arrays (complex for the complex step).
+    r0v, v0v : (N, d) arrays, d = 2 (planar) or 3 (complex for the complex step).
     dt : (N,) float array.
 
     Returns
     -------
-    r, v : (N, 2) arrays.
+    r, v : (N, d) arrays.
     """
     sqmu = np.sqrt(mu)
-    r0 = np.sqrt(r0v[:, 0] ** 2 + r0v[:, 1] ** 2)  # analytic in the state, unlike np.abs
-    v0sq = v0v[:, 0] ** 2 + v0v[:, 1] ** 2
-    rdotv = r0v[:, 0] * v0v[:, 0] + r0v[:, 1] * v0v[:, 1]
+    r0 = np.sqrt(_rowdot(r0v, r0v))  # analytic in the state, unlike np.abs
+    v0sq = _rowdot(v0v, v0v)
+    rdotv = _rowdot(r0v, v0v)
     alpha = 2.0 / r0 - v0sq / mu  # reciprocal semi-major axis
     sigma0 = rdotv / sqmu
     # Initial guess: exact for circular orbits (elliptic), and a safe start otherwise.
@@ -141,7 +153,7 @@ def _kepler_universal(r0v, v0v, dt, mu):
     f = 1 - chi2 / r0 * C
     g = dt - chi**3 / sqmu * S
     rv = f[:, None] * r0v + g[:, None] * v0v
-    rn = np.sqrt(rv[:, 0] ** 2 + rv[:, 1] ** 2)
+    rn = np.sqrt(_rowdot(rv, rv))
     fdot = sqmu / (rn * r0) * (alpha * chi**3 * S - chi)
     gdot = 1 - chi2 / rn * C
     vv = fdot[:, None] * r0v + gdot[:, None] * v0v

@@ -1,6 +1,8 @@
 """Deterministic scenario generators (ground truth and scans from parameters and a seed).
 
 Every generator returns tidy tables in the schema of :mod:`hypotrack.scenarios.tables`.
+:mod:`hypotrack.scenarios.catalogue` (the real TLE catalogue propagated by SGP4, ground radars) is
+imported on its own, as it needs the ``sgp4`` package.
 """
 
 from . import tables

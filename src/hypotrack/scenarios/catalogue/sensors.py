@@ -1,0 +1,334 @@
+"""Ground-based surveillance radars: site, field of view, detection, noise and clutter.
+
+The default sensor (:data:`DEFAULT_RADAR`) is one face of a UHF phased-array surveillance radar, the
+class of the PAVE PAWS / BMEWS radars and of the commercial space-surveillance arrays (the numbers
+below are typical of that class, not any one radar's specification):
+
+* **site**: geodetic 45° N, 0° E, 0.1 km (WGS-84) — a mid-latitude site, face towards the equator;
+* **field of view**: azimuth 180° ± 60° (a planar array scans ±60° off its boresight), elevation
+  5°–85° (5° horizon mask; near the zenith azimuth is ill-conditioned), range 200–3,000 km (200 km:
+  transmit blanking; 3,000 km: detection limit for ~10-cm debris at UHF, so LEO only);
+* **revisit**: the face's surveillance frame is revisited every 10 s; the scan is treated as
+  instantaneous (all returns at the scan time);
+* **measurement**: ``z = (range, azimuth, elevation)`` in km, rad, rad with independent Gaussian
+  errors σ_r = 0.03 km (30 m), σ_az = σ_el = 0.05° (0.87 mrad, ≈ 1.3 km across the beam at 1,500 km);
+  azimuth is reported in ``[c − 180°, c + 180°)`` around the face's centre c, so it never wraps
+  inside the field of view. Alternatively (``measurement="enu"``) the local east-north-up position
+  with isotropic Gaussian error σ_enu (km);
+* **detection**: every object inside the field of view is detected with p_D = 0.9, independently;
+  nothing outside it is (a detected object's noisy return may fall just outside the field of view);
+* **clutter**: Poisson, 2 false returns per scan on average, uniform over the field of view in
+  measurement space — over the box ``[r_min, r_max] × [az sector] × [el band]`` (density
+  ``1/V``, V in km·rad²) for RAE, over the physical volume (V in km³) for ENU.
+
+Line of sight: an object above the site's horizon (elevation > 0) is never behind the Earth, so
+the field of view's elevation floor (≥ 0) is the whole visibility test besides range.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..._validation import check_finite_array, check_nonnegative, check_positive, check_probability
+from .frames import ef_to_rae, enu_matrix, geodetic_to_ef, rae_to_enu, wrap_angle
+
+__all__ = ["GroundSite", "RadarFieldOfView", "GroundRadar", "DEFAULT_SITE", "DEFAULT_RADAR", "MEASUREMENTS"]
+
+MEASUREMENTS = ("rae", "enu")
+
+
+def _in_range(value, name, lo, hi, *, lo_open=False, hi_open=False):
+    v = float(check_finite_array(value, name, ndim=0))
+    ok = (v > lo if lo_open else v >= lo) and (v < hi if hi_open else v <= hi)
+    if not ok:
+        b = ("(" if lo_open else "[") + f"{lo:g}, {hi:g}" + (")" if hi_open else "]")
+        raise ValueError(f"{name} must lie in {b}, got {value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class GroundSite:
+    """A sensor site: geodetic latitude and longitude (degrees, WGS-84) and height (km)."""
+
+    lat_deg: float
+    lon_deg: float
+    alt_km: float = 0.0
+    name: str = ""
+
+    def __post_init__(self):
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731 (frozen dataclass)
+        set_("lat_deg", _in_range(self.lat_deg, "lat_deg", -90.0, 90.0))
+        set_("lon_deg", _in_range(self.lon_deg, "lon_deg", -180.0, 360.0, hi_open=True))
+        set_("alt_km", _in_range(self.alt_km, "alt_km", -0.5, 10.0))
+        set_("_ef", geodetic_to_ef(self.lat_deg, self.lon_deg, self.alt_km))
+        set_("_enu", enu_matrix(self.lat_deg, self.lon_deg))
+
+    @property
+    def ef(self) -> np.ndarray:
+        """Earth-fixed position (km)."""
+        return self._ef
+
+    @property
+    def enu(self) -> np.ndarray:
+        """(3, 3): rows east, north, up (Earth-fixed unit vectors)."""
+        return self._enu
+
+
+@dataclass(frozen=True)
+class RadarFieldOfView:
+    """Azimuth sector × elevation band × range interval, as seen from the site.
+
+    Parameters
+    ----------
+    az_center_deg : float
+        Centre of the azimuth sector (degrees from north towards east), in [−180, 360).
+    az_width_deg : float
+        Width of the sector, in (0, 360].
+    el_min_deg, el_max_deg : float
+        Elevation band, ``0 <= el_min < el_max <= 90`` (a narrow band makes a fence).
+    r_min_km, r_max_km : float
+        Range interval, ``0 <= r_min < r_max``.
+    """
+
+    az_center_deg: float = 180.0
+    az_width_deg: float = 120.0
+    el_min_deg: float = 5.0
+    el_max_deg: float = 85.0
+    r_min_km: float = 200.0
+    r_max_km: float = 3000.0
+
+    def __post_init__(self):
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        set_("az_center_deg", _in_range(self.az_center_deg, "az_center_deg", -180.0, 360.0, hi_open=True))
+        set_("az_width_deg", _in_range(self.az_width_deg, "az_width_deg", 0.0, 360.0, lo_open=True))
+        set_("el_min_deg", _in_range(self.el_min_deg, "el_min_deg", 0.0, 90.0, hi_open=True))
+        set_("el_max_deg", _in_range(self.el_max_deg, "el_max_deg", self.el_min_deg, 90.0, lo_open=True))
+        set_("r_min_km", check_nonnegative(self.r_min_km, "r_min_km"))
+        r_max = check_positive(self.r_max_km, "r_max_km")
+        if not r_max > self.r_min_km:
+            raise ValueError(f"r_max_km must be > r_min_km = {self.r_min_km} km, got {self.r_max_km!r}")
+        set_("r_max_km", r_max)
+
+    @property
+    def az_center(self) -> float:
+        """Sector centre (rad); azimuths are reported in ``[az_center − π, az_center + π)``."""
+        return np.deg2rad(self.az_center_deg)
+
+    @property
+    def low(self) -> np.ndarray:
+        """Lower corner of the field of view in measurement space ``(r, az, el)`` (km, rad, rad)."""
+        h = np.deg2rad(self.az_width_deg) / 2
+        return np.array([self.r_min_km, self.az_center - h, np.deg2rad(self.el_min_deg)])
+
+    @property
+    def high(self) -> np.ndarray:
+        h = np.deg2rad(self.az_width_deg) / 2
+        return np.array([self.r_max_km, self.az_center + h, np.deg2rad(self.el_max_deg)])
+
+    @property
+    def measurement_volume(self) -> float:
+        """``Δr Δaz Δel`` (km·rad²): the clutter density of RAE measurements is its inverse."""
+        return float(np.prod(self.high - self.low))
+
+    @property
+    def physical_volume(self) -> float:
+        """``Δaz (sin el_max − sin el_min) (r_max³ − r_min³) / 3`` (km³)."""
+        lo, hi = self.low, self.high
+        return float((hi[1] - lo[1]) * (np.sin(hi[2]) - np.sin(lo[2])) * (hi[0] ** 3 - lo[0] ** 3) / 3)
+
+    def contains(self, rae) -> np.ndarray:
+        """Mask of the ``(n, 3)`` (range, az, el) points inside (edges included; NaN rows are not).
+
+        Azimuths may be given in any 2π window.
+        """
+        p = np.asarray(rae, dtype=float).reshape(-1, 3)
+        off = wrap_angle(p[:, 1] - self.az_center)
+        in_az = np.abs(off) <= np.deg2rad(self.az_width_deg) / 2 if self.az_width_deg < 360 else True
+        with np.errstate(invalid="ignore"):
+            return (
+                (p[:, 0] >= self.r_min_km)
+                & (p[:, 0] <= self.r_max_km)
+                & (p[:, 2] >= np.deg2rad(self.el_min_deg))
+                & (p[:, 2] <= np.deg2rad(self.el_max_deg))
+                & in_az
+            )
+
+    def sample_rae(self, n: int, rng) -> np.ndarray:
+        """``n`` points uniform over the measurement-space box, ``(n, 3)`` (r, az, el)."""
+        return rng.uniform(self.low, self.high, size=(n, 3))
+
+    def sample_enu(self, n: int, rng) -> np.ndarray:
+        """``n`` points uniform over the physical volume, as local ENU ``(n, 3)`` (km).
+
+        ``r = cbrt(U(r_min³, r_max³))``, ``az ~ U``, ``sin el ~ U(sin el_min, sin el_max)``.
+        """
+        lo, hi = self.low, self.high
+        r = np.cbrt(rng.uniform(lo[0] ** 3, hi[0] ** 3, n))
+        az = rng.uniform(lo[1], hi[1], n)
+        el = np.arcsin(rng.uniform(np.sin(lo[2]), np.sin(hi[2]), n))
+        return rae_to_enu(np.column_stack([r, az, el]))
+
+
+DEFAULT_SITE = GroundSite(45.0, 0.0, 0.1, "mid-latitude site")
+
+
+@dataclass(frozen=True, eq=False)
+class GroundRadar:
+    """A ground surveillance radar (module docstring for the model and its default numbers).
+
+    Parameters
+    ----------
+    site : GroundSite
+    fov : RadarFieldOfView
+    revisit_s : float
+        Scan (revisit) interval (s), > 0.
+    sigma_range_km, sigma_az_deg, sigma_el_deg : float
+        Standard deviations of the RAE errors, > 0.
+    p_D : float
+        Detection probability inside the field of view, in (0, 1].
+    clutter_rate : float
+        Expected false returns per scan, >= 0.
+    measurement : {"rae", "enu"}
+        What a return is: (range km, azimuth rad, elevation rad) or local (east, north, up) km.
+    sigma_enu_km : float
+        Standard deviation of each ENU component (``measurement="enu"`` only), > 0.
+    name : str
+    """
+
+    site: GroundSite = DEFAULT_SITE
+    fov: RadarFieldOfView = field(default_factory=RadarFieldOfView)
+    revisit_s: float = 10.0
+    sigma_range_km: float = 0.03
+    sigma_az_deg: float = 0.05
+    sigma_el_deg: float = 0.05
+    p_D: float = 0.9
+    clutter_rate: float = 2.0
+    measurement: str = "rae"
+    sigma_enu_km: float = 1.0
+    name: str = "UHF phased-array face"
+
+    def __post_init__(self):
+        if not isinstance(self.site, GroundSite):
+            raise TypeError(f"site must be a GroundSite, got {type(self.site).__name__}")
+        if not isinstance(self.fov, RadarFieldOfView):
+            raise TypeError(f"fov must be a RadarFieldOfView, got {type(self.fov).__name__}")
+        set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
+        for name in ("revisit_s", "sigma_range_km", "sigma_az_deg", "sigma_el_deg", "sigma_enu_km"):
+            set_(name, check_positive(getattr(self, name), name))
+        set_("p_D", check_probability(self.p_D, "p_D", low_open=True))
+        set_("clutter_rate", check_nonnegative(self.clutter_rate, "clutter_rate"))
+        if self.measurement not in MEASUREMENTS:
+            raise ValueError(f"measurement must be one of {MEASUREMENTS}, got {self.measurement!r}")
+
+    @property
+    def R(self) -> np.ndarray:
+        """Measurement-noise covariance (3, 3) in the measurement's units."""
+        if self.measurement == "enu":
+            return np.eye(3) * self.sigma_enu_km**2
+        s = np.array([self.sigma_range_km, np.deg2rad(self.sigma_az_deg), np.deg2rad(self.sigma_el_deg)])
+        return np.diag(s**2)
+
+    @property
+    def clutter_density(self) -> float:
+        """``g(z) = 1/V`` of one clutter return (per km·rad² for RAE, per km³ for ENU)."""
+        v = self.fov.physical_volume if self.measurement == "enu" else self.fov.measurement_volume
+        return 1.0 / v
+
+    def rae(self, r_ef) -> np.ndarray:
+        """Range, azimuth, elevation ``(..., 3)`` of Earth-fixed positions ``(..., 3)``."""
+        return ef_to_rae(r_ef, self.site.ef, self.site.enu, self.fov.az_center)
+
+    def in_view(self, r_ef) -> np.ndarray:
+        """Mask ``(...)`` of the Earth-fixed positions ``(..., 3)`` inside the field of view (NaN: no)."""
+        r_ef = np.asarray(r_ef, dtype=float)
+        return self.fov.contains(self.rae(r_ef)).reshape(r_ef.shape[:-1])
+
+    def observe_rae(self, rae, rng):
+        """One scan, given the true (range, az, el) ``(n, 3)`` of the objects inside the field of view.
+
+        Random draws, in order: detections (n uniforms), measurement noise of the detected,
+        the clutter count and positions, the shuffle of the returns.
+
+        Returns
+        -------
+        Z : (m, 3) returns; origin : (m,) row of ``rae`` that produced each, or −1 (clutter).
+        """
+        rae = np.asarray(rae, dtype=float).reshape(-1, 3)
+        det = rng.uniform(size=len(rae)) < self.p_D
+        true = rae[det]
+        if self.measurement == "enu":
+            Z_t = rae_to_enu(true) + rng.standard_normal(true.shape) * self.sigma_enu_km
+        else:
+            Z_t = true + rng.standard_normal(true.shape) * np.sqrt(np.diag(self.R))
+            Z_t[:, 1] = wrap_angle(Z_t[:, 1], self.fov.az_center)
+        k = int(rng.poisson(self.clutter_rate))
+        Z_c = self.fov.sample_enu(k, rng) if self.measurement == "enu" else self.fov.sample_rae(k, rng)
+        Z = np.vstack([Z_t, Z_c])
+        origin = np.concatenate([np.flatnonzero(det), np.full(k, -1)]).astype(np.int64)
+        order = rng.permutation(len(Z))
+        return Z[order], origin[order]
+
+    def observe(self, r_ef, rng):
+        """One scan of Earth-fixed positions ``(n, 3)`` (NaN rows: absent objects).
+
+        Returns ``(Z (m, 3), origin (m,))`` with ``origin`` the row index into ``r_ef`` or −1.
+        """
+        if not isinstance(rng, np.random.Generator):
+            raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
+        r_ef = np.asarray(r_ef, dtype=float).reshape(-1, 3)
+        rae = self.rae(r_ef)
+        rows = np.flatnonzero(self.fov.contains(rae))
+        Z, origin = self.observe_rae(rae[rows], rng)
+        origin[origin >= 0] = rows[origin[origin >= 0]]
+        return Z, origin
+
+    # --- the tracker's side: measurement function of a TEME state ----------------------------
+
+    def _local(self, x_teme, theta):
+        """ENU of TEME positions at GMST θ and the (3, 3) matrix d(ENU)/d(r_teme)."""
+        c, s = np.cos(theta), np.sin(theta)
+        R3 = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+        M = self.site.enu @ R3
+        r = np.atleast_2d(np.asarray(x_teme, dtype=float))[:, :3]
+        return (r @ R3.T - self.site.ef) @ self.site.enu.T, M
+
+    def h(self, x_teme, theta) -> np.ndarray:
+        """Noise-free measurement ``(n, 3)`` of TEME states ``(n, >= 3)`` at GMST ``theta`` (rad)."""
+        loc, _ = self._local(x_teme, theta)
+        if self.measurement == "enu":
+            return loc
+        rng = np.linalg.norm(loc, axis=1)
+        az = wrap_angle(np.arctan2(loc[:, 0], loc[:, 1]), self.fov.az_center)
+        return np.column_stack([rng, az, np.arcsin(loc[:, 2] / rng)])
+
+    def h_jacobian(self, x_teme, theta) -> np.ndarray:
+        """``∂h/∂x`` ``(n, 3, d)`` of TEME states ``(n, d)`` (d = 3 or 6; zero for velocities).
+
+        RAE: ``∂ρ/∂l = l/ρ``, ``∂az/∂l = (n, −e, 0)/(e² + n²)``,
+        ``∂el/∂l = (−e u, −n u, e² + n²) / (ρ² sqrt(e² + n²))`` with ``l = (e, n, u)``, chained with
+        ``∂l/∂r_teme = E R3(θ)``.
+        """
+        X = np.atleast_2d(np.asarray(x_teme, dtype=float))
+        loc, M = self._local(X, theta)
+        n = len(X)
+        if self.measurement == "enu":
+            D = np.broadcast_to(np.eye(3), (n, 3, 3))
+        else:
+            e, nn, u = loc.T
+            rho2 = np.sum(loc * loc, axis=1)
+            rho = np.sqrt(rho2)
+            hz2 = e * e + nn * nn
+            hz = np.sqrt(hz2)
+            D = np.empty((n, 3, 3))
+            D[:, 0] = loc / rho[:, None]
+            D[:, 1] = np.column_stack([nn / hz2, -e / hz2, np.zeros(n)])
+            D[:, 2] = np.column_stack([-e * u, -nn * u, hz2]) / (rho2 * hz)[:, None]
+        H = np.zeros((n, 3, X.shape[1]))
+        H[:, :, :3] = D @ M
+        return H
+
+
+DEFAULT_RADAR = GroundRadar()
+"""The default sensor (module docstring)."""

@@ -590,8 +590,8 @@ def claim_macros(claims: pd.DataFrame) -> dict:
 
 def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_macros=None,
                        macros_paths=()) -> pd.DataFrame:
-    """Write ``macros.tex``, ``claims_table.tex``, ``status_summary.tex``, ``gaps_rows.tex``
-    (:mod:`.sections`) and copies of the figures under ``out_dir``.
+    """Write ``macros.tex``, ``claims_table.tex`` and copies of the figures under ``out_dir``
+    (the generated sections come from :mod:`.sections`).
 
     Macros come from the claims (:func:`claim_macros`), the experiments' ``macros.csv`` files
     (``macros_paths``, :func:`read_macros`) and ``extra_macros``; a name from two sources is an error.
@@ -612,10 +612,6 @@ def build_paper_inputs(claims_paths, figure_paths, out_dir, results_dir, extra_m
         values.update(more)
     (out_dir / "macros.tex").write_text(macros_tex(values))
     (out_dir / "claims_table.tex").write_text(claims_table_tex(claims))
-    from .sections import gaps_tex, status_summary_tex
-
-    (out_dir / "status_summary.tex").write_text(status_summary_tex(claims))
-    (out_dir / "gaps_rows.tex").write_text(gaps_tex(claims))
     for fig in map(Path, figure_paths):
         dest = out_dir / "figures" / fig.resolve().relative_to(Path(results_dir).resolve())
         dest.parent.mkdir(parents=True, exist_ok=True)

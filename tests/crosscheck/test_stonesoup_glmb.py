@@ -154,3 +154,23 @@ def test_glmb_births_from_the_labeled_population_are_tracked(algorithm, options)
     ospa = manager.generate_metrics()["ospa_generator"]["OSPA distances"].value
     late = [m.value for m in ospa if (m.timestamp - T0).total_seconds() >= 7 + 3]
     assert len(late) == N_SCANS - 10 and np.mean(late) < 1.5
+
+
+@pytest.mark.parametrize(("algorithm", "options", "message"), [
+    ("glmb", {"birth_states": BIRTHS}, r"options\['birth_probability'\] .* is required with birth_states"),
+    ("glmb", {"birth_states": BIRTHS, "birth_probability": 1.0}, r"options\['birth_probability'\] must lie in \(0, 1\)"),
+    ("glmb_murty", {"birth_states": BIRTHS, "birth_probability": [0.1, 0.2, 0.3]},
+     r"options\['birth_probability'\] must lie in \(0, 1\), one value or one per birth state \(2\)"),
+    ("glmb", {"survival_probability": 0.0}, r"options\['survival_probability'\] .* must lie in \(0, 1\], got 0.0"),
+    ("glmb", {"birth_states": [GaussianState([[0.0], [0.0]], np.eye(2))], "birth_probability": 0.1},
+     r"options\['birth_states'\]\[0\] must be a GaussianState with a 4-component state vector"),
+    ("glmb", {"birth_states": [GaussianState(np.zeros((4, 1)), -np.eye(4))], "birth_probability": 0.1},
+     r"options\['birth_states'\]\[0\]: cov"),
+    ("rfisst", {"birth_states": BIRTHS}, r"options \['birth_states'\] describe the labeled population"),
+    ("glmb", {"population": object(), "survival_probability": 0.9}, "give either population"),
+])
+def test_bad_birth_options_are_named(algorithm, options, message):
+    tm, mm = _models()
+    with pytest.raises(ValueError, match=message):
+        HypotrackTracker(transition_model=tm, measurement_model=mm, algorithm=algorithm, detection_probability=P_D,
+                         clutter_rate=CLUTTER, clutter_region=REGION, options=options)

@@ -54,8 +54,8 @@ def glmb_population(algorithm, options, perm, H, R):
             raise ValueError(f"options: give either population (hypotrack's) or {list(BIRTH_OPTIONS)}, not both")
         return options
     states = list(options.pop("birth_states", None) or [])
-    r_birth = options.pop("birth_probability", None if states else 0.0)
-    p_survive = options.pop("survival_probability", 1.0)
+    r_birth = options.pop("birth_probability", None if states else 0.5)
+    p_survive = options.get("survival_probability", 1.0)
     d = len(perm)
     terms = []
     for k, s in enumerate(states):
@@ -63,16 +63,27 @@ def glmb_population(algorithm, options, perm, H, R):
         if mean.shape not in ((d,), (d, 1)) or cov.shape != (d, d):
             raise ValueError(f"options['birth_states'][{k}] must be a GaussianState with a {d}-component state "
                              f"vector and a ({d}, {d}) covariance, got shapes {mean.shape} and {cov.shape}")
-        terms.append(GaussianBirthTerm(mean.ravel()[perm], cov[np.ix_(perm, perm)], H, R))
+        try:
+            terms.append(GaussianBirthTerm(mean.ravel()[perm], cov[np.ix_(perm, perm)], H, R))
+        except ValueError as err:
+            raise ValueError(f"options['birth_states'][{k}]: {err}") from None
     if states and r_birth is None:
         raise ValueError("options['birth_probability'] (r_B, the probability that a birth term's object "
                          "appears at a scan, in (0, 1)) is required with birth_states")
+    r = np.asarray(r_birth, dtype=float)
+    if r.ndim > 1 or (r.ndim == 1 and len(r) != len(terms)) or not np.all((r > 0) & (r < 1)):
+        raise ValueError(f"options['birth_probability'] must lie in (0, 1), one value or one per birth state "
+                         f"({len(terms)}), got {r_birth!r}")
     try:
-        population = LabeledMultiBernoulliPopulation(birth_densities=terms, r_birth=r_birth, p_survive=p_survive)
-    except ValueError as err:
-        name = "birth_probability" if "r_birth" in str(err) else "survival_probability"
-        allowed = "in (0, 1), one value or one per birth state" if name == "birth_probability" else "in (0, 1]"
-        raise ValueError(f"options['{name}'] must be {allowed}: {err}") from None
+        p_survive = float(p_survive)
+    except (TypeError, ValueError):
+        p_survive = np.nan
+    if not 0.0 < p_survive <= 1.0:
+        raise ValueError(f"options['survival_probability'] (p_S per scan) must lie in (0, 1], got "
+                         f"{options.get('survival_probability', p_survive)!r}")
+    population = LabeledMultiBernoulliPopulation(birth_densities=terms, r_birth=r if terms else 0.5,
+                                                 p_survive=p_survive)
+    options.pop("survival_probability", None)
     options["population"] = population
     return options
 

@@ -261,3 +261,29 @@ def test_multi_target_tracker(algorithm):
         # The hypothesis filters keep each object through its misses, with its label as id.
         assert {track.id for track in total_tracks} == {"0", "1", "2"}
         assert all(len(track) == 23 for track in total_tracks)
+
+
+@pytest.mark.parametrize("algorithm", ALGORITHMS)
+def test_single_target_tracker(algorithm):
+    # test_simple.py's single-target trackers keep at most one track on the same detector. Here:
+    # only object 0 is known and nothing initiates, so the other objects' detections are clutter
+    # to the tracker; GNN/JPDA/PDAF delete the track after 2 misses (the three empty scans).
+    v = 1.0 / 60.0
+    prior = GaussianState([[-1.0], [v]], np.diag([1.0, (0.2 * v) ** 2]), timestamp=T0 - MINUTE)
+    single = algorithm in ("gnn", "jpda", "pdaf")
+    tracker = HypotrackTracker(
+        transition_model=ConstantVelocity(1e-8), measurement_model=LinearGaussian(2, (0,), [[2.0]]),
+        algorithm=algorithm, detection_probability=0.8, clutter_rate=1.0, clutter_region=[[-20.0, 50.0]],
+        detector=conftest_detector(), initial_states=[prior],
+        options={**OPTIONS[algorithm], **({"max_misses": 2} if single else {})})
+    previous_time = datetime.datetime(2018, 1, 1, 13, 59)
+    total_tracks = set()
+    for step, (time, tracks) in enumerate(tracker):
+        assert time == previous_time + MINUTE
+        assert len(tracks) <= 1  # Shouldn't have more than one track
+        assert len(tracks) == (0 if single and step >= 21 else 1)
+        for track in tracks:
+            assert abs(float(track.state_vector[0]) - min(step, 19)) < 0.5 + max(step - 19, 0)
+        total_tracks |= tracks
+        previous_time = time
+    assert len(total_tracks) == 1 and len(next(iter(total_tracks))) == (21 if single else 23)

@@ -43,14 +43,12 @@ measurement) before they reach the tracker, so a seeded run is reproducible.
 
 from __future__ import annotations
 
-from ._build import _build
-from ._common import ALGORITHMS, GLMB, HYPOTHESIS_FILTERS, SINGLE_HYPOTHESIS
-from ._models import DetectionFrame, _region, translate_models
+# _build and _region are the pieces interop.benchmark builds its own-API runs from.
+from ._build import _build  # noqa: F401
+from ._common import ALGORITHMS, GLMB, HYPOTHESIS_FILTERS, SINGLE_HYPOTHESIS  # noqa: F401
+from ._models import DetectionFrame, _region, translate_models  # noqa: F401
 
 __all__ = ["ALGORITHMS", "HypotrackTracker", "translate_models"]  # noqa: F822 (module __getattr__)
-
-# _build and _region are the pieces interop.benchmark builds its own-API runs from.
-_INTERNAL = (_build, _region, DetectionFrame, GLMB, HYPOTHESIS_FILTERS, SINGLE_HYPOTHESIS)
 
 _CLASS = None
 

@@ -111,14 +111,16 @@ def tracker_class():
         """
 
         transition_model = Property(object, doc="CombinedLinearGaussianTransitionModel of ConstantVelocity.")
-        measurement_model = Property(object, doc="LinearGaussian position measurement model.")
+        measurement_model = Property(object, doc="LinearGaussian position measurement model (that of detections "
+                                                 "without their own; clutter_region is in its measured axes).")
         algorithm: str = Property(doc=f"One of {ALGORITHMS}.")
         detection_probability: float = Property(doc="P_D of every object, in (0, 1).")
         clutter_rate: float = Property(doc="Expected clutter returns per scan (> 0).")
         clutter_region = Property(object, doc="[[low, high], ...] per measured axis: where clutter falls.")
         detector = Property(object, default=None, doc="Detector yielding (time, set of detections).")
         initial_states = Property(list, default=None,
-                                  doc="GaussianStates of the objects known at the start (ids 0, 1, ...).")
+                                  doc="GaussianStates of the objects known at the start (ids 0, 1, ...), sharing "
+                                      "one timestamp (None: the first scan's).")
         options: dict = Property(default=None, doc="Keyword options of the hypotrack tracker.")
 
         def __init__(self, *args, **kwargs):

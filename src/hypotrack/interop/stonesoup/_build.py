@@ -1,0 +1,138 @@
+"""The hypotrack tracker behind the adapter: construction, GLMB births from Stone Soup states, per-scan settings."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation, presets
+from ...models.sensors import DetectionModel, PoissonClutter, Sensor
+from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
+from ._common import GLMB, SINGLE_HYPOTHESIS
+
+__all__ = ["_build", "glmb_population", "scan_settings"]
+
+BIRTH_OPTIONS = ("birth_states", "birth_probability", "survival_probability")
+
+
+def _build(algorithm, motion, measurement, p_D, clutter_rate, region, means, covs, options):
+    """The hypotrack tracker, constructed exactly as a hypotrack user would."""
+    options = dict(options)
+    if algorithm in SINGLE_HYPOTHESIS:
+        initiation = options.pop("initiator", None)
+        model = ScanModel(measurement.H, measurement.R, p_D, options.pop("p_gate", 0.99), clutter_rate / region.area,
+                          options.pop("new_target_density", 0.0))
+        initiator = None if initiation is None else MOfNInitiator(motion, model, **initiation)
+        tracker = SingleHypothesisTracker(motion, model, association=algorithm, initiator=initiator, **options)
+        tracker.initialise(means, covs, time=0.0)
+        return tracker
+    sensor = Sensor(measurement, DetectionModel(p_D=p_D), PoissonClutter(rate=clutter_rate, region=region))
+    return getattr(presets, algorithm)(motion, sensor, means=means, covs=covs, **options)
+
+
+def glmb_population(algorithm, options, perm, H, R):
+    """``options`` with the Stone Soup birth options replaced by a labeled multi-Bernoulli population.
+
+    For ``glmb``/``glmb_murty`` a Stone Soup user describes births in Stone Soup's terms:
+    ``birth_states`` (``GaussianState``\\s in Stone Soup's state order, one labeled-Bernoulli birth
+    term each, observed through the tracker's measurement model), ``birth_probability`` (``r_B``
+    per scan, one value or one per term, in (0, 1)) and ``survival_probability`` (``p_S`` per scan,
+    in (0, 1], default 1: objects never die). A hypotrack ``population``
+    (:class:`~hypotrack.hypotheses.LabeledMultiBernoulliPopulation`, hypotrack's state order) may
+    be given instead. Without either, the population has no birth term and ``p_S = 1``.
+    """
+    options = dict(options)
+    given = [k for k in BIRTH_OPTIONS if k in options]
+    if algorithm not in GLMB:
+        if given:
+            raise ValueError(f"options {given} describe the labeled population of {GLMB}; algorithm "
+                             f"{algorithm!r} does not take them")
+        return options
+    if "population" in options:
+        if given:
+            raise ValueError(f"options: give either population (hypotrack's) or {list(BIRTH_OPTIONS)}, not both")
+        return options
+    states = list(options.pop("birth_states", None) or [])
+    r_birth = options.pop("birth_probability", None if states else 0.5)
+    p_survive = options.get("survival_probability", 1.0)
+    d = len(perm)
+    terms = []
+    for k, s in enumerate(states):
+        mean, cov = np.asarray(s.state_vector, dtype=float), np.asarray(getattr(s, "covar", None), dtype=float)
+        if mean.shape not in ((d,), (d, 1)) or cov.shape != (d, d):
+            raise ValueError(f"options['birth_states'][{k}] must be a GaussianState with a {d}-component state "
+                             f"vector and a ({d}, {d}) covariance, got shapes {mean.shape} and {cov.shape}")
+        try:
+            terms.append(GaussianBirthTerm(mean.ravel()[perm], cov[np.ix_(perm, perm)], H, R))
+        except ValueError as err:
+            raise ValueError(f"options['birth_states'][{k}]: {err}") from None
+    if states and r_birth is None:
+        raise ValueError("options['birth_probability'] (r_B, the probability that a birth term's object "
+                         "appears at a scan, in (0, 1)) is required with birth_states")
+    r = np.asarray(r_birth, dtype=float)
+    if r.ndim > 1 or (r.ndim == 1 and len(r) != len(terms)) or not np.all((r > 0) & (r < 1)):
+        raise ValueError(f"options['birth_probability'] must lie in (0, 1), one value or one per birth state "
+                         f"({len(terms)}), got {r_birth!r}")
+    try:
+        p_survive = float(p_survive)
+    except (TypeError, ValueError):
+        p_survive = np.nan
+    if not 0.0 < p_survive <= 1.0:
+        raise ValueError(f"options['survival_probability'] (p_S per scan) must lie in (0, 1], got "
+                         f"{options.get('survival_probability', p_survive)!r}")
+    population = LabeledMultiBernoulliPopulation(birth_densities=terms, r_birth=r if terms else 0.5,
+                                                 p_survive=p_survive)
+    options.pop("survival_probability", None)
+    options["population"] = population
+    return options
+
+
+class ZeroTime:
+    """A motion model frozen at ``dt = 0`` (``F = I``, ``Q = 0``) whatever ``dt`` it is asked for.
+
+    The hypothesis filters predict over ``dt > 0`` only; a scan at the previous scan's time (or at
+    the priors' time) is stepped with this model so that it is, as in Stone Soup's predictors,
+    an update without prediction.
+    """
+
+    def __init__(self, motion):
+        self.motion = motion
+        self.ndim = motion.ndim
+
+    def transition(self, x, dt):
+        return self.motion.transition(x, 0.0)
+
+    def Q(self, dt):
+        return self.motion.Q(0.0)
+
+
+def scan_settings(tracker, algorithm, R=None, zero_time=False):
+    """``[(object, attribute, value)]`` that run one scan of ``tracker`` with noise covariance ``R``
+    (a detection model's, see :class:`DetectionFrame`) and/or without prediction.
+
+    The hypotrack trackers take one ``H`` and ``R`` at construction; a scan with another ``R`` sets
+    it on the tracker (and on the parts that derive quantities from it: the initiator's initial
+    covariance, the GLMB birth terms' likelihoods) for that scan only.
+    """
+    settings = []
+    if algorithm in SINGLE_HYPOTHESIS:
+        if R is not None:
+            model = dataclasses.replace(tracker.model, R=R)
+            settings.append((tracker, "model", model))
+            ini = tracker.initiator
+            if ini is not None:
+                template = MOfNInitiator(ini.motion, dataclasses.replace(ini.model, R=R), m=ini.m, n=ini.n,
+                                         initial_velocity_std=ini.initial_velocity_std)
+                settings += [(ini, "model", template.model), (ini, "_P0", template._P0)]
+        return settings
+    if R is not None:
+        settings.append((tracker, "R", np.asarray(R, dtype=float)))
+        pop = tracker.population
+        if pop is not None and any(isinstance(b, GaussianBirthTerm) for b in pop.birth_densities):
+            terms = tuple(dataclasses.replace(b, R=R) if isinstance(b, GaussianBirthTerm) else b
+                          for b in pop.birth_densities)
+            settings.append((pop, "birth_densities", terms))
+    if zero_time:
+        settings.append((tracker, "motion", ZeroTime(tracker.motion)))
+    return settings

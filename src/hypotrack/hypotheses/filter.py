@@ -168,6 +168,7 @@ class HypothesisFilter:
         self._next_label = int(self._store.labels.max()) + 1 if len(self._store) else 0
         self.scan_index = 0
         self.last_kept = None  # ChildSet of the current hypotheses: parent, event, kind, arg
+        self.last_track_sources = None
         self._keys = [()]
 
     @property
@@ -413,6 +414,9 @@ class HypothesisFilter:
             next_label += 1
         self._next_label = next_label
         self._store = TrackStore(means, covs, labels)
+        # (source, return) of each store entry: source >= 0 a predicted track, -1 - r birth term r,
+        # -1 - B a seeded birth (read by the factored engine to place newborn objects)
+        self.last_track_sources = np.stack([src, ret], axis=1) if len(pairs) else np.zeros((0, 2), np.int64)
         self._tracks = new_lists
         self._keys = [
             (self._keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())

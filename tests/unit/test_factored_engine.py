@@ -24,6 +24,8 @@ from hypotrack.hypotheses import (
     LabeledMultiBernoulliPopulation,
     ReidWeights,
     TrackStore,
+    glmb,
+    glmb_murty,
     hfisst,
     homht,
 )
@@ -431,3 +433,37 @@ def test_hfisst_count_term_is_not_separable_by_hand():
     odds_u = odds([(np.exp(lw), u.store.means[t]) for lw, t in zip(u.log_weights, u.track_lists)])
     odds_f = odds([(e.weight, e.means) for e in ff.joint_hypotheses()])
     assert odds_u == pytest.approx(2 * odds_f, rel=1e-10)
+
+
+@pytest.mark.parametrize("preset", ["glmb", "glmb_murty"])
+def test_sampling_and_ranking_generators_run_per_group(preset):
+    """The glmb (Gibbs) and glmb_murty presets, factored: after one scan each group's hypotheses
+    are among the exhaustive factored filter's, with the same weight ratios (exact weights of
+    the children found), and the heaviest is the same."""
+    pop = lmb(gate=0.99)
+    Z = np.array([[1.1, 0.4], [0.8, 0.9], [-5.2, 6.1], [6.0, -4.0]])
+    opts = dict(population=pop, max_hypotheses=1000, gate_probability=0.99, means=X0[:2], covs=P0[:2], seed=3)
+    make = {"glmb": lambda: glmb(MOTION, SENSOR, n_sweeps=3, **opts),
+            "glmb_murty": lambda: glmb_murty(MOTION, SENSOR, k=2, **opts)}[preset]
+    # split='never': a split's marginal weights would sum over whichever children were found
+    ff = FactoredFilter.from_filter(make(), split="never")
+    ex = FactoredFilter.from_filter(HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), **opts),
+                                    split="never")
+    ff.step(Z)
+    ex.step(Z)
+
+    def table(g):
+        keys = [tuple(np.round(np.r_[g.store.means[j], g.store.covs[j].ravel()], 9)) for j in range(len(g.store))]
+        return {frozenset(keys[j] for j in t): lw for lw, t in zip(g.log_w, g.tracks)}
+
+    assert len(ff.groups) == len(ex.groups) == 3  # the same gates: the same groups, in the same order
+    found = total = 0
+    for gf, ge in zip(ff.groups, ex.groups):
+        t, exact = table(gf), table(ge)
+        assert t.keys() <= exact.keys()
+        best = max(t, key=t.get)
+        assert best == max(exact, key=exact.get)
+        for k in t:
+            assert t[k] - t[best] == pytest.approx(exact[k] - exact[best], abs=1e-9)
+        found, total = found + len(t), total + len(exact)
+    assert found < total  # the generators did not find every child (k = 2, 3 sweeps)

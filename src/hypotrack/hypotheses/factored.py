@@ -296,7 +296,7 @@ class FactoredFilter:
         node_lab, ret_lab = lab[:n_nodes], lab[n_nodes:]
 
         stats = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
-                     n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0)
+                     n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0)
         new_groups = []
         seen = set()
         for first in range(n_nodes):  # components in order of their first node: deterministic
@@ -360,6 +360,7 @@ class FactoredFilter:
         runner._advance(pred, ctx, time.perf_counter())
         self._next_label = runner._next_label
         stats["n_touched"] += 1
+        stats["mass_retained_min"] = min(stats["mass_retained_min"], runner.last_stats["mass_retained"])
         stats["n_duplicates_merged"] += runner.last_stats["n_duplicates_merged"]
         stats["n_kalman_updates"] += runner.last_stats["n_kalman_updates"]
         new = GroupState(runner._store, runner._log_w, runner._tracks, runner._keys)

@@ -143,6 +143,19 @@ class FactoredFilter:
         Hypotheses of a group below this normalised weight are dropped after each scan
         (in [0, 1); 0 keeps all — needed for exactness; > 0 stops undetected-birth groups of
         negligible existence from accumulating).
+
+    Attributes
+    ----------
+    last_stats : dict
+        Of the last scan: ``n_groups``, ``largest_group`` (objects), ``largest_group_hypotheses``,
+        ``n_touched`` (groups stepped with returns or birth terms), ``n_predict_only``,
+        ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
+        ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
+        ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
+        touched group kept under the cap), ``time_total``.
+    stats_history : list of the ``last_stats`` of every scan.
+    split_records : list of :class:`~.factored_groups.SplitRecord`, every split (and, with
+        ``split="exact"``, every rejected one), with its KL and L1 loss.
     """
 
     def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
@@ -317,7 +330,7 @@ class FactoredFilter:
         held = set(np.concatenate([s.store.labels for s in self._groups]).tolist()) if self._groups else set()
         self._object = {k: v for k, v in self._object.items() if k in held}
         self.scan_index += 1
-        sizes = [len(s.labels) for s in self._groups]
+        sizes = [len(np.unique(self._objects(s.labels))) for s in self._groups]
         stats.update(n_groups=len(self._groups), largest_group=max(sizes, default=0),
                      largest_group_hypotheses=max((len(s.log_w) for s in self._groups), default=0),
                      time_total=time.perf_counter() - t0)

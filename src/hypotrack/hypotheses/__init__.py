@@ -14,9 +14,14 @@ the recursion tractable by searching children with MCMC instead of enumerating t
 :class:`LabeledMultiBernoulliPopulation`), and the trackers are presets: :func:`hfisst`,
 :func:`rfisst`, :func:`homht`, :func:`homht_kbest`, and the δ-GLMB filter :func:`glmb`,
 :func:`glmb_murty`.
+
+:class:`FactoredFilter` (:mod:`.factored`) runs the same engine on a posterior kept as a product
+of independent groups of objects (merged when a return falls in two groups' gates, split when
+their objects no longer interact), so that cost grows with the largest group, not the scene.
 """
 
 from .association_problem import CLUTTER, SEEDED_BIRTH, AssociationProblem
+from .factored import FactoredFilter, FactoredPosterior, cardinality_total_variation
 from .filter import HypothesisFilter
 from .generators import ChildGenerator, ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from .gibbs import GibbsGenerator
@@ -35,6 +40,9 @@ __all__ = [
     "CLUTTER",
     "SEEDED_BIRTH",
     "HypothesisFilter",
+    "FactoredFilter",
+    "FactoredPosterior",
+    "cardinality_total_variation",
     "ChildGenerator",
     "ExhaustiveGenerator",
     "MurtyGenerator",

@@ -17,7 +17,8 @@ One ``step(Z)``:
 3. for each parent: its association problem (weight model + population event probabilities),
    the generated association children, and their undetected-birth / death *twins*
    (:mod:`.population_events`), keeping the best ``H∞`` per parent;
-4. cap the children at ``H∞`` — the top by weight, or a weighted sample without replacement
+4. merge identical children of different parents (same tracks, e.g. after deaths) by adding
+   their weights (:mod:`.duplicates`), then cap the children at ``H∞`` — the top by weight, or a weighted sample without replacement
    (Gumbel-top-k with the filter's seeded generator) — and normalise with log-sum-exp;
 5. build the next store from the distinct ``(track, return)`` pairs of the survivors: each pair
    is one Joseph-form Kalman update however many hypotheses share it.
@@ -41,7 +42,7 @@ from .._validation import (
 )
 from ..association import gate_threshold, validation_matrix
 from ..gaussian import _innovation, _mahalanobis2
-from .association_problem import SEEDED_BIRTH
+from .duplicates import child_pairs, merge_duplicates
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
 from .posterior import summarise
@@ -167,6 +168,7 @@ class HypothesisFilter:
         self._next_label = int(self._store.labels.max()) + 1 if len(self._store) else 0
         self.scan_index = 0
         self.last_kept = None  # ChildSet of the current hypotheses: parent, event, kind, arg
+        self.last_track_sources = None
         self._keys = [()]
 
     @property
@@ -195,9 +197,11 @@ class HypothesisFilter:
         return list(self._keys)
 
     # ------------------------------------------------------------------ scan
-    def _context(self, pred: TrackStore, Z) -> ScanContext:
+    def _track_scores(self, pred: TrackStore, Z):
+        """``(loglik (m, n), allowed (m, n), p_detect (n,))`` of returns ``Z`` against the predicted
+        tracks: the track columns of the scan's :class:`ScanContext` (also used, group by group,
+        by :class:`~.factored.FactoredFilter`)."""
         n, m = len(pred), len(Z)
-        clutter = self.sensor.clutter
         if n:
             z_pred, S, _ = _innovation(pred.means, pred.covs, self.H, self.R)
             d2, logdet = _mahalanobis2(Z, z_pred, S)
@@ -210,11 +214,17 @@ class HypothesisFilter:
             allowed = np.ones((m, n), dtype=bool)
         else:
             allowed = validation_matrix(d2, gate_threshold(self.gate_probability, self.H.shape[0]))
+        return loglik, allowed, np.where(in_view, self.p_D, 0.0)
+
+    def _context(self, pred: TrackStore, Z) -> ScanContext:
+        m = len(Z)
+        loglik, allowed, p_detect = self._track_scores(pred, Z)
+        clutter = self.sensor.clutter
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))
         )
         return ScanContext(
-            Z=Z, loglik=loglik, allowed=allowed, p_detect=np.where(in_view, self.p_D, 0.0),
+            Z=Z, loglik=loglik, allowed=allowed, p_detect=p_detect,
             birth_loglik=birth_loglik, p_detect_birth=self.p_D,
             clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area),
         )
@@ -332,7 +342,11 @@ class HypothesisFilter:
         dt = self.dt if dt is None else check_positive(dt, "dt")
         Z = check_measurements(Z, "Z", self.H.shape[0])
         pred = self._store.predict(self.motion, dt)
-        ctx = self._context(pred, Z)
+        return self._advance(pred, self._context(pred, Z), t0)
+
+    def _advance(self, pred: TrackStore, ctx: ScanContext, t0: float):
+        """Children of every hypothesis for the scan of ``ctx`` (tracks predicted in ``pred``),
+        duplicates merged, capped and materialised."""
         keys_rng = self.rng if self.cap == "sample" else None
         parts, all_keys, n_gen, n_twins, masses = [], [], 0, 0, []
         t1 = time.perf_counter()
@@ -344,16 +358,19 @@ class HypothesisFilter:
             n_twins += nt
             masses.append(mass)
         t2 = time.perf_counter()
-        children = ChildSet.concatenate(parts, len(Z))
+        children = ChildSet.concatenate(parts, ctx.n_returns)
         if len(children) == 0:
             raise RuntimeError("no child hypothesis has a positive weight (every event was gated out or forbidden)")
-        sel = top_k(np.concatenate(all_keys), self.max_hypotheses)
+        children, all_keys, n_dup = merge_duplicates(children, np.concatenate(all_keys), self._tracks,
+                                                     ctx.n_birth_regions)
+        sel = top_k(all_keys, self.max_hypotheses)
         kept = children.take(sel)
         n_updates = self._materialise(kept, pred, ctx)
         log_total = logsumexp(masses)
         self.scan_index += 1
         self.last_stats = {
             "n_parents": len(parts), "n_association_children": n_gen, "n_twin_children": n_twins,
+            "n_duplicates_merged": n_dup,
             "n_kept": len(kept), "log_mass_generated": float(log_total),
             "mass_retained": float(np.exp(logsumexp(kept.log_weights) - log_total)),
             "n_kalman_updates": n_updates, "time_generate": t2 - t1, "time_total": time.perf_counter() - t0,
@@ -368,19 +385,8 @@ class HypothesisFilter:
         B = ctx.n_birth_regions
         seeded_src = -1 - B
         for c in range(len(kept)):
-            tr = self._tracks[kept.parent[c]]
-            ev = kept.events[c]
-            M = len(tr)
-            ret = np.full(M, -1, dtype=np.int64)
-            on_obj = np.flatnonzero((ev >= 0) & (ev < M))
-            ret[ev[on_obj]] = on_obj
-            dead, unseen_births = kept.silent_events(c, M)
-            keys = [(int(tr[j]), int(ret[j])) for j in range(M) if j not in dead]
-            keys += [(-1 - int(ev[i] - M), int(i)) for i in np.flatnonzero(ev >= M)]
-            keys += [(seeded_src, int(i)) for i in np.flatnonzero(ev == SEEDED_BIRTH)]
-            keys += [(-1 - int(r), -1) for r in unseen_births]
             idx = []
-            for key in keys:
+            for key in child_pairs(kept, c, self._tracks[kept.parent[c]], B):
                 if key not in pair_index:
                     pair_index[key] = len(pairs)
                     pairs.append(key)
@@ -408,6 +414,9 @@ class HypothesisFilter:
             next_label += 1
         self._next_label = next_label
         self._store = TrackStore(means, covs, labels)
+        # (source, return) of each store entry: source >= 0 a predicted track, -1 - r birth term r,
+        # -1 - B a seeded birth (read by the factored engine to place newborn objects)
+        self.last_track_sources = np.stack([src, ret], axis=1) if len(pairs) else np.zeros((0, 2), np.int64)
         self._tracks = new_lists
         self._keys = [
             (self._keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())

@@ -47,6 +47,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .._validation import check_covariance, check_finite_array, check_probability
+from ..association import gate_threshold
 from ..gaussian import innovation, update
 from .association_problem import CLUTTER
 from .hypothesis import ChildSet
@@ -62,12 +63,20 @@ MAX_OBJECTS = 62  #: tracks + birth terms whose silent-event mask fits an int64 
 @dataclass(frozen=True, eq=False)
 class GaussianBirthTerm:
     """Birth density ``N(mean, cov)`` of a labeled-Bernoulli birth term, observed through
-    ``z = H x + v``, ``v ~ N(0, R)``."""
+    ``z = H x + v``, ``v ~ N(0, R)``.
+
+    ``gate_probability`` (in (0, 1), optional) gates the term like a track: a return whose
+    squared Mahalanobis distance to ``H mean`` under ``S = H cov Hᵀ + R`` exceeds the χ² quantile
+    cannot be the birth's first detection (likelihood 0). Without it a Gaussian birth term may
+    take any return of the scan, which couples every return with every object that gates it —
+    the factored engine (:mod:`.factored`) would then have to merge all groups seeing a return.
+    """
 
     mean: np.ndarray
     cov: np.ndarray
     H: np.ndarray
     R: np.ndarray
+    gate_probability: float | None = None
 
     def __post_init__(self):
         mean = check_finite_array(self.mean, "mean", ndim=1)
@@ -78,6 +87,9 @@ class GaussianBirthTerm:
             raise ValueError(f"H must have {len(mean)} columns, got shape {H.shape}")
         object.__setattr__(self, "H", H)
         object.__setattr__(self, "R", check_covariance(self.R, "R", dim=H.shape[0]))
+        if self.gate_probability is not None:
+            object.__setattr__(self, "gate_probability", check_probability(
+                self.gate_probability, "gate_probability", low_open=True, high_open=True))
 
     def loglik(self, Z) -> np.ndarray:
         """``log ∫ N(z; H x, R) N(x; mean, cov) dx = log N(z; H mean, H cov Hᵀ + R)`` per return."""
@@ -85,7 +97,11 @@ class GaussianBirthTerm:
         z_pred, S, _ = innovation(self.mean, self.cov, self.H, self.R)
         L = np.linalg.cholesky(S)
         r = np.linalg.solve(L, (Z - z_pred).T)
-        return -0.5 * np.sum(r * r, axis=0) - np.sum(np.log(np.diag(L))) - 0.5 * len(z_pred) * np.log(2 * np.pi)
+        d2 = np.sum(r * r, axis=0)
+        ll = -0.5 * d2 - np.sum(np.log(np.diag(L))) - 0.5 * len(z_pred) * np.log(2 * np.pi)
+        if self.gate_probability is None:
+            return ll
+        return np.where(d2 <= gate_threshold(self.gate_probability, len(z_pred)), ll, -np.inf)
 
     def initial_state(self, z, R):
         """The born object's Gaussian: the birth density updated with its first return ``z``."""

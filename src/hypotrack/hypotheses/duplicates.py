@@ -1,0 +1,192 @@
+"""Identical children of different parents: one hypothesis, weights added.
+
+A hypothesis is a *set of tracks* — in the engine the set of its tracks' ``(source, return)``
+pairs, which :meth:`HypothesisFilter._materialise` turns into store entries — not the path that
+led to it. Seed 000 Eq. 11 sums the probability of a hypothesis over every way of reaching it,
+and in the δ-GLMB a component is indexed by its label set and association history (Vo & Vo,
+IEEE TSP 61(13), 2013, Eq. 14), so two children holding the same tracks are one component
+whose weight is the sum of theirs. After deaths they do occur: parent ``{a, b}`` whose ``b``
+dies and parent ``{a}`` (``b`` died a scan earlier) both produce ``{a updated with z}``.
+
+Kept apart, the posterior *density* is unchanged (the two entries carry identical pdfs), but
+the cap and the summaries are not: each half can fall below the ``H∞``-th weight while the
+whole would have been kept, a MAP estimate compares halves, and the factored engine's
+factorisation check (:mod:`.factored`) counts hypotheses. :func:`merge_duplicates` therefore
+merges them before the cap, the weight being the log-sum-exp of the copies.
+
+Which children can coincide
+---------------------------
+If neither of two children has a death, each holds a descendant of *every* track of its parent,
+so equal children have parents with equal track sets, i.e. the same parent (the current
+hypotheses are distinct — this merge keeps them so), and within one parent the pairs determine
+the event and the silent events. Hence duplicates need a death in at least one of the two, and
+a scan whose children have no death is skipped at the cost of one mask. Otherwise each child
+gets a 64-bit hash, the XOR of a splitmix64 mix of each of its pairs (order-free, vectorised);
+children sharing a hash are compared by their exact pair sets before merging, so a hash
+collision cannot merge different hypotheses.
+
+With a cap the parents' children are pre-trimmed to the best ``H∞`` each (:mod:`.filter`), so
+a child trimmed at one parent cannot add to its copy at another: the merge is exact when
+nothing is trimmed (``max_hypotheses`` above the number of children).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import logsumexp
+
+from .association_problem import SEEDED_BIRTH
+from .hypothesis import ChildSet
+
+__all__ = ["child_pairs", "silent_masks", "child_hashes", "merge_duplicates"]
+
+_CHUNK = 1 << 15
+_GOLDEN = np.uint64(0x9E3779B97F4A7C15)
+_MIX1 = np.uint64(0xBF58476D1CE4E5B9)
+_MIX2 = np.uint64(0x94D049BB133111EB)
+
+
+def _mix(x):
+    """splitmix64 finaliser, elementwise on uint64 (wrapping arithmetic)."""
+    with np.errstate(over="ignore"):
+        x = x.astype(np.uint64) + _GOLDEN
+        x = (x ^ (x >> np.uint64(30))) * _MIX1
+        x = (x ^ (x >> np.uint64(27))) * _MIX2
+    return x ^ (x >> np.uint64(31))
+
+
+def child_pairs(children: ChildSet, c: int, tracks, n_birth: int) -> list:
+    """The ``(source, return)`` pairs of child ``c`` whose parent holds store tracks ``tracks``.
+
+    ``source >= 0`` a parent track (return −1: missed), ``−1 − r`` birth term/region ``r``
+    (return −1: born undetected), ``−1 − n_birth`` a seeded birth (HOMHT). The order is the
+    order of the child's tracks in the next store list.
+    """
+    ev = children.events[c]
+    M = len(tracks)
+    ret = np.full(M, -1, dtype=np.int64)
+    on_obj = np.flatnonzero((ev >= 0) & (ev < M))
+    ret[ev[on_obj]] = on_obj
+    dead, unseen_births = children.silent_events(c, M)
+    keys = [(int(tracks[j]), int(ret[j])) for j in range(M) if j not in dead]
+    keys += [(-1 - int(ev[i] - M), int(i)) for i in np.flatnonzero(ev >= M)]
+    keys += [(-1 - n_birth, int(i)) for i in np.flatnonzero(ev == SEEDED_BIRTH)]
+    keys += [(-1 - int(r), -1) for r in unseen_births]
+    return keys
+
+
+def silent_masks(children: ChildSet, lens: np.ndarray, n_birth: int):
+    """``(dead (E, M_max), unseen (E, B))`` bool: the parent-local objects each child kills and
+    the birth terms born undetected (``lens[e]`` objects in child ``e``'s parent)."""
+    E = len(children)
+    m_max = int(lens.max()) if E else 0
+    dead = np.zeros((E, m_max), dtype=bool)
+    unseen = np.zeros((E, n_birth), dtype=bool)
+    kind, arg = children.kind, children.arg
+    rows = np.flatnonzero(kind == ChildSet.DEATH)
+    dead[rows, arg[rows].astype(np.int64)] = True
+    rows = np.flatnonzero(kind == ChildSet.UNDETECTED_BIRTH)
+    unseen[rows, arg[rows].astype(np.int64)] = True
+    rows = np.flatnonzero(kind == ChildSet.POPULATION_SET)
+    if len(rows):
+        if arg.dtype == object:  # more than 62 objects: exact Python integers
+            for e in rows:
+                dead_e, unseen_e = children.silent_events(int(e), int(lens[e]))
+                dead[e, dead_e] = True
+                unseen[e, unseen_e] = True
+        else:
+            a = arg[rows].astype(np.int64)[:, None]
+            M = lens[rows][:, None]
+            j = np.arange(m_max)[None, :]
+            dead[rows] = ((a >> j) & 1).astype(bool) & (j < M)
+            if n_birth:
+                unseen[rows] = ((a >> (M + np.arange(n_birth)[None, :])) & 1).astype(bool)
+    return dead, unseen
+
+
+def child_hashes(children: ChildSet, track_lists, n_birth: int, dead=None, unseen=None) -> np.ndarray:
+    """(E,) uint64: XOR of ``splitmix64(code(pair))`` over each child's pairs (order-free)."""
+    E = len(children)
+    lens = np.array([len(t) for t in track_lists], dtype=np.int64)
+    m = children.events.shape[1]
+    if dead is None:
+        dead, unseen = silent_masks(children, lens[children.parent], n_birth)
+    m_max = dead.shape[1]
+    padded = np.full((len(track_lists), m_max), -1, dtype=np.int64)
+    for h, t in enumerate(track_lists):
+        padded[h, : len(t)] = t
+    stride = m + 1
+    out = np.zeros(E, dtype=np.uint64)
+    cols = np.arange(m_max)[None, :]
+    ret_idx = np.arange(m)[None, :]
+    for start in range(0, E, _CHUNK):
+        sl = slice(start, start + _CHUNK)
+        par = children.parent[sl]
+        ev = children.events[sl].astype(np.int64)
+        M = lens[par][:, None]
+        ret = np.full((len(par), m_max), -1, dtype=np.int64)
+        r, i = np.nonzero((ev >= 0) & (ev < M))
+        ret[r, ev[r, i]] = i
+        live = (cols < M) & ~dead[sl]
+        codes = (padded[par] + n_birth + 1) * stride + ret + 1
+        h = np.bitwise_xor.reduce(np.where(live, _mix(codes), np.uint64(0)), axis=1)
+        born = ev >= M
+        if born.any():
+            codes = (n_birth - (ev - M)) * stride + ret_idx + 1
+            h ^= np.bitwise_xor.reduce(np.where(born, _mix(codes), np.uint64(0)), axis=1)
+        seeded = ev == SEEDED_BIRTH
+        if seeded.any():
+            h ^= np.bitwise_xor.reduce(np.where(seeded, _mix(np.broadcast_to(ret_idx + 1, ev.shape)), np.uint64(0)),
+                                       axis=1)
+        if n_birth and unseen[sl].any():
+            codes = (n_birth - np.arange(n_birth)[None, :]) * stride
+            h ^= np.bitwise_xor.reduce(np.where(unseen[sl], _mix(np.broadcast_to(codes, unseen[sl].shape)),
+                                                np.uint64(0)), axis=1)
+        out[sl] = h
+    return out
+
+
+def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth: int):
+    """Merge children holding the same tracks; returns ``(children, keys, n_removed)``.
+
+    Each set of identical children becomes its heaviest member with log-weight the
+    log-sum-exp of theirs; its cap key (the log-weight, or the log-weight plus a Gumbel draw
+    for the sampled cap) moves by the same amount, so the sampled cap still draws each
+    distinct hypothesis with one Gumbel key. The order of the remaining children is kept.
+    """
+    E = len(children)
+    if E < 2:
+        return children, keys, 0
+    lens = np.array([len(track_lists[p]) for p in children.parent], dtype=np.int64)
+    dead, unseen = silent_masks(children, lens, n_birth)
+    if not dead.any():
+        return children, keys, 0
+    h = child_hashes(children, track_lists, n_birth, dead, unseen)
+    order = np.argsort(h, kind="stable")
+    hs = h[order]
+    same = np.zeros(E, dtype=bool)
+    eq = hs[1:] == hs[:-1]
+    same[1:] |= eq
+    same[:-1] |= eq
+    if not same.any():
+        return children, keys, 0
+    groups = {}
+    for c in order[same]:
+        c = int(c)
+        pairs = frozenset(child_pairs(children, c, track_lists[children.parent[c]], n_birth))
+        groups.setdefault((int(h[c]), pairs), []).append(c)
+    lw = children.log_weights.copy()
+    keys = np.asarray(keys, dtype=float).copy()
+    drop = np.zeros(E, dtype=bool)
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        members = np.asarray(members)
+        rep = members[np.argmax(lw[members])]
+        total = float(logsumexp(lw[members]))
+        keys[rep] += total - lw[rep]
+        lw[rep] = total
+        drop[members[members != rep]] = True
+    keep = np.flatnonzero(~drop)
+    merged = ChildSet(children.parent[keep], children.events[keep], children.kind[keep], children.arg[keep], lw[keep])
+    return merged, keys[keep], int(drop.sum())

@@ -1,0 +1,505 @@
+"""The factored hypothesis engine: the posterior as a product of independent groups.
+
+:class:`~.filter.HypothesisFilter` keeps *global* hypotheses: every parent's association problem
+spans every object and every return, so the number of hypotheses — and the work per scan —
+grows with the product of the ambiguities anywhere in view, although two objects whose gates
+never share a return do not influence each other's weights. :class:`FactoredFilter` keeps the
+posterior as a product of *groups* (Beard, Vo & Vo, "A solution for large-scale multi-object
+tracking", IEEE TSP 68, 2020): each group is a hypothesis set over its own objects, run by the
+engine's own machinery (any weight model × child generator × population, the same children,
+duplicate merging, cap and Kalman updates), and a scan touches a group only through the
+returns in its gate.
+
+One ``step(Z)``
+---------------
+1. Predict every group's tracks; score every return against them (the engine's
+   :meth:`~.filter.HypothesisFilter._track_scores`, each (return, track) pair once). A group's
+   *gate* is the set of returns inside the validation gate of any of its tracks, in any of its
+   hypotheses (the engine's ``allowed``; the field of view enters through ``p_D``, not the gate).
+2. Build the bipartite graph groups/birth terms — returns: a group is linked to the returns in
+   its gate, a birth term (or birth region) to the returns it could be the first detection of
+   (finite birth likelihood; see ``births``), and with HOMHT's seeded births each return in no
+   gate becomes a node of its own (a new object or clutter). Its connected components are this
+   scan's problems: groups in one component are **merged** (the product of their hypotheses,
+   capped at ``H∞`` as the engine caps, :func:`.factored_groups.product`), receive the
+   component's returns and birth terms, and take one engine step. A birth term linked to no
+   return still forms a group (a birth that is not detected). Returns linked to nothing are
+   clutter for every hypothesis: a common factor, dropped.
+3. A group with no return and no birth term only predicts when that is exact (no population
+   events and the same ``Π (1 − p_D)`` in all its hypotheses); otherwise it takes the engine's
+   step on an empty scan (deaths, survival and missed detections change its weights).
+4. **Split**: the objects of each group are partitioned by this scan's interaction (objects
+   linked through a shared gated return, a newborn object with its birth term or return); if
+   there are several parts the joint is compared with the product of its marginals
+   (:func:`.factored_groups.factorise`). ``split="marginal"`` (Beard et al.'s method) splits
+   always, exactly when the joint factorises and otherwise with the marginal-product
+   approximation, whose KL and L1 losses are recorded (:attr:`split_records`, ``last_stats``);
+   ``split="exact"`` splits off each part that is exactly independent of the rest of its group
+   (one two-way check per part) and keeps the others together; ``split="never"`` keeps groups
+   merged.
+
+When the factored posterior equals the unfactored one
+-----------------------------------------------------
+The joint children of a product of groups are the products of the groups' children exactly
+when each child's weight is a product of per-group factors and no return is open to two
+groups — the second holds by construction, the first is a property of the model:
+
+* **separable** (exact, tested in ``tests/crosscheck/test_equivalence_factored.py``): the δ-GLMB
+  weights with the labeled multi-Bernoulli population (Vo, Vo & Hoang 2017: ``Π_i η_i(γ_i)``;
+  each birth term is given to one group per scan), and Reid's HOMHT with a fixed number of
+  objects or Poisson births seeded at returns (seed 001 Eq. 30, 35: a product over returns and
+  objects), and FISST with Poisson clutter (seed 001 Eq. 6–7); all as long as no cap binds
+  (each group keeps ``H∞`` hypotheses, so the factored filter keeps more joint hypotheses than
+  the unfactored one) and every split was exact. A split after a real interaction is never
+  exact: the joint lacks the configurations where both groups took the shared return.
+* **not separable** (the factored filter is a different approximation): H-FISST's count term
+  ``−log(m!/(m − n)!)`` (seed 000 Eq. 8) counts the returns of the whole scan, and a group sees
+  its own; seed 001's binomial population allows one silent event per child, i.e. per group
+  here; seed 000's **single-event** population (one birth or one death per scan for the whole
+  scene, Eq. 30) couples every object through ``P(no event) = 1 − M_b α − M_d β``. The factored
+  engine applies the event model **per group** — one event per group and scan, ``M_d`` the
+  group's objects in view — which changes the prior: with ``G`` groups up to ``G`` events
+  per scan can happen, and no-event children weigh ``1 − M_b α − M_d,g β`` per group instead
+  of ``1 − M_b α − M_d β`` overall. :func:`cardinality_total_variation` measures the effect;
+  the test reports it on a small scene.
+"""
+
+from __future__ import annotations
+
+import copy
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._validation import check_finite_array, check_int, check_measurements, check_positive
+from .factored_groups import GroupState, SplitRecord, compact, components, factorise, product, restrict_population
+from .filter import HypothesisFilter
+from .posterior import HypothesisEstimate, summarise
+from .scan_context import ScanContext
+from .tracks import TrackStore
+
+__all__ = ["FactoredFilter", "FactoredPosterior", "cardinality_total_variation"]
+
+_SPLITS = ("marginal", "exact", "never")
+_BIRTHS = ("coupled", "free")
+
+
+@dataclass(frozen=True, eq=False)
+class FactoredPosterior:
+    """The product posterior as a summary.
+
+    Attributes
+    ----------
+    groups : per group, its :class:`~.posterior.Posterior`.
+    cardinality : ``P(n objects)``, the convolution of the groups' cardinality distributions.
+    expected_number : the sum of the groups' expected numbers.
+    map_estimate : the union of the groups' MAP hypotheses — the MAP of a product of
+        independent distributions — with weight the product of theirs.
+    """
+
+    groups: tuple
+    cardinality: np.ndarray
+    expected_number: float
+    map_estimate: HypothesisEstimate
+
+    @property
+    def n_groups(self) -> int:
+        return len(self.groups)
+
+
+def cardinality_total_variation(p, q) -> float:
+    """``½ Σ_n |p(n) − q(n)|`` between two cardinality distributions (zero-padded)."""
+    p, q = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
+    n = max(len(p), len(q))
+    return 0.5 * float(np.abs(np.pad(p, (0, n - len(p))) - np.pad(q, (0, n - len(q)))).sum())
+
+
+def _empty_state(ndim: int) -> GroupState:
+    return GroupState(TrackStore.from_arrays(np.zeros((0, ndim)), None, ndim=ndim), np.zeros(1),
+                      [np.zeros(0, dtype=np.int64)], [()])
+
+
+class FactoredFilter:
+    """Hypothesis filter whose posterior is a product of independent groups (module docstring).
+
+    Parameters
+    ----------
+    motion, sensor, weights, generator, population, dt, max_hypotheses, cap, gate_probability, seed :
+        As :class:`~.filter.HypothesisFilter`; ``max_hypotheses`` caps each group (and each merge).
+    means, covs, labels : array_like, optional
+        Initial objects, one group each.
+    split : {"marginal", "exact", "never"}
+        When groups whose objects no longer interact are split (module docstring).
+    births : {"coupled", "free"}
+        ``"coupled"``: a birth term is linked to every return it could be the first detection
+        of (exact). ``"free"``: only to returns in no group's gate — returns near an existing
+        object are never births (an approximation unless the birth terms and the gates are
+        disjoint); use it for birth pdfs that cover the whole view (seed 000/001 regions),
+        which would otherwise merge every group with a return into one.
+    factor_tol : float
+        Largest ``|log P − log Π marginals|`` for a split to count as exact (> 0).
+    min_weight : float
+        Hypotheses of a group below this normalised weight are dropped after each scan
+        (in [0, 1); 0 keeps all — needed for exactness; > 0 stops undetected-birth groups of
+        negligible existence from accumulating).
+
+    Attributes
+    ----------
+    last_stats : dict
+        Of the last scan: ``n_groups``, ``largest_group`` (objects), ``largest_group_hypotheses``,
+        ``n_touched`` (groups stepped with returns or birth terms), ``n_predict_only``,
+        ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
+        ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
+        ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
+        touched group kept under the cap), ``time_total``.
+    stats_history : list of the ``last_stats`` of every scan.
+    split_records : list of :class:`~.factored_groups.SplitRecord`, every split (and, with
+        ``split="exact"``, every rejected one), with its KL and L1 loss.
+    """
+
+    def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
+                 cap="top", gate_probability=None, seed=None, means=None, covs=None, labels=None,
+                 split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0):
+        template = HypothesisFilter(motion, sensor, weights, generator, population=population, dt=dt,
+                                    max_hypotheses=max_hypotheses, cap=cap, gate_probability=gate_probability,
+                                    seed=seed)
+        self._configure(template, split, births, factor_tol, min_weight)
+        self.initialise(np.zeros((0, self.ndim)) if means is None else means, covs, labels)
+
+    @classmethod
+    def from_filter(cls, f: HypothesisFilter, **options) -> "FactoredFilter":
+        """The factored form of a configured engine (e.g. a preset) and its current posterior.
+
+        ``f``'s configuration is used and its random generator copied (``f`` is not changed).
+        Its hypotheses become one group, split exactly into one group per object where the
+        joint factorises (a single hypothesis always does). ``options``: ``split``, ``births``,
+        ``factor_tol``, ``min_weight``.
+        """
+        if not isinstance(f, HypothesisFilter):
+            raise TypeError(f"f must be a HypothesisFilter, got {type(f).__name__}")
+        unknown = set(options) - {"split", "births", "factor_tol", "min_weight"}
+        if unknown:
+            raise ValueError(f"unknown options {sorted(unknown)}; allowed: split, births, factor_tol, min_weight")
+        template = object.__new__(HypothesisFilter)
+        template.__dict__.update(f.__dict__)
+        template.rng = copy.deepcopy(f.rng)
+        obj = cls.__new__(cls)
+        obj._configure(template, options.get("split", "marginal"), options.get("births", "coupled"),
+                       options.get("factor_tol", 1e-10), options.get("min_weight", 0.0))
+        obj._reset()
+        state = GroupState(f.store, f.log_weights, f.track_lists, f.lineage_keys)
+        obj._groups = [state] if any(len(t) for t in state.tracks) else []
+        if obj._groups and len(state.labels) > 1:
+            record, parts = factorise(state, np.searchsorted(state.labels, state.store.labels), obj.factor_tol)
+            if record.exact:
+                obj._groups = parts
+        obj._next_label = f._next_label
+        obj.scan_index = f.scan_index
+        return obj
+
+    def _configure(self, template, split, births, factor_tol, min_weight):
+        if split not in _SPLITS:
+            raise ValueError(f"split must be one of {_SPLITS}, got {split!r}")
+        if births not in _BIRTHS:
+            raise ValueError(f"births must be one of {_BIRTHS}, got {births!r}")
+        factor_tol = check_positive(factor_tol, "factor_tol")
+        min_weight = float(min_weight)
+        if not 0.0 <= min_weight < 1.0:
+            raise ValueError(f"min_weight must lie in [0, 1), got {min_weight!r}")
+        self._template = template
+        self.rng = template.rng
+        self.split, self.births, self.factor_tol, self.min_weight = split, births, factor_tol, min_weight
+        self.ndim = template.H.shape[1]
+
+    def _reset(self):
+        self._groups = []
+        self._object = {}  # label -> object id, for labels that are not their own object
+        self._next_label = 0
+        self.scan_index = 0
+        self.last_stats = {}
+        self.stats_history = []
+        self.split_records = []
+
+    # ------------------------------------------------------------------ state
+    def initialise(self, means, covs=None, labels=None):
+        """One group per object (``n = 0`` allowed), each with its single hypothesis."""
+        self._reset()
+        d = self.ndim
+        means = np.asarray(means, dtype=float)
+        if means.size == 0:
+            return
+        means = check_finite_array(np.atleast_2d(means), "means", shape=(None, d))
+        if covs is None:
+            raise ValueError("covs are required with means")
+        store = TrackStore.from_arrays(means, covs, labels)
+        if len(np.unique(store.labels)) != len(store):
+            raise ValueError("labels must be distinct (one per object)")
+        self._groups = [GroupState(TrackStore(store.means[[j]], store.covs[[j]], store.labels[[j]]), np.zeros(1),
+                                   [np.zeros(1, dtype=np.int64)], [()]) for j in range(len(store))]
+        self._next_label = int(store.labels.max()) + 1
+
+    @property
+    def groups(self) -> list:
+        """The groups' states (:class:`~.factored_groups.GroupState`), a copy of the list."""
+        return list(self._groups)
+
+    @property
+    def n_joint_hypotheses(self) -> int:
+        """Hypotheses of the product (``Π_g H_g``, exact integer)."""
+        return int(np.prod([len(s.log_w) for s in self._groups], dtype=object)) if self._groups else 1
+
+    # ------------------------------------------------------------------ scan
+    def step(self, Z, dt=None) -> FactoredPosterior:
+        """Advance one scan with returns ``Z`` (m, p); all-or-nothing like the engine's step."""
+        saved = (self._groups, self._next_label, self.scan_index, self.rng.bit_generator.state, self.last_stats,
+                 len(self.stats_history), len(self.split_records), dict(self._object))
+        try:
+            return self._step(Z, dt)
+        except BaseException:
+            (self._groups, self._next_label, self.scan_index, rng_state, self.last_stats, n_hist, n_split,
+             self._object) = saved
+            self.rng.bit_generator.state = rng_state
+            del self.stats_history[n_hist:], self.split_records[n_split:]
+            raise
+
+    def _runner(self, state: GroupState, regions) -> HypothesisFilter:
+        """An engine holding one group's hypotheses, with the group's birth terms."""
+        T = self._template
+        g = object.__new__(HypothesisFilter)
+        g.__dict__.update(T.__dict__)
+        g.population = restrict_population(T.population, regions)
+        g._store, g._log_w, g._tracks, g._keys = state.store, state.log_w, state.tracks, state.keys
+        g._next_label = self._next_label
+        g.last_stats, g.last_kept, g.last_track_sources = {}, None, None
+        return g
+
+    def _context(self, Z, rows, scores, birth_ll, regions) -> ScanContext:
+        T = self._template
+        loglik, allowed, p_detect = scores
+        clutter = T.sensor.clutter
+        return ScanContext(Z=Z[rows], loglik=loglik[rows], allowed=allowed[rows], p_detect=p_detect,
+                           birth_loglik=birth_ll[np.ix_(rows, regions)], p_detect_birth=T.p_D,
+                           clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area))
+
+    def _step(self, Z, dt):
+        t0 = time.perf_counter()
+        T = self._template
+        dt = T.dt if dt is None else check_positive(dt, "dt")
+        Z = check_measurements(Z, "Z", T.H.shape[0])
+        m, groups = len(Z), self._groups
+        G = len(groups)
+        preds = [s.store.predict(T.motion, dt) for s in groups]
+        scores = [T._track_scores(p, Z) for p in preds]
+        birth_ll = T.population.birth_loglik(Z) if T.population is not None else np.zeros((m, 0))
+        B = birth_ll.shape[1]
+        gate = np.zeros((m, G), dtype=bool)
+        for g, (_, allowed, _) in enumerate(scores):
+            gate[:, g] = allowed.any(axis=1)
+        bgate = np.isfinite(birth_ll)
+        if self.births == "free":
+            bgate &= ~gate.any(axis=1)[:, None]
+        free = np.flatnonzero(~gate.any(axis=1) & ~bgate.any(axis=1)) if T.weights.seeded_births else np.zeros(0, int)
+        gi, gr = np.nonzero(gate.T)
+        bi, br = np.nonzero(bgate.T)
+        n_nodes = G + B + len(free)
+        node = np.concatenate([gi, G + bi, G + B + np.arange(len(free))])
+        ret = np.concatenate([gr, br, free])
+        _, lab = components(n_nodes, m, node, ret)
+        node_lab, ret_lab = lab[:n_nodes], lab[n_nodes:]
+
+        stats = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
+                     n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0)
+        new_groups = []
+        seen = set()
+        for first in range(n_nodes):  # components in order of their first node: deterministic
+            c = node_lab[first]
+            if c in seen:
+                continue
+            seen.add(c)
+            members = np.flatnonzero(node_lab[:G] == c)
+            regions = np.flatnonzero(node_lab[G:G + B] == c)
+            rows = np.flatnonzero(ret_lab == c)
+            if len(rows) == 0 and len(regions) == 0:
+                (g,) = members
+                state, parts = self._quiet(groups[g], preds[g], scores[g], Z, birth_ll, stats)
+            else:
+                state, parts = self._touched(members, regions, rows, groups, preds, scores, Z, birth_ll, stats)
+            new_groups.extend(self._split(state, parts, stats))
+        self._groups = [s for s in (self._prune(s) for s in new_groups) if s is not None]
+        held = set(np.concatenate([s.store.labels for s in self._groups]).tolist()) if self._groups else set()
+        self._object = {k: v for k, v in self._object.items() if k in held}
+        self.scan_index += 1
+        sizes = [len(np.unique(self._objects(s.labels))) for s in self._groups]
+        stats.update(n_groups=len(self._groups), largest_group=max(sizes, default=0),
+                     largest_group_hypotheses=max((len(s.log_w) for s in self._groups), default=0),
+                     time_total=time.perf_counter() - t0)
+        self.last_stats = stats
+        self.stats_history.append(stats)
+        return self.posterior()
+
+    def _objects(self, labels) -> np.ndarray:
+        """Object id of each label. The engine gives every (birth term, return) pair of a scan its
+        own label, but a birth term yields at most one object per scan: all its newborn labels
+        of that scan are one object (id: the smallest of them), which a split keeps in one part.
+        Other labels are their own object."""
+        get = self._object.get
+        return np.array([get(int(x), int(x)) for x in labels], dtype=np.int64)
+
+    def _register_births(self, store, sources, n_regions):
+        born = np.flatnonzero((sources[:, 0] < 0) & (sources[:, 0] != -1 - n_regions))
+        for r in np.unique(sources[born, 0]):
+            labels = store.labels[born[sources[born, 0] == r]]
+            for x in labels:
+                self._object[int(x)] = int(labels.min())
+
+    def _touched(self, members, regions, rows, groups, preds, scores, Z, birth_ll, stats):
+        """Merge the component's groups and run one engine step on its returns and birth terms."""
+        T = self._template
+        if len(members) == 0:
+            state, pred = _empty_state(self.ndim), _empty_state(self.ndim).store
+            sc = (np.zeros((len(Z), 0)), np.zeros((len(Z), 0), dtype=bool), np.zeros(0))
+        elif len(members) == 1:
+            state, pred, sc = groups[members[0]], preds[members[0]], scores[members[0]]
+        else:
+            state, used = product([groups[g] for g in members], T.max_hypotheses, T.cap, self.rng)
+            pred_all = TrackStore(*(np.concatenate([getattr(preds[g], f) for g in members])
+                                    for f in ("means", "covs", "labels")))
+            pred = TrackStore(pred_all.means[used], pred_all.covs[used], pred_all.labels[used])
+            sc = tuple(np.concatenate([scores[g][k] for g in members], axis=-1)[..., used] for k in range(3))
+            stats["n_merges"] += len(members) - 1
+        ctx = self._context(Z, rows, sc, birth_ll, regions)
+        runner = self._runner(state, regions)
+        runner._advance(pred, ctx, time.perf_counter())
+        self._next_label = runner._next_label
+        stats["n_touched"] += 1
+        stats["mass_retained_min"] = min(stats["mass_retained_min"], runner.last_stats["mass_retained"])
+        stats["n_duplicates_merged"] += runner.last_stats["n_duplicates_merged"]
+        stats["n_kalman_updates"] += runner.last_stats["n_kalman_updates"]
+        new = GroupState(runner._store, runner._log_w, runner._tracks, runner._keys)
+        self._register_births(new.store, runner.last_track_sources, len(regions))
+        return new, self._interaction_parts(self._objects(pred.labels), ctx, runner.last_track_sources, len(regions))
+
+    def _quiet(self, state, pred, sc, Z, birth_ll, stats):
+        """A group no return or birth term reaches: predict, or an empty-scan step when needed."""
+        T = self._template
+        log_miss = np.log1p(-sc[2])
+        miss = np.array([log_miss[t].sum() for t in state.tracks])
+        if T.population is None and np.ptp(miss) <= 1e-12:
+            stats["n_predict_only"] += 1
+            new = GroupState(pred, state.log_w, state.tracks, state.keys)
+        else:
+            none = np.zeros(0, dtype=np.int64)
+            ctx = self._context(Z, none, sc, birth_ll, none)
+            runner = self._runner(state, none)
+            runner._advance(pred, ctx, time.perf_counter())
+            self._next_label = runner._next_label
+            stats["n_duplicates_merged"] += runner.last_stats["n_duplicates_merged"]
+            new = GroupState(runner._store, runner._log_w, runner._tracks, runner._keys)
+        # no interaction: every object its own part
+        return new, self._objects(new.store.labels)
+
+    @staticmethod
+    def _interaction_parts(pred_objects, ctx, sources, n_regions):
+        """Part of each new store entry: objects linked by a return they both gated this scan,
+        newborn objects with their birth term (or, seeded, their return)."""
+        m = ctx.n_returns
+        objects = np.unique(pred_objects)
+        L = len(objects)
+        col_node = np.searchsorted(objects, pred_objects)
+        r_a, c_a = np.nonzero(ctx.allowed)
+        r_b, b_b = np.nonzero(np.isfinite(ctx.birth_loglik))
+        node = np.concatenate([col_node[c_a], L + b_b, L + n_regions + np.arange(m)])
+        ret = np.concatenate([r_a, r_b, np.arange(m)])
+        n_nodes = L + n_regions + m
+        _, lab = components(n_nodes, m, node, ret)
+        src, r = sources[:, 0], sources[:, 1]
+        tnode = np.empty(len(src), dtype=np.int64)
+        old = src >= 0
+        tnode[old] = col_node[src[old]]
+        seeded = src == -1 - n_regions
+        tnode[seeded] = L + n_regions + r[seeded]
+        born = ~old & ~seeded
+        tnode[born] = L + (-1 - src[born])
+        return lab[tnode]
+
+    def _split(self, state, parts, stats):
+        if self.split == "never" or len(state.store) == 0 or len(np.unique(parts)) < 2:
+            return [state]
+        if self.split == "marginal":
+            record, pieces = factorise(state, parts, self.factor_tol, self.scan_index + 1)
+            self._record(record, stats)
+            return pieces
+        # "exact": peel off every part that is exactly independent of the rest of the group
+        pieces, rest, rest_parts = [], state, np.asarray(parts)
+        for c in np.unique(parts)[:-1]:
+            record, (rest_new, piece) = factorise(rest, (rest_parts == c).astype(np.int64), self.factor_tol,
+                                                  self.scan_index + 1)
+            if record.exact:
+                self._record(record, stats)
+                pieces.append(piece)
+                rest, rest_parts = rest_new, rest_parts[rest_parts != c]
+        if not pieces:
+            record, _ = factorise(state, parts, self.factor_tol, self.scan_index + 1)
+            self.split_records.append(SplitRecord(record.scan, record.parts, False, record.kl, record.l1,
+                                                  record.n_joint, record.n_parts, applied=False))
+        return [rest, *pieces]
+
+    def _record(self, record, stats):
+        self.split_records.append(record)
+        stats["n_splits"] += 1
+        stats["n_exact_splits"] += int(record.exact)
+        stats["split_kl"] += record.kl
+        stats["split_l1"] += record.l1
+
+    def _prune(self, state):
+        """Drop hypotheses below ``min_weight`` and groups holding no object in any hypothesis."""
+        if self.min_weight > 0 and len(state.log_w) > 1:
+            keep = np.exp(state.log_w) >= self.min_weight
+            keep[np.argmax(state.log_w)] = True
+            if not keep.all():
+                idx = np.flatnonzero(keep)
+                lw = state.log_w[idx]
+                store, tracks, _ = compact(state.store, [state.tracks[i] for i in idx])
+                state = GroupState(store, lw - np.logaddexp.reduce(lw), tracks, [state.keys[i] for i in idx])
+        if not any(len(t) for t in state.tracks):
+            return None
+        return state
+
+    # ------------------------------------------------------------------ output
+    def posterior(self, n_top: int = 1) -> FactoredPosterior:
+        """Per-group posteriors, the convolved cardinality distribution and the union of MAPs."""
+        n_top = check_int(n_top, "n_top", minimum=1)
+        posts = tuple(summarise(s.log_w, s.tracks, s.store, n_top=n_top) for s in self._groups)
+        card = np.ones(1)
+        for p in posts:
+            card = np.convolve(card, p.cardinality)
+        maps = [p.map_estimate for p in posts]
+        d = self.ndim
+        lw = float(sum(e.log_weight for e in maps))
+        est = HypothesisEstimate(
+            float(np.exp(lw)), lw,
+            np.concatenate([e.labels for e in maps]) if maps else np.zeros(0, dtype=np.int64),
+            np.concatenate([e.means for e in maps]) if maps else np.zeros((0, d)),
+            np.concatenate([e.covs for e in maps]) if maps else np.zeros((0, d, d)),
+        )
+        return FactoredPosterior(posts, card, float(sum(p.expected_number for p in posts)), est)
+
+    def estimates(self) -> np.ndarray:
+        """Means ``(n, d)`` of the objects of the MAP joint hypothesis (union of the groups' MAPs)."""
+        return self.posterior().map_estimate.means
+
+    def joint_hypotheses(self, limit: int = 100_000) -> list:
+        """The product expanded into joint hypotheses (for checks), heaviest first.
+
+        Raises ``ValueError`` when there are more than ``limit`` (>= 1).
+        """
+        limit = check_int(limit, "limit", minimum=1)
+        if self.n_joint_hypotheses > limit:
+            raise ValueError(f"the product has {self.n_joint_hypotheses} joint hypotheses, more than limit = {limit}")
+        if not self._groups:
+            d = self.ndim
+            return [HypothesisEstimate(1.0, 0.0, np.zeros(0, np.int64), np.zeros((0, d)), np.zeros((0, d, d)))]
+        joint, _ = product(self._groups, limit, "top")
+        post = summarise(joint.log_w, joint.tracks, joint.store, n_top=len(joint.log_w))
+        return list(post.top)

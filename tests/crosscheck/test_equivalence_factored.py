@@ -61,12 +61,12 @@ BIRTH_REGION = UniformBirthDensity(VIEW, np.eye(2) * 0.05)
 def glmb_exhaustive():
     """The glmb preset's weights and population with exhaustive generation (no sampling)."""
     pop = LabeledMultiBernoulliPopulation([BIRTH], r_birth=0.1, p_survive=0.95)
-    return HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), population=pop,
+    return HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), merge_duplicates=True, population=pop,
                             max_hypotheses=10**6, gate_probability=GATE, means=X0, covs=P0, seed=0)
 
 
 def homht_poisson_births():
-    return homht(MOTION, SENSOR, birth_intensity=2e-3, birth_density=BIRTH_REGION, max_hypotheses=10**6,
+    return homht(MOTION, SENSOR, merge_duplicates=True, birth_intensity=2e-3, birth_density=BIRTH_REGION, max_hypotheses=10**6,
                  gate_probability=GATE, means=X0, covs=P0, seed=0)
 
 
@@ -167,7 +167,7 @@ def test_a_glmb_deaths_show_in_the_cardinality():
 def _single_event(alpha=0.0, beta=0.05, births="free"):
     model = SingleEventBirthDeath(alpha, beta, 1)
     pop = SingleEventPopulation(model, birth_densities=(BIRTH_REGION,))
-    return lambda means, covs: HypothesisFilter(MOTION, SENSOR, FISSTPoissonWeights(), ExhaustiveGenerator(),
+    return lambda means, covs: HypothesisFilter(MOTION, SENSOR, FISSTPoissonWeights(), ExhaustiveGenerator(), merge_duplicates=True,
                                                 population=pop, max_hypotheses=10**6, gate_probability=GATE,
                                                 means=means, covs=covs, seed=0)
 
@@ -232,7 +232,7 @@ APART_SCANS = [np.array([[0.0, 0.1], [0.1, 2.4]]), np.array([[0.0, 4.1], [0.1, -
 
 
 def _apart(split):
-    f = homht(MOTION, SENSOR, max_hypotheses=10**6, gate_probability=GATE, means=APART_X0, covs=P0[:2], seed=0)
+    f = homht(MOTION, SENSOR, merge_duplicates=True, max_hypotheses=10**6, gate_probability=GATE, means=APART_X0, covs=P0[:2], seed=0)
     return f if split is None else FactoredFilter.from_filter(f, split=split)
 
 

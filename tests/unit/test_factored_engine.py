@@ -55,7 +55,7 @@ def lmb(p_s=P_S, births=True, gate=None):
 
 def glmb_filter(population, n=2, **kw):
     kw.setdefault("max_hypotheses", 10**6)
-    return HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), population=population,
+    return HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), merge_duplicates=True, population=population,
                             means=X0[:n], covs=P0[:n], seed=0, **kw)
 
 
@@ -260,12 +260,12 @@ FAR = np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 8.0, 1.0, 0.0]])  # never in each ot
 
 
 def _homht_far(**kw):
-    return FactoredFilter.from_filter(homht(MOTION, SENSOR, max_hypotheses=1000, gate_probability=0.99, means=FAR,
+    return FactoredFilter.from_filter(homht(MOTION, SENSOR, merge_duplicates=True, max_hypotheses=1000, gate_probability=0.99, means=FAR,
                                             covs=P0[:2], seed=0), **kw)
 
 
 def test_bad_input():
-    f = homht(MOTION, SENSOR, means=FAR, covs=P0[:2])
+    f = homht(MOTION, SENSOR, merge_duplicates=True, means=FAR, covs=P0[:2])
     with pytest.raises(ValueError, match="split"):
         FactoredFilter.from_filter(f, split="always")
     with pytest.raises(ValueError, match="births"):
@@ -319,7 +319,7 @@ def test_step_is_all_or_nothing():
     """The merged a + b problem exceeds the enumeration budget after c's group was already
     stepped: groups, labels, scan index, statistics and the random state are restored."""
     X = np.array([[20.0, 20.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 6.0, 1.0, 0.0]])  # c, a, b
-    f = homht(MOTION, SENSOR, max_hypotheses=1000, gate_probability=0.99, means=X, covs=P0, max_events=6, seed=0)
+    f = homht(MOTION, SENSOR, merge_duplicates=True, max_hypotheses=1000, gate_probability=0.99, means=X, covs=P0, max_events=6, seed=0)
     ff = FactoredFilter.from_filter(f)
     ff.step(np.array([[20.0, 20.1], [1.0, 0.0], [1.0, 6.0]]))
     assert ff.last_stats["n_groups"] == 3
@@ -333,7 +333,7 @@ def test_step_is_all_or_nothing():
 
 
 def test_from_filter_leaves_the_filter_alone_and_splits_exactly():
-    f = homht(MOTION, SENSOR, max_hypotheses=1000, gate_probability=0.99, means=FAR, covs=P0[:2], seed=0)
+    f = homht(MOTION, SENSOR, merge_duplicates=True, max_hypotheses=1000, gate_probability=0.99, means=FAR, covs=P0[:2], seed=0)
     f.step(np.array([[1.1, 0.0], [1.0, 8.1], [5.0, 4.0]]))  # one return each, one clutter
     state = (f.log_weights, f.rng.bit_generator.state)
     ff = FactoredFilter.from_filter(f)
@@ -342,7 +342,7 @@ def test_from_filter_leaves_the_filter_alone_and_splits_exactly():
     ff.step(np.zeros((0, 2)))
     np.testing.assert_array_equal(f.log_weights, state[0])
     assert f.rng.bit_generator.state == state[1]
-    coupled = homht(MOTION, SENSOR, max_hypotheses=1000, gate_probability=0.99, means=FAR[:1], covs=P0[:1])
+    coupled = homht(MOTION, SENSOR, merge_duplicates=True, max_hypotheses=1000, gate_probability=0.99, means=FAR[:1], covs=P0[:1])
     coupled.initialise(np.array([[0.0, 0.0, 1.0, 0.0], [0.0, 1.0, 1.0, 0.0]]), P0[:2])
     coupled.step(np.array([[1.0, 0.5]]))  # one return between the two: a joint that is no product
     assert len(FactoredFilter.from_filter(coupled).groups) == 1
@@ -351,7 +351,7 @@ def test_from_filter_leaves_the_filter_alone_and_splits_exactly():
 def _birth_scene(births, min_weight=0.0):
     """Object a just below the birth term; one return in both a's gate and the birth gate."""
     pop = lmb(gate=0.99)
-    f = HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), population=pop, max_hypotheses=1000,
+    f = HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), merge_duplicates=True, population=pop, max_hypotheses=1000,
                          gate_probability=0.99, means=[[-5.0, 4.5, 0.0, 0.0]], covs=P0[:1], seed=0)
     ff = FactoredFilter.from_filter(f, births=births, min_weight=min_weight)
     ff.step(np.array([[-5.0, 5.5]]))
@@ -384,7 +384,7 @@ def test_newborn_labels_of_one_birth_term_stay_one_object():
     undetected) — one object: a scan later, split='marginal' on a group without returns must
     not split them (which would let two of them coexist)."""
     pop = lmb(gate=0.99)
-    f = HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), population=pop, max_hypotheses=1000,
+    f = HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), merge_duplicates=True, population=pop, max_hypotheses=1000,
                          gate_probability=0.99, seed=0)
     ff = FactoredFilter.from_filter(f, split="marginal")
     ff.step(np.array([[-5.5, 6.0], [-4.5, 6.0]]))
@@ -417,8 +417,8 @@ def test_hfisst_count_term_is_not_separable_by_hand():
     1) and 'both missed' 0; factored, each group has m = 1 and every count term is 0. So the odds
     'both missed' : 'both detected' are twice as large unfactored."""
     Z = np.array([[1.3, 0.0], [1.0, 8.3]])
-    u = hfisst(MOTION, SENSOR, gate_probability=0.99, means=FAR, covs=P0[:2])
-    ff = FactoredFilter.from_filter(hfisst(MOTION, SENSOR, gate_probability=0.99, means=FAR, covs=P0[:2]))
+    u = hfisst(MOTION, SENSOR, merge_duplicates=True, gate_probability=0.99, means=FAR, covs=P0[:2])
+    ff = FactoredFilter.from_filter(hfisst(MOTION, SENSOR, merge_duplicates=True, gate_probability=0.99, means=FAR, covs=P0[:2]))
     u.step(Z)
     ff.step(Z)
     pred = FAR @ F1.T
@@ -443,11 +443,11 @@ def test_sampling_and_ranking_generators_run_per_group(preset):
     pop = lmb(gate=0.99)
     Z = np.array([[1.1, 0.4], [0.8, 0.9], [-5.2, 6.1], [6.0, -4.0]])
     opts = dict(population=pop, max_hypotheses=1000, gate_probability=0.99, means=X0[:2], covs=P0[:2], seed=3)
-    make = {"glmb": lambda: glmb(MOTION, SENSOR, n_sweeps=3, **opts),
-            "glmb_murty": lambda: glmb_murty(MOTION, SENSOR, k=2, **opts)}[preset]
+    make = {"glmb": lambda: glmb(MOTION, SENSOR, merge_duplicates=True, n_sweeps=3, **opts),
+            "glmb_murty": lambda: glmb_murty(MOTION, SENSOR, merge_duplicates=True, k=2, **opts)}[preset]
     # split='never': a split's marginal weights would sum over whichever children were found
     ff = FactoredFilter.from_filter(make(), split="never")
-    ex = FactoredFilter.from_filter(HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), **opts),
+    ex = FactoredFilter.from_filter(HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), merge_duplicates=True, **opts),
                                     split="never")
     ff.step(Z)
     ex.step(Z)

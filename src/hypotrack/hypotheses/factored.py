@@ -160,10 +160,10 @@ class FactoredFilter:
 
     def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
                  cap="top", gate_probability=None, seed=None, means=None, covs=None, labels=None,
-                 split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0):
+                 split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0, merge_duplicates=True):
         template = HypothesisFilter(motion, sensor, weights, generator, population=population, dt=dt,
                                     max_hypotheses=max_hypotheses, cap=cap, gate_probability=gate_probability,
-                                    seed=seed)
+                                    seed=seed, merge_duplicates=merge_duplicates)
         self._configure(template, split, births, factor_tol, min_weight)
         self.initialise(np.zeros((0, self.ndim)) if means is None else means, covs, labels)
 

@@ -116,7 +116,7 @@ class HypothesisFilter:
 
     def __init__(self, motion, sensor, weights: WeightModel, generator: ChildGenerator, *, population=None,
                  dt=1.0, max_hypotheses=100, cap="top", gate_probability=None, seed=None,
-                 means=None, covs=None, labels=None):
+                 means=None, covs=None, labels=None, merge_duplicates=False):
         if not isinstance(weights, WeightModel):
             raise TypeError(f"weights must be a WeightModel, got {type(weights).__name__}")
         if not isinstance(generator, ChildGenerator):
@@ -139,6 +139,10 @@ class HypothesisFilter:
         self.dt = check_positive(dt, "dt")
         self.max_hypotheses = check_int(max_hypotheses, "max_hypotheses", minimum=1)
         self.cap = cap
+        # Identical children (same tracks, e.g. after deaths) merged by adding their weights before the
+        # cap. Off by default until the pipeline's committed record is regenerated with it: merging moves
+        # capped posteriors (kept hypotheses hold their copies' weight), so the ledger would change.
+        self.merge_duplicates = bool(merge_duplicates)
         self.gate_probability = (
             None if gate_probability is None
             else check_probability(gate_probability, "gate_probability", low_open=True, high_open=True)
@@ -361,8 +365,11 @@ class HypothesisFilter:
         children = ChildSet.concatenate(parts, ctx.n_returns)
         if len(children) == 0:
             raise RuntimeError("no child hypothesis has a positive weight (every event was gated out or forbidden)")
-        children, all_keys, n_dup = merge_duplicates(children, np.concatenate(all_keys), self._tracks,
-                                                     ctx.n_birth_regions)
+        if self.merge_duplicates:
+            children, all_keys, n_dup = merge_duplicates(children, np.concatenate(all_keys), self._tracks,
+                                                         ctx.n_birth_regions)
+        else:
+            all_keys, n_dup = np.concatenate(all_keys), 0
         sel = top_k(all_keys, self.max_hypotheses)
         kept = children.take(sel)
         n_updates = self._materialise(kept, pred, ctx)

@@ -60,16 +60,18 @@ def test_readme_block_is_generated_and_an_edited_ledger_value_fails(tmp_path):
     assert main([str(ledger), str(readme)]) == 0
     assert check_readme(readme, ledger) is None and main(["--check", str(ledger), str(readme)]) == 0
     text = readme.read_text()
-    assert "3 ledger rows: **1 reproduced**, **1 systematic offset**, **0 not reproduced**" in text
+    # 0.0345 +/- 3.004 * 0.0002 lies inside 0.0363 +/- 10 %: the Monte Carlo row reproduces too
+    assert "3 ledger rows: **2 reproduced**, **0 not reproduced**, **0 inconclusive**, **0 uninformative**" in text
+    assert "* *uninformative*: the check passed, but so did its negative control" in text
     assert "| closely_spaced | ideal MOSPA | 003 Table 6.1 | 0.0363 | 0.0345 ± 0.0002 (n = 2000, z = -9.00) |" in text
-    assert "| brute force | **reproduced** |" in text and "the OU set-up is reconstructed" in text
+    assert "| brute force | — | **reproduced** |" in text  # no control ran: the control cell says so
     # one value changed in the ledger (not in the README) -> the check fails and names the line
     ledger.write_text(ledger.read_text().replace("63591,63591", "63591,63590"))
     msg = check_readme(readme, ledger)
     assert msg is not None and "63590" in msg and main(["--check", str(ledger), str(readme)]) == 1
     # a hand edit of the README block fails the same way
     ledger.write_text(ledger.read_text().replace("63591,63590", "63591,63591"))
-    readme.write_text(text.replace("**1 reproduced**", "**2 reproduced**"))
+    readme.write_text(text.replace("**2 reproduced**", "**3 reproduced**"))
     assert check_readme(readme, ledger) is not None
     assert readme_block(None).startswith("No ledger is recorded yet")
     # timing rows beside the ledger (ledger_timing.csv) are part of the README's table

@@ -315,10 +315,8 @@ def test_glmb_and_generation_time_claims_do_not_change_with_the_machine():
 
     summary = pd.DataFrame({"tracker": ["glmb", "homht_kbest"], "n_runs": [100, 100], "ospa_mean": [11.0, 11.5],
                             "ospa_se": [0.07, 0.13], "card_err_mean": [0.118, 0.171], "card_err_se": [0.005, 0.012]})
-    fast = pd.DataFrame({"tracker": ["glmb", "homht_kbest"], "n_runs": [100, 100], "time_per_scan_s": [0.009, 0.013]})
-    slow = fast.assign(time_per_scan_s=[0.024, 0.031])
-    a, b = (pd.DataFrame([asdict(c) for c in benchmark_claims(summary, t, "glmb")]) for t in (fast, slow))
-    assert a.equals(b) and timing_in_text(a) == []
+    a = pd.DataFrame([asdict(c) for c in benchmark_claims(summary, "glmb")])  # times are no input of these rows
+    assert timing_in_text(a) == [] and a.loc[1, "note"].endswith("OSPA minus glmb: +0.50 +/- 0.15 m")
     rows = []
     times = {"homht": lambda n: 1e-6 * 10.0 ** n, "rfisst": lambda n: 0.01, "homht_kbest": lambda n: 1e-3 * n}
     for method, time_of in times.items():

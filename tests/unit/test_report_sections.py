@@ -36,7 +36,7 @@ def test_every_failing_row_is_discussed(tmp_path):
     text = gaps_tex(ledger)
     for r in ledger[ledger["status"].isin(FAILING)].to_dict("records"):
         assert rf"\paragraph{{{r['experiment'].replace('_', chr(92) + '_')}: {r['item']}}}" in text
-    assert "PDAF MOSPA" in text and "the multi-sensor PDAF is unstated" in text
+    assert "PDAF MOSPA" in text and "The multi-sensor PDAF is unstated" in text and "Source: 003 Table 6.1" in text
     assert "no red stars" in text and "blind tracker: 15/15 -> also passes" in text
     assert "A(10, 5)" not in text  # a reproduced row is not a gap
 

@@ -56,13 +56,14 @@ _H_STEP = 1e-30  # complex step; any tiny value works since nothing is subtracte
 _NEWTON_MAX_ITER = 60
 
 
-def _states(x, name="x") -> np.ndarray:
+def _states(x, name="x", ndim=4) -> np.ndarray:
+    """States as an ``(n, ndim)`` array (positions then velocities), checked finite."""
     arr = np.asarray(x, dtype=float)
     if arr.ndim == 1:
         arr = arr[None]
     if arr.size == 0:
-        return np.zeros((0, 4))
-    return check_finite_array(arr, name, shape=(None, 4))
+        return np.zeros((0, ndim))
+    return check_finite_array(arr, name, shape=(None, ndim))
 
 
 # Taylor series C(z) = Σ (−z)^k/(2k+2)!, S(z) = Σ (−z)^k/(2k+3)!, used for |z| < 0.1 where
@@ -191,50 +192,52 @@ class TwoBodyOrbit:
     ndim = 4
 
     def propagate(self, x, dt) -> np.ndarray:
-        """Propagate states ``(n, 4)`` (or one ``(4,)``) by ``dt`` seconds, exactly."""
+        """Propagate states ``(n, ndim)`` (or one ``(ndim,)``) by ``dt`` seconds, exactly."""
         single = np.ndim(x) == 1
-        X = _states(x)
+        X = _states(x, ndim=self.ndim)
         dt = _check_dt(dt)
+        p = self.ndim // 2  # the Lagrange coefficients f, g act on position and velocity vectors of any size
         if len(X) == 0 or dt == 0:
             out = X.copy()
         else:
-            r, v = _kepler_universal(X[:, :2], X[:, 2:], np.full(len(X), dt), self.mu)
+            r, v = _kepler_universal(X[:, :p], X[:, p:], np.full(len(X), dt), self.mu)
             out = np.hstack([r, v])
         return out[0] if single else out
 
     def transition(self, x, dt):
-        """Propagated states ``(n, 4)`` and their state-transition matrices ``(n, 4, 4)``.
+        """Propagated states ``(n, ndim)`` and their state-transition matrices ``(n, ndim, ndim)``.
 
         ``Φ[k] = ∂x_k(t + dt) / ∂x_k(t)``, by complex-step differentiation of the exact
         Kepler solution (module docstring): the EKF's Jacobian.
         """
-        X = _states(x)
+        d, p = self.ndim, self.ndim // 2
+        X = _states(x, ndim=d)
         dt = _check_dt(dt)
         n = len(X)
         if n == 0:
-            return X.copy(), np.zeros((0, 4, 4))
+            return X.copy(), np.zeros((0, d, d))
         if dt == 0:
-            return X.copy(), np.broadcast_to(np.eye(4), (n, 4, 4)).copy()
+            return X.copy(), np.broadcast_to(np.eye(d), (n, d, d)).copy()
         # Row (k, j) is object k with its component j perturbed by i·h.
-        Xc = np.repeat(X[:, None, :], 4, axis=1).astype(complex)
-        Xc[:, np.arange(4), np.arange(4)] += 1j * _H_STEP
-        Xc = Xc.reshape(4 * n, 4)
-        r, v = _kepler_universal(Xc[:, :2], Xc[:, 2:], np.full(4 * n, dt), self.mu)
-        out = np.hstack([r, v]).reshape(n, 4, 4)  # [object, perturbed column j, component i]
+        Xc = np.repeat(X[:, None, :], d, axis=1).astype(complex)
+        Xc[:, np.arange(d), np.arange(d)] += 1j * _H_STEP
+        Xc = Xc.reshape(d * n, d)
+        r, v = _kepler_universal(Xc[:, :p], Xc[:, p:], np.full(d * n, dt), self.mu)
+        out = np.hstack([r, v]).reshape(n, d, d)  # [object, perturbed column j, component i]
         x_pred = out[:, 0, :].real.copy()
         Phi = np.swapaxes(out.imag, 1, 2) / _H_STEP
         return x_pred, Phi
 
     def Q(self, dt) -> np.ndarray:
         """White-acceleration process noise ``q [[dt³/3 I, dt²/2 I], [dt²/2 I, dt I]]``."""
-        return ConstantVelocity(self.q, 2).Q(dt)
+        return ConstantVelocity(self.q, self.ndim // 2).Q(dt)
 
     def period(self, x) -> np.ndarray:
         """Orbital period(s) ``2π sqrt(a³/μ)`` (s) of states; ``inf`` if unbound."""
-        return orbital_period(_semi_major_axis(_states(x), self.mu), self.mu)
+        return orbital_period(_semi_major_axis(_states(x, ndim=self.ndim), self.mu), self.mu)
 
 
-def integrate_variational(x0, dt, mu=MU_EARTH, *, rtol=1e-13, atol=1e-13):
+def integrate_variational(x0, dt, mu=MU_EARTH, *, rtol=1e-13, atol=1e-13, ndim=4):
     """Numerically integrate the two-body equations and their variational equations.
 
     ``ẋ = [v, −μ r/|r|³]``, ``Φ̇ = A(x) Φ`` with
@@ -244,35 +247,39 @@ def integrate_variational(x0, dt, mu=MU_EARTH, *, rtol=1e-13, atol=1e-13):
 
     Parameters
     ----------
-    x0 : (4,) initial state (km, km/s).
+    x0 : (ndim,) initial state (km, km/s): positions, then velocities.
     dt : float, time span (s), any sign.
+    ndim : 4 (planar) or 6 (3-D).
 
     Returns
     -------
-    x : (4,) state at ``dt``; Phi : (4, 4) state-transition matrix.
+    x : (ndim,) state at ``dt``; Phi : (ndim, ndim) state-transition matrix.
     """
-    x0 = check_finite_array(x0, "x0", shape=(4,))
+    if ndim not in (4, 6):
+        raise ValueError(f"ndim must be 4 (planar) or 6 (3-D), got {ndim!r}")
+    d, p = ndim, ndim // 2
+    x0 = check_finite_array(x0, "x0", shape=(d,))
     mu = check_positive(mu, "mu")
     dt = _check_dt(dt)
 
     def rhs(_t, y):
-        r, v = y[:2], y[2:4]
-        Phi = y[4:].reshape(4, 4)
-        rn = np.hypot(r[0], r[1])
-        G = mu * (3 * np.outer(r, r) / rn**2 - np.eye(2)) / rn**3
-        A = np.zeros((4, 4))
-        A[:2, 2:] = np.eye(2)
-        A[2:, :2] = G
+        r, v = y[:p], y[p:d]
+        Phi = y[d:].reshape(d, d)
+        rn = np.sqrt(r @ r)
+        G = mu * (3 * np.outer(r, r) / rn**2 - np.eye(p)) / rn**3
+        A = np.zeros((d, d))
+        A[:p, p:] = np.eye(p)
+        A[p:, :p] = G
         return np.concatenate([v, -mu * r / rn**3, (A @ Phi).ravel()])
 
-    y0 = np.concatenate([x0, np.eye(4).ravel()])
+    y0 = np.concatenate([x0, np.eye(d).ravel()])
     if dt == 0:
-        return x0.copy(), np.eye(4)
+        return x0.copy(), np.eye(d)
     sol = solve_ivp(rhs, (0.0, dt), y0, method="DOP853", rtol=rtol, atol=atol)
     if not sol.success:
         raise RuntimeError(f"variational integration failed: {sol.message}")
     y = sol.y[:, -1]
-    return y[:4], y[4:].reshape(4, 4)
+    return y[:d], y[d:].reshape(d, d)
 
 
 def specific_energy(x, mu=MU_EARTH) -> np.ndarray:
@@ -288,7 +295,9 @@ def angular_momentum(x) -> np.ndarray:
 
 
 def _semi_major_axis(X, mu):
-    eps = specific_energy(X, mu)
+    p = X.shape[1] // 2
+    eps = specific_energy(X, mu) if p == 2 else \
+        0.5 * np.sum(X[:, p:] ** 2, axis=1) - mu / np.linalg.norm(X[:, :p], axis=1)
     with np.errstate(divide="ignore"):
         return np.where(eps < 0, -mu / (2 * eps), np.inf)
 

@@ -42,12 +42,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numpy as np
-from scipy.integrate import solve_ivp
-
-from .._validation import check_finite_array, check_nonnegative, check_positive
-from .motion import ConstantVelocity
-from .orbit import _H_STEP, MU_EARTH, _check_dt, _kepler_universal, orbital_period
+from .orbit import MU_EARTH, TwoBodyOrbit, integrate_variational
 
 __all__ = ["TwoBodyOrbit3D", "integrate_variational_3d", "DEFAULT_Q_3D"]
 
@@ -55,22 +50,14 @@ DEFAULT_Q_3D = 1e-8
 """Default white-acceleration intensity (km²/s³): covers the 10-s mismatch against SGP4 (module docstring)."""
 
 
-def _states(x, name="x") -> np.ndarray:
-    arr = np.asarray(x, dtype=float)
-    if arr.ndim == 1:
-        arr = arr[None]
-    if arr.size == 0:
-        return np.zeros((0, 6))
-    return check_finite_array(arr, name, shape=(None, 6))
-
-
 @dataclass(frozen=True)
-class TwoBodyOrbit3D:
+class TwoBodyOrbit3D(TwoBodyOrbit):
     """Two-body motion ``r̈ = −μ r / |r|³`` in 3-D plus white acceleration noise (module docstring).
 
-    Follows the motion-model protocol of :mod:`hypotrack.models.motion` (``ndim``, ``propagate``,
-    ``transition``, ``Q``). ``dt`` may be negative for :meth:`propagate` and :meth:`transition`;
-    :meth:`Q` needs ``dt >= 0``.
+    The planar :class:`~hypotrack.models.orbit.TwoBodyOrbit` with a 3-D state ``[x, y, z, vx, vy, vz]``:
+    its Kepler kernel, complex-step STM and white-acceleration ``Q`` are dimension-free. Follows the
+    motion-model protocol of :mod:`hypotrack.models.motion` (``ndim``, ``propagate``, ``transition``,
+    ``Q``); ``dt`` may be negative for :meth:`propagate` and :meth:`transition`, :meth:`Q` needs ``dt >= 0``.
 
     Parameters
     ----------
@@ -80,87 +67,18 @@ class TwoBodyOrbit3D:
         Acceleration-noise intensity (km²/s³) ≥ 0; default :data:`DEFAULT_Q_3D`.
     """
 
-    mu: float = MU_EARTH
     q: float = DEFAULT_Q_3D
-
-    def __post_init__(self):
-        object.__setattr__(self, "mu", check_positive(self.mu, "mu"))
-        object.__setattr__(self, "q", check_nonnegative(self.q, "q"))
 
     ndim = 6
 
-    def propagate(self, x, dt) -> np.ndarray:
-        """Propagate states ``(n, 6)`` (or one ``(6,)``) by ``dt`` seconds, exactly."""
-        single = np.ndim(x) == 1
-        X = _states(x)
-        dt = _check_dt(dt)
-        if len(X) == 0 or dt == 0:
-            out = X.copy()
-        else:
-            r, v = _kepler_universal(X[:, :3], X[:, 3:], np.full(len(X), dt), self.mu)
-            out = np.hstack([r, v])
-        return out[0] if single else out
-
-    def transition(self, x, dt):
-        """Propagated states ``(n, 6)`` and their state-transition matrices ``(n, 6, 6)``.
-
-        ``Φ[k] = ∂x_k(t + dt)/∂x_k(t)``, the complex-step derivative of the exact solution.
-        """
-        X = _states(x)
-        dt = _check_dt(dt)
-        n = len(X)
-        if n == 0:
-            return X.copy(), np.zeros((0, 6, 6))
-        if dt == 0:
-            return X.copy(), np.broadcast_to(np.eye(6), (n, 6, 6)).copy()
-        Xc = np.repeat(X[:, None, :], 6, axis=1).astype(complex)
-        Xc[:, np.arange(6), np.arange(6)] += 1j * _H_STEP
-        Xc = Xc.reshape(6 * n, 6)
-        r, v = _kepler_universal(Xc[:, :3], Xc[:, 3:], np.full(6 * n, dt), self.mu)
-        out = np.hstack([r, v]).reshape(n, 6, 6)  # [object, perturbed column j, component i]
-        return out[:, 0, :].real.copy(), np.swapaxes(out.imag, 1, 2) / _H_STEP
-
-    def Q(self, dt) -> np.ndarray:
-        """White-acceleration process noise ``q [[dt³/3 I₃, dt²/2 I₃], [dt²/2 I₃, dt I₃]]``."""
-        return ConstantVelocity(self.q, 3).Q(dt)
-
-    def period(self, x) -> np.ndarray:
-        """Orbital period(s) (s) of states ``(n, 6)``; ``inf`` if unbound."""
-        X = _states(x)
-        eps = 0.5 * np.sum(X[:, 3:] ** 2, axis=1) - self.mu / np.linalg.norm(X[:, :3], axis=1)
-        with np.errstate(divide="ignore"):
-            a = np.where(eps < 0, -self.mu / (2 * eps), np.inf)
-        return orbital_period(a, self.mu)
-
 
 def integrate_variational_3d(x0, dt, mu=MU_EARTH, *, rtol=1e-13, atol=1e-13):
-    """DOP853 integration of the 3-D two-body equations and their variational equations.
-
-    ``ẋ = [v, −μ r/|r|³]``, ``Φ̇ = A(x) Φ``, ``A = [[0, I], [μ (3 r rᵀ/|r|² − I)/|r|³, 0]]``, ``Φ(0) = I``.
-    The slow, independent reference for :class:`TwoBodyOrbit3D`.
+    """DOP853 integration of the 3-D two-body equations and their variational equations: the slow,
+    independent reference for :class:`TwoBodyOrbit3D` (:func:`~hypotrack.models.orbit.integrate_variational`
+    with ``ndim=6``).
 
     Returns
     -------
     x : (6,) state at ``dt``; Phi : (6, 6).
     """
-    x0 = check_finite_array(x0, "x0", shape=(6,))
-    mu = check_positive(mu, "mu")
-    dt = _check_dt(dt)
-    if dt == 0:
-        return x0.copy(), np.eye(6)
-
-    def rhs(_t, y):
-        r, v = y[:3], y[3:6]
-        rn = np.linalg.norm(r)
-        A = np.zeros((6, 6))
-        A[:3, 3:] = np.eye(3)
-        A[3:, :3] = mu * (3 * np.outer(r, r) / rn**2 - np.eye(3)) / rn**3
-        return np.concatenate([v, -mu * r / rn**3, (A @ y[6:].reshape(6, 6)).ravel()])
-
-    sol = solve_ivp(
-        rhs, (0.0, dt), np.concatenate([x0, np.eye(6).ravel()]), method="DOP853", rtol=rtol, atol=atol
-    )
-    if not sol.success:  # pragma: no cover
-        raise RuntimeError(f"variational integration failed: {sol.message}")
-    y = sol.y[:, -1]
-    return y[:6], y[6:].reshape(6, 6)
+    return integrate_variational(x0, dt, mu, rtol=rtol, atol=atol, ndim=6)

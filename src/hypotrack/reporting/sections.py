@@ -57,9 +57,10 @@ def gaps_tex(claims: pd.DataFrame) -> str:
     out = []
     for r in bad.to_dict("records"):
         control = f" Control: {latex_escape(r['control'])}." if r.get("control", "") else ""
-        note = f" {latex_escape(r['note'])}." if r.get("note", "") else ""
+        note = r.get("note", "")
+        note = f" {latex_escape(note[:1].upper() + note[1:])}." if note else ""
         out.append(rf"\paragraph{{{latex_escape(r['experiment'])}: {latex_escape(r['item'])}}}"
-                   rf" {latex_escape(r['source'])}; \emph{{{latex_escape(r['status'])}}}. Published "
+                   rf" Source: {latex_escape(r['source'])}; \emph{{{latex_escape(r['status'])}}}. Published "
                    rf"{latex_escape(r['published'])}, measured {latex_escape(_measured_text(r))} "
                    rf"(tolerance {latex_escape(r['tolerance'])}; evidence: {latex_escape(r.get('evidence', '') or '--')})."
                    + note + control)

@@ -80,10 +80,10 @@ def plot_benchmark(curve: pd.DataFrame, pdf, png, labels: dict | None = None):
     plt.close(fig)
 
 
-def benchmark_claims(summary: pd.DataFrame, timing: pd.DataFrame, reference: str) -> list:
+def benchmark_claims(summary: pd.DataFrame, reference: str) -> list:
     """Extension rows: each tracker's mean OSPA and cardinality error against the ``reference``
-    tracker (difference and its standard error). Times per scan are measured, so they stay out of
-    these rows (the timing macros and table carry them): the ledger is byte-identical across runs."""
+    tracker (difference and its standard error). Times per scan are measured, so they are no input
+    of these rows (the timing macros and table carry them): the ledger is byte-identical across runs."""
     ref = summary.set_index("tracker").loc[reference]
     claims = []
     for _, row in summary.iterrows():

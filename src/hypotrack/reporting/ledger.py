@@ -65,8 +65,10 @@ from pathlib import Path
 import pandas as pd
 
 from .verdict import monte_carlo_verdict
+from .latex_text import latex_escape, latex_text
 
 __all__ = [
+    "CAUSES",
     "CLAIM_COLUMNS",
     "EVIDENCE",
     "MACRO_COLUMNS",
@@ -88,6 +90,8 @@ __all__ = [
     "is_timing_table",
     "latex_escape",
     "ledger_problems",
+    "hard_problems",
+    "SOFT_PROBLEMS",
     "latex_value",
     "macro_name",
     "macros_tex",
@@ -101,9 +105,9 @@ __all__ = [
 ]
 
 CLAIM_COLUMNS = ["experiment", "item", "source", "published", "reproduced", "tolerance", "status", "evidence",
-                 "n", "mean", "se", "z", "note", "key", "control", "claim"]
+                 "n", "mean", "se", "z", "note", "key", "control", "claim", "cause"]
 #: Columns a claims file may lack (written before the column existed); read as empty.
-OPTIONAL_COLUMNS = ("key", "control", "claim")
+OPTIONAL_COLUMNS = ("key", "control", "claim", "cause")
 MACRO_COLUMNS = ["experiment", "name", "value"]
 _KEY = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 STATUSES = ("reproduced", "not reproduced", "inconclusive", "uninformative", "qualitative", "extension", "illustration",
@@ -121,6 +125,15 @@ STATUS_MEANING = {
     "extension": "a result beyond the documents, or a document's claim tested beyond its own problem",
     "illustration": "one realisation of a claim whose verdict is taken over many runs (no verdict of its own)",
     "consistency check": "the code agrees with the formula it implements (shares the code path: never a reproduction)",
+}
+#: Why a row did not reproduce (its ``cause``; the report's Section on the gaps groups rows by it).
+CAUSES = {
+    "document": "the document's own claim: its formula or statement does not hold as written",
+    "unstated parameter": "a parameter the document does not state decides the number (the sensitivity table "
+                          "shows the plausible readings)",
+    "project choice": "this project's choice or reconstruction, not the document's method",
+    "too few runs": "the Monte Carlo interval is too wide to decide",
+    "no power": "the check also passes a control built to fail it",
 }
 VERDICT_STATUSES = ("reproduced", "not reproduced", "inconclusive", "uninformative", "qualitative")
 NEEDS_CONTROL = ("reproduced", "qualitative")  # statuses that claim power: a control must fail them
@@ -146,6 +159,7 @@ class Claim:
     key: str = ""
     control: str = ""  # what ran as a negative control, its value, and whether it fails (verdict.control_text)
     claim: str = ""  # the published claim this row decides, shared by rows measuring one claim in two ways
+    cause: str = ""  # why a row did not reproduce: a key of CAUSES (inconclusive: "too few runs" by default)
 
     def __post_init__(self):
         if self.key and not _KEY.fullmatch(self.key):
@@ -154,6 +168,8 @@ class Claim:
             raise ValueError(f"status must be one of {STATUSES}, got {self.status!r}")
         if self.evidence and self.evidence not in EVIDENCE:
             raise ValueError(f"evidence must be one of {EVIDENCE}, got {self.evidence!r}")
+        if self.cause and self.cause not in CAUSES:
+            raise ValueError(f"cause must be one of {tuple(CAUSES)}, got {self.cause!r}")
         if self.control:
             from .verdict import parse_control
 
@@ -248,6 +264,16 @@ _TOL_TEXT = re.compile(r"99\.73 % interval within (?:(?P<rel>[\d.eE+-]+) %|\+/- 
                        r"(?:; published over (?P<runs>\d+) runs)?")
 
 
+#: Problems reported but not yet refused (README, report and pipeline log count them): rows still waiting for
+#: a negative control or for a diagnosed cause.
+SOFT_PROBLEMS = ("names no negative control yet", "names no cause yet")
+
+
+def hard_problems(problems: list[str]) -> list[str]:
+    """The problems of :func:`ledger_problems` that fail a run (all but :data:`SOFT_PROBLEMS`)."""
+    return [p for p in problems if not p.endswith(SOFT_PROBLEMS)]
+
+
 def ledger_problems(claims: pd.DataFrame) -> list[str]:
     """Rows that break the ledger's rules, each as a sentence naming the row.
 
@@ -281,6 +307,10 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
             problems.append(f"{name} is {r['status']!r} but its control also passes (status must be 'uninformative')")
         if r["status"] in NEEDS_CONTROL and control is None:
             problems.append(f"{name} is {r['status']!r} and names no negative control yet")
+        if r.get("cause", "") and r["cause"] not in CAUSES:
+            problems.append(f"{name}: cause must be one of {tuple(CAUSES)}, got {r['cause']!r}")
+        if r["status"] == "not reproduced" and not r.get("cause", ""):
+            problems.append(f"{name} is 'not reproduced' and names no cause yet")
         if r["status"] == "uninformative" and (control is None or not control[2]):
             problems.append(f"{name} is 'uninformative' but names no control that also passes")
         if not r.get("n", ""):
@@ -369,15 +399,6 @@ def read_claims(paths) -> pd.DataFrame:
     return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame(columns=CLAIM_COLUMNS)
 
 
-_LATEX_SPECIAL = {"&": r"\&", "%": r"\%", "$": r"\$", "#": r"\#", "_": r"\_", "{": r"\{", "}": r"\}",
-                  "~": r"\textasciitilde{}", "^": r"\textasciicircum{}", "\\": r"\textbackslash{}"}
-
-
-def latex_escape(text) -> str:
-    """Escape LaTeX's special characters in plain text."""
-    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in str(text))
-
-
 def macro_name(*parts) -> str:
     """A LaTeX command name from words: letters only, camel-cased (``ht`` prefix)."""
     words = re.split(r"[^A-Za-z0-9]+", " ".join(map(str, parts)))
@@ -406,7 +427,7 @@ def latex_value(value) -> str:
         return re.sub(r"(?<=\d)(?=(\d{3})+$)", "{,}", text)
     m = _SCI.fullmatch(text)
     if not m:
-        return latex_escape(text)
+        return latex_text(text)
     mant, sign, exp = m.groups()
     power = f"10^{{{'-' if sign == '-' else ''}{exp}}}"
     return rf"\ensuremath{{{power}}}" if mant in ("1", "+1", "1.0") else rf"\ensuremath{{{mant}\times{power}}}"
@@ -491,14 +512,15 @@ def _measured_text(r) -> str:
 
 
 def _cell_tex(text) -> str:
-    """A table cell: escaped, its first word hyphenatable (``\\hspace{0pt}``), and long tokens given break
-    points after ``_``, ``)``, ``:`` and at camel-case joins (so no cell overflows its column)."""
+    """A table cell: escaped with its mathematics typeset (:func:`.latex_text.latex_text`), and long tokens
+    given break points after ``_``, ``)``, ``:`` and at camel-case joins (so no cell overflows its column;
+    the table forbids hyphenation)."""
     out = []
-    for token in latex_escape(text).split(" "):
+    for token in latex_text(text).split(" "):
         if len(token) > 12:
             token = re.sub(r"(?<=[a-z])(?=[A-Z0-9])|(?<=\\_)|(?<=[):;/])|(?=[(])", r"\\allowbreak{}", token)
         out.append(token)
-    return r"\hspace{0pt}" + " ".join(out)
+    return " ".join(out)
 
 
 # one colour per status, shared by the LaTeX ledger and the HTML ledger of the Snakemake report
@@ -527,6 +549,12 @@ def claims_html(claims: pd.DataFrame) -> str:
     return "\n".join(parts) + "\n"
 
 
+LEDGER_CAPTION = (r"The reproduction ledger: one row per claim, grouped by the experiment whose \texttt{claims.csv} "
+                  r"wrote it. \emph{published} is the document's value, \emph{reproduced} this run's (Monte Carlo "
+                  r"rows: mean $\pm$ standard error, $n$ runs and $z$); each row's note and negative control follow "
+                  r"it. The statuses are defined in Section~\ref{sec:ledger}.")
+
+
 def claims_table_tex(claims: pd.DataFrame) -> str:
     """A longtable of the claims grouped by experiment; each note on its own line below its item.
 
@@ -536,11 +564,14 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
     widths = {"item": 0.22, "source": 0.09, "published": 0.09, "reproduced": 0.15, "tolerance": 0.10,
               "evidence": 0.12, "status": 0.12}
     spec = "".join(rf">{{\raggedright\arraybackslash}}p{{{w}\linewidth}}" for w in widths.values())
-    out = [r"\begingroup\setlength{\tabcolsep}{3pt}\footnotesize",
-           rf"\begin{{longtable}}{{@{{}}{spec}@{{}}}}",
-           r"\toprule " + " & ".join(widths) + r"\tabularnewline\midrule\endhead",
-           r"\bottomrule\endfoot"]
     ncol = len(widths)
+    header = r"\toprule " + " & ".join(widths) + r"\tabularnewline\midrule"
+    out = [r"\begingroup\setlength{\tabcolsep}{3pt}\footnotesize\hyphenpenalty=10000\exhyphenpenalty=10000",
+           rf"\begin{{longtable}}{{@{{}}{spec}@{{}}}}",
+           rf"\caption{{{LEDGER_CAPTION}}}\label{{tab:ledger}}\tabularnewline",
+           header + r"\endfirsthead",
+           rf"\multicolumn{{{ncol}}}{{@{{}}l}}{{\emph{{Table~\thetable, continued}}}}\tabularnewline" + header + r"\endhead",
+           r"\bottomrule\endfoot"]
     for experiment, group in claims.groupby("experiment", sort=False):
         out.append(rf"\multicolumn{{{ncol}}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
         for r in group.to_dict("records"):
@@ -550,11 +581,11 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
                      status]
             out.append(" & ".join(cells) + r"\tabularnewline")
             if r["note"]:
-                out.append(rf"\multicolumn{{{ncol}}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\emph{{{latex_escape(r['note'])}}}}}"
+                out.append(rf"\multicolumn{{{ncol}}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}\emph{{{latex_text(r['note'])}}}}}"
                            r"\tabularnewline[2pt]")
             if r.get("control", ""):
                 out.append(rf"\multicolumn{{{ncol}}}{{@{{}}p{{0.97\linewidth}}@{{}}}}{{\hspace{{1em}}control: "
-                           rf"{latex_escape(r['control'])}}}\tabularnewline[2pt]")
+                           rf"{latex_text(r['control'])}}}\tabularnewline[2pt]")
     out.append(r"\end{longtable}\endgroup")
     return "\n".join(out) + "\n"
 

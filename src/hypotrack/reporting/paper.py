@@ -21,7 +21,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-__all__ = ["bare_numbers", "build_pdf", "latex_log_problems", "overfull_boxes", "scan_sections"]
+__all__ = ["bare_numbers", "build_pdf", "latex_log_problems", "overfull_boxes", "pdf_text_problems", "scan_sections",
+           "text_problems"]
 
 _DOC_REF = re.compile(
     r"(?:Eqs?\.|Figs?\.|Tables?|Secs?\.|Sections?|Prop\.|Propositions?|Algorithms?|Appendix|Lemma|Theorem|"
@@ -169,4 +170,48 @@ def build_pdf(source_dir, inputs_dir, build_dir, pdf, log) -> list[str]:
                            + ("; ".join(problems) if problems else f"latexmk exited with {run.returncode}"))
     Path(pdf).parent.mkdir(parents=True, exist_ok=True)
     shutil.copyfile(build_dir / "ms.pdf", pdf)
+    garbled = pdf_text_problems(pdf)
+    with open(log, "a") as out:
+        out.write(f"hypotrack: {len(garbled)} garbled phrases in the PDF's text\n" + "".join(f"  {g}\n" for g in garbled))
     return overfull
+
+
+_REPEATED_WORD = re.compile(r"\b([A-Za-z]{2,})\s+\1\b", re.I)
+_STEM_ECHO = re.compile(r"\b(?P<w>[A-Za-z]{4})[a-z]*\s+(?:at|of|in|is|to|by|a|the)\s+(?P=w)[a-z]*\b", re.I)
+_AT_X_AT = re.compile(r"\bat\s+[A-Za-z]+\s+at\b")
+_TEXT_RULES = (
+    ("a repeated word", _REPEATED_WORD),
+    ("a word echoed across a generated value", _STEM_ECHO),
+    ("'at ... at'", _AT_X_AT),
+    ("ASCII mathematics", re.compile(r"<=|>=|!=|\*\*\w|\+/-|(?<![\w.])\d+(?:\.\d+)?e[+-]\d{1,3}(?![\w.])"
+                                     r"|(?<![\w])[A-Za-z]_[A-Za-z]{1,3}\b")),
+    ("an unresolved template or value", re.compile(r"\{[a-z_]+\}|\bnan\b|\bNone\b|\?\?")),
+    ("a citation shown by its key", re.compile(r"\[[a-z]{2,4}, n\.d\.\]")),
+    ("'seed 000'-style wording for a document", re.compile(r"\bseeds? 00[0-4]\b")),
+)
+
+
+def pdf_text_problems(pdf) -> list[str]:
+    """:func:`text_problems` of a PDF's text (``pdftotext``, poppler); [] when pdftotext is absent."""
+    import shutil
+    import subprocess
+
+    if shutil.which("pdftotext") is None:
+        return []
+    text = subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    return text_problems(text)
+
+
+def text_problems(text: str) -> list[str]:
+    """Garbled phrases in the report's text as a reader sees it (``pdftotext`` of the PDF), each
+    naming the rule and quoting the context: a repeated word ("at at"), a word echoed across a
+    generated value ("peaks at peak"), "at crossover at", ASCII mathematics (``<=``, ``p_D``,
+    ``1e+06``), an unresolved template (``{name}``, ``nan``, ``??``), a citation shown by its key,
+    and "seed 000" where the document is meant."""
+    flat = re.sub(r"-\n(?=[a-z])", "", text)  # undo end-of-line hyphenation
+    flat = re.sub(r"\s+", " ", flat)
+    found = []
+    for name, rule in _TEXT_RULES:
+        for m in rule.finditer(flat):
+            found.append(f"{name}: ...{flat[max(0, m.start() - 40):m.end() + 40]}...")
+    return found

@@ -11,11 +11,14 @@ gaps (``paper/sections/gaps.tex``) precedes it and cites rows by their macros.
 
 from __future__ import annotations
 
+import re
+
 import pandas as pd
 
-from .ledger import STATUS_MEANING, STATUSES, _measured_text, latex_escape
+from .latex_text import latex_escape, latex_text
+from .ledger import CAUSES, STATUS_MEANING, STATUSES, _measured_text
 
-__all__ = ["FAILING", "gaps_tex", "monte_carlo_rule_tex", "status_summary_tex"]
+__all__ = ["FAILING", "gap_cause", "gap_label", "gaps_tex", "monte_carlo_rule_tex", "status_summary_tex"]
 
 FAILING = ("not reproduced", "inconclusive", "uninformative")
 
@@ -27,7 +30,7 @@ def status_summary_tex(claims: pd.DataFrame) -> str:
     parts = [rf"\textbf{{{int(counts.get(s, 0))} {latex_escape(s)}}}" for s in STATUSES]
     lines = [rf"Of the ledger's {len(claims)} rows, " + ", ".join(parts[:-1]) + f" and {parts[-1]}" + ".",
              r"\begin{description}\setlength{\itemsep}{0pt}"]
-    lines += [rf"\item[{latex_escape(s)}] {latex_escape(STATUS_MEANING[s])}." for s in STATUSES]
+    lines += [rf"\item[{latex_escape(s)}] {latex_text(STATUS_MEANING[s])}." for s in STATUSES]
     lines.append(r"\end{description}")
     lines.append(monte_carlo_rule_tex())
     return "\n".join(lines) + "\n"
@@ -49,19 +52,50 @@ def monte_carlo_rule_tex() -> str:
             r"$z=(\bar x-p)/s$ is given for reference.")
 
 
+def gap_cause(row) -> str:
+    """The row's cause key (:data:`~.ledger.CAUSES`); inconclusive rows default to too few runs,
+    uninformative ones to no power, an undiagnosed failure to ``""``."""
+    cause = row.get("cause", "") or ""
+    if cause:
+        return cause
+    return {"inconclusive": "too few runs", "uninformative": "no power"}.get(row["status"], "")
+
+
+def gap_label(row) -> str:
+    """The LaTeX label of a failing row's paragraph: ``gap:<experiment>:<key or item>``."""
+    return "gap:" + re.sub(r"[^A-Za-z0-9_:-]+", "-", f"{row['experiment']}:{row.get('key', '') or row['item']}")
+
+
+def _gap_row_tex(r) -> str:
+    control = f" Control: {latex_text(r['control'])}." if r.get("control", "") else ""
+    note = r.get("note", "")
+    note = f" {latex_text(note[:1].upper() + note[1:])}." if note else ""
+    return (rf"\textbf{{{latex_text(r['item'])}}}\label{{{gap_label(r)}}} ({latex_escape(r['experiment'])}; "
+            rf"{latex_text(r['source'])}): \emph{{{latex_escape(r['status'])}}}, published {latex_text(r['published'])}, "
+            rf"measured {latex_text(_measured_text(r))}, tolerance {latex_text(r['tolerance'])}; evidence: "
+            rf"{latex_text(r.get('evidence', '') or '--')}." + note + control)
+
+
 def gaps_tex(claims: pd.DataFrame) -> str:
-    """One paragraph per failing row (:data:`FAILING`), grouped by experiment, in ledger order."""
+    """Every failing row (:data:`FAILING`), grouped by its cause (:data:`~.ledger.CAUSES`), one paragraph
+    per claim: rows sharing a ``claim`` id are discussed together. Each paragraph carries a
+    ``\\label`` per row (:func:`gap_label`), so a test can check that none is missing."""
     bad = claims[claims["status"].isin(FAILING)]
     if bad.empty:
         return "Every row with a published value reproduced, with a control that fails its check.\n"
+    rows = bad.to_dict("records")
+    order = list(CAUSES) + [""]
     out = []
-    for r in bad.to_dict("records"):
-        control = f" Control: {latex_escape(r['control'])}." if r.get("control", "") else ""
-        note = r.get("note", "")
-        note = f" {latex_escape(note[:1].upper() + note[1:])}." if note else ""
-        out.append(rf"\paragraph{{{latex_escape(r['experiment'])}: {latex_escape(r['item'])}}}"
-                   rf" Source: {latex_escape(r['source'])}; \emph{{{latex_escape(r['status'])}}}. Published "
-                   rf"{latex_escape(r['published'])}, measured {latex_escape(_measured_text(r))} "
-                   rf"(tolerance {latex_escape(r['tolerance'])}; evidence: {latex_escape(r.get('evidence', '') or '--')})."
-                   + note + control)
+    for cause in order:
+        group = [r for r in rows if gap_cause(r) == cause]
+        if not group:
+            continue
+        title = CAUSES[cause] if cause else "not yet diagnosed: the cause is still open"
+        out.append(rf"\subsubsection*{{{latex_text(title[:1].upper() + title[1:])} ({len(group)} "
+                   rf"row{'s' if len(group) > 1 else ''})}}")
+        seen = {}
+        for r in group:
+            seen.setdefault(r.get("claim", "") or id(r), []).append(r)
+        for members in seen.values():
+            out.append(r"\paragraph{}" + " ".join(_gap_row_tex(r) for r in members))
     return "\n\n".join(out) + "\n"

@@ -176,8 +176,11 @@ def build_pdf(source_dir, inputs_dir, build_dir, pdf, log) -> list[str]:
     return overfull
 
 
-_REPEATED_WORD = re.compile(r"\b([A-Za-z]{2,})\s+\1\b", re.I)
-_STEM_ECHO = re.compile(r"\b(?P<w>[A-Za-z]{4})[a-z]*\s+(?:at|of|in|is|to|by|a|the)\s+(?P=w)[a-z]*\b", re.I)
+# Function words only: a table's cells and a figure's tick labels sit side by side in the PDF's text, so
+# "scans scans" or "km km" there is layout, not prose; "the the" and "at at" never are.
+_REPEATED_WORD = re.compile(r"\b(the|a|an|at|of|in|is|to|and|or|for|on|with|from|by)\s+\1\b", re.I)
+# "peaks at peak 8.3 MiB": a generated value repeating the word before it ("X by X" is an idiom: left out)
+_STEM_ECHO = re.compile(r"\b(?P<w>[A-Za-z]{4})[a-z]*\s+(?:at|of|in|is|to|a|the)\s+(?P=w)[a-z]*\b", re.I)
 _AT_X_AT = re.compile(r"\bat\s+[A-Za-z]+\s+at\b")
 _TEXT_RULES = (
     ("a repeated word", _REPEATED_WORD),

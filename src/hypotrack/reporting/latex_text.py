@@ -57,6 +57,8 @@ _TOKEN = re.compile(
     r"(?P<sci>(?<![\w.])[+-]?\d+(?:\.\d+)?e[+-]?\d{1,3}(?![\w.]))"
     r"|(?P<op>\+/-|<=|>=|!=|->)"
     r"|(?P<pow>\*\*(?P<powexp>-?\d+|[A-Za-z]))"
+    r"|(?P<caret>\^(?:\((?P<cexp>[^()]{1,30})\)|(?P<cword>-?\w+)))"
+    r"|(?P<greekword>(?<![\w\\])(?:alpha|beta|gamma|delta|lambda|sigma|chi|mu|pi|rho|tau|eta)(?![\w(]))"
     r"|(?P<sub>(?<![\w\\])(?P<base>[A-Za-z" + _GREEK_CHARS + r"])_(?P<index>[A-Za-z0-9" + _GREEK_CHARS
     + r"]{1,3})(?![\w]))"
     r"|(?P<accent>(?P<letter>[A-Za-z])(?P<mark>[\u0302\u0304]))"
@@ -71,7 +73,7 @@ ASCII_MATH = re.compile(r"<=|>=|!=|\*\*\w|(?<![\w.])\d+(?:\.\d+)?e[+-]?\d{1,3}(?
                         r"|\+/-")
 
 
-_KINDS = ("sci", "op", "pow", "sub", "accent", "super", "subs", "symbol", "text")
+_KINDS = ("sci", "op", "pow", "caret", "greekword", "sub", "accent", "super", "subs", "symbol", "text")
 
 
 def _math(body: str) -> str:
@@ -94,6 +96,12 @@ def _convert(m: re.Match) -> str:
         return _math(_ASCII_OPS[s])
     if kind == "pow":
         return _math(f"^{{{m.group('powexp')}}}")
+    if kind == "caret":
+        body = m.group("cexp") if m.group("cexp") is not None else m.group("cword")
+        body = re.sub(r"\b(alpha|beta|gamma|delta|lambda|sigma|chi|mu|pi|rho|tau|eta)\b", r"\\\1 ", body)
+        return _math(f"^{{{body.strip()}}}")
+    if kind == "greekword":
+        return _math("\\" + s)
     if kind == "sub":
         base, index = m.group("base"), m.group("index")
         index = _SUBSCRIPT_WORDS.get(index) or "".join(_GREEK.get(c, c) + (" " if c in _GREEK else "") for c in index)

@@ -112,11 +112,15 @@ class HypothesisFilter:
         Source of every random draw (MCMC chains, weighted capping).
     means, covs, labels : array_like, optional
         The initial hypothesis: ``n`` objects with Gaussian pdfs (``n = 0`` allowed), weight 1.
+    merge_duplicates : bool
+        Merge identical children (the same tracks, from different parents) by adding their weights
+        before the cap (:mod:`.duplicates`); on by default. ``False`` keeps every copy (the engine
+        before duplicate merging; a comparison only).
     """
 
     def __init__(self, motion, sensor, weights: WeightModel, generator: ChildGenerator, *, population=None,
                  dt=1.0, max_hypotheses=100, cap="top", gate_probability=None, seed=None,
-                 means=None, covs=None, labels=None, merge_duplicates=False):
+                 means=None, covs=None, labels=None, merge_duplicates=True):
         if not isinstance(weights, WeightModel):
             raise TypeError(f"weights must be a WeightModel, got {type(weights).__name__}")
         if not isinstance(generator, ChildGenerator):
@@ -139,9 +143,9 @@ class HypothesisFilter:
         self.dt = check_positive(dt, "dt")
         self.max_hypotheses = check_int(max_hypotheses, "max_hypotheses", minimum=1)
         self.cap = cap
-        # Identical children (same tracks, e.g. after deaths) merged by adding their weights before the
-        # cap. Off by default until the pipeline's committed record is regenerated with it: merging moves
-        # capped posteriors (kept hypotheses hold their copies' weight), so the ledger would change.
+        # Identical children (same tracks, e.g. after deaths: two parents that differ only in an object
+        # that dies give the same child) are one hypothesis: their weights are added before the cap, so
+        # the cap keeps H∞ distinct hypotheses instead of copies (13-19 % of the GLMB benchmark's).
         self.merge_duplicates = bool(merge_duplicates)
         self.gate_probability = (
             None if gate_probability is None

@@ -7,6 +7,7 @@ from hypotrack.experiments.glmb_benchmark.summary import (
     benchmark_macros,
     curves,
     follow_claims,
+    follow_score,
     plot_benchmark,
     summary_table,
 )
@@ -37,5 +38,7 @@ claims += follow_claims(per_scan, follow["trackers"], follow["control"], follow[
                         peers[0] if peers else None)
 write_claims(claims, out.claims)
 values, times = benchmark_macros(summary, timing)
+values.update(FollowLag=follow["lag"], FollowTolerance=f"{follow['tolerance']:g}",
+              FollowControlOutside=f"{follow_score(per_scan, follow['control'], follow['lag'])[0]:.2f}")
 write_macros("glmb_benchmark", values, out.macros)
 write_macros("glmb_benchmark", times, out.timing_macros)

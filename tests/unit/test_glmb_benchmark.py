@@ -99,3 +99,127 @@ def test_peer_is_labelled_in_the_summary():
     summary, _ = summary_table(per_scan, labels)
     assert list(summary.implementation) == ["hypotrack engine", "Stone Soup GM-PHD, peer implementation"]
     assert list(summary.ospa_mean) == [1.5, 4.0] and list(summary.card_err_mean) == [0.0, 0.5]
+
+
+# ---------------------------------------------------------------- Vo's conventions (gen_truth, extraction, truncation)
+
+VO_TRUTH = [  # the demo's 12 objects, [t_birth, t_death, x, y, vx, vy] (the demo's state order is x, vx, y, vy)
+    [1, 70, 0.0, 0.0, 0.0, -10.0], [1, 101, 400.0, -600.0, -10.0, 5.0], [1, 70, -800.0, -200.0, 20.0, -5.0],
+    [20, 101, 400.0, -600.0, -7.0, -4.0], [20, 101, 400.0, -600.0, -2.5, 10.0], [20, 101, 0.0, 0.0, 7.5, -5.0],
+    [40, 101, -800.0, -200.0, 12.0, 7.0], [40, 101, -200.0, 800.0, 15.0, -10.0],
+    [60, 101, -800.0, -200.0, 3.0, 15.0], [60, 101, -200.0, 800.0, -3.0, -15.0],
+    [80, 101, 0.0, 0.0, -20.0, -15.0], [80, 101, -200.0, 800.0, 15.0, -5.0],
+]
+
+
+def test_gen_truth_first_scan_is_one_step_past_x_start_and_death_scan_is_included():
+    import yaml
+    from pathlib import Path
+
+    cfg = yaml.safe_load((Path(__file__).parents[2] / "workflows/config/default.yaml").read_text())["glmb_benchmark"]
+    assert cfg["truth"] == VO_TRUTH and cfg["truth_convention"] == "gen_truth"
+    truth = truth_states(VO_TRUTH, 100, convention="gen_truth")
+    # numbers present, by hand: 3 from scan 1, +3 at 20, +2 at 40, +2 at 60, objects 1 and 3 last seen at 70
+    # (tdeath inclusive), +2 at 80, everyone else through scan 100 (tdeath = K + 1 clipped to K)
+    expected = [3] * 19 + [6] * 20 + [8] * 20 + [10] * 11 + [8] * 9 + [10] * 21
+    assert [len(x) for x, _ in truth] == expected
+    assert 0 in truth[69][1] and 2 in truth[69][1] and 0 not in truth[70][1] and 2 not in truth[70][1]
+    for i, row in enumerate(VO_TRUTH):
+        k = int(row[0])
+        x, ids = truth[k - 1]
+        first = x[list(ids).index(i)]
+        # first scan: F x_start = x_start + v T (T = 1 s), never the birth mean itself
+        np.testing.assert_allclose(first, [row[2] + row[4], row[3] + row[5], row[4], row[5]])
+    x, ids = truth[99]
+    np.testing.assert_allclose(x[list(ids).index(1)][:2], [400.0 - 10.0 * 100, -600.0 + 5.0 * 100])  # F^100 x_start
+    old = truth_states(VO_TRUTH, 100, convention="birth_mean")
+    assert len(old[69][0]) == 8 and np.allclose(old[0][0][0], [0.0, 0.0, 0.0, -10.0])  # the earlier reading
+    with pytest.raises(ValueError, match="truth convention"):
+        truth_states(VO_TRUTH, 5, convention="vo")
+
+
+def test_map_cardinality_extraction_differs_from_the_heaviest_hypothesis_by_hand():
+    from hypotrack.experiments.glmb_benchmark.reference import heaviest_index, map_cardinality_index
+
+    # weights 0.40 (two objects), 0.35 and 0.25 (one object each): the heaviest holds two objects, but
+    # P(N = 1) = 0.60 > P(N = 2) = 0.40, so the demo takes N = 1 and the heaviest of those, index 1
+    lw = np.log([0.40, 0.35, 0.25])
+    n = [2, 1, 1]
+    assert heaviest_index(lw, n) == 0
+    assert map_cardinality_index(lw, n) == 1
+    # when the heaviest holds the MAP cardinality the two agree
+    assert map_cardinality_index(np.log([0.5, 0.3, 0.2]), [2, 2, 1]) == 0
+    # unnormalised log-weights give the same choice
+    assert map_cardinality_index(lw - 700.0, n) == 1
+    with pytest.raises(ValueError, match="n_objects"):
+        map_cardinality_index(lw, [1, 2])
+
+
+def test_sqrt_allocation_by_hand():
+    from hypotrack.experiments.glmb_benchmark.reference import sqrt_allocation
+
+    # sqrt w = 0.8, 0.4, 0.4, 0.2 (sum 1.8): 1000 * 0.8 / 1.8 = 444.4, 222.2, 222.2, 111.1
+    np.testing.assert_array_equal(sqrt_allocation(np.log([0.64, 0.16, 0.16, 0.04]), 1000), [444, 222, 222, 111])
+    np.testing.assert_array_equal(sqrt_allocation(np.log([0.5, 0.5]), 3), [2, 2])  # 1.5 rounds away from zero
+    with pytest.raises(ValueError, match="total_samples"):
+        sqrt_allocation([0.0], 0)
+
+
+def test_sqrt_allocation_filter_on_one_parent_is_the_gibbs_preset_with_total_minus_one_sweeps():
+    """From the empty prior there is one parent: it gets every sample (the start and total - 1 sweeps)."""
+    model = benchmark_model(CFG)
+    truth = truth_states([[1, 101, 0.0, 0.0, 5.0, 0.0]], 2, convention="gen_truth")
+    Z = simulate_scans(model, truth, np.random.default_rng(3))[0]
+    ref = make_tracker("glmb", model, {"max_hypotheses": 50, "sample_allocation": "sqrt_weight", "total_samples": 40,
+                                       "gate_probability": 0.9999999}, 7)
+    peer = make_tracker("glmb", model, {"max_hypotheses": 50, "n_sweeps": 39, "gate_probability": 0.9999999}, 7)
+    a, b = ref.step(Z), peer.step(Z)
+    np.testing.assert_array_equal(a.log_weights, b.log_weights)
+    assert len(a.log_weights) > 1
+    ref.step(simulate_scans(model, truth, np.random.default_rng(4))[1])  # several parents: runs, weights normalised
+    assert np.exp(ref.log_weights).sum() == pytest.approx(1.0)
+    with pytest.raises(ValueError, match="total_samples"):
+        make_tracker("glmb", model, {"max_hypotheses": 5, "sample_allocation": "sqrt_weight"}, 0)
+    with pytest.raises(ValueError, match="sample_allocation"):
+        make_tracker("glmb", model, {"max_hypotheses": 5, "sample_allocation": "sqrt", "total_samples": 5}, 0)
+
+
+def test_blind_control_sees_no_return_and_run_tracker_reports_both_extractions():
+    model = benchmark_model(CFG)
+    truth = truth_states([[1, 101, 0.0, 0.0, 5.0, 0.0], [1, 101, 400.0, -600.0, 0.0, 5.0]], 6, convention="gen_truth")
+    scans = simulate_scans(model, truth, np.random.default_rng(0))
+    blind = make_tracker("blind", model, {"max_hypotheses": 10, "n_sweeps": 20, "gate_probability": 0.9999999}, 0)
+    df = run_tracker(blind, scans, truth, 100.0)
+    assert (df.n_est == 0).all() and (df.n_est_mc == 0).all() and (df.ospa == 100.0).all()
+    tr = make_tracker("glmb", model, {"max_hypotheses": 10, "n_sweeps": 20, "gate_probability": 0.9999999}, 0)
+    df = run_tracker(tr, scans, truth, 100.0)
+    assert {"ospa_mc", "ospa_loc_mc", "ospa_card_mc", "n_est_mc"} <= set(df.columns)
+    assert (df.n_est_mc.iloc[-3:] == 2).all()
+
+
+def _per_scan(tracker, n_true, n_est, runs=1):
+    rows = []
+    for r in range(runs):
+        for k, (t, e) in enumerate(zip(n_true, n_est), start=1):
+            rows.append({"tracker": tracker, "run": r, "scan": k, "n_true": t, "n_est": e, "n_est_mc": e})
+    return pd.DataFrame(rows)
+
+
+def test_follow_score_by_hand_and_the_control_decides_the_status():
+    from hypotrack.experiments.glmb_benchmark.summary import follow_claims, follow_score
+
+    n_true = [1, 1, 2, 2, 2, 2]
+    # lag 2: changes at scans 1 and 3, windows {1, 2} and {3, 4}; outside {5, 6}
+    good = _per_scan("good", n_true, [0, 1, 1, 2, 2, 1])  # |error| 0 and 1 outside: mean 0.5; window ends 2, 4: gaps 0
+    assert follow_score(good, "good", 2) == (0.5, 0.0)
+    slow = _per_scan("slow", n_true, [0, 0, 1, 1, 2, 2])  # outside exact, but scan 2 and 4 still one short
+    assert follow_score(slow, "slow", 2) == (0.0, 1.0)
+    blind = _per_scan("blind", n_true, [0] * 6)
+    perfect = _per_scan("perfect", n_true, n_true)
+    per_scan = pd.concat([slow, blind, perfect])
+    rows = follow_claims(per_scan, {"perfect": "map_cardinality", "slow": "heaviest"}, "blind", 2, 0.1)
+    assert [c.status for c in rows] == ["qualitative", "not reproduced"]
+    assert rows[0].control.endswith("-> fails") and rows[0].key == "FollowsPerfect"
+    # a control that passes too leaves the check without power: uninformative
+    rows = follow_claims(per_scan, {"perfect": "heaviest"}, "perfect", 2, 0.1)
+    assert rows[0].status == "uninformative"

@@ -182,7 +182,10 @@ def follow_claims(per_scan: pd.DataFrame, checked: dict, control: str, lag: int,
                       "follows the truth",
                       f"mean |N̂ − N| {out:.3f} away from the changes; largest gap {gap:.2f} at a window's end",
                       f"≤ {tolerance:g} away from the changes; gap < 0.5",
-                      "qualitative" if ok else "not reproduced", note, "measurement", key="Follows" + _camel(name))
+                      "qualitative" if ok else "not reproduced", note, "measurement", key="Follows" + _camel(name),
+                      # a budget-truncated filter failing is this project's truncation choice; the reference
+                      # settings' failing is not yet diagnosed
+                      cause="" if ok or name.endswith("reference") else "project choice")
         claims.append(with_control(claim, f"{control} (the same tracker fed empty scans)",
                                    f"{c_out:.2f} away from the changes, gap {c_gap:.2f}", passes(c_out, c_gap)))
     return claims

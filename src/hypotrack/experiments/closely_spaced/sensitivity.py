@@ -191,6 +191,9 @@ def sensitivity_verdicts(cells: pd.DataFrame, *, rel_tol: float, published_runs:
     return out
 
 
+#: Tick labels of the PDAF forms (two lines each, so they never collide at print size).
+_FORM_LABELS = {"sequential": "per-sensor\nsequential", "equivalent": "equivalent\nmeasurement",
+                "parallel": "parallel", "all_at_once": "all returns\nat once", "jpda": "JPDA-\ncoupled"}
 _MARK = {"reproduced": "o", "inconclusive": "s", "not reproduced": "x"}
 
 
@@ -261,7 +264,7 @@ def plot_pdaf_variants(table: pd.DataFrame, pdf, png, *, rel_tol: float) -> None
             d = t[t["case"] == case].set_index("form").reindex(forms)
             ax.bar(np.arange(len(forms)) + (i - (len(cases) - 1) / 2) * width, d["mean"], width,
                    yerr=3 * d["se"], label=case, color=plt.cm.tab10(i))
-        ax.set_xticks(np.arange(len(forms)), [f.replace("_", " ") for f in forms])
+        ax.set_xticks(np.arange(len(forms)), [_FORM_LABELS.get(f, f) for f in forms])
         ax.set_ylabel("MOSPA (m²), all scans")
         ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8, frameon=False,
                   title="start, scored estimate", title_fontsize=8)

@@ -192,7 +192,7 @@ def sensitivity_verdicts(cells: pd.DataFrame, *, rel_tol: float, published_runs:
 
 
 #: Tick labels of the PDAF forms (two lines each, so they never collide at print size).
-_FORM_LABELS = {"sequential": "per-sensor\nsequential", "equivalent": "equivalent\nmeasurement",
+_FORM_LABELS = {"sequential": "sensor by\nsensor", "equivalent": "equivalent\nmeas.",
                 "parallel": "parallel", "all_at_once": "all returns\nat once", "jpda": "JPDA-\ncoupled"}
 _MARK = {"reproduced": "o", "inconclusive": "s", "not reproduced": "x"}
 
@@ -256,7 +256,7 @@ def plot_pdaf_variants(table: pd.DataFrame, pdf, png, *, rel_tol: float) -> None
     cases = list(dict.fromkeys(t["case"]))
     forms = list(dict.fromkeys(t["form"]))
     with plt.rc_context({"font.size": 9}):
-        fig, ax = plt.subplots(figsize=(6.0, 2.8))
+        fig, ax = plt.subplots(figsize=(6.4, 2.8))
         pub = float(t["published"].iloc[0])
         ax.axhspan(pub * (1 - rel_tol), pub * (1 + rel_tol), color="0.88", lw=0, label="published ± tolerance")
         width = 0.8 / len(cases)

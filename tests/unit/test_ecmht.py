@@ -235,7 +235,7 @@ def test_bad_inputs_are_rejected():
     with pytest.raises(ValueError, match="n_sensors"):
         GNNFilter(MODEL, 1.0, 0)
     with pytest.raises(ValueError, match="variant"):
-        PDAFilter(MODEL, 1.0, 3, variant="jpda")
+        PDAFilter(MODEL, 1.0, 3, variant="mht")
     with pytest.raises(ValueError, match="rng"):
         ECMHTFilter(MODEL, 1.0, 3)
     with pytest.raises(ValueError, match="shape"):

@@ -27,7 +27,9 @@ Evidence vocabulary (:data:`EVIDENCE`)
 --------------------------------------
 Every row names what its verdict rests on. ``identity of the implementation`` (a check that shares
 the code path under test, e.g. a weight compared with the formula the engine itself used) never
-counts as a reproduction on its own.
+counts as a reproduction on its own. ``calibration`` marks a row whose reading of the document (an
+unstated convention) was chosen because it gives the published number: its agreement shows the reading
+is consistent, not that an independent computation lands on the number.
 
 Stable macro keys (how the paper quotes a number)
 -------------------------------------------------
@@ -113,7 +115,7 @@ _KEY = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 STATUSES = ("reproduced", "not reproduced", "inconclusive", "uninformative", "qualitative", "extension", "illustration",
             "consistency check")
 EVIDENCE = ("published number", "independent oracle", "brute force", "peer implementation",
-            "identity of the implementation", "measurement")
+            "identity of the implementation", "measurement", "calibration")
 #: One sentence per status (the README and the report define every status with these).
 STATUS_MEANING = {
     "reproduced": "the measured value is within the stated tolerance of the published one (Monte Carlo: the whole "

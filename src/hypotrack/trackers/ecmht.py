@@ -13,7 +13,7 @@ every array has a leading run axis, so one call filters a thousand realisations 
 * :class:`ECMHTFilter` — the equivalence-class MHT, Eqs. 6.1–6.11: before merging, swap the
   returns of the first ``i*`` sensors of a fresh random sensor order, ``i*`` maximising the
   class score of Eq. 6.5 (``ln C(N, i)`` plus the single-hypothesis log-likelihood).
-* :class:`PDAFilter` — the PDAF, Eqs. 5.12–5.17, in one of three multi-sensor forms (the paper
+* :class:`PDAFilter` — the PDAF, Eqs. 5.12–5.17, in one of five multi-sensor forms (the paper
   does not say which it used; see :data:`PDAF_VARIANTS`).
 
 Conventions (reconstruction §4–§5, ``coraluppi_carthel_reconstruction.md``): state and
@@ -43,7 +43,8 @@ __all__ = [
     "mospa_two_targets",
 ]
 
-PDAF_VARIANTS = ("sequential", "equivalent", "parallel")
+#: Multi-sensor forms of the PDAF (:class:`PDAFilter`); the first is the default.
+PDAF_VARIANTS = ("sequential", "equivalent", "parallel", "all_at_once", "jpda")
 
 
 def _check_scan(Z, n_sensors: int) -> np.ndarray:
@@ -286,22 +287,50 @@ class ECMHTFilter(_EquivalentMeasurementFilter):
         self._kalman(z_l, z_u, lower_is_0)
 
 
+def _pda_apply(x, P, nu, beta, R_eff):
+    """The PDA state update of Eqs. 5.14–5.17 with given association probabilities.
+
+    ``nu`` (n_runs, m) innovations, ``beta`` (n_runs, m) their probabilities (rows sum to 1, β₀ = 0).
+    """
+    L = P / (P + R_eff)  # Eqs. 5.10-5.11
+    nu_c = np.sum(beta * nu, axis=1)  # Eq. 5.14
+    spread = np.sum(beta * nu**2, axis=1) - nu_c**2  # bracket of Eq. 5.17
+    return x + L * nu_c, (1 - L) * P + L**2 * spread  # Eqs. 5.15-5.17
+
+
 def _pda_update(x, P, Zc, R_eff):
     """One PDA update (Eqs. 5.12–5.17, ``p_D = 1``, no clutter so ``β₀ = 0``).
 
     ``x, P`` : (n_runs,), ``Zc`` : (n_runs, m) candidate measurements, ``R_eff`` their variance.
     """
     S = P + R_eff  # Eq. 5.10
-    L = P / S  # Eq. 5.11
     nu = Zc - x[:, None]  # Eq. 5.13
     logw = -0.5 * nu**2 / S[:, None]  # Eq. 5.12 (the common normaliser of N(·; x, S) cancels)
     beta = np.exp(logw - logw.max(axis=1, keepdims=True))
     beta /= beta.sum(axis=1, keepdims=True)
-    nu_c = np.sum(beta * nu, axis=1)  # Eq. 5.14
-    spread = np.sum(beta * nu**2, axis=1) - nu_c**2  # bracket of Eq. 5.17
-    x_new = x + L * nu_c  # Eq. 5.15
-    P_new = (1 - L) * P + L**2 * spread  # Eqs. 5.16–5.17
-    return x_new, P_new
+    return _pda_apply(x, P, nu, beta, R_eff)
+
+
+def _jpda_pair_update(x, P, Zn, R):
+    """One sensor's JPDA update of both tracks (lecture 004 Eq. (1), ``p_D = 1``, no clutter).
+
+    With two tracks and one sensor's two returns ``Zn`` (n_runs, 2) the joint events are the two
+    assignments: straight (track 0 ← return 0, track 1 ← return 1) and crossed, weighing
+    ``N(z_a; x₀, S₀) N(z_b; x₁, S₁)`` (the factors ``1/√(2π S_j)`` are common and cancel). Each
+    track's marginal probabilities then enter its PDA update (Eqs. 5.14–5.17) with variance R.
+    """
+    S = P + R  # (n_runs, 2)
+    nu = Zn[:, None, :] - x[:, :, None]  # (n_runs, track, return)
+    d = nu**2 / (2 * S[:, :, None])
+    straight = -(d[:, 0, 0] + d[:, 1, 1])
+    crossed = -(d[:, 0, 1] + d[:, 1, 0])
+    b_straight = 1.0 / (1.0 + np.exp(np.clip(crossed - straight, -700, 700)))
+    beta = np.stack([np.stack([b_straight, 1 - b_straight], axis=1),
+                     np.stack([1 - b_straight, b_straight], axis=1)], axis=1)  # (n_runs, track, return)
+    out_x, out_P = np.empty_like(x), np.empty_like(P)
+    for j in range(2):
+        out_x[:, j], out_P[:, j] = _pda_apply(x[:, j], P[:, j], nu[:, j], beta[:, j], R)
+    return out_x, out_P
 
 
 class PDAFilter(_TwoTargetOU):
@@ -314,7 +343,15 @@ class PDAFilter(_TwoTargetOU):
     * ``"equivalent"`` — one PDAF update on the two order-statistic averages, variance R/N;
     * ``"parallel"`` — association probabilities per sensor (variance ``P + R``), the N
       combined innovations averaged and applied with the R/N gain; spread term accumulated
-      as the variance of the average.
+      as the variance of the average;
+    * ``"all_at_once"`` — one single-sensor PDAF update per scan with all 2N returns of the scan
+      as the candidates (variance R each): the PDAF's assumption of at most one target return
+      per scan taken literally, so a scan carries one return's worth of information;
+    * ``"jpda"`` — the two tracks coupled (JPDA, lecture 004 Eq. (1)): sensor after sensor, the
+      joint association probabilities of the two assignments of that sensor's two returns, then
+      each track's PDA update with its marginals (:func:`_jpda_pair_update`).
+
+    The default, ``"sequential"``, is the form Table 6.1's "PDAF" row reports.
     """
 
     def __init__(self, model, R, n_sensors, dt=1.0, *, variant: str = "sequential"):
@@ -334,6 +371,13 @@ class PDAFilter(_TwoTargetOU):
             Zs = np.sort(Z, axis=-1).mean(axis=1)
             for j in range(2):
                 x[:, j], P[:, j] = _pda_update(x[:, j], P[:, j], Zs, self.R / self.n_sensors)
+        elif self.variant == "all_at_once":
+            Zall = Z.reshape(Z.shape[0], -1)
+            for j in range(2):
+                x[:, j], P[:, j] = _pda_update(x[:, j], P[:, j], Zall, self.R)
+        elif self.variant == "jpda":
+            for n in range(self.n_sensors):
+                x, P = _jpda_pair_update(x, P, Z[:, n, :], self.R)
         else:
             N = self.n_sensors
             for j in range(2):

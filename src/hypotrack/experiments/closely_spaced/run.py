@@ -23,6 +23,7 @@ from ...models.motion import OrnsteinUhlenbeck
 from ...reporting.verdict import monte_carlo_verdict
 from ...scenarios.closely_spaced import simulate_closely_spaced
 from ...trackers.ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter, mospa_two_targets
+from .controls import CONTROLS, IndependentOrderECMHTFilter, PredictionOnlyFilter, SwappedLabelGNNFilter
 
 __all__ = [
     "LABELLED_IDEAL",
@@ -51,15 +52,24 @@ def _filters(model, R, n_sensors, dt, ecmht_rng, pdaf_variant):
     }
 
 
-def _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance, pdaf_variant, seed):
-    """Simulate the scenario and build the four filters from two independent child streams."""
+def _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance, pdaf_variant, seed,
+                          controls=False):
+    """Simulate the scenario and build the four filters from independent child streams of ``seed``
+    (scenario, ECMHT orders; with ``controls``, the negative controls of :mod:`.controls` too, the
+    ECMHT control from a third stream so the other streams are unchanged)."""
     model = OrnsteinUhlenbeck(sigma2, gamma)
-    scen_seed, ecmht_seed = (np.random.SeedSequence(seed) if isinstance(seed, int) else seed).spawn(2)
+    scen_seed, ecmht_seed, control_seed = (np.random.SeedSequence(seed) if isinstance(seed, int) else seed).spawn(3)
     real = simulate_closely_spaced(
         model, n_runs=n_runs, n_scans=n_scans, n_sensors=n_sensors, R=R, dt=dt,
         initial_variance=initial_variance, rng=np.random.default_rng(scen_seed),
     )
-    return model, real, _filters(model, R, n_sensors, dt, np.random.default_rng(ecmht_seed), pdaf_variant)
+    filters = _filters(model, R, n_sensors, dt, np.random.default_rng(ecmht_seed), pdaf_variant)
+    if controls:
+        filters["ideal[blind]"] = PredictionOnlyFilter(model, R, n_sensors, dt)
+        filters["MHT[swapped labels]"] = SwappedLabelGNNFilter(model, R, n_sensors, dt)
+        filters["ECMHT[independent orders]"] = IndependentOrderECMHTFilter(
+            model, R, n_sensors, dt, rng=np.random.default_rng(control_seed))
+    return model, real, filters
 
 
 def closely_spaced_monte_carlo(
@@ -75,6 +85,7 @@ def closely_spaced_monte_carlo(
     pdaf_variant: str = "sequential",
     extra_pdaf_variants=(),
     transient_scans: int = 0,
+    controls: bool = False,
     seed,
 ) -> dict:
     """Table 6.1: MOSPA of the ideal filter, PDAF, MHT and ECMHT over ``n_runs`` realisations.
@@ -101,6 +112,9 @@ def closely_spaced_monte_carlo(
         Further PDAF forms scored as ``"PDAF[<variant>]"``.
     transient_scans : int
         Scored scans (from scan 2 on) left out of the ``per_run_steady`` means, 0 .. n_scans − 2.
+    controls : bool
+        Also run the negative controls of :mod:`.controls` (:data:`~.controls.CONTROLS`), scored the
+        same way; the blind control is also scored against its own targets (``ideal[blind, labelled]``).
     seed : int or numpy.random.SeedSequence
         Seeds the scenario and the ECMHT's sensor orders (two independent streams).
 
@@ -118,10 +132,11 @@ def closely_spaced_monte_carlo(
     n_scans = check_int(n_scans, "n_scans", minimum=2)
     transient_scans = check_int(transient_scans, "transient_scans", minimum=0, maximum=n_scans - 2)
     model, real, filters = _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance,
-                                                 pdaf_variant, seed)
+                                                 pdaf_variant, seed, controls)
     for v in extra_pdaf_variants:
         filters[f"PDAF[{v}]"] = PDAFilter(model, R, n_sensors, dt, variant=v)
-    names = [*filters, LABELLED_IDEAL]
+    labelled = {LABELLED_IDEAL: "ideal", **({"ideal[blind, labelled]": "ideal[blind]"} if controls else {})}
+    names = [*filters, *labelled]
     scores = {name: np.empty((real.truth.shape[0], n_scans - 1)) for name in names}
     swaps = np.empty(n_scans - 1)
     for k in range(n_scans):
@@ -130,8 +145,9 @@ def closely_spaced_monte_carlo(
             if k > 0:
                 scores[name][:, k - 1] = mospa_two_targets(f.predictions(), real.truth[:, k])
         if k > 0:
-            err = filters["ideal"].predictions() - real.truth[:, k]
-            scores[LABELLED_IDEAL][:, k - 1] = 0.5 * (err**2).sum(axis=1)
+            for name, source in labelled.items():
+                err = filters[source].predictions() - real.truth[:, k]
+                scores[name][:, k - 1] = 0.5 * (err**2).sum(axis=1)
             swaps[k - 1] = filters["ECMHT"].last_swaps.mean()
     return {
         "per_run": {name: s.mean(axis=1) for name, s in scores.items()},
@@ -185,23 +201,28 @@ def shard_tables(res: dict, *, first_run: int, dt: float) -> tuple[pd.DataFrame,
 
 
 def summarise_closely_spaced(per_run: pd.DataFrame, pdaf_variant: str, *, rel_tol: float,
-                             column: str = "mospa") -> pd.DataFrame:
+                             column: str = "mospa", published_runs: int | None = None) -> pd.DataFrame:
     """Pool per-run MOSPA (columns ``method, run, <column>``) into Table 6.1.
 
     One row per method: ``n`` (runs), ``mean`` (MOSPA over runs and scans, m²), ``se`` (standard
     error over runs), ``published`` (NaN for rows the paper does not list), ``relative_difference``,
     ``z = (mean − published)/se`` and ``verdict`` by the ledger's Monte Carlo rule with the
-    reconstruction tolerance ``rel_tol × published``; the row ``PDAF`` is the PDAF form
-    ``pdaf_variant``, the other forms follow as ``PDAF[<variant>]``. The labelled ideal is
-    compared with the ideal's published value.
+    reconstruction tolerance ``rel_tol × published`` (``published_runs``: the runs behind the
+    published numbers, whose own Monte Carlo error widens the interval); the row ``PDAF`` is the PDAF
+    form ``pdaf_variant``, the other forms follow as ``PDAF[<variant>]``. The labelled ideal is
+    compared with the ideal's published value, and each negative control of :data:`~.controls.CONTROLS`
+    with the published value of the method it controls (its verdict should be "not reproduced").
     """
     rel_tol = check_nonnegative(rel_tol, "rel_tol")
+    if published_runs is not None:
+        published_runs = check_int(published_runs, "published_runs", minimum=1)
     g = per_run.groupby("method", sort=False)[column]
     table = pd.DataFrame({"n": g.count(), "mean": g.mean(), "se": g.std(ddof=1) / np.sqrt(g.count())})
-    order = [*TABLE_6_1, LABELLED_IDEAL]
+    order = [*TABLE_6_1, LABELLED_IDEAL, *CONTROLS]
     order += sorted(m for m in table.index if m not in order)
     table = table.loc[[m for m in order if m in table.index]].reset_index()
     published = {**TABLE_6_1, LABELLED_IDEAL: TABLE_6_1["ideal"]}
+    published.update({name: published[of] for name, (of, _) in CONTROLS.items()})
     table["published"] = table["method"].map(published).astype(float)
     table["relative_difference"] = table["mean"] / table["published"] - 1
     z, verdict = [], []
@@ -210,7 +231,7 @@ def summarise_closely_spaced(per_run: pd.DataFrame, pdaf_variant: str, *, rel_to
             z.append(np.nan)
             verdict.append("")
             continue
-        v = monte_carlo_verdict(r.mean, r.se, r.published, rel_tol * r.published, int(r.n))
+        v = monte_carlo_verdict(r.mean, r.se, r.published, rel_tol * r.published, int(r.n), published_runs)
         z.append(v.z)
         verdict.append(v.status)
     table["z"] = z

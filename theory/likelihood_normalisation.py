@@ -225,7 +225,7 @@ eq39_unhalved_integral = sp.simplify(integrate_sum_of_products(eq39_unhalved, zs
 findings.claim("Eq. 39: the two-target likelihood integrates to 1", "000 appendix Eq. 39", "1", str(eq39_integral),
                "reproduced" if eq39_integral == 1 else "not reproduced",
                note="symbolic; a density of the ordered pair (z1, z2) given two returns", key="eq39_integral",
-               control=("Eq. 39 without the 1/2 of its two-detection term", str(eq39_unhalved_integral),
+               control=("Eq. 39 without the 1/2 of its two-detection term", str(eq39_unhalved_integral).replace("**2", "²"),
                         sp.simplify(eq39_unhalved_integral - 1) == 0))
 
 # %% [markdown]

@@ -240,7 +240,7 @@ def test_oracle_without_missed_detection_factors_is_rejected():
     np.testing.assert_allclose(fo.undetected_birth_ratios(bad), 0.1, rtol=1e-12)
     # a child with k undetected objects differs by k ln(1 - p_D) between the two
     diff = {k: bad[k] - good[k] for k in good}
-    for (a, kind, arg), d in diff.items():
+    for (a, kind, _arg), d in diff.items():
         missed = (2 - (1 if kind == fo.DEATH else 0)) - len({x for x in a if 0 <= x < 2})
         missed += kind == fo.UNDETECTED_BIRTH
         assert d == pytest.approx(-missed * np.log(0.1), abs=1e-9)

@@ -291,8 +291,8 @@ def generation_time_claims(table, params):
         "reproduced" if ok33 else "not reproduced",
         "true association found at every M = m up to this A" + (
             f"; first miss at M = m = {int(fail['n_objects'])} (A = 1e{fail['log10_hypotheses']:.0f})"
-            if fail is not None else "") + "; one problem per size, so a miss needs that size's one draw to have "
-        "its truth away from the heaviest children (the difficulty grid draws several per size and misses earlier)",
+            if fail is not None else "") + "; one problem per size (the difficulty-grid row of the same geometry "
+        "draws several per size)",
         evidence="measurement", key="rfisst_reach"),
         "one maximum-likelihood linear assignment (no search)",
         f"equals the truth at {lsa_ok} of {lsa_n} sizes up to 1e33", lsa_n > 0 and lsa_ok == lsa_n))

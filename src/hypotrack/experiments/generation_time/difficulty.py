@@ -389,6 +389,7 @@ def difficulty_claims(table, params):
         if d == "paper":
             hard = hard_problems(table, d)
             upto = hard[hard["log10_hypotheses"] <= 33]
+            beyond = hard[hard["log10_hypotheses"] > 33]
             found = int(upto["truth_found"].astype(bool).sum())
             if not len(upto):
                 h_status = "inconclusive"
@@ -404,7 +405,9 @@ def difficulty_claims(table, params):
                 f"the only problems of the grid on which the reach claim has power: the linear assignment missed the "
                 f"truth on {len(hard)} of {int(((table['difficulty'] == d) & (table['method'] == 'chain')).sum())} "
                 f"problems ({sizes or 'none'}); few problems, so weak evidence either way"
-                + ("" if len(upto) else "; none up to 1e33, so nothing decides the claim"),
+                + ("" if len(upto) else "; none up to 1e33, so nothing decides the claim")
+                + (f"; beyond 1e33 the chain generated the truth on {int(beyond['truth_found'].astype(bool).sum())} "
+                   f"of {len(beyond)}" if len(beyond) else ""),
                 "brute force", key="diffChainHardPaper"),
                 "one maximum-likelihood linear assignment (no search)", f"0 of {len(upto)} by construction",
                 False))

@@ -246,6 +246,11 @@ def _lsa_up_to(rows, log10_limit):
     return int(d["lsa_is_truth"].astype(bool).sum()), len(d)
 
 
+def _is_true(value) -> bool:
+    """A table cell read as a flag (NaN, a missing value, is False)."""
+    return bool(value) and not (isinstance(value, float) and math.isnan(value))
+
+
 def _breaks_near_1e8(refused_log10) -> bool:
     """The check of "breaks near 1e8": the first refused A within an order of magnitude of 10⁸."""
     return bool(len(refused_log10)) and 7 <= float(refused_log10[0]) <= 9
@@ -291,6 +296,7 @@ def generation_time_claims(table, params):
         "reproduced" if ok33 else "not reproduced",
         "true association found at every M = m up to this A" + (
             f"; first miss at M = m = {int(fail['n_objects'])} (A = 1e{fail['log10_hypotheses']:.0f})"
+            + ("; there one linear assignment gives the truth" if _is_true(fail.get("lsa_is_truth")) else "")
             if fail is not None else "") + "; one problem per size (the difficulty-grid row of the same geometry "
         "draws several per size)",
         evidence="measurement", key="rfisst_reach"),

@@ -30,6 +30,7 @@ from pathlib import Path
 import sympy as sp
 
 from hypotrack.reporting.ledger import Claim
+from hypotrack.reporting.verdict import with_control
 
 OUT_ENV = "HYPOTRACK_THEORY_OUT"
 PERTURB_ENV = "HYPOTRACK_THEORY_PERTURB"
@@ -134,13 +135,21 @@ class Findings:
             raise AssertionError(f"check failed: {label}: {details}")
 
     def claim(self, item: str, source: str, published, reproduced, status: str, *, key: str = "",
-              evidence: str = "independent oracle", tolerance: str = "exact", note: str = "") -> None:
+              evidence: str = "independent oracle", tolerance: str = "exact", note: str = "",
+              control: tuple | None = None) -> None:
         """A row of the reproduction ledger (:mod:`hypotrack.reporting.ledger`): a published statement and
         what this notebook found. ``status`` is one of :data:`hypotrack.reporting.ledger.STATUSES`; ``key``
         names the row's paper macros stably; ``evidence`` defaults to the symbolic computation here
-        (an oracle that shares no code with the engine)."""
+        (an oracle that shares no code with the engine).
+
+        ``control = (what, value, passes)``: the same check run on a formula with a known defect (a
+        negative control, :func:`hypotrack.reporting.verdict.with_control`); a *reproduced* or
+        *qualitative* row whose control also passes is written as *uninformative*."""
         row = Claim("theory", item, source, str(published), str(reproduced), tolerance, status, note, evidence,
                     key=key)
+        if control is not None:
+            what, value, passes = control
+            row = with_control(row, what, str(value), bool(passes))
         self.claims.append(asdict(row))
         print(f"[claim: {status}] {item}: published {published}, found {reproduced}")
 

@@ -99,9 +99,14 @@ for n_val in (0, 1):
     findings.check(f"Eq. 32: sympy.limit of the binomial pmf is the Poisson pmf for n = {n_val}",
                    sp.simplify(limit - poisson_probability(n_val, lamV)) == 0)
 findings.record("eq32_leading_log_error", "-((n - lambdaV)^2 - n) / (2 M)")
+# negative control: the Poisson pmf without its normalising e^(-lambda V) under the same limit check (n = 0)
+unnormalised_limit = sp.limit(binomial_birth_probability(M, 0, lamV), M, sp.oo)
+unnormalised_passes = sp.simplify(unnormalised_limit - poisson_probability(0, lamV) * sp.exp(lamV)) == 0
 findings.claim("Eq. 32: binomial births = Poisson births", "001 Eq. 32", "equality",
                "limit M -> oo; ln(Bin/Pois) = -[(n - lambda V)^2 - n]/(2M) + O(M^-2)", "qualitative",
-               note="an equality only in the limit; TV distance ~ E|(K - lambda V)^2 - K| / (4M)", key="eq32_poisson_limit")
+               note="an equality only in the limit; TV distance ~ E|(K - lambda V)^2 - K| / (4M)", key="eq32_poisson_limit",
+               control=("the Poisson pmf without its normalising e^(-λV), limit at n = 0",
+                        f"binomial limit {unnormalised_limit} vs 1", unnormalised_passes))
 
 # %% [markdown]
 # ## 2. Eq. 33: the approximation of the birth-hypothesis probability
@@ -226,8 +231,13 @@ findings.check(
     derived=str(exact_ratio),
 )
 findings.record("eq39_ratio", "(1 - p_D) * alpha")
+# negative control: Eq. 37 without its missed-detection factor (1 - p_D)^(n - (m - k)) gives a ratio of alpha alone
+ratio_no_miss = sp.simplify((eq37_weight(n_, r_, s_) / (1 - p_D) ** (n_ - (m_ - k_)))
+                            / (eq37_weight(n_ - 1, r_, s_) / (1 - p_D) ** (n_ - 1 - (m_ - k_)))).subs(lam_B, alpha / Vbar)
 findings.claim("Eq. 39: undetected-birth weight ratio", "001 Eq. 37-39", "(1 - p_D) alpha", str(ratio_39.subs(lam_B, alpha / Vbar)),
-               "reproduced", note="exact under the Eq. 33 approximation; the exact binomial factor of Eq. 31 gives "
+               "reproduced",
+               control=("Eq. 37 without its missed-detection factor (1 - p_D)^(n - (m - k))", str(sp.simplify(ratio_no_miss)),
+                        sp.simplify(ratio_no_miss - (1 - p_D) * alpha) == 0), note="exact under the Eq. 33 approximation; the exact binomial factor of Eq. 31 gives "
                                   "(1 - p_D) alpha / (1 - alpha)", key="eq39_ratio")
 findings.record("eq31_exact_ratio", "(1 - p_D) * alpha / (1 - alpha)")
 
@@ -314,7 +324,9 @@ findings.check(
     counter_example > 1,
 )
 findings.claim("Eq. 43 bound, uniform pixel births", "001 Eq. 42-43", "< 1 - p_D",
-               "<= (1 - p_D) erf(Vbar / (2 sqrt(2 (Q + R))))", "reproduced", note="at every return z*", key="eq43_uniform")
+               "<= (1 - p_D) erf(Vbar / (2 sqrt(2 (Q + R))))", "reproduced", note="at every return z*", key="eq43_uniform",
+               control=("the same bound with a variance-matched Gaussian birth pdf (Q = R = 0.005 Vbar²)",
+                        f"{counter_example:.3f} (1 - p_D)", counter_example < 1))
 findings.claim("Eq. 43 bound, Gaussian birth pdfs", "001 Eq. 42-43, Fig. 10", "< 1 - p_D",
                f"{counter_example:.3f} (1 - p_D) for a variance-matched Gaussian, Q = R = 0.005 Vbar^2",
                "reproduced" if counter_example < 1 else "not reproduced",

@@ -78,8 +78,12 @@ findings.record("steady_prediction_variance", float(steady))
 findings.check("steady-state P(k|k-1) at the table's parameters equals the library's value",
                abs(float(steady) - riccati_steady_prediction(**TABLE)) < 1e-14, value=float(steady))
 findings.check("steady-state P(k|k-1) = 0.03634 m^2 (reconstruction §6.4)", abs(float(steady) - 0.03634) < 5e-6)
+# negative control: the Riccati recursion without its measurement update (the open-loop prediction variance Q/(1 - A^2))
+open_loop = float((values[Q] / (1 - values[A] ** 2)).evalf())
 findings.claim("steady-state one-step prediction variance of the ideal filter", "003 reconstruction §6.4",
                "0.03634", f"{float(steady):.5f}", "reproduced", tolerance="+/- 5e-06",
+               control=("the recursion without its measurement update, Q/(1 - A²)", f"{open_loop:.5g}",
+                        abs(open_loop - 0.03634) < 5e-6),
                note="the scalar Riccati fixed point, solved symbolically; equals Table 6.1's ideal 0.0363 to its rounding",
                key="ideal_steady_state")
 

@@ -34,6 +34,7 @@
 # (Eq. 5–7) is a proper set density — its set integral, with the $1/m!$ factor, is 1.
 
 # %%
+import math
 from collections import Counter
 
 import matplotlib.pyplot as plt
@@ -218,9 +219,14 @@ eq39_integral = integrate_sum_of_products(eq39, zs[:2])
 findings.check("Eq. 39 integrates to 1 over (z1, z2) (symbolic)", sp.simplify(eq39_integral - 1) == 0,
                value=eq39_integral)
 findings.check("Eq. 39's set integral over |Z| = 2 is 1/2! = 1/2", sp.simplify(eq39_integral / 2 - sp.Rational(1, 2)) == 0)
+# negative control: Eq. 39 without its normalising 1/2 on the two-detection term (the two orderings summed)
+eq39_unhalved = eq39 + p_D**2 / 2 * (gauss(zs[0], xs[0]) * gauss(zs[1], xs[1]) + gauss(zs[0], xs[1]) * gauss(zs[1], xs[0]))
+eq39_unhalved_integral = sp.simplify(integrate_sum_of_products(eq39_unhalved, zs[:2]))
 findings.claim("Eq. 39: the two-target likelihood integrates to 1", "000 appendix Eq. 39", "1", str(eq39_integral),
                "reproduced" if eq39_integral == 1 else "not reproduced",
-               note="symbolic; a density of the ordered pair (z1, z2) given two returns", key="eq39_integral")
+               note="symbolic; a density of the ordered pair (z1, z2) given two returns", key="eq39_integral",
+               control=("Eq. 39 without the 1/2 of its two-detection term", str(eq39_unhalved_integral).replace("**2", "²"),
+                        sp.simplify(eq39_unhalved_integral - 1) == 0))
 
 # %% [markdown]
 # ## 4. Seed 001: the Poisson-clutter likelihood is a set density (Eq. 5–7)
@@ -302,9 +308,14 @@ findings.check(
     np.allclose(numeric, scipy_conv, rtol=1e-13, atol=0),
 )
 findings.record("cardinality_pmf_n2_lamV3_pD09", numeric)
+# negative control: the same set integral without its 1/m! (n = 2 targets, m <= 4 returns, lambda V = 3, p_D = 0.9):
+# already above 1 when truncated, so the check "equals 1" rejects it
+no_factorial = sum(math.factorial(m) * v for m, v in enumerate(numeric))
 findings.claim("Poisson-clutter likelihood is a set density", "001 Eq. 5-7", "set integral 1",
                f"{set_integrals[3]} (n = 0..3)", "reproduced" if all(v == 1 for v in set_integrals.values())
-               else "not reproduced", note="needs the 1/m! of the set integral", key="poisson_set_density")
+               else "not reproduced", note="needs the 1/m! of the set integral", key="poisson_set_density",
+               control=("the set integral without its 1/m! (n = 2, λV = 3, p_D = 0.9, terms m ≤ 4)",
+                        f"at least {no_factorial:.3g}", abs(no_factorial - 1) < 1e-12))
 
 # %% [markdown]
 # ## 5. Fixed number of targets: FISST weight = Reid's weight (seed 001 Eq. 18 vs Eq. 30)
@@ -336,9 +347,15 @@ findings.check(
     ratios == {sp.exp(-lam * V)},
     ratios=[str(r) for r in ratios],
 )
+# negative control: Reid's weight without its false-alarm factor lambda^k: the ratio then varies between children
+broken_ratios = {sp.simplify(fisst_weight(3, 3, e, predictive) / (reid_weight(3, 3, e, predictive)
+                                                                   / lam ** sum(1 for j in e if j < 0)))
+                 for e in association_events(3, 3)}
 findings.claim("FISST weight = Reid's weight for a fixed number of targets", "001 Eq. 18 vs 30",
                "identical after normalisation", f"ratio {', '.join(map(str, ratios))} for every child",
-               "reproduced" if len(ratios) == 1 else "not reproduced", key="fisst_reid_weights")
+               "reproduced" if len(ratios) == 1 else "not reproduced", key="fisst_reid_weights",
+               control=("Reid's weight without its false-alarm factor λ^k", f"{len(broken_ratios)} distinct ratios",
+                        len(broken_ratios) == 1))
 
 # %%
 findings.write()

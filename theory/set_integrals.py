@@ -86,8 +86,11 @@ findings.check(
 k = sp.symbols("k", integer=True, nonnegative=True)
 poisson_total = sp.simplify(sp.summation(sp.exp(-lam) * lam**k / sp.factorial(k), (k, 0, sp.oo)))
 findings.check("Poisson RFS: set integral = sum_n e^-lambda lambda^n / n! = 1", poisson_total == 1)
+# negative control: the Poisson RFS density without its normalising e^-lambda
+unnormalised_total = sp.simplify(sp.summation(lam**k / sp.factorial(k), (k, 0, sp.oo)))
 findings.claim("set integral of a Poisson RFS density", "002 Eq. 4, 14", "1", str(poisson_total),
-               "reproduced" if poisson_total == 1 else "not reproduced", note="1-D Gaussian intensity, symbolic", key="poisson_set_integral")
+               "reproduced" if poisson_total == 1 else "not reproduced", note="1-D Gaussian intensity, symbolic", key="poisson_set_integral",
+               control=("the density without its normalising e^(-λ)", str(unnormalised_total), unnormalised_total == 1))
 findings.check(
     f"Poisson RFS: the truncated set integral is the Poisson CDF at {N_TERMS - 1}",
     sp.simplify(sum(poisson_terms) - sum(sp.exp(-lam) * lam**n / sp.factorial(n) for n in range(N_TERMS))) == 0,
@@ -173,9 +176,14 @@ findings.check(
         for n, p in probabilities.items()),
 )
 findings.record("unit_scaling", "density of an n-point set in unit K = K^n x density in base units")
+# negative control: the density left in base units (no K^|X|) under the unit-K measure: P then depends on K
+unscaled = {n: poisson_rfs_density(xs[:n]) for n in unit_derivatives}
+unscaled_depends = [n for n in unscaled if sp.simplify(sp.diff(probability_in_interval(unscaled, n, K), K)) != 0]
 findings.claim("unit dependence of the density, K^|X|", "002 Prop. 1, Eq. 10-11",
                "density x K^|X|, probabilities unchanged", "K^|X| f(X); dP/dK = 0 (n = 0..2)", "reproduced",
-               note="set derivatives by the limit definition, symbolic K", key="unit_dependence")
+               note="set derivatives by the limit definition, symbolic K", key="unit_dependence",
+               control=("the density not rescaled by K^|X|", f"dP/dK ≠ 0 for n = {', '.join(map(str, unscaled_depends))}",
+                        not unscaled_depends))
 
 # %% [markdown]
 # ## 4. The set derivative recovers the density (generalised fundamental theorem)
@@ -201,9 +209,14 @@ findings.check(
     "fundamental theorem: int_[a,b] f delta X = beta([a, b]) = 1 - r + r (Phi(b) - Phi(a))",
     sp.simplify(reintegrated - bernoulli_belief_mass(Phi(b) - Phi(a))) == 0,
 )
+# negative control: a Bernoulli density missing its existence probability r on the one-point term
+broken_bernoulli = {0: 1 - r, 1: gauss(xs[0]), 2: sp.Integer(0)}
+broken_equal = all(sp.simplify(d - broken_bernoulli[n]) == 0 for n, d in bernoulli_derivatives.items())
 findings.claim("set derivative of the belief mass is the density", "002 Sec. 2.2, Prop. 1",
                "f(X) = (d beta)_X(emptyset)", "Bernoulli and Poisson RFS, |X| <= 2", "reproduced",
-               note="and the set integral of f over S gives back beta(S)", key="set_derivative")
+               note="and the set integral of f over S gives back beta(S)", key="set_derivative",
+               control=("a Bernoulli density without r on its one-point term", "differs from the set derivative at |X| = 1"
+                        if not broken_equal else "equals the set derivative", broken_equal))
 base_unit_densities = {n: poisson_rfs_density(xs[:n]) for n in range(4)}
 poisson_reintegrated = sum(probability_in_interval(base_unit_densities, n, 1) for n in range(4))
 q = sp.Symbol("q")

@@ -12,7 +12,7 @@ def _curves(jpda_lag, gnn_lag):
     for method, lag in (("gnn", gnn_lag), ("jpda", jpda_lag)):
         for scan, truth in enumerate([20.0, 10.0, 0.0, 10.0, 20.0]):
             rows.append(dict(method=method, scan=scan, truth_separation=truth,
-                             separation=max(truth - (lag if scan > 2 else 0.0), 0.0)))
+                             separation=max(truth - (lag if scan > 2 else 0.0), 0.0), separation_se=0.5))
     return pd.DataFrame(rows)
 
 
@@ -23,16 +23,16 @@ def _summary():
 
 def test_sht_claims_from_the_lecture_example_and_coalescence():
     _, clusters = lecture_summary()  # computed from the lecture's validation matrix
-    claims = sht_claims(clusters, _curves(jpda_lag=7.0, gnn_lag=1.0), _summary())
+    claims = sht_claims(clusters, _curves(jpda_lag=7.0, gnn_lag=1.0), _summary(), min_lag=5.0)
     assert [c.status for c in claims] == ["reproduced", "qualitative"] + ["extension"] * 4
     assert [c.evidence for c in claims[:2]] == ["published number", "measurement"]
     jpda_loss = claims[5]
     assert (jpda_loss.key, jpda_loss.n, jpda_loss.mean, jpda_loss.se, jpda_loss.z) == ("jpda_track_loss", "10", "0.2",
                                                                                        "0.04", "")
-    assert "7.0 m" in claims[1].reproduced and "1.0 m" in claims[1].reproduced
+    assert "7.0 ± 0.5 m" in claims[1].reproduced and "GNN" in claims[1].control and "1.0 ± 0.5 m" in claims[1].control
     wrong = pd.DataFrame(dict(cluster=[1], tracks=["T1 T2 T3"], returns=["y1 y3 y4"]))
-    assert sht_claims(wrong, _curves(1.0, 7.0), _summary())[0].status == "not reproduced"
-    assert sht_claims(wrong, _curves(1.0, 7.0), _summary())[1].status == "not reproduced"
+    assert sht_claims(wrong, _curves(1.0, 7.0), _summary(), min_lag=5.0)[0].status == "not reproduced"
+    assert sht_claims(wrong, _curves(1.0, 7.0), _summary(), min_lag=5.0)[1].status == "not reproduced"
 
 
 def test_perf_claims_report_measured_ranges():
@@ -66,12 +66,15 @@ def test_swap_claims_follow_the_curves():
     swaps = list(range(8))
     rms = [2.6, 2.2, 1.9, 1.7, 1.6, 1.7, 1.9, 2.1]  # minimum at 4 swaps
     curves = pd.DataFrame(dict(distance=10.0, swaps=swaps, rms=rms, log_prob_class=[-9 + abs(i - 5) * -1 for i in swaps],
+                               log_prob_single=[-float(i) for i in swaps], rms_labelled=[1.0 + i for i in swaps],
                                n_runs=100))
     rates = pd.DataFrame(dict(distance=[0.0, 10.0, 30.0], rms_optimal_rate=[0.5, 0.13, 0.0],
                               class_optimal_rate=[0.5, 0.2, 0.0]))
     claims = swap_claims(curves, rates, distance=10.0, n_sensors=30)
     assert [c.reproduced for c in claims[:2]] == ["4", "5"]
     assert all(c.status == "reproduced" for c in claims)
+    assert [c.control.split(": ")[1] for c in claims] == ["minimum at 0 swaps -> fails", "peak at 0 swaps -> fails",
+                                                         "rate 0 -> fails", "rate 0.5 -> fails"]
     shifted = curves.assign(rms=[1.0, 1.2, 1.4, 1.6, 1.8, 2.0, 2.2, 2.4])  # minimum at 0 swaps
     assert swap_claims(shifted, rates.assign(rms_optimal_rate=[0.3, 0.1, 0.03]), distance=10.0,
                        n_sensors=30)[0].status == "not reproduced"
@@ -82,17 +85,26 @@ def test_swap_claims_follow_the_curves():
 def test_cardinality_claims_need_a_significant_difference():
     from hypotrack.experiments.cardinality.run import cardinality_claims
 
-    errors = pd.DataFrame(dict(method=["classical_mht", "cardinality_tracker"], mean_abs_error=[100.0, 11.7],
-                               std_error=[3.0, 4.0], mean_n=[0.0, 95.0], mean_n_true=[100.0, 100.0], n_runs=[50, 50]))
+    methods = ["classical_mht", "cardinality_tracker", "exact_class_map", "constant_prior", "per_scan"]
+    errors = pd.DataFrame(dict(method=methods, mean_abs_error=[100.0, 11.7, 11.7, 60.0, 3.9],
+                               std_error=[3.0, 4.0, 4.0, 1.0, 0.1], mean_n=[0.0, 95.0, 95.0, 100.0, 100.0],
+                               mean_n_true=[100.0] * 5, n_runs=[50] * 5, bias=[-100.0, -5.0, -5.0, 0.0, 0.0],
+                               bias_se=[0.1] * 5, excess_error=[88.3, 0.0, 0.0, 48.3, -7.8],
+                               excess_error_se=[3.0, 0.0, 0.0, 1.0, 0.1]))
     optimality = pd.DataFrame(dict(variant=["cardinality_tracker"], fraction_at_optimum=[0.25], worst_gap=[5.5],
-                                   n_runs=[50]))
+                                   worst_relative_gap=[1.6e-4], mean_J_opt=[3.4e4], n_runs=[50]))
     fig42 = pd.DataFrame(dict(classical_mht=[0, 0, 0]))
-    claims = cardinality_claims(errors, optimality, fig42, {"p_d": 0.9})
-    assert [c.status for c in claims] == ["reproduced", "reproduced", "reproduced", "not reproduced"]
+    cfg = {"p_d": 0.9, "lambda_b": 1.0, "p_chi": 0.01, "control_lambda_fa": 0.1}
+    control = pd.DataFrame(dict(classical_mht=[3, 5]))
+    claims = {c.key: c for c in cardinality_claims(errors, optimality, fig42, cfg, control=control)}
+    assert [claims[k].status for k in ("classical_no_tracks", "tracker_error", "underestimates", "tetris_optimal")] \
+        == ["reproduced", "reproduced", "reproduced", "extension"]
     # difference 88.3, s.e. of the difference hypot(3, 4) = 5 -> 17.7 s.e.
-    assert claims[1].note == "50 runs; difference 88.3 = 17.7 s.e." and claims[3].evidence == "independent oracle"
+    assert claims["tracker_error"].note.startswith("50 runs; difference 88.3 = 17.7 s.e.")
+    assert claims["tetris_optimal"].evidence == "independent oracle"
     # the same means with s.e. 20 and 25 (difference 2.8 s.e. of hypot = 32.0) are not a significant difference
-    noisy = errors.assign(std_error=[20.0, 25.0])
-    assert cardinality_claims(noisy, optimality, fig42, {"p_d": 0.9})[1].status == "not reproduced"
-    assert cardinality_claims(errors, optimality, pd.DataFrame(dict(classical_mht=[0, 2])), {"p_d": 0.9})[0].status == \
-        "not reproduced"
+    noisy = errors.assign(std_error=[20.0, 25.0, 25.0, 1.0, 0.1])
+    assert {c.key: c for c in cardinality_claims(noisy, optimality, fig42, cfg, control=control)}[
+        "tracker_error"].status == "not reproduced"
+    assert cardinality_claims(errors, optimality, pd.DataFrame(dict(classical_mht=[0, 2])), cfg,
+                              control=control)[0].status == "not reproduced"

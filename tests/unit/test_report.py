@@ -328,7 +328,8 @@ def test_glmb_and_generation_time_claims_do_not_change_with_the_machine():
                          "seconds": time_of(n) if method != "homht" or n < 8 else float("nan"),
                          "broken": method == "homht" and n >= 8, "truth_found": n < 7 or method != "homht_kbest"})
     table = pd.DataFrame(rows)
-    params = {"exhaustive_max_events": 1e7, "mcmc_steps": 1000, "keep": 100}
+    params = {"exhaustive_max_events": 1e7, "mcmc_steps": 1000, "keep": 100, "control_max_events": 1e5,
+              "control_time_factor": 100.0}
     slower = table.assign(seconds=table["seconds"] * 3.0)
     one, two = (pd.DataFrame([asdict(c) for c in generation_time_claims(t, params)]) for t in (table, slower))
     assert one.equals(two) and timing_in_text(one) == []

@@ -277,3 +277,16 @@ def test_notebook_executes_with_the_native_kernel(tmp_path):
     assert (out / "mini.html").stat().st_size > 10_000
     assert (out / "mini_line.png").exists() and (out / "mini_line.pdf").exists()
     assert json.loads((out / "mini.json").read_text())["all_passed"]
+
+
+@pytest.mark.parametrize("name", NOTEBOOKS)
+def test_every_verdict_names_a_broken_formula_that_fails(executed, name):
+    """Every reproduced or qualitative row runs its check on a formula with a known defect (the count
+    without false alarms, a likelihood without its normalising factor, ...), and that control fails."""
+    from hypotrack.reporting.verdict import parse_control
+
+    _, findings, _ = executed[name]
+    for claim in findings["claims"]:
+        if claim["status"] in ("reproduced", "qualitative"):
+            what, value, passes = parse_control(claim["control"])
+            assert what and value and not passes, claim["item"]

@@ -20,6 +20,7 @@ rule cardinality_table:
     input:
         shards=expand(f"{CA_DIR}/shards/shard_{{shard}}.csv", shard=CA_SHARDS),
         realisation=f"{CA_DIR}/fig_4_2.csv",
+        control=f"{CA_DIR}/fig_4_2_low_clutter_control.csv",
     output:
         table=report_table(f"{CA_DIR}/monte_carlo.csv", "cardinality", "monte_carlo"),
         optimality=report_table(f"{CA_DIR}/tetris_optimality.csv", "cardinality", "tetris_optimality"),
@@ -34,6 +35,7 @@ rule cardinality_realisation:
     output:
         counts=f"{CA_DIR}/fig_4_2.csv",
         tracks=f"{CA_DIR}/fig_4_2_tracks.csv",
+        control=f"{CA_DIR}/fig_4_2_low_clutter_control.csv",
         fig_pdf=f"{CA_DIR}/fig_4_2.pdf",
         fig_png=report_figure(f"{CA_DIR}/fig_4_2.png", "cardinality", "fig_4_2"),
     params:

@@ -82,6 +82,8 @@ rule sht_claims:
     output:
         claims=f"{SHT_DIR}/claims.csv",
         macros=f"{SHT_DIR}/macros.csv",
+    params:
+        cfg=config["sht"],
     script:
         "../scripts/sht_claims.py"
 

@@ -7,8 +7,14 @@ prefix_output(snakemake)  # every line this job prints names the job
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pandas as pd  # noqa: E402
 
-from hypotrack.experiments.cardinality.run import cardinality_run, plot_realisation, realisation_tables  # noqa: E402
+from hypotrack.experiments.cardinality.run import (  # noqa: E402
+    cardinality_run,
+    low_clutter_control,
+    plot_realisation,
+    realisation_tables,
+)
 from hypotrack.experiments.seeds import experiment_seeds  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
 
@@ -19,6 +25,8 @@ params = {k: cfg[k] for k in ("n_scans", "p_chi", "lambda_b", "p_d", "lambda_fa"
 counts, tracks = realisation_tables(cardinality_run(rng=np.random.default_rng(seed), **params))
 write_table(counts, out.counts)
 write_table(tracks, out.tracks)
+control = low_clutter_control(rng=np.random.default_rng(seed), **{**params, "lambda_fa": cfg["control_lambda_fa"]})
+write_table(pd.DataFrame({"scan": np.arange(len(control["r"])), **control}), out.control)
 fig = plot_realisation(counts, cfg)
 fig.savefig(out.fig_pdf)
 fig.savefig(out.fig_png, dpi=150)

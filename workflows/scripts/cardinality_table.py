@@ -14,4 +14,5 @@ errors, optimality = summarise_cardinality(pd.concat(pd.read_csv(p) for p in sna
 write_table(errors, out.table)
 write_table(optimality, out.optimality)
 print(errors.to_string(index=False), "\n", optimality.to_string(index=False), flush=True)
-write_claims(cardinality_claims(errors, optimality, pd.read_csv(snakemake.input.realisation), cfg), out.claims)  # noqa: F821
+write_claims(cardinality_claims(errors, optimality, pd.read_csv(snakemake.input.realisation), cfg,  # noqa: F821
+                                control=pd.read_csv(snakemake.input.control)), out.claims)  # noqa: F821

@@ -49,6 +49,8 @@ __all__ = [
     "alive_from_counts",
     "CardinalityTracker",
     "ClassicalCountMHT",
+    "constant_count_estimate",
+    "per_scan_count_estimate",
 ]
 
 
@@ -468,6 +470,27 @@ def counts_from_tracks(tracks, n_scans: int):
         for k in t.scans[1:]:
             d[k] += 1
     return chi, d, b
+
+
+def constant_count_estimate(n_scans: int, model: CountModel) -> np.ndarray:
+    """The data-free estimate ``n̂_k = λ_b/p_χ`` at every scan: the steady-state population of the
+    birth–death process (reconstruction §1, the consistency check of Eqs. 2.1–2.2).
+
+    A negative control of the cardinality claims: it ignores the data, so any check it passes cannot
+    tell a tracker from no tracking at all."""
+    T = check_int(n_scans, "n_scans", minimum=0)
+    return np.full(T, model.lambda_b / model.p_chi)
+
+
+def per_scan_count_estimate(r, model: CountModel) -> np.ndarray:
+    """The per-scan moment estimate ``n̂_k = max(0, (r_k − λ_fa)/p_d)``.
+
+    ``E[r_k | n_k] = p_d n_k + λ_fa`` (each of the n_k targets is detected with probability p_d and
+    Poisson(λ_fa) false alarms are added, the measurement model of Eq. 4.1), so ``(r_k − λ_fa)/p_d``
+    is unbiased for n_k before the clip at zero. It uses one scan at a time (no tracks, no
+    dynamics): a negative control of the claims that tracking improves the count."""
+    counts = check_counts(r)
+    return np.maximum(0.0, (counts - model.lambda_fa) / model.p_d)
 
 
 class _CountTracker:

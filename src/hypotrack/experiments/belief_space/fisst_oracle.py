@@ -113,12 +113,26 @@ def _associations(m: int, options: list, unique: set):
             yield a
 
 
-def fisst_children(s: OracleScene) -> dict:
-    """Log-weight of every child under seed 001's multi-object densities (module docstring)."""
+DEFECTS = (None, "no_missed_detection")
+
+
+def _check_defect(defect):
+    if defect not in DEFECTS:
+        raise ValueError(f"defect must be one of {DEFECTS}, got {defect!r}")
+    return defect
+
+
+def fisst_children(s: OracleScene, defect: str | None = None) -> dict:
+    """Log-weight of every child under seed 001's multi-object densities (module docstring).
+
+    ``defect="no_missed_detection"`` drops every missed-detection factor ``1 − p_D`` (undetected
+    objects and the undetected birth, Eqs. 6 and 37): a density with a known defect, run as the
+    negative control of the oracle rows."""
+    _check_defect(defect)
     M, m = len(s.means), len(np.atleast_2d(s.Z)) if np.size(s.Z) else 0
     g = _log_target_likelihoods(s)
     gb = _log_birth_likelihood(s) if s.has_birth else None
-    log_pd, log_md = math.log(s.p_D), math.log1p(-s.p_D)
+    log_pd, log_md = math.log(s.p_D), (0.0 if defect else math.log1p(-s.p_D))
     log_kappa = math.log(s.clutter_rate / s.clutter_volume)  # Poisson clutter intensity λV c(z)
     out = {}
     twins = [(ASSOCIATION, -1)] + ([(UNDETECTED_BIRTH, 0)] if s.has_birth else [])
@@ -148,8 +162,12 @@ def fisst_children(s: OracleScene) -> dict:
     return out
 
 
-def reid_children(s: OracleScene) -> dict:
-    """Log-weight of every hypothesis by Reid's formula (fixed prior targets, new targets seeded)."""
+def reid_children(s: OracleScene, defect: str | None = None) -> dict:
+    """Log-weight of every hypothesis by Reid's formula (fixed prior targets, new targets seeded).
+
+    ``defect="no_missed_detection"`` drops the factor ``(1 − p_D)`` of each undetected target (001
+    Eq. 30 with a known defect: the negative control)."""
+    _check_defect(defect)
     M, m = len(s.means), len(np.atleast_2d(s.Z)) if np.size(s.Z) else 0
     g = _log_target_likelihoods(s)
     beta_ft = s.clutter_rate / s.clutter_volume
@@ -157,7 +175,7 @@ def reid_children(s: OracleScene) -> dict:
     out = {}
     for a in _associations(m, options, set(range(M))):
         n_dt = sum(0 <= x < M for x in a)
-        lw = n_dt * math.log(s.p_D) + (M - n_dt) * math.log1p(-s.p_D)
+        lw = n_dt * math.log(s.p_D) + (0.0 if defect else (M - n_dt) * math.log1p(-s.p_D))
         lw += sum(g[i, x] for i, x in enumerate(a) if x >= 0)
         lw += sum(x == CLUTTER for x in a) * math.log(beta_ft)
         if s.new_target_density > 0:

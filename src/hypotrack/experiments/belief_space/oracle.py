@@ -26,6 +26,7 @@ from ...models import ConstantVelocity
 from ...models.population import UniformBirthDensity
 from ...models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
 from ...reporting.ledger import Claim
+from ...reporting.verdict import with_control
 from .fisst_oracle import ASSOCIATION, NEW_TARGET, OracleScene, fisst_children, normalise, reid_children, \
     undetected_birth_ratios
 
@@ -126,6 +127,11 @@ def oracle_table(cfg, seed) -> pd.DataFrame:
         # FISST association children with the birth pixel's code M read as a Reid new target.
         fa = {(tuple(NEW_TARGET if x == M else x for x in a), k, arg): v
               for (a, k, arg), v in of.items() if k == ASSOCIATION}
+        # negative controls: the same oracles without their missed-detection factors (1 - p_D)
+        cf = fisst_children(_oracle_scene(cfg, scene, births=True), defect="no_missed_detection")
+        cr = reid_children(_oracle_scene(cfg, scene, births=False, new_target_density=beta_nt),
+                           defect="no_missed_detection")
+        r_control = undetected_birth_ratios(cf)
         r_oracle = undetected_birth_ratios(of)
         r_engine = undetected_birth_ratios(ef) if ef.keys() == of.keys() else np.array([np.inf])
         eq39 = (1 - float(cfg["p_D"])) * float(cfg["alpha"])
@@ -143,12 +149,17 @@ def oracle_table(cfg, seed) -> pd.DataFrame:
             "eq39_oracle_rel_dev": float(np.max(np.abs(r_oracle / eq39 - 1), initial=0.0)),
             "eq39_engine_vs_oracle_rel_dev": float(np.max(np.abs(r_engine / r_oracle - 1), initial=0.0))
             if len(r_engine) == len(r_oracle) else np.inf,
+            "control_fisst_max_abs_dlogp": _max_dlogp(ef, cf),
+            "control_reid_max_abs_dlogp": _max_dlogp(er, cr),
+            "control_eq39_rel_dev": float(np.max(np.abs(r_control / eq39 - 1), initial=0.0)),
         })
     return pd.DataFrame(rows)
 
 
 def oracle_claims(table: pd.DataFrame, tol: float) -> list:
-    """Ledger rows backed by the oracle (evidence "independent oracle")."""
+    """Ledger rows backed by the oracle (evidence "independent oracle"), each with its negative
+    control: the same comparison against the oracle without its missed-detection factors
+    ``1 − p_D`` (``fisst_children(..., defect="no_missed_detection")``), which must fail it."""
     n = len(table)
     sizes = (f"{n} random scans, up to {table['n_objects'].max()} objects and "
              f"{table['n_returns'].max()} returns")
@@ -159,23 +170,34 @@ def oracle_claims(table: pd.DataFrame, tol: float) -> list:
     fisst = float(max(table["fisst_max_abs_dlogp"].max(), table["fisst_abs_dlog_normaliser"].max()))
     reid = float(max(table["reid_max_abs_dlogp"].max(), table["oracle_fisst_vs_reid_max_abs_dlogp"].max()))
     eq39 = float(max(table["eq39_oracle_rel_dev"].max(), table["eq39_engine_vs_oracle_rel_dev"].max()))
+    what = "the oracle without its missed-detection factors 1 − p_D"
+    c_fisst = float(table["control_fisst_max_abs_dlogp"].max())
+    c_reid = float(table["control_reid_max_abs_dlogp"].max())
+    c_eq39 = float(table["control_eq39_rel_dev"].max())
     return [
-        Claim("belief_space", "FISST posterior with births and deaths, independent oracle",
-              "001 Eqs. 5-7, 31-33, 59; 000 Eq. 20", "multi-object density", f"max |d log p| = {fisst:.1e}",
-              f"{tol:g}", verdict(bool(table["fisst_same_children"].all()) and fisst <= tol),
-              f"engine children and posterior against the seeds' densities evaluated by brute force, no code "
-              f"shared with the weight models ({sizes}, one birth pixel, deaths, Poisson clutter)",
-              "independent oracle", key="FisstOracle"),
-        Claim("belief_space", "FISST = HOMHT, independent oracle", "001 Sec. V-A, Eqs. 30, 35", "identical",
-              f"max |d log p| = {reid:.1e}", f"{tol:g}",
-              verdict(bool(table["reid_same_children"].all()) and reid <= tol),
-              "Reid's formula against the engine's HOMHT, and against the FISST density over the association "
-              "children with the new-target density alpha p_D / pixel area (births included)",
-              "independent oracle", key="FisstHomhtOracle"),
-        Claim("belief_space", "undetected-birth weight ratio, independent oracle", "001 Eq. 39",
-              "(1 - p_D) alpha",
-              f"max rel. deviation {eq39:.1e}", f"{tol:g} relative",
-              verdict(bool(table["eq39_pairs"].sum() > 0) and eq39 <= tol),
-              f"{int(table['eq39_pairs'].sum())} twin pairs: the ratio read off the multi-object density and "
-              "the engine's ratio for the same children", "independent oracle", key="BirthRatioOracle"),
+        with_control(Claim(
+            "belief_space", "FISST posterior with births and deaths, independent oracle",
+            "001 Eqs. 5-7, 31-33, 59; 000 Eq. 20", "multi-object density", f"max |d log p| = {fisst:.1e}",
+            f"{tol:g}", verdict(bool(table["fisst_same_children"].all()) and fisst <= tol),
+            f"engine children and posterior against the seeds' densities evaluated by brute force, no code "
+            f"shared with the weight models ({sizes}, one birth pixel, deaths, Poisson clutter)",
+            "independent oracle", key="FisstOracle"),
+            what, f"max |d log p| = {c_fisst:.2g}", c_fisst <= tol),
+        with_control(Claim(
+            "belief_space", "FISST = HOMHT, independent oracle", "001 Sec. V-A, Eqs. 30, 35", "identical",
+            f"max |d log p| = {reid:.1e}", f"{tol:g}",
+            verdict(bool(table["reid_same_children"].all()) and reid <= tol),
+            "Reid's formula against the engine's HOMHT, and against the FISST density over the association "
+            "children with the new-target density alpha p_D / pixel area (births included)",
+            "independent oracle", key="FisstHomhtOracle"),
+            "Reid's formula without its missed-detection factors 1 − p_D", f"max |d log p| = {c_reid:.2g}",
+            c_reid <= tol),
+        with_control(Claim(
+            "belief_space", "undetected-birth weight ratio, independent oracle", "001 Eq. 39",
+            "(1 - p_D) alpha",
+            f"max rel. deviation {eq39:.1e}", f"{tol:g} relative",
+            verdict(bool(table["eq39_pairs"].sum() > 0) and eq39 <= tol),
+            f"{int(table['eq39_pairs'].sum())} twin pairs: the ratio read off the multi-object density and "
+            "the engine's ratio for the same children", "independent oracle", key="BirthRatioOracle"),
+            what, f"max rel. deviation {c_eq39:.2g}", c_eq39 <= tol),
     ]

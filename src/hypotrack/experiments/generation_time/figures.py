@@ -16,7 +16,7 @@ _STYLE = {
 
 # the columns of the Fig. 15 table that do not depend on the machine (byte-identical reruns)
 OUTCOME_COLUMNS = ["method", "n_objects", "n_returns", "log10_hypotheses", "broken", "n_generated",
-                   "truth_found", "truth_rank", "map_is_truth"]
+                   "truth_found", "truth_rank", "map_is_truth", "lsa_is_truth"]
 
 
 def _save(fig, pdf, png):

@@ -136,7 +136,7 @@ class Findings:
 
     def claim(self, item: str, source: str, published, reproduced, status: str, *, key: str = "",
               evidence: str = "independent oracle", tolerance: str = "exact", note: str = "",
-              control: tuple | None = None) -> None:
+              control: tuple | None = None, cause: str = "") -> None:
         """A row of the reproduction ledger (:mod:`hypotrack.reporting.ledger`): a published statement and
         what this notebook found. ``status`` is one of :data:`hypotrack.reporting.ledger.STATUSES`; ``key``
         names the row's paper macros stably; ``evidence`` defaults to the symbolic computation here
@@ -144,9 +144,10 @@ class Findings:
 
         ``control = (what, value, passes)``: the same check run on a formula with a known defect (a
         negative control, :func:`hypotrack.reporting.verdict.with_control`); a *reproduced* or
-        *qualitative* row whose control also passes is written as *uninformative*."""
+        *qualitative* row whose control also passes is written as *uninformative*. ``cause`` (a key of
+        :data:`hypotrack.reporting.ledger.CAUSES`) says why a *not reproduced* row failed."""
         row = Claim("theory", item, source, str(published), str(reproduced), tolerance, status, note, evidence,
-                    key=key)
+                    key=key, cause=cause if status == "not reproduced" else "")
         if control is not None:
             what, value, passes = control
             row = with_control(row, what, str(value), bool(passes))

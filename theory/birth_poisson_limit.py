@@ -331,7 +331,8 @@ findings.claim("Eq. 43 bound, Gaussian birth pdfs", "001 Eq. 42-43, Fig. 10", "<
                f"{counter_example:.3f} (1 - p_D) for a variance-matched Gaussian, Q = R = 0.005 Vbar^2",
                "reproduced" if counter_example < 1 else "not reproduced",
                note="holds if the birth Gaussian's peak density is <= 1/Vbar, or (Gaussian new birth) within "
-                    "d^2 < ab ln(b/a)/(b - a) of the pixel centre; fails otherwise", key="eq43_gaussian")
+                    "d^2 < ab ln(b/a)/(b - a) of the pixel centre; fails otherwise", key="eq43_gaussian",
+               cause="document")
 findings.record("eq43_variance_matched_counterexample", {"Vbar": 1, "P": 1 / 12, "Q": 0.005, "R": 0.005,
                                                            "ratio_over_1_minus_pD": counter_example})
 

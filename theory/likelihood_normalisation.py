@@ -109,7 +109,8 @@ findings.record("eq9_sum_M10_m5_pD095", float(defect_10_5))
 findings.claim("Eq. 9: children's prior probabilities sum to 1", "000 Eq. 8-9", "1",
                f"P[Bin(M, p_D) <= m]; {float(defect_10_5):.3g} at M=10, m=5, p_D=0.95",
                "reproduced" if float(defect_10_5) == 1 else "not reproduced",
-               note="exactly 1 only when M <= m; the text assumes both M < m (Eq. 9) and m < M (Sec. II)", key="eq9_prior_sum")
+               note="exactly 1 only when M <= m; the text assumes both M < m (Eq. 9) and m < M (Sec. II)", key="eq9_prior_sum",
+               cause="document")
 print("sum_j p_ij at M=10, m=5, p_D=0.95:", float(defect_10_5))
 
 # %%
@@ -185,7 +186,8 @@ findings.check(
 findings.record("eq20_integral", {f"M={M},m={m}": str(v) for (M, m), v in eq20.items()})
 findings.claim("Eq. 20: the multi-target likelihood integrates to 1", "000 Eq. 20", "1",
                f"1 for M <= m; {eq20[3, 2]} for M=3, m=2", "not reproduced",
-               note="inherits the Eq. 9 defect: the integral equals P[Bin(M, p_D) <= m]", key="eq20_integral")
+               note="inherits the Eq. 9 defect: the integral equals P[Bin(M, p_D) <= m]", key="eq20_integral",
+               cause="document")
 
 # %% [markdown]
 # ## 3. The appendix's two-target likelihood (Eq. 39)

@@ -136,6 +136,7 @@ CAUSES = {
     "project choice": "this project's choice or reconstruction, not the document's method",
     "too few runs": "the Monte Carlo interval is too wide to decide",
     "no power": "the check also passes a control built to fail it",
+    "untestable": "the document's problems hold too few cases that decide the claim",
 }
 VERDICT_STATUSES = ("reproduced", "not reproduced", "inconclusive", "uninformative", "qualitative")
 NEEDS_CONTROL = ("reproduced", "qualitative")  # statuses that claim power: a control must fail them

@@ -131,7 +131,7 @@ def claims_from_checks(checks: pd.DataFrame) -> list:
               f"up to {gau['value']:.3f} (1 - p_D)", "exact", ok(gau),
               "the engine moment-matches an undetected birth to a Gaussian whose peak density exceeds 1/Vbar; "
               "the bound returns once the per-axis position variance added in a scan exceeds (6/pi - 1) Vbar / 12",
-              "measurement", key="EqFortyThreeEngine"),
+              "measurement", key="EqFortyThreeEngine", cause="document"),
         Claim("belief_space", "FISST = HOMHT for a fixed number of targets (engine)", "001 Sec. V-A, Eq. 18 vs 30",
               "identical", f"max |d log w|, |d mean| = {fh['deviation']:.1e}", f"{AGREEMENT_TOL:g}", consistent(fh),
               "not a reproduction: the engine's FISST and Reid weights share the association matrix and differ by "

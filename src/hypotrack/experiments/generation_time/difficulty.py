@@ -408,7 +408,7 @@ def difficulty_claims(table, params):
                 + ("" if len(upto) else "; none up to 1e33, so nothing decides the claim")
                 + (f"; beyond 1e33 the chain generated the truth on {int(beyond['truth_found'].astype(bool).sum())} "
                    f"of {len(beyond)}" if len(beyond) else ""),
-                "brute force", key="diffChainHardPaper"),
+                "brute force", key="diffChainHardPaper", cause="untestable" if h_status != "reproduced" else ""),
                 "one maximum-likelihood linear assignment (no search)", f"0 of {len(upto)} by construction",
                 False))
         claims.append(Claim(

@@ -1,0 +1,228 @@
+"""Every report figure is legible at the size it is printed: no text under 7 pt at its placed width,
+no title cut by the figure's edge, no legend over an axes' data area.
+
+The checker (:func:`figure_style.legibility_problems`) is tested on figures built to fail each rule
+(its negative controls); the figure functions are then drawn on small fabricated tables and must
+pass it at the width their ``\\htfigure`` line in paper/sections places them.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from hypotrack.reporting import figure_style as fs
+
+fs.use()
+import matplotlib.pyplot as plt  # noqa: E402
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def placed_widths() -> dict[str, float]:
+    """``\\htfigure`` placements in the report: figure path (under generated/figures/) -> line-width fraction."""
+    out = {}
+    for tex in sorted((ROOT / "paper" / "sections").rglob("*.tex")):
+        for m in re.finditer(r"\\htfigure\{generated/figures/([^}]+)\}\{([0-9.]+)\}", tex.read_text()):
+            out[m.group(1)] = float(m.group(2))
+    return out
+
+
+# --- the checker and its negative controls ---------------------------------------------------------
+
+
+def test_page_geometry_matches_ms_tex():
+    # a4paper (210 × 297 mm) with margin=2.2cm: 166 mm = 6.535 in wide, 253 mm tall
+    text = (ROOT / "paper" / "ms.tex").read_text()
+    assert "a4paper" in text and "margin=2.2cm" in text and "height=0.7\\textheight" in text
+    assert fs.TEXT_WIDTH_IN == pytest.approx(166 / 25.4)
+    assert fs.MAX_HEIGHT_IN == pytest.approx(0.7 * 253 / 25.4)
+
+
+def test_good_figure_passes_and_scale_is_exact():
+    fig, ax = fs.subplots(height=3.0)
+    ax.plot([0, 1], [0, 1], label="a line")
+    ax.set_title("a title")
+    fs.legend_below(fig)
+    assert fs.placed_scale(fig, 1.0) == pytest.approx(1.0)
+    assert fs.placed_scale(fig, 0.5) == pytest.approx(0.5)
+    assert fs.legibility_problems(fig) == []
+    plt.close(fig)
+
+
+def test_control_figure_drawn_too_wide_has_small_text():
+    # a 13 in figure with 8 pt text placed at 6.535 in: 8 × 6.535 / 13 = 4.02 pt
+    fig, ax = plt.subplots(figsize=(13, 4))
+    ax.set_xlabel("x", fontsize=8)
+    problems = fs.legibility_problems(fig, 1.0)
+    assert any("4.0 pt" in p for p in problems), problems
+    plt.close(fig)
+
+
+def test_control_too_tall_figure_is_scaled_by_its_height():
+    # 10 in tall, 6.535 in wide: LaTeX caps it at 6.97 in, so 8 pt prints at 8 × 6.97 / 10 = 5.6 pt
+    fig, ax = plt.subplots(figsize=(fs.TEXT_WIDTH_IN, 10))
+    ax.set_xlabel("x", fontsize=8)
+    assert fs.placed_scale(fig) == pytest.approx(fs.MAX_HEIGHT_IN / 10)
+    assert any("5.6 pt" in p for p in fs.legibility_problems(fig)), fs.legibility_problems(fig)
+    plt.close(fig)
+
+
+def test_control_legend_inside_axes_and_clipped_title_are_found():
+    fig, ax = fs.subplots(height=3.0)
+    ax.plot(np.arange(10), np.arange(10), label="data")
+    ax.legend(loc="center")
+    fig.suptitle("a title far too long for the page " * 8)
+    problems = fs.legibility_problems(fig)
+    assert any("legend" in p and "covers" in p for p in problems), problems
+    assert any("cut by the figure's edge" in p for p in problems), problems
+    with pytest.raises(ValueError, match="not legible"):
+        fs.save(fig, "/nonexistent/never_written.pdf")
+
+
+def test_subplots_rejects_sizes_latex_would_shrink():
+    with pytest.raises(ValueError, match="height must be"):
+        fs.subplots(height=9.0)
+    with pytest.raises(ValueError, match="width must be"):
+        fs.subplots(width=1.2, height=3.0)
+
+
+def test_pow10_and_wrap():
+    assert fs.pow10(6) == "10⁶" and fs.pow10(-3) == "10⁻³" and fs.pow10(33.0) == "10³³"
+    fig, _ = fs.subplots(height=2.0)
+    lines = fs.wrap("word " * 100, fig, 9.0).split("\n")
+    assert len(lines) > 1 and max(map(len, lines)) <= int(0.95 * fs.TEXT_WIDTH_IN * 72 / 5.4)
+    plt.close(fig)
+
+
+# --- the figure functions on fabricated tables ------------------------------------------------------
+
+
+def check(fig, name):
+    """Legible at the width the report places ``name`` at (its ``\\htfigure`` line)."""
+    width = placed_widths()[name]
+    problems = fs.legibility_problems(fig, width)
+    plt.close(fig)
+    assert problems == [], problems
+
+
+def _save_and_check(monkeypatch, name):
+    """Capture the figure a plotting function hands to figure_style.save and check it."""
+    seen = []
+
+    def fake_save(fig, pdf, png=None, *, width=1.0, dpi=150):
+        seen.append((fig, width))
+
+    monkeypatch.setattr(fs, "save", fake_save)
+    return seen
+
+
+def test_placements_are_full_width_for_the_split_figures():
+    widths = placed_widths()
+    for name in ("generation_time/difficulty", "generation_time/difficulty_map", "generation_time/difficulty_truth",
+                 "samplers/mass_vs_budget", "ssa15/fig_12_14_estimates", "generation_time/generation_time"):
+        assert widths[name] == 1.0, name
+
+
+def test_ssa_figures(monkeypatch):
+    from hypotrack.experiments.ssa import figures as sf
+    from hypotrack.experiments.ssa.evaluation import OSPASettings
+    from hypotrack.models.sensors import FieldOfView
+
+    rng = np.random.default_rng(3)
+    n_scans = 20
+    weights = pd.DataFrame([dict(scan=k, rank=r + 1, weight=w, n_objects=10 + r % 3, time=600.0 * k)
+                            for k in (2, 10, 15, 19) for r, w in enumerate(np.sort(rng.dirichlet(np.ones(20)))[::-1])])
+    check(sf.plot_weight_snapshots(weights, n_scans, title="Hypothesis weights during the run (R-FISST; 50 objects: "
+                                   "45 in the initial hypothesis, 5 births)"), "ssa50/fig_6_weights")
+    rows = []
+    for tracker in ("rfisst_chain", "homht"):
+        for k in (0, 10, 19):
+            for i in range(15):
+                ang = rng.uniform(0, 2 * np.pi)
+                x, y = 26000 * np.cos(ang), 26000 * np.sin(ang)
+                rows.append(dict(scan=k, tracker=tracker, role="truth", status="correct" if i else "missed", x=x,
+                                 y=y, id=i))
+                rows.append(dict(scan=k, tracker=tracker, role="estimate", status="correct" if i > 1 else "incorrect",
+                                 x=x + 10, y=y, id=i))
+    matched = pd.DataFrame(rows)
+    fov = FieldOfView()
+    fig = sf.plot_estimate_snapshots(matched, fov, n_scans, columns=["rfisst_chain", "homht"],
+                                     column_titles=["R-FISST, paper chain", "HOMHT"],
+                                     title="True positions and MAP estimates (15 objects, all known and starting "
+                                     "in view; same EKF)")
+    check(fig, "ssa15/fig_12_14_estimates")
+    one = matched[matched.tracker == "homht"].drop(columns="tracker")
+    check(sf.plot_estimate_snapshots(one, fov, n_scans, column_titles=["R-FISST, top hypothesis"], birth_ids=[3],
+                                     title="True positions and top-hypothesis estimates (R-FISST; 50 objects: 45 in "
+                                     "the initial hypothesis, 5 births)"), "ssa50/fig_8_10_estimates")
+    metrics = pd.DataFrame(dict(scan=np.arange(n_scans), time=600.0 * np.arange(n_scans),
+                                expected_number=45 + np.arange(n_scans) / 4, n_catalogue=45 + np.arange(n_scans) // 4,
+                                ospa_in_view=rng.uniform(0, 5, n_scans), ospa_catalogue=rng.uniform(0, 50, n_scans)))
+    card = pd.DataFrame([dict(scan=k, n_objects=45 + k // 4, probability=1.0) for k in range(n_scans)])
+    check(sf.plot_expected_number(metrics, card, title="Expected number of objects (R-FISST; 50 objects: 45 in the "
+                                  "initial hypothesis, 5 births)"), "ssa50/fig_11_expected_number")
+    ospa = OSPASettings(p=2.0, c_in_view=10.0, c_catalogue=100.0)
+    labels = {"rfisst_chain": "R-FISST, paper chain", "rfisst": "R-FISST + completion, fixed number", "homht": "HOMHT"}
+    all_metrics = pd.concat([metrics.assign(tracker=t) for t in labels], ignore_index=True)
+    check(sf.plot_ospa(all_metrics, ospa, title="OSPA of the top-hypothesis estimates (50 objects, 5 births)",
+                       labels=labels), "ssa50/ospa")
+    agreement = pd.DataFrame(dict(agree=np.arange(n_scans) % 7 != 0, same_objects=np.arange(n_scans) % 9 != 0,
+                                  max_difference_km=rng.uniform(0, 1e-3, n_scans)))
+    agreements = {("rfisst_chain", "homht"): agreement, ("rfisst", "homht"): agreement}
+    check(sf.plot_comparison(agreements, all_metrics, ospa, labels=labels,
+                             title="R-FISST, paper chain vs HOMHT (15 objects, all known; same EKF)"), "ssa15/comparison")
+
+
+def test_generation_time_figures(monkeypatch):
+    from hypotrack.experiments.generation_time import figures as gf
+
+    seen = _save_and_check(monkeypatch, "generation_time")
+    rows = []
+    for method in ("homht", "rfisst", "homht_kbest"):
+        for n in range(2, 30, 2):
+            rows.append(dict(method=method, n_objects=n, n_returns=n, log10_hypotheses=4.0 * n,
+                             seconds=1e-3 * n if method != "homht" or n < 10 else np.nan,
+                             truth_found=not (method == "rfisst" and n > 24)))
+    gf.plot_generation_time(pd.DataFrame(rows), "x.pdf", "x.png", budget=1e7, mcmc_steps=10000, keep=100)
+    fig, width = seen.pop()
+    check(fig, "generation_time/generation_time")
+    summary = pd.DataFrame([dict(difficulty=d, method=m, log10_hypotheses=float(n), mass_captured_mean=0.9,
+                                 map_found_rate=0.8, truth_found_rate=0.7)
+                            for d in ("paper", "8sigma", "4sigma", "2sigma", "1sigma")
+                            for m in ("murty", "chain_completion", "chain") for n in range(2, 40, 6)])
+    labels = {"paper": "paper-style problem", "8sigma": "8 σ apart", "4sigma": "4 σ apart", "2sigma": "2 σ apart",
+              "1sigma": "1 σ apart"}
+    for measure, name in (("mass", "difficulty"), ("map", "difficulty_map"), ("truth", "difficulty_truth")):
+        gf.plot_difficulty(summary, "x.pdf", "x.png", labels=labels, mcmc_steps=10000, keep=100, reference_k=1000,
+                           exhaustive_max_events=10**6, measure=measure)
+        fig, width = seen.pop()
+        check(fig, f"generation_time/{name}")
+    with pytest.raises(ValueError, match="measure must be one of"):
+        gf.plot_difficulty(summary, "x.pdf", "x.png", labels=labels, mcmc_steps=1, keep=1, reference_k=1,
+                           exhaustive_max_events=1, measure="speed")
+    table = pd.DataFrame(dict(label=[f"engine path {i}" for i in range(6)], per_second=10.0 ** np.arange(5, 11),
+                              target_per_second=[1e6, np.nan, 1e7, np.nan, 1e8, np.nan]))
+    gf.plot_throughput(table, "x.pdf", "x.png")
+    fig, width = seen.pop()
+    check(fig, "perf/hypotheses_throughput")
+
+
+def test_sampler_mass_figure(monkeypatch):
+    from hypotrack.experiments.samplers import summary as ss
+
+    seen = _save_and_check(monkeypatch, "samplers")
+    diffs = ["1sigma", "2sigma", "4sigma", "8sigma", "recorded"]
+    samplers = ["rfisst_chain", "rfisst_completion", "gibbs", "murty"]
+    budgets = [10, 100, 1000]
+    det = pd.DataFrame([dict(difficulty=d, sampler=s, budget=b, mass_mean=1 - 10.0 ** -(i + j), mass_exact=True,
+                             n_problems=8) for d in diffs for i, s in enumerate(samplers)
+                        for j, b in enumerate(budgets)])
+    timing = det[["difficulty", "sampler", "budget"]].assign(time_mean_s=det.budget * 1e-4)
+    ss.plot_mass(det, timing, "x.pdf", "x.png")
+    fig, width = seen.pop()
+    check(fig, "samplers/mass_vs_budget")

@@ -226,3 +226,53 @@ def test_sampler_mass_figure(monkeypatch):
     ss.plot_mass(det, timing, "x.pdf", "x.png")
     fig, width = seen.pop()
     check(fig, "samplers/mass_vs_budget")
+
+
+def test_seed_distributions_figure_says_na_for_births_of_a_case_without_births():
+    from hypotrack.experiments.ssa_seeds.run import METRICS, plot_distributions
+
+    rows = []
+    for case, trackers, births in (("ssa50", ["rfisst_chain", "rfisst", "glmb"], 5),
+                                   ("ssa15", ["rfisst_chain", "rfisst", "homht", "rfisst_fixed"], 0)):
+        for t in trackers:
+            for s in range(4):
+                rows.append(dict(case=case, tracker=t, label=f"{t} label", seed_index=s, births=births,
+                                 **{m: (0.0 if births == 0 and "birth" in m else 0.5 + 0.1 * s) for m in METRICS}))
+    fig = plot_distributions(pd.DataFrame(rows), title="SSA verdicts over scenario seeds (document 000 Sec. IV-A)")
+    texts = [t.get_text() for ax in fig.axes for t in ax.texts]
+    # ssa15 has 4 trackers and no births: both birth panels say n/a for each, no other panel does
+    assert texts.count("n/a (no births)") == 2 * 4 and len(texts) == 8
+    births_ax = fig.axes[list(METRICS).index("births_tracked_end")]
+    drawn = np.concatenate([line.get_ydata() for line in births_ax.lines if line.get_marker() == "o"])
+    assert drawn.max() < 3  # only the three ssa50 rows (0, 1, 2) carry dots
+    check(fig, "ssa_seeds/distributions")
+
+
+def test_scenario_figure_lists_births_in_its_legend():
+    from hypotrack.scenarios.ssa import SSAParams, plot_scenario, simulate_ssa
+
+    small = simulate_ssa(SSAParams(n_scans=60), 9)
+    fig = plot_scenario(small.truth, small.scans, small.fov, small.prior_ids)
+    legend_texts = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert sum(t.startswith("birth id ") for t in legend_texts) == 5  # the five births of SSAParams
+    assert all(ax.get_legend() is None for ax in fig.axes)  # nothing drawn over the orbits
+    check(fig, "ssa/ssa50_scenario")
+
+
+def test_cardinality_figure_tells_tetris_from_count_dp():
+    from hypotrack.experiments.cardinality.run import plot_realisation
+
+    k = np.arange(50)
+    counts = pd.DataFrame(dict(scan=k, r=k % 5, n_true=np.full(50, 3), cardinality_tracker=np.full(50, 2),
+                               exact_class_map=np.full(50, 2), classical_mht=np.zeros(50, int)))
+    cfg = dict(n_scans=50, p_chi=0.9, lambda_b=0.1, lambda_fa=1.0, p_d=0.8)
+    fig = plot_realisation(counts, cfg)
+    ax = fig.axes[0]
+    by_label = {line.get_label(): line for line in ax.lines}
+    tetris = next(v for lab, v in by_label.items() if "Tetris" in lab)
+    dp = next(v for lab, v in by_label.items() if "count DP" in lab)
+    # identical data, yet distinguishable: different line style, marker and width
+    assert tetris.get_linestyle() != dp.get_linestyle()
+    assert tetris.get_marker() != dp.get_marker()
+    assert tetris.get_linewidth() > 2 * dp.get_linewidth() or dp.get_linestyle() == "None"
+    check(fig, "cardinality/fig_4_2")

@@ -5,7 +5,7 @@ from hypotrack.reporting.joblog import prefix_output
 prefix_output(snakemake)  # every line this job prints names the job
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from hypotrack.reporting import figure_style  # noqa: E402
 import numpy as np  # noqa: E402
 
 from hypotrack.experiments.cardinality.run import cardinality_run, plot_realisation, realisation_tables  # noqa: E402
@@ -20,6 +20,4 @@ counts, tracks = realisation_tables(cardinality_run(rng=np.random.default_rng(se
 write_table(counts, out.counts)
 write_table(tracks, out.tracks)
 fig = plot_realisation(counts, cfg)
-fig.savefig(out.fig_pdf)
-fig.savefig(out.fig_png, dpi=150)
-plt.close(fig)
+figure_style.save(fig, out.fig_pdf, out.fig_png)

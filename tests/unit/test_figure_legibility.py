@@ -167,13 +167,16 @@ def test_ssa_figures(monkeypatch):
     check(sf.plot_expected_number(metrics, card, title="Expected number of objects (R-FISST; 50 objects: 45 in the "
                                   "initial hypothesis, 5 births)"), "ssa50/fig_11_expected_number")
     ospa = OSPASettings(p=2.0, c_in_view=10.0, c_catalogue=100.0)
-    labels = {"rfisst_chain": "R-FISST, paper chain", "rfisst": "R-FISST + completion, fixed number", "homht": "HOMHT"}
+    # the ssa15 trackers' labels (TrackerSettings.label), the longest first
+    labels = {"rfisst_fixed": "R-FISST + completion, fixed number", "rfisst_chain": "R-FISST, paper chain",
+              "rfisst": "R-FISST + completion", "homht": "HOMHT"}
     all_metrics = pd.concat([metrics.assign(tracker=t) for t in labels], ignore_index=True)
     check(sf.plot_ospa(all_metrics, ospa, title="OSPA of the top-hypothesis estimates (50 objects, 5 births)",
                        labels=labels), "ssa50/ospa")
     agreement = pd.DataFrame(dict(agree=np.arange(n_scans) % 7 != 0, same_objects=np.arange(n_scans) % 9 != 0,
                                   max_difference_km=rng.uniform(0, 1e-3, n_scans)))
-    agreements = {("rfisst_chain", "homht"): agreement, ("rfisst", "homht"): agreement}
+    agreements = {("rfisst_chain", "homht"): agreement, ("rfisst", "homht"): agreement,
+                  ("rfisst_fixed", "homht"): agreement}
     check(sf.plot_comparison(agreements, all_metrics, ospa, labels=labels,
                              title="R-FISST, paper chain vs HOMHT (15 objects, all known; same EKF)"), "ssa15/comparison")
 
@@ -276,3 +279,32 @@ def test_cardinality_figure_tells_tetris_from_count_dp():
     assert tetris.get_marker() != dp.get_marker()
     assert tetris.get_linewidth() > 2 * dp.get_linewidth() or dp.get_linestyle() == "None"
     check(fig, "cardinality/fig_4_2")
+
+
+def test_belief_space_figures(monkeypatch):
+    from hypotrack.experiments.belief_space import run as br
+
+    seen = _save_and_check(monkeypatch, "belief_space")
+    alpha = np.logspace(-6, -2, 8)
+    ratio = pd.concat([pd.DataFrame(dict(p_D=p, alpha=alpha, eq39=(1 - p) * alpha, engine_poisson_limit=(1 - p) * alpha,
+                                         engine_binomial=(1 - p) * alpha / (1 - alpha), exact_binomial=(1 - p) * alpha
+                                         / (1 - alpha), single_event=(1 - p) * alpha, engine_single_event=(1 - p) * alpha))
+                       for p in (0.5, 0.9)], ignore_index=True)
+    br.plot_ratio(ratio, ["x.pdf", "x.png"], dict(n_pixels=100))
+    fig, _ = seen.pop()
+    check(fig, "belief_space/undetected_birth_ratio")
+    off = np.linspace(-0.5, 0.5, 11)
+    offsets = pd.DataFrame(dict(offset_pixels=off, uniform_formula=1 - off**2, gaussian_formula=1 - off**2 / 2,
+                                engine=1 - off**2 / 2))
+    x = np.logspace(-3, 1, 9)
+    noise = pd.DataFrame(dict(spread_over_pixel_area=x, uniform_formula=1 / (1 + x), variance_matched_analytic=1 / (1 + x),
+                              gaussian_formula=1 / (1 + x), engine=1 / (1 + x)))
+    br.plot_eq43(offsets, noise, ["x.pdf", "x.png"], dict(pixel_size=10.0, measurement_std=1.0))
+    fig, _ = seen.pop()
+    check(fig, "belief_space/eq43_bound")
+    equiv = pd.DataFrame([dict(run=r, scan=k, max_abs_dlogw_fisst_reid=1e-15, tv_hfisst_reid=0.01 * k)
+                          for r in range(3) for k in range(6)])
+    br.plot_equivalence(equiv, ["x.pdf", "x.png"])
+    fig, width = seen.pop()
+    assert width == placed_widths()["belief_space/fisst_vs_homht"] == 0.7
+    check(fig, "belief_space/fisst_vs_homht")

@@ -73,12 +73,18 @@ def legend_below(fig, handles=None, labels=None, *, ncol: int = 2, **kwargs):
     return fig.legend(handles, labels, loc="outside lower center", ncol=ncol, **kwargs)
 
 
-def legend_right(ax, **kwargs):
-    """An axes legend just right of the axes, outside its data area."""
+def legend_right(ax, handles=None, labels=None, *, label_chars: int = 26, **kwargs):
+    """An axes legend just right of the axes, outside its data area, its labels wrapped at
+    ``label_chars`` characters (so the legend column stays under a third of the page)."""
+    import textwrap
+
+    if handles is None:
+        handles, labels = ax.get_legend_handles_labels()
+    labels = ["\n".join(textwrap.fill(line, label_chars) for line in str(lab).split("\n")) for lab in labels]
     kwargs.setdefault("loc", "upper left")
     kwargs.setdefault("bbox_to_anchor", (1.01, 1.0))
     kwargs.setdefault("borderaxespad", 0.0)
-    return ax.legend(**kwargs)
+    return ax.legend(handles, labels, **kwargs)
 
 
 def _collect(fig):

@@ -242,12 +242,18 @@ def _ospa_panels(axes, metrics, ospa_settings, trackers, labels):
     for ax, (col, c, what) in zip(axes, cols):
         for tr, style in zip(trackers, _LINE_STYLES):
             g = metrics[metrics["tracker"] == tr] if tr else metrics
-            ax.plot(g["time"] / 3600, g[col], label=f"{labels[tr]}\n(mean {g[col].mean():.3g} km)", **style)
+            ax.plot(g["time"] / 3600, g[col], **style)
         ax.set_ylabel(f"OSPA (km)\np = {ospa_settings.p:g}, c = {c:g} km")
-        ax.set_title(textwrap.fill(f"MAP estimates vs truth: {what}", 62))  # the axes' width beside the legend
+        ax.set_title(textwrap.fill(f"MAP estimates vs truth: {what}", 55))  # the axes' width beside the legend
         _ospa_ylim(ax, metrics[col], c)
         ax.grid(alpha=0.3)
-        figure_style.legend_right(ax)
+    # one legend for both panels (same line per tracker), beside the first and running down beside the second
+    handles, names = [], []
+    for tr, style in zip(trackers, _LINE_STYLES):
+        g = metrics[metrics["tracker"] == tr] if tr else metrics
+        handles.append(axes[0].lines[len(handles)])
+        names.append(f"{labels[tr]}\nmean {g[cols[0][0]].mean():.3g} km in view, {g[cols[1][0]].mean():.3g} km all")
+    figure_style.legend_right(axes[0], handles, names, label_chars=30)
 
 
 def plot_ospa(metrics: pd.DataFrame, ospa_settings: OSPASettings, *, title: str, labels: Mapping):
@@ -281,7 +287,7 @@ def _agreement_panel(ax, agreement, times, label_a, label_b):
     ax.set_ylim(floor / 30, 1e6)
     ax.set_ylabel("km")
     ax.set_title(textwrap.fill(f"{label_a} vs {label_b}: same MAP hypothesis in {100 * ag.mean():.1f} % of "
-                               f"{len(ag)} scans", 62))
+                               f"{len(ag)} scans", 55))
     ax.grid(alpha=0.3)
     return ax.get_legend_handles_labels()
 
@@ -304,7 +310,7 @@ def plot_comparison(agreements: Mapping, metrics: pd.DataFrame, ospa_settings: O
         for h, lab in zip(*_agreement_panel(ax, agreement, times, labels[a], labels[b])):
             merged.setdefault(lab, h)
     if n:
-        figure_style.legend_right(axes[0], handles=list(merged.values()), labels=list(merged))
+        figure_style.legend_right(axes[0], list(merged.values()), list(merged))
     _ospa_panels(axes[n:], metrics, ospa_settings, list(labels), labels)
     axes[-1].set_xlabel("time (h)")
     fig.suptitle(figure_style.wrap(title, fig))

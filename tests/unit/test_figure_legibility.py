@@ -308,3 +308,48 @@ def test_belief_space_figures(monkeypatch):
     fig, width = seen.pop()
     assert width == placed_widths()["belief_space/fisst_vs_homht"] == 0.7
     check(fig, "belief_space/fisst_vs_homht")
+
+
+def test_coraluppi_and_benchmark_figures(monkeypatch):
+    from hypotrack.experiments.closely_spaced import figures as cf
+    from hypotrack.experiments.glmb_benchmark import summary as gs
+    from hypotrack.experiments.perf_sht import run as ps
+    from hypotrack.experiments.swaps import run as sw
+
+    seen = _save_and_check(monkeypatch, "coraluppi")
+    swaps = np.arange(11)
+    curves = pd.DataFrame(dict(distance=0.0, swaps=swaps, rms=(swaps - 4.0) ** 2 + 1, log_prob_single=-swaps * 1.0,
+                               log_prob_class=-(swaps - 4.0) ** 2, n_runs=500))
+    rates = pd.DataFrame(dict(distance=[0.0, 5.0, 10.0], rms_optimal_rate=[0.5, 0.2, 0.0],
+                              class_optimal_rate=[0.5, 0.1, 0.0]))
+    sw.plot_swap_figures(curves, rates, distance=0.0, n_sensors=10, sigma=1.0,
+                         paths={k: (f"{k}.pdf", f"{k}.png") for k in ("fig51", "fig52", "fig53")})
+    for name in ("swaps/fig_5_3", "swaps/fig_5_2", "swaps/fig_5_1"):
+        fig, width = seen.pop()
+        assert width == 0.6
+        check(fig, name)
+    t = np.arange(50.0)
+    table = pd.DataFrame(dict(time=t, **{f"{m}_{j}": np.sin(t / 10) + j for m in ("truth", "MHT", "PDAF", "ECMHT")
+                                         for j in range(2)}))
+    cf.plot_realisation(table, dict(n_sensors=5, pdaf_variant="joint"),
+                        {"fig61": ("a.pdf", "a.png"), "fig62": ("b.pdf", "b.png")})
+    for name in ("closely_spaced/fig_6_2", "closely_spaced/fig_6_1"):
+        fig, _ = seen.pop()
+        check(fig, name)
+    curve = pd.concat([pd.DataFrame(dict(tracker=tr, scan=np.arange(30), ospa=50.0, ospa_loc=20.0, ospa_card=30.0,
+                                         n_est_mean=5.0, n_est_std=0.5, n_true=5))
+                       for tr in ("glmb_gibbs", "glmb_murty", "rfisst", "homht_kbest")], ignore_index=True)
+    gs.plot_benchmark(curve, "x.pdf", "x.png", {"glmb_gibbs": "δ-GLMB, Gibbs sampler (joint prediction-update)"})
+    fig, _ = seen.pop()
+    check(fig, "glmb_benchmark/ospa_cardinality")
+    timings = pd.DataFrame([dict(algorithm=a, clutter_rate=r, implementation=i, n_targets=n, median_ms=0.1 * n)
+                            for a, rs in (("gnn", [10.0]), ("jpda", [1.0, 10.0, 50.0])) for r in rs
+                            for i in ("hypotrack", "stonesoup", ps.BASELINE) for n in (2, 4, 8, 16)])
+    ratios = pd.DataFrame([dict(algorithm=a, peer=p, clutter_rate=10.0, n_targets=n, speedup=3.0 * n,
+                                goal=10.0 if a == "gnn" else 100.0)
+                           for a in ("gnn", "jpda") for p in ("Stone Soup", "baseline") for n in (2, 4, 8, 16)])
+    ps.plot_benchmark(timings, ratios, "x.pdf", "x.png")
+    fig, _ = seen.pop()
+    ax = fig.axes[-1 - sum(not a.get_visible() for a in fig.axes)]
+    assert all(t.get_text() == "" or "goal" not in t.get_text() for t in ax.texts)  # goals named in the legend
+    check(fig, "perf/sht_timings")

@@ -249,9 +249,9 @@ def _ospa_panels(axes, metrics, ospa_settings, trackers, labels):
         ax.grid(alpha=0.3)
     # one legend for both panels (same line per tracker), beside the first and running down beside the second
     handles, names = [], []
-    for tr, style in zip(trackers, _LINE_STYLES):
+    for tr, line in zip(trackers, axes[0].lines):
         g = metrics[metrics["tracker"] == tr] if tr else metrics
-        handles.append(axes[0].lines[len(handles)])
+        handles.append(line)
         names.append(f"{labels[tr]}\nmean {g[cols[0][0]].mean():.3g} km in view, {g[cols[1][0]].mean():.3g} km all")
     figure_style.legend_right(axes[0], handles, names, label_chars=30)
 

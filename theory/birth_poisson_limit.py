@@ -182,7 +182,7 @@ for a, color in zip(RATES, ("C0", "C1", "C2")):
               label=r"Barbour–Hall bound $(1-e^{-\lambda V})\lambda V/M$" if a == RATES[0] else None)
 ax.set_xlabel("number of birth pixels M (count)")
 ax.set_ylabel("total-variation distance (probability)")
-ax.set_title("Binomial births → Poisson births (seed 001 Eq. 32)")
+ax.set_title("Binomial births → Poisson births (document 001 Eq. 32)")
 ax.legend(fontsize=8)
 fig.tight_layout()
 findings.figure(fig, "tv_distance")

@@ -183,7 +183,7 @@ for a, color in zip(RATES, ("C0", "C1", "C2")):
 ax.set_xlabel("number of birth pixels M (count)")
 ax.set_ylabel("total-variation distance (probability)")
 ax.set_title("Binomial births → Poisson births (document 001 Eq. 32)")
-ax.legend(fontsize=8)
+ax.legend(fontsize=8, loc="lower left")  # the lines fall from top left to bottom right: that corner is empty
 fig.tight_layout()
 findings.figure(fig, "tv_distance")
 plt.show()

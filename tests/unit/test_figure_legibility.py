@@ -353,3 +353,13 @@ def test_coraluppi_and_benchmark_figures(monkeypatch):
     ax = fig.axes[-1 - sum(not a.get_visible() for a in fig.axes)]
     assert all(t.get_text() == "" or "goal" not in t.get_text() for t in ax.texts)  # goals named in the legend
     check(fig, "perf/sht_timings")
+
+
+def test_legend_below_drops_columns_until_it_fits():
+    fig, ax = fs.subplots(height=3.0)
+    for i in range(4):
+        ax.plot([0, 1], [i, i], label=f"tracker {i} with a label as long as a GM-PHD peer implementation's")
+    leg = fs.legend_below(fig, ncol=3)
+    assert leg._ncols == 1  # three or two columns of these labels are wider than 6.5 in
+    assert fs.legibility_problems(fig) == []
+    plt.close(fig)

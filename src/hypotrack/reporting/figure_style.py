@@ -67,10 +67,17 @@ def subplots(nrows: int = 1, ncols: int = 1, *, width: float = 1.0, height: floa
 
 
 def legend_below(fig, handles=None, labels=None, *, ncol: int = 2, **kwargs):
-    """A figure legend under the axes (constrained layout makes room for it)."""
+    """A figure legend under the axes (constrained layout makes room for it), in at most ``ncol``
+    columns: fewer when the labels of this run would make it wider than the figure."""
     if handles is None:
         handles, labels = _collect(fig)
-    return fig.legend(handles, labels, loc="outside lower center", ncol=ncol, **kwargs)
+    renderer = fig.canvas.get_renderer()
+    for n in range(max(1, min(ncol, len(labels))), 0, -1):
+        leg = fig.legend(handles, labels, loc="outside lower center", ncol=n, **kwargs)
+        if n == 1 or leg.get_window_extent(renderer).width <= 0.98 * fig.bbox.width:
+            return leg
+        leg.remove()
+    return leg
 
 
 def legend_right(ax, handles=None, labels=None, *, label_chars: int = 26, **kwargs):

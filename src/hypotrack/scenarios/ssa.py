@@ -519,7 +519,7 @@ def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
             ax.annotate(
                 f"id {tid}",
                 xy,
-                xytext=(12 * (n - len(order) / 2), -18 - 14 * n),
+                xytext=(10 * (n - len(order) / 2), -10 - 8 * n),
                 textcoords="offset points",
                 ha="center",
                 fontsize=7.5,
@@ -536,7 +536,7 @@ def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
         ys = np.concatenate([fov.r_min * np.sin(th), fov.r_max * np.sin(th)]) * u
         pad = 0.04 * fov.r_max * u
         ax.set_xlim(xs.min() - pad, xs.max() + pad)
-        ax.set_ylim(ys.min() - 4 * pad, ys.max() + pad)  # room below the edge for birth labels
+        ax.set_ylim(ys.min() - 0.3 * (ys.max() - ys.min()), ys.max() + pad)  # room below the edge for birth labels
     else:
         lim = max(fov.r_max, np.abs(truth[["state_0", "state_1"]].to_numpy()).max(initial=0.0)) * u * 1.05
         ax.set_xlim(-lim, lim)
@@ -571,7 +571,7 @@ def plot_scenario(truth: pd.DataFrame, scans: pd.DataFrame, fov: FieldOfView, kn
     for tid, first in births:
         handles.append(Line2D([], [], ls="none"))
         labels.append(f"birth id {tid}: in view from t = {first['time'] / 60:.0f} min")
-    figure_style.legend_below(fig, handles, labels, ncol=2, markerscale=2)
+    figure_style.legend_below(fig, handles, labels, ncol=2)
     n_obj = truth["target"].nunique()
     n_scans = int(truth["scan"].max()) + 1 if len(truth) else 0
     dt_h = (truth["time"].max() if len(truth) else 0.0) / 3600

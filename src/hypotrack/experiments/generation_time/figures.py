@@ -56,7 +56,7 @@ def plot_generation_time(table: pd.DataFrame, pdf, png, *, budget: float, mcmc_s
                 xytext=(4, 0), textcoords="offset points")
     ax.axvline(33, color="grey", ls=":", lw=1)
     ax.annotate("paper's reach\n(A ≈ 10³³)", xy=(33, 0.02), xycoords=("data", "axes fraction"),
-                color="grey", xytext=(4, 0), textcoords="offset points")
+                color="grey", xytext=(-4, 0), textcoords="offset points", ha="right")
     ax.set_yscale("log")
     ax.set_xlabel("log10 of the number of possible hypotheses A(M, m) of one parent")
     ax.set_ylabel("hypothesis-generation time per parent (s)")
@@ -80,7 +80,7 @@ def plot_throughput(table: pd.DataFrame, pdf, png):
     ax.set_yticks(y, d["label"])
     ax.set_xscale("log")
     ax.set_xlim(1e5, 10 ** np.ceil(np.log10(max(d["per_second"].max(), 1e7) * 1.5)))
-    ax.set_xlabel("per second, one core (MCMC: proposals; exhaustive: children enumerated + weighted)")
+    ax.set_xlabel("per second, one core\n(MCMC: proposals; exhaustive: children enumerated + weighted)")
     ax.set_title("Hypothesis-engine throughput vs its performance targets")
     ax.grid(True, axis="x", which="both", alpha=0.3)
     figure_style.legend_below(fig, ncol=2)

@@ -244,9 +244,12 @@ def plot_benchmark(timings: pd.DataFrame, ratios: pd.DataFrame, pdf, png):
         ax.set_title(f"{alg.upper()}: predict + associate + update,\n{clutter}")
         ax.grid(True, which="both", alpha=0.3)
     ax = axes[-1]
-    for (alg, peer, rate), g in ratios.groupby(["algorithm", "peer", "clutter_rate"]):
+    # speed-up lines: dashed, in colours and markers no timing line uses (their legend entries stay apart)
+    ratio_styles = [dict(color=c, marker=m, ls="--") for c, m in zip(
+        ["tab:purple", "tab:brown", "tab:pink", "tab:olive", "tab:cyan", "tab:gray"] * 4, ["D", "v", "P", "X", "*", "h"] * 4)]
+    for ((alg, peer, rate), g), style in zip(ratios.groupby(["algorithm", "peer", "clutter_rate"]), ratio_styles):
         g = g.sort_values("n_targets")
-        ax.plot(g["n_targets"], g["speedup"], marker="o", label=f"speed-up: {alg.upper()} vs {peer} ({rate:g} clutter/scan)")
+        ax.plot(g["n_targets"], g["speedup"], label=f"speed-up: {alg.upper()} vs {peer} ({rate:g} clutter/scan)", **style)
     for goal, ls in zip(sorted(ratios["goal"].dropna().unique()), [":", "--", "-."] * 4):
         sizes = ratios.loc[ratios["goal"] == goal, "n_targets"]
         ax.axhline(goal, color="k", ls=ls, lw=1, label=f"goal {goal:.3g}× ({sizes.min()}–{sizes.max()} targets)")

@@ -134,7 +134,7 @@ def plot_estimate_snapshots(matched: pd.DataFrame, fov, n_scans: int, *, columns
     aspect = (hi[1] - lo[1]) / (hi[0] - lo[0])
     n_rows, n_cols = len(columns), len(scans)
     panel = (figure_style.TEXT_WIDTH_IN - 0.7) / n_cols  # inches per panel, less the y labels
-    height = min(n_rows * (panel * aspect + 0.75) + 1.3, figure_style.MAX_HEIGHT_IN)
+    height = min(n_rows * (0.9 * panel * aspect + 0.6) + 1.3, figure_style.MAX_HEIGHT_IN)
     fig, axes = figure_style.subplots(n_rows, n_cols, height=height, squeeze=False, sharex=True, sharey=True)
     for r, (col, col_title) in enumerate(zip(columns, column_titles)):
         for c, k in enumerate(scans):
@@ -233,7 +233,8 @@ _LINE_STYLES = (dict(color="#2c7bb6", lw=1.6), dict(color="#d7191c", lw=1.0, ls=
 
 
 def _ospa_panels(axes, metrics, ospa_settings, trackers, labels):
-    """OSPA in view (first axis) and over the catalogue (second axis), one line per tracker."""
+    """OSPA in view (first axis) and over the catalogue (second axis), one line per tracker;
+    returns the legend's handles and names (with each tracker's two means)."""
     cols = [("ospa_in_view", ospa_settings.c_in_view,
              "objects in the field of view (gaps: none in view; spikes: an object at the FOV edge, "
              "in view on one side only)"),
@@ -253,7 +254,7 @@ def _ospa_panels(axes, metrics, ospa_settings, trackers, labels):
         g = metrics[metrics["tracker"] == tr] if tr else metrics
         handles.append(line)
         names.append(f"{labels[tr]}\nmean {g[cols[0][0]].mean():.3g} km in view, {g[cols[1][0]].mean():.3g} km all")
-    figure_style.legend_right(axes[0], handles, names, label_chars=30)
+    return handles, names
 
 
 def plot_ospa(metrics: pd.DataFrame, ospa_settings: OSPASettings, *, title: str, labels: Mapping):
@@ -263,7 +264,8 @@ def plot_ospa(metrics: pd.DataFrame, ospa_settings: OSPASettings, *, title: str,
     ``tracker`` column to a legend name (key ``""`` when there is no ``tracker`` column).
     """
     fig, axes = figure_style.subplots(2, 1, height=4.6, sharex=True)
-    _ospa_panels(axes, metrics, ospa_settings, list(labels), labels)
+    handles, names = _ospa_panels(axes, metrics, ospa_settings, list(labels), labels)
+    figure_style.legend_right(axes[0], handles, names, label_chars=36)
     axes[-1].set_xlabel("time (h)")
     fig.suptitle(figure_style.wrap(title, fig))
     return fig
@@ -297,8 +299,8 @@ def plot_comparison(agreements: Mapping, metrics: pd.DataFrame, ospa_settings: O
     """ssa15: per-scan agreement of pairs of MAP hypotheses and the OSPA of every tracker.
 
     ``agreements`` maps ``(tracker_a, tracker_b)`` to :func:`map_agreement` tables; ``labels``
-    maps each tracker (values of ``metrics["tracker"]``) to its legend name. The agreement
-    panels share one legend, beside the first of them.
+    maps each tracker (values of ``metrics["tracker"]``) to its legend name. All panels share
+    one legend, below them.
     """
     n = len(agreements)
     fig, axes = figure_style.subplots(n + 2, 1, height=min(1.15 * n + 3.6, figure_style.MAX_HEIGHT_IN),
@@ -309,9 +311,10 @@ def plot_comparison(agreements: Mapping, metrics: pd.DataFrame, ospa_settings: O
     for ax, ((a, b), agreement) in zip(axes[:n], agreements.items()):
         for h, lab in zip(*_agreement_panel(ax, agreement, times, labels[a], labels[b])):
             merged.setdefault(lab, h)
-    if n:
-        figure_style.legend_right(axes[0], list(merged.values()), list(merged))
-    _ospa_panels(axes[n:], metrics, ospa_settings, list(labels), labels)
+    handles, names = _ospa_panels(axes[n:], metrics, ospa_settings, list(labels), labels)
+    # one legend for every panel, below them all, so the panels keep the page's width
+    figure_style.legend_below(fig, [*merged.values(), *handles],
+                              [lab.replace("\n", " ") for lab in [*merged, *names]], ncol=2)
     axes[-1].set_xlabel("time (h)")
     fig.suptitle(figure_style.wrap(title, fig))
     return fig

@@ -310,7 +310,7 @@ ax.semilogy(n_axis, [10 ** r["log10_perron"] for r in growth], "C1--", label=r"$
 ax.semilogy(n_axis, [10 ** r["log10_n_factorial"] for r in growth], "C0:", label="n! (all returns assigned)")
 for threshold, style, what in ((8, "C3", "exhaustive HOMHT limit"), (33, "C2", "R-FISST reach")):
     ax.axhline(10.0**threshold, color=style, lw=0.8)
-    ax.text(n_axis[-1], 10.0 ** (threshold + 1.5), ha="right", s=f"10{str(threshold).translate(str.maketrans('0123456789', '⁰¹²³⁴⁵⁶⁷⁸⁹'))}: {what}\n(document 000 Fig 15)", color=style, fontsize=8)
+    ax.text(n_axis[-1], 10.0 ** (threshold - 2), ha="right", va="top", s=f"10{str(threshold).translate(str.maketrans('0123456789', '⁰¹²³⁴⁵⁶⁷⁸⁹'))}: {what}\n(document 000 Fig 15)", color=style, fontsize=8)
 ax.set_ylim(bottom=0.5)
 ax.set_xlabel("objects = returns, n", fontsize=9)
 ax.set_ylabel("children A(n, n) (count)", fontsize=9)

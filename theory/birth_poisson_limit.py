@@ -187,8 +187,8 @@ for a, color in zip(RATES, ("C0", "C1", "C2")):
               label=r"Barbour–Hall bound $(1-e^{-\lambda V})\lambda V/M$" if a == RATES[0] else None)
 ax.set_xlabel("number of birth pixels M (count)")
 ax.set_ylabel("total-variation distance (probability)")
-ax.set_title("Binomial births → Poisson births (seed 001 Eq. 32)")
-ax.legend(fontsize=8)
+ax.set_title("Binomial births → Poisson births (document 001 Eq. 32)")
+ax.legend(fontsize=8, loc="lower left")  # the lines fall from top left to bottom right: that corner is empty
 fig.tight_layout()
 findings.figure(fig, "tv_distance")
 plt.show()
@@ -368,7 +368,7 @@ gauss_gauss = gaussian_curve(1 / 12) / (np.exp(-(d_axis**2) / (2 * (1 / 12 + noi
 gauss_gauss[np.abs(d_axis) > 0.5] = np.nan
 fig, ax = plt.subplots(figsize=(6.5, 4.5))
 ax.axvspan(-0.5, 0.5, color="0.92", label="birth pixel")
-ax.plot(d_axis, uniform_curve, "k-", label="uniform pixel birth (seed 001 Eq. 31)")
+ax.plot(d_axis, uniform_curve, "k-", label="uniform pixel birth (document 001 Eq. 31)")
 ax.plot(d_axis, gaussian_curve(1 / (2 * np.pi)), "C0--", label=r"Gaussian birth, peak-matched $P=(\bar{V})^2/2\pi$")
 ax.plot(d_axis, gaussian_curve(1 / 12), "C3-.", label=r"Gaussian birth, variance-matched $P=(\bar{V})^2/12$")
 ax.plot(d_axis, gauss_gauss, "C2:", label="Gaussian birth vs Gaussian new birth, variance-matched (Fig. 10)")

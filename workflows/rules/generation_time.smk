@@ -74,6 +74,10 @@ rule generation_time_difficulty_figure:
         summary=f"{GT_DIR}/difficulty_summary.csv",
         pdf=f"{GT_DIR}/difficulty.pdf",
         png=report_figure(f"{GT_DIR}/difficulty.png", "generation_time", "difficulty"),
+        map_pdf=f"{GT_DIR}/difficulty_map.pdf",
+        map_png=report_figure(f"{GT_DIR}/difficulty_map.png", "generation_time", "difficulty_map"),
+        truth_pdf=f"{GT_DIR}/difficulty_truth.pdf",
+        truth_png=report_figure(f"{GT_DIR}/difficulty_truth.png", "generation_time", "difficulty_truth"),
         claims=f"{GT_DIR}/difficulty_claims.csv",
         macros=f"{GT_DIR}/difficulty_macros.csv",
     params:

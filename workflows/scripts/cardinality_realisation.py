@@ -5,7 +5,7 @@ from hypotrack.reporting.joblog import prefix_output
 prefix_output(snakemake)  # every line this job prints names the job
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+from hypotrack.reporting import figure_style  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
@@ -28,6 +28,4 @@ write_table(tracks, out.tracks)
 control = low_clutter_control(rng=np.random.default_rng(seed), **{**params, "lambda_fa": cfg["control_lambda_fa"]})
 write_table(pd.DataFrame({"scan": np.arange(len(control["r"])), **control}), out.control)
 fig = plot_realisation(counts, cfg)
-fig.savefig(out.fig_pdf)
-fig.savefig(out.fig_png, dpi=150)
-plt.close(fig)
+figure_style.save(fig, out.fig_pdf, out.fig_png)

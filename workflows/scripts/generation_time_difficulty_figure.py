@@ -1,4 +1,5 @@
-"""Combine the difficulty shards: outcome, timing and summary tables, the figure, claims and macros."""
+"""Combine the difficulty shards: outcome, timing and summary tables, the figures (mass captured, MAP found,
+truth found), claims and macros."""
 
 import pandas as pd
 
@@ -22,9 +23,12 @@ table.to_csv(snakemake.output.table, index=False, float_format="%.10g")
 timing.to_csv(snakemake.output.timing, index=False, float_format="%.6g")
 summary = difficulty_summary(table)
 summary.to_csv(snakemake.output.summary, index=False, float_format="%.10g")
-plot_difficulty(summary, snakemake.output.pdf, snakemake.output.png, labels=DIFFICULTY_LABELS,
-                mcmc_steps=int(params["mcmc_steps"]), keep=int(params["keep"]),
-                reference_k=int(params["reference_k"]), exhaustive_max_events=int(params["exhaustive_max_events"]))
+out = snakemake.output
+for measure, pdf, png in [("mass", out.pdf, out.png), ("map", out.map_pdf, out.map_png),
+                          ("truth", out.truth_pdf, out.truth_png)]:
+    plot_difficulty(summary, pdf, png, labels=DIFFICULTY_LABELS, mcmc_steps=int(params["mcmc_steps"]),
+                    keep=int(params["keep"]), reference_k=int(params["reference_k"]),
+                    exhaustive_max_events=int(params["exhaustive_max_events"]), measure=measure)
 claims, macros = difficulty_claims(table, params)
 write_claims(claims, snakemake.output.claims)
 write_macros("generation_time", macros, snakemake.output.macros)

@@ -1,10 +1,8 @@
 """Draw an SSA scenario from its saved tables (PDF + PNG)."""
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 import pandas as pd
+
+from hypotrack.reporting import figure_style
 
 from hypotrack.scenarios.ssa import params_from_config, plot_scenario, read_prior
 from hypotrack.reporting.joblog import prefix_output
@@ -17,6 +15,4 @@ known_ids, _, _ = read_prior(pd.read_csv(snakemake.input.prior))
 fig = plot_scenario(
     pd.read_csv(snakemake.input.truth), pd.read_csv(snakemake.input.scans), params.fov, known_ids
 )
-fig.savefig(snakemake.output.pdf)
-fig.savefig(snakemake.output.png, dpi=130)
-plt.close(fig)
+figure_style.save(fig, snakemake.output.pdf, snakemake.output.png, dpi=130)

@@ -135,28 +135,21 @@ def adapter_overhead(algorithms: dict, *, n_targets=10, n_scans=50, clutter_rate
 
 def plot_overhead(table: pd.DataFrame, pdf, png, target: float = 0.2) -> None:
     """Per-scan time of the own API and through the adapter, and the overhead against its target."""
-    import matplotlib
+    from ..reporting import figure_style
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax, ax2) = figure_style.subplots(1, 2, height=3.4)
     x = np.arange(len(table))
     ax.bar(x - 0.2, table["own_api_ms_per_scan"], 0.4, label="hypotrack API (numpy scans)")
     ax.bar(x + 0.2, table["adapter_ms_per_scan"], 0.4, label="Stone Soup adapter")
     ax.set_yscale("log")
     ax.set_xticks(x, table["algorithm"])
     ax.set_ylabel("time per scan (ms)")
-    ax.set_title(f"{table['n_targets'].iloc[0]} objects, {table['clutter_rate'].iloc[0]:g} clutter returns/scan")
-    ax.legend(fontsize=8)
+    ax.set_title(f"{table['n_targets'].iloc[0]} objects,\n{table['clutter_rate'].iloc[0]:g} clutter returns/scan")
     ax2.bar(x, 100 * table["overhead"], color="tab:gray")
     ax2.axhline(100 * target, color="tab:red", ls="--", label=f"target {100 * target:.0f} %")
     ax2.set_xticks(x, table["algorithm"])
-    ax2.set_ylabel("adapter overhead (% of the tracker's own time)")
+    ax2.set_ylabel("adapter overhead\n(% of the tracker's own time)")
     ax2.set_title("Detections in, Stone Soup tracks out")
-    ax2.legend(fontsize=8)
-    fig.suptitle("Cost of running hypotrack's trackers inside Stone Soup (machine- and load-dependent)")
-    fig.tight_layout()
-    fig.savefig(pdf)
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
+    figure_style.legend_below(fig, ncol=2)
+    fig.suptitle("Cost of running hypotrack's trackers inside Stone Soup\n(machine- and load-dependent)")
+    figure_style.save(fig, pdf, png, width=1.0, dpi=120)

@@ -519,10 +519,10 @@ def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
             ax.annotate(
                 f"id {tid}",
                 xy,
-                xytext=(12 * (n - len(order) / 2), -18 - 14 * n),
+                xytext=(10 * (n - len(order) / 2), -10 - 8 * n),
                 textcoords="offset points",
                 ha="center",
-                fontsize=8,
+                fontsize=7.5,
                 zorder=6,
                 arrowprops=dict(arrowstyle="-", color="0.3", lw=0.6),
             )
@@ -536,7 +536,7 @@ def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
         ys = np.concatenate([fov.r_min * np.sin(th), fov.r_max * np.sin(th)]) * u
         pad = 0.04 * fov.r_max * u
         ax.set_xlim(xs.min() - pad, xs.max() + pad)
-        ax.set_ylim(ys.min() - 4 * pad, ys.max() + pad)  # room below the edge for birth labels
+        ax.set_ylim(ys.min() - 0.3 * (ys.max() - ys.min()), ys.max() + pad)  # room below the edge for birth labels
     else:
         lim = max(fov.r_max, np.abs(truth[["state_0", "state_1"]].to_numpy()).max(initial=0.0)) * u * 1.05
         ax.set_xlim(-lim, lim)
@@ -546,11 +546,14 @@ def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
 def plot_scenario(truth: pd.DataFrame, scans: pd.DataFrame, fov: FieldOfView, known_ids, *, title=None):
     """Draw an SSA scenario: Earth, FOV wedge, true paths, returns by origin, births.
 
-    Left panel: the whole orbits; right panel: the FOV enlarged, where the returns are.
-    Drawn only from the saved tables (and the FOV), so the figure can be restyled without
-    regenerating the scenario. Axes in 10³ km. Returns the matplotlib figure.
+    Left panel: the whole orbits; right panel: the FOV enlarged, where the returns are. The
+    legend (with the time each birth enters the FOV) sits below both panels. Drawn only from the
+    saved tables (and the FOV), so the figure can be restyled without regenerating the scenario.
+    Axes in 10³ km. Returns the matplotlib figure, at the report's line width.
     """
-    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    from ..reporting import figure_style
 
     truth = validate_truth(truth)
     known = set(np.asarray(known_ids, dtype=int).tolist())
@@ -559,31 +562,21 @@ def plot_scenario(truth: pd.DataFrame, scans: pd.DataFrame, fov: FieldOfView, kn
         for tid, g in truth.groupby("target")
         if tid not in known and g["in_view"].any()
     ]
-    fig, (ax_all, ax_fov) = plt.subplots(1, 2, figsize=(15, 7.5), gridspec_kw={"width_ratios": [1, 1.1]})
+    fig, (ax_all, ax_fov) = figure_style.subplots(1, 2, height=4.6, gridspec_kw={"width_ratios": [1, 1.1]})
     _draw_scenario(ax_all, truth, scans, fov, known, births, zoom=False)
     _draw_scenario(ax_fov, truth, scans, fov, known, births, zoom=True)
     ax_all.set_title("whole orbits")
     ax_fov.set_title("field of view (enlarged)")
-    ax_all.legend(loc="lower left", fontsize=8, framealpha=0.9, markerscale=2)
-    if births:
-        lines = [f"id {tid}: in view from t = {first['time'] / 60:.0f} min" for tid, first in births]
-        ax_fov.text(
-            0.98,
-            0.98,
-            "births\n" + "\n".join(lines),
-            transform=ax_fov.transAxes,
-            ha="right",
-            va="top",
-            fontsize=8,
-            bbox=dict(boxstyle="round", fc="white", ec="0.6", alpha=0.9),
-        )
+    handles, labels = ax_all.get_legend_handles_labels()
+    for tid, first in births:
+        handles.append(Line2D([], [], ls="none"))
+        labels.append(f"birth id {tid}: in view from t = {first['time'] / 60:.0f} min")
+    figure_style.legend_below(fig, handles, labels, ncol=2)
     n_obj = truth["target"].nunique()
     n_scans = int(truth["scan"].max()) + 1 if len(truth) else 0
     dt_h = (truth["time"].max() if len(truth) else 0.0) / 3600
-    fig.suptitle(
+    fig.suptitle(figure_style.wrap(
         title
         or f"SSA scenario: {n_obj} objects ({len(known)} in the initial hypothesis, "
-        f"{n_obj - len(known)} births), {n_scans} scans over {dt_h:.1f} h"
-    )
-    fig.tight_layout()
+        f"{n_obj - len(known)} births), {n_scans} scans over {dt_h:.1f} h", fig))
     return fig

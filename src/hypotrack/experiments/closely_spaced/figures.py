@@ -1,4 +1,4 @@
-"""Figures of the closely spaced targets experiment (seed 003 Table 6.1, Figs 6.1–6.2), from saved tables."""
+"""Figures of the closely spaced targets experiment (document 003 Table 6.1, Figs 6.1–6.2), from saved tables,\ndrawn at the report's line width with their legends beside the axes."""
 
 from __future__ import annotations
 
@@ -14,22 +14,16 @@ COLOURS = {"ideal": "k", LABELLED_IDEAL: "tab:gray", "PDAF": "tab:red", "MHT": "
 
 
 def _save(fig, pdf, png) -> None:
-    import matplotlib.pyplot as plt
+    from ...reporting import figure_style
 
-    fig.tight_layout()
-    fig.savefig(pdf)
-    fig.savefig(png, dpi=150)
-    plt.close(fig)
+    figure_style.save(fig, pdf, png, width=1.0)
 
 
 def plot_mospa_vs_scan(curves: pd.DataFrame, table: pd.DataFrame, cfg, pdf, png) -> None:
     """MOSPA over time of every method (Monte Carlo), the ideal's closed form, and the published averages."""
-    import matplotlib
+    from ...reporting import figure_style
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    fig, ax = figure_style.subplots(height=4.2)
     extra_styles = iter([(":", "tab:purple"), ("-.", "tab:brown"), ("--", "tab:olive")])
     for method, c in curves.groupby("method", sort=False):
         style, colour = ("-", COLOURS[method]) if method in COLOURS else next(extra_styles)
@@ -49,8 +43,8 @@ def plot_mospa_vs_scan(curves: pd.DataFrame, table: pd.DataFrame, cfg, pdf, png)
     ax.set_ylabel("MOSPA of the one-step prediction X(k|k-1) (m²)")
     n = int(table["n"].iloc[0])
     ax.set_title(f"Two closely spaced OU targets, {cfg['n_sensors']} sensors: MOSPA over time\n"
-                 f"(mean of {n} runs; markers: closed form; dashed: published Table 6.1 averages)")
-    ax.legend(fontsize=7, ncol=2)
+                 f"(mean of {n} runs; markers: closed form;\ndashed: published Table 6.1 averages)")
+    figure_style.legend_right(ax)
     _save(fig, pdf, png)
 
 
@@ -59,13 +53,10 @@ TABLE_METHODS = ("ideal", "PDAF", "MHT", "ECMHT")
 
 def plot_realisation(table: pd.DataFrame, cfg, paths: dict) -> None:
     """Figs 6.1 and 6.2 from :func:`~.closely_spaced.realisation_table`; ``paths`` maps fig61/fig62 to (pdf, png)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ...reporting import figure_style
 
     def figure(other, colour, title, pdf, png):
-        fig, ax = plt.subplots(figsize=(7.5, 4.5))
+        fig, ax = figure_style.subplots(height=3.6)
         for j in range(2):
             ax.plot(table["time"], table[f"truth_{j}"], "k-", lw=2, label="truth" if j == 0 else None)
             ax.plot(table["time"], table[f"{other}_{j}"], "--", color=colour,
@@ -75,7 +66,7 @@ def plot_realisation(table: pd.DataFrame, cfg, paths: dict) -> None:
         ax.set_xlabel("time (s)")
         ax.set_ylabel("position (m)")
         ax.set_title(title)
-        ax.legend(fontsize=8)
+        figure_style.legend_right(ax)
         _save(fig, pdf, png)
 
     figure("MHT", "tab:orange", "Fig 6.1: the ECMHT does not show the MHT's track repulsion\n"

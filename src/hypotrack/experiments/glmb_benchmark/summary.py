@@ -46,12 +46,11 @@ def curves(per_scan: pd.DataFrame) -> pd.DataFrame:
 
 
 def plot_benchmark(curve: pd.DataFrame, pdf, png, labels: dict | None = None):
-    import matplotlib
+    """OSPA, its localisation and cardinality parts, and the number of objects over time, one line
+    style per tracker; one legend for all four panels, below them."""
+    from ...reporting import figure_style
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), sharex=True)
+    fig, axes = figure_style.subplots(2, 2, height=5.2, sharex=True)
     panels = [("ospa", "OSPA (m)"), ("ospa_loc", "OSPA localisation part (m)"),
               ("ospa_card", "OSPA cardinality part (m)")]
     styles = dict(zip(curve.tracker.unique(), ["-", "--", "-.", ":", (0, (5, 1)), (0, (1, 3))] * 3))
@@ -74,15 +73,11 @@ def plot_benchmark(curve: pd.DataFrame, pdf, png, labels: dict | None = None):
     ax.grid(alpha=0.3)
     for ax in axes[1]:
         ax.set_xlabel("scan (T = 1 s)")
-    axes.flat[0].legend(fontsize=8)
-    axes.flat[3].legend(fontsize=8)
+    figure_style.legend_below(fig, *axes.flat[3].get_legend_handles_labels(), ncol=3)
     n = int(curve.attrs.get("n_runs", 0))
-    fig.suptitle("Linear-Gaussian GLMB benchmark: OSPA (c = 100 m, p = 1) and cardinality over time"
-                 + (f", {n} Monte Carlo runs" if n else ""))
-    fig.tight_layout()
-    fig.savefig(pdf)
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
+    fig.suptitle(figure_style.wrap("Linear-Gaussian GLMB benchmark: OSPA (c = 100 m, p = 1) and cardinality over time"
+                                   + (f", {n} Monte Carlo runs" if n else ""), fig))
+    figure_style.save(fig, pdf, png, width=1.0)
 
 
 def benchmark_claims(summary: pd.DataFrame, reference: str, controls=()) -> list:

@@ -163,30 +163,23 @@ def tracker_validation_share(algorithms: dict, *, n_targets=10, n_scans=30, clut
 def plot_validation_cost(kernels: pd.DataFrame, trackers: pd.DataFrame, pdf, png, target: float = 0.05) -> None:
     """Left: checked/unchecked time per Gaussian kernel against batch size; right: each tracker's
     per-scan share spent in validation, against the target."""
-    import matplotlib
+    from ...reporting import figure_style
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+    fig, (ax, ax2) = figure_style.subplots(1, 2, height=3.4)
     for name, part in kernels.groupby("kernel", sort=False):
         ax.plot(part["n_tracks"], part["ratio"], "o-", label=name)
     ax.axhline(1.0, color="k", lw=0.8)
     ax.set_xscale("log")
     ax.set_xlabel("tracks in the batch")
     ax.set_ylabel("checked / unchecked time per call")
-    ax.set_title("Public (checked) Gaussian functions vs their inner forms")
-    ax.legend(fontsize=8)
+    ax.set_title("Public (checked) Gaussian functions\nvs their inner forms")
     x = np.arange(len(trackers))
     ax2.bar(x, 100 * trackers["validation_share"], color="tab:gray")
     ax2.axhline(100 * target, color="tab:red", ls="--", label=f"target {100 * target:.0f} %")
     ax2.set_xticks(x, trackers["algorithm"])
-    ax2.set_ylabel("time in input checks (% of a scan's step)")
-    ax2.set_title(f"Trackers: {trackers['n_targets'].iloc[0]} objects, "
+    ax2.set_ylabel("time in input checks\n(% of a scan's step)")
+    ax2.set_title(f"Trackers: {trackers['n_targets'].iloc[0]} objects,\n"
                   f"{trackers['clutter_rate'].iloc[0]:g} clutter returns/scan")
-    ax2.legend(fontsize=8)
+    figure_style.legend_below(fig, ncol=2)
     fig.suptitle("What input validation costs (machine- and load-dependent)")
-    fig.tight_layout()
-    fig.savefig(pdf)
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
+    figure_style.save(fig, pdf, png, width=1.0, dpi=120)

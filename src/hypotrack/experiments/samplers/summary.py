@@ -16,48 +16,63 @@ _LABELS = {"rfisst_chain": "R-FISST chain (paper proposal)", "rfisst_completion"
 
 
 def plot_mass(det: pd.DataFrame, timing: pd.DataFrame, pdf, png):
-    """Mass captured vs budget (top row) and vs wall time (bottom row), one column per difficulty."""
-    import matplotlib
+    """Mass missed vs budget (upper panel of each pair) and vs wall time (lower panel), one pair of
+    panels per difficulty, three pairs a row; the legend in the free slot (or below)."""
     import matplotlib.ticker
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ...reporting import figure_style
 
     diffs = list(det.difficulty.unique())
-    fig, axes = plt.subplots(2, len(diffs), figsize=(max(7.0, 3.6 * len(diffs)), 6.8), squeeze=False, sharey=True)
+    n_cols = min(3, max(len(diffs), 1))
+    spare = -len(diffs) % n_cols
+    pair_rows = -(-len(diffs) // n_cols)
+    fig, axes = figure_style.subplots(2 * pair_rows, n_cols, squeeze=False, sharey=True,
+                                      height=min(2.9 * pair_rows + 0.9 + (0 if spare else 0.5),
+                                                 figure_style.MAX_HEIGHT_IN))
     t = timing.set_index(["difficulty", "sampler", "budget"])
-    for c, d in enumerate(diffs):
-        for name, g in det[det.difficulty == d].groupby("sampler", sort=False):
+    styles = figure_style.categorical_styles(4)
+    for i, d in enumerate(diffs):
+        ax_b, ax_t = axes[2 * (i // n_cols), i % n_cols], axes[2 * (i // n_cols) + 1, i % n_cols]
+        for j, (name, g) in enumerate(det[det.difficulty == d].groupby("sampler", sort=False)):
             miss = 1.0 - g.mass_mean.clip(upper=1.0)
-            axes[0, c].plot(g.budget, np.maximum(miss, 1e-16), "o-", label=_LABELS.get(name, name))
+            st = styles[j % len(styles)]
+            ax_b.plot(g.budget, np.maximum(miss, 1e-16), ms=3, label=_LABELS.get(name, name), **st)
             tt = [t.loc[(d, name, b), "time_mean_s"] for b in g.budget]
-            axes[1, c].plot(tt, np.maximum(miss, 1e-16), "o-", label=_LABELS.get(name, name))
-        axes[0, c].set_title(_title(d, det))
-        axes[0, c].set_xlabel("budget (proposals per problem)")
-        axes[1, c].set_xlabel("wall time per problem (s)")
-        for ax in axes[:, c]:
+            ax_t.plot(tt, np.maximum(miss, 1e-16), ms=3, label=_LABELS.get(name, name), **st)
+        ax_b.set_title(_title(d, det))
+        ax_b.set_xlabel("budget (proposals per problem)", labelpad=1)
+        ax_t.set_xlabel("wall time per problem (s)", labelpad=1)
+        for ax in (ax_b, ax_t):
             ax.set_xscale("log")
             ax.set_yscale("log")
             ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-            ax.grid(alpha=0.3, which="both")
-    axes[0, 0].set_ylabel("posterior mass missed (1 − captured)")
-    axes[1, 0].set_ylabel("posterior mass missed (1 − captured)")
-    axes[0, 0].legend(fontsize=7)
+            ax.yaxis.set_major_locator(matplotlib.ticker.LogLocator(numticks=4))
+            ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+            ax.grid(alpha=0.3, which="major")
+            if i % n_cols == 0:
+                ax.set_ylabel("mass missed")
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    if spare:
+        for k in range(len(diffs), n_cols * pair_rows):
+            for ax in (axes[2 * (k // n_cols), k % n_cols], axes[2 * (k // n_cols) + 1, k % n_cols]):
+                ax.axis("off")
+        k = len(diffs)
+        axes[2 * (k // n_cols), k % n_cols].legend(handles, labels, loc="upper center",
+                                                   title="mass missed = 1 − captured")
+    else:
+        figure_style.legend_below(fig, handles, labels, ncol=2)
     rec = "; recorded benchmark scans: relative to Murty's top K and every child found" \
         if not det.mass_exact.all() else ""
-    fig.suptitle("Posterior mass missed on identical association problems\n"
-                 f"(mean over problems; exact by exhaustive enumeration{rec})")
-    fig.tight_layout()
-    fig.savefig(pdf)
-    fig.savefig(png, dpi=120)
-    plt.close(fig)
+    fig.suptitle(figure_style.wrap("Posterior mass missed on identical association problems "
+                                   f"(mean over problems; exact by exhaustive enumeration{rec})", fig))
+    figure_style.save(fig, pdf, png, width=1.0, dpi=150)
 
 
 def _title(d: str, det: pd.DataFrame) -> str:
     if d == "recorded":
         n = int(det.loc[det.difficulty == d, "n_problems"].max())
-        return f"recorded GLMB benchmark scans\n({n} problems, largest of their scans)"
-    return f"synthetic problems:\nobjects {d.replace('sigma', ' σ')} apart"
+        return f"recorded benchmark scans\n({n} problems, largest scans)"
+    return f"synthetic problems,\nobjects {d.replace('sigma', ' σ')} apart"
 
 
 def _dkey(d: str) -> str:

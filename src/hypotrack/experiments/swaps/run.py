@@ -214,27 +214,23 @@ def swap_claims(curves: pd.DataFrame, rates: pd.DataFrame, *, distance: float, n
 
 def plot_swap_figures(curves: pd.DataFrame, rates: pd.DataFrame, *, distance: float, n_sensors: int,
                       sigma: float, paths: dict) -> None:
-    """Figs 5.1, 5.2 and 5.3; ``paths`` maps ``fig51/fig52/fig53`` to ``(pdf, png)``."""
-    import matplotlib
+    """Document 003 Figs 5.1, 5.2 and 5.3; ``paths`` maps ``fig51/fig52/fig53`` to ``(pdf, png)``.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    Each is drawn at the 0.6 line width the report places it at, its legend below the axes."""
+    from ...reporting import figure_style
 
     c = _swap_curve(curves, distance)
     n = int(c["n_runs"].iloc[0])
-    setting = f"{distance:g} m apart, {n_sensors} sensors, sigma = {sigma:g} m, {n} runs"
+    setting = f"{distance:g} m apart, {n_sensors} sensors, σ = {sigma:g} m, {n} runs"
 
     def figure(key, draw, xlabel, ylabel, title):
-        fig, ax = plt.subplots(figsize=(6.5, 4.2))
+        fig, ax = figure_style.subplots(width=0.6, height=3.3)
         draw(ax)
         ax.set_xlabel(xlabel)
         ax.set_ylabel(ylabel)
-        ax.set_title(title)
-        ax.legend()
-        fig.tight_layout()
-        for path, kw in zip(paths[key], ({}, {"dpi": 150})):
-            fig.savefig(path, **kw)
-        plt.close(fig)
+        ax.set_title(figure_style.wrap(title, fig, 8.5))
+        figure_style.legend_below(fig, ncol=1)
+        figure_style.save(fig, *paths[key], width=0.6)
 
     i_min = int(c["swaps"].to_numpy()[np.argmin(c["rms"].to_numpy())])
 
@@ -256,5 +252,5 @@ def plot_swap_figures(curves: pd.DataFrame, rates: pd.DataFrame, *, distance: fl
     figure("fig52", fig52, "number of swaps i", "average log posterior probability",
            f"Fig 5.2: single-hypothesis vs class posterior\n({setting})")
     figure("fig53", fig53, "distance between targets (m)", "optimal swap rate i*/N",
-           f"Fig 5.3: optimal swap rate vs target separation\n({n_sensors} sensors, sigma = {sigma:g} m, "
+           f"Fig 5.3: optimal swap rate vs target separation\n({n_sensors} sensors, σ = {sigma:g} m, "
            f"{n} runs per distance)")

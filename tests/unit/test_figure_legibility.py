@@ -414,3 +414,24 @@ def test_every_placed_figure_is_checked_here():
     source = Path(__file__).read_text()
     unchecked = [name for name in placed_widths() if f'"{name}"' not in source and not name.startswith("theory/")]
     assert unchecked == []
+
+
+def test_closely_spaced_sensitivity_figures(monkeypatch):
+    from hypotrack.experiments.closely_spaced import sensitivity as cs
+
+    seen = _save_and_check(monkeypatch, "closely_spaced")
+    rows = [dict(method=m, initial_variance=v, skip=k, window=f"from scan {k + 2}", estimate=e, mean=0.05 + 0.01 * k,
+                 se=0.001, n=100, published=p, verdict=verdict)
+            for m, p in (("ideal", 0.0363), ("MHT", 0.1376), ("ECMHT", 0.0586))
+            for v in (0.01, 0.1, 1.0, 10.0) for k in (0, 10, 50, 90)
+            for e in (cs.ESTIMATES["predicted"], "X(k|k)")
+            for verdict in ["reproduced" if k == 0 else "not reproduced"]]
+    cs.plot_table61_sensitivity(pd.DataFrame(rows), "x.pdf", "x.png", rel_tol=0.1)
+    fig, _ = seen.pop()
+    check(fig, "closely_spaced/sensitivity_table_6_1")
+    pdaf = pd.DataFrame([dict(form=f, start=s, estimate=e, skip=0, mean=0.2, se=0.01, published=0.8518)
+                         for f in ("sequential", "equivalent", "parallel", "all_at_once", "jpda")
+                         for s in ("stated", "stationary") for e in ("X(k|k-1)", "X(k|k)")])
+    cs.plot_pdaf_variants(pdaf, "x.pdf", "x.png", rel_tol=0.1)
+    fig, _ = seen.pop()
+    check(fig, "closely_spaced/sensitivity_pdaf")

@@ -198,11 +198,9 @@ _MARK = {"reproduced": "o", "inconclusive": "s", "not reproduced": "x"}
 
 
 def _save(fig, pdf, png) -> None:
-    import matplotlib.pyplot as plt
+    from ...reporting import figure_style
 
-    fig.savefig(pdf, bbox_inches="tight")
-    fig.savefig(png, dpi=150, bbox_inches="tight")
-    plt.close(fig)
+    figure_style.save(fig, pdf, png, width=1.0)  # placed at the full line width; refuses text under 7 pt
 
 
 def plot_table61_sensitivity(table: pd.DataFrame, pdf, png, *, rel_tol: float) -> None:
@@ -215,8 +213,10 @@ def plot_table61_sensitivity(table: pd.DataFrame, pdf, png, *, rel_tol: float) -
 
     t = table[table["estimate"] == ESTIMATES["predicted"]]
     methods = [m for m in ("ideal", LABELLED_IDEAL, "MHT", "ECMHT") if m in set(t["method"])]
+    from ...reporting import figure_style as fs
+
     with plt.rc_context({"font.size": 9}):
-        fig, axes = plt.subplots(1, len(methods), figsize=(7.0, 2.6), sharex=True)
+        fig, axes = fs.subplots(1, len(methods), height=3.2, sharex=True)
         axes = np.atleast_1d(axes)
         v0s = sorted(t["initial_variance"].unique())
         colours = plt.cm.viridis(np.linspace(0, 0.85, len(v0s)))
@@ -238,9 +238,8 @@ def plot_table61_sensitivity(table: pd.DataFrame, pdf, png, *, rel_tol: float) -
         handles += [plt.Line2D([], [], ls="", marker=mk, color="k", mfc="none" if mk == "o" else "k")
                     for mk in _MARK.values()]
         labels += list(_MARK)
-        fig.legend(handles, labels, title="X₀ variance / verdict", loc="center left", bbox_to_anchor=(1.0, 0.5),
-                   fontsize=8, title_fontsize=8, frameon=False)
-        fig.tight_layout()
+        fs.legend_below(fig, handles, labels, ncol=7, title="X₀ variance / verdict", fontsize=8, title_fontsize=8,
+                        frameon=False)
         _save(fig, pdf, png)
 
 
@@ -255,8 +254,10 @@ def plot_pdaf_variants(table: pd.DataFrame, pdf, png, *, rel_tol: float) -> None
     t["case"] = t["start"] + ", " + t["estimate"]
     cases = list(dict.fromkeys(t["case"]))
     forms = list(dict.fromkeys(t["form"]))
+    from ...reporting import figure_style as fs
+
     with plt.rc_context({"font.size": 9}):
-        fig, ax = plt.subplots(figsize=(6.4, 2.8))
+        fig, ax = fs.subplots(height=3.2)
         pub = float(t["published"].iloc[0])
         ax.axhspan(pub * (1 - rel_tol), pub * (1 + rel_tol), color="0.88", lw=0, label="published ± tolerance")
         width = 0.8 / len(cases)
@@ -266,9 +267,8 @@ def plot_pdaf_variants(table: pd.DataFrame, pdf, png, *, rel_tol: float) -> None
                    yerr=3 * d["se"], label=case, color=plt.cm.tab10(i))
         ax.set_xticks(np.arange(len(forms)), [_FORM_LABELS.get(f, f) for f in forms])
         ax.set_ylabel("MOSPA (m²), all scans")
-        ax.legend(loc="center left", bbox_to_anchor=(1.0, 0.5), fontsize=8, frameon=False,
-                  title="start, scored estimate", title_fontsize=8)
-        fig.tight_layout()
+        fs.legend_below(fig, *ax.get_legend_handles_labels(), ncol=5, fontsize=8, frameon=False,
+                        title="start, scored estimate", title_fontsize=8)
         _save(fig, pdf, png)
 
 

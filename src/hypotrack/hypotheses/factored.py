@@ -74,12 +74,15 @@ import numpy as np
 
 from .._validation import check_finite_array, check_int, check_measurements, check_positive
 from .factored_groups import GroupState, SplitRecord, compact, components, factorise, product, restrict_population
+from ..gaussian import _predict_with
 from .filter import HypothesisFilter
+from .population_events import BinomialPopulation
+from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from .posterior import HypothesisEstimate, summarise
 from .scan_context import ScanContext
 from .tracks import TrackStore
 
-__all__ = ["FactoredFilter", "FactoredPosterior", "cardinality_total_variation"]
+__all__ = ["AdaptiveBirth", "FactoredFilter", "FactoredPosterior", "cardinality_total_variation"]
 
 _SPLITS = ("marginal", "exact", "never")
 _BIRTHS = ("coupled", "free")
@@ -115,9 +118,88 @@ def cardinality_total_variation(p, q) -> float:
     return 0.5 * float(np.abs(np.pad(p, (0, n - len(p))) - np.pad(q, (0, n - len(q)))).sum())
 
 
+def _silent(population) -> bool:
+    """Whether a group without birth terms can take no population event: no population, or the
+    labeled multi-Bernoulli or binomial population with ``p_S = 1`` (its only child of an empty scan is "every object
+    missed", as with no population)."""
+    return population is None or (isinstance(population, (LabeledMultiBernoulliPopulation, BinomialPopulation))
+                                  and population.p_survive == 1.0)
+
+
 def _empty_state(ndim: int) -> GroupState:
     return GroupState(TrackStore.from_arrays(np.zeros((0, ndim)), None, ndim=ndim), np.zeros(1),
                       [np.zeros(0, dtype=np.int64)], [()])
+
+
+@dataclass(frozen=True)
+class AdaptiveBirth:
+    """Measurement-driven birth: every return no group explained starts a birth term at the next scan.
+
+    Reuter, Vo, Vo & Dietmayer ("The labeled multi-Bernoulli filter", IEEE TSP 62(12), 2014,
+    Sec. IV-C) let the birth at scan ``k + 1`` depend on the returns of scan ``k``: a return
+    ``z`` gives a labeled-Bernoulli birth term placed at ``z`` with existence ``r_B(z)``
+    proportional to ``1 − r_U(z)``, ``r_U(z)`` the probability that ``z`` was associated with
+    an existing object. Here ``r_U`` is taken as 0 or 1 from the gates: a return in no group's
+    gate and in no birth term's gate (the engine's *unexplained* returns) gives a term of
+    existence ``r_birth``; a return in a gate gives none.
+
+    The term of a return ``z`` at scan ``k`` is the one-point initiation ``x₀ = H⁺ z``,
+    ``P₀ = H⁺ R H⁺ᵀ + diag(s²)`` (``s`` = ``position_std`` on the measured state components,
+    ``velocity_std`` on the others, e.g. zero velocity with a spread covering every orbit's
+    speed) predicted by the motion model over the scan interval (EKF, so the position spread at
+    ``k + 1`` is ``√(σ_z² + s_p² + Δt² s_v²)`` with the position–velocity correlation that lets
+    the second return fix the velocity). Each term is gated with ``gate_probability`` (a
+    :class:`~.population_lmb.GaussianBirthTerm`), so it couples only the returns near it and the
+    groups gating them: a new object is born inside its own group.
+
+    An object first detected at scan ``k`` is born at the first scan after ``k`` at which it is
+    detected again right after a detection, so with independent detections of probability
+    ``p_D`` the number of scans from its first chance of detection to its birth is
+    ``1/p_D + 1/p_D² − 1`` on average (the waiting time for two successes in a row, less one).
+
+    Parameters
+    ----------
+    position_std : float
+        Extra position spread of a term (state units, ≥ 0), added to the return's own noise.
+    velocity_std : float
+        Spread of each unmeasured component (state units per second), > 0.
+    r_birth : float
+        Existence probability of each term (labeled multi-Bernoulli ``r_B``) in (0, 1); a
+        binomial population uses its own ``alpha``.
+    gate_probability : float
+        Gate of each term, in (0, 1).
+    """
+
+    position_std: float = 0.0
+    velocity_std: float = 1.0
+    r_birth: float = 0.01
+    gate_probability: float = 0.999
+
+    def __post_init__(self):
+        if not (np.isfinite(self.position_std) and self.position_std >= 0):
+            raise ValueError(f"position_std must be finite and >= 0, got {self.position_std!r}")
+        check_positive(self.velocity_std, "velocity_std")
+        if not 0.0 < float(self.r_birth) < 1.0:
+            raise ValueError(f"r_birth must lie in (0, 1), got {self.r_birth!r}")
+        if not 0.0 < float(self.gate_probability) < 1.0:
+            raise ValueError(f"gate_probability must lie in (0, 1), got {self.gate_probability!r}")
+
+    def initial(self, Z, H, R):
+        """One-point initiation ``(x₀ (m, d), P₀ (m, d, d))`` of returns ``Z`` (m, p)."""
+        Z = np.atleast_2d(np.asarray(Z, dtype=float))
+        Hp = np.linalg.pinv(H)
+        measured = np.any(H != 0, axis=0)
+        s = np.where(measured, self.position_std, self.velocity_std)
+        P0 = Hp @ R @ Hp.T + np.diag(s**2)
+        return Z @ Hp.T, np.broadcast_to(P0, (len(Z), *P0.shape)).copy()
+
+    def terms(self, Z, H, R, motion, dt) -> list:
+        """The birth terms of the next scan: the one-point initiations of ``Z`` predicted by ``dt``."""
+        if len(Z) == 0:
+            return []
+        x0, P0 = self.initial(Z, H, R)
+        x, P = _predict_with(motion, x0, P0, dt)
+        return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability) for i in range(len(x))]
 
 
 class FactoredFilter:
@@ -143,6 +225,10 @@ class FactoredFilter:
         Hypotheses of a group below this normalised weight are dropped after each scan
         (in [0, 1); 0 keeps all — needed for exactness; > 0 stops undetected-birth groups of
         negligible existence from accumulating).
+    adaptive_birth : AdaptiveBirth, optional
+        Measurement-driven birth: the returns a scan leaves unexplained become the next scan's
+        birth terms (:class:`AdaptiveBirth`). Needs a population with no birth terms of its own
+        (labeled multi-Bernoulli or binomial), whose terms it then sets every scan.
 
     Attributes
     ----------
@@ -160,11 +246,12 @@ class FactoredFilter:
 
     def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
                  cap="top", gate_probability=None, seed=None, means=None, covs=None, labels=None,
-                 split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0, merge_duplicates=True):
+                 split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0, merge_duplicates=True,
+                 adaptive_birth=None):
         template = HypothesisFilter(motion, sensor, weights, generator, population=population, dt=dt,
                                     max_hypotheses=max_hypotheses, cap=cap, gate_probability=gate_probability,
                                     seed=seed, merge_duplicates=merge_duplicates)
-        self._configure(template, split, births, factor_tol, min_weight)
+        self._configure(template, split, births, factor_tol, min_weight, adaptive_birth)
         self.initialise(np.zeros((0, self.ndim)) if means is None else means, covs, labels)
 
     @classmethod
@@ -178,15 +265,17 @@ class FactoredFilter:
         """
         if not isinstance(f, HypothesisFilter):
             raise TypeError(f"f must be a HypothesisFilter, got {type(f).__name__}")
-        unknown = set(options) - {"split", "births", "factor_tol", "min_weight"}
+        unknown = set(options) - {"split", "births", "factor_tol", "min_weight", "adaptive_birth"}
         if unknown:
-            raise ValueError(f"unknown options {sorted(unknown)}; allowed: split, births, factor_tol, min_weight")
+            raise ValueError(f"unknown options {sorted(unknown)}; allowed: split, births, factor_tol, min_weight, "
+                             "adaptive_birth")
         template = object.__new__(HypothesisFilter)
         template.__dict__.update(f.__dict__)
         template.rng = copy.deepcopy(f.rng)
         obj = cls.__new__(cls)
         obj._configure(template, options.get("split", "marginal"), options.get("births", "coupled"),
-                       options.get("factor_tol", 1e-10), options.get("min_weight", 0.0))
+                       options.get("factor_tol", 1e-10), options.get("min_weight", 0.0),
+                       options.get("adaptive_birth"))
         obj._reset()
         state = GroupState(f.store, f.log_weights, f.track_lists, f.lineage_keys)
         obj._groups = [state] if any(len(t) for t in state.tracks) else []
@@ -198,7 +287,7 @@ class FactoredFilter:
         obj.scan_index = f.scan_index
         return obj
 
-    def _configure(self, template, split, births, factor_tol, min_weight):
+    def _configure(self, template, split, births, factor_tol, min_weight, adaptive_birth=None):
         if split not in _SPLITS:
             raise ValueError(f"split must be one of {_SPLITS}, got {split!r}")
         if births not in _BIRTHS:
@@ -207,12 +296,29 @@ class FactoredFilter:
         min_weight = float(min_weight)
         if not 0.0 <= min_weight < 1.0:
             raise ValueError(f"min_weight must lie in [0, 1), got {min_weight!r}")
+        if adaptive_birth is not None:
+            if not isinstance(adaptive_birth, AdaptiveBirth):
+                raise TypeError(f"adaptive_birth must be an AdaptiveBirth or None, got {type(adaptive_birth).__name__}")
+            if template.weights.seeded_births:
+                raise ValueError("adaptive_birth needs a population with birth terms; HOMHT's seeded births already "
+                                 "start objects at returns (use one of the two)")
+            if template.population is None or not hasattr(template.population, "birth_densities"):
+                raise ValueError("adaptive_birth needs a population (labeled multi-Bernoulli or binomial) whose "
+                                 "birth terms it sets each scan")
+            if template.population.n_birth_regions:
+                raise ValueError("adaptive_birth sets the population's birth terms itself: give a population "
+                                 f"with no birth terms, got {template.population.n_birth_regions}")
+            template.population = copy.copy(template.population)  # its birth terms change every scan
+            template.population._undetected_cache = {}
+        self.adaptive_birth = adaptive_birth
         self._template = template
         self.rng = template.rng
         self.split, self.births, self.factor_tol, self.min_weight = split, births, factor_tol, min_weight
         self.ndim = template.H.shape[1]
 
     def _reset(self):
+        if getattr(self, "adaptive_birth", None) is not None:
+            self._set_birth_terms([])
         self._groups = []
         self._object = {}  # label -> object id, for labels that are not their own object
         self._next_label = 0
@@ -254,11 +360,15 @@ class FactoredFilter:
         """Advance one scan with returns ``Z`` (m, p); all-or-nothing like the engine's step."""
         saved = (self._groups, self._next_label, self.scan_index, self.rng.bit_generator.state, self.last_stats,
                  len(self.stats_history), len(self.split_records), dict(self._object))
+        pop = self._template.population
+        terms = pop.birth_densities if self.adaptive_birth is not None else None
         try:
             return self._step(Z, dt)
         except BaseException:
             (self._groups, self._next_label, self.scan_index, rng_state, self.last_stats, n_hist, n_split,
              self._object) = saved
+            if terms is not None:
+                self._set_birth_terms(terms)
             self.rng.bit_generator.state = rng_state
             del self.stats_history[n_hist:], self.split_records[n_split:]
             raise
@@ -289,8 +399,7 @@ class FactoredFilter:
         Z = check_measurements(Z, "Z", T.H.shape[0])
         m, groups = len(Z), self._groups
         G = len(groups)
-        preds = [s.store.predict(T.motion, dt) for s in groups]
-        scores = [T._track_scores(p, Z) for p in preds]
+        preds, scores = self._predict_and_score(groups, Z, dt)
         birth_ll = T.population.birth_loglik(Z) if T.population is not None else np.zeros((m, 0))
         B = birth_ll.shape[1]
         gate = np.zeros((m, G), dtype=bool)
@@ -299,7 +408,8 @@ class FactoredFilter:
         bgate = np.isfinite(birth_ll)
         if self.births == "free":
             bgate &= ~gate.any(axis=1)[:, None]
-        free = np.flatnonzero(~gate.any(axis=1) & ~bgate.any(axis=1)) if T.weights.seeded_births else np.zeros(0, int)
+        unexplained = ~gate.any(axis=1) & ~bgate.any(axis=1)
+        free = np.flatnonzero(unexplained) if T.weights.seeded_births else np.zeros(0, int)
         gi, gr = np.nonzero(gate.T)
         bi, br = np.nonzero(bgate.T)
         n_nodes = G + B + len(free)
@@ -334,9 +444,39 @@ class FactoredFilter:
         stats.update(n_groups=len(self._groups), largest_group=max(sizes, default=0),
                      largest_group_hypotheses=max((len(s.log_w) for s in self._groups), default=0),
                      time_total=time.perf_counter() - t0)
+        if self.adaptive_birth is not None:
+            # the next scan's birth terms: one at each return no group or birth term explained
+            terms = self.adaptive_birth.terms(Z[unexplained], T.H, T.R, T.motion, dt)
+            self._set_birth_terms(terms)
+            stats["n_adaptive_terms"] = len(terms)
         self.last_stats = stats
         self.stats_history.append(stats)
         return self.posterior()
+
+    def _predict_and_score(self, groups, Z, dt):
+        """Every group's tracks predicted and scored against ``Z`` in one batched call, split by group."""
+        T = self._template
+        if not groups:
+            return [], []
+        sizes = np.array([len(s.store) for s in groups])
+        bounds = np.concatenate([[0], np.cumsum(sizes)])
+        allstore = TrackStore(*(np.concatenate([getattr(s.store, f) for s in groups]) for f in ("means", "covs", "labels")))
+        pred = allstore.predict(T.motion, dt)
+        loglik, allowed, p_detect = T._track_scores(pred, Z)
+        preds, scores = [], []
+        for g in range(len(groups)):
+            a, b = bounds[g], bounds[g + 1]
+            preds.append(TrackStore(pred.means[a:b], pred.covs[a:b], pred.labels[a:b]))
+            scores.append((loglik[:, a:b], allowed[:, a:b], p_detect[a:b]))
+        return preds, scores
+
+    def _set_birth_terms(self, terms):
+        pop = self._template.population
+        pop.birth_densities = tuple(terms)
+        if isinstance(pop, LabeledMultiBernoulliPopulation):
+            pop.r_birth = np.full(len(terms), self.adaptive_birth.r_birth)
+        if hasattr(pop, "_undetected_cache"):
+            pop._undetected_cache = {}
 
     def _objects(self, labels) -> np.ndarray:
         """Object id of each label. The engine gives every (birth term, return) pair of a scan its
@@ -385,7 +525,7 @@ class FactoredFilter:
         T = self._template
         log_miss = np.log1p(-sc[2])
         miss = np.array([log_miss[t].sum() for t in state.tracks])
-        if T.population is None and np.ptp(miss) <= 1e-12:
+        if _silent(T.population) and np.ptp(miss) <= 1e-12:
             stats["n_predict_only"] += 1
             new = GroupState(pred, state.log_w, state.tracks, state.keys)
         else:

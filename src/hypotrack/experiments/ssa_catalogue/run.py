@@ -1,0 +1,289 @@
+"""SSA at catalogue scale: real objects (TLE, SGP4) seen by a ground radar, tracked by five trackers.
+
+Scenario (config section ``ssa_catalogue``)
+--------------------------------------------
+* **truth**: a seeded sample of ``N`` objects from the active satellites and one debris cloud
+  (:func:`select_population`), propagated by SGP4 (:func:`hypotrack.scenarios.catalogue.simulate_catalogue`);
+* **sensor**: one ground radar (:class:`~hypotrack.scenarios.catalogue.GroundRadar`, its
+  site, field of view, 10-s revisit, p_D and Poisson clutter from the config) reporting ENU
+  positions with isotropic error σ — converted to TEME positions for the trackers
+  (:mod:`hypotrack.scenarios.catalogue.tracking`);
+* **motion model** of every tracker: the two-body EKF
+  (:class:`~hypotrack.models.orbit3d.TwoBodyOrbit3D`), which neglects J2, the higher zonals,
+  drag and third bodies (SGP4 has them) — the process noise ``q`` covers the mismatch;
+* **known objects** start at their SGP4 state at scan 0 plus a seeded Gaussian error (the
+  catalogue's uncertainty, ``init_position_std``/``init_velocity_std``) with that covariance;
+  a share ``unknown_share`` of the debris is **unknown** at the start and must be born from the data.
+
+Trackers on the same scans: the δ-GLMB filter (Gibbs), HOMHT k-best (Murty) and R-FISST (MCMC)
+on the factored engine (:class:`~hypotrack.hypotheses.factored.FactoredFilter`; GLMB and R-FISST
+with measurement-driven births, :class:`~hypotrack.hypotheses.factored.AdaptiveBirth`, HOMHT
+with Reid's births seeded at the returns), GNN and JPDA (M-of-N initiation).
+
+Per tracker, population size and scan (:func:`run_tracker`): CPU seconds
+(``time.process_time``), groups and the largest group, GOSPA and OSPA of the estimates in view
+against the truth in view, and the estimate assigned to each true object (for continuity and
+births, :func:`continuity`).
+"""
+
+from __future__ import annotations
+
+import time
+import tracemalloc
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import linear_sum_assignment
+
+from ...hypotheses import BinomialPopulation, LabeledMultiBernoulliPopulation, glmb, homht_kbest, rfisst
+from ...hypotheses.factored import AdaptiveBirth, FactoredFilter
+from ...metrics import gospa, ospa
+from ...models.orbit3d import TwoBodyOrbit3D
+from ...scenarios.catalogue import (
+    GroundRadar,
+    GroundSite,
+    RadarFieldOfView,
+    load_catalogue,
+    select_groups,
+    simulate_catalogue,
+)
+from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
+from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
+
+__all__ = ["TRACKERS", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+           "continuity", "scan_rows"]
+
+TRACKERS = ("glmb", "homht_kbest", "rfisst", "gnn", "jpda")
+FACTORED = ("glmb", "homht_kbest", "rfisst")
+
+
+def select_population(n: int, debris_group: str, debris_share: float, unknown_share: float, seed: int):
+    """``n`` objects: ``round(debris_share n)`` from ``debris_group``, the rest active satellites,
+    each a seeded simple random sample; a seeded ``unknown_share`` of the debris is unknown.
+
+    Returns ``(catalogue table, unknown NORAD numbers)``. Nested in ``n`` is not promised.
+    """
+    if not 0.0 <= debris_share <= 1.0:
+        raise ValueError(f"debris_share must lie in [0, 1], got {debris_share!r}")
+    if not 0.0 <= unknown_share <= 1.0:
+        raise ValueError(f"unknown_share must lie in [0, 1], got {unknown_share!r}")
+    cat = load_catalogue()
+    rng = np.random.default_rng(seed)
+    debris, active = select_groups(cat, debris_group), select_groups(cat, "active")
+    n_debris = int(round(debris_share * n))
+    if n_debris > len(debris) or n - n_debris > len(active):
+        raise ValueError(f"n = {n} needs {n_debris} {debris_group} objects (of {len(debris)}) and "
+                         f"{n - n_debris} active (of {len(active)})")
+    d = debris.iloc[np.sort(rng.choice(len(debris), n_debris, replace=False))]
+    a = active.iloc[np.sort(rng.choice(len(active), n - n_debris, replace=False))]
+    objects = pd.concat([a, d], ignore_index=True)
+    unknown = d["norad"].to_numpy(np.int64)[rng.random(len(d)) < unknown_share]
+    return objects, np.sort(unknown)
+
+
+def make_radar(cfg) -> GroundRadar:
+    """The radar of the config's ``radar`` block (ENU returns, isotropic σ)."""
+    r = cfg["radar"]
+    site = GroundSite(r["lat_deg"], r["lon_deg"], r["alt_km"], "radar site")
+    fov = RadarFieldOfView(r["az_center_deg"], r["az_width_deg"], r["el_min_deg"], r["el_max_deg"],
+                           r["r_min_km"], r["r_max_km"])
+    return GroundRadar(site, fov, revisit_s=r["revisit_s"], p_D=r["p_D"], clutter_rate=r["clutter_rate"],
+                       measurement="enu", sigma_enu_km=r["sigma_km"])
+
+
+def build_scenario(cfg, n: int, seed: int):
+    """Objects, unknown NORAD numbers and the simulated :class:`CatalogueScenario` for size ``n``."""
+    ss = np.random.SeedSequence([int(seed), int(n)])
+    pop_seed, sim_seed, init_seed = (int(s.generate_state(1)[0]) for s in ss.spawn(3))
+    objects, unknown = select_population(n, cfg["debris_group"], cfg["debris_share"], cfg["unknown_share"], pop_seed)
+    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed)
+    return objects, unknown, sc, init_seed
+
+
+def _initial_tracks(sc, unknown, cfg, init_seed):
+    """Known objects: SGP4 state at scan 0 plus a seeded error, with its covariance."""
+    X, valid = sc.states(np.array([0.0]))
+    X, valid = X[:, 0], valid[:, 0]
+    norad = sc.catalogue["norad"].to_numpy(np.int64)
+    known = valid & ~np.isin(norad, unknown)
+    s = np.r_[np.full(3, cfg["init_position_std_km"]), np.full(3, cfg["init_velocity_std_km_s"])]
+    err = np.random.default_rng(init_seed).standard_normal((int(known.sum()), 6)) * s
+    P = np.broadcast_to(np.diag(s**2), (int(known.sum()), 6, 6)).copy()
+    return X[known] + err, P, norad[known]
+
+
+def _make(name, cfg, tsensor, motion, means, covs, labels, seed):
+    t = cfg["trackers"]
+    dt = cfg["radar"]["revisit_s"]
+    gate = t["gate_probability"]
+    ab = AdaptiveBirth(position_std=t["birth_position_std_km"], velocity_std=t["birth_velocity_std_km_s"],
+                       r_birth=t["r_birth"], gate_probability=gate)
+    common = dict(dt=dt, gate_probability=gate, seed=seed, means=means, covs=covs, labels=labels,
+                  merge_duplicates=True, max_hypotheses=t["max_hypotheses"])
+    fopts = dict(min_weight=t["min_weight"], split="marginal")
+    if name == "glmb":
+        f = glmb(motion, tsensor, population=LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0),
+                 n_sweeps=t["gibbs_sweeps"], **common)
+        return FactoredFilter.from_filter(f, adaptive_birth=ab, **fopts)
+    if name == "rfisst":
+        f = rfisst(motion, tsensor, population=BinomialPopulation([], alpha=t["r_birth"], p_survive=1.0),
+                   n_steps=t["mcmc_steps"], **common)
+        return FactoredFilter.from_filter(f, adaptive_birth=ab, **fopts)
+    if name == "homht_kbest":
+        lam_b = t["homht_births_per_scan"] / tsensor.clutter.region.area
+        f = homht_kbest(motion, tsensor, k=t["max_hypotheses"], birth_intensity=lam_b,
+                        birth_density=OnePointBirth(t["birth_velocity_std_km_s"], t["birth_position_std_km"]),
+                        **common)
+        return FactoredFilter.from_filter(f, **fopts)
+    if name in ("gnn", "jpda"):
+        model = ScanModel(tsensor.measurement.H, tsensor.measurement.R, tsensor.detection.p_D, gate,
+                          max(tsensor.clutter.intensity, 1e-300),
+                          t["homht_births_per_scan"] / tsensor.clutter.region.area)
+        init = MOfNInitiator(motion, model, m=t["m_of_n"][0], n=t["m_of_n"][1],
+                             initial_velocity_std=t["birth_velocity_std_km_s"])
+        tr = SingleHypothesisTracker(motion, model, association=name, initiator=init, max_misses=10**9)
+        tr.initialise(means, covs, 0.0)
+        tr._labels = np.asarray(labels, dtype=np.int64)
+        return tr
+    raise ValueError(f"tracker must be one of {TRACKERS}, got {name!r}")
+
+
+def _estimates(name, tracker, tsensor):
+    """(labels, TEME positions) of the tracker's estimates inside the field of view."""
+    if name in FACTORED:
+        est = tracker.posterior().map_estimate
+        lab, X = est.labels, est.means
+    else:
+        e = tracker.estimates()
+        n0 = len(tracker._labels)
+        lab = np.where(e.ids < n0, tracker._labels[np.minimum(e.ids, max(n0 - 1, 0))] if n0 else -1,
+                       10**9 + e.ids)
+        X = e.x
+    if len(X) == 0:
+        return np.zeros(0, np.int64), np.zeros((0, 3))
+    inv = tsensor.detection.in_view(X[:, :3])
+    return np.asarray(lab)[inv], X[inv, :3]
+
+
+def _assign(truth_X, est_X, c):
+    """Optimal assignment truth → estimate with distances below ``c``: (truth rows, est rows)."""
+    if len(truth_X) == 0 or len(est_X) == 0:
+        return np.zeros(0, int), np.zeros(0, int)
+    D = np.linalg.norm(truth_X[:, None] - est_X[None], axis=-1)
+    r, k = linear_sum_assignment(np.minimum(D, c))
+    ok = D[r, k] < c
+    return r[ok], k[ok]
+
+
+def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scenario=None):
+    """One tracker over the scans of population size ``n``.
+
+    Returns ``(per_scan DataFrame, assignment DataFrame, info dict)``: per scan the CPU seconds of
+    the tracker's step, returns, objects in view, estimates in view, GOSPA (with its missed/false
+    parts) and OSPA, groups and the largest group (factored trackers); per (scan, true object in
+    view) the label of the estimate assigned to it (−1: none). ``memory=True`` traces the peak
+    memory of the run (tracemalloc; slower, for a separate pass) into ``info["peak_bytes"]``.
+    """
+    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
+    radar = sc.sensors[0]
+    tsensor = TrackerSensor(radar)
+    motion = TwoBodyOrbit3D(q=cfg["trackers"]["process_noise_q"])
+    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    scans = sc.scan_list(0)
+    truth = sc.truth[sc.truth["in_view"]]
+    by_scan = {k: g for k, g in truth.groupby("scan")}
+    c, p = cfg["metrics"]["cutoff_km"], cfg["metrics"]["order"]
+    n_scans = cfg["memory_scans"] if memory else len(scans)
+    if memory:
+        tracemalloc.start()
+    tracker = _make(name, cfg, tsensor, motion, means, covs, labels, int(seed))
+    rows, assign = [], []
+    for k in range(n_scans):
+        t_k, Z = scans[k]
+        tsensor.at(sc.theta[k])
+        t0 = time.process_time()
+        Zt = tsensor.returns(Z)
+        if name in FACTORED:
+            if k > 0:
+                tracker.step(Zt)
+            else:  # scan 0 is at the tracks' epoch: an update without prediction is not offered; use a tiny dt
+                tracker.step(Zt, dt=1e-6)
+        else:
+            tracker.step((float(t_k), Zt))
+        cpu = time.process_time() - t0
+        lab, EX = _estimates(name, tracker, tsensor)
+        g = by_scan.get(k)
+        TX = g[["state_0", "state_1", "state_2"]].to_numpy() if g is not None else np.zeros((0, 3))
+        tid = g["target"].to_numpy(np.int64) if g is not None else np.zeros(0, np.int64)
+        gr = gospa(EX, TX, c=c, p=p)
+        st = tracker.last_stats if name in FACTORED else {}
+        rows.append(dict(tracker=name, n_objects=n, scan=k, cpu_s=cpu, n_returns=len(Z), n_in_view=len(TX),
+                         n_estimates=len(EX), gospa_km=gr.value, gospa_missed=gr.missed, gospa_false=gr.false,
+                         ospa_km=ospa(EX, TX, c=c, p=p), n_groups=st.get("n_groups", np.nan),
+                         largest_group=st.get("largest_group", np.nan), n_tracks=_n_tracks(name, tracker)))
+        r, q = _assign(TX, EX, c)
+        lab_of = np.full(len(TX), -1, np.int64)
+        lab_of[r] = lab[q]
+        assign.extend(dict(tracker=name, n_objects=n, scan=k, target=int(t), label=int(x),
+                           unknown=bool(t in set(unknown.tolist()))) for t, x in zip(tid, lab_of))
+    info = {}
+    if memory:
+        info["peak_bytes"] = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+    return pd.DataFrame(rows), pd.DataFrame(assign), info
+
+
+def _n_tracks(name, tracker):
+    if name in FACTORED:
+        return int(sum(len(np.unique(s.store.labels)) for s in tracker.groups))
+    return len(tracker.ids)
+
+
+def continuity(assign: pd.DataFrame, n_unknown_in_view=None) -> dict:
+    """Continuity and birth measures of one (tracker, size) from its assignment table.
+
+    Per true object, in scan order over the scans it is in view: a **label switch** is an
+    assigned label different from the last assigned label; a **fragmentation** is a return to
+    assigned after one or more unassigned scans that followed an assigned one. An **unknown**
+    object is *born from the data* when it is ever assigned an estimate; its **latency** is the
+    number of scans from its first scan in view to its first assignment.
+
+    Returns a dict: ``label_switches``, ``fragmentations``, ``unknown_in_view``, ``born``,
+    ``latency_mean`` (scans; NaN when none born).
+    """
+    switches = frags = 0
+    born, lat = 0, []
+    n_unknown = 0
+    for (_, unk), g in assign.sort_values("scan").groupby(["target", "unknown"]):
+        labels = g["label"].to_numpy()
+        scans = g["scan"].to_numpy()
+        last, gap, was = None, False, False
+        for x in labels:
+            if x < 0:
+                gap = was
+                continue
+            if last is not None and x != last:
+                switches += 1
+            if gap:
+                frags += 1
+            last, gap, was = x, False, True
+        if unk:
+            n_unknown += 1
+            hit = np.flatnonzero(labels >= 0)
+            if len(hit):
+                born += 1
+                lat.append(int(scans[hit[0]] - scans[0]))
+    return dict(label_switches=switches, fragmentations=frags, unknown_in_view=n_unknown, born=born,
+                latency_mean=float(np.mean(lat)) if lat else float("nan"))
+
+
+def scan_rows(per_scan: pd.DataFrame) -> pd.DataFrame:
+    """Per (tracker, size): CPU per scan (mean), per object in view, mean GOSPA/OSPA, groups."""
+    out = []
+    for (name, n), g in per_scan.groupby(["tracker", "n_objects"], sort=False):
+        view = g["n_in_view"].to_numpy(float)
+        out.append(dict(tracker=name, n_objects=int(n), n_scans=len(g), cpu_s_per_scan=g["cpu_s"].mean(),
+                        cpu_ms_per_object_in_view=1e3 * g["cpu_s"].sum() / max(view.sum(), 1.0),
+                        mean_in_view=view.mean(), gospa_km=g["gospa_km"].mean(), ospa_km=g["ospa_km"].mean(),
+                        groups_mean=g["n_groups"].mean(), largest_group_max=g["largest_group"].max()))
+    return pd.DataFrame(out)

@@ -1,0 +1,149 @@
+"""Tables, ledger rows and macros of the ``ssa_catalogue`` experiment.
+
+Accuracy (byte-reproducible: same config and seed, same numbers) and timing (machine-dependent)
+are kept apart: ``summary.csv``/``claims.csv``/``macros.csv`` hold GOSPA, OSPA, groups,
+continuity and births; ``summary_timing.csv``/``claims_timing.csv``/``timing_macros.csv`` hold the
+CPU seconds, the cost slope and the peak memory.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ...reporting.ledger import Claim
+from .run import FACTORED, continuity
+
+__all__ = ["cost_slope", "accuracy_table", "timing_table", "catalogue_claims", "timing_claims", "catalogue_macros",
+           "timing_macros", "TRACKER_NAMES"]
+
+EXPERIMENT = "ssa_catalogue"
+SOURCE = "extension (catalogue-scale SSA)"
+TRACKER_NAMES = {"glmb": "δ-GLMB (Gibbs), factored", "homht_kbest": "HOMHT k-best, factored",
+                 "rfisst": "R-FISST, factored", "gnn": "GNN", "jpda": "JPDA"}
+
+
+def cost_slope(n, cost) -> float:
+    """Least-squares slope of ``log cost`` on ``log n`` (the exponent ``b`` of ``cost ∝ n^b``).
+
+    Needs at least two distinct positive sizes and positive costs.
+    """
+    n, cost = np.asarray(n, dtype=float), np.asarray(cost, dtype=float)
+    if n.shape != cost.shape or n.ndim != 1:
+        raise ValueError(f"n and cost must be 1-D of one length, got shapes {n.shape} and {cost.shape}")
+    if len(np.unique(n)) < 2:
+        raise ValueError("n must hold at least two distinct sizes for a slope")
+    if np.any(n <= 0) or np.any(cost <= 0) or not np.all(np.isfinite(cost)):
+        raise ValueError("n and cost must be finite and > 0 (a log-log slope)")
+    return float(np.polyfit(np.log(n), np.log(cost), 1)[0])
+
+
+def accuracy_table(per_scan: pd.DataFrame, assign: pd.DataFrame) -> pd.DataFrame:
+    """Per (tracker, size): mean GOSPA (and its missed/false parts) and OSPA over the scans, mean
+    objects in view, groups, and the continuity/birth measures of :func:`continuity`."""
+    rows = []
+    for (name, n), g in per_scan.groupby(["tracker", "n_objects"], sort=False):
+        a = assign[(assign["tracker"] == name) & (assign["n_objects"] == n)]
+        rows.append(dict(tracker=name, n_objects=int(n), n_scans=len(g), mean_in_view=g["n_in_view"].mean(),
+                         gospa_km=g["gospa_km"].mean(), gospa_missed=g["gospa_missed"].mean(),
+                         gospa_false=g["gospa_false"].mean(), ospa_km=g["ospa_km"].mean(),
+                         groups_mean=g["n_groups"].mean(), largest_group_max=g["largest_group"].max(),
+                         **continuity(a)))
+    return pd.DataFrame(rows)
+
+
+def timing_table(per_scan: pd.DataFrame, memory: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Per (tracker, size): mean CPU seconds per scan, CPU ms per object in view per scan, peak
+    memory (bytes, from the separate traced pass) when given."""
+    rows = []
+    for (name, n), g in per_scan.groupby(["tracker", "n_objects"], sort=False):
+        view = g["n_in_view"].to_numpy(float)
+        rows.append(dict(tracker=name, n_objects=int(n), cpu_s_per_scan=g["cpu_s"].mean(),
+                         cpu_ms_per_object_in_view=1e3 * g["cpu_s"].sum() / max(view.sum(), 1.0)))
+    out = pd.DataFrame(rows)
+    if memory is not None and len(memory):
+        out = out.merge(memory[["tracker", "n_objects", "peak_bytes"]], on=["tracker", "n_objects"], how="left")
+    return out
+
+
+def _fmt(x, digits=3):
+    return f"{x:.{digits}g}"
+
+
+def catalogue_claims(acc: pd.DataFrame, reference: str = "gnn") -> list[Claim]:
+    """Extension rows at the largest size: each factored tracker's GOSPA against ``reference``'s,
+    and the unknown objects it born from the data with their mean latency."""
+    n = acc["n_objects"].max()
+    big = acc[acc["n_objects"] == n].set_index("tracker")
+    ref = big.loc[reference] if reference in big.index else None
+    out = []
+    for name in [t for t in FACTORED if t in big.index]:
+        r = big.loc[name]
+        note = (f"mean GOSPA (c, p from the config) over {int(r.n_scans)} scans of {int(n)} objects; "
+                f"{TRACKER_NAMES[reference]}: {_fmt(ref.gospa_km)} km" if ref is not None else "")
+        out.append(Claim(EXPERIMENT, f"GOSPA of the in-view estimates, {TRACKER_NAMES[name]}, N = {int(n)}", SOURCE,
+                         "--", f"{_fmt(r.gospa_km)} km", "--", "extension", note, "measurement",
+                         key=f"gospa_{name}"))
+        lat = "no unknown object born" if not np.isfinite(r.latency_mean) else f"mean latency {_fmt(r.latency_mean)} scans"
+        out.append(Claim(EXPERIMENT, f"unknown objects born from the data, {TRACKER_NAMES[name]}, N = {int(n)}",
+                         SOURCE, "--", f"{int(r.born)} of {int(r.unknown_in_view)}", "--", "extension",
+                         f"{lat}; {int(r.label_switches)} label switches, {int(r.fragmentations)} fragmentations",
+                         "measurement", key=f"born_{name}"))
+    return out
+
+
+def slopes(timing: pd.DataFrame) -> dict:
+    """Cost slope (CPU per scan vs N, log-log) per tracker with at least two sizes."""
+    out = {}
+    for name, g in timing.groupby("tracker", sort=False):
+        if g["n_objects"].nunique() >= 2:
+            out[name] = cost_slope(g["n_objects"], g["cpu_s_per_scan"])
+    return out
+
+
+def timing_claims(timing: pd.DataFrame, goal: float) -> list[Claim]:
+    """The cost slope of each factored tracker (goal ``≤ goal``), as extension rows."""
+    out = []
+    sl = slopes(timing)
+    sizes = ", ".join(str(int(x)) for x in sorted(timing["n_objects"].unique()))
+    for name in [t for t in FACTORED if t in sl]:
+        out.append(Claim(EXPERIMENT, f"log–log slope of CPU per scan against N, {TRACKER_NAMES[name]}", SOURCE,
+                         f"goal ≤ {goal:g}", _fmt(sl[name]), "--", "extension",
+                         f"N ∈ {{{sizes}}}; {'meets' if sl[name] <= goal else 'misses'} the goal",
+                         "measurement", key=f"slope_{name}"))
+    return out
+
+
+def catalogue_macros(acc: pd.DataFrame) -> dict:
+    """Macros of the accuracy table at the largest size."""
+    n = acc["n_objects"].max()
+    big = acc[acc["n_objects"] == n].set_index("tracker")
+    v = {"NLargest": int(n), "InViewLargest": f"{big['mean_in_view'].iloc[0]:.3g}"}
+    for name, r in big.iterrows():
+        k = name.replace("_", "")
+        v[f"Gospa{k}"] = f"{r.gospa_km:.3g}"
+        v[f"Ospa{k}"] = f"{r.ospa_km:.3g}"
+        v[f"Born{k}"] = int(r.born)
+        v[f"Unknown{k}"] = int(r.unknown_in_view)
+        v[f"Switches{k}"] = int(r.label_switches)
+        v[f"Frags{k}"] = int(r.fragmentations)
+        if np.isfinite(r.latency_mean):
+            v[f"Latency{k}"] = f"{r.latency_mean:.3g}"
+        if np.isfinite(r.largest_group_max):
+            v[f"LargestGroup{k}"] = int(r.largest_group_max)
+            v[f"Groups{k}"] = f"{r.groups_mean:.4g}"
+    return v
+
+
+def timing_macros(timing: pd.DataFrame) -> dict:
+    v = {}
+    n = timing["n_objects"].max()
+    for name, s in slopes(timing).items():
+        v[f"Slope{name.replace('_', '')}"] = f"{s:.2f}"
+    for _, r in timing[timing["n_objects"] == n].iterrows():
+        k = r.tracker.replace("_", "")
+        v[f"CpuScan{k}"] = f"{r.cpu_s_per_scan:.3g}"
+        v[f"CpuObj{k}"] = f"{r.cpu_ms_per_object_in_view:.3g}"
+        if "peak_bytes" in r and np.isfinite(r.peak_bytes):
+            v[f"PeakMB{k}"] = f"{r.peak_bytes / 1e6:.3g}"
+    return v

@@ -153,8 +153,9 @@ class AdaptiveBirth:
     groups gating them: a new object is born inside its own group.
 
     An object first detected at scan ``k`` is born at the first scan after ``k`` at which it is
-    detected again right after a detection, so with independent detections of probability
-    ``p_D`` the number of scans from its first chance of detection to its birth is
+    detected again right after a detection — when the hypothesis "born undetected" (weight
+    ``r_B (1 − p_D)`` relative to not born) is pruned at once (``min_weight`` above it); kept, it
+    can pick the object up later — so with independent detections of probability ``p_D`` the number of scans from its first chance of detection to its birth is
     ``1/p_D + 1/p_D² − 1`` on average (the waiting time for two successes in a row, less one).
 
     Parameters

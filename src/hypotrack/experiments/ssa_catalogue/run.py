@@ -18,7 +18,8 @@ Scenario (config section ``ssa_catalogue``)
 Trackers on the same scans: the δ-GLMB filter (Gibbs), HOMHT k-best (Murty) and R-FISST (MCMC)
 on the factored engine (:class:`~hypotrack.hypotheses.factored.FactoredFilter`; GLMB and R-FISST
 with measurement-driven births, :class:`~hypotrack.hypotheses.factored.AdaptiveBirth`, HOMHT
-with Reid's births seeded at the returns), GNN and JPDA (M-of-N initiation).
+with Reid's births seeded at the returns), GNN and JPDA (M-of-N initiation; a track is deleted
+after ``sht_max_misses`` consecutive misses *in view* — out of view is not a miss).
 
 Per tracker, population size and scan (:func:`run_tracker`): CPU seconds
 (``time.process_time``), groups and the largest group, GOSPA and OSPA of the estimates in view
@@ -141,7 +142,7 @@ def _make(name, cfg, tsensor, motion, means, covs, labels, seed):
                           t["homht_births_per_scan"] / tsensor.clutter.region.area)
         init = MOfNInitiator(motion, model, m=t["m_of_n"][0], n=t["m_of_n"][1],
                              initial_velocity_std=t["birth_velocity_std_km_s"])
-        tr = SingleHypothesisTracker(motion, model, association=name, initiator=init, max_misses=10**9)
+        tr = SingleHypothesisTracker(motion, model, association=name, initiator=init, max_misses=t["sht_max_misses"])
         tr.initialise(means, covs, 0.0)
         tr._labels = np.asarray(labels, dtype=np.int64)
         return tr
@@ -210,6 +211,9 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
                 tracker.step(Zt, dt=1e-6)
         else:
             tracker.step((float(t_k), Zt))
+            # deletion counts misses in view only: a catalogue object out of the field of view is not missed
+            if len(tracker.x):
+                tracker.misses[~tsensor.detection.in_view(tracker.x[:, :3])] = 0
         cpu = time.process_time() - t0
         lab, EX = _estimates(name, tracker, tsensor)
         g = by_scan.get(k)

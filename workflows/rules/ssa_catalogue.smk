@@ -28,7 +28,7 @@ rule ssa_catalogue_table:
         summary=report_table(f"{SC_DIR}/summary.csv", "ssa_catalogue", "summary"),
         timing=f"{SC_DIR}/summary_timing.csv",
         claims=f"{SC_DIR}/claims.csv",
-        timing_claims=f"{SC_DIR}/claims_timing.csv",
+        timing_claims=f"{SC_DIR}/timing_claims.csv",
         macros=f"{SC_DIR}/macros.csv",
         timing_macros=f"{SC_DIR}/timing_macros.csv",
         cost_pdf=f"{SC_DIR}/cost.pdf",

@@ -2,7 +2,7 @@
 
 Accuracy (byte-reproducible: same config and seed, same numbers) and timing (machine-dependent)
 are kept apart: ``summary.csv``/``claims.csv``/``macros.csv`` hold GOSPA, OSPA, groups,
-continuity and births; ``summary_timing.csv``/``claims_timing.csv``/``timing_macros.csv`` hold the
+continuity and births; ``summary_timing.csv``/``timing_claims.csv``/``timing_macros.csv`` hold the
 CPU seconds, the cost slope and the peak memory.
 """
 

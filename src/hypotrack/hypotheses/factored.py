@@ -67,7 +67,9 @@ groups — the second holds by construction, the first is a property of the mode
 from __future__ import annotations
 
 import copy
+import pickle
 import time
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
@@ -86,6 +88,7 @@ __all__ = ["AdaptiveBirth", "FactoredFilter", "FactoredPosterior", "cardinality_
 
 _SPLITS = ("marginal", "exact", "never")
 _BIRTHS = ("coupled", "free")
+_PARALLEL = ("process", "thread")
 
 
 @dataclass(frozen=True, eq=False)
@@ -203,6 +206,41 @@ class AdaptiveBirth:
         return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability) for i in range(len(x))]
 
 
+_STEP_STATS = ("n_duplicates_merged", "mass_retained", "n_kalman_updates")
+
+
+def _engine_step(T, state, pred, ctx, regions, base, seed):
+    """One group's engine step (the unit of work of a scan, run in any worker).
+
+    ``T``: the filter's template engine (models, population); ``state``: the group's hypotheses;
+    ``pred``: its predicted tracks; ``ctx``: the returns of its gate and their scores;
+    ``regions``: its birth terms; new labels count from ``base``; ``seed`` seeds the step's own
+    random stream. Returns ``(new GroupState, track sources, number of new labels, stats)``.
+    """
+    g = object.__new__(HypothesisFilter)
+    g.__dict__.update(T.__dict__)
+    g.population = restrict_population(T.population, regions)
+    g.rng = np.random.Generator(np.random.PCG64(seed))
+    g._store, g._log_w, g._tracks, g._keys = state.store, state.log_w, state.tracks, state.keys
+    g._next_label = base
+    g.last_stats, g.last_kept, g.last_track_sources = {}, None, None
+    g._advance(pred, ctx, time.perf_counter())
+    return (GroupState(g._store, g._log_w, g._tracks, g._keys), g.last_track_sources, g._next_label - base,
+            {k: g.last_stats[k] for k in _STEP_STATS})
+
+
+def _run_jobs(T, jobs):
+    return [_engine_step(T, *job) for job in jobs]
+
+
+def _run_pickled(model, blob):
+    """A process worker's chunk: the pickled template and jobs in, the pickled results and the
+    worker's CPU seconds out."""
+    t0 = time.process_time()
+    out = _run_jobs(pickle.loads(model), pickle.loads(blob))
+    return pickle.dumps((out, time.process_time() - t0), protocol=pickle.HIGHEST_PROTOCOL)
+
+
 class FactoredFilter:
     """Hypothesis filter whose posterior is a product of independent groups (module docstring).
 
@@ -230,6 +268,20 @@ class FactoredFilter:
         Measurement-driven birth: the returns a scan leaves unexplained become the next scan's
         birth terms (:class:`AdaptiveBirth`). Needs a population with no birth terms of its own
         (labeled multi-Bernoulli or binomial), whose terms it then sets every scan.
+    workers : int
+        Processes (or threads) sharing a scan's engine steps (≥ 1). The components of a scan are
+        independent problems; ``workers = 1`` runs them here, in order; more splits them into
+        ``workers`` chunks of similar cost (hypotheses × returns), one run here and the others in
+        a pool. Each step draws from its own random stream (seeded from the filter's generator,
+        in component order) and new labels are renumbered in component order, so the posterior
+        is the same for any ``workers``. Call :meth:`close` to stop the pool.
+    parallel : {"process", "thread"}
+        Pool kind: processes (the template engine and the groups' states pickled each scan) or
+        threads (useful only where the step's kernels release the GIL).
+    measure_transfer : bool
+        Record in ``last_stats`` the pickled bytes of the steps' inputs (``bytes_to_workers``: the
+        groups' hypotheses, track moments and the returns of their gates) and results
+        (``bytes_from_workers``) even when ``workers = 1``.
 
     Attributes
     ----------
@@ -239,7 +291,9 @@ class FactoredFilter:
         ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
         ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
-        touched group kept under the cap), ``time_total``.
+        touched group kept under the cap), ``n_jobs`` (engine steps), ``time_total``; with a process
+        pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
+        ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.
     split_records : list of :class:`~.factored_groups.SplitRecord`, every split (and, with
         ``split="exact"``, every rejected one), with its KL and L1 loss.
@@ -248,11 +302,12 @@ class FactoredFilter:
     def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
                  cap="top", gate_probability=None, seed=None, means=None, covs=None, labels=None,
                  split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0, merge_duplicates=True,
-                 adaptive_birth=None):
+                 adaptive_birth=None, workers=1, parallel="process", measure_transfer=False):
         template = HypothesisFilter(motion, sensor, weights, generator, population=population, dt=dt,
                                     max_hypotheses=max_hypotheses, cap=cap, gate_probability=gate_probability,
                                     seed=seed, merge_duplicates=merge_duplicates)
-        self._configure(template, split, births, factor_tol, min_weight, adaptive_birth)
+        self._configure(template, split, births, factor_tol, min_weight, adaptive_birth, workers, parallel,
+                        measure_transfer)
         self.initialise(np.zeros((0, self.ndim)) if means is None else means, covs, labels)
 
     @classmethod
@@ -266,17 +321,19 @@ class FactoredFilter:
         """
         if not isinstance(f, HypothesisFilter):
             raise TypeError(f"f must be a HypothesisFilter, got {type(f).__name__}")
-        unknown = set(options) - {"split", "births", "factor_tol", "min_weight", "adaptive_birth"}
+        allowed = ("split", "births", "factor_tol", "min_weight", "adaptive_birth", "workers", "parallel",
+                   "measure_transfer")
+        unknown = set(options) - set(allowed)
         if unknown:
-            raise ValueError(f"unknown options {sorted(unknown)}; allowed: split, births, factor_tol, min_weight, "
-                             "adaptive_birth")
+            raise ValueError(f"unknown options {sorted(unknown)}; allowed: {', '.join(allowed)}")
         template = object.__new__(HypothesisFilter)
         template.__dict__.update(f.__dict__)
         template.rng = copy.deepcopy(f.rng)
         obj = cls.__new__(cls)
         obj._configure(template, options.get("split", "marginal"), options.get("births", "coupled"),
                        options.get("factor_tol", 1e-10), options.get("min_weight", 0.0),
-                       options.get("adaptive_birth"))
+                       options.get("adaptive_birth"), options.get("workers", 1), options.get("parallel", "process"),
+                       options.get("measure_transfer", False))
         obj._reset()
         state = GroupState(f.store, f.log_weights, f.track_lists, f.lineage_keys)
         obj._groups = [state] if any(len(t) for t in state.tracks) else []
@@ -288,7 +345,8 @@ class FactoredFilter:
         obj.scan_index = f.scan_index
         return obj
 
-    def _configure(self, template, split, births, factor_tol, min_weight, adaptive_birth=None):
+    def _configure(self, template, split, births, factor_tol, min_weight, adaptive_birth=None, workers=1,
+                   parallel="process", measure_transfer=False):
         if split not in _SPLITS:
             raise ValueError(f"split must be one of {_SPLITS}, got {split!r}")
         if births not in _BIRTHS:
@@ -311,6 +369,10 @@ class FactoredFilter:
                                  f"with no birth terms, got {template.population.n_birth_regions}")
             template.population = copy.copy(template.population)  # its birth terms change every scan
             template.population._undetected_cache = {}
+        if parallel not in _PARALLEL:
+            raise ValueError(f"parallel must be one of {_PARALLEL}, got {parallel!r}")
+        self.workers = check_int(workers, "workers", minimum=1)
+        self.parallel, self.measure_transfer, self._pool = parallel, bool(measure_transfer), None
         self.adaptive_birth = adaptive_birth
         self._template = template
         self.rng = template.rng
@@ -374,17 +436,6 @@ class FactoredFilter:
             del self.stats_history[n_hist:], self.split_records[n_split:]
             raise
 
-    def _runner(self, state: GroupState, regions) -> HypothesisFilter:
-        """An engine holding one group's hypotheses, with the group's birth terms."""
-        T = self._template
-        g = object.__new__(HypothesisFilter)
-        g.__dict__.update(T.__dict__)
-        g.population = restrict_population(T.population, regions)
-        g._store, g._log_w, g._tracks, g._keys = state.store, state.log_w, state.tracks, state.keys
-        g._next_label = self._next_label
-        g.last_stats, g.last_kept, g.last_track_sources = {}, None, None
-        return g
-
     def _context(self, Z, rows, scores, birth_ll, regions) -> ScanContext:
         T = self._template
         loglik, allowed, p_detect = scores
@@ -421,7 +472,7 @@ class FactoredFilter:
 
         stats = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
                      n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0)
-        new_groups = []
+        new_groups, plans = [], []
         seen = set()
         for first in range(n_nodes):  # components in order of their first node: deterministic
             c = node_lab[first]
@@ -433,9 +484,20 @@ class FactoredFilter:
             rows = np.flatnonzero(ret_lab == c)
             if len(rows) == 0 and len(regions) == 0:
                 (g,) = members
-                state, parts = self._quiet(groups[g], preds[g], scores[g], Z, birth_ll, stats)
+                plans.append(self._quiet(groups[g], preds[g], scores[g], Z, birth_ll, stats))
             else:
-                state, parts = self._touched(members, regions, rows, groups, preds, scores, Z, birth_ll, stats)
+                plans.append(self._touched(members, regions, rows, groups, preds, scores, Z, birth_ll, stats))
+        # the engine steps of the components are independent: run them (in a pool when workers > 1),
+        # each with its own random stream and labels counted from the scan's first free label
+        jobs = [p for p in plans if p[0] != "done"]
+        seeds = self.rng.integers(0, 2**63 - 1, size=len(jobs)) if jobs else np.zeros(0, np.int64)
+        base = self._next_label
+        results = iter(self._run([(p[1], p[2], p[3], p[4], base, int(s)) for p, s in zip(jobs, seeds)], stats))
+        for plan in plans:
+            if plan[0] == "done":
+                state, parts = plan[1], plan[2]
+            else:
+                state, parts = self._finish(plan, next(results), base, stats)
             new_groups.extend(self._split(state, parts, stats))
         self._groups = [s for s in (self._prune(s) for s in new_groups) if s is not None]
         held = set(np.concatenate([s.store.labels for s in self._groups]).tolist()) if self._groups else set()
@@ -495,7 +557,7 @@ class FactoredFilter:
                 self._object[int(x)] = int(labels.min())
 
     def _touched(self, members, regions, rows, groups, preds, scores, Z, birth_ll, stats):
-        """Merge the component's groups and run one engine step on its returns and birth terms."""
+        """Merge the component's groups; the plan of one engine step on its returns and birth terms."""
         T = self._template
         if len(members) == 0:
             state, pred = _empty_state(self.ndim), _empty_state(self.ndim).store
@@ -509,36 +571,97 @@ class FactoredFilter:
             pred = TrackStore(pred_all.means[used], pred_all.covs[used], pred_all.labels[used])
             sc = tuple(np.concatenate([scores[g][k] for g in members], axis=-1)[..., used] for k in range(3))
             stats["n_merges"] += len(members) - 1
-        ctx = self._context(Z, rows, sc, birth_ll, regions)
-        runner = self._runner(state, regions)
-        runner._advance(pred, ctx, time.perf_counter())
-        self._next_label = runner._next_label
-        stats["n_touched"] += 1
-        stats["mass_retained_min"] = min(stats["mass_retained_min"], runner.last_stats["mass_retained"])
-        stats["n_duplicates_merged"] += runner.last_stats["n_duplicates_merged"]
-        stats["n_kalman_updates"] += runner.last_stats["n_kalman_updates"]
-        new = GroupState(runner._store, runner._log_w, runner._tracks, runner._keys)
-        self._register_births(new.store, runner.last_track_sources, len(regions))
-        return new, self._interaction_parts(self._objects(pred.labels), ctx, runner.last_track_sources, len(regions))
+        return ("touched", state, pred, self._context(Z, rows, sc, birth_ll, regions), regions)
 
     def _quiet(self, state, pred, sc, Z, birth_ll, stats):
-        """A group no return or birth term reaches: predict, or an empty-scan step when needed."""
+        """A group no return or birth term reaches: predict, or plan an empty-scan step when needed."""
         T = self._template
         log_miss = np.log1p(-sc[2])
         miss = np.array([log_miss[t].sum() for t in state.tracks])
         if _silent(T.population) and np.ptp(miss) <= 1e-12:
             stats["n_predict_only"] += 1
             new = GroupState(pred, state.log_w, state.tracks, state.keys)
+            return ("done", new, self._objects(new.store.labels))  # no interaction: every object its own part
+        none = np.zeros(0, dtype=np.int64)
+        return ("quiet", state, pred, self._context(Z, none, sc, birth_ll, none), none)
+
+    def _finish(self, plan, result, base, stats):
+        """A planned step's result in component order: its new labels moved past the labels
+        already given this scan (the serial numbering), births registered, interaction parts."""
+        kind, _, pred, ctx, regions = plan
+        new, sources, n_new, st = result
+        if n_new:
+            labels = new.store.labels.copy()
+            labels[labels >= base] += self._next_label - base
+            new = GroupState(TrackStore(new.store.means, new.store.covs, labels), new.log_w, new.tracks, new.keys)
+        self._next_label += n_new
+        stats["n_duplicates_merged"] += st["n_duplicates_merged"]
+        if kind == "quiet":
+            return new, self._objects(new.store.labels)
+        stats["n_touched"] += 1
+        stats["mass_retained_min"] = min(stats["mass_retained_min"], st["mass_retained"])
+        stats["n_kalman_updates"] += st["n_kalman_updates"]
+        self._register_births(new.store, sources, len(regions))
+        return new, self._interaction_parts(self._objects(pred.labels), ctx, sources, len(regions))
+
+    def _run(self, jobs, stats):
+        """Run the planned engine steps, in this process (``workers = 1``) or split into
+        ``workers`` contiguous chunks of similar cost, the first run here and the others in the pool."""
+        stats["n_jobs"] = len(jobs)
+        if self.workers == 1 or len(jobs) < 2:
+            if self.measure_transfer:
+                stats["bytes_to_workers"] = sum(len(pickle.dumps(j, protocol=pickle.HIGHEST_PROTOCOL)) for j in jobs)
+            out = _run_jobs(self._template, jobs)
+            if self.measure_transfer:
+                stats["bytes_from_workers"] = sum(len(pickle.dumps(r, protocol=pickle.HIGHEST_PROTOCOL)) for r in out)
+            return out
+        cost = np.array([len(j[0].log_w) * (j[2].n_returns + 1) for j in jobs], dtype=float)
+        cuts = np.searchsorted(np.cumsum(cost), cost.sum() * np.arange(1, self.workers) / self.workers)
+        chunks = [c for c in np.split(np.arange(len(jobs)), np.unique(cuts)) if len(c)]
+        pool = self._get_pool()
+        if self.parallel == "process":
+            model = pickle.dumps(self._model(), protocol=pickle.HIGHEST_PROTOCOL)
+            blobs = [pickle.dumps([jobs[i] for i in c], protocol=pickle.HIGHEST_PROTOCOL) for c in chunks[1:]]
+            futures = [pool.submit(_run_pickled, model, b) for b in blobs]
+            stats["bytes_model"] = len(model) * len(blobs)
+            stats["bytes_to_workers"] = sum(map(len, blobs))
         else:
-            none = np.zeros(0, dtype=np.int64)
-            ctx = self._context(Z, none, sc, birth_ll, none)
-            runner = self._runner(state, none)
-            runner._advance(pred, ctx, time.perf_counter())
-            self._next_label = runner._next_label
-            stats["n_duplicates_merged"] += runner.last_stats["n_duplicates_merged"]
-            new = GroupState(runner._store, runner._log_w, runner._tracks, runner._keys)
-        # no interaction: every object its own part
-        return new, self._objects(new.store.labels)
+            futures = [pool.submit(_run_jobs, self._template, [jobs[i] for i in c]) for c in chunks[1:]]
+        out = _run_jobs(self._template, [jobs[i] for i in chunks[0]])
+        for f in futures:
+            r = f.result()
+            if self.parallel == "process":
+                stats["bytes_from_workers"] = stats.get("bytes_from_workers", 0) + len(r)
+                r, cpu = pickle.loads(r)
+                stats["worker_cpu_s"] = stats.get("worker_cpu_s", 0.0) + cpu
+            out.extend(r)
+        return out
+
+    def _model(self) -> HypothesisFilter:
+        """The template without hypotheses: the models, the population (this scan's birth terms)
+        and the settings — what a worker needs besides the groups' states."""
+        m = object.__new__(HypothesisFilter)
+        m.__dict__.update(self._template.__dict__)
+        m._store = m._log_w = m._tracks = m._keys = m.last_kept = m.last_track_sources = None
+        m.last_stats = {}
+        return m
+
+    def _get_pool(self):
+        if self._pool is None:
+            cls = ProcessPoolExecutor if self.parallel == "process" else ThreadPoolExecutor
+            self._pool = cls(max_workers=self.workers - 1)
+        return self._pool
+
+    def close(self):
+        """Shut the worker pool down (a later parallel step starts a new one)."""
+        if getattr(self, "_pool", None) is not None:
+            self._pool.shutdown()
+            self._pool = None
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state["_pool"] = None
+        return state
 
     @staticmethod
     def _interaction_parts(pred_objects, ctx, sources, n_regions):

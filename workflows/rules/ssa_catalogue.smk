@@ -19,8 +19,20 @@ rule ssa_catalogue_run:
         "../scripts/ssa_catalogue_run.py"
 
 
+rule ssa_catalogue_parallel:
+    output:
+        timing=f"{SC_DIR}/parallel_timing.csv",
+    params:
+        cfg=config["ssa_catalogue"],
+        seed=config["seed"],
+    threads: config["ssa_catalogue"]["parallel"]["workers"]
+    script:
+        "../scripts/ssa_catalogue_parallel.py"
+
+
 rule ssa_catalogue_table:
     input:
+        parallel=f"{SC_DIR}/parallel_timing.csv",
         per_scan=expand(f"{SC_DIR}/runs/{{tracker}}_per_scan_timing.csv", tracker=SC_TRACKERS),
         assign=expand(f"{SC_DIR}/runs/{{tracker}}_assign.csv", tracker=SC_TRACKERS),
         memory=expand(f"{SC_DIR}/runs/{{tracker}}_memory_timing.csv", tracker=SC_TRACKERS),

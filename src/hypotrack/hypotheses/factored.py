@@ -233,6 +233,15 @@ def _run_jobs(T, jobs):
     return [_engine_step(T, *job) for job in jobs]
 
 
+def _warm_worker():
+    """Initialise numba's typing and target contexts in this worker (done once per process)."""
+    from numba.core.registry import cpu_target
+
+    cpu_target.typing_context.refresh()
+    cpu_target.target_context.refresh()
+    time.sleep(0.05)  # every worker gets a task
+
+
 def _run_pickled(model, blob):
     """A process worker's chunk: the pickled template and jobs in, the pickled results and the
     worker's CPU seconds out."""
@@ -291,7 +300,7 @@ class FactoredFilter:
         ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
         ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
-        touched group kept under the cap), ``n_jobs`` (engine steps), ``time_total``; with a process
+        touched group kept under the cap), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
         pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
         ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.
@@ -607,6 +616,13 @@ class FactoredFilter:
     def _run(self, jobs, stats):
         """Run the planned engine steps, in this process (``workers = 1``) or split into
         ``workers`` contiguous chunks of similar cost, the first run here and the others in the pool."""
+        t0 = time.perf_counter()
+        try:
+            return self._run_jobs(jobs, stats)
+        finally:
+            stats["time_steps"] = time.perf_counter() - t0
+
+    def _run_jobs(self, jobs, stats):
         stats["n_jobs"] = len(jobs)
         if self.workers == 1 or len(jobs) < 2:
             if self.measure_transfer:
@@ -651,6 +667,15 @@ class FactoredFilter:
             cls = ProcessPoolExecutor if self.parallel == "process" else ThreadPoolExecutor
             self._pool = cls(max_workers=self.workers - 1)
         return self._pool
+
+    def warm_up(self):
+        """Start the pool's workers now and set up numba's typing in each (about a second of CPU on
+        a worker's first compiled call otherwise), so the first scans do not pay for it; no-op for
+        ``workers = 1``."""
+        if self.workers > 1:
+            pool = self._get_pool()
+            for f in [pool.submit(_warm_worker) for _ in range(self.workers - 1)]:
+                f.result()
 
     def close(self):
         """Shut the worker pool down (a later parallel step starts a new one)."""

@@ -52,7 +52,7 @@ from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
 
 __all__ = ["TRACKERS", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
-           "continuity", "scan_rows"]
+           "continuity", "scan_rows", "parallel_timing", "same_posterior"]
 
 TRACKERS = ("glmb", "homht_kbest", "rfisst", "gnn", "jpda")
 FACTORED = ("glmb", "homht_kbest", "rfisst")
@@ -291,3 +291,102 @@ def scan_rows(per_scan: pd.DataFrame) -> pd.DataFrame:
                         mean_in_view=view.mean(), gospa_km=g["gospa_km"].mean(), ospa_km=g["ospa_km"].mean(),
                         groups_mean=g["n_groups"].mean(), largest_group_max=g["largest_group"].max()))
     return pd.DataFrame(out)
+
+
+_WARM_SCANS = 2  # untimed scans of parallel_timing (pool start-up, first compiled calls)
+
+
+def same_posterior(a: FactoredFilter, b: FactoredFilter) -> bool:
+    """Whether two factored filters hold bit-for-bit the same posterior (groups, weights, labels,
+    track moments, hypotheses, next label)."""
+    if a._next_label != b._next_label or len(a.groups) != len(b.groups):
+        return False
+    for s, t in zip(a.groups, b.groups):
+        if not (np.array_equal(s.log_w, t.log_w) and np.array_equal(s.store.labels, t.store.labels)
+                and np.array_equal(s.store.means, t.store.means) and np.array_equal(s.store.covs, t.store.covs)
+                and len(s.tracks) == len(t.tracks) and all(np.array_equal(x, y) for x, y in zip(s.tracks, t.tracks))):
+            return False
+    return True
+
+
+def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, scenario=None) -> pd.DataFrame:
+    """The same scans through one factored tracker with ``workers = 1`` and with ``workers`` in each
+    pool kind of ``pools`` ("process", "thread"), stepped in lockstep (scan k of every filter in
+    turn, the order rotated each scan, so a change of the machine's load hits all alike). The
+    first two scans are stepped untimed with the pools started, so that neither the pools'
+    start-up nor the first steps in a fresh process (kernel compilation) are timed.
+
+    A further untimed ``workers = 1`` filter records the pickled bytes of every engine step's
+    input (the group's hypotheses and track moments, the returns of its gate and their scores)
+    and result: the state a distributed scheduler would move per scan.
+
+    Returns one row per configuration: ``pool`` ("serial" for ``workers = 1``), ``workers``,
+    scans, per scan the main process's CPU seconds, the pool processes' CPU seconds, wall seconds,
+    wall seconds in the engine steps and the engine steps; the wall speed-up over serial;
+    ``identical`` (same posterior as serial at every scan); the serial share of wall time in the
+    engine steps and the Amdahl ceiling ``1 / (1 − s + s / workers)`` of the speed-up; and, on
+    the serial row, bytes in and out per scan and per step.
+    """
+    if name not in FACTORED:
+        raise ValueError(f"tracker must be one of {FACTORED}, got {name!r}")
+    pools = list(pools)
+    if any(p not in ("process", "thread") for p in pools):
+        raise ValueError(f"pools must hold 'process' and/or 'thread', got {pools!r}")
+    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
+    tsensor = TrackerSensor(sc.sensors[0])
+    motion = TwoBodyOrbit3D(q=cfg["trackers"]["process_noise_q"])
+    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    confs = [("serial", 1)] + [(p, int(workers)) for p in pools]
+    filters = []
+    for pool, w in confs + [("bytes", 1)]:
+        f = _make(name, cfg, tsensor, motion, means, covs, labels, int(seed))
+        f.workers, f.parallel, f.measure_transfer = w, "process" if pool in ("serial", "bytes") else pool, pool == "bytes"
+        filters.append(f)
+    acc = [dict(cpu=0.0, wcpu=0.0, wall=0.0, steps=0.0, jobs=0, identical=True) for _ in confs]
+    b_in = b_out = 0
+    scans = sc.scan_list(0)
+    try:
+        for k, (_, Z) in enumerate(scans):
+            tsensor.at(sc.theta[k])
+            Zt = tsensor.returns(Z)
+            dt = None if k else 1e-6  # scan 0 is at the tracks' epoch (as run_tracker)
+            if k < _WARM_SCANS:  # untimed: the pools start and every process runs (and compiles) its first steps
+                for i in range(len(confs)):
+                    if k == 0:
+                        filters[i].warm_up()
+                    filters[i].step(Zt, dt=dt)
+            order = np.roll(np.arange(len(confs)), -k) if k >= _WARM_SCANS else []
+            for i in order:
+                c0, w0 = time.process_time(), time.perf_counter()
+                filters[i].step(Zt, dt=dt)
+                a = acc[i]
+                a["cpu"] += time.process_time() - c0
+                a["wall"] += time.perf_counter() - w0
+                st = filters[i].last_stats
+                a["wcpu"] += st.get("worker_cpu_s", 0.0)
+                a["steps"] += st["time_steps"]
+                a["jobs"] += st["n_jobs"]
+            filters[-1].step(Zt, dt=dt)
+            if k >= _WARM_SCANS:
+                b_in += filters[-1].last_stats["bytes_to_workers"]
+                b_out += filters[-1].last_stats["bytes_from_workers"]
+            for i in range(1, len(confs)):
+                acc[i]["identical"] &= same_posterior(filters[0], filters[i])
+    finally:
+        for f in filters:
+            f.close()
+    K = len(scans) - _WARM_SCANS
+    rows = []
+    for (pool, w), a in zip(confs, acc):
+        rows.append(dict(tracker=name, n_objects=int(n), pool=pool, workers=w, n_scans=K, cpu_s_per_scan=a["cpu"] / K,
+                         worker_cpu_s_per_scan=a["wcpu"] / K, wall_s_per_scan=a["wall"] / K,
+                         steps_wall_s_per_scan=a["steps"] / K, steps_per_scan=a["jobs"] / K,
+                         speedup_wall=acc[0]["wall"] / a["wall"], identical=bool(a["identical"])))
+    share = acc[0]["steps"] / acc[0]["wall"]
+    for r in rows:  # Amdahl: only the engine steps run in parallel
+        r["steps_share_serial"] = share
+        r["speedup_ceiling"] = 1.0 / (1.0 - share + share / r["workers"])
+    jobs = acc[0]["jobs"]
+    rows[0].update(bytes_in_per_scan=b_in / K, bytes_out_per_scan=b_out / K,
+                   bytes_in_per_step=b_in / max(jobs, 1), bytes_out_per_step=b_out / max(jobs, 1))
+    return pd.DataFrame(rows)

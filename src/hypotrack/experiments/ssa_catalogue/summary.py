@@ -15,7 +15,7 @@ from ...reporting.ledger import Claim
 from .run import FACTORED, continuity
 
 __all__ = ["cost_slope", "accuracy_table", "timing_table", "catalogue_claims", "timing_claims", "catalogue_macros",
-           "timing_macros", "TRACKER_NAMES"]
+           "timing_macros", "parallel_claims", "parallel_macros", "TRACKER_NAMES"]
 
 EXPERIMENT = "ssa_catalogue"
 SOURCE = "extension (catalogue-scale SSA)"
@@ -146,4 +146,41 @@ def timing_macros(timing: pd.DataFrame) -> dict:
         v[f"CpuObj{k}"] = f"{r.cpu_ms_per_object_in_view:.3g}"
         if "peak_bytes" in r and np.isfinite(r.peak_bytes):
             v[f"PeakMB{k}"] = f"{r.peak_bytes / 1e6:.3g}"
+    return v
+
+
+_POOLS = {"process": "process pool", "thread": "thread pool"}
+
+
+def parallel_claims(par: pd.DataFrame) -> list[Claim]:
+    """One extension row per pool kind: the wall-clock speed-up of ``workers`` over one on the
+    same scans, with the Amdahl ceiling, whether the posterior stayed identical, and the bytes a
+    distributed scheduler would move."""
+    serial = par[par["pool"] == "serial"].iloc[0]
+    out = []
+    for _, r in par[par["pool"] != "serial"].iterrows():
+        note = (f"same {int(r.n_scans)} scans in lockstep; {_fmt(r.steps_per_scan)} engine steps a scan take "
+                f"{100 * r.steps_share_serial:.2g} % of the serial wall time, so the ceiling is "
+                f"{r.speedup_ceiling:.2f}×; CPU per scan {_fmt(serial.cpu_s_per_scan)} s serial, "
+                f"{_fmt(r.cpu_s_per_scan)} s here (+{_fmt(r.worker_cpu_s_per_scan)} s in the pool); posterior "
+                f"{'identical' if r.identical else 'DIFFERENT'} to workers = 1; pickled state per scan "
+                f"{serial.bytes_in_per_scan / 1e3:.3g} kB in, {serial.bytes_out_per_scan / 1e3:.3g} kB out")
+        out.append(Claim(EXPERIMENT, f"wall-clock speed-up with {int(r.workers)} workers ({_POOLS[r.pool]}), "
+                         f"{TRACKER_NAMES[r.tracker]}, N = {int(r.n_objects)}", SOURCE, "--",
+                         f"{r.speedup_wall:.2f}×", "--", "extension", note, "measurement",
+                         key=f"speedup_{r.pool}"))
+    return out
+
+
+def parallel_macros(par: pd.DataFrame) -> dict:
+    """Macros of the parallel timing table (speed-ups, ceiling, step share, bytes moved)."""
+    serial = par[par["pool"] == "serial"].iloc[0]
+    v = {"ParN": int(serial.n_objects), "ParWorkers": int(par["workers"].max()),
+         "ParStepsScan": f"{serial.steps_per_scan:.3g}", "ParStepShare": f"{100 * serial.steps_share_serial:.2g}",
+         "ParCeiling": f"{par['speedup_ceiling'].max():.2f}", "ParWallSerial": f"{serial.wall_s_per_scan:.3g}",
+         "ParKBInScan": f"{serial.bytes_in_per_scan / 1e3:.3g}", "ParKBOutScan": f"{serial.bytes_out_per_scan / 1e3:.3g}",
+         "ParKBInStep": f"{serial.bytes_in_per_step / 1e3:.3g}", "ParKBOutStep": f"{serial.bytes_out_per_step / 1e3:.3g}",
+         "ParIdentical": "yes" if bool(par["identical"].all()) else "no"}
+    for _, r in par[par["pool"] != "serial"].iterrows():
+        v[f"ParSpeedup{r.pool}"] = f"{r.speedup_wall:.2f}"
     return v

@@ -278,3 +278,26 @@ def test_workers_and_parallel_bad_input():
         adaptive_glmb(workers=0)
     with pytest.raises(ValueError, match="parallel"):
         adaptive_glmb(parallel="dask")
+
+
+def test_parallel_claims_and_macros_on_a_fabricated_table():
+    """Speed-ups, the Amdahl ceiling 1 / (1 − s + s/2) with s = 0.2 → 1.11, and bytes in kB."""
+    from hypotrack.experiments.ssa_catalogue.summary import parallel_claims, parallel_macros
+
+    ceil = 1 / (1 - 0.2 + 0.1)
+    par = pd.DataFrame([
+        dict(tracker="glmb", n_objects=1000, pool="serial", workers=1, n_scans=58, cpu_s_per_scan=0.06,
+             worker_cpu_s_per_scan=0.0, wall_s_per_scan=0.1, steps_wall_s_per_scan=0.02, steps_per_scan=8.5,
+             speedup_wall=1.0, identical=True, steps_share_serial=0.2, speedup_ceiling=1.0, bytes_in_per_scan=17250.0,
+             bytes_out_per_scan=14240.0, bytes_in_per_step=2017.0, bytes_out_per_step=1666.0),
+        dict(tracker="glmb", n_objects=1000, pool="process", workers=2, n_scans=58, cpu_s_per_scan=0.05,
+             worker_cpu_s_per_scan=0.01, wall_s_per_scan=0.125, steps_wall_s_per_scan=0.03, steps_per_scan=8.5,
+             speedup_wall=0.8, identical=True, steps_share_serial=0.2, speedup_ceiling=ceil),
+    ])
+    (row,) = parallel_claims(par)
+    assert row.reproduced == "0.80×" and row.status == "extension" and row.key == "speedup_process"
+    assert "ceiling is 1.11×" in row.note and "20 % of the serial wall time" in row.note
+    assert "17.2 kB in, 14.2 kB out" in row.note and "identical" in row.note
+    m = parallel_macros(par)
+    assert m["ParSpeedupprocess"] == "0.80" and m["ParCeiling"] == "1.11" and m["ParStepShare"] == "20"
+    assert m["ParKBInStep"] == "2.02" and m["ParKBOutScan"] == "14.2" and m["ParIdentical"] == "yes"

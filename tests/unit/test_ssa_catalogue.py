@@ -301,3 +301,27 @@ def test_parallel_claims_and_macros_on_a_fabricated_table():
     m = parallel_macros(par)
     assert m["ParSpeedupprocess"] == "0.80" and m["ParCeiling"] == "1.11" and m["ParStepShare"] == "20"
     assert m["ParKBInStep"] == "2.02" and m["ParKBOutScan"] == "14.2" and m["ParIdentical"] == "yes"
+
+
+def test_peer_rows_and_claims_on_fabricated_runs():
+    """Median 2 ms against 20 ms → 10×; the peer's GNN output differs at one of three scans (a
+    return given to track 1 instead of 0): 2 of 3 scans the same, largest difference 1."""
+    from hypotrack.experiments.perf_sht.run import BenchmarkRun
+    from hypotrack.experiments.ssa_catalogue.run import peer_rows
+    from hypotrack.experiments.ssa_catalogue.summary import peer_claims, peer_macros
+
+    ours, peer = BenchmarkRun(), BenchmarkRun()
+    ours.times, peer.times = [0.001, 0.002, 0.003], [0.010, 0.020, 0.030]
+    ours.outputs = [np.array([0, -1]), np.array([1, 0]), np.array([-1, 1])]
+    peer.outputs = [np.array([0, -1]), np.array([1, 1]), np.array([-1, 1])]
+    x, P = np.zeros((2, 6)), np.repeat(np.eye(6)[None], 2, 0)
+    ours.states = peer.states = [(x, P)] * 3
+    t = peer_rows({"hypotrack": ours, "GNNWith2DAssignment": peer}, "gnn", 100, 87)
+    r = t.set_index("implementation").loc["GNNWith2DAssignment"]
+    assert r.median_ms == pytest.approx(20.0) and r.peer_over_hypotrack == pytest.approx(10.0)
+    assert (r.scans_same_association, r.scans_compared, r.max_output_diff) == (2, 3, 1.0)
+    (row,) = peer_claims(t)
+    assert row.reproduced == "10×" and row.key == "peer_gnn_GNNWith2DAssignment_size1"
+    assert "same associations on 2 of 3 timed scans" in row.note and "87 known tracks" in row.note
+    m = peer_macros(t)
+    assert m["PeergnnGNNWith2DAssignment"] == "10" and m["PeerSamegnnGNNWith2DAssignment"] == 2 and m["PeerN"] == 100

@@ -30,9 +30,21 @@ rule ssa_catalogue_parallel:
         "../scripts/ssa_catalogue_parallel.py"
 
 
+# hypotrack's GNN/JPDA against Stone Soup's on the same catalogue scans (without Stone Soup: hypotrack alone)
+rule ssa_catalogue_peers:
+    output:
+        timing=f"{SC_DIR}/peers_timing.csv",
+    params:
+        cfg=config["ssa_catalogue"],
+        seed=config["seed"],
+    script:
+        "../scripts/ssa_catalogue_peers.py"
+
+
 rule ssa_catalogue_table:
     input:
         parallel=f"{SC_DIR}/parallel_timing.csv",
+        peers=f"{SC_DIR}/peers_timing.csv",
         per_scan=expand(f"{SC_DIR}/runs/{{tracker}}_per_scan_timing.csv", tracker=SC_TRACKERS),
         assign=expand(f"{SC_DIR}/runs/{{tracker}}_assign.csv", tracker=SC_TRACKERS),
         memory=expand(f"{SC_DIR}/runs/{{tracker}}_memory_timing.csv", tracker=SC_TRACKERS),

@@ -10,6 +10,8 @@ from hypotrack.experiments.ssa_catalogue.summary import (
     catalogue_macros,
     parallel_claims,
     parallel_macros,
+    peer_claims,
+    peer_macros,
     timing_claims,
     timing_macros,
     timing_table,
@@ -32,9 +34,10 @@ write_table(acc, out.summary)
 write_table(tim, out.timing)
 write_claims(catalogue_claims(acc, cfg["reference_tracker"]), out.claims)
 par = pd.read_csv(inp.parallel)  # the parallel-groups timing: its rows join the timing ledger
-write_claims(timing_claims(tim, cfg["slope_goal"]) + parallel_claims(par), out.timing_claims)
+peers = pd.read_csv(inp.peers)  # Stone Soup peers (hypotrack rows only when Stone Soup is absent)
+write_claims(timing_claims(tim, cfg["slope_goal"]) + parallel_claims(par) + peer_claims(peers), out.timing_claims)
 write_macros("ssa_catalogue", catalogue_macros(acc), out.macros)
-write_macros("ssa_catalogue", {**timing_macros(tim), **parallel_macros(par)}, out.timing_macros)
+write_macros("ssa_catalogue", {**timing_macros(tim), **parallel_macros(par), **peer_macros(peers)}, out.timing_macros)
 plot_cost(tim, out.cost_pdf, out.cost_png)
 plot_groups(per_scan, out.groups_pdf, out.groups_png)
 objects, _, sc, _ = build_scenario(cfg, max(cfg["sizes"]), seed)

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import time
 import tracemalloc
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -52,7 +53,8 @@ from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
 
 __all__ = ["TRACKERS", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
-           "continuity", "scan_rows", "parallel_timing", "same_posterior"]
+           "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
+           "CatalogueSHTStepper", "peer_rows"]
 
 TRACKERS = ("glmb", "homht_kbest", "rfisst", "gnn", "jpda")
 FACTORED = ("glmb", "homht_kbest", "rfisst")
@@ -389,4 +391,87 @@ def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, s
     jobs = acc[0]["jobs"]
     rows[0].update(bytes_in_per_scan=b_in / K, bytes_out_per_scan=b_out / K,
                    bytes_in_per_step=b_in / max(jobs, 1), bytes_out_per_step=b_out / max(jobs, 1))
+    return pd.DataFrame(rows)
+
+
+@dataclass(frozen=True)
+class PeerScenario:
+    """The scans of one population size as a peer tracker needs them: the known objects' initial
+    TEME states and covariance, scan times (s) and TEME returns, the scan model and the motion."""
+
+    initial_states: np.ndarray
+    initial_covs: np.ndarray
+    times: np.ndarray
+    returns: list
+    model: ScanModel
+    motion: TwoBodyOrbit3D
+
+    def scan_list(self):
+        return list(zip(self.times, self.returns))
+
+
+def peer_scenario(cfg, n: int, seed: int, scenario=None) -> PeerScenario:
+    """:class:`PeerScenario` of size ``n`` (known objects only; the radar's returns in TEME)."""
+    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
+    tsensor = TrackerSensor(sc.sensors[0])
+    means, covs, _ = _initial_tracks(sc, unknown, cfg, init_seed)
+    times, returns = [], []
+    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
+        tsensor.at(sc.theta[k])
+        times.append(float(t_k))
+        returns.append(tsensor.returns(Z))
+    t = cfg["trackers"]
+    model = ScanModel(tsensor.measurement.H, tsensor.measurement.R, tsensor.detection.p_D, t["gate_probability"],
+                      max(tsensor.clutter.intensity, 1e-300))
+    return PeerScenario(means, covs, np.array(times), returns, model, TwoBodyOrbit3D(q=t["process_noise_q"]))
+
+
+class CatalogueSHTStepper:
+    """hypotrack's GNN or JPDA on the known objects of a :class:`PeerScenario`, for the side-by-side
+    peer timing (:func:`hypotrack.experiments.perf_sht.run.run_side_by_side`).
+
+    As the peer runs them: no initiation, no deletion, GNN on Stone Soup's unsquared-Mahalanobis
+    criterion (missed distance the square root of the gate), so both solve the same problem."""
+
+    def __init__(self, scenario: PeerScenario, algorithm: str):
+        if algorithm not in ("gnn", "jpda"):
+            raise ValueError(f"algorithm must be 'gnn' or 'jpda', got {algorithm!r}")
+        self.tracker = SingleHypothesisTracker(scenario.motion, scenario.model, association=algorithm,
+                                               gnn_score="mahalanobis", max_misses=10**9)
+        self.tracker.initialise(scenario.initial_states, scenario.initial_covs, scenario.times[0])
+        self.scans = scenario.scan_list()
+
+    def step(self, k):
+        self.tracker.step(self.scans[k])
+
+    def record(self, run):
+        tr = self.tracker
+        run.outputs.append(np.array(tr.last_association, copy=True))
+        run.states.append((tr.x.copy(), tr.P.copy()))
+
+
+#: Largest output/state difference from the peer counted as the same association (rounding only).
+PEER_AGREEMENT = 1e-9
+
+
+def peer_rows(runs: dict, algorithm: str, n: int, n_tracks: int) -> pd.DataFrame:
+    """Rows of the peer timing table from :func:`~hypotrack.experiments.perf_sht.run.run_side_by_side`
+    runs (``"hypotrack"`` and each peer): median ms per scan, the peer's time over hypotrack's,
+    the largest output (GNN: the track of each return; JPDA: the association probabilities) and
+    state differences from hypotrack, the timed scans whose outputs agree within
+    :data:`PEER_AGREEMENT`."""
+    from ..perf_sht.run import max_abs_difference
+
+    ref = runs["hypotrack"]
+    rows = []
+    for name, run in runs.items():
+        d_out, d_state = max_abs_difference(ref, run) if name != "hypotrack" else (0.0, 0.0)
+        k = min(len(ref.outputs), len(run.outputs))
+        same = sum(np.asarray(a, float).shape == np.asarray(b, float).shape
+                   and float(np.max(np.abs(np.asarray(a, float) - np.asarray(b, float)), initial=0.0)) <= PEER_AGREEMENT
+                   for a, b in zip(ref.outputs[:k], run.outputs[:k]))
+        rows.append(dict(algorithm=algorithm, implementation=name, n_objects=int(n), n_tracks=int(n_tracks),
+                         scans_timed=len(run.times), median_ms=run.median_ms,
+                         peer_over_hypotrack=run.median_ms / ref.median_ms, max_output_diff=d_out,
+                         max_state_diff=d_state, scans_same_association=int(same), scans_compared=int(k)))
     return pd.DataFrame(rows)

@@ -95,9 +95,14 @@ class StoneSoupStepper:
             hyp = DistanceHypothesiser(predictor, self.updater, Mahalanobis(), missed_distance=math.sqrt(model.gate))
             if kind == "GNNWith2DAssignment":
                 self.associator = GNNWith2DAssignment(hyp)
-            else:  # k-d tree of the detections, searched within the Mahalanobis gate (covariance multiplier)
+            else:
+                # k-d tree of the detections. Stone Soup searches the radius m·max diag(S) (a variance
+                # times m). The Mahalanobis gate d² ≤ g lies within Euclidean radius √(g λmax(S)) ≤ √(3 g d),
+                # d = max diag(S) ≥ λmin(R); so m = √(3 g / λmin(R)) makes the ball hold the whole gate
+                # and the k-d tree changes which pairs are scored, not the association.
+                m = math.sqrt(3.0 * model.gate / float(np.linalg.eigvalsh(model.R)[0]))
                 self.associator = DetectionKDTreeGNN2D(hyp, predictor, self.updater,
-                                                       max_distance_covariance_multiplier=math.sqrt(model.gate))
+                                                       max_distance_covariance_multiplier=m)
         else:
             self.updater = PDAUpdater(meas, use_joseph_cov=True)
             hyp = PDAHypothesiser(predictor, self.updater, clutter_spatial_density=model.clutter_density,

@@ -435,3 +435,30 @@ def test_closely_spaced_sensitivity_figures(monkeypatch):
     cs.plot_pdaf_variants(pdaf, "x.pdf", "x.png", rel_tol=0.1)
     fig, _ = seen.pop()
     check(fig, "closely_spaced/sensitivity_pdaf")
+
+
+def test_ssa_catalogue_figures(monkeypatch):
+    import yaml
+
+    from hypotrack.experiments.ssa_catalogue import figures as sf
+    from hypotrack.experiments.ssa_catalogue.run import make_radar
+
+    seen = _save_and_check(monkeypatch, "ssa_catalogue")
+    names = ["glmb", "homht_kbest", "rfisst", "gnn", "jpda"]
+    timing = pd.DataFrame([dict(tracker=t, n_objects=n, cpu_s_per_scan=1e-4 * n * (i + 1)) for i, t in enumerate(names)
+                           for n in (100, 300, 1000)])
+    sf.plot_cost(timing, "x.pdf", "x.png")
+    fig, _ = seen.pop()
+    check(fig, "ssa_catalogue/cost")
+    per_scan = pd.DataFrame([dict(tracker=t, n_objects=1000, scan=k, n_groups=5 + k % 3, largest_group=2 + k % 4)
+                             for t in names[:3] for k in range(60)])
+    sf.plot_groups(per_scan, "x.pdf", "x.png")
+    fig, _ = seen.pop()
+    check(fig, "ssa_catalogue/groups")
+    cfg = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())["ssa_catalogue"]
+    rng = np.random.default_rng(0)
+    pos = rng.normal(size=(200, 3))
+    pos = 7000.0 * pos / np.linalg.norm(pos, axis=1, keepdims=True)
+    sf.plot_catalogue(pos, np.arange(200) % 2 == 0, make_radar(cfg), "x.pdf", "x.png")
+    fig, _ = seen.pop()
+    check(fig, "ssa_catalogue/catalogue")

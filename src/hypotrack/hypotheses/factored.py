@@ -67,22 +67,28 @@ groups — the second holds by construction, the first is a property of the mode
 from __future__ import annotations
 
 import copy
+import pickle
 import time
+from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
 from .._validation import check_finite_array, check_int, check_measurements, check_positive
 from .factored_groups import GroupState, SplitRecord, compact, components, factorise, product, restrict_population
+from ..gaussian import _predict_with
 from .filter import HypothesisFilter
+from .population_events import BinomialPopulation
+from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from .posterior import HypothesisEstimate, summarise
 from .scan_context import ScanContext
 from .tracks import TrackStore
 
-__all__ = ["FactoredFilter", "FactoredPosterior", "cardinality_total_variation"]
+__all__ = ["AdaptiveBirth", "FactoredFilter", "FactoredPosterior", "cardinality_total_variation"]
 
 _SPLITS = ("marginal", "exact", "never")
 _BIRTHS = ("coupled", "free")
+_PARALLEL = ("process", "thread")
 
 
 @dataclass(frozen=True, eq=False)
@@ -115,9 +121,133 @@ def cardinality_total_variation(p, q) -> float:
     return 0.5 * float(np.abs(np.pad(p, (0, n - len(p))) - np.pad(q, (0, n - len(q)))).sum())
 
 
+def _silent(population) -> bool:
+    """Whether a group without birth terms can take no population event: no population, or the
+    labeled multi-Bernoulli or binomial population with ``p_S = 1`` (its only child of an empty scan is "every object
+    missed", as with no population)."""
+    return population is None or (isinstance(population, (LabeledMultiBernoulliPopulation, BinomialPopulation))
+                                  and population.p_survive == 1.0)
+
+
 def _empty_state(ndim: int) -> GroupState:
     return GroupState(TrackStore.from_arrays(np.zeros((0, ndim)), None, ndim=ndim), np.zeros(1),
                       [np.zeros(0, dtype=np.int64)], [()])
+
+
+@dataclass(frozen=True)
+class AdaptiveBirth:
+    """Measurement-driven birth: every return no group explained starts a birth term at the next scan.
+
+    Reuter, Vo, Vo & Dietmayer ("The labeled multi-Bernoulli filter", IEEE TSP 62(12), 2014,
+    Sec. IV-C) let the birth at scan ``k + 1`` depend on the returns of scan ``k``: a return
+    ``z`` gives a labeled-Bernoulli birth term placed at ``z`` with existence ``r_B(z)``
+    proportional to ``1 − r_U(z)``, ``r_U(z)`` the probability that ``z`` was associated with
+    an existing object. Here ``r_U`` is taken as 0 or 1 from the gates: a return in no group's
+    gate and in no birth term's gate (the engine's *unexplained* returns) gives a term of
+    existence ``r_birth``; a return in a gate gives none.
+
+    The term of a return ``z`` at scan ``k`` is the one-point initiation ``x₀ = H⁺ z``,
+    ``P₀ = H⁺ R H⁺ᵀ + diag(s²)`` (``s`` = ``position_std`` on the measured state components,
+    ``velocity_std`` on the others, e.g. zero velocity with a spread covering every orbit's
+    speed) predicted by the motion model over the scan interval (EKF, so the position spread at
+    ``k + 1`` is ``√(σ_z² + s_p² + Δt² s_v²)`` with the position–velocity correlation that lets
+    the second return fix the velocity). Each term is gated with ``gate_probability`` (a
+    :class:`~.population_lmb.GaussianBirthTerm`), so it couples only the returns near it and the
+    groups gating them: a new object is born inside its own group.
+
+    An object first detected at scan ``k`` is born at the first scan after ``k`` at which it is
+    detected again right after a detection — when the hypothesis "born undetected" (weight
+    ``r_B (1 − p_D)`` relative to not born) is pruned at once (``min_weight`` above it); kept, it
+    can pick the object up later — so with independent detections of probability ``p_D`` the number of scans from its first chance of detection to its birth is
+    ``1/p_D + 1/p_D² − 1`` on average (the waiting time for two successes in a row, less one).
+
+    Parameters
+    ----------
+    position_std : float
+        Extra position spread of a term (state units, ≥ 0), added to the return's own noise.
+    velocity_std : float
+        Spread of each unmeasured component (state units per second), > 0.
+    r_birth : float
+        Existence probability of each term (labeled multi-Bernoulli ``r_B``) in (0, 1); a
+        binomial population uses its own ``alpha``.
+    gate_probability : float
+        Gate of each term, in (0, 1).
+    """
+
+    position_std: float = 0.0
+    velocity_std: float = 1.0
+    r_birth: float = 0.01
+    gate_probability: float = 0.999
+
+    def __post_init__(self):
+        if not (np.isfinite(self.position_std) and self.position_std >= 0):
+            raise ValueError(f"position_std must be finite and >= 0, got {self.position_std!r}")
+        check_positive(self.velocity_std, "velocity_std")
+        if not 0.0 < float(self.r_birth) < 1.0:
+            raise ValueError(f"r_birth must lie in (0, 1), got {self.r_birth!r}")
+        if not 0.0 < float(self.gate_probability) < 1.0:
+            raise ValueError(f"gate_probability must lie in (0, 1), got {self.gate_probability!r}")
+
+    def initial(self, Z, H, R):
+        """One-point initiation ``(x₀ (m, d), P₀ (m, d, d))`` of returns ``Z`` (m, p)."""
+        Z = np.atleast_2d(np.asarray(Z, dtype=float))
+        Hp = np.linalg.pinv(H)
+        measured = np.any(H != 0, axis=0)
+        s = np.where(measured, self.position_std, self.velocity_std)
+        P0 = Hp @ R @ Hp.T + np.diag(s**2)
+        return Z @ Hp.T, np.broadcast_to(P0, (len(Z), *P0.shape)).copy()
+
+    def terms(self, Z, H, R, motion, dt) -> list:
+        """The birth terms of the next scan: the one-point initiations of ``Z`` predicted by ``dt``."""
+        if len(Z) == 0:
+            return []
+        x0, P0 = self.initial(Z, H, R)
+        x, P = _predict_with(motion, x0, P0, dt)
+        return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability) for i in range(len(x))]
+
+
+_STEP_STATS = ("n_duplicates_merged", "mass_retained", "n_kalman_updates")
+
+
+def _engine_step(T, state, pred, ctx, regions, base, seed):
+    """One group's engine step (the unit of work of a scan, run in any worker).
+
+    ``T``: the filter's template engine (models, population); ``state``: the group's hypotheses;
+    ``pred``: its predicted tracks; ``ctx``: the returns of its gate and their scores;
+    ``regions``: its birth terms; new labels count from ``base``; ``seed`` seeds the step's own
+    random stream. Returns ``(new GroupState, track sources, number of new labels, stats)``.
+    """
+    g = object.__new__(HypothesisFilter)
+    g.__dict__.update(T.__dict__)
+    g.population = restrict_population(T.population, regions)
+    g.rng = np.random.Generator(np.random.PCG64(seed))
+    g._store, g._log_w, g._tracks, g._keys = state.store, state.log_w, state.tracks, state.keys
+    g._next_label = base
+    g.last_stats, g.last_kept, g.last_track_sources = {}, None, None
+    g._advance(pred, ctx, time.perf_counter())
+    return (GroupState(g._store, g._log_w, g._tracks, g._keys), g.last_track_sources, g._next_label - base,
+            {k: g.last_stats[k] for k in _STEP_STATS})
+
+
+def _run_jobs(T, jobs):
+    return [_engine_step(T, *job) for job in jobs]
+
+
+def _warm_worker():
+    """Initialise numba's typing and target contexts in this worker (done once per process)."""
+    from numba.core.registry import cpu_target
+
+    cpu_target.typing_context.refresh()
+    cpu_target.target_context.refresh()
+    time.sleep(0.05)  # every worker gets a task
+
+
+def _run_pickled(model, blob):
+    """A process worker's chunk: the pickled template and jobs in, the pickled results and the
+    worker's CPU seconds out."""
+    t0 = time.process_time()
+    out = _run_jobs(pickle.loads(model), pickle.loads(blob))
+    return pickle.dumps((out, time.process_time() - t0), protocol=pickle.HIGHEST_PROTOCOL)
 
 
 class FactoredFilter:
@@ -143,6 +273,24 @@ class FactoredFilter:
         Hypotheses of a group below this normalised weight are dropped after each scan
         (in [0, 1); 0 keeps all — needed for exactness; > 0 stops undetected-birth groups of
         negligible existence from accumulating).
+    adaptive_birth : AdaptiveBirth, optional
+        Measurement-driven birth: the returns a scan leaves unexplained become the next scan's
+        birth terms (:class:`AdaptiveBirth`). Needs a population with no birth terms of its own
+        (labeled multi-Bernoulli or binomial), whose terms it then sets every scan.
+    workers : int
+        Processes (or threads) sharing a scan's engine steps (≥ 1). The components of a scan are
+        independent problems; ``workers = 1`` runs them here, in order; more splits them into
+        ``workers`` chunks of similar cost (hypotheses × returns), one run here and the others in
+        a pool. Each step draws from its own random stream (seeded from the filter's generator,
+        in component order) and new labels are renumbered in component order, so the posterior
+        is the same for any ``workers``. Call :meth:`close` to stop the pool.
+    parallel : {"process", "thread"}
+        Pool kind: processes (the template engine and the groups' states pickled each scan) or
+        threads (useful only where the step's kernels release the GIL).
+    measure_transfer : bool
+        Record in ``last_stats`` the pickled bytes of the steps' inputs (``bytes_to_workers``: the
+        groups' hypotheses, track moments and the returns of their gates) and results
+        (``bytes_from_workers``) even when ``workers = 1``.
 
     Attributes
     ----------
@@ -152,7 +300,9 @@ class FactoredFilter:
         ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
         ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
-        touched group kept under the cap), ``time_total``.
+        touched group kept under the cap), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
+        ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.
     split_records : list of :class:`~.factored_groups.SplitRecord`, every split (and, with
         ``split="exact"``, every rejected one), with its KL and L1 loss.
@@ -160,11 +310,13 @@ class FactoredFilter:
 
     def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
                  cap="top", gate_probability=None, seed=None, means=None, covs=None, labels=None,
-                 split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0, merge_duplicates=True):
+                 split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0, merge_duplicates=True,
+                 adaptive_birth=None, workers=1, parallel="process", measure_transfer=False):
         template = HypothesisFilter(motion, sensor, weights, generator, population=population, dt=dt,
                                     max_hypotheses=max_hypotheses, cap=cap, gate_probability=gate_probability,
                                     seed=seed, merge_duplicates=merge_duplicates)
-        self._configure(template, split, births, factor_tol, min_weight)
+        self._configure(template, split, births, factor_tol, min_weight, adaptive_birth, workers, parallel,
+                        measure_transfer)
         self.initialise(np.zeros((0, self.ndim)) if means is None else means, covs, labels)
 
     @classmethod
@@ -178,15 +330,19 @@ class FactoredFilter:
         """
         if not isinstance(f, HypothesisFilter):
             raise TypeError(f"f must be a HypothesisFilter, got {type(f).__name__}")
-        unknown = set(options) - {"split", "births", "factor_tol", "min_weight"}
+        allowed = ("split", "births", "factor_tol", "min_weight", "adaptive_birth", "workers", "parallel",
+                   "measure_transfer")
+        unknown = set(options) - set(allowed)
         if unknown:
-            raise ValueError(f"unknown options {sorted(unknown)}; allowed: split, births, factor_tol, min_weight")
+            raise ValueError(f"unknown options {sorted(unknown)}; allowed: {', '.join(allowed)}")
         template = object.__new__(HypothesisFilter)
         template.__dict__.update(f.__dict__)
         template.rng = copy.deepcopy(f.rng)
         obj = cls.__new__(cls)
         obj._configure(template, options.get("split", "marginal"), options.get("births", "coupled"),
-                       options.get("factor_tol", 1e-10), options.get("min_weight", 0.0))
+                       options.get("factor_tol", 1e-10), options.get("min_weight", 0.0),
+                       options.get("adaptive_birth"), options.get("workers", 1), options.get("parallel", "process"),
+                       options.get("measure_transfer", False))
         obj._reset()
         state = GroupState(f.store, f.log_weights, f.track_lists, f.lineage_keys)
         obj._groups = [state] if any(len(t) for t in state.tracks) else []
@@ -198,7 +354,8 @@ class FactoredFilter:
         obj.scan_index = f.scan_index
         return obj
 
-    def _configure(self, template, split, births, factor_tol, min_weight):
+    def _configure(self, template, split, births, factor_tol, min_weight, adaptive_birth=None, workers=1,
+                   parallel="process", measure_transfer=False):
         if split not in _SPLITS:
             raise ValueError(f"split must be one of {_SPLITS}, got {split!r}")
         if births not in _BIRTHS:
@@ -207,12 +364,33 @@ class FactoredFilter:
         min_weight = float(min_weight)
         if not 0.0 <= min_weight < 1.0:
             raise ValueError(f"min_weight must lie in [0, 1), got {min_weight!r}")
+        if adaptive_birth is not None:
+            if not isinstance(adaptive_birth, AdaptiveBirth):
+                raise TypeError(f"adaptive_birth must be an AdaptiveBirth or None, got {type(adaptive_birth).__name__}")
+            if template.weights.seeded_births:
+                raise ValueError("adaptive_birth needs a population with birth terms; HOMHT's seeded births already "
+                                 "start objects at returns (use one of the two)")
+            if template.population is None or not hasattr(template.population, "birth_densities"):
+                raise ValueError("adaptive_birth needs a population (labeled multi-Bernoulli or binomial) whose "
+                                 "birth terms it sets each scan")
+            if template.population.n_birth_regions:
+                raise ValueError("adaptive_birth sets the population's birth terms itself: give a population "
+                                 f"with no birth terms, got {template.population.n_birth_regions}")
+            template.population = copy.copy(template.population)  # its birth terms change every scan
+            template.population._undetected_cache = {}
+        if parallel not in _PARALLEL:
+            raise ValueError(f"parallel must be one of {_PARALLEL}, got {parallel!r}")
+        self.workers = check_int(workers, "workers", minimum=1)
+        self.parallel, self.measure_transfer, self._pool = parallel, bool(measure_transfer), None
+        self.adaptive_birth = adaptive_birth
         self._template = template
         self.rng = template.rng
         self.split, self.births, self.factor_tol, self.min_weight = split, births, factor_tol, min_weight
         self.ndim = template.H.shape[1]
 
     def _reset(self):
+        if getattr(self, "adaptive_birth", None) is not None:
+            self._set_birth_terms([])
         self._groups = []
         self._object = {}  # label -> object id, for labels that are not their own object
         self._next_label = 0
@@ -254,25 +432,18 @@ class FactoredFilter:
         """Advance one scan with returns ``Z`` (m, p); all-or-nothing like the engine's step."""
         saved = (self._groups, self._next_label, self.scan_index, self.rng.bit_generator.state, self.last_stats,
                  len(self.stats_history), len(self.split_records), dict(self._object))
+        pop = self._template.population
+        terms = pop.birth_densities if self.adaptive_birth is not None else None
         try:
             return self._step(Z, dt)
         except BaseException:
             (self._groups, self._next_label, self.scan_index, rng_state, self.last_stats, n_hist, n_split,
              self._object) = saved
+            if terms is not None:
+                self._set_birth_terms(terms)
             self.rng.bit_generator.state = rng_state
             del self.stats_history[n_hist:], self.split_records[n_split:]
             raise
-
-    def _runner(self, state: GroupState, regions) -> HypothesisFilter:
-        """An engine holding one group's hypotheses, with the group's birth terms."""
-        T = self._template
-        g = object.__new__(HypothesisFilter)
-        g.__dict__.update(T.__dict__)
-        g.population = restrict_population(T.population, regions)
-        g._store, g._log_w, g._tracks, g._keys = state.store, state.log_w, state.tracks, state.keys
-        g._next_label = self._next_label
-        g.last_stats, g.last_kept, g.last_track_sources = {}, None, None
-        return g
 
     def _context(self, Z, rows, scores, birth_ll, regions) -> ScanContext:
         T = self._template
@@ -289,8 +460,7 @@ class FactoredFilter:
         Z = check_measurements(Z, "Z", T.H.shape[0])
         m, groups = len(Z), self._groups
         G = len(groups)
-        preds = [s.store.predict(T.motion, dt) for s in groups]
-        scores = [T._track_scores(p, Z) for p in preds]
+        preds, scores = self._predict_and_score(groups, Z, dt)
         birth_ll = T.population.birth_loglik(Z) if T.population is not None else np.zeros((m, 0))
         B = birth_ll.shape[1]
         gate = np.zeros((m, G), dtype=bool)
@@ -299,7 +469,8 @@ class FactoredFilter:
         bgate = np.isfinite(birth_ll)
         if self.births == "free":
             bgate &= ~gate.any(axis=1)[:, None]
-        free = np.flatnonzero(~gate.any(axis=1) & ~bgate.any(axis=1)) if T.weights.seeded_births else np.zeros(0, int)
+        unexplained = ~gate.any(axis=1) & ~bgate.any(axis=1)
+        free = np.flatnonzero(unexplained) if T.weights.seeded_births else np.zeros(0, int)
         gi, gr = np.nonzero(gate.T)
         bi, br = np.nonzero(bgate.T)
         n_nodes = G + B + len(free)
@@ -310,7 +481,7 @@ class FactoredFilter:
 
         stats = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
                      n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0)
-        new_groups = []
+        new_groups, plans = [], []
         seen = set()
         for first in range(n_nodes):  # components in order of their first node: deterministic
             c = node_lab[first]
@@ -322,9 +493,20 @@ class FactoredFilter:
             rows = np.flatnonzero(ret_lab == c)
             if len(rows) == 0 and len(regions) == 0:
                 (g,) = members
-                state, parts = self._quiet(groups[g], preds[g], scores[g], Z, birth_ll, stats)
+                plans.append(self._quiet(groups[g], preds[g], scores[g], Z, birth_ll, stats))
             else:
-                state, parts = self._touched(members, regions, rows, groups, preds, scores, Z, birth_ll, stats)
+                plans.append(self._touched(members, regions, rows, groups, preds, scores, Z, birth_ll, stats))
+        # the engine steps of the components are independent: run them (in a pool when workers > 1),
+        # each with its own random stream and labels counted from the scan's first free label
+        jobs = [p for p in plans if p[0] != "done"]
+        seeds = self.rng.integers(0, 2**63 - 1, size=len(jobs)) if jobs else np.zeros(0, np.int64)
+        base = self._next_label
+        results = iter(self._run([(p[1], p[2], p[3], p[4], base, int(s)) for p, s in zip(jobs, seeds)], stats))
+        for plan in plans:
+            if plan[0] == "done":
+                state, parts = plan[1], plan[2]
+            else:
+                state, parts = self._finish(plan, next(results), base, stats)
             new_groups.extend(self._split(state, parts, stats))
         self._groups = [s for s in (self._prune(s) for s in new_groups) if s is not None]
         held = set(np.concatenate([s.store.labels for s in self._groups]).tolist()) if self._groups else set()
@@ -334,9 +516,39 @@ class FactoredFilter:
         stats.update(n_groups=len(self._groups), largest_group=max(sizes, default=0),
                      largest_group_hypotheses=max((len(s.log_w) for s in self._groups), default=0),
                      time_total=time.perf_counter() - t0)
+        if self.adaptive_birth is not None:
+            # the next scan's birth terms: one at each return no group or birth term explained
+            terms = self.adaptive_birth.terms(Z[unexplained], T.H, T.R, T.motion, dt)
+            self._set_birth_terms(terms)
+            stats["n_adaptive_terms"] = len(terms)
         self.last_stats = stats
         self.stats_history.append(stats)
         return self.posterior()
+
+    def _predict_and_score(self, groups, Z, dt):
+        """Every group's tracks predicted and scored against ``Z`` in one batched call, split by group."""
+        T = self._template
+        if not groups:
+            return [], []
+        sizes = np.array([len(s.store) for s in groups])
+        bounds = np.concatenate([[0], np.cumsum(sizes)])
+        allstore = TrackStore(*(np.concatenate([getattr(s.store, f) for s in groups]) for f in ("means", "covs", "labels")))
+        pred = allstore.predict(T.motion, dt)
+        loglik, allowed, p_detect = T._track_scores(pred, Z)
+        preds, scores = [], []
+        for g in range(len(groups)):
+            a, b = bounds[g], bounds[g + 1]
+            preds.append(TrackStore(pred.means[a:b], pred.covs[a:b], pred.labels[a:b]))
+            scores.append((loglik[:, a:b], allowed[:, a:b], p_detect[a:b]))
+        return preds, scores
+
+    def _set_birth_terms(self, terms):
+        pop = self._template.population
+        pop.birth_densities = tuple(terms)
+        if isinstance(pop, LabeledMultiBernoulliPopulation):
+            pop.r_birth = np.full(len(terms), self.adaptive_birth.r_birth)
+        if hasattr(pop, "_undetected_cache"):
+            pop._undetected_cache = {}
 
     def _objects(self, labels) -> np.ndarray:
         """Object id of each label. The engine gives every (birth term, return) pair of a scan its
@@ -354,7 +566,7 @@ class FactoredFilter:
                 self._object[int(x)] = int(labels.min())
 
     def _touched(self, members, regions, rows, groups, preds, scores, Z, birth_ll, stats):
-        """Merge the component's groups and run one engine step on its returns and birth terms."""
+        """Merge the component's groups; the plan of one engine step on its returns and birth terms."""
         T = self._template
         if len(members) == 0:
             state, pred = _empty_state(self.ndim), _empty_state(self.ndim).store
@@ -368,36 +580,113 @@ class FactoredFilter:
             pred = TrackStore(pred_all.means[used], pred_all.covs[used], pred_all.labels[used])
             sc = tuple(np.concatenate([scores[g][k] for g in members], axis=-1)[..., used] for k in range(3))
             stats["n_merges"] += len(members) - 1
-        ctx = self._context(Z, rows, sc, birth_ll, regions)
-        runner = self._runner(state, regions)
-        runner._advance(pred, ctx, time.perf_counter())
-        self._next_label = runner._next_label
-        stats["n_touched"] += 1
-        stats["mass_retained_min"] = min(stats["mass_retained_min"], runner.last_stats["mass_retained"])
-        stats["n_duplicates_merged"] += runner.last_stats["n_duplicates_merged"]
-        stats["n_kalman_updates"] += runner.last_stats["n_kalman_updates"]
-        new = GroupState(runner._store, runner._log_w, runner._tracks, runner._keys)
-        self._register_births(new.store, runner.last_track_sources, len(regions))
-        return new, self._interaction_parts(self._objects(pred.labels), ctx, runner.last_track_sources, len(regions))
+        return ("touched", state, pred, self._context(Z, rows, sc, birth_ll, regions), regions)
 
     def _quiet(self, state, pred, sc, Z, birth_ll, stats):
-        """A group no return or birth term reaches: predict, or an empty-scan step when needed."""
+        """A group no return or birth term reaches: predict, or plan an empty-scan step when needed."""
         T = self._template
         log_miss = np.log1p(-sc[2])
         miss = np.array([log_miss[t].sum() for t in state.tracks])
-        if T.population is None and np.ptp(miss) <= 1e-12:
+        if _silent(T.population) and np.ptp(miss) <= 1e-12:
             stats["n_predict_only"] += 1
             new = GroupState(pred, state.log_w, state.tracks, state.keys)
+            return ("done", new, self._objects(new.store.labels))  # no interaction: every object its own part
+        none = np.zeros(0, dtype=np.int64)
+        return ("quiet", state, pred, self._context(Z, none, sc, birth_ll, none), none)
+
+    def _finish(self, plan, result, base, stats):
+        """A planned step's result in component order: its new labels moved past the labels
+        already given this scan (the serial numbering), births registered, interaction parts."""
+        kind, _, pred, ctx, regions = plan
+        new, sources, n_new, st = result
+        if n_new:
+            labels = new.store.labels.copy()
+            labels[labels >= base] += self._next_label - base
+            new = GroupState(TrackStore(new.store.means, new.store.covs, labels), new.log_w, new.tracks, new.keys)
+        self._next_label += n_new
+        stats["n_duplicates_merged"] += st["n_duplicates_merged"]
+        if kind == "quiet":
+            return new, self._objects(new.store.labels)
+        stats["n_touched"] += 1
+        stats["mass_retained_min"] = min(stats["mass_retained_min"], st["mass_retained"])
+        stats["n_kalman_updates"] += st["n_kalman_updates"]
+        self._register_births(new.store, sources, len(regions))
+        return new, self._interaction_parts(self._objects(pred.labels), ctx, sources, len(regions))
+
+    def _run(self, jobs, stats):
+        """Run the planned engine steps, in this process (``workers = 1``) or split into
+        ``workers`` contiguous chunks of similar cost, the first run here and the others in the pool."""
+        t0 = time.perf_counter()
+        try:
+            return self._run_jobs(jobs, stats)
+        finally:
+            stats["time_steps"] = time.perf_counter() - t0
+
+    def _run_jobs(self, jobs, stats):
+        stats["n_jobs"] = len(jobs)
+        if self.workers == 1 or len(jobs) < 2:
+            if self.measure_transfer:
+                stats["bytes_to_workers"] = sum(len(pickle.dumps(j, protocol=pickle.HIGHEST_PROTOCOL)) for j in jobs)
+            out = _run_jobs(self._template, jobs)
+            if self.measure_transfer:
+                stats["bytes_from_workers"] = sum(len(pickle.dumps(r, protocol=pickle.HIGHEST_PROTOCOL)) for r in out)
+            return out
+        cost = np.array([len(j[0].log_w) * (j[2].n_returns + 1) for j in jobs], dtype=float)
+        cuts = np.searchsorted(np.cumsum(cost), cost.sum() * np.arange(1, self.workers) / self.workers)
+        chunks = [c for c in np.split(np.arange(len(jobs)), np.unique(cuts)) if len(c)]
+        pool = self._get_pool()
+        if self.parallel == "process":
+            model = pickle.dumps(self._model(), protocol=pickle.HIGHEST_PROTOCOL)
+            blobs = [pickle.dumps([jobs[i] for i in c], protocol=pickle.HIGHEST_PROTOCOL) for c in chunks[1:]]
+            futures = [pool.submit(_run_pickled, model, b) for b in blobs]
+            stats["bytes_model"] = len(model) * len(blobs)
+            stats["bytes_to_workers"] = sum(map(len, blobs))
         else:
-            none = np.zeros(0, dtype=np.int64)
-            ctx = self._context(Z, none, sc, birth_ll, none)
-            runner = self._runner(state, none)
-            runner._advance(pred, ctx, time.perf_counter())
-            self._next_label = runner._next_label
-            stats["n_duplicates_merged"] += runner.last_stats["n_duplicates_merged"]
-            new = GroupState(runner._store, runner._log_w, runner._tracks, runner._keys)
-        # no interaction: every object its own part
-        return new, self._objects(new.store.labels)
+            futures = [pool.submit(_run_jobs, self._template, [jobs[i] for i in c]) for c in chunks[1:]]
+        out = _run_jobs(self._template, [jobs[i] for i in chunks[0]])
+        for f in futures:
+            r = f.result()
+            if self.parallel == "process":
+                stats["bytes_from_workers"] = stats.get("bytes_from_workers", 0) + len(r)
+                r, cpu = pickle.loads(r)
+                stats["worker_cpu_s"] = stats.get("worker_cpu_s", 0.0) + cpu
+            out.extend(r)
+        return out
+
+    def _model(self) -> HypothesisFilter:
+        """The template without hypotheses: the models, the population (this scan's birth terms)
+        and the settings — what a worker needs besides the groups' states."""
+        m = object.__new__(HypothesisFilter)
+        m.__dict__.update(self._template.__dict__)
+        m._store = m._log_w = m._tracks = m._keys = m.last_kept = m.last_track_sources = None
+        m.last_stats = {}
+        return m
+
+    def _get_pool(self):
+        if self._pool is None:
+            cls = ProcessPoolExecutor if self.parallel == "process" else ThreadPoolExecutor
+            self._pool = cls(max_workers=self.workers - 1)
+        return self._pool
+
+    def warm_up(self):
+        """Start the pool's workers now and set up numba's typing in each (about a second of CPU on
+        a worker's first compiled call otherwise), so the first scans do not pay for it; no-op for
+        ``workers = 1``."""
+        if self.workers > 1:
+            pool = self._get_pool()
+            for f in [pool.submit(_warm_worker) for _ in range(self.workers - 1)]:
+                f.result()
+
+    def close(self):
+        """Shut the worker pool down (a later parallel step starts a new one)."""
+        if getattr(self, "_pool", None) is not None:
+            self._pool.shutdown()
+            self._pool = None
+
+    def __getstate__(self):
+        state = self.__dict__.copy()
+        state["_pool"] = None
+        return state
 
     @staticmethod
     def _interaction_parts(pred_objects, ctx, sources, n_regions):

@@ -1,0 +1,110 @@
+"""Figures of the ``ssa_catalogue`` experiment: cost against N, groups over time, the catalogue and the radar.
+
+Sized for a full text width (6.5 in) with ≥ 8 pt labels; legends sit outside the data.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from .summary import TRACKER_NAMES, slopes
+
+__all__ = ["plot_cost", "plot_groups", "plot_catalogue"]
+
+_STYLE = {"font.size": 8, "axes.labelsize": 8, "xtick.labelsize": 8, "ytick.labelsize": 8, "legend.fontsize": 8}
+
+
+def _fs():
+    from ...reporting import figure_style
+
+    return figure_style
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    plt.rcParams.update(_STYLE)
+    return plt
+
+
+def _save(fig, pdf, png):
+    from ...reporting import figure_style
+
+    figure_style.save(fig, pdf, png, width=1.0)  # placed at the full line width; refuses text under 7 pt
+
+
+def plot_cost(timing: pd.DataFrame, pdf, png):
+    """CPU seconds per scan against N (log–log), one line per tracker, its slope in the legend."""
+    plt = _plt()
+    sl = slopes(timing)
+    fig, ax = _fs().subplots(height=3.0)
+    for name, g in timing.groupby("tracker", sort=False):
+        g = g.sort_values("n_objects")
+        lab = TRACKER_NAMES.get(name, name) + (f" (slope {sl[name]:.2f})" if name in sl else "")
+        ax.loglog(g["n_objects"], g["cpu_s_per_scan"], "o-", lw=1.2, ms=3, label=lab)
+    ax.set_xlabel("catalogue objects tracked N")
+    ax.set_ylabel("CPU seconds per scan")
+    ax.grid(alpha=0.3, which="both")
+    _fs().legend_below(fig, *ax.get_legend_handles_labels(), ncol=3, frameon=False)
+    _save(fig, pdf, png)
+
+
+def plot_groups(per_scan: pd.DataFrame, pdf, png):
+    """Groups per scan and the largest group (objects) over time, factored trackers, largest N."""
+    plt = _plt()
+    n = per_scan["n_objects"].max()
+    d = per_scan[(per_scan["n_objects"] == n) & per_scan["n_groups"].notna()]
+    fig, axes = _fs().subplots(1, 2, height=2.8, sharex=True)
+    for name, g in d.groupby("tracker", sort=False):
+        axes[0].plot(g["scan"], g["n_groups"], lw=1.0, label=TRACKER_NAMES.get(name, name))
+        axes[1].step(g["scan"], g["largest_group"], where="mid", lw=1.0)
+    axes[0].set_ylabel("groups")
+    axes[1].set_ylabel("largest group (objects)")
+    for ax in axes:
+        ax.set_xlabel("scan (10 s)")
+        ax.grid(alpha=0.3)
+    _fs().legend_below(fig, *axes[0].get_legend_handles_labels(), ncol=3, frameon=False)
+    _save(fig, pdf, png)
+
+
+def plot_catalogue(positions_ef: np.ndarray, is_debris: np.ndarray, radar, pdf, png):
+    """The catalogue sample at scan 0 (Earth-fixed, longitude–latitude) and the radar's coverage.
+
+    ``positions_ef`` (n, 3) km; the coverage is the field of view's footprint sampled at the
+    near and far range and the elevation limits (the sub-points of its edge).
+    """
+    plt = _plt()
+    r = np.linalg.norm(positions_ef, axis=1)
+    lat = np.degrees(np.arcsin(positions_ef[:, 2] / r))
+    lon = np.degrees(np.arctan2(positions_ef[:, 1], positions_ef[:, 0]))
+    fig, ax = _fs().subplots(height=3.6)
+    ax.scatter(lon[~is_debris], lat[~is_debris], s=2, c="tab:blue", label="active satellites")
+    ax.scatter(lon[is_debris], lat[is_debris], s=2, c="tab:red", label="debris")
+    # field-of-view footprint: sub-satellite points of its boundary at 800 km altitude
+    fov = radar.fov
+    az = np.deg2rad(np.linspace(fov.az_center_deg - fov.az_width_deg / 2, fov.az_center_deg + fov.az_width_deg / 2, 60))
+    pts = []
+    for el in (fov.el_max_deg, fov.el_min_deg):
+        e = np.deg2rad(el)
+        # range to 800 km altitude along (az, el) from a spherical Earth: r² + 2 r R sin e = h(2R + h)
+        R, h = 6378.137, 800.0
+        rng = -R * np.sin(e) + np.sqrt((R * np.sin(e)) ** 2 + h * (2 * R + h))
+        rng = np.clip(rng, fov.r_min_km, fov.r_max_km)
+        enu = np.column_stack([rng * np.cos(e) * np.sin(az), rng * np.cos(e) * np.cos(az), np.full_like(az, rng * np.sin(e))])
+        pts.append(enu @ radar.site.enu + radar.site.ef)
+    ring = np.vstack([pts[0], pts[1][::-1], pts[0][:1]])
+    rr = np.linalg.norm(ring, axis=1)
+    ax.plot(np.degrees(np.arctan2(ring[:, 1], ring[:, 0])), np.degrees(np.arcsin(ring[:, 2] / rr)), "k-", lw=1.0,
+            label="radar field of view at 800 km altitude")
+    ax.plot(radar.site.lon_deg, radar.site.lat_deg, "k^", ms=5, label="radar site")
+    ax.set_xlabel("longitude (deg)")
+    ax.set_ylabel("latitude (deg)")
+    ax.set_xlim(-180, 180)
+    ax.set_ylim(-90, 90)
+    ax.grid(alpha=0.3)
+    _fs().legend_below(fig, *ax.get_legend_handles_labels(), ncol=2, frameon=False, markerscale=3)
+    _save(fig, pdf, png)

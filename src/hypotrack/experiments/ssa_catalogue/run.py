@@ -1,0 +1,477 @@
+"""SSA at catalogue scale: real objects (TLE, SGP4) seen by a ground radar, tracked by five trackers.
+
+Scenario (config section ``ssa_catalogue``)
+--------------------------------------------
+* **truth**: a seeded sample of ``N`` objects from the active satellites and one debris cloud
+  (:func:`select_population`), propagated by SGP4 (:func:`hypotrack.scenarios.catalogue.simulate_catalogue`);
+* **sensor**: one ground radar (:class:`~hypotrack.scenarios.catalogue.GroundRadar`, its
+  site, field of view, 10-s revisit, p_D and Poisson clutter from the config) reporting ENU
+  positions with isotropic error σ — converted to TEME positions for the trackers
+  (:mod:`hypotrack.scenarios.catalogue.tracking`);
+* **motion model** of every tracker: the two-body EKF
+  (:class:`~hypotrack.models.orbit3d.TwoBodyOrbit3D`), which neglects J2, the higher zonals,
+  drag and third bodies (SGP4 has them) — the process noise ``q`` covers the mismatch;
+* **known objects** start at their SGP4 state at scan 0 plus a seeded Gaussian error (the
+  catalogue's uncertainty, ``init_position_std``/``init_velocity_std``) with that covariance;
+  a share ``unknown_share`` of the debris is **unknown** at the start and must be born from the data.
+
+Trackers on the same scans: the δ-GLMB filter (Gibbs), HOMHT k-best (Murty) and R-FISST (MCMC)
+on the factored engine (:class:`~hypotrack.hypotheses.factored.FactoredFilter`; GLMB and R-FISST
+with measurement-driven births, :class:`~hypotrack.hypotheses.factored.AdaptiveBirth`, HOMHT
+with Reid's births seeded at the returns), GNN and JPDA (M-of-N initiation; a track is deleted
+after ``sht_max_misses`` consecutive misses *in view* — out of view is not a miss).
+
+Per tracker, population size and scan (:func:`run_tracker`): CPU seconds
+(``time.process_time``), groups and the largest group, GOSPA and OSPA of the estimates in view
+against the truth in view, and the estimate assigned to each true object (for continuity and
+births, :func:`continuity`).
+"""
+
+from __future__ import annotations
+
+import time
+import tracemalloc
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import linear_sum_assignment
+
+from ...hypotheses import BinomialPopulation, LabeledMultiBernoulliPopulation, glmb, homht_kbest, rfisst
+from ...hypotheses.factored import AdaptiveBirth, FactoredFilter
+from ...metrics import gospa, ospa
+from ...models.orbit3d import TwoBodyOrbit3D
+from ...scenarios.catalogue import (
+    GroundRadar,
+    GroundSite,
+    RadarFieldOfView,
+    load_catalogue,
+    select_groups,
+    simulate_catalogue,
+)
+from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
+from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
+
+__all__ = ["TRACKERS", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+           "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
+           "CatalogueSHTStepper", "peer_rows"]
+
+TRACKERS = ("glmb", "homht_kbest", "rfisst", "gnn", "jpda")
+FACTORED = ("glmb", "homht_kbest", "rfisst")
+
+
+def select_population(n: int, debris_group: str, debris_share: float, unknown_share: float, seed: int):
+    """``n`` objects: ``round(debris_share n)`` from ``debris_group``, the rest active satellites,
+    each a seeded simple random sample; a seeded ``unknown_share`` of the debris is unknown.
+
+    Returns ``(catalogue table, unknown NORAD numbers)``. Nested in ``n`` is not promised.
+    """
+    if not 0.0 <= debris_share <= 1.0:
+        raise ValueError(f"debris_share must lie in [0, 1], got {debris_share!r}")
+    if not 0.0 <= unknown_share <= 1.0:
+        raise ValueError(f"unknown_share must lie in [0, 1], got {unknown_share!r}")
+    cat = load_catalogue()
+    rng = np.random.default_rng(seed)
+    debris, active = select_groups(cat, debris_group), select_groups(cat, "active")
+    n_debris = int(round(debris_share * n))
+    if n_debris > len(debris) or n - n_debris > len(active):
+        raise ValueError(f"n = {n} needs {n_debris} {debris_group} objects (of {len(debris)}) and "
+                         f"{n - n_debris} active (of {len(active)})")
+    d = debris.iloc[np.sort(rng.choice(len(debris), n_debris, replace=False))]
+    a = active.iloc[np.sort(rng.choice(len(active), n - n_debris, replace=False))]
+    objects = pd.concat([a, d], ignore_index=True)
+    unknown = d["norad"].to_numpy(np.int64)[rng.random(len(d)) < unknown_share]
+    return objects, np.sort(unknown)
+
+
+def make_radar(cfg) -> GroundRadar:
+    """The radar of the config's ``radar`` block (ENU returns, isotropic σ)."""
+    r = cfg["radar"]
+    site = GroundSite(r["lat_deg"], r["lon_deg"], r["alt_km"], "radar site")
+    fov = RadarFieldOfView(r["az_center_deg"], r["az_width_deg"], r["el_min_deg"], r["el_max_deg"],
+                           r["r_min_km"], r["r_max_km"])
+    return GroundRadar(site, fov, revisit_s=r["revisit_s"], p_D=r["p_D"], clutter_rate=r["clutter_rate"],
+                       measurement="enu", sigma_enu_km=r["sigma_km"])
+
+
+def build_scenario(cfg, n: int, seed: int):
+    """Objects, unknown NORAD numbers and the simulated :class:`CatalogueScenario` for size ``n``."""
+    ss = np.random.SeedSequence([int(seed), int(n)])
+    pop_seed, sim_seed, init_seed = (int(s.generate_state(1)[0]) for s in ss.spawn(3))
+    objects, unknown = select_population(n, cfg["debris_group"], cfg["debris_share"], cfg["unknown_share"], pop_seed)
+    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed)
+    return objects, unknown, sc, init_seed
+
+
+def _initial_tracks(sc, unknown, cfg, init_seed):
+    """Known objects: SGP4 state at scan 0 plus a seeded error, with its covariance."""
+    X, valid = sc.states(np.array([0.0]))
+    X, valid = X[:, 0], valid[:, 0]
+    norad = sc.catalogue["norad"].to_numpy(np.int64)
+    known = valid & ~np.isin(norad, unknown)
+    s = np.r_[np.full(3, cfg["init_position_std_km"]), np.full(3, cfg["init_velocity_std_km_s"])]
+    err = np.random.default_rng(init_seed).standard_normal((int(known.sum()), 6)) * s
+    P = np.broadcast_to(np.diag(s**2), (int(known.sum()), 6, 6)).copy()
+    return X[known] + err, P, norad[known]
+
+
+def _make(name, cfg, tsensor, motion, means, covs, labels, seed):
+    t = cfg["trackers"]
+    dt = cfg["radar"]["revisit_s"]
+    gate = t["gate_probability"]
+    ab = AdaptiveBirth(position_std=t["birth_position_std_km"], velocity_std=t["birth_velocity_std_km_s"],
+                       r_birth=t["r_birth"], gate_probability=gate)
+    common = dict(dt=dt, gate_probability=gate, seed=seed, means=means, covs=covs, labels=labels,
+                  merge_duplicates=True, max_hypotheses=t["max_hypotheses"])
+    fopts = dict(min_weight=t["min_weight"], split="marginal")
+    if name == "glmb":
+        f = glmb(motion, tsensor, population=LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0),
+                 n_sweeps=t["gibbs_sweeps"], **common)
+        return FactoredFilter.from_filter(f, adaptive_birth=ab, **fopts)
+    if name == "rfisst":
+        f = rfisst(motion, tsensor, population=BinomialPopulation([], alpha=t["r_birth"], p_survive=1.0),
+                   n_steps=t["mcmc_steps"], **common)
+        return FactoredFilter.from_filter(f, adaptive_birth=ab, **fopts)
+    if name == "homht_kbest":
+        lam_b = t["homht_births_per_scan"] / tsensor.clutter.region.area
+        f = homht_kbest(motion, tsensor, k=t["max_hypotheses"], birth_intensity=lam_b,
+                        birth_density=OnePointBirth(t["birth_velocity_std_km_s"], t["birth_position_std_km"]),
+                        **common)
+        return FactoredFilter.from_filter(f, **fopts)
+    if name in ("gnn", "jpda"):
+        model = ScanModel(tsensor.measurement.H, tsensor.measurement.R, tsensor.detection.p_D, gate,
+                          max(tsensor.clutter.intensity, 1e-300),
+                          t["homht_births_per_scan"] / tsensor.clutter.region.area)
+        init = MOfNInitiator(motion, model, m=t["m_of_n"][0], n=t["m_of_n"][1],
+                             initial_velocity_std=t["birth_velocity_std_km_s"])
+        tr = SingleHypothesisTracker(motion, model, association=name, initiator=init, max_misses=t["sht_max_misses"])
+        tr.initialise(means, covs, 0.0)
+        tr._labels = np.asarray(labels, dtype=np.int64)
+        return tr
+    raise ValueError(f"tracker must be one of {TRACKERS}, got {name!r}")
+
+
+def _estimates(name, tracker, tsensor):
+    """(labels, TEME positions) of the tracker's estimates inside the field of view."""
+    if name in FACTORED:
+        est = tracker.posterior().map_estimate
+        lab, X = est.labels, est.means
+    else:
+        e = tracker.estimates()
+        n0 = len(tracker._labels)
+        lab = np.where(e.ids < n0, tracker._labels[np.minimum(e.ids, max(n0 - 1, 0))] if n0 else -1,
+                       10**9 + e.ids)
+        X = e.x
+    if len(X) == 0:
+        return np.zeros(0, np.int64), np.zeros((0, 3))
+    inv = tsensor.detection.in_view(X[:, :3])
+    return np.asarray(lab)[inv], X[inv, :3]
+
+
+def _assign(truth_X, est_X, c):
+    """Optimal assignment truth → estimate with distances below ``c``: (truth rows, est rows)."""
+    if len(truth_X) == 0 or len(est_X) == 0:
+        return np.zeros(0, int), np.zeros(0, int)
+    D = np.linalg.norm(truth_X[:, None] - est_X[None], axis=-1)
+    r, k = linear_sum_assignment(np.minimum(D, c))
+    ok = D[r, k] < c
+    return r[ok], k[ok]
+
+
+def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scenario=None):
+    """One tracker over the scans of population size ``n``.
+
+    Returns ``(per_scan DataFrame, assignment DataFrame, info dict)``: per scan the CPU seconds of
+    the tracker's step, returns, objects in view, estimates in view, GOSPA (with its missed/false
+    parts) and OSPA, groups and the largest group (factored trackers); per (scan, true object in
+    view) the label of the estimate assigned to it (−1: none). ``memory=True`` traces the peak
+    memory of the run (tracemalloc; slower, for a separate pass) into ``info["peak_bytes"]``.
+    """
+    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
+    radar = sc.sensors[0]
+    tsensor = TrackerSensor(radar)
+    motion = TwoBodyOrbit3D(q=cfg["trackers"]["process_noise_q"])
+    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    scans = sc.scan_list(0)
+    truth = sc.truth[sc.truth["in_view"]]
+    by_scan = {k: g for k, g in truth.groupby("scan")}
+    c, p = cfg["metrics"]["cutoff_km"], cfg["metrics"]["order"]
+    n_scans = cfg["memory_scans"] if memory else len(scans)
+    if memory:
+        tracemalloc.start()
+    tracker = _make(name, cfg, tsensor, motion, means, covs, labels, int(seed))
+    rows, assign = [], []
+    for k in range(n_scans):
+        t_k, Z = scans[k]
+        tsensor.at(sc.theta[k])
+        t0 = time.process_time()
+        Zt = tsensor.returns(Z)
+        if name in FACTORED:
+            if k > 0:
+                tracker.step(Zt)
+            else:  # scan 0 is at the tracks' epoch: an update without prediction is not offered; use a tiny dt
+                tracker.step(Zt, dt=1e-6)
+        else:
+            tracker.step((float(t_k), Zt))
+            # deletion counts misses in view only: a catalogue object out of the field of view is not missed
+            if len(tracker.x):
+                tracker.misses[~tsensor.detection.in_view(tracker.x[:, :3])] = 0
+        cpu = time.process_time() - t0
+        lab, EX = _estimates(name, tracker, tsensor)
+        g = by_scan.get(k)
+        TX = g[["state_0", "state_1", "state_2"]].to_numpy() if g is not None else np.zeros((0, 3))
+        tid = g["target"].to_numpy(np.int64) if g is not None else np.zeros(0, np.int64)
+        gr = gospa(EX, TX, c=c, p=p)
+        st = tracker.last_stats if name in FACTORED else {}
+        rows.append(dict(tracker=name, n_objects=n, scan=k, cpu_s=cpu, n_returns=len(Z), n_in_view=len(TX),
+                         n_estimates=len(EX), gospa_km=gr.value, gospa_missed=gr.missed, gospa_false=gr.false,
+                         ospa_km=ospa(EX, TX, c=c, p=p), n_groups=st.get("n_groups", np.nan),
+                         largest_group=st.get("largest_group", np.nan), n_tracks=_n_tracks(name, tracker)))
+        r, q = _assign(TX, EX, c)
+        lab_of = np.full(len(TX), -1, np.int64)
+        lab_of[r] = lab[q]
+        assign.extend(dict(tracker=name, n_objects=n, scan=k, target=int(t), label=int(x),
+                           unknown=bool(t in set(unknown.tolist()))) for t, x in zip(tid, lab_of))
+    info = {}
+    if memory:
+        info["peak_bytes"] = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+    return pd.DataFrame(rows), pd.DataFrame(assign), info
+
+
+def _n_tracks(name, tracker):
+    if name in FACTORED:
+        return int(sum(len(np.unique(s.store.labels)) for s in tracker.groups))
+    return len(tracker.ids)
+
+
+def continuity(assign: pd.DataFrame, n_unknown_in_view=None) -> dict:
+    """Continuity and birth measures of one (tracker, size) from its assignment table.
+
+    Per true object, in scan order over the scans it is in view: a **label switch** is an
+    assigned label different from the last assigned label; a **fragmentation** is a return to
+    assigned after one or more unassigned scans that followed an assigned one. An **unknown**
+    object is *born from the data* when it is ever assigned an estimate; its **latency** is the
+    number of scans from its first scan in view to its first assignment.
+
+    Returns a dict: ``label_switches``, ``fragmentations``, ``unknown_in_view``, ``born``,
+    ``latency_mean`` (scans; NaN when none born).
+    """
+    switches = frags = 0
+    born, lat = 0, []
+    n_unknown = 0
+    for (_, unk), g in assign.sort_values("scan").groupby(["target", "unknown"]):
+        labels = g["label"].to_numpy()
+        scans = g["scan"].to_numpy()
+        last, gap, was = None, False, False
+        for x in labels:
+            if x < 0:
+                gap = was
+                continue
+            if last is not None and x != last:
+                switches += 1
+            if gap:
+                frags += 1
+            last, gap, was = x, False, True
+        if unk:
+            n_unknown += 1
+            hit = np.flatnonzero(labels >= 0)
+            if len(hit):
+                born += 1
+                lat.append(int(scans[hit[0]] - scans[0]))
+    return dict(label_switches=switches, fragmentations=frags, unknown_in_view=n_unknown, born=born,
+                latency_mean=float(np.mean(lat)) if lat else float("nan"))
+
+
+def scan_rows(per_scan: pd.DataFrame) -> pd.DataFrame:
+    """Per (tracker, size): CPU per scan (mean), per object in view, mean GOSPA/OSPA, groups."""
+    out = []
+    for (name, n), g in per_scan.groupby(["tracker", "n_objects"], sort=False):
+        view = g["n_in_view"].to_numpy(float)
+        out.append(dict(tracker=name, n_objects=int(n), n_scans=len(g), cpu_s_per_scan=g["cpu_s"].mean(),
+                        cpu_ms_per_object_in_view=1e3 * g["cpu_s"].sum() / max(view.sum(), 1.0),
+                        mean_in_view=view.mean(), gospa_km=g["gospa_km"].mean(), ospa_km=g["ospa_km"].mean(),
+                        groups_mean=g["n_groups"].mean(), largest_group_max=g["largest_group"].max()))
+    return pd.DataFrame(out)
+
+
+_WARM_SCANS = 2  # untimed scans of parallel_timing (pool start-up, first compiled calls)
+
+
+def same_posterior(a: FactoredFilter, b: FactoredFilter) -> bool:
+    """Whether two factored filters hold bit-for-bit the same posterior (groups, weights, labels,
+    track moments, hypotheses, next label)."""
+    if a._next_label != b._next_label or len(a.groups) != len(b.groups):
+        return False
+    for s, t in zip(a.groups, b.groups):
+        if not (np.array_equal(s.log_w, t.log_w) and np.array_equal(s.store.labels, t.store.labels)
+                and np.array_equal(s.store.means, t.store.means) and np.array_equal(s.store.covs, t.store.covs)
+                and len(s.tracks) == len(t.tracks) and all(np.array_equal(x, y) for x, y in zip(s.tracks, t.tracks))):
+            return False
+    return True
+
+
+def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, scenario=None) -> pd.DataFrame:
+    """The same scans through one factored tracker with ``workers = 1`` and with ``workers`` in each
+    pool kind of ``pools`` ("process", "thread"), stepped in lockstep (scan k of every filter in
+    turn, the order rotated each scan, so a change of the machine's load hits all alike). The
+    first two scans are stepped untimed with the pools started, so that neither the pools'
+    start-up nor the first steps in a fresh process (kernel compilation) are timed.
+
+    A further untimed ``workers = 1`` filter records the pickled bytes of every engine step's
+    input (the group's hypotheses and track moments, the returns of its gate and their scores)
+    and result: the state a distributed scheduler would move per scan.
+
+    Returns one row per configuration: ``pool`` ("serial" for ``workers = 1``), ``workers``,
+    scans, per scan the main process's CPU seconds, the pool processes' CPU seconds, wall seconds,
+    wall seconds in the engine steps and the engine steps; the wall speed-up over serial;
+    ``identical`` (same posterior as serial at every scan); the serial share of wall time in the
+    engine steps and the Amdahl ceiling ``1 / (1 − s + s / workers)`` of the speed-up; and, on
+    the serial row, bytes in and out per scan and per step.
+    """
+    if name not in FACTORED:
+        raise ValueError(f"tracker must be one of {FACTORED}, got {name!r}")
+    pools = list(pools)
+    if any(p not in ("process", "thread") for p in pools):
+        raise ValueError(f"pools must hold 'process' and/or 'thread', got {pools!r}")
+    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
+    tsensor = TrackerSensor(sc.sensors[0])
+    motion = TwoBodyOrbit3D(q=cfg["trackers"]["process_noise_q"])
+    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    confs = [("serial", 1)] + [(p, int(workers)) for p in pools]
+    filters = []
+    for pool, w in confs + [("bytes", 1)]:
+        f = _make(name, cfg, tsensor, motion, means, covs, labels, int(seed))
+        f.workers, f.parallel, f.measure_transfer = w, "process" if pool in ("serial", "bytes") else pool, pool == "bytes"
+        filters.append(f)
+    acc = [dict(cpu=0.0, wcpu=0.0, wall=0.0, steps=0.0, jobs=0, identical=True) for _ in confs]
+    b_in = b_out = 0
+    scans = sc.scan_list(0)
+    try:
+        for k, (_, Z) in enumerate(scans):
+            tsensor.at(sc.theta[k])
+            Zt = tsensor.returns(Z)
+            dt = None if k else 1e-6  # scan 0 is at the tracks' epoch (as run_tracker)
+            if k < _WARM_SCANS:  # untimed: the pools start and every process runs (and compiles) its first steps
+                for i in range(len(confs)):
+                    if k == 0:
+                        filters[i].warm_up()
+                    filters[i].step(Zt, dt=dt)
+            order = np.roll(np.arange(len(confs)), -k) if k >= _WARM_SCANS else []
+            for i in order:
+                c0, w0 = time.process_time(), time.perf_counter()
+                filters[i].step(Zt, dt=dt)
+                a = acc[i]
+                a["cpu"] += time.process_time() - c0
+                a["wall"] += time.perf_counter() - w0
+                st = filters[i].last_stats
+                a["wcpu"] += st.get("worker_cpu_s", 0.0)
+                a["steps"] += st["time_steps"]
+                a["jobs"] += st["n_jobs"]
+            filters[-1].step(Zt, dt=dt)
+            if k >= _WARM_SCANS:
+                b_in += filters[-1].last_stats["bytes_to_workers"]
+                b_out += filters[-1].last_stats["bytes_from_workers"]
+            for i in range(1, len(confs)):
+                acc[i]["identical"] &= same_posterior(filters[0], filters[i])
+    finally:
+        for f in filters:
+            f.close()
+    K = len(scans) - _WARM_SCANS
+    rows = []
+    for (pool, w), a in zip(confs, acc):
+        rows.append(dict(tracker=name, n_objects=int(n), pool=pool, workers=w, n_scans=K, cpu_s_per_scan=a["cpu"] / K,
+                         worker_cpu_s_per_scan=a["wcpu"] / K, wall_s_per_scan=a["wall"] / K,
+                         steps_wall_s_per_scan=a["steps"] / K, steps_per_scan=a["jobs"] / K,
+                         speedup_wall=acc[0]["wall"] / a["wall"], identical=bool(a["identical"])))
+    share = acc[0]["steps"] / acc[0]["wall"]
+    for r in rows:  # Amdahl: only the engine steps run in parallel
+        r["steps_share_serial"] = share
+        r["speedup_ceiling"] = 1.0 / (1.0 - share + share / r["workers"])
+    jobs = acc[0]["jobs"]
+    rows[0].update(bytes_in_per_scan=b_in / K, bytes_out_per_scan=b_out / K,
+                   bytes_in_per_step=b_in / max(jobs, 1), bytes_out_per_step=b_out / max(jobs, 1))
+    return pd.DataFrame(rows)
+
+
+@dataclass(frozen=True)
+class PeerScenario:
+    """The scans of one population size as a peer tracker needs them: the known objects' initial
+    TEME states and covariance, scan times (s) and TEME returns, the scan model and the motion."""
+
+    initial_states: np.ndarray
+    initial_covs: np.ndarray
+    times: np.ndarray
+    returns: list
+    model: ScanModel
+    motion: TwoBodyOrbit3D
+
+    def scan_list(self):
+        return list(zip(self.times, self.returns))
+
+
+def peer_scenario(cfg, n: int, seed: int, scenario=None) -> PeerScenario:
+    """:class:`PeerScenario` of size ``n`` (known objects only; the radar's returns in TEME)."""
+    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
+    tsensor = TrackerSensor(sc.sensors[0])
+    means, covs, _ = _initial_tracks(sc, unknown, cfg, init_seed)
+    times, returns = [], []
+    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
+        tsensor.at(sc.theta[k])
+        times.append(float(t_k))
+        returns.append(tsensor.returns(Z))
+    t = cfg["trackers"]
+    model = ScanModel(tsensor.measurement.H, tsensor.measurement.R, tsensor.detection.p_D, t["gate_probability"],
+                      max(tsensor.clutter.intensity, 1e-300))
+    return PeerScenario(means, covs, np.array(times), returns, model, TwoBodyOrbit3D(q=t["process_noise_q"]))
+
+
+class CatalogueSHTStepper:
+    """hypotrack's GNN or JPDA on the known objects of a :class:`PeerScenario`, for the side-by-side
+    peer timing (:func:`hypotrack.experiments.perf_sht.run.run_side_by_side`).
+
+    As the peer runs them: no initiation, no deletion, GNN on Stone Soup's unsquared-Mahalanobis
+    criterion (missed distance the square root of the gate), so both solve the same problem."""
+
+    def __init__(self, scenario: PeerScenario, algorithm: str):
+        if algorithm not in ("gnn", "jpda"):
+            raise ValueError(f"algorithm must be 'gnn' or 'jpda', got {algorithm!r}")
+        self.tracker = SingleHypothesisTracker(scenario.motion, scenario.model, association=algorithm,
+                                               gnn_score="mahalanobis", max_misses=10**9)
+        self.tracker.initialise(scenario.initial_states, scenario.initial_covs, scenario.times[0])
+        self.scans = scenario.scan_list()
+
+    def step(self, k):
+        self.tracker.step(self.scans[k])
+
+    def record(self, run):
+        tr = self.tracker
+        run.outputs.append(np.array(tr.last_association, copy=True))
+        run.states.append((tr.x.copy(), tr.P.copy()))
+
+
+#: Largest output/state difference from the peer counted as the same association (rounding only).
+PEER_AGREEMENT = 1e-9
+
+
+def peer_rows(runs: dict, algorithm: str, n: int, n_tracks: int) -> pd.DataFrame:
+    """Rows of the peer timing table from :func:`~hypotrack.experiments.perf_sht.run.run_side_by_side`
+    runs (``"hypotrack"`` and each peer): median ms per scan, the peer's time over hypotrack's,
+    the largest output (GNN: the track of each return; JPDA: the association probabilities) and
+    state differences from hypotrack, the timed scans whose outputs agree within
+    :data:`PEER_AGREEMENT`."""
+    from ..perf_sht.run import max_abs_difference
+
+    ref = runs["hypotrack"]
+    rows = []
+    for name, run in runs.items():
+        d_out, d_state = max_abs_difference(ref, run) if name != "hypotrack" else (0.0, 0.0)
+        k = min(len(ref.outputs), len(run.outputs))
+        same = sum(np.asarray(a, float).shape == np.asarray(b, float).shape
+                   and float(np.max(np.abs(np.asarray(a, float) - np.asarray(b, float)), initial=0.0)) <= PEER_AGREEMENT
+                   for a, b in zip(ref.outputs[:k], run.outputs[:k]))
+        rows.append(dict(algorithm=algorithm, implementation=name, n_objects=int(n), n_tracks=int(n_tracks),
+                         scans_timed=len(run.times), median_ms=run.median_ms,
+                         peer_over_hypotrack=run.median_ms / ref.median_ms, max_output_diff=d_out,
+                         max_state_diff=d_state, scans_same_association=int(same), scans_compared=int(k)))
+    return pd.DataFrame(rows)

@@ -39,7 +39,7 @@ def _save(fig, pdf, png):
 
 def plot_cost(timing: pd.DataFrame, pdf, png):
     """CPU seconds per scan against N (log–log), one line per tracker, its slope in the legend."""
-    plt = _plt()
+    _plt()  # the report style over the shared one
     sl = slopes(timing)
     fig, ax = _fs().subplots(height=3.0)
     for name, g in timing.groupby("tracker", sort=False):
@@ -55,7 +55,7 @@ def plot_cost(timing: pd.DataFrame, pdf, png):
 
 def plot_groups(per_scan: pd.DataFrame, pdf, png):
     """Groups per scan and the largest group (objects) over time, factored trackers, largest N."""
-    plt = _plt()
+    _plt()  # the report style over the shared one
     n = per_scan["n_objects"].max()
     d = per_scan[(per_scan["n_objects"] == n) & per_scan["n_groups"].notna()]
     fig, axes = _fs().subplots(1, 2, height=2.8, sharex=True)
@@ -77,7 +77,7 @@ def plot_catalogue(positions_ef: np.ndarray, is_debris: np.ndarray, radar, pdf, 
     ``positions_ef`` (n, 3) km; the coverage is the field of view's footprint sampled at the
     near and far range and the elevation limits (the sub-points of its edge).
     """
-    plt = _plt()
+    _plt()  # the report style over the shared one
     r = np.linalg.norm(positions_ef, axis=1)
     lat = np.degrees(np.arcsin(positions_ef[:, 2] / r))
     lon = np.degrees(np.arctan2(positions_ef[:, 1], positions_ef[:, 0]))

@@ -21,6 +21,7 @@ from hypotrack.reporting.sections import FAILING, gap_cause, gap_label, gaps_tex
     ("10⁶ runs, x₀", r"10\ensuremath{^{6}} runs, x\ensuremath{_{0}}"),
     ("45 -> 46", r"45 \ensuremath{\to} 46"),
     ("the constant e^(-lambda V)", r"the constant e\ensuremath{^{-\lambda  V}}"),
+    ("normalising e^(-λV)", r"normalising e\ensuremath{^{-\lambda V}}"),
     ("alpha*(1 - p_D), 2^k", r"\ensuremath{\alpha}*(1 - \ensuremath{p_{D}}), 2\ensuremath{^{k}}"),
     # code names, percentages and hashes stay text
     ("rfisst_chain at 50 % (c_in_view)", r"rfisst\_chain at 50 \% (c\_in\_view)"),

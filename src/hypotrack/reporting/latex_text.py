@@ -99,6 +99,7 @@ def _convert(m: re.Match) -> str:
     if kind == "caret":
         body = m.group("cexp") if m.group("cexp") is not None else m.group("cword")
         body = re.sub(r"\b(alpha|beta|gamma|delta|lambda|sigma|chi|mu|pi|rho|tau|eta)\b", r"\\\1 ", body)
+        body = "".join(_SYMBOLS[c] + " " if c in _SYMBOLS and _SYMBOLS[c].startswith("\\") else c for c in body)
         return _math(f"^{{{body.strip()}}}")
     if kind == "greekword":
         return _math("\\" + s)

@@ -354,7 +354,7 @@ def plot_ratio(ratio: pd.DataFrame, paths, cfg) -> None:
                                     f"document 000 Eq. 30:\n1/(1-{int(cfg['n_pixels'])}α-2β)")):
         ax2.semilogx(d["alpha"], d[col] / d["eq39"], "-", color=style, lw=1, label=label + " (formula)")
         ax2.semilogx(d["alpha"], d[eng] / d["eq39"], "o", color=style, ms=4, mfc="none")
-    ax2.plot([], [], "ko", mfc="none", label="engine (all p_D)")
+    ax2.plot([], [], "ko", mfc="none", label=r"engine (all $p_D$)")
     ax2.set_xlabel("birth probability per pixel α (probability)")
     ax2.set_ylabel("ratio / $(1-p_D)\\alpha$ (dimensionless)")
     ax2.set_title("Which birth model makes Eq. 39 exact")

@@ -224,8 +224,8 @@ def plot_realisation(counts: pd.DataFrame, cfg):
     from ...reporting import figure_style
 
     fig, ax = figure_style.subplots(height=4.0)
-    ax.plot(counts["scan"], counts["r"], ".", color="0.6", ms=3, label="measured count r_k")
-    ax.step(counts["scan"], counts["n_true"], "k-", lw=1.4, where="mid", label="truth n_k")
+    ax.plot(counts["scan"], counts["r"], ".", color="0.6", ms=3, label=r"measured count $r_k$")
+    ax.step(counts["scan"], counts["n_true"], "k-", lw=1.4, where="mid", label=r"truth $n_k$")
     ax.step(counts["scan"], counts["cardinality_tracker"], "-", color="tab:blue", lw=3.5, alpha=0.45, where="mid",
             label="cardinality tracker (Tetris): wide pale line")
     ax.plot(counts["scan"], counts["exact_class_map"], "x", color="navy", ms=3.5, mew=0.9,
@@ -235,8 +235,8 @@ def plot_realisation(counts: pd.DataFrame, cfg):
     ax.set_xlabel("scan k")
     ax.set_ylabel("number of targets")
     ax.set_title(f"Fig 4.2: cardinality tracking, truth vs estimated number of targets\n"
-                 f"N = {cfg['n_scans']} scans, p_χ = {cfg['p_chi']:g}, "
-                 f"λ_b = {cfg['lambda_b']:g}, λ_fa = {cfg['lambda_fa']:g}, p_D = {cfg['p_d']:g}")
+                 f"N = {cfg['n_scans']} scans, $p_\\chi$ = {cfg['p_chi']:g}, "
+                 f"$\\lambda_b$ = {cfg['lambda_b']:g}, $\\lambda_{{fa}}$ = {cfg['lambda_fa']:g}, $p_D$ = {cfg['p_d']:g}")
     figure_style.legend_below(fig, ncol=2)
     return fig
 

@@ -388,7 +388,7 @@ def plot_crossing(example, curves, cfg, pdf, png):
     right.legend(loc="outside lower center", ncol=1)
     fig.suptitle(figure_style.wrap(
         f"Two targets crossing at {s['crossing_angle_deg']:g}° in clutter ({s['clutter_rate']:g} false returns/scan, "
-        f"P_D = {s['p_D']:g}, σ = {s['sigma']:g} m): GNN vs JPDA", fig))
+        f"$P_D$ = {s['p_D']:g}, σ = {s['sigma']:g} m): GNN vs JPDA", fig))
     _save(fig, pdf, png)
 
 

@@ -277,7 +277,7 @@ def _agreement_panel(ax, agreement, times, label_a, label_b):
     diff = agreement["max_difference_km"].to_numpy(dtype=float)
     floor = 1e-15
     ax.semilogy(times[same], np.maximum(diff[same], floor), ".", ms=3, color="#1a9641",
-                label=f"largest difference of\nthe two estimates of\nan object (0 drawn at {floor:g})")
+                label="largest difference of\nthe two estimates of\nan object (0 drawn at " + figure_style.pow10(np.log10(floor)) + ")")
     ax.axhline(AGREEMENT_TOLERANCE_KM, color="black", ls=":", lw=1.0,
                label=f"agreement tolerance\n({AGREEMENT_TOLERANCE_KM * 1e3:g} m)")
     for t in times[~ag]:

@@ -44,6 +44,7 @@ rule ssa50_figures:
     output:
         metrics=report_table(f"{SSA50_DIR}/metrics.csv", "ssa50", "metrics"),
         births=report_table(f"{SSA50_DIR}/births.csv", "ssa50", "births"),
+        control_metrics=f"{SSA50_DIR}/blind_metrics.csv",  # the negative control's per-scan metrics
         snapshots=f"{SSA50_DIR}/estimate_snapshots.csv",
         completion=report_table(f"{SSA50_DIR}/completion.csv", "ssa50", "completion"),
         completion_timing=f"{SSA50_DIR}/completion_timing.csv",

@@ -76,3 +76,56 @@ rule ssa50:
 
 
 ALL_TARGETS.extend(SSA50_TARGETS)
+
+
+# Sensitivity of Fig. 11's P(N = 50) = 1 to the parameters 000 Sec. IV-A leaves out (clutter rate, p_D):
+# one shard per setting runs the section's tracker (and the blind tracker, the control) on every scenario
+# seed; the table rule applies the Monte Carlo rule per setting. Config: ssa50.sensitivity.
+SSA50_SENS_DIR = f"{SSA50_DIR}/sensitivity"
+SSA50_SENS_SETTINGS = range(len(config["ssa50"]["sensitivity"]["clutter_rates"])
+                            * len(config["ssa50"]["sensitivity"]["p_D"]))
+
+
+rule ssa50_sensitivity_shard:
+    wildcard_constraints:
+        setting=r"\d+",
+    output:
+        rows=f"{SSA50_SENS_DIR}/shards/setting_{{setting}}.csv",
+        timing=f"{SSA50_SENS_DIR}/shards/setting_{{setting}}_timing.csv",
+    params:
+        # What a shard reads: a change of these reruns the shards.
+        settings={"seed": config["seed"], "ssa": config["ssa"], "ssa50": config["ssa50"]},
+    log:
+        f"{RESULTS}/logs/ssa50/sensitivity_{{setting}}.log",
+    script:
+        "../scripts/ssa50_sensitivity_shard.py"
+
+
+rule ssa50_sensitivity_table:
+    input:
+        rows=expand(f"{SSA50_SENS_DIR}/shards/setting_{{setting}}.csv", setting=SSA50_SENS_SETTINGS),
+        timing=expand(f"{SSA50_SENS_DIR}/shards/setting_{{setting}}_timing.csv", setting=SSA50_SENS_SETTINGS),
+    output:
+        runs=f"{SSA50_SENS_DIR}/runs.csv",
+        table=report_table(f"{SSA50_SENS_DIR}/p_end_grid.csv", "ssa50", "sensitivity"),
+        timing=f"{SSA50_SENS_DIR}/sensitivity_timing.csv",
+        claims=f"{SSA50_SENS_DIR}/claims.csv",
+        macros=f"{SSA50_SENS_DIR}/macros.csv",
+        fig_pdf=f"{SSA50_SENS_DIR}/p_end_grid.pdf",
+        fig_png=report_figure(f"{SSA50_SENS_DIR}/p_end_grid.png", "ssa50", "sensitivity"),
+    params:
+        section=config["ssa50"]["sensitivity"],
+        ssa=config["ssa"],
+    script:
+        "../scripts/ssa50_sensitivity_table.py"
+
+
+SSA50_SENS_TARGETS = [*rules.ssa50_sensitivity_table.output]
+
+
+rule ssa50_sensitivity:
+    input:
+        SSA50_SENS_TARGETS,
+
+
+ALL_TARGETS.extend(SSA50_SENS_TARGETS)

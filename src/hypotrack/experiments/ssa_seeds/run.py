@@ -4,7 +4,10 @@ The ``ssa50`` and ``ssa15`` experiments judge one realisation each; a verdict su
 the end is 1" or "R-FISST and HOMHT agree at every scan" may be that realisation's luck. This
 experiment draws ``n_seeds`` independent realisations of both scenarios (objects, births, clutter,
 initial hypothesis) and runs the same named trackers on each — R-FISST as the paper's chain alone
-and with this project's completion step, and HOMHT on ssa15 — one shard per seed.
+and with this project's completion step, and on ssa15 HOMHT and R-FISST with the number of objects
+fixed like HOMHT's (the like-for-like pair) — one shard per seed. The blind tracker
+(:func:`hypotrack.experiments.ssa.blind_run`: EKF prediction of the initial hypothesis, no
+measurement used, no births) runs on every realisation as the negative control of each verdict.
 
 Steps: :func:`seed_scenario` draws realisation ``i``; :func:`run_seed` runs every tracker on both
 cases and reduces each run to one row of :data:`SEED_COLUMNS`; :func:`distribution_table` gives

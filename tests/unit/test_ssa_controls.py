@@ -140,3 +140,25 @@ def test_ssa50_rows_a_blind_tracker_passes_are_uninformative_on_a_real_scenario(
     own = {c.key: c for c in st.attach_controls(list(blind.values()), blind)}
     assert own["ExpectedStart"].status == own["InitialWeight"].status == "uninformative"
     assert own["SingleFile"].status == "not reproduced"
+
+
+def test_clutter_ignoring_engine_takes_the_clutter_density_a_million_times_too_small():
+    config = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())
+    config["ssa"]["n_scans"] = 40
+    sc = simulate_ssa(params_from_config(config["ssa"], "ssa50"), 5)
+    defect = st.clutter_ignoring(sc)
+    assert sc.sensor.clutter.density / defect.sensor.clutter.density == pytest.approx(1e6, rel=1e-9)
+    assert defect.sensor.detection == sc.sensor.detection and defect.scans is sc.scans
+    with pytest.raises(ValueError, match="factor"):
+        st.clutter_ignoring(sc, 0.5)
+    # the control runs up to the scan before the first birth, and there holds more objects than the 45 known:
+    # clutter returns became births (the check "E[N] = 45 before the first birth" must fail on it)
+    settings = st.TrackerSettings(kind="rfisst", max_hypotheses=3, n_steps=300, completion_rounds=0)
+    run = st.clutter_control_run(sc, settings, np.random.default_rng(0))
+    first = int(sc.first_in_view_scan[sc.birth_ids].min())
+    assert run.summary["scan"].tolist() == list(range(first))
+    n_clutter = int((sc.scans[sc.scans["scan"].between(1, first - 1)]["origin"] == -1).sum())
+    assert n_clutter > 0
+    e = run.summary.set_index("scan")["expected_number"]
+    claim = st.expected_start_claim(e, 45, first, 39)
+    assert e.iloc[-1] > 45.5 and claim.status == "not reproduced"

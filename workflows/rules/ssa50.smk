@@ -35,9 +35,29 @@ rule ssa50_run:
 SSA50_RUN = expand(f"{SSA50_DIR}/{{tracker}}_{{table}}.csv", tracker=SSA50_TRACKERS, table=SSA50_TABLES)
 
 
+# The negative control of "E[N] before the first birth": the primary tracker with its clutter density 10^6 times
+# too small (clutter returns become births), run up to the first birth.
+rule ssa50_control_run:
+    input:
+        truth=f"{RESULTS}/ssa/ssa50_truth.csv",
+        scans=f"{RESULTS}/ssa/ssa50_scans.csv",
+        prior=f"{RESULTS}/ssa/ssa50_prior.csv",
+    output:
+        summary=f"{SSA50_DIR}/control_clutter_summary.csv",
+    log:
+        f"{RESULTS}/logs/ssa50/control_clutter_run.log",
+    params:
+        settings=lambda wc: {"master_seed": config["seed"], "primary": config["ssa50"]["primary"],
+                             "tracker": config["ssa50"]["trackers"][config["ssa50"]["primary"]],
+                             **{k: config["ssa50"][k] for k in ["max_hypotheses", "gate_probability", "population"]}},
+    script:
+        "../scripts/ssa50_control_run.py"
+
+
 rule ssa50_figures:
     input:
         **{f"{tr}_{table}": f"{SSA50_DIR}/{tr}_{table}.csv" for tr in SSA50_TRACKERS for table in SSA50_TABLES},
+        control_clutter=f"{SSA50_DIR}/control_clutter_summary.csv",
         truth=f"{RESULTS}/ssa/ssa50_truth.csv",
         scans=f"{RESULTS}/ssa/ssa50_scans.csv",
         prior=f"{RESULTS}/ssa/ssa50_prior.csv",
@@ -67,7 +87,7 @@ rule ssa50_figures:
         "../scripts/ssa50_figures.py"
 
 
-SSA50_TARGETS = [*SSA50_RUN, *rules.ssa50_figures.output]
+SSA50_TARGETS = [*SSA50_RUN, *rules.ssa50_control_run.output, *rules.ssa50_figures.output]
 
 
 rule ssa50:

@@ -14,7 +14,8 @@ from .controls import attach_controls, every_scan_verdict
 from .evaluation import AGREEMENT_TOLERANCE_KM
 from .run import percent_of_run as _percent
 
-__all__ = ["completion_claims", "completion_pair", "completion_table", "completion_timing", "labelled",
+__all__ = ["completion_claims", "completion_pair", "completion_table", "completion_timing", "expected_start_claim",
+           "labelled",
            "ssa15_claims", "ssa50_claims"]
 
 
@@ -28,6 +29,15 @@ def _snapshot_verdict(matched: pd.DataFrame, scans, n_scans) -> tuple[str, bool]
         ok &= n_ok == len(es) and n_missed == 0
         parts.append(f"{_percent(k, n_scans):.0f} %: {n_ok}/{len(es)} correct, {n_missed} missed")
     return "; ".join(parts), bool(ok)
+
+
+def expected_start_claim(expected_number: pd.Series, n_start: int, first_birth: int, last: int, note: str = ""):
+    """E[N] at the scan before the first birth enters equals the initial hypothesis's size (000 Fig. 11);
+    ``expected_number`` is indexed by scan (a run's summary, or a control's that stops there)."""
+    scan = max(first_birth - 1, 0)
+    return numeric_claim("ssa50", "expected number of objects before the first birth enters", "000 Fig. 11", n_start,
+                         float(expected_number.loc[scan]), abs_tol=0.1, digits=5,
+                         note=f"scan {scan} of {last}; {note}".strip("; "), key="ExpectedStart")
 
 
 def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.DataFrame,
@@ -48,9 +58,7 @@ def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.D
         if len(births) else last
     n_start, n_end = int(m.loc[0, "n_catalogue"]), int(m.loc[last, "n_catalogue"])
     claims = [
-        numeric_claim(ex, "expected number of objects before the first birth enters", "000 Fig. 11", n_start,
-                      float(m.loc[max(first_birth - 1, 0), "expected_number"]), abs_tol=0.1, digits=5,
-                      note=f"scan {max(first_birth - 1, 0)} of {last}; {note}".strip("; "), key="ExpectedStart"),
+        expected_start_claim(m["expected_number"], n_start, first_birth, last, note=note),
         numeric_claim(ex, "expected number of objects at the end", "000 Fig. 11", n_end,
                       float(m.loc[last, "expected_number"]), abs_tol=0.1, digits=5,
                       note="all births have entered the field of view", key="ExpectedEnd"),

@@ -14,6 +14,12 @@ checks on the blind tracker's tables and fills each row's ``control`` column —
 is the "no red stars" check over every scan (seed 000 Sec. V-A: "each method maintained the
 correct hypothesis throughout the simulation"), which the blind tracker fails where it fails the
 start / middle / end snapshots only by luck.
+
+Where the blind tracker is not the right control — "E[N] stays at the initial hypothesis's size
+until the first birth" is about not turning clutter into objects, which a tracker that uses no
+return cannot do — the control is the **engine with a defect**: :func:`clutter_ignoring` makes
+the clutter density 10⁶ times too small, and :func:`clutter_control_run` runs the tracker on it
+up to the first birth.
 """
 
 from __future__ import annotations
@@ -29,7 +35,8 @@ from ...scenarios.ssa import SSAScenario
 from ...scenarios.tables import state_columns
 from .run import POS_COV, TrackingRun
 
-__all__ = ["BLIND", "BLIND_LABEL", "attach_controls", "blind_predictions", "blind_run", "evaluate_blind",
+__all__ = ["BLIND", "BLIND_LABEL", "CLUTTER_DEFECT", "CLUTTER_DEFECT_LABEL", "attach_controls", "blind_predictions",
+           "blind_run", "clutter_control_run", "clutter_ignoring", "evaluate_blind",
            "every_scan_verdict", "scan_errors", "single_return_error_km"]
 
 #: The blind tracker's name in tables (``tracker`` column) and in the ledger's ``control`` column.
@@ -168,3 +175,40 @@ def evaluate_blind(section: Mapping, scenario: SSAScenario, *, snapshots: Sequen
     run = blind_run(scenario, snapshots=snapshots)
     metrics, matched = evaluate_configured(section, scenario, run.summary, run.map_estimates)
     return run, metrics, matched, birth_recognition(matched, scenario)
+
+
+#: How much too small the clutter-ignoring engine takes the clutter density g(z) = 1/V (seed 000 Sec. II-B).
+CLUTTER_DEFECT = 1e6
+CLUTTER_DEFECT_LABEL = "the same R-FISST with its clutter density 10⁶ times too small (clutter ignored)"
+
+
+def clutter_ignoring(scenario: SSAScenario, factor: float = CLUTTER_DEFECT) -> SSAScenario:
+    """``scenario`` as an engine that (almost) ignores clutter models it: the clutter region's area,
+    hence ``1/g(z)``, ``factor`` times too large (range limit scaled by about √factor). A clutter
+    return then costs ``log factor`` more as clutter than the truth says, so the engine explains it
+    as a birth: the defect the claim "E[N] stays at the initial hypothesis's size until the first
+    birth" (seed 000 Fig. 11) is about. The data (truth, scans) are unchanged."""
+    from dataclasses import replace
+
+    from ...models.sensors import PoissonClutter
+
+    if not factor > 1:
+        raise ValueError(f"factor must be > 1, got {factor!r}")
+    fov = scenario.params.fov
+    r_max = float(np.sqrt(factor * (fov.r_max**2 - fov.r_min**2) + fov.r_min**2))
+    sensor = replace(scenario.sensor, clutter=PoissonClutter(scenario.sensor.clutter.rate, replace(fov, r_max=r_max)))
+    return replace(scenario, sensor=sensor)
+
+
+def clutter_control_run(scenario: SSAScenario, settings, seed, *, progress=None) -> TrackingRun:
+    """The tracker ``settings`` on :func:`clutter_ignoring` ``(scenario)`` over the scans before the
+    first birth enters the field of view (what the "E[N] before the first birth" check reads)."""
+    from .run import run_tracker
+    from .trackers import make_tracker
+
+    first = scenario.first_in_view_scan[scenario.birth_ids]
+    first = first[first >= 0]
+    n = int(first.min()) if len(first) else len(scenario.times)
+    defect = clutter_ignoring(scenario)
+    return run_tracker(make_tracker(defect, settings, seed), defect, name="clutter-ignoring control",
+                       progress=progress, n_progress=4, n_scans=max(n, 1))

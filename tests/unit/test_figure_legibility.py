@@ -462,3 +462,12 @@ def test_ssa_catalogue_figures(monkeypatch):
     sf.plot_catalogue(pos, np.arange(200) % 2 == 0, make_radar(cfg), "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "ssa_catalogue/catalogue")
+
+
+def test_ssa50_sensitivity_figure():
+    from hypotrack.experiments.ssa import sensitivity as sv
+
+    table = pd.DataFrame([dict(p_D=p, clutter_rate=lam, p_n_end_mean=0.9 + 0.01 * lam, low=0.8, high=1.0, n=5,
+                               status=("reproduced" if lam == 0 else "inconclusive"))
+                          for p in (0.9, 0.95, 0.99) for lam in (0.0, 0.5, 1.0, 2.0)])
+    check(sv.plot_sensitivity(table, tolerance=0.05), "ssa50/sensitivity/p_end_grid")

@@ -32,8 +32,10 @@ def test_seed_i_is_the_same_whatever_the_number_of_seeds_and_seeds_differ():
 
 def test_tracker_settings_take_the_case_trackers_with_the_seeds_proposals():
     s = ss.tracker_settings(_config(), "ssa15")
-    assert list(s) == ["homht", "rfisst_chain", "rfisst"]
+    assert list(s) == ["homht", "rfisst_chain", "rfisst", "rfisst_fixed"]
     assert (s["rfisst_chain"].n_steps, s["rfisst_chain"].completion_rounds, s["rfisst"].completion_rounds) == (200, 0, 2)
+    # the apples-to-apples pair: R-FISST with a fixed number of objects, like HOMHT
+    assert not s["rfisst_fixed"].population and s["rfisst_fixed"].n_steps == 200
     assert s["homht"].kind == "homht" and s["homht"].max_hypotheses == 3
 
 
@@ -41,8 +43,12 @@ def test_run_seed_rows_on_a_short_realisation():
     config = _config(n_scans=5)
     config["ssa_seeds"]["trackers"] = {"ssa15": ["homht", "rfisst"]}
     rows, timing = ss.run_seed(config, 0, progress=None)
-    assert list(rows.columns) == ss.SEED_COLUMNS and len(rows) == 2 and len(timing) == 2
+    # the two trackers and the blind tracker (the negative control, not timed: it runs no search)
+    assert list(rows.columns) == ss.SEED_COLUMNS and len(rows) == 3 and len(timing) == 2
     r = rows.set_index("tracker")
+    # the blind tracker keeps the 15 known objects: all weight on 15, no births; compared with HOMHT
+    assert (r.loc["blind", "p_n_end"], r.loc["blind", "expected_number_end"]) == (1.0, 15.0)
+    assert r.loc["blind", "reference"] == "homht" and r.loc["blind", "children_per_scan_mean"] == 0
     assert r.loc["homht", "reference"] == "" and np.isnan(r.loc["homht", "map_agreement"])
     assert r.loc["rfisst", "reference"] == "homht" and 0 <= r.loc["rfisst", "map_agreement"] <= 1
     # HOMHT runs with a fixed number of objects: all 15 known objects, all weight on 15.
@@ -106,3 +112,32 @@ def test_claims_apply_the_monte_carlo_rule_over_seeds():
     assert bad.status == "not reproduced"
     one = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([1.0], [1.0]))}["ssa50_chain_PEnd"]
     assert one.status == "inconclusive" and "too few" in one.note
+
+
+def _with_blind(per_seed, p_end=0.0, agreement=0.0):
+    """Fabricated per-seed rows plus a blind tracker (the negative control) on every seed."""
+    blind = per_seed[per_seed["tracker"] == "chain"].assign(tracker="blind", label="blind tracker")
+    blind = blind.assign(p_n_end=np.where(blind["case"] == "ssa50", p_end, blind["p_n_end"]),
+                         expected_number_end=np.where(blind["case"] == "ssa50", 45.0, blind["expected_number_end"]),
+                         births_tracked_end=0, map_agreement=np.where(blind["case"] == "ssa15", agreement, np.nan))
+    return pd.concat([per_seed, blind], ignore_index=True)
+
+
+def test_over_seed_rows_name_the_blind_control_and_are_demoted_when_it_passes():
+    p_end = [0.99, 1.0, 0.98, 1.0, 0.99, 1.0, 0.98, 1.0, 0.99, 1.0]
+    agree = [1.0] * 10
+    claims = {c.key: c for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}
+    assert not any(k.startswith(("ssa50_blind", "ssa15_blind")) for k in claims)  # the control has no rows
+    p = claims["ssa50_chain_PEnd"]
+    # the blind tracker keeps 45 objects: P(N = 50) = 0 on every seed, which the same rule rejects
+    assert p.status == "reproduced" and p.control.endswith("-> fails") and "mean 0 over 10 seeds" in p.control
+    e = claims["ssa50_chain_ExpectedEnd"]
+    assert "mean 45" in e.control and e.control.endswith("-> fails")
+    assert claims["ssa50_chain_Births"].control.endswith("no births): 0 of 50 births -> fails")
+    assert claims["ssa15_chain_Agreement"].status == "reproduced"
+    # a control that also passes (here: a "blind" agreeing with HOMHT at every scan) demotes the row
+    demoted = {c.key: c for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree), p_end=1.0,
+                                                                  agreement=1.0))}
+    assert demoted["ssa15_chain_Agreement"].status == "uninformative"
+    assert demoted["ssa15_chain_Agreement"].control.endswith("-> also passes")
+    assert demoted["ssa50_chain_PEnd"].status == "uninformative"

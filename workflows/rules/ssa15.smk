@@ -48,6 +48,7 @@ rule ssa15_figures:
     output:
         metrics=report_table(f"{SSA15_DIR}/metrics.csv", "ssa15", "metrics"),
         agreement=report_table(f"{SSA15_DIR}/agreement.csv", "ssa15", "agreement"),
+        control_metrics=f"{SSA15_DIR}/blind_metrics.csv",  # the negative control's per-scan metrics
         snapshots=f"{SSA15_DIR}/estimate_snapshots.csv",
         completion=report_table(f"{SSA15_DIR}/completion.csv", "ssa15", "completion"),
         completion_timing=f"{SSA15_DIR}/completion_timing.csv",

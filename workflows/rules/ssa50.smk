@@ -35,15 +35,36 @@ rule ssa50_run:
 SSA50_RUN = expand(f"{SSA50_DIR}/{{tracker}}_{{table}}.csv", tracker=SSA50_TRACKERS, table=SSA50_TABLES)
 
 
+# The negative control of "E[N] before the first birth": the primary tracker with its clutter density 10^6 times
+# too small (clutter returns become births), run up to the first birth.
+rule ssa50_control_run:
+    input:
+        truth=f"{RESULTS}/ssa/ssa50_truth.csv",
+        scans=f"{RESULTS}/ssa/ssa50_scans.csv",
+        prior=f"{RESULTS}/ssa/ssa50_prior.csv",
+    output:
+        summary=f"{SSA50_DIR}/control_clutter_summary.csv",
+    log:
+        f"{RESULTS}/logs/ssa50/control_clutter_run.log",
+    params:
+        settings=lambda wc: {"master_seed": config["seed"], "primary": config["ssa50"]["primary"],
+                             "tracker": config["ssa50"]["trackers"][config["ssa50"]["primary"]],
+                             **{k: config["ssa50"][k] for k in ["max_hypotheses", "gate_probability", "population"]}},
+    script:
+        "../scripts/ssa50_control_run.py"
+
+
 rule ssa50_figures:
     input:
         **{f"{tr}_{table}": f"{SSA50_DIR}/{tr}_{table}.csv" for tr in SSA50_TRACKERS for table in SSA50_TABLES},
+        control_clutter=f"{SSA50_DIR}/control_clutter_summary.csv",
         truth=f"{RESULTS}/ssa/ssa50_truth.csv",
         scans=f"{RESULTS}/ssa/ssa50_scans.csv",
         prior=f"{RESULTS}/ssa/ssa50_prior.csv",
     output:
         metrics=report_table(f"{SSA50_DIR}/metrics.csv", "ssa50", "metrics"),
         births=report_table(f"{SSA50_DIR}/births.csv", "ssa50", "births"),
+        control_metrics=f"{SSA50_DIR}/blind_metrics.csv",  # the negative control's per-scan metrics
         snapshots=f"{SSA50_DIR}/estimate_snapshots.csv",
         completion=report_table(f"{SSA50_DIR}/completion.csv", "ssa50", "completion"),
         completion_timing=f"{SSA50_DIR}/completion_timing.csv",
@@ -66,7 +87,7 @@ rule ssa50_figures:
         "../scripts/ssa50_figures.py"
 
 
-SSA50_TARGETS = [*SSA50_RUN, *rules.ssa50_figures.output]
+SSA50_TARGETS = [*SSA50_RUN, *rules.ssa50_control_run.output, *rules.ssa50_figures.output]
 
 
 rule ssa50:
@@ -75,3 +96,56 @@ rule ssa50:
 
 
 ALL_TARGETS.extend(SSA50_TARGETS)
+
+
+# Sensitivity of Fig. 11's P(N = 50) = 1 to the parameters 000 Sec. IV-A leaves out (clutter rate, p_D):
+# one shard per setting runs the section's tracker (and the blind tracker, the control) on every scenario
+# seed; the table rule applies the Monte Carlo rule per setting. Config: ssa50.sensitivity.
+SSA50_SENS_DIR = f"{SSA50_DIR}/sensitivity"
+SSA50_SENS_SETTINGS = range(len(config["ssa50"]["sensitivity"]["clutter_rates"])
+                            * len(config["ssa50"]["sensitivity"]["p_D"]))
+
+
+rule ssa50_sensitivity_shard:
+    wildcard_constraints:
+        setting=r"\d+",
+    output:
+        rows=f"{SSA50_SENS_DIR}/shards/setting_{{setting}}.csv",
+        timing=f"{SSA50_SENS_DIR}/shards/setting_{{setting}}_timing.csv",
+    params:
+        # What a shard reads: a change of these reruns the shards.
+        settings={"seed": config["seed"], "ssa": config["ssa"], "ssa50": config["ssa50"]},
+    log:
+        f"{RESULTS}/logs/ssa50/sensitivity_{{setting}}.log",
+    script:
+        "../scripts/ssa50_sensitivity_shard.py"
+
+
+rule ssa50_sensitivity_table:
+    input:
+        rows=expand(f"{SSA50_SENS_DIR}/shards/setting_{{setting}}.csv", setting=SSA50_SENS_SETTINGS),
+        timing=expand(f"{SSA50_SENS_DIR}/shards/setting_{{setting}}_timing.csv", setting=SSA50_SENS_SETTINGS),
+    output:
+        runs=f"{SSA50_SENS_DIR}/runs.csv",
+        table=report_table(f"{SSA50_SENS_DIR}/p_end_grid.csv", "ssa50", "sensitivity"),
+        timing=f"{SSA50_SENS_DIR}/sensitivity_timing.csv",
+        claims=f"{SSA50_SENS_DIR}/claims.csv",
+        macros=f"{SSA50_SENS_DIR}/macros.csv",
+        fig_pdf=f"{SSA50_SENS_DIR}/p_end_grid.pdf",
+        fig_png=report_figure(f"{SSA50_SENS_DIR}/p_end_grid.png", "ssa50", "sensitivity"),
+    params:
+        section=config["ssa50"]["sensitivity"],
+        ssa=config["ssa"],
+    script:
+        "../scripts/ssa50_sensitivity_table.py"
+
+
+SSA50_SENS_TARGETS = [*rules.ssa50_sensitivity_table.output]
+
+
+rule ssa50_sensitivity:
+    input:
+        SSA50_SENS_TARGETS,
+
+
+ALL_TARGETS.extend(SSA50_SENS_TARGETS)

@@ -24,11 +24,17 @@ for tr in labels:
     m, mt = st.evaluate_configured(sec, scenario, pd.read_csv(inp[f"{tr}_summary"]), maps[tr])
     metrics.append(m.assign(tracker=tr))
     matched.append(mt.assign(tracker=tr))
+# The negative control of every check: the blind tracker (EKF prediction of the initial hypothesis only).
+blind, blind_metrics, blind_matched, _ = st.evaluate_blind(sec, scenario)
 metrics = pd.concat(metrics, ignore_index=True)
 matched = pd.concat(matched, ignore_index=True)
 ospa_settings = st.OSPASettings(**sec["ospa"])
 agreements = {(a, b): st.map_agreement(maps[a], maps[b], scenario.prior_ids, c=ospa_settings.c_in_view,
                                        p=ospa_settings.p) for a, b in sec["comparisons"]}
+reference = sec["comparisons"][0][1]
+blind_agreement = st.map_agreement(blind.map_estimates, maps[reference], scenario.prior_ids,
+                                   c=ospa_settings.c_in_view, p=ospa_settings.p)
+write_table(blind_metrics.assign(tracker=st.BLIND), out.control_metrics)
 snapshot_scans = st.snapshot_scans(K, sec["snapshots"])
 snapshots = matched[matched["scan"].isin(snapshot_scans)]
 write_table(metrics, out.metrics)
@@ -46,7 +52,6 @@ st.save_figure(st.plot_comparison(agreements, metrics, ospa_settings, labels=lab
                                   title=f"{' vs '.join(labels[tr] for tr in paper_pair)} ({what})"),
                out.comparison_pdf, out.comparison_png)
 # The completion step's effect: children found, and each R-FISST's MAP agreement with the paper pair's reference.
-reference = sec["comparisons"][0][1]
 table = st.completion_table({tr: pd.read_csv(inp[f"{tr}_summary"]) for tr in labels}, settings,
                             {a: ag for (a, b), ag in agreements.items() if b == reference}, reference=reference)
 timing = st.completion_timing({tr: pd.read_csv(inp[f"{tr}_timing"]) for tr in labels}, settings)
@@ -61,7 +66,12 @@ if pair:
 write_macros("ssa15", macros, out.macros)
 write_macros("ssa15", timing_macros, out.timing_macros)
 write_claims(timing_claims, out.timing_claims)
-claims = st.ssa15_claims(metrics, agreements, matched, estimate_scans=snapshot_scans, n_scans=K,
-                         error_bound_probability=sec["error_bound_probability"], labels=labels)
+claims = st.ssa15_claims(pd.concat([metrics, blind_metrics.assign(tracker=st.BLIND)], ignore_index=True),
+                         agreements, pd.concat([matched, blind_matched.assign(tracker=st.BLIND)], ignore_index=True),
+                         estimate_scans=snapshot_scans, n_scans=K,
+                         error_bound_probability=sec["error_bound_probability"], labels=labels,
+                         red_star_tolerance=sec["red_star_tolerance"],
+                         max_ospa_km=st.single_return_error_km(scenario), control=st.BLIND,
+                         control_agreement=blind_agreement)
 claims = st.one_verdict(claims, "ssa15", paper_pair[0], seed_trackers=snakemake.params.seed_trackers) + extra
 print(claims_line(write_claims(claims, out.claims), out.claims), flush=True)

@@ -23,6 +23,17 @@ K = len(scenario.times)
 estimate_scans = st.snapshot_scans(K, sec["estimate_snapshots"])
 read = {tr: {t: pd.read_csv(inp[f"{tr}_{t}"]) for t in ("summary", "map_estimates", "weights", "cardinality",
                                                          "timing")} for tr in settings}
+# The negative control of every check: the blind tracker (EKF prediction of the initial hypothesis only).
+blind, blind_metrics, blind_matched, blind_births = st.evaluate_blind(
+    sec, scenario, snapshots=st.snapshot_scans(K, sec["weight_snapshots"]))
+blind_claims = st.ssa50_claims(blind_metrics, blind.cardinality, blind.weights, blind_matched, blind_births,
+                               estimate_scans=estimate_scans, n_scans=K,
+                               error_bound_probability=sec["error_bound_probability"], tracker=st.BLIND_LABEL)
+write_table(blind_metrics.assign(tracker=st.BLIND), out.control_metrics)
+# "E[N] before the first birth" is about clutter not becoming objects, which a blind tracker cannot do: its
+# control is the primary tracker with the clutter density 10^6 times too small (rule ssa50_control_run).
+clutter_summary = pd.read_csv(inp.control_clutter).set_index("scan")["expected_number"]
+start_control = st.expected_start_claim(clutter_summary, len(scenario.prior_ids), int(clutter_summary.index.max()) + 1, K - 1)
 metrics, matched, births, claims = {}, {}, {}, []
 for tr in settings:
     metrics[tr], matched[tr] = st.evaluate_configured(sec, scenario, read[tr]["summary"], read[tr]["map_estimates"])
@@ -31,6 +42,9 @@ for tr in settings:
                           estimate_scans=estimate_scans, n_scans=K,
                           error_bound_probability=sec["error_bound_probability"], tracker=labels[tr],
                           per_object_death=settings[tr].kind == "glmb")
+    # a row whose control also passes is uninformative
+    own = st.attach_controls(own, [c for c in blind_claims if c.key != "ExpectedStart"])
+    own = st.attach_controls(own, [start_control], what=st.CLUTTER_DEFECT_LABEL)
     own = st.one_verdict(own, "ssa50", tr, seed_trackers=snakemake.params.seed_trackers,
                          extension=settings[tr].kind == "glmb")  # one verdict per claim; GLMB: not 000's method
     # every row names its tracker; the primary tracker's keys stay unprefixed (the paper quotes them)

@@ -24,7 +24,10 @@ One module per step of the data's way; each step reads and writes tables:
    verdict of every estimate (Fig. 7: an estimate is correct when the true object lies inside
    its error bound); :func:`map_agreement` compares two trackers' MAP hypotheses scan by scan;
 4. :mod:`.figures` draws the figures from those tables only;
-5. :mod:`.claims` — ``ssa50_claims`` / ``ssa15_claims`` state what was and was not reproduced;
+5. :mod:`.controls` — the negative control of every check: the blind tracker (EKF prediction of
+   the initial hypothesis, no measurement ever used, no births), :func:`blind_run`, scored by the
+   same evaluation and claim code; :func:`attach_controls` fills the ledger's ``control`` column;
+6. :mod:`.claims` — ``ssa50_claims`` / ``ssa15_claims`` state what was and was not reproduced;
    ``completion_*`` measure what this project's completion step (R-FISST's chain followed by a
    deterministic neighbour search) changes against the paper's chain alone.
 
@@ -52,11 +55,26 @@ from .claims import (
     completion_pair,
     completion_table,
     completion_timing,
+    expected_start_claim,
     labelled,
     one_verdict,
     seed_claim_id,
     ssa15_claims,
     ssa50_claims,
+)
+from .controls import (
+                         BLIND,
+                         BLIND_LABEL,
+                         CLUTTER_DEFECT_LABEL,
+                         clutter_control_run,
+                         clutter_ignoring,
+                         attach_controls,
+                         blind_predictions,
+                         blind_run,
+                         evaluate_blind,
+                         every_scan_verdict,
+                         scan_errors,
+                         single_return_error_km,
 )
 from .evaluation import (
                          AGREEMENT_TOLERANCE_KM,
@@ -86,6 +104,18 @@ from .scenario import catalogue_mask, scenario_from_files, scenario_from_tables
 from .trackers import TRACKER_KINDS, TRACKER_NAMES, TrackerSettings, make_tracker, tracker_seed
 
 __all__ = [
+    "BLIND",
+    "BLIND_LABEL",
+    "CLUTTER_DEFECT_LABEL",
+    "clutter_control_run",
+    "clutter_ignoring",
+    "attach_controls",
+    "blind_predictions",
+    "blind_run",
+    "evaluate_blind",
+    "every_scan_verdict",
+    "scan_errors",
+    "single_return_error_km",
     "AGREEMENT_TOLERANCE_KM",
     "TRACKER_KINDS",
     "TRACKER_NAMES",
@@ -102,6 +132,7 @@ __all__ = [
     "completion_timing",
     "evaluate_configured",
     "evaluate_map",
+    "expected_start_claim",
     "labelled",
     "make_tracker",
     "map_agreement",

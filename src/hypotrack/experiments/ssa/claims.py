@@ -10,10 +10,12 @@ import numpy as np
 import pandas as pd
 
 from ...reporting.ledger import Claim, numeric_claim
+from .controls import attach_controls, every_scan_verdict
 from .evaluation import AGREEMENT_TOLERANCE_KM
 from .run import percent_of_run as _percent
 
-__all__ = ["completion_claims", "completion_pair", "completion_table", "completion_timing", "labelled",
+__all__ = ["completion_claims", "completion_pair", "completion_table", "completion_timing", "expected_start_claim",
+           "labelled",
            "ssa15_claims", "ssa50_claims"]
 
 
@@ -27,6 +29,15 @@ def _snapshot_verdict(matched: pd.DataFrame, scans, n_scans) -> tuple[str, bool]
         ok &= n_ok == len(es) and n_missed == 0
         parts.append(f"{_percent(k, n_scans):.0f} %: {n_ok}/{len(es)} correct, {n_missed} missed")
     return "; ".join(parts), bool(ok)
+
+
+def expected_start_claim(expected_number: pd.Series, n_start: int, first_birth: int, last: int, note: str = ""):
+    """E[N] at the scan before the first birth enters equals the initial hypothesis's size (000 Fig. 11);
+    ``expected_number`` is indexed by scan (a run's summary, or a control's that stops there)."""
+    scan = max(first_birth - 1, 0)
+    return numeric_claim("ssa50", "expected number of objects before the first birth enters", "000 Fig. 11", n_start,
+                         float(expected_number.loc[scan]), abs_tol=0.1, digits=5,
+                         note=f"scan {scan} of {last}; {note}".strip("; "), key="ExpectedStart")
 
 
 def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.DataFrame,
@@ -47,9 +58,7 @@ def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.D
         if len(births) else last
     n_start, n_end = int(m.loc[0, "n_catalogue"]), int(m.loc[last, "n_catalogue"])
     claims = [
-        numeric_claim(ex, "expected number of objects before the first birth enters", "000 Fig. 11", n_start,
-                      float(m.loc[max(first_birth - 1, 0), "expected_number"]), abs_tol=0.1, digits=5,
-                      note=f"scan {max(first_birth - 1, 0)} of {last}; {note}".strip("; "), key="ExpectedStart"),
+        expected_start_claim(m["expected_number"], n_start, first_birth, last, note=note),
         numeric_claim(ex, "expected number of objects at the end", "000 Fig. 11", n_end,
                       float(m.loc[last, "expected_number"]), abs_tol=0.1, digits=5,
                       note="all births have entered the field of view", key="ExpectedEnd"),
@@ -108,59 +117,93 @@ def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.D
     return claims
 
 
+def _same_map_claim(ex, label_a, label_b, agreement: pd.DataFrame, note: str = "") -> Claim:
+    frac = float(agreement["agree"].mean())
+    bad = agreement.loc[~agreement["agree"], "scan"].to_numpy()
+    n_diff_objects = int((~agreement["same_objects"]).sum())
+    more = " ..." if len(bad) > 10 else ""
+    diff = (f"differ at scans {', '.join(map(str, bad[:10]))}{more}: {n_diff_objects} of them with "
+            "different objects (e.g. a newborn object in one MAP only)" if len(bad) else "")
+    return Claim(ex, f"{label_a} and {label_b} give the same estimates (same MAP hypothesis)",
+                 "000 Sec. V-A, Figs 12-14", "100 % of scans", f"{100 * frac:.1f} % of {len(agreement)} scans",
+                 "exact", "reproduced" if frac == 1.0 else "not reproduced", "; ".join(x for x in (diff, note) if x),
+                 "published number", key="SameMap")
+
+
+def _not_worse_claim(ex, label_a, label_b, ospa_a: pd.Series, ospa_b: pd.Series) -> Claim:
+    worse = float(np.mean(ospa_a > ospa_b + AGREEMENT_TOLERANCE_KM))
+    return Claim(ex, f"{label_a} accuracy equal to or better than {label_b}, never worse",
+                 "000 Sec. V", "0 % of scans worse", f"{100 * worse:.1f} % of scans worse",
+                 f"catalogue OSPA, {AGREEMENT_TOLERANCE_KM * 1e3:g} m",
+                 "reproduced" if worse == 0 else "not reproduced",
+                 f"mean catalogue OSPA {ospa_a.mean():.4g} km ({label_a}) vs {ospa_b.mean():.4g} km ({label_b})",
+                 "published number", key="AccuracyNotWorse")
+
+
+def _no_red_stars_claim(ex, label, key, matched, metrics, *, estimate_scans, n_scans, error_bound_probability,
+                        tolerance, max_ospa_km=None) -> Claim:
+    """No red stars at every scan (000 Sec. V-A: "maintained the correct hypothesis throughout the
+    simulation"); the start / middle / end snapshots of Figs 12-14 are in the note."""
+    snap, _ = _snapshot_verdict(matched, estimate_scans, n_scans)
+    text, ok = every_scan_verdict(matched, metrics, tolerance=tolerance, max_ospa_km=max_ospa_km)
+    accuracy = "" if max_ospa_km is None else f"; in-view OSPA ≤ {max_ospa_km:.3g} km (one return's RMS error)"
+    return Claim(ex, f"{label}: no red stars, every estimate within its error bound at every scan",
+                 "000 Sec. V-A, Figs 12-14", "correct hypothesis throughout", text,
+                 f"truth in the {100 * error_bound_probability:g} % ellipse; ≤ {100 * tolerance:g} % of scans "
+                 f"with a red star or a missed object{accuracy}", "reproduced" if ok else "not reproduced",
+                 f"the figures' snapshots (start, middle, end): {snap}", "published number", key=key)
+
+
 def ssa15_claims(metrics: pd.DataFrame, agreements: Mapping, matched: pd.DataFrame, *, estimate_scans,
-                 n_scans: int, error_bound_probability: float, labels: Mapping) -> list:
+                 n_scans: int, error_bound_probability: float, labels: Mapping, red_star_tolerance: float = 0.01,
+                 max_ospa_km: float | None = None, control: str | None = None, control_agreement: pd.DataFrame | None = None) -> list:
     """The ssa15 reproduction claims (seed 000 Sec. V-A, Figs 12–14).
 
     ``agreements`` maps ``(tracker_a, tracker_b)`` to :func:`map_agreement` tables; the first
     pair is the paper's comparison (R-FISST vs HOMHT), further pairs are extensions.
-    ``labels`` maps tracker names to display names; every tracker gets a "no red stars" claim.
+    ``labels`` maps tracker names to display names; every tracker gets a "no red stars" claim,
+    checked at every scan (:func:`~.controls.every_scan_verdict` with ``red_star_tolerance`` and, when
+    given, the accuracy bound ``max_ospa_km`` on the mean in-view OSPA).
+
+    ``control``: the name of a negative control (the blind tracker, :func:`~.controls.blind_run`)
+    whose rows ``metrics`` and ``matched`` also hold, and ``control_agreement`` its
+    :func:`map_agreement` with the paper pair's second tracker: every check is run on it too and
+    fills the ``control`` column (:func:`~.controls.attach_controls`).
     """
     ex = "ssa15"
     claims = []
     others = "; ".join(f"{labels[a]} vs {labels[b]}: {100 * ag['agree'].mean():.1f} %"
                        for (a, b), ag in list(agreements.items())[1:])
+    ospa = {tr: g.set_index("scan")["ospa_catalogue"] for tr, g in metrics.groupby("tracker")}
+    pair = next(iter(agreements))
     for i, ((a, b), agreement) in enumerate(agreements.items()):
-        frac = float(agreement["agree"].mean())
-        bad = agreement.loc[~agreement["agree"], "scan"].to_numpy()
-        n_diff_objects = int((~agreement["same_objects"]).sum())
-        more = " ..." if len(bad) > 10 else ""
-        note = (f"differ at scans {', '.join(map(str, bad[:10]))}{more}: {n_diff_objects} of them with "
-                "different objects (e.g. a newborn object in one MAP only)" if len(bad) else "")
-        if i == 0 and others:
-            note = f"{note}; {others}" if note else others
         if i == 0:
-            claims.append(Claim(ex,
-                                f"{labels[a]} and {labels[b]} give the same estimates (same MAP hypothesis)",
-                                "000 Sec. V-A, Figs 12-14", "100 % of scans",
-                                f"{100 * frac:.1f} % of {len(agreement)} scans", "exact",
-                                "reproduced" if frac == 1.0 else "not reproduced", note, "published number",
-                                key="SameMap"))
-            ma = metrics[metrics["tracker"] == a].set_index("scan")["ospa_catalogue"]
-            mb = metrics[metrics["tracker"] == b].set_index("scan")["ospa_catalogue"]
-            worse = float(np.mean(ma > mb + AGREEMENT_TOLERANCE_KM))
-            claims.append(Claim(ex, f"{labels[a]} accuracy equal to or better than {labels[b]}, never worse",
-                                "000 Sec. V", "0 % of scans worse", f"{100 * worse:.1f} % of scans worse",
-                                f"catalogue OSPA, {AGREEMENT_TOLERANCE_KM * 1e3:g} m",
-                                "reproduced" if worse == 0 else "not reproduced",
-                                f"mean catalogue OSPA {ma.mean():.4g} km ({labels[a]}) vs "
-                                f"{mb.mean():.4g} km ({labels[b]})", "published number", key="AccuracyNotWorse"))
+            claims.append(_same_map_claim(ex, labels[a], labels[b], agreement, others))
+            claims.append(_not_worse_claim(ex, labels[a], labels[b], ospa[a], ospa[b]))
         else:
+            frac = float(agreement["agree"].mean())
+            same = _same_map_claim(ex, labels[a], labels[b], agreement)
             claims.append(Claim(ex, f"{labels[a]} and {labels[b]}: same MAP hypothesis", "extension", "--",
-                                f"{100 * frac:.1f} % of {len(agreement)} scans", "exact", "extension", note,
+                                f"{100 * frac:.1f} % of {len(agreement)} scans", "exact", "extension", same.note,
                                 "measurement", key=f"SameMapPair{i}"))
+    kw = dict(estimate_scans=estimate_scans, n_scans=n_scans, error_bound_probability=error_bound_probability,
+              tolerance=red_star_tolerance, max_ospa_km=max_ospa_km)
     for tr, label in labels.items():
-        verdict, ok = _snapshot_verdict(matched[matched["tracker"] == tr], estimate_scans, n_scans)
-        claims.append(Claim(ex, f"{label}: no red stars at the start, middle and end", "000 Figs 12-14",
-                            "all correct", verdict,
-                            f"truth in the {100 * error_bound_probability:g} % ellipse",
-                            "reproduced" if ok else "not reproduced", evidence="published number",
-                            key=f"NoRedStars{_key_part(tr)}"))
+        claims.append(_no_red_stars_claim(ex, label, f"NoRedStars{_key_part(tr)}", matched[matched["tracker"] == tr],
+                                          metrics[metrics["tracker"] == tr], **kw))
     means = ", ".join(f"{label} {metrics.loc[metrics['tracker'] == tr, 'ospa_in_view'].mean():.3g} km"
                       for tr, label in labels.items())
     claims.append(Claim(ex, "mean OSPA of the MAP estimates, objects in view", "extension", "--", means, "--",
                         "extension", evidence="measurement", key="MeanOspa"))
-    return claims
+    if control is None:
+        return claims
+    c_matched, c_metrics = matched[matched["tracker"] == control], metrics[metrics["tracker"] == control]
+    red = _no_red_stars_claim(ex, control, "NoRedStars", c_matched, c_metrics, **kw)
+    ctl = {f"NoRedStars{_key_part(tr)}": red for tr in labels}
+    ctl["AccuracyNotWorse"] = _not_worse_claim(ex, control, labels[pair[1]], ospa[control], ospa[pair[1]])
+    if control_agreement is not None:
+        ctl["SameMap"] = _same_map_claim(ex, control, labels[pair[1]], control_agreement)
+    return attach_controls(claims, ctl)
 
 
 #: Claims of 000 that ssa_seeds decides over scenario seeds: (case, key of the single-run row) -> what.

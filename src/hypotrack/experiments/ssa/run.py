@@ -113,7 +113,8 @@ def _log10_children(n_in_view: int, m: int, n_birth_regions: int, deaths: bool) 
 
 
 def run_tracker(tracker, scenario: SSAScenario, *, snapshots: Sequence[int] = (), name: str = "",
-                progress: Callable[[str], None] | None = print, n_progress: int = 20) -> TrackingRun:
+                progress: Callable[[str], None] | None = print, n_progress: int = 20,
+                n_scans: int | None = None) -> TrackingRun:
     """Run a hypothesis filter over every scan of an SSA scenario and record its posterior.
 
     Parameters
@@ -127,12 +128,16 @@ def run_tracker(tracker, scenario: SSAScenario, *, snapshots: Sequence[int] = ()
         Prefix of the progress lines.
     progress : callable, optional
         Receives about ``n_progress`` progress lines; ``None`` is silent.
+    n_scans : int, optional
+        Stop after the first ``n_scans`` scans (scan 0, the initial hypothesis, included); ``None``: all.
 
     Returns
     -------
     TrackingRun
     """
     scans = scenario.scan_list()
+    if n_scans is not None:
+        scans = scans[:check_int(n_scans, "n_scans", minimum=1)]
     K = len(scans)
     _, in_view = truth_arrays(scenario)
     snapshots = {int(k) for k in snapshots}

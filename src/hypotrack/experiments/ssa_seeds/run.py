@@ -4,7 +4,10 @@ The ``ssa50`` and ``ssa15`` experiments judge one realisation each; a verdict su
 the end is 1" or "R-FISST and HOMHT agree at every scan" may be that realisation's luck. This
 experiment draws ``n_seeds`` independent realisations of both scenarios (objects, births, clutter,
 initial hypothesis) and runs the same named trackers on each — R-FISST as the paper's chain alone
-and with this project's completion step, and HOMHT on ssa15 — one shard per seed.
+and with this project's completion step, and on ssa15 HOMHT and R-FISST with the number of objects
+fixed like HOMHT's (the like-for-like pair) — one shard per seed. The blind tracker
+(:func:`hypotrack.experiments.ssa.blind_run`: EKF prediction of the initial hypothesis, no
+measurement used, no births) runs on every realisation as the negative control of each verdict.
 
 Steps: :func:`seed_scenario` draws realisation ``i``; :func:`run_seed` runs every tracker on both
 cases and reduces each run to one row of :data:`SEED_COLUMNS`; :func:`distribution_table` gives
@@ -30,11 +33,12 @@ import pandas as pd
 
 from ..._validation import check_int
 from ...reporting.ledger import Claim, monte_carlo_claim
+from ...reporting.verdict import with_control
 from ...scenarios.ssa import SSAScenario, params_from_config, simulate_ssa
 from ..seeds import experiment_seeds
 from ..ssa.claims import OVER_SEEDS, seed_claim_id
-from ..ssa import (TrackerSettings, birth_recognition, evaluate_map, make_tracker, map_agreement, run_tracker,
-                  OSPASettings)
+from ..ssa import (BLIND, BLIND_LABEL, OSPASettings, TrackerSettings, birth_recognition, blind_run, evaluate_map,
+                   make_tracker, map_agreement, run_tracker)
 
 __all__ = ["CASES", "METRICS", "SEED_COLUMNS", "distribution_table", "plot_distributions", "run_seed",
            "seed_scenario", "ssa_seeds_claims", "tracker_settings"]
@@ -81,7 +85,7 @@ def tracker_settings(config: Mapping, case: str) -> dict:
     return out
 
 
-def _row(case, index, name, settings, scenario, run, section, reference_map, reference):
+def _row(case, index, name, label, scenario, run, section, reference_map, reference):
     metrics, matched = evaluate_map(run.map_estimates, scenario, ospa_settings=OSPASettings(**section["ospa"]),
                                     error_bound_probability=section["error_bound_probability"])
     births = birth_recognition(matched, scenario)
@@ -93,7 +97,7 @@ def _row(case, index, name, settings, scenario, run, section, reference_map, ref
     if reference_map is not None:
         agreement = float(map_agreement(run.map_estimates, reference_map, scenario.prior_ids)["agree"].mean())
     return {
-        "case": case, "seed_index": index, "tracker": name, "label": settings.label, "n_scans": last + 1,
+        "case": case, "seed_index": index, "tracker": name, "label": label, "n_scans": last + 1,
         "n_catalogue_end": n_end, "expected_number_end": float(run.summary["expected_number"].iloc[-1]),
         "expected_number_error": float(run.summary["expected_number"].iloc[-1]) - n_end,
         "p_n_end": float(card.loc[card["n_objects"] == n_end, "probability"].sum()),
@@ -116,8 +120,10 @@ def _reference(config, case, settings):
 def run_seed(config: Mapping, index: int, progress: Callable[[str], None] | None = print):
     """Every configured tracker on realisation ``index`` of both cases.
 
-    Returns ``(rows, timing)``: one :data:`SEED_COLUMNS` row per case and tracker (deterministic
-    given the config) and ``case, seed_index, tracker, seconds, cpu_seconds``.
+    Returns ``(rows, timing)``: one :data:`SEED_COLUMNS` row per case and tracker, and one for the
+    blind tracker (:data:`~hypotrack.experiments.ssa.BLIND`, the negative control of every check:
+    EKF prediction of the initial hypothesis, no measurements, no births), deterministic given the
+    config; and ``case, seed_index, tracker, seconds, cpu_seconds``.
     """
     rows, timing = [], []
     for case in config["ssa_seeds"]["trackers"]:
@@ -133,9 +139,11 @@ def run_seed(config: Mapping, index: int, progress: Callable[[str], None] | None
                                      f"{s.label}", progress=progress, n_progress=4)
             timing.append({"case": case, "seed_index": index, "tracker": name,
                            "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0})
-        for name, s in settings.items():
+        runs[BLIND] = blind_run(scenario)  # the negative control of every check (no measurement ever used)
+        labels = {**{name: s.label for name, s in settings.items()}, BLIND: BLIND_LABEL}
+        for name, label in labels.items():
             ref_map = runs[ref].map_estimates if name != ref else None
-            rows.append(_row(case, index, name, s, scenario, runs[name], config[case], ref_map, ref))
+            rows.append(_row(case, index, name, label, scenario, runs[name], config[case], ref_map, ref))
     return pd.DataFrame(rows, columns=SEED_COLUMNS), pd.DataFrame(timing)
 
 
@@ -159,48 +167,73 @@ def distribution_table(per_seed: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
+def _tests(case: str, g: pd.DataFrame, ref_label: str):
+    """The Monte Carlo tests of one case: ``(column, item, source, published, tolerance, key)``."""
+    if case == "ssa50":
+        return [("expected_number_end", "E[N] at the end equals the true number", "000 Fig. 11",
+                 g["n_catalogue_end"].mean(), 0.1, "ExpectedEnd"),
+                ("p_n_end", "P(N = true number) at the end", "000 Fig. 11", 1.0, 0.05, "PEnd")]
+    if ref_label:
+        return [("map_agreement", f"same MAP hypothesis as {ref_label} (fraction of scans)",
+                 "000 Sec. V-A, Figs 12-14", 1.0, 0.01, "Agreement")]
+    return []
+
+
+def _mc_control(g: pd.DataFrame, col: str, published: float, tol: float) -> tuple[str, bool]:
+    """The blind tracker's value of a Monte Carlo test and whether it passes the same rule."""
+    x = g[col].to_numpy(dtype=float)
+    if len(x) < 2 or not np.isfinite(x).all():
+        return "; ".join(f"{v:.4g}" for v in x), False
+    c = monte_carlo_claim("control", "control", "control", float(published), x, abs_tol=tol, digits=4)
+    return f"mean {float(c.mean):.4g} over {len(x)} seeds ({c.status})", c.status == "reproduced"
+
+
 def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
     """Each SSA verdict over seeds (one stated Monte Carlo rule, :func:`monte_carlo_claim`).
 
     Published values: E[N] at the end equals the true number and the whole weight sits on it
     (000 Fig. 11, ssa50); R-FISST and HOMHT give the same estimates at every scan (000 Sec. V-A,
     ssa15). Births tracked are counted over all seeds. With fewer than two seeds a row reports the
-    single value as not decidable.
+    single value as not decidable. The blind tracker's rows (:data:`~hypotrack.experiments.ssa.BLIND`)
+    are the negative control: each test is run on them too and fills the row's ``control`` column
+    (a passing row whose control also passes is *uninformative*).
     """
     ex, claims = "ssa_seeds", []
     per_seed = per_seed.assign(reference=per_seed["reference"].fillna(""))  # "" reads back as NaN
     names = dict(zip(zip(per_seed["case"], per_seed["tracker"]), per_seed["label"]))
+    blind = {case: g for (case, tracker), g in per_seed.groupby(["case", "tracker"], sort=False) if tracker == BLIND}
     for (case, tracker), g in per_seed.groupby(["case", "tracker"], sort=False):
+        if tracker == BLIND:
+            continue
         label, n, ref = g["label"].iloc[0], len(g), g["reference"].iloc[0]
-        tests = []
-        if case == "ssa50":
-            tests = [("expected_number_end", "E[N] at the end equals the true number", "000 Fig. 11",
-                      g["n_catalogue_end"].mean(), 0.1, "ExpectedEnd"),
-                     ("p_n_end", "P(N = true number) at the end", "000 Fig. 11", 1.0, 0.05, "PEnd")]
-        elif ref:
-            tests = [("map_agreement", f"same MAP hypothesis as {names[(case, ref)]} (fraction of scans)",
-                      "000 Sec. V-A, Figs 12-14", 1.0, 0.01, "Agreement")]
+        ctl = blind.get(case)
         key = f"{case}_{tracker}_"
-        for col, item, source, published, tol, k in tests:
+        for col, item, source, published, tol, k in _tests(case, g, names[(case, ref)] if ref else ""):
             x = g[col].to_numpy(dtype=float)
             if n >= 2 and np.isfinite(x).all():
-                claims.append(monte_carlo_claim(ex, f"{case}, {label}: {item}", source, float(published), x,
-                                                abs_tol=tol, digits=4, key=key + k, claim=_claim_id(case, tracker, k),
-                                                note=f"over {n} scenario seeds; min {x.min():.4g}, median "
-                                                     f"{np.median(x):.4g}, max {x.max():.4g}"))
+                c = monte_carlo_claim(ex, f"{case}, {label}: {item}", source, float(published), x,
+                                      abs_tol=tol, digits=4, key=key + k, claim=_claim_id(case, tracker, k),
+                                      note=f"over {n} scenario seeds; min {x.min():.4g}, median "
+                                           f"{np.median(x):.4g}, max {x.max():.4g}")
             else:
-                claims.append(Claim(ex, f"{case}, {label}: {item}", source, f"{published:.4g}",
-                                    "; ".join(f"{v:.4g}" for v in x), f"+/- {tol:g}", "inconclusive",
-                                    f"{n} seed(s): too few for a Monte Carlo verdict", "measurement",
-                                    key=key + k))
+                c = Claim(ex, f"{case}, {label}: {item}", source, f"{published:.4g}",
+                          "; ".join(f"{v:.4g}" for v in x), f"+/- {tol:g}", "inconclusive",
+                          f"{n} seed(s): too few for a Monte Carlo verdict", "measurement", key=key + k)
+            if ctl is not None:
+                c = with_control(c, BLIND_LABEL, *_mc_control(ctl, col, published, tol))
+            claims.append(c)
         if g["births"].sum():
             tracked, total = int(g["births_tracked_end"].sum()), int(g["births"].sum())
-            claims.append(Claim(ex, f"{case}, {label}: every birth tracked at the end", "000 Sec. IV-A",
-                                "all", f"{tracked} of {total} births over {n} seeds", "all",
-                                "reproduced" if tracked == total else "not reproduced",
-                                f"latency (scans from first in view to a correct MAP track): median "
-                                f"{np.nanmedian(g['birth_latency_mean']):.3g}, worst {np.nanmax(g['birth_latency_max']):.3g}",
-                                "published number", key=key + "Births", claim=_claim_id(case, tracker, "Births")))
+            c = Claim(ex, f"{case}, {label}: every birth tracked at the end", "000 Sec. IV-A",
+                      "all", f"{tracked} of {total} births over {n} seeds", "all",
+                      "reproduced" if tracked == total else "not reproduced",
+                      f"latency (scans from first in view to a correct MAP track): median "
+                      f"{np.nanmedian(g['birth_latency_mean']):.3g}, worst {np.nanmax(g['birth_latency_max']):.3g}",
+                      "published number", key=key + "Births", claim=_claim_id(case, tracker, "Births"))
+            if ctl is not None:
+                b_tracked, b_total = int(ctl["births_tracked_end"].sum()), int(ctl["births"].sum())
+                c = with_control(c, BLIND_LABEL, f"{b_tracked} of {b_total} births", b_tracked == b_total)
+            claims.append(c)
     return claims
 
 
@@ -226,7 +259,7 @@ def plot_distributions(per_seed: pd.DataFrame, *, title: str):
     """
     from ...reporting import figure_style
 
-    groups = list(per_seed.groupby(["case", "tracker"], sort=False))
+    groups = [(k, g) for k, g in per_seed.groupby(["case", "tracker"], sort=False) if k[1] != BLIND]
     names = [f"{case}: {g['label'].iloc[0]}" for (case, _), g in groups]
     fig, axes = figure_style.subplots(3, 2, height=min(1.6 + 0.95 * len(groups), figure_style.MAX_HEIGHT_IN),
                                       sharey=True)

@@ -73,3 +73,28 @@ def test_claims_and_macros_name_the_settings_that_reproduce():
     assert ax.get_legend() is not None and ax.get_xlabel().startswith("clutter rate")
     labels = {text.get_text() for text in ax.get_legend().get_texts()}
     assert labels == {"published 1 ± 0.05", "p_D = 0.95", "reproduced", "not reproduced", "inconclusive"}
+
+
+def test_run_setting_is_deterministic_and_keeps_the_orbits_across_settings():
+    from pathlib import Path
+
+    import yaml
+
+    root = Path(__file__).resolve().parents[2]
+    config = yaml.safe_load((root / "workflows" / "config" / "default.yaml").read_text())
+    config["ssa50"]["max_hypotheses"] = 3
+    config["ssa50"]["sensitivity"].update(n_seeds=2, n_scans=8, n_steps=100, clutter_rates=[0.0, 2.0], p_D=[0.9])
+    rows, timing = sv.run_setting(config, 1, progress=None)
+    again, _ = sv.run_setting(config, 1, progress=None)
+    pd.testing.assert_frame_equal(rows, again)
+    assert list(rows.columns) == sv.RUN_COLUMNS and len(timing) == 2
+    assert rows["tracker"].tolist() == ["rfisst_chain", "blind"] * 2
+    assert (rows["clutter_rate"].unique().tolist(), rows["p_D"].unique().tolist()) == ([2.0], [0.9])
+    blind = rows[rows["tracker"] == "blind"]
+    assert (blind["expected_number_end"] == 45).all()
+    # the same realisation at another setting: same truth, different returns (clutter only at lambda = 2)
+    a, b = sv._scenario(config, 0.0, 0.9, 1), sv._scenario(config, 2.0, 0.9, 1)
+    pd.testing.assert_frame_equal(a.truth, b.truth)
+    assert (a.scans["origin"] == -1).sum() == 0 and (b.scans["origin"] == -1).sum() > 0
+    with pytest.raises(ValueError, match="setting must lie in"):
+        sv.run_setting(config, 2, progress=None)

@@ -217,7 +217,7 @@ def integrate_sum_of_products(expr, variables, lower=-sp.oo, upper=sp.oo) -> sp.
 
 
 def association_events(n_objects: int, n_returns: int):
-    """Brute-force enumeration of the association events of seed 000 Eq. 4.
+    """Brute-force enumeration of the association events of document 000 Eq. 4.
 
     Each return goes to one of the objects or to clutter (``-1``), and no object receives two
     returns. Independent of any closed form: every map returns -> objects ∪ {clutter} is

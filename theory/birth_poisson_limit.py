@@ -11,9 +11,9 @@
 # ---
 
 # %% [markdown]
-# # Binomial births, their Poisson limit, and undetected births (seed 001, Eq. 31–43)
+# # Binomial births, their Poisson limit, and undetected births (document 001, Eq. 31–43)
 #
-# Seed 001 (Chakravorty, Faber, Hussein, Mishra) models births as a spatial binomial process:
+# Document 001 (Chakravorty, Faber, Hussein, Mishra) models births as a spatial binomial process:
 # the field of view of volume $V$ is cut into $M$ pixels of volume $\bar V = V/M$, each of which
 # spawns a target with probability $\alpha = \lambda_B \bar V$. It then states
 #
@@ -47,7 +47,7 @@ from scipy.stats import binom, poisson
 
 from _common import Findings, formula
 
-findings = Findings("birth_poisson_limit", "seed 001 (Chakravorty et al.): Eq. 31-33, 37-43")
+findings = Findings("birth_poisson_limit", "document 001 (Chakravorty et al.): Eq. 31-33, 37-43")
 
 M, lamV, alpha, eps = sp.symbols("M lambdaV alpha epsilon", positive=True)
 n = sp.symbols("n", integer=True, nonnegative=True)
@@ -55,7 +55,7 @@ n = sp.symbols("n", integer=True, nonnegative=True)
 
 @formula
 def binomial_birth_probability(M, n, a):
-    """Seed 001 Eq. 32, left side: probability of n births among M pixels, alpha = a / M."""
+    """Document 001 Eq. 32, left side: probability of n births among M pixels, alpha = a / M."""
     return sp.binomial(M, n) * (a / M) ** n * (1 - a / M) ** (M - n)
 
 
@@ -119,7 +119,7 @@ findings.claim("Eq. 32: binomial births = Poisson births", "001 Eq. 32", "equali
 # %%
 @formula
 def eq33_ratio(M, n, a):
-    """Seed 001 Eq. 33: exact alpha^n (1 - alpha)^(M - n) over its approximation, alpha = a / M."""
+    """Document 001 Eq. 33: exact alpha^n (1 - alpha)^(M - n) over its approximation, alpha = a / M."""
     return (a / M) ** n * (1 - a / M) ** (M - n) / (sp.exp(-a) * (a / M) ** n)
 
 
@@ -211,7 +211,7 @@ s_ = n_ - r_ - 1
 
 @formula
 def eq37_weight(n, r, s):
-    """Seed 001 Eq. 37: FISST weight of an n-target hypothesis with n - r births, s of them detected."""
+    """Document 001 Eq. 37: FISST weight of an n-target hypothesis with n - r births, s of them detected."""
     return (eta * (1 - p_D) ** (n - (m_ - k_)) * p_D ** (m_ - k_) * A * lam_B ** (n - r)
             * Vbar ** ((n - r) - s) * lam_C**k_ * w_q)
 

@@ -11,9 +11,9 @@
 # ---
 
 # %% [markdown]
-# # How many children does a hypothesis have? (seed 000, Eq. 4)
+# # How many children does a hypothesis have? (document 000, Eq. 4)
 #
-# Faber, Chakravorty & Hussein (seed 000, Sec. II-A) state that a parent hypothesis with
+# Faber, Chakravorty & Hussein (document 000, Sec. II-A) state that a parent hypothesis with
 # $M$ objects, given a scan of $m$ returns, splits into
 #
 # $$A(M, m) = \sum_{n=0}^{\min(M, m)} \binom{M}{n}\binom{m}{n}\, n! \qquad \text{(Eq. 4)}$$
@@ -48,18 +48,18 @@ import sympy as sp
 from _common import Findings, association_events, formula
 from hypotrack.association import count_associations, count_children
 
-findings = Findings("hypothesis_count", "seed 000 (Faber, Chakravorty, Hussein): Eq. 4 and Sec. II-C")
+findings = Findings("hypothesis_count", "document 000 (Faber, Chakravorty, Hussein): Eq. 4 and Sec. II-C")
 
 
 @formula
 def eq4_count(M: int, m: int) -> int:
-    """Seed 000 Eq. 4, as printed."""
+    """Document 000 Eq. 4, as printed."""
     return sum(comb(M, n) * comb(m, n) * factorial(n) for n in range(min(M, m) + 1))
 
 
 @formula
 def child_count(M: int, m: int, n_birth_regions: int, n_deaths: int) -> int:
-    """Seed 000 Sec. II-C: no event, one birth in one of M_b regions, or one death of M_d objects."""
+    """Document 000 Sec. II-C: no event, one birth in one of M_b regions, or one death of M_d objects."""
     total = eq4_count(M, m) + n_birth_regions * eq4_count(M + 1, m)
     return total + (n_deaths * eq4_count(M - 1, m) if M >= 1 else 0)
 
@@ -99,7 +99,7 @@ for M in range(7):
 # %%
 PUBLISHED_A_10_5 = 63591
 terms_10_5 = [comb(10, n) * comb(5, n) * factorial(n) for n in range(6)]
-findings.check("A(10, 5) = 63,591 (seed 000 text)", eq4_count(10, 5) == PUBLISHED_A_10_5, value=eq4_count(10, 5))
+findings.check("A(10, 5) = 63,591 (document 000 text)", eq4_count(10, 5) == PUBLISHED_A_10_5, value=eq4_count(10, 5))
 findings.check("count_associations(10, 5) = 63,591", count_associations(10, 5) == PUBLISHED_A_10_5)
 findings.record("A_10_5", eq4_count(10, 5))
 # negative control: the count without its false-alarm terms (every return on an object: only n = min(M, m))

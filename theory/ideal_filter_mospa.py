@@ -11,7 +11,7 @@
 # ---
 
 # %% [markdown]
-# # The ideal filter's MOSPA in closed form (seed 003, Table 6.1)
+# # The ideal filter's MOSPA in closed form (document 003, Table 6.1)
 #
 # Table 6.1 of Coraluppi & Carthel scores four trackers of two closely spaced Ornstein–Uhlenbeck
 # targets by MOSPA. The "ideal" filter knows which return comes from which target, so each target
@@ -39,7 +39,7 @@ from _common import Findings, formula
 from hypotrack.experiments.closely_spaced.oracle import (expected_negative_part, ideal_mospa, ideal_mospa_per_scan,
                                                          riccati_steady_prediction)
 
-findings = Findings("ideal_filter_mospa", "seed 003 Eqs. 5.1-5.11, 6.1-6.4, Table 6.1 (reconstruction §5.4, §6.4)")
+findings = Findings("ideal_filter_mospa", "document 003 Eqs. 5.1-5.11, 6.1-6.4, Table 6.1 (reconstruction §5.4, §6.4)")
 
 TABLE = {"sigma2": 0.01, "gamma": 0.005, "n_sensors": 10, "R": 1.0, "dt": 1.0}
 PUBLISHED_IDEAL, ROUNDING = 0.0363, 5e-5

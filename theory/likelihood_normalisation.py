@@ -11,9 +11,9 @@
 # ---
 
 # %% [markdown]
-# # Do the multi-target likelihoods normalise? (seed 000 Eq. 8–9, 20, 39; seed 001 Eq. 5–7)
+# # Do the multi-target likelihoods normalise? (document 000 Eq. 8–9, 20, 39; document 001 Eq. 5–7)
 #
-# Seed 000 (H-FISST) gives each child $j$ of an $M$-object parent, in which $k$ objects are
+# Document 000 (H-FISST) gives each child $j$ of an $M$-object parent, in which $k$ objects are
 # detected among $m$ returns, the prior probability
 #
 # $$p_{ij} = \frac{p_D^k (1-p_D)^{M-k}}{\binom{m}{k} k!} \qquad \text{(Eq. 8)}$$
@@ -30,7 +30,7 @@
 # need more returns than were received: Eq. 8 never conditions on the number of returns.
 # This notebook shows the identity exactly, then checks that Eq. 20 (the integral of the
 # multi-target likelihood) inherits it, that the two-target appendix likelihood Eq. 39 is the
-# $M = m = 2$ case and integrates to 1, and that seed 001's Poisson-clutter likelihood
+# $M = m = 2$ case and integrates to 1, and that document 001's Poisson-clutter likelihood
 # (Eq. 5–7) is a proper set density — its set integral, with the $1/m!$ factor, is 1.
 
 # %%
@@ -46,14 +46,14 @@ from _common import Findings, association_events, formula, integrate_sum_of_prod
 
 findings = Findings(
     "likelihood_normalisation",
-    "seed 000 Eq. 8-9, 20, 39 (appendix); seed 001 Eq. 5-7, 18, 30",
+    "document 000 Eq. 8-9, 20, 39 (appendix); document 001 Eq. 5-7, 18, 30",
 )
 p_D = sp.symbols("p_D", positive=True)
 
 
 @formula
 def eq8_prior(M: int, m: int, k: int, p):
-    """Seed 000 Eq. 8: prior probability of one child with k of M objects detected among m returns."""
+    """Document 000 Eq. 8: prior probability of one child with k of M objects detected among m returns."""
     return p**k * (1 - p) ** (M - k) / (sp.binomial(m, k) * sp.factorial(k))
 
 
@@ -166,7 +166,7 @@ def clutter(z):
 
 
 def eq20_integrand(M: int, m: int):
-    """Seed 000 Eq. 20 integrand: sum over children of Eq. 8 times Eq. 13 (with clutter, Eq. 18)."""
+    """Document 000 Eq. 20 integrand: sum over children of Eq. 8 times Eq. 13 (with clutter, Eq. 18)."""
     total = sp.Integer(0)
     for event in association_events(M, m):
         k = sum(1 for j in event if j >= 0)
@@ -203,7 +203,7 @@ findings.claim("Eq. 20: the multi-target likelihood integrates to 1", "000 Eq. 2
 # %%
 @formula
 def eq39_likelihood(z1, z2, x1, x2, p):
-    """Seed 000 appendix Eq. 39, as printed."""
+    """Document 000 appendix Eq. 39, as printed."""
     return (
         p**2 / 2 * (gauss(z1, x1) * gauss(z2, x2) + gauss(z1, x2) * gauss(z2, x1))
         + p * (1 - p) / 2 * (gauss(z1, x1) * clutter(z2) + gauss(z2, x1) * clutter(z1))
@@ -231,7 +231,7 @@ findings.claim("Eq. 39: the two-target likelihood integrates to 1", "000 appendi
                         sp.simplify(eq39_unhalved_integral - 1) == 0))
 
 # %% [markdown]
-# ## 4. Seed 001: the Poisson-clutter likelihood is a set density (Eq. 5–7)
+# ## 4. Document 001: the Poisson-clutter likelihood is a set density (Eq. 5–7)
 #
 # $p(Z \mid X, n) = \sum_\sigma p(\sigma \mid n)\, p(Z \mid \sigma, X, n)$ with
 # $p(\sigma \mid n) = p_D^{m-k}(1-p_D)^{n-(m-k)} e^{-\lambda V}(\lambda V)^k/k!$ (Eq. 6) and
@@ -251,12 +251,12 @@ lam = sp.symbols("lambda", positive=True)
 
 @formula
 def eq6_association_prior(n: int, m: int, k: int, p):
-    """Seed 001 Eq. 6: prior of an association of n targets with k of the m returns clutter."""
+    """Document 001 Eq. 6: prior of an association of n targets with k of the m returns clutter."""
     return p ** (m - k) * (1 - p) ** (n - (m - k)) * sp.exp(-lam * V) * (lam * V) ** k / sp.factorial(k)
 
 
 def eq5_likelihood(n: int, m: int):
-    """Seed 001 Eq. 5 with Eq. 6-7: sum over associations sigma (brute force) of prior x likelihood."""
+    """Document 001 Eq. 5 with Eq. 6-7: sum over associations sigma (brute force) of prior x likelihood."""
     total = sp.Integer(0)
     for event in association_events(n, m):  # event[i] = target of return i, or -1 for clutter
         k = sum(1 for j in event if j < 0)
@@ -294,7 +294,7 @@ for n in range(4):
     )
     set_integrals[n] = sp.simplify(series)
 findings.check(
-    "the set integral sum_m (1/m!) int p(Z|X) dZ of seed 001's likelihood is 1 for n = 0..3 targets",
+    "the set integral sum_m (1/m!) int p(Z|X) dZ of document 001's likelihood is 1 for n = 0..3 targets",
     all(v == 1 for v in set_integrals.values()),
     values=set_integrals,
 )
@@ -320,7 +320,7 @@ findings.claim("Poisson-clutter likelihood is a set density", "001 Eq. 5-7", "se
                         f"at least {no_factorial:.3g}", abs(no_factorial - 1) < 1e-12))
 
 # %% [markdown]
-# ## 5. Fixed number of targets: FISST weight = Reid's weight (seed 001 Eq. 18 vs Eq. 30)
+# ## 5. Fixed number of targets: FISST weight = Reid's weight (document 001 Eq. 18 vs Eq. 30)
 #
 # The FISST child weight is $p(\sigma \mid n)\, l_{q\sigma}$ with $l_{q\sigma} = \frac{k!}{V^k}\prod_i \int
 # p(z|x)p^{-}(x)dx$ (Eq. 18–19); Reid's is $p_D^{m-k}(1-p_D)^{n-(m-k)}\lambda^k \prod_i \int p(z|x)p^-(x)dx$

@@ -11,14 +11,14 @@
 # ---
 
 # %% [markdown]
-# # Set integrals, set derivatives and units (seed 002, Vo–Singh–Doucet)
+# # Set integrals, set derivatives and units (document 002, Vo–Singh–Doucet)
 #
 # FISST integrates a function of finite sets by the *set integral*
 #
-# $$\int_S f(X)\,\delta X = \sum_{n \ge 0} \frac{1}{n!}\int_{S^n} f(\{x_1,\ldots,x_n\})\,dx_1\cdots dx_n \qquad \text{(seed 002, Eq. 4)}$$
+# $$\int_S f(X)\,\delta X = \sum_{n \ge 0} \frac{1}{n!}\int_{S^n} f(\{x_1,\ldots,x_n\})\,dx_1\cdots dx_n \qquad \text{(document 002, Eq. 4)}$$
 #
 # and differentiates a belief-mass function $\beta(S) = P(X \subseteq S)$ by the *set derivative*
-# $(dF)_x(S) = \lim_{\lambda(\Delta_x)\to 0} [F(S \cup \Delta_x) - F(S)]/\lambda(\Delta_x)$ (Eq. 3). Seed 002 shows
+# $(dF)_x(S) = \lim_{\lambda(\Delta_x)\to 0} [F(S \cup \Delta_x) - F(S)]/\lambda(\Delta_x)$ (Eq. 3). Document 002 shows
 # that the set derivative at $\emptyset$ is a probability density with respect to a Poisson
 # reference measure, and that its value depends on the unit of volume $K$ through $K^{|X|}$
 # while probabilities do not (Prop. 1, Eq. 10–11).
@@ -31,7 +31,7 @@
 #    leaves every probability unchanged (Prop. 1);
 # 4. the set derivatives of the Bernoulli and Poisson belief-mass functions at $\emptyset$ are
 #    their densities, and integrating the density back gives the belief mass (the generalised
-#    fundamental theorem of calculus, seed 002 Sec. 2.2).
+#    fundamental theorem of calculus, document 002 Sec. 2.2).
 
 # %%
 from itertools import combinations
@@ -40,7 +40,7 @@ import sympy as sp
 
 from _common import Findings, formula, integrate_sum_of_products
 
-findings = Findings("set_integrals", "seed 002 (Vo, Singh, Doucet): Eq. 3-4, 7-11, Prop. 1")
+findings = Findings("set_integrals", "document 002 (Vo, Singh, Doucet): Eq. 3-4, 7-11, Prop. 1")
 
 lam, s, r, K, h, h2 = sp.symbols("lambda s r K h h2", positive=True)
 mu, a, b = sp.symbols("mu a b", real=True)

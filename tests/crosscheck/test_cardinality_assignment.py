@@ -30,7 +30,7 @@ def _random_problem(rng, M, B, m, gate=0.3, single_birth=True):
     clutter = rng.normal(-1.0, 1.0, size=(m, 1))
     phi = rng.normal(0.0, 3.0, size=(M + 1, B + 1))
     if single_birth:
-        phi[:, 2:] = -np.inf  # seed 000's single-event model: at most one birth
+        phi[:, 2:] = -np.inf  # document 000's single-event model: at most one birth
     return AssociationProblem(target, clutter, M, phi, constant=float(rng.normal()))
 
 

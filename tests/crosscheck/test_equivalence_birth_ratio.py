@@ -1,10 +1,10 @@
-"""(e) Seed 001 Eq. 39 in the engine's own weights.
+"""(e) Document 001 Eq. 39 in the engine's own weights.
 
-With seed 001's binomial birth in its Poisson limit (Eq. 33) and FISST weights (Eq. 6–7, 29,
+With document 001's binomial birth in its Poisson limit (Eq. 33) and FISST weights (Eq. 6–7, 29,
 34), a hypothesis with one undetected birth and its twin without that birth (same parent, same
 data association, same other births) have weights in the ratio ``(1 − p_D) α`` (Eq. 39) — for
 twins without detected births and for twins that also hold a detected birth (Eq. 37–38 with
-``s`` detected births). Seed 000's single-event model gives ``(1 − p_D) α / (1 − M_b α − M_d β)``.
+``s`` detected births). Document 000's single-event model gives ``(1 − p_D) α / (1 − M_b α − M_d β)``.
 """
 
 import numpy as np
@@ -68,7 +68,7 @@ def test_e_single_event_model_ratio():
 
 
 def test_single_event_children_match_seed000_count():
-    """Seed 000 Sec. II-C: A(M,m) + M_b A(M+1,m) + M_d A(M-1,m) children when every return can
+    """Document 000 Sec. II-C: A(M,m) + M_b A(M+1,m) + M_d A(M-1,m) children when every return can
     be a birth in every region (two regions covering the whole field of view)."""
     from hypotrack.association import count_children
 

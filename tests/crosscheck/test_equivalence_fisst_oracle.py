@@ -1,6 +1,6 @@
 """(f) Brute-force oracle: two targets, two returns, the FISST posterior by numerical integration.
 
-Seed 000's appendix writes the FISST multi-target likelihood of two returns given two targets
+Document 000's appendix writes the FISST multi-target likelihood of two returns given two targets
 (Eq. 39: seven association terms with the 1/(C(m,k) k!) factors), the symmetrised predicted pdf
 (Eq. 37) and the Bayes update with its set-integral normaliser (Eq. 40–45). Here every
 integral is done numerically (scipy.integrate.dblquad) on a 1-D state, independently of the
@@ -41,7 +41,7 @@ def engine():
 
 
 def predicted_priors():
-    """The two predicted pdfs (seed 000 Eq. 7) as functions of the state."""
+    """The two predicted pdfs (document 000 Eq. 7) as functions of the state."""
     F = MOTION.F(DT)[0, 0]
     Q = MOTION.Q(DT)[0, 0]
     return [lambda x, mu=F * mu, v=F * F * v + Q: gauss(x, mu, v) for mu, v in zip(MEANS[:, 0], VARS)]

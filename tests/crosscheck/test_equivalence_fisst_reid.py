@@ -1,8 +1,8 @@
-"""The thesis of seed 001 Sec. V-A and seed 000 Sec. II-B, checked on the engine's own numbers.
+"""The thesis of document 001 Sec. V-A and document 000 Sec. II-B, checked on the engine's own numbers.
 
-(a) Fixed number of targets, Poisson clutter: FISST (seed 001 Eq. 6–7, 18) and Reid's HOMHT
+(a) Fixed number of targets, Poisson clutter: FISST (document 001 Eq. 6–7, 18) and Reid's HOMHT
     (Eq. 30) give the same posterior — weights and track pdfs — over several scans.
-(b) H-FISST (seed 000 Eq. 8, 17–19) and HOMHT: the same children with the same track pdfs;
+(b) H-FISST (document 000 Eq. 8, 17–19) and HOMHT: the same children with the same track pdfs;
     per child the log-weights differ by exactly −log(C(m,k) k!) plus the clutter term
     k'(log g − log λ_C), up to one normalising constant per scan.
 """

@@ -5,13 +5,13 @@
     Prop. 7–8: survival p_S and LB birth r_B per label, update factor p_D g / κ or 1 − p_D) —
     its own Kalman filter, its own enumeration of label sets × association maps, no engine code —
     over two scans with births, deaths, an object out of view and m ≥ 3.
-(b) Nesting: under Poisson clutter the binomial population of seed 001 (independent survival
+(b) Nesting: under Poisson clutter the binomial population of document 001 (independent survival
     p_s, birth α per region, at most one silent event per child) produces exactly the GLMB children
     with at most one death / undetected birth, with identical weights; the GLMB's extra children
     are exactly those with two or more, so the posteriors coincide exactly when no child can hold
     two (one object, no birth term) and differ by that mass otherwise.
 (c) With p_S = 1 and no birth terms the GLMB posterior equals Reid's HOMHT hypothesis by
-    hypothesis over several scans (the fixed-number case of seed 001 Sec. V-A).
+    hypothesis over several scans (the fixed-number case of document 001 Sec. V-A).
 Each would fail if a birth or survival term changed: (d) mutates one and shows the mismatch.
 """
 

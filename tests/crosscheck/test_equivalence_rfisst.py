@@ -1,4 +1,4 @@
-"""(c) R-FISST against exhaustive H-FISST (seed 000 Sec. III).
+"""(c) R-FISST against exhaustive H-FISST (document 000 Sec. III).
 
 On seeded random small problems (M, m <= 5) the MCMC search must find every child whose
 exhaustive posterior weight exceeds 1e-6, weigh what it found exactly (the exhaustive weights,

@@ -1,4 +1,4 @@
-"""The belief_space experiment (hypotrack.experiments.belief_space.run): seed 001's Eq. 39, Eq. 43
+"""The belief_space experiment (hypotrack.experiments.belief_space.run): document 001's Eq. 39, Eq. 43
 and FISST = HOMHT, each computed from the engine's weights and checked against an oracle that does
 not use the code under test (hand formulas, scipy's multivariate normal, numerical quadrature)."""
 

@@ -1,4 +1,4 @@
-"""Cardinality tracking (seed 003 §4): class weights, K rule, classical null solution, scenario."""
+"""Cardinality tracking (document 003 §4): class weights, K rule, classical null solution, scenario."""
 
 import itertools
 import math

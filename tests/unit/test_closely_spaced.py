@@ -1,4 +1,4 @@
-"""The two-target OU scenario (seed 003 Eqs. 5.1–5.4) and the swap-experiment scans."""
+"""The two-target OU scenario (document 003 Eqs. 5.1–5.4) and the swap-experiment scans."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""ECMHT and the multi-sensor two-target filters (seed 003 §5–6).
+"""ECMHT and the multi-sensor two-target filters (document 003 §5–6).
 
 Oracles: :mod:`hypotrack.gaussian` (sequential per-sensor Kalman updates, Gaussian-mixture
 moments), the discrete algebraic Riccati equation (scipy), explicit loops over Eq. 6.5, and the

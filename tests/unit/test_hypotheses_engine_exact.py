@@ -4,7 +4,7 @@ births and deaths, in-view versus out-of-view objects, brute-force enumeration, 
 The child oracle enumerates, for one parent and a scan of m = 3 returns, every association
 (each return on clutter, an object or a birth region, no column twice) and every allowed
 silent event (an undetected birth in an unused region, a death of an undetected object), and
-weighs each child with seed 000 Eq. 8 × Eq. 30 (H-FISST, single event) or seed 001 Eq. 6–7 ×
+weighs each child with document 000 Eq. 8 × Eq. 30 (H-FISST, single event) or document 001 Eq. 6–7 ×
 Eq. 31, 59 (FISST with Poisson clutter, binomial population), written out term by term with
 scipy's Gaussian densities.
 """

@@ -1,4 +1,4 @@
-"""Weight models: seed 000 Eq. 8 (and its Eq. 9 flaw), seed 001 Eq. 6–7 and Reid, by hand."""
+"""Weight models: document 000 Eq. 8 (and its Eq. 9 flaw), document 001 Eq. 6–7 and Reid, by hand."""
 
 import math
 
@@ -61,12 +61,12 @@ def test_fisst_poisson_literal_eq6_eq7_and_reid_by_hand():
     eq7 = math.log(math.factorial(kc)) - kc * math.log(V) + loglik[1, 0]
     fp = FISSTPoissonWeights().problem(ctx, np.arange(2))
     assert fp.log_weights(event[None])[0] == pytest.approx(eq6 + eq7, abs=1e-12)
-    reid = math.log(0.85 * (1 - 0.6)) + kc * math.log(lam_v / V) + loglik[1, 0]  # seed 001 Eq. 30
+    reid = math.log(0.85 * (1 - 0.6)) + kc * math.log(lam_v / V) + loglik[1, 0]  # document 001 Eq. 30
     assert ReidWeights().problem(ctx, np.arange(2)).log_weights(event[None])[0] == pytest.approx(reid, abs=1e-12)
 
 
 def test_reid_seeded_birth_factor():
-    """Seed 001 Eq. 35: each birth seeded at a return contributes λ_B (the 1/p_D and p_D cancel)."""
+    """Document 001 Eq. 35: each birth seeded at a return contributes λ_B (the 1/p_D and p_D cancel)."""
 
     class Density:
         def initial_state(self, z, R):

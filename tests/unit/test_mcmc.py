@@ -30,7 +30,7 @@ def random_problem(rng, m, n_obj, n_birth, n_options, forbid=0.2):
     score[:, :n_excl][rng.random((m, n_excl)) < forbid] = -np.inf
     phi = rng.normal(size=(n_obj + 1, n_birth + 1))
     if n_birth:
-        phi[:, 2:] = -np.inf  # at most one birth, as under seed 000 Eq. 30
+        phi[:, 2:] = -np.inf  # at most one birth, as under document 000 Eq. 30
     return score, n_excl, phi
 
 
@@ -449,7 +449,7 @@ def test_buffered_stream_is_numbas_np_random():
 
 
 def reference_chain(score, n_obj, n_excl, phi, init, n_steps, burn_in, symmetric, uniform):
-    """Seed 000's chain (paper or symmetric swap) step by step in Python: the proposals, the
+    """Document 000's chain (paper or symmetric swap) step by step in Python: the proposals, the
     Metropolis test ``log U < Δ`` and the running log-weight, recording distinct events after
     burn-in in first-visit order."""
     m, n_col = score.shape

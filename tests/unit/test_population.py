@@ -1,4 +1,4 @@
-"""Population models: seed 000 Eq. 30, seed 001 Eq. 32-33 and 59, seed 003 Eq. 2.1-2.2."""
+"""Population models: document 000 Eq. 30, document 001 Eq. 32-33 and 59, document 003 Eq. 2.1-2.2."""
 
 import math
 
@@ -16,7 +16,7 @@ from hypotrack.models.population import (
 )
 from hypotrack.models.sensors import Box, FieldOfView
 
-# --- seed 000 single-event model ----------------------------------------------------------
+# --- document 000 single-event model ----------------------------------------------------------
 
 
 def test_single_event_probabilities_eq30():
@@ -115,7 +115,7 @@ def test_uniform_birth_density_initial_state():
         d.initial_state([3.0, 4.0], -np.eye(2))
 
 
-# --- seed 001 binomial birth / survival -----------------------------------------------------
+# --- document 001 binomial birth / survival -----------------------------------------------------
 
 
 def test_binomial_birth_pmf_exact():
@@ -180,7 +180,7 @@ def test_binomial_bad_input(make, match):
         make()
 
 
-# --- seed 003 continuous-time rates ----------------------------------------------------------
+# --- document 003 continuous-time rates ----------------------------------------------------------
 
 
 def test_continuous_birth_death_against_quadrature():

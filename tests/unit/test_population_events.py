@@ -1,5 +1,5 @@
 """Population events as the engine uses them: event probabilities and twin log-ratios by hand
-(seed 000 Eq. 30, seed 001 Eq. 31–33, 39, 59)."""
+(document 000 Eq. 30, document 001 Eq. 31–33, 39, 59)."""
 
 import math
 import warnings

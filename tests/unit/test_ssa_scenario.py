@@ -137,7 +137,7 @@ def test_ssa50_population_and_births(ssa50):
     assert ssa50.truth["target"].nunique() == 50 and len(ssa50.times) == 720
     np.testing.assert_array_equal(ssa50.prior_ids, np.arange(45))
     np.testing.assert_array_equal(ssa50.birth_ids, np.arange(45, 50))
-    # Every object passes through the FOV during the run (seed 000 Sec. IV-A).
+    # Every object passes through the FOV during the run (document 000 Sec. IV-A).
     assert (ssa50.first_in_view_scan >= 0).all()
     # Births are out of view at t = 0 and first enter inside the birth window, spread out.
     first = ssa50.first_in_view_scan[ssa50.birth_ids]

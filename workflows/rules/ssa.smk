@@ -1,4 +1,4 @@
-# SSA scenarios of seed 000 (Figs 6, 8-14): truth, scans and initial hypothesis of the
+# SSA scenarios of document 000 (Figs 6, 8-14): truth, scans and initial hypothesis of the
 # 50-object birth case and the 15-object comparison case, and a figure of each scenario.
 # Config section: ssa (workflows/config/schema/ssa.schema.yaml).
 

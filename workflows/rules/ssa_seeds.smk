@@ -1,4 +1,4 @@
-# The SSA verdicts of seed 000 (ssa50, Sec. IV-A; ssa15, Sec. V-A) over scenario seeds: one shard per
+# The SSA verdicts of document 000 (ssa50, Sec. IV-A; ssa15, Sec. V-A) over scenario seeds: one shard per
 # seed runs R-FISST (paper chain; chain + completion) on a fresh ssa50 realisation and R-FISST (also with a
 # fixed number of objects) and HOMHT on a fresh ssa15 realisation, and the blind tracker (the negative control)
 # on both; the table rule gives the per-seed table, the distribution over seeds, the ledger rows and a figure.

@@ -1,4 +1,4 @@
-"""One method's sweep of seed 000 Fig. 15: generation time vs A(M, m) on synthetic parents."""
+"""One method's sweep of document 000 Fig. 15: generation time vs A(M, m) on synthetic parents."""
 
 import pandas as pd
 

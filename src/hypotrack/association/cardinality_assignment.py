@@ -2,7 +2,7 @@
 
 The log-weight of an event (DESIGN.md §4.2) is a sum of association-matrix entries plus a term
 ``φ[k, b]`` in the number ``k`` of returns on object columns and ``b`` on birth columns — for
-H-FISST ``φ = −log(C(m, k) k!)`` (seed 000 Eq. 8), the ``p_D^k (1 − p_D)^{M−k}`` being in the
+H-FISST ``φ = −log(C(m, k) k!)`` (document 000 Eq. 8), the ``p_D^k (1 − p_D)^{M−k}`` being in the
 entries. ``φ`` does not split over the returns, so a plain assignment solver ranks events by
 the wrong total; but within a *block* of events with the same ``(k, b)`` it is a constant.
 Hence:

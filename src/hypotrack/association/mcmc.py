@@ -1,4 +1,4 @@
-"""R-FISST's MCMC search over association events (seed 000 Sec. III, Algorithm 1).
+"""R-FISST's MCMC search over association events (document 000 Sec. III, Algorithm 1).
 
 The chain walks on association events of one parent hypothesis. An event assigns each of the
 ``m`` returns either to an *exclusive* column (an object, or a birth region: at most one return
@@ -12,7 +12,7 @@ with ``k`` the number of returns on object columns (``0 .. n_objects-1``) and ``
 the other exclusive columns (births). Three proposals are offered:
 
 ``"paper"``
-    Seed 000 Sec. III-B: pick a return uniformly, pick a column uniformly; a return that
+    Document 000 Sec. III-B: pick a return uniformly, pick a column uniformly; a return that
     already holds that column is moved to clutter; Metropolis test ``U < w'/w``. The proposal
     is **not** symmetric (the displaced return cannot come back in one step), so visit counts
     are not probabilities.
@@ -37,7 +37,7 @@ proposal on ssa50 parents (two shared cores).
 
 References
 ----------
-Faber, Chakravorty & Hussein (seed 000), Algorithm 1 and Sec. III-B.
+Faber, Chakravorty & Hussein (document 000), Algorithm 1 and Sec. III-B.
 Vo, Vo & Hoang, "An efficient implementation of the generalized labeled multi-Bernoulli
 filter", IEEE TSP 65 (2017) — the Gibbs variant.
 """
@@ -493,7 +493,7 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
     count_term : (n_objects + 1, n_exclusive - n_objects + 1) array_like
         ``φ[k, b]`` added to the gather-sum (``-inf`` forbids a count, e.g. two births).
     n_steps : int
-        Number of proposals (seed 000 Fig 15 uses 100,000).
+        Number of proposals (document 000 Fig 15 uses 100,000).
     seed : int
         Seed of the chain's random numbers (the search is reproducible).
     burn_in : int, optional
@@ -503,7 +503,7 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
     init : (m,) array_like of int, optional
         Starting event in public codes; default all-clutter. It must have finite weight.
     temperature : float, optional
-        The chain targets ``w^(1/T)``; ``T = 1`` is seed 000's Metropolis test. ``T > 1``
+        The chain targets ``w^(1/T)``; ``T = 1`` is document 000's Metropolis test. ``T > 1``
         flattens the target so the search leaves the heaviest children more often; the
         returned weights are exact whatever ``T``.
     completion_rounds, completion_threshold : optional

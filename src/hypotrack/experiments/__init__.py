@@ -7,16 +7,16 @@ those the experiment has. The pipeline's scripts only read inputs, call these an
 
 Packages
 --------
-ssa               seed 000 Sec. IV–V: R-FISST on the 50-object birth scenario (rules ssa, ssa50) and
+ssa               document 000 Sec. IV–V: R-FISST on the 50-object birth scenario (rules ssa, ssa50) and
                   R-FISST vs HOMHT on the 15-object scenario (ssa15).
 ssa_seeds         the ssa50 / ssa15 verdicts over scenario seeds.
-generation_time   seed 000 Fig. 15 and the engine's throughput (generation_time, perf_hypotheses).
+generation_time   document 000 Fig. 15 and the engine's throughput (generation_time, perf_hypotheses).
 samplers          the chain vs Gibbs vs Murty on identical association problems.
-belief_space      seed 001's numeric claims against the engine and an independent density oracle.
+belief_space      document 001's numeric claims against the engine and an independent density oracle.
 glmb_benchmark    the GLMB papers' benchmark: δ-GLMB, R-FISST, HOMHT, Stone Soup's GM-PHD.
-cardinality       seed 003 §4: cardinality tracking.
-swaps             seed 003 §5: track swaps of GNNF, MHT and ECMHT.
-closely_spaced    seed 003 §6, Table 6.1: the four filters on two closely spaced targets.
+cardinality       document 003 §4: cardinality tracking.
+swaps             document 003 §5: track swaps of GNNF, MHT and ECMHT.
+closely_spaced    document 003 §6, Table 6.1: the four filters on two closely spaced targets.
 sht               lecture notes 004: GNN and JPDA.
 perf_sht          GNN / JPDA timing against Stone Soup.
 perf_validation   the cost of input validation.

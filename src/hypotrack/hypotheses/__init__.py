@@ -1,6 +1,6 @@
 """The hypothesis-level recursion: H-FISST, R-FISST and HOMHT as one engine.
 
-Seed 000 (Sec. II) and seed 001 show that FISST and Reid's HOMHT are the same recursion on a
+Document 000 (Sec. II) and document 001 show that FISST and Reid's HOMHT are the same recursion on a
 discrete hypothesis space and differ only in how a child hypothesis is weighted; R-FISST makes
 the recursion tractable by searching children with MCMC instead of enumerating them. The engine
 (:class:`HypothesisFilter`) therefore has two plug-in points:

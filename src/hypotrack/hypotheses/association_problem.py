@@ -1,17 +1,17 @@
 """The association problem of one parent hypothesis: every child weight as a gather-sum.
 
 DESIGN.md §4.2: for each weight model the log-weight of a child is a sum of entries of the
-parent's *data association matrix* (seed 000 Fig. 4) plus a term in the counts. Here that
+parent's *data association matrix* (document 000 Fig. 4) plus a term in the counts. Here that
 matrix is split by how its columns may be used:
 
 * ``target_scores`` (m, C) — *exclusive* columns, at most one return each: the parent's
-  ``n_objects`` objects first, then birth regions (seed 000 Eq. 30: a return may be the one
+  ``n_objects`` objects first, then birth regions (document 000 Eq. 30: a return may be the one
   detection of a newly born object);
 * ``option_scores`` (m, T) — *row options* any number of returns may take: option 0 is
-  clutter, option 1 (HOMHT only) "a new target seeded at this return" (seed 001 Eq. 35);
+  clutter, option 1 (HOMHT only) "a new target seeded at this return" (document 001 Eq. 35);
 * ``count_term`` (n_objects + 1, C − n_objects + 1) — ``φ[k, b]`` for ``k`` returns on objects
   and ``b`` on birth columns (H-FISST's ``−log(C(m, k) k!)`` of Eq. 8, FISST's Poisson-clutter
-  factor of seed 001 Eq. 6–7, the population-event probability of Eq. 30 …; ``-inf`` forbids a
+  factor of document 001 Eq. 6–7, the population-event probability of Eq. 30 …; ``-inf`` forbids a
   count, e.g. two births under the single-event model);
 * ``constant`` — everything common to all children (parent log-weight, ``Σ log(1 − p_D)``).
 

@@ -47,15 +47,15 @@ groups — the second holds by construction, the first is a property of the mode
 * **separable** (exact, tested in ``tests/crosscheck/test_equivalence_factored.py``): the δ-GLMB
   weights with the labeled multi-Bernoulli population (Vo, Vo & Hoang 2017: ``Π_i η_i(γ_i)``;
   each birth term is given to one group per scan), and Reid's HOMHT with a fixed number of
-  objects or Poisson births seeded at returns (seed 001 Eq. 30, 35: a product over returns and
-  objects), and FISST with Poisson clutter (seed 001 Eq. 6–7); all as long as no cap binds
+  objects or Poisson births seeded at returns (document 001 Eq. 30, 35: a product over returns and
+  objects), and FISST with Poisson clutter (document 001 Eq. 6–7); all as long as no cap binds
   (each group keeps ``H∞`` hypotheses, so the factored filter keeps more joint hypotheses than
   the unfactored one) and every split was exact. A split after a real interaction is never
   exact: the joint lacks the configurations where both groups took the shared return.
 * **not separable** (the factored filter is a different approximation): H-FISST's count term
-  ``−log(m!/(m − n)!)`` (seed 000 Eq. 8) counts the returns of the whole scan, and a group sees
-  its own; seed 001's binomial population allows one silent event per child, i.e. per group
-  here; seed 000's **single-event** population (one birth or one death per scan for the whole
+  ``−log(m!/(m − n)!)`` (document 000 Eq. 8) counts the returns of the whole scan, and a group sees
+  its own; document 001's binomial population allows one silent event per child, i.e. per group
+  here; document 000's **single-event** population (one birth or one death per scan for the whole
   scene, Eq. 30) couples every object through ``P(no event) = 1 − M_b α − M_d β``. The factored
   engine applies the event model **per group** — one event per group and scan, ``M_d`` the
   group's objects in view — which changes the prior: with ``G`` groups up to ``G`` events
@@ -265,7 +265,7 @@ class FactoredFilter:
         ``"coupled"``: a birth term is linked to every return it could be the first detection
         of (exact). ``"free"``: only to returns in no group's gate — returns near an existing
         object are never births (an approximation unless the birth terms and the gates are
-        disjoint); use it for birth pdfs that cover the whole view (seed 000/001 regions),
+        disjoint); use it for birth pdfs that cover the whole view (document 000/001 regions),
         which would otherwise merge every group with a return into one.
     factor_tol : float
         Largest ``|log P − log Π marginals|`` for a split to count as exact (> 0).

@@ -1,6 +1,6 @@
 """The hypothesis-level filter: one recursion for H-FISST, R-FISST and HOMHT.
 
-Seed 000 Sec. II shows that the multi-object Bayes filter is a Bayes filter on a discrete,
+Document 000 Sec. II shows that the multi-object Bayes filter is a Bayes filter on a discrete,
 growing hypothesis space (Eq. 11, 19): every parent splits into children (population event ×
 data association), each child's weight is the parent's times a transition probability times
 the likelihood of the scan under the child, and the pdfs under a child are Kalman updates of
@@ -83,7 +83,7 @@ def _twins_never_heavier(pop, ctx, p, in_view) -> bool:
 
 
 class HypothesisFilter:
-    """Multi-object filter on the hypothesis space (seed 000 Algorithm/Prop. 1–2).
+    """Multi-object filter on the hypothesis space (document 000 Algorithm/Prop. 1–2).
 
     Parameters
     ----------
@@ -104,7 +104,7 @@ class HypothesisFilter:
         ``H∞``, hypotheses kept after each scan.
     cap : {"top", "sample"}
         Keep the ``H∞`` heaviest children, or draw ``H∞`` without replacement with probability
-        proportional to weight (seed 000 Sec. III-A offers both).
+        proportional to weight (document 000 Sec. III-A offers both).
     gate_probability : float, optional
         Validation gate ``P_G`` in (0, 1); a return outside a track's gate cannot be assigned to
         it. ``None``: no gating.

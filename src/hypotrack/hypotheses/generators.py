@@ -21,7 +21,7 @@ log-weights (:meth:`AssociationProblem.log_weights`); ``keep`` asks for the ``ke
     a second row option (seeded births) and a count term the k-best list is grown until the
     k-th exact weight beats every unseen event's upper bound.
 :class:`MCMCGenerator`
-    R-FISST (seed 000 Sec. III): the distinct events an MCMC chain visits after burn-in, each
+    R-FISST (document 000 Sec. III): the distinct events an MCMC chain visits after burn-in, each
     weighted exactly (:func:`hypotrack.association.mcmc.mcmc_search`).
 """
 
@@ -103,7 +103,7 @@ class ExhaustiveGenerator(ChildGenerator):
     max_events : int
         Budget: a parent with more candidate events than this raises
         :class:`hypotrack.association.EnumerationBudgetError` (a ``ValueError`` naming the
-        budget) before anything is allocated. This is HOMHT's "break" of seed 000 Fig. 15.
+        budget) before anything is allocated. This is HOMHT's "break" of document 000 Fig. 15.
     chunk_size : int
         Events per block when streaming (``keep`` given).
     """
@@ -207,16 +207,16 @@ class MurtyGenerator(ChildGenerator):
 
 @dataclass(frozen=True)
 class MCMCGenerator(ChildGenerator):
-    """R-FISST's MCMC search (seed 000 Sec. III-B).
+    """R-FISST's MCMC search (document 000 Sec. III-B).
 
     Parameters
     ----------
     n_steps : int
-        Proposals per parent (seed 000 Fig. 15: 100,000).
+        Proposals per parent (document 000 Fig. 15: 100,000).
     burn_in : int, optional
         Steps before recording (default ``n_steps // 10``).
     variant : {"paper", "symmetric", "gibbs"}
-        Proposal; ``"paper"`` is seed 000's (random return, random column, conflict → clutter).
+        Proposal; ``"paper"`` is document 000's (random return, random column, conflict → clutter).
     init : {"random", "clutter", "best"}
         Starting event: the paper's random assignment ("a row vector … containing a permutation
         of column numbers"), all returns clutter, or the best assignment of the separable part.

@@ -1,4 +1,4 @@
-"""A hypothesis: a log-weight and references to shared tracks (seed 000 Eq. 1–2)."""
+"""A hypothesis: a log-weight and references to shared tracks (document 000 Eq. 1–2)."""
 
 from __future__ import annotations
 
@@ -13,8 +13,8 @@ __all__ = ["Hypothesis", "ChildSet"]
 class Hypothesis:
     """One multi-object hypothesis: ``log_weight`` and the indices of its tracks in the store.
 
-    The multi-object pdf under the hypothesis is the product of its tracks' pdfs (seed 000
-    Eq. 2; the FISST pdf is its symmetrisation, seed 000 Eq. 3 and 34).
+    The multi-object pdf under the hypothesis is the product of its tracks' pdfs (document 000
+    Eq. 2; the FISST pdf is its symmetrisation, document 000 Eq. 3 and 34).
     """
 
     log_weight: float

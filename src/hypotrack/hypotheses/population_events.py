@@ -1,7 +1,7 @@
 """Population events (birth and death) as they enter the hypothesis recursion.
 
-A child hypothesis is a population event followed by a data association (seed 000 Fig. 1,
-seed 001 Fig. 11). The engine splits the population event in two parts:
+A child hypothesis is a population event followed by a data association (document 000 Fig. 1,
+document 001 Fig. 11). The engine splits the population event in two parts:
 
 * **detected births** are columns of the association matrix (a return is the first detection
   of an object born in region ``r``); their probability enters the count term through
@@ -9,17 +9,17 @@ seed 001 Fig. 11). The engine splits the population event in two parts:
 * **undetected births and deaths** do not touch the association: such a child is the *twin*
   of a child without that event, and its weight differs by an exact factor
   (:meth:`undetected_birth_log_ratio`, :meth:`death_log_ratio`; the weight model adds the
-  object's ``1 − p_D`` factor). Seed 001 Eq. 39 is the undetected-birth case:
+  object's ``1 − p_D`` factor). Document 001 Eq. 39 is the undetected-birth case:
   ``w_v / w_v' = (1 − p_D) α``.
 
 Two models are offered:
 
 :class:`SingleEventPopulation`
-    Seed 000 Eq. 30: at most one birth (probability α in each of ``M_b`` regions) or one
+    Document 000 Eq. 30: at most one birth (probability α in each of ``M_b`` regions) or one
     death (probability β for each of the ``M_d`` objects in view) per scan. With it the
     engine's children are exactly the ``A(M,m) + M_b A(M+1,m) + M_d A(M−1,m)`` of Sec. II-C.
 :class:`BinomialPopulation`
-    Seed 001: spatial binomial births over pixels (Eq. 31–33; optionally in the Poisson limit
+    Document 001: spatial binomial births over pixels (Eq. 31–33; optionally in the Poisson limit
     ``α^b (1 − α)^{M_b−b} ≈ e^{−λ_B V} α^b``) and binomial survival (Eq. 59). Any number of
     *detected* births per scan; at most one undetected birth or one death per child (twins of
     twins are not generated: each such further event multiplies a weight by ``(1 − p_D) α`` or
@@ -57,7 +57,7 @@ def birth_prior_gaussian(density, n_samples: int = 4096):
 def _region_loglik(densities, Z):
     """``log ∫ p(z|x) p_b,r(x) dx ≈ log(1/V̄_r)`` inside region r, ``-inf`` outside.
 
-    Seed 001 Sec. V-B: the measurement likelihood's support is much smaller than a birth region,
+    Document 001 Sec. V-B: the measurement likelihood's support is much smaller than a birth region,
     so the integral of a position measurement against a uniform position pdf is ``1/V̄``.
     """
     m = len(Z)
@@ -97,7 +97,7 @@ class _Population:
 
 @dataclass(eq=False)
 class SingleEventPopulation(_Population):
-    """Seed 000's single birth-or-death model (Eq. 30) around
+    """Document 000's single birth-or-death model (Eq. 30) around
     :class:`hypotrack.models.population.SingleEventBirthDeath`.
 
     Parameters
@@ -151,7 +151,7 @@ class SingleEventPopulation(_Population):
 
 @dataclass(eq=False)
 class BinomialPopulation(_Population):
-    """Seed 001's binomial birth (Eq. 31–33) and survival (Eq. 59).
+    """Document 001's binomial birth (Eq. 31–33) and survival (Eq. 59).
 
     Parameters
     ----------
@@ -160,7 +160,7 @@ class BinomialPopulation(_Population):
     alpha : float
         Birth probability per pixel per scan (``α = λ_B V̄`` in the Poisson limit).
     p_survive : float
-        Survival probability per object per scan (seed 001's β in Eq. 59; 1 = no deaths).
+        Survival probability per object per scan (document 001's β in Eq. 59; 1 = no deaths).
     poisson_limit : bool
         Use ``α^b (1 − α)^{M_b−b} ≈ e^{−M_b α} α^b`` (Eq. 33) — with it the undetected-birth
         ratio is exactly ``(1 − p_D) α`` (Eq. 39).

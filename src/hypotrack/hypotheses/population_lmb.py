@@ -23,9 +23,9 @@ How the three population models relate (DESIGN.md §4.7)
 --------------------------------------------------------
 Call a death or an undetected birth a *silent* event (it leaves the association untouched).
 
-* Seed 000's single-event model (Eq. 30) allows one birth *or* one death per scan per parent,
+* Document 000's single-event model (Eq. 30) allows one birth *or* one death per scan per parent,
   with probabilities ``α`` and ``β`` that do not depend on the number of objects.
-* Seed 001's binomial model (Eq. 31–33, 59) has independent survival ``p_s`` per object and
+* Document 001's binomial model (Eq. 31–33, 59) has independent survival ``p_s`` per object and
   independent birth ``α`` per region — the labeled multi-Bernoulli probabilities with
   ``p_S = p_s`` and ``r_B = α`` — but generates at most **one** silent event per child.
 * The labeled multi-Bernoulli (this module) generates every combination.
@@ -35,7 +35,7 @@ GLMB children with at most one silent event, **with identical weights**; the two
 posteriors exactly when no child can hold two silent events (one object and no birth term, or no
 object and one birth term), and otherwise the binomial filter misses exactly the mass of the GLMB
 children with two or more. With ``p_S = 1`` and no birth term all three reduce to the
-fixed-number posterior, which equals Reid's HOMHT (seed 001 Sec. V-A). The single-event model
+fixed-number posterior, which equals Reid's HOMHT (document 001 Sec. V-A). The single-event model
 coincides with the others only when neither a birth nor a death is possible. Tests:
 ``tests/crosscheck/test_equivalence_glmb.py``.
 """

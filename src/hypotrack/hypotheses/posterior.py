@@ -1,4 +1,4 @@
-"""Posterior summaries of a hypothesis filter (seed 000 Figs 6, 8–11)."""
+"""Posterior summaries of a hypothesis filter (document 000 Figs 6, 8–11)."""
 
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ class Posterior:
     log_weights : (H,) normalised log-weights (log-sum-exp = 0), best first.
     n_objects : (H,) number of objects in each hypothesis.
     cardinality : (N_max + 1,) ``P(n objects)``, summing the weights of all hypotheses with
-        ``n`` objects (seed 000 Fig. 11).
+        ``n`` objects (document 000 Fig. 11).
     expected_number : ``Σ_n n P(n)``.
     top : the best hypotheses with their estimates, best first.
     """

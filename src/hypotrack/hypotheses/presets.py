@@ -3,9 +3,9 @@
 =============== ================================= =================================
 preset          weight model                       child generator
 =============== ================================= =================================
-``hfisst``      H-FISST (seed 000 Eq. 8, 30–31)     exhaustive (with optional gating)
-``rfisst``      H-FISST                             MCMC search (seed 000 Sec. III)
-``homht``       Reid (seed 001 Eq. 30, 35)          exhaustive
+``hfisst``      H-FISST (document 000 Eq. 8, 30–31)     exhaustive (with optional gating)
+``rfisst``      H-FISST                             MCMC search (document 000 Sec. III)
+``homht``       Reid (document 001 Eq. 30, 35)          exhaustive
 ``homht_kbest`` Reid                                Murty k-best
 ``glmb``        δ-GLMB joint prediction–update      Gibbs sampler (Vo, Vo & Hoang 2017)
 ``glmb_murty``  δ-GLMB joint prediction–update      Murty ranked assignment (Vo & Vo 2014)
@@ -45,19 +45,19 @@ def _filter(motion, sensor, weights, generator, population=None, **options):
 
 
 def hfisst(motion, sensor, *, max_events=10**7, population=None, **options) -> HypothesisFilter:
-    """H-FISST: every child of every parent, weighted by seed 000 Eq. 8/30–31.
+    """H-FISST: every child of every parent, weighted by document 000 Eq. 8/30–31.
 
     ``population`` may be a :class:`~hypotrack.models.population.SingleEventBirthDeath`
-    (seed 000 Eq. 30) or a :class:`~.population_events.BinomialPopulation` (seed 001).
+    (document 000 Eq. 30) or a :class:`~.population_events.BinomialPopulation` (document 001).
     """
     return _filter(motion, sensor, HFISSTWeights(), ExhaustiveGenerator(max_events=max_events), population, **options)
 
 
 def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, variant="paper", init="random", completion_rounds=2,
            population=None, **options) -> HypothesisFilter:
-    """R-FISST: H-FISST weights on the children found by the MCMC search (seed 000 Sec. III).
+    """R-FISST: H-FISST weights on the children found by the MCMC search (document 000 Sec. III).
 
-    ``n_steps`` proposals per parent per scan (seed 000 Fig. 15 uses 100,000);
+    ``n_steps`` proposals per parent per scan (document 000 Fig. 15 uses 100,000);
     ``completion_rounds`` rounds of this project's neighbour search after the chain
     (:class:`MCMCGenerator`; ``0`` is the paper's chain alone).
     """

@@ -1,6 +1,6 @@
-"""Synthetic association problems with a known true association (seed 000 Fig. 15).
+"""Synthetic association problems with a known true association (document 000 Fig. 15).
 
-Seed 000 Sec. V-B times the generation of the children of one parent as the number of possible
+Document 000 Sec. V-B times the generation of the children of one parent as the number of possible
 associations ``A(M, m)`` grows. :func:`synthetic_problem` draws such a parent: ``M`` objects with
 Gaussian predicted measurements spread over a square, a true association (which objects were
 detected, which returns are clutter), the ``m`` returns it produced, shuffled, and the
@@ -35,7 +35,7 @@ __all__ = ["DIFFICULTIES", "DIFFICULTY_SPACING", "SyntheticProblem", "synthetic_
 
 #: Object spacing in measurement standard deviations of the ambiguous difficulties.
 DIFFICULTY_SPACING = {"1sigma": 1.0, "2sigma": 2.0, "4sigma": 4.0, "8sigma": 8.0}
-#: ``"paper"`` (seed 000 Fig. 15's well separated problem) then hardest to easiest.
+#: ``"paper"`` (document 000 Fig. 15's well separated problem) then hardest to easiest.
 DIFFICULTIES = ("paper", *DIFFICULTY_SPACING)
 #: Detection probability of the ambiguous difficulties.
 AMBIGUOUS_P_D = 0.9

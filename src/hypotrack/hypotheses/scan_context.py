@@ -48,7 +48,7 @@ class ScanContext:
     def detection_scores(self) -> tuple[np.ndarray, np.ndarray]:
         """``(log_miss, obj)``: ``log(1 − p_D,j)`` (N,) of every predicted track and its column
         of the association matrix ``log N(z_i; ·) + log p_D,j − log(1 − p_D,j)`` (m, N), ``−inf``
-        where gated out or out of view (seed 000 Eq. 8, 18). Elementwise, so a parent's columns
+        where gated out or out of view (document 000 Eq. 8, 18). Elementwise, so a parent's columns
         are a gather of these: computed once per scan instead of once per parent."""
         p = self.p_detect
         log_miss = np.log1p(-p)
@@ -58,12 +58,12 @@ class ScanContext:
 
     @cached_property
     def birth_scores(self) -> np.ndarray:
-        """(m, B) birth columns ``log ∫ p(z_i|x) p_b,r(x) dx + log p_D`` (seed 000 Eq. 30)."""
+        """(m, B) birth columns ``log ∫ p(z_i|x) p_b,r(x) dx + log p_D`` (document 000 Eq. 30)."""
         return self.birth_loglik + np.log(self.p_detect_birth)
 
     @property
     def log_clutter_density(self) -> float:
-        """``log g(z) = −log V`` (seed 000 Eq. 18)."""
+        """``log g(z) = −log V`` (document 000 Eq. 18)."""
         return -float(np.log(self.clutter_volume))
 
     @property

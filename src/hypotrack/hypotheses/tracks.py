@@ -1,10 +1,10 @@
-"""The track store shared by all hypotheses (seed 001 Sec. III-C: tracks are beliefs).
+"""The track store shared by all hypotheses (document 001 Sec. III-C: tracks are beliefs).
 
 A hypothesis does not own Gaussian pdfs; it holds indices into one :class:`TrackStore`. Each
 scan the whole store is predicted once (batched), and after the children have been chosen a
 new store is built from the distinct ``(source, return)`` pairs the surviving children use,
 so a track is updated once per pair however many hypotheses hold it (the TOMHT-style track
-tree of seed 001 Theorem 1, kept one generation deep).
+tree of document 001 Theorem 1, kept one generation deep).
 
 Each track carries a ``label`` (the identity of the object it follows: inherited through
 updates, fresh for every birth), which is what the posterior summaries report.

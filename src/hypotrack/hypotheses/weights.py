@@ -7,7 +7,7 @@ says how the extra columns of the data association matrix and the count term ``�
 * object column ``j``: ``log N(z_i; H x̂_j, S_j) + log p_D,j − log(1 − p_D,j)`` and the constant
   ``Σ_j log(1 − p_D,j)`` — together ``Π_detected p_D Π_missed (1 − p_D)``;
 * birth column ``r`` (H-FISST / FISST births): ``log ∫ p(z|x) p_b,r(x) dx + log p_D``;
-* the population-event probability (Eq. 30 or seed 001 Eq. 59) added to ``φ`` by the caller.
+* the population-event probability (Eq. 30 or document 001 Eq. 59) added to ``φ`` by the caller.
 
 Detection probabilities must lie in [0, 1): a missed detection must be possible for
 ``log(1 − p_D)`` to be finite (a track outside the field of view has ``p_D = 0``).
@@ -54,7 +54,7 @@ class WeightModel:
             Added to every child (the parent's log-weight).
         population_log_prob : (B + 1,) array, optional
             Log-probability of the population event "``b`` detected births, nothing else"
-            (seed 000 Eq. 30 / seed 001 Eq. 59); default: no births, probability 1.
+            (document 000 Eq. 30 / document 001 Eq. 59); default: no births, probability 1.
         """
         tracks = np.asarray(tracks, dtype=np.int64)
         log_miss_all, obj_all = ctx.detection_scores  # per scan; the same numbers as per parent
@@ -86,7 +86,7 @@ def _detected_counts(m, n_objects, n_births):
 
 @dataclass(frozen=True)
 class HFISSTWeights(WeightModel):
-    """H-FISST / R-FISST weights (seed 000 Eq. 8, 17–19, 30–31).
+    """H-FISST / R-FISST weights (document 000 Eq. 8, 17–19, 30–31).
 
     ``w_ij ∝ w_i p_pop p_D^k (1 − p_D)^{N−k} / (C(m, k) k!) Π_assoc N(z; H x̂⁻, S) Π_clutter g(z)``
     with ``k`` the detected objects (births included) among the ``N`` of the child and
@@ -95,7 +95,7 @@ class HFISSTWeights(WeightModel):
 
     Notes
     -----
-    **Eq. 9 is wrong for M > m.** Seed 000 states that ``Σ_j p_ij = 1`` (Eq. 9), assuming
+    **Eq. 9 is wrong for M > m.** Document 000 states that ``Σ_j p_ij = 1`` (Eq. 9), assuming
     ``M < m``. Summing Eq. 8 over all ``A(M, m)`` associations actually gives
     ``Σ_{k=0}^{min(M, m)} C(M, k) p_D^k (1 − p_D)^{M−k} = P[Binomial(M, p_D) ≤ m]``, which is 1
     only when ``M ≤ m``: with more objects than returns the prior over associations loses the
@@ -128,13 +128,13 @@ def _hfisst_count_term(m, n_objects, n_births):
 
 @dataclass(frozen=True)
 class FISSTPoissonWeights(WeightModel):
-    """FISST with Poisson clutter (seed 001 Eq. 6–7, 18, 29).
+    """FISST with Poisson clutter (document 001 Eq. 6–7, 18, 29).
 
     ``p(σ|n) = p_D^{m−k'} (1 − p_D)^{n−(m−k')} e^{−λV} (λV)^{k'} / k'!`` (Eq. 6) and
     ``l = (k'! / V^{k'}) Π N(z; H x̂⁻, S)`` (Eq. 7) with ``k'`` clutter returns; both factors
     are evaluated as written (the ``k'!`` cancel numerically), so that the equality with
-    Reid's weights (seed 001 Sec. V-A) is a test, not an identity of the code. Births enter
-    through birth columns ``∫ p(z|x) 1_pixel(x)/V̄ dx`` (seed 001 Eq. 31, 34).
+    Reid's weights (document 001 Sec. V-A) is a test, not an identity of the code. Births enter
+    through birth columns ``∫ p(z|x) 1_pixel(x)/V̄ dx`` (document 001 Eq. 31, 34).
 
     Parameters
     ----------
@@ -161,15 +161,15 @@ class FISSTPoissonWeights(WeightModel):
 
 @dataclass(frozen=True)
 class ReidWeights(WeightModel):
-    """Reid's HOMHT weights (Reid 1979 Eq. 16; seed 001 Eq. 30 and 35).
+    """Reid's HOMHT weights (Reid 1979 Eq. 16; document 001 Eq. 30 and 35).
 
-    ``w ∝ w_i p_D^d (1 − p_D)^{n−d} λ_C^{k'} λ_B^{b} Π_assoc N(z; H x̂⁻, S)`` — seed 001 writes the
+    ``w ∝ w_i p_D^d (1 − p_D)^{n−d} λ_C^{k'} λ_B^{b} Π_assoc N(z; H x̂⁻, S)`` — document 001 writes the
     birth factor as ``(λ_B / p_D)^b`` next to ``p_D^{m−k}``, whose exponent counts the ``b``
     births' returns; the ``p_D`` cancel. Births are *seeded at their return* (every birth is
     detected; any number per scan) through the row option "new target" with score
     ``log λ_B``; their tracks start from the return (``birth_density.initial_state``).
     The association likelihood is the predictive density ``N(z; H x̂⁻, S)``, not the point
-    likelihood at the mean (seed 000 Eq. 21 misstates Reid).
+    likelihood at the mean (document 000 Eq. 21 misstates Reid).
 
     Parameters
     ----------

@@ -13,7 +13,7 @@ possible) and row option 1 "died / not born" (code −2); ``φ`` is constant. He
 (:mod:`.gibbs`) all serve it unchanged.
 
 The common factor ``e^{−λ} Π_j κ(z_j)`` is kept so that a GLMB child weighs exactly what the
-same child weighs under seed 001's FISST weights with Poisson clutter and the binomial
+same child weighs under document 001's FISST weights with Poisson clutter and the binomial
 population (:class:`~.FISSTPoissonWeights`): the identity tested in
 ``tests/crosscheck/test_equivalence_glmb.py``.
 """

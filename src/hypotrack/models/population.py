@@ -1,12 +1,12 @@
 """Population (birth/death) models of the three source papers.
 
-* :class:`SingleEventBirthDeath` — seed 000 Sec. II-C, Eq. 30: at most one birth (in one of
+* :class:`SingleEventBirthDeath` — document 000 Sec. II-C, Eq. 30: at most one birth (in one of
   ``M_b`` birth regions, probability α each) or one death (of one of the ``M_d`` objects in
   view, probability β each) between scans, so a parent has ``1 + M_b + M_d`` population
   children with probabilities ``1 − M_b α − M_d β``, ``α``, ``β``.
-* :class:`BinomialBirth`, :class:`BinomialSurvival` — seed 001's spatial binomial birth
+* :class:`BinomialBirth`, :class:`BinomialSurvival` — document 001's spatial binomial birth
   process over ``M`` pixels (Eq. 32–33 and its Poisson limit) and binomial survival (Eq. 59).
-* :func:`continuous_birth_death` — seed 003 Eq. 2.1–2.2 (as reconstructed in
+* :func:`continuous_birth_death` — document 003 Eq. 2.1–2.2 (as reconstructed in
   ``coraluppi_carthel_reconstruction.md`` §1): a continuous-time Poisson birth/death
   process seen at scan times.
 
@@ -97,7 +97,7 @@ class UniformBirthDensity:
 
         With a uniform position prior much wider than ``R`` the position posterior is
         ``N(z, R)``; the velocity is the prior ``N(v̄(z), Σ_v)``. Returns ``(mean (4,),
-        cov (4, 4))``, the track a birth hypothesis seeds (seed 000 Eq. 29).
+        cov (4, 4))``, the track a birth hypothesis seeds (document 000 Eq. 29).
         """
         z = np.asarray(z, dtype=float).reshape(2)
         R = check_covariance(R, "R", dim=2)
@@ -110,7 +110,7 @@ class UniformBirthDensity:
 
 @dataclass(frozen=True, eq=False)
 class SingleEventBirthDeath:
-    """Seed 000's single-event birth/death model (Sec. II-C, Eq. 30).
+    """Document 000's single-event birth/death model (Sec. II-C, Eq. 30).
 
     Between two scans at most one population event happens: one birth in one of the
     ``M_b = n_birth_regions`` regions (probability α each) or one death of one of the
@@ -219,7 +219,7 @@ class SingleEventBirthDeath:
 
 @dataclass(frozen=True)
 class BinomialBirth:
-    """Seed 001's spatial binomial birth process (Sec. II, Fig. 3; Eq. 32–33).
+    """Document 001's spatial binomial birth process (Sec. II, Fig. 3; Eq. 32–33).
 
     Each of ``M = n_potential`` pixels independently spawns an object with probability α,
     so the number of births is ``Binomial(M, α)`` and one specific set of ``p`` occupied
@@ -273,11 +273,11 @@ class BinomialBirth:
 
 @dataclass(frozen=True)
 class BinomialSurvival:
-    """Binomial survival (seed 001 Sec. IV, Eq. 59): each of ``r`` targets survives
+    """Binomial survival (document 001 Sec. IV, Eq. 59): each of ``r`` targets survives
     independently with probability ``p_survive`` (the paper's β), so one given set of
     ``p`` survivors has probability ``β^p (1 − β)^{r−p}``.
 
-    (Seed 000 uses β for the *death* probability; here the name says which it is.)
+    (Document 000 uses β for the *death* probability; here the name says which it is.)
     """
 
     p_survive: float
@@ -303,7 +303,7 @@ class BinomialSurvival:
 def continuous_birth_death(birth_rate, death_rate, dt):
     """Per-scan birth mean and termination probability of a continuous-time process.
 
-    Seed 003 Eq. 2.1–2.2 (reconstruction §1): births form a Poisson process of rate λ,
+    Document 003 Eq. 2.1–2.2 (reconstruction §1): births form a Poisson process of rate λ,
     each object dies at rate μ. Objects born in an interval of length Δt and still alive
     at its end form a thinned Poisson process, and an existing object dies within it with
     probability ``1 − e^{−μΔt}``:

@@ -6,7 +6,7 @@ The pieces compose like Stone Soup's components, one responsibility each:
 * :class:`FieldOfView` (a polar wedge at the sensor, the origin) and :class:`Box` (an
   axis-aligned box) — regions with ``contains``, ``area`` and ``sample_uniform``;
 * :class:`PoissonClutter` — a Poisson number of false returns per scan, uniform over a
-  region, density ``g(z) = 1/V`` (seed 000 Sec. II-B; seed 001 Eq. 6–7);
+  region, density ``g(z) = 1/V`` (document 000 Sec. II-B; document 001 Eq. 6–7);
 * :class:`DetectionModel` — detection with probability ``p_D`` inside a region;
 * :class:`Sensor` — all of the above: ``observe(states, rng) -> (Z, origin)``;
 * :class:`SensorArray` — several sensors observing synchronously, one scan each.
@@ -115,7 +115,7 @@ class FieldOfView:
 
     Points with range ``r_min <= r <= r_max`` and polar angle within ``full_angle_deg / 2``
     of ``look_angle_deg`` (both measured from the +x axis, counter-clockwise) are inside.
-    The defaults are seed 000's sensor (look direction 15°, field of view 30°, Sec. IV-A)
+    The defaults are document 000's sensor (look direction 15°, field of view 30°, Sec. IV-A)
     with the range limits of DESIGN.md §5 (km).
 
     Parameters
@@ -186,7 +186,7 @@ class FieldOfView:
     def split(self, n_regions: int) -> list["FieldOfView"]:
         """Split the wedge into ``n_regions`` sub-wedges of equal angle (same range limits).
 
-        These are seed 000's birth regions: the FOV divided into ``M_b`` parts (Sec. II-C).
+        These are document 000's birth regions: the FOV divided into ``M_b`` parts (Sec. II-C).
         """
         k = check_int(n_regions, "n_regions", minimum=1)
         lo, _ = self.angle_limits_deg
@@ -248,14 +248,14 @@ class PoissonClutter:
     Parameters
     ----------
     rate : float
-        Expected number of clutter returns per scan, λ ≥ 0 (seed 001's ``λV``).
+        Expected number of clutter returns per scan, λ ≥ 0 (document 001's ``λV``).
     region : FieldOfView or Box
         Where clutter appears.
 
     Attributes
     ----------
     density : float
-        Spatial density of one clutter return, ``g(z) = 1 / V`` (seed 000 Sec. II-B).
+        Spatial density of one clutter return, ``g(z) = 1 / V`` (document 000 Sec. II-B).
     intensity : float
         Clutter intensity ``λ / V`` (returns per unit area per scan).
     """

@@ -190,7 +190,7 @@ _TEXT_RULES = (
                                      r"|(?<![\w])[A-Za-z]_[A-Za-z]{1,3}\b")),
     ("an unresolved template or value", re.compile(r"\{[a-z_]+\}|\bnan\b|\bNone\b|\?\?")),
     ("a citation shown by its key", re.compile(r"\[[a-z]{2,4}, n\.d\.\]")),
-    ("'seed 000'-style wording for a document", re.compile(r"\bseeds? 00[0-4]\b")),
+    ("'document 000'-style wording for a document", re.compile(r"\bseeds? 00[0-4]\b")),
 )
 
 
@@ -210,7 +210,7 @@ def text_problems(text: str) -> list[str]:
     naming the rule and quoting the context: a repeated word ("at at"), a word echoed across a
     generated value ("peaks at peak"), "at crossover at", ASCII mathematics (``<=``, ``p_D``,
     ``1e+06``), an unresolved template (``{name}``, ``nan``, ``??``), a citation shown by its key,
-    and "seed 000" where the document is meant."""
+    and "document 000" where the document is meant."""
     flat = re.sub(r"-\n(?=[a-z])", "", text)  # undo end-of-line hyphenation
     flat = re.sub(r"\s+", " ", flat)
     found = []

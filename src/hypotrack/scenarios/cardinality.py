@@ -1,4 +1,4 @@
-"""Counts-only scenario of the cardinality-tracking example (seed 003, §4, Fig. 4.2).
+"""Counts-only scenario of the cardinality-tracking example (document 003, §4, Fig. 4.2).
 
 Targets are born Poisson(λ_b) per scan and each dies before the next scan with probability
 p_χ (the discrete-time statistics of Eqs. 2.1–2.2); every live target is detected with

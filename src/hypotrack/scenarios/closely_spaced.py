@@ -1,4 +1,4 @@
-"""Two closely spaced targets on a line, seen by N synchronous sensors (seed 003, §5–6).
+"""Two closely spaced targets on a line, seen by N synchronous sensors (document 003, §5–6).
 
 Ground truth follows the exactly discretised Ornstein–Uhlenbeck process (Eqs. 5.1–5.3); every
 sensor reports both targets with independent Gaussian noise of variance R, no missed detections

@@ -1,4 +1,4 @@
-"""Space-situational-awareness scenarios of seed 000 (Sec. IV–V): planar orbits and one FOV sensor.
+"""Space-situational-awareness scenarios of document 000 (Sec. IV–V): planar orbits and one FOV sensor.
 
 Two cases, both deterministic functions of (parameters, seed):
 
@@ -234,7 +234,7 @@ class SSAScenario:
     def birth_model(
         self, alpha=1e-3, beta=1e-4, n_birth_regions=10, velocity_std=0.5
     ) -> SingleEventBirthDeath:
-        """Seed 000's single-event birth/death model over this scenario's FOV (Eq. 30).
+        """Document 000's single-event birth/death model over this scenario's FOV (Eq. 30).
 
         Birth pdfs are uniform in position over each of ``n_birth_regions`` equal-angle
         sub-wedges, with velocity ``N(v_circ(r), velocity_std² I)`` (km/s) around the

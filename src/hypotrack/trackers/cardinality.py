@@ -1,6 +1,6 @@
 """Cardinality tracking: counts-only data, classical MHT versus the equivalence-class MAP.
 
-Coraluppi & Carthel, *Cardinality Tracking and the Equivalence-Class MHT* (seed 003), §4, with
+Coraluppi & Carthel, *Cardinality Tracking and the Equivalence-Class MHT* (document 003), §4, with
 the equations restored in ``coraluppi_carthel_reconstruction.md`` §3. Each scan k reports only
 its number of returns ``r_k``: ``d`` detections of surviving targets, ``b`` detected births and
 ``f = r − d − b`` false alarms. Both objectives depend on the counts alone, so every solution is

@@ -1,7 +1,7 @@
 """Two closely spaced 1-D Ornstein–Uhlenbeck targets seen by N synchronous sensors.
 
 The filters of Coraluppi & Carthel, *Cardinality Tracking and the Equivalence-Class MHT*
-(seed 003), Sections 5–6, written as scalar Kalman recursions vectorised over Monte Carlo runs:
+(document 003), Sections 5–6, written as scalar Kalman recursions vectorised over Monte Carlo runs:
 every array has a leading run axis, so one call filters a thousand realisations at once.
 
 * :class:`IdealFilter` — known measurement origin: a Kalman filter per target on the average of

@@ -1,4 +1,4 @@
-"""The belief_space checks table and its ledger rows (seed 001 Eq. 39, Eq. 43, Sec. V-A).
+"""The belief_space checks table and its ledger rows (document 001 Eq. 39, Eq. 43, Sec. V-A).
 
 Each row says what its verdict rests on: rows comparing the engine with the formula it implements
 are *identities of the implementation* (never a reproduction on their own); the independent
@@ -46,7 +46,7 @@ def checks_table(ratio: pd.DataFrame, offsets: pd.DataFrame, noise: pd.DataFrame
              engine=f"{big['engine_binomial'] / big['eq39'] - 1:+.3g} relative to Eq. 39 at alpha = {alpha_max:g}",
              deviation=_rel_dev(ratio["engine_binomial"], ratio["exact_binomial"]),
              claim_holds=bool(np.allclose(ratio["exact_binomial"], ratio["eq39"], rtol=1e-3))),
-        dict(check="single-event births (seed 000 Eq. 30): undetected-birth ratio", source="000 Eq. 30; 001 Eq. 39",
+        dict(check="single-event births (document 000 Eq. 30): undetected-birth ratio", source="000 Eq. 30; 001 Eq. 39",
              formula="(1 - p_D) alpha / (1 - M_b alpha - M_d beta)", engine=f"{len(ratio)} pairs",
              deviation=_rel_dev(ratio["engine_single_event"], ratio["single_event"]),
              claim_holds=bool(np.allclose(ratio["single_event"], ratio["eq39"], rtol=1e-3))),
@@ -79,7 +79,7 @@ def checks_table(ratio: pd.DataFrame, offsets: pd.DataFrame, noise: pd.DataFrame
              engine=f"{equiv['run'].nunique()} runs x {equiv['scan'].nunique()} scans, same hypotheses: {same}",
              deviation=float(max(equiv["max_abs_dlogw_fisst_reid"].max(), equiv["max_abs_dmean_fisst_reid"].max())),
              claim_holds=same),
-        dict(check="H-FISST (seed 000 Eq. 8) vs HOMHT: total-variation distance", source="000 Sec. II-B",
+        dict(check="H-FISST (document 000 Eq. 8) vs HOMHT: total-variation distance", source="000 Sec. II-B",
              formula="differ by -log(C(m,k) k!) and the clutter term",
              engine=f"TV up to {equiv['tv_hfisst_reid'].max():.3f}", deviation=np.nan,
              value=float(equiv["tv_hfisst_reid"].max()),
@@ -105,7 +105,7 @@ def claims_from_checks(checks: pd.DataFrame) -> list:
     uni = c.loc["Eq. 43 bound, uniform pixel births"]
     gau = c.loc["Eq. 43 bound with the engine's Gaussian undetected-birth pdf"]
     fh = c.loc["FISST (Eq. 18) = HOMHT (Eq. 30) for a fixed number of targets"]
-    hf = c.loc["H-FISST (seed 000 Eq. 8) vs HOMHT: total-variation distance"]
+    hf = c.loc["H-FISST (document 000 Eq. 8) vs HOMHT: total-variation distance"]
     vm_max = float(uni_row_control(checks))
     ok = lambda row: "reproduced" if row["claim_holds"] and row["engine_matches_formula"] else "not reproduced"  # noqa: E731
     # an engine-vs-formula row shares the code path under test: a consistency check, never a reproduction
@@ -139,6 +139,6 @@ def claims_from_checks(checks: pd.DataFrame) -> list:
               "identity of the implementation", key="FisstHomhtEngine"),
         Claim("belief_space", "H-FISST vs HOMHT posteriors (engine)", "000 Sec. II-B", "differ by C(m,k) k!",
               f"TV distance up to {hf['value']:.3f}", "--", "extension",
-              "seed 000's H-FISST weights are not Reid's; seed 001's FISST weights are", "measurement",
+              "document 000's H-FISST weights are not Reid's; document 001's FISST weights are", "measurement",
               key="HfisstHomht"),
     ]

@@ -4,14 +4,14 @@ This module shares no code with the engine (:mod:`hypotrack.hypotheses`): it imp
 scipy only, predicts the prior tracks itself and enumerates every child hypothesis by brute force.
 For each child it evaluates
 
-* **FISST (seed 001 Eqs. 5–7, 31–33, 59; seed 000 Eq. 20)** — the predicted multi-object density
+* **FISST (document 001 Eqs. 5–7, 31–33, 59; document 000 Eq. 20)** — the predicted multi-object density
   (each prior object survives with ``p_s``; one birth pixel, binomial birth in the Poisson limit
   ``e^{−α} α^b``; a born object's position uniform on the pixel) times the multi-object likelihood
   with Poisson clutter (``e^{−λV} Π_clutter λV c(z)``, ``c = 1/V``; ``p_D`` per object), integrated
   over the states of the child's objects: a detected object contributes
   ``p_D ∫ N(z; Hx, R) p(x) dx`` (the Gaussian convolution for a prior track, the exact integral of
   the Gaussian over the uniform pixel for a birth), a missed one ``1 − p_D``;
-* **Reid (1979; seed 001 Eqs. 30, 35)** — ``p_D^{N_DT} (1 − p_D)^{N_TGT − N_DT} β_FT^{N_FT}
+* **Reid (1979; document 001 Eqs. 30, 35)** — ``p_D^{N_DT} (1 − p_D)^{N_TGT − N_DT} β_FT^{N_FT}
   β_NT^{N_NT} Π N(z; H x̄, H P H' + R)`` for a fixed set of prior targets, false targets of
   density ``β_FT = λV / V`` and new targets of density ``β_NT``.
 
@@ -123,7 +123,7 @@ def _check_defect(defect):
 
 
 def fisst_children(s: OracleScene, defect: str | None = None) -> dict:
-    """Log-weight of every child under seed 001's multi-object densities (module docstring).
+    """Log-weight of every child under document 001's multi-object densities (module docstring).
 
     ``defect="no_missed_detection"`` drops every missed-detection factor ``1 − p_D`` (undetected
     objects and the undetected birth, Eqs. 6 and 37): a density with a known defect, run as the
@@ -152,9 +152,9 @@ def fisst_children(s: OracleScene, defect: str | None = None) -> dict:
             if kind == UNDETECTED_BIRTH:  # (1 − p_D) ∫ p_b(x) dx
                 lw += log_md
                 births += 1
-            if s.has_birth:  # binomial birth, Poisson limit (seed 001 Eq. 33): e^{−α} α^b
+            if s.has_birth:  # binomial birth, Poisson limit (document 001 Eq. 33): e^{−α} α^b
                 lw += -s.alpha + births * math.log(s.alpha)
-            if s.p_survive < 1:  # survival (seed 001 Eq. 59)
+            if s.p_survive < 1:  # survival (document 001 Eq. 59)
                 lw += len(alive) * math.log(s.p_survive) + (M - len(alive)) * math.log1p(-s.p_survive)
             k_clutter = sum(x == CLUTTER for x in a)
             lw += -s.clutter_rate + k_clutter * log_kappa  # Poisson clutter set density

@@ -1,4 +1,4 @@
-"""The hypothesis engine against the independent oracle of :mod:`.fisst_oracle` (seed 001 Sec. V).
+"""The hypothesis engine against the independent oracle of :mod:`.fisst_oracle` (document 001 Sec. V).
 
 On small random scans (M ≤ 4 objects, m ≤ 4 returns, one birth pixel, deaths, Poisson clutter)
 the engine's one-scan children (:meth:`hypotrack.hypotheses.HypothesisFilter.expand`) are
@@ -9,7 +9,7 @@ compared, child by child, with the oracle's brute-force evaluation of the seeds'
   posterior, same normaliser; the undetected-birth ratios of Eq. 39 come out of the densities;
 * Reid's HOMHT (engine: :class:`~hypotrack.hypotheses.ReidWeights` with seeded new targets) —
   same posterior as Reid's formula, and (oracle against oracle) as FISST over the association
-  children when ``β_NT = α p_D / V̄`` (seed 001 Sec. V-A, extended to births).
+  children when ``β_NT = α p_D / V̄`` (document 001 Sec. V-A, extended to births).
 
 Returns lie at least 20 measurement standard deviations inside the birth pixel, where the engine's
 ``∫ N(z; x, R) U(x; pixel) dx = 1/V̄`` holds to far below the tolerance (the oracle integrates exactly).

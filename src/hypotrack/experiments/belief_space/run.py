@@ -1,18 +1,18 @@
-"""Seed 001's numeric claims, from the formulas and from the hypothesis engine's own weights.
+"""Document 001's numeric claims, from the formulas and from the hypothesis engine's own weights.
 
-Three claims of Chakravorty, Faber, Hussein & Mishra (seed 001):
+Three claims of Chakravorty, Faber, Hussein & Mishra (document 001):
 
 * **Eq. 39** — a hypothesis with one undetected birth weighs ``(1 − p_D) α`` times its twin
   without it. Engine: the children of :meth:`hypotrack.hypotheses.HypothesisFilter.expand`
-  of kind ``UNDETECTED_BIRTH`` against their association twins, for seed 001's binomial birth
-  (in the Poisson limit of Eq. 33, and exact) and seed 000's single-event model.
+  of kind ``UNDETECTED_BIRTH`` against their association twins, for document 001's binomial birth
+  (in the Poisson limit of Eq. 33, and exact) and document 000's single-event model.
 * **Eq. 43** — one scan later, the child ``γ`` that assigns a return ``z*`` to the undetected
   birth weighs less than ``(1 − p_D)`` times the child ``γ'`` that explains ``z*`` as a new birth.
   Formula: ``ω^γ/ω^γ' = (1 − p_D) V̄ ∫ p(z*|x) p_b⁻(x) dx`` (Eq. 42), evaluated for the paper's
   uniform pixel birth and for the Gaussian birth pdf the engine carries for an undetected birth
   (a moment match of the pixel); engine: the same two children in a two-scan run.
 * **Sec. V-A** — for a fixed number of targets FISST with Poisson clutter (Eq. 18) and Reid's
-  HOMHT (Eq. 30) give identical posteriors; H-FISST (seed 000 Eq. 8) does not.
+  HOMHT (Eq. 30) give identical posteriors; H-FISST (document 000 Eq. 8) does not.
 
 This module holds the logic of the ``belief_space`` pipeline rules (whose scripts only read the
 config and write files), so that the tests can call it directly.
@@ -85,8 +85,8 @@ def _ratio_scene(cfg):
 def engine_twin_ratios(p_D: float, alpha: float, model: str, cfg) -> np.ndarray:
     """The engine's ``w_v / w_v'`` for every undetected-birth twin pair (one scan, exhaustive).
 
-    ``model``: ``"poisson_limit"`` / ``"binomial"`` (seed 001 birth, FISST weights) or
-    ``"single_event"`` (seed 000 Eq. 30, H-FISST weights).
+    ``model``: ``"poisson_limit"`` / ``"binomial"`` (document 001 birth, FISST weights) or
+    ``"single_event"`` (document 000 Eq. 30, H-FISST weights).
     """
     pixels, region, means, covs, Z = _ratio_scene(cfg)
     densities = [UniformBirthDensity(px, np.eye(2) * float(cfg["velocity_std"]) ** 2) for px in pixels]
@@ -109,7 +109,7 @@ def ratio_table(cfg) -> pd.DataFrame:
     """Eq. 39 over the grid ``cfg["p_D"] × cfg["alpha"]``: formulas and the engine, side by side.
 
     Columns: ``eq39`` = (1 − p_D) α; ``exact_binomial`` = (1 − p_D) α / (1 − α) (Eq. 31 without
-    Eq. 33); ``single_event`` = (1 − p_D) α / (1 − M_b α − M_d β) (seed 000 Eq. 30, both targets in
+    Eq. 33); ``single_event`` = (1 − p_D) α / (1 − M_b α − M_d β) (document 000 Eq. 30, both targets in
     view); ``engine_<model>`` the engine's mean ratio and ``engine_<model>_spread`` its largest
     relative deviation over all twin pairs of the scan.
     """
@@ -203,7 +203,7 @@ def _position_spread_var(cfg, measurement_std: float) -> float:
 
 
 def uniform_formula_ratio(cfg, measurement_std: float, offsets) -> np.ndarray:
-    """Eq. 42 for the paper's uniform pixel birth (seed 001 Eq. 31), exactly.
+    """Eq. 42 for the paper's uniform pixel birth (document 001 Eq. 31), exactly.
 
     The predicted position is uniform on the square pixel plus Gaussian spread ``s²`` per axis,
     so ``V̄ ∫ p(z*|x) p_b⁻(x) dx = Π_axes [Φ((d + L/2)/s) − Φ((d − L/2)/s)] ≤ 1``.

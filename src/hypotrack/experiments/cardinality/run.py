@@ -1,4 +1,4 @@
-"""Monte Carlo drivers for the cardinality-tracking example (seed 003 §4, Fig. 4.2).
+"""Monte Carlo drivers for the cardinality-tracking example (document 003 §4, Fig. 4.2).
 
 :func:`cardinality_run` simulates one counts-only realisation and runs the classical
 track-oriented MHT (exact MAP of Eq. 4.1), the cardinality tracker (Tetris extraction, both

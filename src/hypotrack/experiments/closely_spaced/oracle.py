@@ -1,4 +1,4 @@
-"""The ideal filter's MOSPA on the two-target OU problem in closed form (seed 003 Table 6.1).
+"""The ideal filter's MOSPA on the two-target OU problem in closed form (document 003 Table 6.1).
 
 With known measurement origin each target has its own scalar Kalman filter on the N-sensor
 average (variance r = R/N). Everything is linear and Gaussian with zero mean, so the pair

@@ -1,4 +1,4 @@
-"""Seed 000 Fig. 15 on problems with real ambiguity: the difficulty sweep (run and evaluate).
+"""Document 000 Fig. 15 on problems with real ambiguity: the difficulty sweep (run and evaluate).
 
 The paper-style sweep (:mod:`.generation_time`) draws well separated problems in which the true
 association is the heaviest child. Here each size ``M`` and *difficulty* (objects 1, 2, 4 or 8
@@ -7,7 +7,7 @@ on both sides of ``M``; :func:`hypotrack.hypotheses.problems.synthetic_problem`)
 ``n_problems`` H-FISST parents, and three child generators are scored against an *exact*
 reference:
 
-``chain``             the paper's MCMC search alone (seed 000 Sec. III-B: ``completion_rounds=0``)
+``chain``             the paper's MCMC search alone (document 000 Sec. III-B: ``completion_rounds=0``)
 ``chain_completion``  the same chain followed by the project's neighbour completion (default 2 rounds)
 ``murty``             the exact ``keep`` best children (Murty within blocks of equal detection count,
                       :func:`hypotrack.association.cardinality_k_best`)

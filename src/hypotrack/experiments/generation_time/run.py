@@ -1,4 +1,4 @@
-"""Hypothesis-generation timing (seed 000 Fig. 15) and throughput benchmarks.
+"""Hypothesis-generation timing (document 000 Fig. 15) and throughput benchmarks.
 
 :func:`generation_time_point` times one method generating the children of one synthetic parent
 (:mod:`hypotrack.hypotheses.problems`) and records whether the true association was among them and its rank;
@@ -10,7 +10,7 @@ second, children per second, bounded memory).
 Methods (the papers' pairing of weights and generator):
 
 ``homht``        Reid weights, exhaustive enumeration + weighting, best ``keep`` kept (streamed)
-``rfisst``       H-FISST weights, MCMC search (seed 000 Sec. III-B)
+``rfisst``       H-FISST weights, MCMC search (document 000 Sec. III-B)
 ``homht_kbest``  Reid weights, Murty's ``keep`` best
 """
 
@@ -257,7 +257,7 @@ def _breaks_near_1e8(refused_log10) -> bool:
 
 
 def generation_time_claims(table, params):
-    """Seed 000 Sec. V-B / Fig. 15 claims checked against the generation-time table.
+    """Document 000 Sec. V-B / Fig. 15 claims checked against the generation-time table.
 
     Returns a list of :class:`hypotrack.reporting.ledger.Claim`.
     """

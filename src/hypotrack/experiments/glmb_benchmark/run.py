@@ -156,7 +156,7 @@ def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed):
     ∝ √w over the parents, ``max_hypotheses`` kept; ``merge_duplicates`` adds identical children's
     weights as the demo does). ``blind``: the ``glmb`` tracker fed empty scans, the negative control.
     ``rfisst`` and ``homht_kbest``: H-FISST weights with the chain, and FISST weights with Poisson
-    clutter with Murty, both under seed 001's binomial population with the *same* birth terms
+    clutter with Murty, both under document 001's binomial population with the *same* birth terms
     (``α = r_B``) and survival — the nesting of :mod:`hypotrack.hypotheses.population_lmb`: at
     most one death or undetected birth per child.
     """

@@ -7,7 +7,7 @@ which R-FISST's return-indexed search and the GLMB's object-indexed Gibbs sample
 *same* posterior (:func:`object_indexed` writes the one problem both ways; the events map one to
 one). Per budget ``B`` (proposals):
 
-* ``rfisst_chain`` — seed 000's proposal, ``B`` steps, the chain alone (``completion_rounds = 0``);
+* ``rfisst_chain`` — document 000's proposal, ``B`` steps, the chain alone (``completion_rounds = 0``);
 * ``rfisst_completion`` — the same chain plus the neighbour completion (2 rounds);
 * ``gibbs`` — Vo, Vo & Hoang's systematic scan over objects, ``⌈B / M⌉`` sweeps (``B`` conditional draws);
 * ``murty`` — the ``⌈B / M⌉`` best events (one ranked assignment per full event, like one sweep).

@@ -1,6 +1,6 @@
-"""SSA tracking experiments of seed 000: hypothesis filters over the space-object scenarios.
+"""SSA tracking experiments of document 000: hypothesis filters over the space-object scenarios.
 
-Two experiments (seed 000 Sec. IV-A and V-A; DESIGN.md §5):
+Two experiments (document 000 Sec. IV-A and V-A; DESIGN.md §5):
 
 * ``ssa50`` — R-FISST on 50 objects of which the initial hypothesis knows 45; the other 5 are
   births that enter the field of view during the run. Figures: hypothesis-weight snapshots

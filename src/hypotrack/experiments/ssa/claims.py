@@ -1,4 +1,4 @@
-"""SSA experiments, step 5: what was and was not reproduced (seed 000 Sec. IV-A and V-A), and what
+"""SSA experiments, step 5: what was and was not reproduced (document 000 Sec. IV-A and V-A), and what
 this project's completion step (a deterministic neighbour search after R-FISST's chain) changes."""
 
 from __future__ import annotations
@@ -44,7 +44,7 @@ def ssa50_claims(metrics: pd.DataFrame, cardinality: pd.DataFrame, weights: pd.D
                  matched: pd.DataFrame, births: pd.DataFrame, *, estimate_scans, n_scans: int,
                  error_bound_probability: float, note: str = "", tracker: str = "R-FISST",
                  per_object_death: bool = False) -> list:
-    """The ssa50 reproduction claims (seed 000 Sec. IV-A, Figs 6, 8–11).
+    """The ssa50 reproduction claims (document 000 Sec. IV-A, Figs 6, 8–11).
 
     ``metrics`` is the merged per-scan table (run summary and :func:`evaluate_map` metrics);
     ``tracker`` names the tracker in the rows that state what it does; ``per_object_death`` says
@@ -157,7 +157,7 @@ def _no_red_stars_claim(ex, label, key, matched, metrics, *, estimate_scans, n_s
 def ssa15_claims(metrics: pd.DataFrame, agreements: Mapping, matched: pd.DataFrame, *, estimate_scans,
                  n_scans: int, error_bound_probability: float, labels: Mapping, red_star_tolerance: float = 0.01,
                  max_ospa_km: float | None = None, control: str | None = None, control_agreement: pd.DataFrame | None = None) -> list:
-    """The ssa15 reproduction claims (seed 000 Sec. V-A, Figs 12–14).
+    """The ssa15 reproduction claims (document 000 Sec. V-A, Figs 12–14).
 
     ``agreements`` maps ``(tracker_a, tracker_b)`` to :func:`map_agreement` tables; the first
     pair is the paper's comparison (R-FISST vs HOMHT), further pairs are extensions.

@@ -2,7 +2,7 @@
 
 A check of document 000's SSA figures is evidence only when something built to break what the
 claim is about *fails* it (:func:`hypotrack.reporting.verdict.with_control`). The control here is
-the **blind tracker**: the initial hypothesis predicted by the EKF (seed 000 Sec. V-A: "an Extended
+the **blind tracker**: the initial hypothesis predicted by the EKF (document 000 Sec. V-A: "an Extended
 Kalman Filter ... to compute the underlying state and covariance updates") without ever using a
 measurement and without births or deaths. It is what a hypothesis filter degenerates to when its
 data association never assigns a return; it costs one EKF prediction per object per scan.
@@ -11,7 +11,7 @@ data association never assigns a return; it costs one EKF prediction per object 
 same evaluation and the same claim code score it); :func:`attach_controls` runs a claim list's
 checks on the blind tracker's tables and fills each row's ``control`` column — a *reproduced* or
 *qualitative* row whose control also passes becomes *uninformative*; :func:`every_scan_verdict`
-is the "no red stars" check over every scan (seed 000 Sec. V-A: "each method maintained the
+is the "no red stars" check over every scan (document 000 Sec. V-A: "each method maintained the
 correct hypothesis throughout the simulation"), which the blind tracker fails where it fails the
 start / middle / end snapshots only by luck.
 
@@ -45,7 +45,7 @@ BLIND_LABEL = "blind tracker (EKF prediction of the initial hypothesis, no measu
 
 
 def blind_predictions(motion, means, covs, dts):
-    """EKF predictions of ``n`` objects over scans without any update (seed 000 Sec. V-A's EKF).
+    """EKF predictions of ``n`` objects over scans without any update (document 000 Sec. V-A's EKF).
 
     ``x_k = f(x_{k−1}, Δt_k)``, ``P_k = Φ_k P_{k−1} Φ_kᵀ + Q(Δt_k)`` with ``Φ_k`` the motion
     model's state-transition matrix at ``x_{k−1}`` (``motion.transition``). ``dts`` are the
@@ -113,7 +113,7 @@ def scan_errors(matched: pd.DataFrame) -> pd.DataFrame:
 
 
 def single_return_error_km(scenario: SSAScenario) -> float:
-    """RMS position error of one raw return, ``σ√2`` km (``σ`` per axis, seed 000 Sec. V-A's "zero-mean
+    """RMS position error of one raw return, ``σ√2`` km (``σ`` per axis, document 000 Sec. V-A's "zero-mean
     Gaussian measurement noise"): an estimate that uses the returns should be at least this accurate."""
     return float(scenario.params.sigma * np.sqrt(2.0))
 
@@ -125,7 +125,7 @@ def every_scan_verdict(matched: pd.DataFrame, metrics: pd.DataFrame, *, toleranc
     Passes when the fraction of scans with a red star or a missed object is at most ``tolerance``
     (in [0, 1]; the config states why: a consistent filter's ``error_bound_probability`` ellipse
     misses now and then by chance) and, when ``max_ospa_km`` is given, the mean in-view OSPA is at
-    most that (:func:`single_return_error_km`: seed 000 Sec. V-A shows the figures "to illustrate
+    most that (:func:`single_return_error_km`: document 000 Sec. V-A shows the figures "to illustrate
     that the methods accurately track the objects"). Returns the measured text and whether it passes.
     """
     tol = check_probability(tolerance, "tolerance")
@@ -177,7 +177,7 @@ def evaluate_blind(section: Mapping, scenario: SSAScenario, *, snapshots: Sequen
     return run, metrics, matched, birth_recognition(matched, scenario)
 
 
-#: How much too small the clutter-ignoring engine takes the clutter density g(z) = 1/V (seed 000 Sec. II-B).
+#: How much too small the clutter-ignoring engine takes the clutter density g(z) = 1/V (document 000 Sec. II-B).
 CLUTTER_DEFECT = 1e6
 CLUTTER_DEFECT_LABEL = "the same R-FISST with its clutter density 10⁶ times too small (clutter ignored)"
 
@@ -187,7 +187,7 @@ def clutter_ignoring(scenario: SSAScenario, factor: float = CLUTTER_DEFECT) -> S
     hence ``1/g(z)``, ``factor`` times too large (range limit scaled by about √factor). A clutter
     return then costs ``log factor`` more as clutter than the truth says, so the engine explains it
     as a birth: the defect the claim "E[N] stays at the initial hypothesis's size until the first
-    birth" (seed 000 Fig. 11) is about. The data (truth, scans) are unchanged."""
+    birth" (document 000 Fig. 11) is about. The data (truth, scans) are unchanged."""
     from dataclasses import replace
 
     from ...models.sensors import PoissonClutter

@@ -1,7 +1,7 @@
 """SSA experiments, step 3: MAP estimates against the truth, and two trackers against each other.
 
 :func:`evaluate_map` scores the MAP estimates (OSPA in view and over the catalogue, and the
-paper's "green circle / red star" verdict of every estimate, seed 000 Fig. 7);
+paper's "green circle / red star" verdict of every estimate, document 000 Fig. 7);
 :func:`birth_recognition` times when each birth is tracked; :func:`map_agreement` compares two
 trackers' MAP hypotheses scan by scan.
 """

@@ -38,7 +38,7 @@ POS_COV = ["cov_0_0", "cov_0_1", "cov_1_1"]
 
 
 def snapshot_scans(n_scans: int, fractions: Sequence[float]) -> np.ndarray:
-    """Scan indices at the given fractions of the run (seed 000 Figs 6, 8–10: 10, 50, 75, 100 %).
+    """Scan indices at the given fractions of the run (document 000 Figs 6, 8–10: 10, 50, 75, 100 %).
 
     Fraction ``f`` is scan ``round(f (K − 1))``, but at least scan 1: scan 0 is the initial
     hypothesis, so the "beginning" of a run is its first processed scan.
@@ -66,7 +66,7 @@ class TrackingRun:
         One row per scan: ``scan, time, n_returns, expected_number, map_n_objects,
         map_weight, n_hypotheses, effective_hypotheses, n_children, mass_retained,
         log10_possible_children`` (children of a parent holding the objects truly in view:
-        ``A(M, m) + M_b A(M + 1, m) + M_d A(M − 1, m)``, seed 000 Sec. II-C).
+        ``A(M, m) + M_b A(M + 1, m) + M_d A(M − 1, m)``, document 000 Sec. II-C).
     cardinality : DataFrame
         ``scan, n_objects, probability`` for every cardinality with positive probability.
     map_estimates : DataFrame

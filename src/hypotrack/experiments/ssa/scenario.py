@@ -1,7 +1,7 @@
 """SSA experiments, step 1: the scenario rebuilt from the ``ssa`` rule's saved tables.
 
 The trackers see exactly the saved data; :func:`catalogue_mask` says which objects the filter
-could know of at each scan (the true number of objects of seed 000 Fig. 11).
+could know of at each scan (the true number of objects of document 000 Fig. 11).
 """
 
 from __future__ import annotations
@@ -89,7 +89,7 @@ def catalogue_mask(scenario: SSAScenario) -> np.ndarray:
     """(K, N) bool: objects the filter could know of at each scan.
 
     The objects of the initial hypothesis, and every other object from the first scan at which
-    it is in the field of view on (the true number of objects of seed 000 Fig. 11).
+    it is in the field of view on (the true number of objects of document 000 Fig. 11).
     """
     K, N = len(scenario.times), scenario.params.n_objects
     mask = np.zeros((K, N), dtype=bool)

@@ -13,7 +13,7 @@ what R-FISST does on such a problem, not on one draw of it, and the spread over 
 (which objects cross the clutter, when the births enter) is the one the paper's single figure
 hides. Because :func:`hypotrack.scenarios.ssa.simulate_ssa` draws the orbits, the process noise
 and the measurements from separate streams, every setting sees the same orbits and truth; only the
-returns differ. The tracker's model uses the setting's p_D; H-FISST's weights (seed 000 Eq. 8)
+returns differ. The tracker's model uses the setting's p_D; H-FISST's weights (document 000 Eq. 8)
 hold no clutter *rate* — clutter enters only through its density 1/V and the count term
 ``C(m, k) k!`` — so λ acts on R-FISST through the data alone. The blind tracker
 (:func:`~.controls.blind_run`) runs on every realisation as the negative control: it never holds

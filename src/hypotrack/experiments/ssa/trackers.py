@@ -30,22 +30,22 @@ class TrackerSettings:
     Parameters
     ----------
     kind : {"rfisst", "hfisst", "homht"}
-        R-FISST (H-FISST weights, MCMC search; seed 000 Sec. III), H-FISST (exhaustive), or
+        R-FISST (H-FISST weights, MCMC search; document 000 Sec. III), H-FISST (exhaustive), or
         Reid's HOMHT (exhaustive, fixed number of objects: the scenario's objects are all in
         the initial hypothesis).
     max_hypotheses : int
-        ``H∞``, hypotheses kept after every scan (seed 000 Sec. III-A).
+        ``H∞``, hypotheses kept after every scan (document 000 Sec. III-A).
     gate_probability : float or None
         Validation gate ``P_G`` in (0, 1) applied to every track; ``None``: no gating.
     n_steps : int
         MCMC proposals per parent per scan (R-FISST).
     mcmc_variant : {"paper", "symmetric", "gibbs"}
-        The MCMC proposal (``"paper"``: seed 000 Sec. III-B).
+        The MCMC proposal (``"paper"``: document 000 Sec. III-B).
     completion_rounds : int
         Rounds of this project's deterministic neighbour search after the chain
         (:class:`hypotrack.hypotheses.MCMCGenerator`); ``0`` is the paper's chain alone (R-FISST).
     alpha, beta, n_birth_regions, birth_velocity_std :
-        Seed 000's single-event birth/death model (Eq. 30) of the FISST trackers: birth
+        Document 000's single-event birth/death model (Eq. 30) of the FISST trackers: birth
         probability per region per scan, death probability per in-view object per scan,
         number of birth regions (the FOV split in equal angles), and the birth velocity
         prior's standard deviation (km/s) around the circular-orbit velocity.

@@ -1,4 +1,4 @@
-"""SSA verdicts over scenario seeds: ssa50 and ssa15 (seed 000 Sec. IV-A, V-A) as a Monte Carlo.
+"""SSA verdicts over scenario seeds: ssa50 and ssa15 (document 000 Sec. IV-A, V-A) as a Monte Carlo.
 
 The ``ssa50`` and ``ssa15`` experiments judge one realisation each; a verdict such as "P(N = 50) at
 the end is 1" or "R-FISST and HOMHT agree at every scan" may be that realisation's luck. This

@@ -1,4 +1,4 @@
-"""Monte Carlo drivers for seed 003 §5–6: the swap experiment and Table 6.1.
+"""Monte Carlo drivers for document 003 §5–6: the swap experiment and Table 6.1.
 
 Everything here is vectorised over Monte Carlo runs and driven by explicit seeds, so the
 Snakemake scripts only read a config section, call one function per shard and write tables.

@@ -102,7 +102,7 @@ def test_ledger_table_is_captioned_numbered_and_unhyphenated():
     ("equals P[Bin(M, p_D) <= m] exactly", "ASCII"),
     ("target >= 1e+06 proposals", "ASCII"),
     ("as shown in [lec, n.d.] and", "citation"),
-    ("the R-FISST reach (document 000 Fig 15)", "document 000"),
+    ("the R-FISST reach (seed 000 Fig 15)", "seed 000"),
     ("value {name} left", "template"),
 ])
 def test_text_problems_catch_garbled_phrases(garbled, rule):

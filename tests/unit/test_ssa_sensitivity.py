@@ -72,7 +72,7 @@ def test_claims_and_macros_name_the_settings_that_reproduce():
     ax = fig.axes[0]
     assert ax.get_legend() is not None and ax.get_xlabel().startswith("clutter rate")
     labels = {text.get_text() for text in ax.get_legend().get_texts()}
-    assert labels == {"published 1 ± 0.05", "p_D = 0.95", "reproduced", "not reproduced", "inconclusive"}
+    assert labels == {"published 1 ± 0.05", "$p_D$ = 0.95", "reproduced", "not reproduced", "inconclusive"}
 
 
 def test_run_setting_is_deterministic_and_keeps_the_orbits_across_settings():

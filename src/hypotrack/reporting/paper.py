@@ -190,7 +190,7 @@ _TEXT_RULES = (
                                      r"|(?<![\w])[A-Za-z]_[A-Za-z]{1,3}\b")),
     ("an unresolved template or value", re.compile(r"\{[a-z_]+\}|\bnan\b|\bNone\b|\?\?")),
     ("a citation shown by its key", re.compile(r"\[[a-z]{2,4}, n\.d\.\]")),
-    ("'document 000'-style wording for a document", re.compile(r"\bseeds? 00[0-4]\b")),
+    ("'seed 000' where a document is meant", re.compile(r"\bseeds? 00[0-4]\b")),
 )
 
 

@@ -121,7 +121,11 @@ def test_controls_demote_a_check_without_power():
         control_text("a: b", "v", False)
     frame = pd.DataFrame([{**asdict_claim(c), "evidence": "brute force"} for c in (row, blind, kept)])
     problems = ledger_problems(frame)
-    assert problems == ["ssa15: 'no red stars at the snapshots' is 'reproduced' and names no negative control yet"]
+    assert problems == ["ssa15: 'no red stars at the snapshots' is 'reproduced' but names no negative control (a check "
+                        "a broken method must fail)"]
+    from hypotrack.reporting.ledger import hard_problems
+
+    assert hard_problems(problems) == problems  # refused: the pipeline fails on such a row
     frame.loc[1, "status"] = "reproduced"  # a passing control cannot stand behind "reproduced"
     assert "its control also passes" in ledger_problems(frame)[1]
 

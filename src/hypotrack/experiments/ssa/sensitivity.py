@@ -213,6 +213,6 @@ def plot_sensitivity(table: pd.DataFrame, *, tolerance: float, published: float 
     ax.grid(alpha=0.3)
     figure_style.legend_right(ax, fontsize=8, frameon=False)
     n = int(table["n"].min()) if len(table) else 0
-    ax.set_title(title or f"P(N = 50) at the end over λ and p_D\n{n} scenario seeds each; bars: 99.73 % intervals",
+    ax.set_title(title or f"P(N = 50) at the end over λ and $p_D$\n{n} scenario seeds each; bars: 99.73 % intervals",
                  fontsize=9)
     return fig

@@ -221,6 +221,9 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
                           f"{n} seed(s): too few for a Monte Carlo verdict", "measurement", key=key + k)
             if ctl is not None:
                 c = with_control(c, BLIND_LABEL, *_mc_control(ctl, col, published, tol))
+            if c.status == "not reproduced" and col == "p_n_end":
+                # the clutter rate and p_D document 000 does not state decide it (the ssa50 sensitivity grid)
+                c = replace(c, cause="unstated parameter")
             claims.append(c)
         if g["births"].sum():
             tracked, total = int(g["births_tracked_end"].sum()), int(g["births"].sum())

@@ -106,7 +106,7 @@ SSA50_SENS_SETTINGS = range(len(config["ssa50"]["sensitivity"]["clutter_rates"])
                             * len(config["ssa50"]["sensitivity"]["p_D"]))
 
 
-rule ssa50_sensitivity_shard:
+rule ssa50_sensitivity_setting:
     wildcard_constraints:
         setting=r"\d+",
     output:
@@ -118,7 +118,7 @@ rule ssa50_sensitivity_shard:
     log:
         f"{RESULTS}/logs/ssa50/sensitivity_{{setting}}.log",
     script:
-        "../scripts/ssa50_sensitivity_shard.py"
+        "../scripts/ssa50_sensitivity_setting.py"
 
 
 rule ssa50_sensitivity_table:

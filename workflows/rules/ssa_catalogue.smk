@@ -58,9 +58,9 @@ rule ssa_catalogue_table:
         cost_pdf=f"{SC_DIR}/cost.pdf",
         cost_png=report_figure(f"{SC_DIR}/cost.png", "ssa_catalogue", "cost"),
         groups_pdf=f"{SC_DIR}/groups.pdf",
-        groups_png=f"{SC_DIR}/groups.png",
+        groups_png=report_figure(f"{SC_DIR}/groups.png", "ssa_catalogue", "groups"),
         catalogue_pdf=f"{SC_DIR}/catalogue.pdf",
-        catalogue_png=f"{SC_DIR}/catalogue.png",
+        catalogue_png=report_figure(f"{SC_DIR}/catalogue.png", "ssa_catalogue", "catalogue"),
     params:
         cfg=config["ssa_catalogue"],
         seed=config["seed"],

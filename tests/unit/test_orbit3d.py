@@ -124,3 +124,26 @@ def test_process_noise_and_ekf_prediction():
 def test_bad_input(call, fragment):
     with pytest.raises(ValueError, match=fragment):
         call()
+
+
+def test_per_row_intervals_equal_one_call_per_interval():
+    """propagate_each / transition_each / Q_each (one batch with an interval per state) give what
+    propagate / transition / Q give state by state, including a zero interval (the identity)."""
+    m = TwoBodyOrbit3D(q=1e-7)
+    X = np.array([[7000.0, 0.0, 0.0, 0.0, 7.5, 1.0], [0.0, 8000.0, 100.0, -6.9, 0.0, 0.5],
+                  [42164.0, 0.0, 0.0, 0.0, 3.07, 0.0]])
+    dt = np.array([10.0, 600.0, 0.0])
+    x_each, F_each = m.transition_each(X, dt)
+    np.testing.assert_array_equal(m.propagate_each(X, dt)[2], X[2])
+    np.testing.assert_array_equal(F_each[2], np.eye(6))
+    for k in range(3):
+        np.testing.assert_allclose(m.propagate_each(X, dt)[k], m.propagate(X[k], dt[k]), rtol=0, atol=1e-9)
+        if dt[k]:
+            x1, F1 = m.transition(X[k:k + 1], dt[k])
+            np.testing.assert_allclose(x_each[k], x1[0], rtol=0, atol=1e-9)
+            np.testing.assert_allclose(F_each[k], F1[0], rtol=0, atol=1e-9)
+        np.testing.assert_array_equal(m.Q_each(dt)[k], m.Q(dt[k]))
+    with pytest.raises(ValueError, match="dt"):
+        m.propagate_each(X, dt[:2])
+    with pytest.raises(ValueError, match="dt"):
+        m.Q_each(np.array([-1.0]))

@@ -35,7 +35,7 @@ write_table(tim, out.timing)
 write_claims(catalogue_claims(acc, cfg["reference_tracker"]), out.claims)
 par = pd.read_csv(inp.parallel)  # the parallel-groups timing: its rows join the timing ledger
 peers = pd.read_csv(inp.peers)  # Stone Soup peers (hypotrack rows only when Stone Soup is absent)
-write_claims(timing_claims(tim, cfg["slope_goal"]) + parallel_claims(par) + peer_claims(peers), out.timing_claims)
+write_claims(timing_claims(tim, cfg["slope_goal"], cfg.get("cpu_per_object_goal_ms")) + parallel_claims(par) + peer_claims(peers), out.timing_claims)
 write_macros("ssa_catalogue", catalogue_macros(acc), out.macros)
 write_macros("ssa_catalogue", {**timing_macros(tim), **parallel_macros(par), **peer_macros(peers)}, out.timing_macros)
 plot_cost(tim, out.cost_pdf, out.cost_png)

@@ -33,7 +33,7 @@ nothing is trimmed (``max_hypotheses`` above the number of children).
 from __future__ import annotations
 
 import numpy as np
-from scipy.special import logsumexp
+from .._logspace import logsumexp
 
 from .association_problem import SEEDED_BIRTH
 from .hypothesis import ChildSet

@@ -38,6 +38,25 @@ One ``step(Z)``
    (one two-way check per part) and keeps the others together; ``split="never"`` keeps groups
    merged.
 
+Singletons and lazy prediction
+------------------------------
+At catalogue scale nearly every group is a *singleton*: one object, one hypothesis, one track
+(an object nothing has disturbed). With a population that can take no event in a quiet group
+(``_silent``: none, or labeled multi-Bernoulli / binomial with ``p_S = 1``) a singleton is
+exactly its Gaussian, so the filter keeps all singletons in one batched *lane* (means,
+covariances, labels, the time each was last predicted to) instead of one Python object each;
+a scan costs Python work only for the groups and singletons a return or birth term reaches,
+and a step's results that are singletons go back to the lane. The lane changes no number.
+With ``lazy=True`` a singleton is predicted only when it may be observed: each scan the lane's
+means (not covariances) are propagated from their own times, and only the singletons whose
+predicted position is inside the sensor's field of view (``p_D > 0``) are predicted in full
+(mean and covariance, over the whole gap since their last prediction) and scored. A track out
+of view can take no return, so this changes the posterior only through the process noise: one
+EKF prediction over a gap of ``k`` scans adds ``Q(kΔ)`` where ``k`` predictions add
+``Σ Φ Q(Δ) Φᵀ`` (equal for a linear constant-velocity model, a few per cent apart on an
+orbit over minutes; the Kepler means are exact either way).
+:attr:`~FactoredFilter.posterior` predicts the lazy singletons to the current scan.
+
 When the factored posterior equals the unfactored one
 -----------------------------------------------------
 The joint children of a product of groups are the products of the groups' children exactly
@@ -71,12 +90,13 @@ import pickle
 import time
 from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from .._validation import check_finite_array, check_int, check_measurements, check_positive
 from .factored_groups import GroupState, SplitRecord, compact, components, factorise, product, restrict_population
-from ..gaussian import _predict_with
+from ..gaussian import _predict_with, symmetrize
 from .filter import HypothesisFilter
 from .population_events import BinomialPopulation
 from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation
@@ -91,27 +111,68 @@ _BIRTHS = ("coupled", "free")
 _PARALLEL = ("process", "thread")
 
 
-@dataclass(frozen=True, eq=False)
 class FactoredPosterior:
-    """The product posterior as a summary.
+    """The product posterior as a summary (each part computed when first read).
 
     Attributes
     ----------
-    groups : per group, its :class:`~.posterior.Posterior`.
-    cardinality : ``P(n objects)``, the convolution of the groups' cardinality distributions.
+    groups : per group, its :class:`~.posterior.Posterior` (the multi-hypothesis groups first,
+        then the singletons in lane order).
+    n_groups : the number of groups.
+    cardinality : ``P(n objects)``, the convolution of the groups' cardinality distributions
+        (a singleton shifts it by one).
     expected_number : the sum of the groups' expected numbers.
     map_estimate : the union of the groups' MAP hypotheses — the MAP of a product of
         independent distributions — with weight the product of theirs.
     """
 
-    groups: tuple
-    cardinality: np.ndarray
-    expected_number: float
-    map_estimate: HypothesisEstimate
+    def __init__(self, states, singles, n_singles: int, n_top: int = 1):
+        # singles: the lane's TrackStore, or a function giving it (lazy singletons are predicted
+        # to the scan only when a summary that needs them is read)
+        self._states, self._get_singles, self._n_singles, self._n_top = tuple(states), singles, n_singles, n_top
+
+    @cached_property
+    def _singles(self) -> TrackStore:
+        return self._get_singles() if callable(self._get_singles) else self._get_singles
+
+    @cached_property
+    def _posts(self) -> tuple:
+        return tuple(summarise(s.log_w, s.tracks, s.store, n_top=self._n_top) for s in self._states)
+
+    @cached_property
+    def groups(self) -> tuple:
+        one, single = np.zeros(1), [np.zeros(1, dtype=np.int64)]
+        L = self._singles
+        return self._posts + tuple(
+            summarise(one, single, TrackStore(L.means[[j]], L.covs[[j]], L.labels[[j]]), n_top=1) for j in range(len(L)))
 
     @property
     def n_groups(self) -> int:
-        return len(self.groups)
+        return len(self._states) + self._n_singles
+
+    @cached_property
+    def cardinality(self) -> np.ndarray:
+        card = np.zeros(self._n_singles + 1)
+        card[-1] = 1.0
+        for p in self._posts:
+            card = np.convolve(card, p.cardinality)
+        return card
+
+    @cached_property
+    def expected_number(self) -> float:
+        return float(sum(p.expected_number for p in self._posts) + self._n_singles)
+
+    @cached_property
+    def map_estimate(self) -> HypothesisEstimate:
+        maps = [p.map_estimate for p in self._posts]
+        L = self._singles
+        lw = float(sum(e.log_weight for e in maps))
+        return HypothesisEstimate(
+            float(np.exp(lw)), lw,
+            np.concatenate([e.labels for e in maps] + [L.labels]),
+            np.concatenate([e.means for e in maps] + [L.means]),
+            np.concatenate([e.covs for e in maps] + [L.covs]),
+        )
 
 
 def cardinality_total_variation(p, q) -> float:
@@ -127,6 +188,60 @@ def _silent(population) -> bool:
     missed", as with no population)."""
     return population is None or (isinstance(population, (LabeledMultiBernoulliPopulation, BinomialPopulation))
                                   and population.p_survive == 1.0)
+
+
+def _propagate_each(motion, x, dt):
+    """Means ``x`` (n, d) propagated by their own intervals ``dt`` (n,): the motion model's
+    ``propagate_each`` where it has one (per-row intervals in one batch), else one batch per
+    distinct interval."""
+    if hasattr(motion, "propagate_each"):
+        return motion.propagate_each(x, dt)
+    out = x.copy()
+    for u in np.unique(dt):
+        if u != 0:
+            sel = dt == u
+            out[sel] = motion.propagate(x[sel], float(u))
+    return out
+
+
+def _predict_each(motion, x, P, dt):
+    """EKF prediction of ``(x, P)`` by their own intervals ``dt`` (n,): the motion model's
+    ``transition_each``/``Q_each`` where it has them (one batch), else one batch per distinct
+    interval (a zero interval leaves a track as it is)."""
+    if len(dt) and np.all(dt == dt[0]):
+        return _predict_with(motion, x, P, float(dt[0])) if dt[0] != 0 else (x.copy(), P.copy())
+    if hasattr(motion, "transition_each"):  # one batch for every interval (a zero one is the identity)
+        xo, F = motion.transition_each(x, dt)
+        return xo, symmetrize(F @ P @ np.swapaxes(F, -1, -2) + motion.Q_each(dt))
+    xo, Po = x.copy(), P.copy()
+    for u in np.unique(dt):
+        if u != 0:
+            sel = dt == u
+            xo[sel], Po[sel] = _predict_with(motion, x[sel], P[sel], float(u))
+    return xo, Po
+
+
+def _singleton(store: TrackStore, j) -> GroupState:
+    """The group of store entry ``j`` alone: one hypothesis holding one track."""
+    return GroupState(TrackStore(store.means[[j]], store.covs[[j]], store.labels[[j]]), np.zeros(1),
+                      [np.zeros(1, dtype=np.int64)], [()])
+
+
+def _is_singleton(state: GroupState) -> bool:
+    return len(state.log_w) == 1 and len(state.store) == 1 and len(state.tracks[0]) == 1
+
+
+def _take(store: TrackStore, idx) -> TrackStore:
+    return TrackStore(store.means[idx], store.covs[idx], store.labels[idx])
+
+
+def _cat(stores, ndim) -> TrackStore:
+    stores = [s for s in stores if len(s)]
+    if not stores:
+        return TrackStore(np.zeros((0, ndim)), np.zeros((0, ndim, ndim)), np.zeros(0, dtype=np.int64))
+    if len(stores) == 1:
+        return stores[0]
+    return TrackStore(*(np.concatenate([getattr(s, f) for s in stores]) for f in ("means", "covs", "labels")))
 
 
 def _empty_state(ndim: int) -> GroupState:
@@ -204,6 +319,19 @@ class AdaptiveBirth:
         x0, P0 = self.initial(Z, H, R)
         x, P = _predict_with(motion, x0, P0, dt)
         return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability) for i in range(len(x))]
+
+
+@dataclass(frozen=True)
+class _Scores:
+    """A scan's scores of the predicted tracks: ``loglik``, ``allowed`` (m, n), ``p_detect`` (n,)."""
+
+    loglik: np.ndarray
+    allowed: np.ndarray
+    p_detect: np.ndarray
+
+    def columns(self, cols):
+        """``(loglik (m, c), allowed (m, c), p_detect (c,))`` of tracks ``cols``."""
+        return self.loglik[:, cols], self.allowed[:, cols], self.p_detect[cols]
 
 
 _STEP_STATS = ("n_duplicates_merged", "mass_retained", "n_kalman_updates")
@@ -291,12 +419,18 @@ class FactoredFilter:
         Record in ``last_stats`` the pickled bytes of the steps' inputs (``bytes_to_workers``: the
         groups' hypotheses, track moments and the returns of their gates) and results
         (``bytes_from_workers``) even when ``workers = 1``.
+    lazy : bool
+        Predict a singleton only when its predicted mean is in the field of view (module
+        docstring, "Singletons and lazy prediction"); ``False`` (default) predicts every track
+        every scan, as the unfactored engine does.
 
     Attributes
     ----------
     last_stats : dict
         Of the last scan: ``n_groups``, ``largest_group`` (objects), ``largest_group_hypotheses``,
-        ``n_touched`` (groups stepped with returns or birth terms), ``n_predict_only``,
+        ``n_touched`` (groups stepped with returns or birth terms), ``n_predict_only`` (groups
+        only predicted, or with ``lazy`` left for later), ``n_singletons`` (groups in the lane),
+        ``n_predicted`` (tracks predicted this scan),
         ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
         ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
@@ -311,12 +445,12 @@ class FactoredFilter:
     def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
                  cap="top", gate_probability=None, seed=None, means=None, covs=None, labels=None,
                  split="marginal", births="coupled", factor_tol=1e-10, min_weight=0.0, merge_duplicates=True,
-                 adaptive_birth=None, workers=1, parallel="process", measure_transfer=False):
+                 adaptive_birth=None, workers=1, parallel="process", measure_transfer=False, lazy=False):
         template = HypothesisFilter(motion, sensor, weights, generator, population=population, dt=dt,
                                     max_hypotheses=max_hypotheses, cap=cap, gate_probability=gate_probability,
                                     seed=seed, merge_duplicates=merge_duplicates)
         self._configure(template, split, births, factor_tol, min_weight, adaptive_birth, workers, parallel,
-                        measure_transfer)
+                        measure_transfer, lazy)
         self.initialise(np.zeros((0, self.ndim)) if means is None else means, covs, labels)
 
     @classmethod
@@ -326,12 +460,13 @@ class FactoredFilter:
         ``f``'s configuration is used and its random generator copied (``f`` is not changed).
         Its hypotheses become one group, split exactly into one group per object where the
         joint factorises (a single hypothesis always does). ``options``: ``split``, ``births``,
-        ``factor_tol``, ``min_weight``.
+        ``factor_tol``, ``min_weight``, ``adaptive_birth``, ``workers``, ``parallel``,
+        ``measure_transfer``, ``lazy``.
         """
         if not isinstance(f, HypothesisFilter):
             raise TypeError(f"f must be a HypothesisFilter, got {type(f).__name__}")
         allowed = ("split", "births", "factor_tol", "min_weight", "adaptive_birth", "workers", "parallel",
-                   "measure_transfer")
+                   "measure_transfer", "lazy")
         unknown = set(options) - set(allowed)
         if unknown:
             raise ValueError(f"unknown options {sorted(unknown)}; allowed: {', '.join(allowed)}")
@@ -342,20 +477,22 @@ class FactoredFilter:
         obj._configure(template, options.get("split", "marginal"), options.get("births", "coupled"),
                        options.get("factor_tol", 1e-10), options.get("min_weight", 0.0),
                        options.get("adaptive_birth"), options.get("workers", 1), options.get("parallel", "process"),
-                       options.get("measure_transfer", False))
+                       options.get("measure_transfer", False), options.get("lazy", False))
         obj._reset()
         state = GroupState(f.store, f.log_weights, f.track_lists, f.lineage_keys)
-        obj._groups = [state] if any(len(t) for t in state.tracks) else []
-        if obj._groups and len(state.labels) > 1:
+        groups = [state] if any(len(t) for t in state.tracks) else []
+        if groups and len(state.labels) > 1:
             record, parts = factorise(state, np.searchsorted(state.labels, state.store.labels), obj.factor_tol)
             if record.exact:
-                obj._groups = parts
+                groups = parts
+        obj._groups, obj._lane = obj._sort_out(groups)
+        obj._lane_t = np.zeros(len(obj._lane))
         obj._next_label = f._next_label
         obj.scan_index = f.scan_index
         return obj
 
     def _configure(self, template, split, births, factor_tol, min_weight, adaptive_birth=None, workers=1,
-                   parallel="process", measure_transfer=False):
+                   parallel="process", measure_transfer=False, lazy=False):
         if split not in _SPLITS:
             raise ValueError(f"split must be one of {_SPLITS}, got {split!r}")
         if births not in _BIRTHS:
@@ -387,11 +524,17 @@ class FactoredFilter:
         self.rng = template.rng
         self.split, self.births, self.factor_tol, self.min_weight = split, births, factor_tol, min_weight
         self.ndim = template.H.shape[1]
+        self.lazy = bool(lazy)
+        # singletons are exactly their Gaussian when a quiet group takes no population event
+        self._lane_on = _silent(template.population)
 
     def _reset(self):
         if getattr(self, "adaptive_birth", None) is not None:
             self._set_birth_terms([])
         self._groups = []
+        self._lane = _cat([], self.ndim)  # the singletons (module docstring), at the times _lane_t
+        self._lane_t = np.zeros(0)
+        self._time = 0.0
         self._object = {}  # label -> object id, for labels that are not their own object
         self._next_label = 0
         self.scan_index = 0
@@ -413,14 +556,39 @@ class FactoredFilter:
         store = TrackStore.from_arrays(means, covs, labels)
         if len(np.unique(store.labels)) != len(store):
             raise ValueError("labels must be distinct (one per object)")
-        self._groups = [GroupState(TrackStore(store.means[[j]], store.covs[[j]], store.labels[[j]]), np.zeros(1),
-                                   [np.zeros(1, dtype=np.int64)], [()]) for j in range(len(store))]
+        if self._lane_on:
+            self._lane, self._lane_t = store, np.zeros(len(store))
+        else:
+            self._groups = [_singleton(store, j) for j in range(len(store))]
         self._next_label = int(store.labels.max()) + 1
 
     @property
     def groups(self) -> list:
-        """The groups' states (:class:`~.factored_groups.GroupState`), a copy of the list."""
-        return list(self._groups)
+        """The groups' states (:class:`~.factored_groups.GroupState`): the multi-hypothesis
+        groups, then the singletons (predicted to the current scan), as a new list."""
+        lane = self._lane_now()
+        return list(self._groups) + [_singleton(lane, j) for j in range(len(lane))]
+
+    def _sort_out(self, states):
+        """``(groups, lane)``: the singletons of ``states`` moved to a lane store (when the lane is on)."""
+        if not self._lane_on:
+            return list(states), _cat([], self.ndim)
+        single = [_is_singleton(s) for s in states]
+        return ([s for s, x in zip(states, single) if not x],
+                _cat([s.store for s, x in zip(states, single) if x], self.ndim))
+
+    def _lane_now(self) -> TrackStore:
+        """The singletons predicted to the current scan (only lazy ones move)."""
+        gap = self._time - self._lane_t
+        if not np.any(gap):
+            return self._lane
+        x, P = _predict_each(self._template.motion, self._lane.means, self._lane.covs, gap)
+        return TrackStore(x, P, self._lane.labels)
+
+    @property
+    def n_objects_held(self) -> int:
+        """Objects (labels) held by some hypothesis of some group."""
+        return int(sum(len(s.labels) for s in self._groups) + len(self._lane))
 
     @property
     def n_joint_hypotheses(self) -> int:
@@ -430,15 +598,16 @@ class FactoredFilter:
     # ------------------------------------------------------------------ scan
     def step(self, Z, dt=None) -> FactoredPosterior:
         """Advance one scan with returns ``Z`` (m, p); all-or-nothing like the engine's step."""
-        saved = (self._groups, self._next_label, self.scan_index, self.rng.bit_generator.state, self.last_stats,
-                 len(self.stats_history), len(self.split_records), dict(self._object))
+        saved = (self._groups, self._lane, self._lane_t, self._time, self._next_label, self.scan_index,
+                 self.rng.bit_generator.state, self.last_stats, len(self.stats_history), len(self.split_records),
+                 dict(self._object))
         pop = self._template.population
         terms = pop.birth_densities if self.adaptive_birth is not None else None
         try:
             return self._step(Z, dt)
         except BaseException:
-            (self._groups, self._next_label, self.scan_index, rng_state, self.last_stats, n_hist, n_split,
-             self._object) = saved
+            (self._groups, self._lane, self._lane_t, self._time, self._next_label, self.scan_index, rng_state,
+             self.last_stats, n_hist, n_split, self._object) = saved
             if terms is not None:
                 self._set_birth_terms(terms)
             self.rng.bit_generator.state = rng_state
@@ -458,63 +627,108 @@ class FactoredFilter:
         T = self._template
         dt = T.dt if dt is None else check_positive(dt, "dt")
         Z = check_measurements(Z, "Z", T.H.shape[0])
-        m, groups = len(Z), self._groups
+        m, groups, d = len(Z), self._groups, self.ndim
+        now = self._time + dt
         G = len(groups)
-        preds, scores = self._predict_and_score(groups, Z, dt)
+        # 1. predict the groups and the singletons that may be observed (lazy: those in view); score them
+        sizes = np.array([len(s.store) for s in groups], dtype=np.int64)
+        bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        lane, gap = self._lane, now - self._lane_t
+        if self.lazy and len(lane):
+            cand = np.flatnonzero(T.sensor.detection.in_view(_propagate_each(T.motion, lane.means, gap) @ T.H.T))
+        else:
+            cand = np.arange(len(lane))
+        L = len(cand)
+        prior = _cat([s.store for s in groups] + [_take(lane, cand)], d)
+        pm, pP = _predict_each(T.motion, prior.means, prior.covs, np.concatenate([np.full(bounds[-1], dt), gap[cand]]))
+        pred = TrackStore(pm, pP, prior.labels)
+        scores = self._scores(pred, Z)
         birth_ll = T.population.birth_loglik(Z) if T.population is not None else np.zeros((m, 0))
         B = birth_ll.shape[1]
-        gate = np.zeros((m, G), dtype=bool)
-        for g, (_, allowed, _) in enumerate(scores):
-            gate[:, g] = allowed.any(axis=1)
+        # 2. the bipartite graph groups/singletons/birth terms/seeded returns — returns
+        col_node = np.concatenate([np.repeat(np.arange(G), sizes), G + np.arange(L)]).astype(np.int64)
+        gr, c_a = np.nonzero(scores.allowed)
+        gi = col_node[c_a]
+        explained = np.zeros(m, dtype=bool)
+        explained[gr] = True
         bgate = np.isfinite(birth_ll)
         if self.births == "free":
-            bgate &= ~gate.any(axis=1)[:, None]
-        unexplained = ~gate.any(axis=1) & ~bgate.any(axis=1)
+            bgate &= ~explained[:, None]
+        unexplained = ~explained & ~bgate.any(axis=1)
         free = np.flatnonzero(unexplained) if T.weights.seeded_births else np.zeros(0, int)
-        gi, gr = np.nonzero(gate.T)
         bi, br = np.nonzero(bgate.T)
-        n_nodes = G + B + len(free)
-        node = np.concatenate([gi, G + bi, G + B + np.arange(len(free))])
+        n_nodes = G + L + B + len(free)
+        node = np.concatenate([gi, G + L + bi, G + L + B + np.arange(len(free))])
         ret = np.concatenate([gr, br, free])
-        _, lab = components(n_nodes, m, node, ret)
+        n_comp, lab = components(n_nodes, m, node, ret)
         node_lab, ret_lab = lab[:n_nodes], lab[n_nodes:]
+        touched = np.zeros(n_comp, dtype=bool)
+        touched[ret_lab] = True
+        touched[node_lab[G + L:G + L + B]] = True
 
         stats = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
-                     n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0)
-        new_groups, plans = [], []
-        seen = set()
-        for first in range(n_nodes):  # components in order of their first node: deterministic
-            c = node_lab[first]
-            if c in seen:
+                     n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0,
+                     n_predicted=len(pred))
+        # 3. plans, in the order of each component's first node (deterministic): a quiet group
+        # predicts or takes an empty-scan step; a touched component merges its groups and steps
+        first = np.full(n_comp, n_nodes, dtype=np.int64)
+        np.minimum.at(first, node_lab, np.arange(n_nodes))
+        order_n = np.argsort(node_lab, kind="stable")
+        starts_n = np.searchsorted(node_lab[order_n], np.arange(n_comp + 1))
+        order_r = np.argsort(ret_lab, kind="stable")
+        starts_r = np.searchsorted(ret_lab[order_r], np.arange(n_comp + 1))
+        quiet_groups = np.flatnonzero(~touched[node_lab[:G]])
+        keyed = [(int(g), None) for g in quiet_groups] + [(int(first[c]), int(c)) for c in np.flatnonzero(touched)]
+        keyed.sort(key=lambda kc: kc[0])
+        plans = []
+        for key, c in keyed:
+            if c is None:
+                cols = np.arange(bounds[key], bounds[key + 1])
+                plans.append(self._quiet(groups[key], _take(pred, cols), scores.columns(cols), Z, birth_ll, stats))
                 continue
-            seen.add(c)
-            members = np.flatnonzero(node_lab[:G] == c)
-            regions = np.flatnonzero(node_lab[G:G + B] == c)
-            rows = np.flatnonzero(ret_lab == c)
-            if len(rows) == 0 and len(regions) == 0:
-                (g,) = members
-                plans.append(self._quiet(groups[g], preds[g], scores[g], Z, birth_ll, stats))
-            else:
-                plans.append(self._touched(members, regions, rows, groups, preds, scores, Z, birth_ll, stats))
+            nodes = order_n[starts_n[c]:starts_n[c + 1]]  # ascending: the stable sort keeps node order
+            members = nodes[nodes < G + L]
+            regions = nodes[(nodes >= G + L) & (nodes < G + L + B)] - (G + L)
+            rows = order_r[starts_r[c]:starts_r[c + 1]]
+            plans.append(self._touched(members, regions, rows, groups, bounds, pred, scores, Z, birth_ll, stats))
         # the engine steps of the components are independent: run them (in a pool when workers > 1),
         # each with its own random stream and labels counted from the scan's first free label
         jobs = [p for p in plans if p[0] != "done"]
         seeds = self.rng.integers(0, 2**63 - 1, size=len(jobs)) if jobs else np.zeros(0, np.int64)
         base = self._next_label
         results = iter(self._run([(p[1], p[2], p[3], p[4], base, int(s)) for p, s in zip(jobs, seeds)], stats))
+        new_groups = []
         for plan in plans:
             if plan[0] == "done":
                 state, parts = plan[1], plan[2]
             else:
                 state, parts = self._finish(plan, next(results), base, stats)
             new_groups.extend(self._split(state, parts, stats))
-        self._groups = [s for s in (self._prune(s) for s in new_groups) if s is not None]
-        held = set(np.concatenate([s.store.labels for s in self._groups]).tolist()) if self._groups else set()
-        self._object = {k: v for k, v in self._object.items() if k in held}
+        # 4. singletons back to the lane: the untouched ones (the quiet candidates predicted),
+        # then those the steps produced, in plan order
+        quiet_c = ~touched[node_lab[G:G + L]]
+        keep = np.ones(len(lane), dtype=bool)
+        keep[cand] = False
+        lane_t = self._lane_t.copy()
+        lane_t[cand] = now
+        moved = TrackStore(lane.means.copy(), lane.covs.copy(), lane.labels)
+        moved.means[cand], moved.covs[cand] = pred.means[bounds[-1]:], pred.covs[bounds[-1]:]
+        keep[cand[quiet_c]] = True
+        stats["n_predict_only"] += int(keep.sum())
+        groups_new, lane_new = self._sort_out([s for s in (self._prune(s) for s in new_groups) if s is not None])
+        self._groups = groups_new
+        self._lane = _cat([_take(moved, np.flatnonzero(keep)), lane_new], d)
+        self._lane_t = np.concatenate([lane_t[keep], np.full(len(lane_new), now)])
+        self._time = now
+        if self._object:
+            held = np.concatenate([s.store.labels for s in self._groups] + [self._lane.labels])
+            ks = np.fromiter(self._object, dtype=np.int64, count=len(self._object))
+            self._object = {int(k): self._object[int(k)] for k in ks[np.isin(ks, held)]}
         self.scan_index += 1
         sizes = [len(np.unique(self._objects(s.labels))) for s in self._groups]
-        stats.update(n_groups=len(self._groups), largest_group=max(sizes, default=0),
-                     largest_group_hypotheses=max((len(s.log_w) for s in self._groups), default=0),
+        stats.update(n_groups=len(self._groups) + len(self._lane), n_singletons=len(self._lane),
+                     largest_group=max(sizes, default=int(len(self._lane) > 0)),
+                     largest_group_hypotheses=max((len(s.log_w) for s in self._groups), default=int(len(self._lane) > 0)),
                      time_total=time.perf_counter() - t0)
         if self.adaptive_birth is not None:
             # the next scan's birth terms: one at each return no group or birth term explained
@@ -525,22 +739,10 @@ class FactoredFilter:
         self.stats_history.append(stats)
         return self.posterior()
 
-    def _predict_and_score(self, groups, Z, dt):
-        """Every group's tracks predicted and scored against ``Z`` in one batched call, split by group."""
-        T = self._template
-        if not groups:
-            return [], []
-        sizes = np.array([len(s.store) for s in groups])
-        bounds = np.concatenate([[0], np.cumsum(sizes)])
-        allstore = TrackStore(*(np.concatenate([getattr(s.store, f) for s in groups]) for f in ("means", "covs", "labels")))
-        pred = allstore.predict(T.motion, dt)
-        loglik, allowed, p_detect = T._track_scores(pred, Z)
-        preds, scores = [], []
-        for g in range(len(groups)):
-            a, b = bounds[g], bounds[g + 1]
-            preds.append(TrackStore(pred.means[a:b], pred.covs[a:b], pred.labels[a:b]))
-            scores.append((loglik[:, a:b], allowed[:, a:b], p_detect[a:b]))
-        return preds, scores
+    def _scores(self, pred, Z) -> _Scores:
+        """Every return against every predicted track (the engine's
+        :meth:`~.filter.HypothesisFilter._track_scores`, each (return, track) pair once)."""
+        return _Scores(*self._template._track_scores(pred, Z))
 
     def _set_birth_terms(self, terms):
         pop = self._template.population
@@ -565,29 +767,38 @@ class FactoredFilter:
             for x in labels:
                 self._object[int(x)] = int(labels.min())
 
-    def _touched(self, members, regions, rows, groups, preds, scores, Z, birth_ll, stats):
-        """Merge the component's groups; the plan of one engine step on its returns and birth terms."""
+    def _touched(self, members, regions, rows, groups, bounds, pred, scores, Z, birth_ll, stats):
+        """Merge the component's groups and singletons; the plan of one engine step on its
+        returns and birth terms. ``members``: graph nodes (``< len(groups)``: a group; else a
+        singleton, its track the column ``bounds[-1] + node − len(groups)`` of ``pred``)."""
         T = self._template
+        G = len(groups)
         if len(members) == 0:
-            state, pred = _empty_state(self.ndim), _empty_state(self.ndim).store
-            sc = (np.zeros((len(Z), 0)), np.zeros((len(Z), 0), dtype=bool), np.zeros(0))
-        elif len(members) == 1:
-            state, pred, sc = groups[members[0]], preds[members[0]], scores[members[0]]
+            state, cols = _empty_state(self.ndim), np.zeros(0, dtype=np.int64)
         else:
-            state, used = product([groups[g] for g in members], T.max_hypotheses, T.cap, self.rng)
-            pred_all = TrackStore(*(np.concatenate([getattr(preds[g], f) for g in members])
-                                    for f in ("means", "covs", "labels")))
-            pred = TrackStore(pred_all.means[used], pred_all.covs[used], pred_all.labels[used])
-            sc = tuple(np.concatenate([scores[g][k] for g in members], axis=-1)[..., used] for k in range(3))
-            stats["n_merges"] += len(members) - 1
-        return ("touched", state, pred, self._context(Z, rows, sc, birth_ll, regions), regions)
+            states, col_sets = [], []
+            for g in members:
+                if g < G:
+                    states.append(groups[g])
+                    col_sets.append(np.arange(bounds[g], bounds[g + 1]))
+                else:
+                    col = bounds[-1] + g - G
+                    states.append(_singleton(pred, col))
+                    col_sets.append(np.array([col]))
+            if len(states) == 1:
+                state, cols = states[0], col_sets[0]
+            else:
+                state, used = product(states, T.max_hypotheses, T.cap, self.rng)
+                cols = np.concatenate(col_sets)[used]
+                stats["n_merges"] += len(states) - 1
+        sc = scores.columns(cols)
+        return ("touched", state, _take(pred, cols), self._context(Z, rows, sc, birth_ll, regions), regions)
 
     def _quiet(self, state, pred, sc, Z, birth_ll, stats):
         """A group no return or birth term reaches: predict, or plan an empty-scan step when needed."""
-        T = self._template
         log_miss = np.log1p(-sc[2])
         miss = np.array([log_miss[t].sum() for t in state.tracks])
-        if _silent(T.population) and np.ptp(miss) <= 1e-12:
+        if self._lane_on and np.ptp(miss) <= 1e-12:
             stats["n_predict_only"] += 1
             new = GroupState(pred, state.log_w, state.tracks, state.keys)
             return ("done", new, self._objects(new.store.labels))  # no interaction: every object its own part
@@ -759,20 +970,7 @@ class FactoredFilter:
     def posterior(self, n_top: int = 1) -> FactoredPosterior:
         """Per-group posteriors, the convolved cardinality distribution and the union of MAPs."""
         n_top = check_int(n_top, "n_top", minimum=1)
-        posts = tuple(summarise(s.log_w, s.tracks, s.store, n_top=n_top) for s in self._groups)
-        card = np.ones(1)
-        for p in posts:
-            card = np.convolve(card, p.cardinality)
-        maps = [p.map_estimate for p in posts]
-        d = self.ndim
-        lw = float(sum(e.log_weight for e in maps))
-        est = HypothesisEstimate(
-            float(np.exp(lw)), lw,
-            np.concatenate([e.labels for e in maps]) if maps else np.zeros(0, dtype=np.int64),
-            np.concatenate([e.means for e in maps]) if maps else np.zeros((0, d)),
-            np.concatenate([e.covs for e in maps]) if maps else np.zeros((0, d, d)),
-        )
-        return FactoredPosterior(posts, card, float(sum(p.expected_number for p in posts)), est)
+        return FactoredPosterior(self._groups, self._lane_now, len(self._lane), n_top=n_top)
 
     def estimates(self) -> np.ndarray:
         """Means ``(n, d)`` of the objects of the MAP joint hypothesis (union of the groups' MAPs)."""
@@ -786,9 +984,10 @@ class FactoredFilter:
         limit = check_int(limit, "limit", minimum=1)
         if self.n_joint_hypotheses > limit:
             raise ValueError(f"the product has {self.n_joint_hypotheses} joint hypotheses, more than limit = {limit}")
-        if not self._groups:
+        groups = self.groups
+        if not groups:
             d = self.ndim
             return [HypothesisEstimate(1.0, 0.0, np.zeros(0, np.int64), np.zeros((0, d)), np.zeros((0, d, d)))]
-        joint, _ = product(self._groups, limit, "top")
+        joint, _ = product(groups, limit, "top")
         post = summarise(joint.log_w, joint.tracks, joint.store, n_top=len(joint.log_w))
         return list(post.top)

@@ -29,7 +29,7 @@ from __future__ import annotations
 import time
 
 import numpy as np
-from scipy.special import logsumexp
+from .._logspace import logsumexp
 
 from .._validation import (
     check_covariance,

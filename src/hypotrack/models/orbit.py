@@ -232,6 +232,45 @@ class TwoBodyOrbit:
         """White-acceleration process noise ``q [[dt³/3 I, dt²/2 I], [dt²/2 I, dt I]]``."""
         return ConstantVelocity(self.q, self.ndim // 2).Q(dt)
 
+    def propagate_each(self, x, dt) -> np.ndarray:
+        """States ``(n, ndim)`` propagated by their own intervals ``dt`` ``(n,)`` (s), exactly, in
+        one batch (the Kepler kernel takes an interval per row); a zero interval returns the state."""
+        X = _states(x, ndim=self.ndim)
+        dt = check_finite_array(np.asarray(dt, dtype=float), "dt", shape=(len(X),))
+        p = self.ndim // 2
+        if len(X) == 0:
+            return X.copy()
+        r, v = _kepler_universal(X[:, :p], X[:, p:], dt, self.mu)
+        return np.hstack([r, v])
+
+    def transition_each(self, x, dt):
+        """:meth:`transition` with an interval per state, ``dt`` ``(n,)``, in one batch."""
+        d, p = self.ndim, self.ndim // 2
+        X = _states(x, ndim=d)
+        dt = check_finite_array(np.asarray(dt, dtype=float), "dt", shape=(len(X),))
+        n = len(X)
+        if n == 0:
+            return X.copy(), np.zeros((0, d, d))
+        Xc = np.repeat(X[:, None, :], d, axis=1).astype(complex)
+        Xc[:, np.arange(d), np.arange(d)] += 1j * _H_STEP
+        Xc = Xc.reshape(d * n, d)
+        r, v = _kepler_universal(Xc[:, :p], Xc[:, p:], np.repeat(dt, d), self.mu)
+        out = np.hstack([r, v]).reshape(n, d, d)
+        return out[:, 0, :].real.copy(), np.swapaxes(out.imag, 1, 2) / _H_STEP
+
+    def Q_each(self, dt) -> np.ndarray:
+        """:meth:`Q` of every interval ``dt`` ``(n,)`` (each ``>= 0``): ``(n, ndim, ndim)``."""
+        dt = check_finite_array(np.asarray(dt, dtype=float), "dt", ndim=1)
+        if np.any(dt < 0):
+            raise ValueError("dt must be >= 0 for the process noise")
+        k = self.ndim // 2
+        i = np.arange(k)
+        Q = np.zeros((len(dt), 2 * k, 2 * k))
+        Q[:, i, i] = (dt**3 / 3)[:, None]
+        Q[:, i, i + k] = Q[:, i + k, i] = (dt**2 / 2)[:, None]
+        Q[:, i + k, i + k] = dt[:, None]
+        return self.q * Q
+
     def period(self, x) -> np.ndarray:
         """Orbital period(s) ``2π sqrt(a³/μ)`` (s) of states; ``inf`` if unbound."""
         return orbital_period(_semi_major_axis(_states(x, ndim=self.ndim), self.mu), self.mu)

@@ -63,6 +63,8 @@ FACTORED = ("glmb", "homht_kbest", "rfisst")
 def select_population(n: int, debris_group: str, debris_share: float, unknown_share: float, seed: int):
     """``n`` objects: ``round(debris_share n)`` from ``debris_group``, the rest active satellites,
     each a seeded simple random sample; a seeded ``unknown_share`` of the debris is unknown.
+    ``n`` equal to the catalogue's size is the **whole catalogue**: every active satellite and
+    every debris cloud (``debris_group`` and ``debris_share`` then do not apply).
 
     Returns ``(catalogue table, unknown NORAD numbers)``. Nested in ``n`` is not promised.
     """
@@ -72,6 +74,10 @@ def select_population(n: int, debris_group: str, debris_share: float, unknown_sh
         raise ValueError(f"unknown_share must lie in [0, 1], got {unknown_share!r}")
     cat = load_catalogue()
     rng = np.random.default_rng(seed)
+    if n == len(cat):
+        debris = cat["group"] != "active"
+        unknown = cat["norad"].to_numpy(np.int64)[debris.to_numpy() & (rng.random(len(cat)) < unknown_share)]
+        return cat.reset_index(drop=True), np.sort(unknown)
     debris, active = select_groups(cat, debris_group), select_groups(cat, "active")
     n_debris = int(round(debris_share * n))
     if n_debris > len(debris) or n - n_debris > len(active):
@@ -123,7 +129,7 @@ def _make(name, cfg, tsensor, motion, means, covs, labels, seed):
                        r_birth=t["r_birth"], gate_probability=gate)
     common = dict(dt=dt, gate_probability=gate, seed=seed, means=means, covs=covs, labels=labels,
                   merge_duplicates=True, max_hypotheses=t["max_hypotheses"])
-    fopts = dict(min_weight=t["min_weight"], split="marginal")
+    fopts = dict(min_weight=t["min_weight"], split="marginal", lazy=t.get("lazy_prediction", True))
     if name == "glmb":
         f = glmb(motion, tsensor, population=LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0),
                  n_sweeps=t["gibbs_sweeps"], **common)
@@ -241,7 +247,7 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
 
 def _n_tracks(name, tracker):
     if name in FACTORED:
-        return int(sum(len(np.unique(s.store.labels)) for s in tracker.groups))
+        return tracker.n_objects_held
     return len(tracker.ids)
 
 

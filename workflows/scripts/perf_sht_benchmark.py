@@ -1,11 +1,11 @@
 """perf_sht: hypotrack's GNN and JPDA against Stone Soup, same scenarios, one run, ratios.
 
-Stone Soup is a benchmark/test-only dependency that the library never imports, so its side of
-the benchmark (an adapter with the same ``step``/``record`` surface as
-:class:`hypotrack.experiments.perf_sht.run.HypotrackStepper`) lives here; everything else is in
-:mod:`hypotrack.experiments.perf_sht.run`. Stone Soup's state order is [x, vx, y, vy].
+Stone Soup is a benchmark/test-only dependency; its side of the benchmark is
+:class:`hypotrack.interop.stonesoup.peer.StoneSoupPeer` (the ``step``/``record`` surface of
+:class:`hypotrack.experiments.perf_sht.run.HypotrackStepper`), built here with Stone Soup's own
+constant-velocity model; everything else is in :mod:`hypotrack.experiments.perf_sht.run`. Stone
+Soup's state order is [x, vx, y, vy].
 """
-import datetime
 import math
 
 import numpy as np
@@ -26,6 +26,7 @@ from hypotrack.experiments.perf_sht.run import (
     scan_model,
     speedup_table,
 )
+from hypotrack.interop.stonesoup.peer import StoneSoupPeer
 from hypotrack.models import ConstantVelocity
 from hypotrack.reporting.joblog import prefix_output
 
@@ -33,8 +34,7 @@ prefix_output(snakemake)  # every line this job prints names the job
 
 cfg_all = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 cfg = {**cfg_all["scenario"], **cfg_all["tracker"]}
-PERM, INV = [0, 2, 1, 3], np.argsort([0, 2, 1, 3])
-T0 = datetime.datetime(2026, 1, 1)
+PERM = [0, 2, 1, 3]  # hypotrack [x, y, vx, vy] -> Stone Soup [x, vx, y, vy]
 
 try:
     import stonesoup  # noqa: F401
@@ -45,70 +45,15 @@ except ImportError:
     print("perf_sht: Stone Soup is not installed; timing hypotrack only", flush=True)
 
 
-class StoneSoupStepper:
-    """Stone Soup's tracker of one kind on one scenario: predict + associate + update per scan."""
+def stonesoup_peer(scenario, kind):
+    """Stone Soup's ``kind`` on one scenario: Kalman predictor on its constant-velocity model per axis."""
+    from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity as CV
+    from stonesoup.predictor.kalman import KalmanPredictor
 
-    def __init__(self, scenario, kind):
-        from stonesoup.dataassociator.neighbour import GNNWith2DAssignment
-        from stonesoup.dataassociator.probability import JPDA, JPDAwithEHM2
-        from stonesoup.hypothesiser.distance import DistanceHypothesiser
-        from stonesoup.hypothesiser.probability import PDAHypothesiser
-        from stonesoup.measures import Mahalanobis
-        from stonesoup.models.measurement.linear import LinearGaussian
-        from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity as CV
-        from stonesoup.predictor.kalman import KalmanPredictor
-        from stonesoup.types.detection import Detection
-        from stonesoup.types.state import GaussianState
-        from stonesoup.types.track import Track
-        from stonesoup.updater.kalman import KalmanUpdater
-        from stonesoup.updater.probability import PDAUpdater
-
-        model = scan_model(scenario, cfg)
-        predictor = KalmanPredictor(CombinedLinearGaussianTransitionModel([CV(cfg["q"]), CV(cfg["q"])]))
-        meas = LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=model.R)
-        self.gnn = kind == "GNNWith2DAssignment"
-        if self.gnn:
-            self.updater = KalmanUpdater(meas, use_joseph_cov=True)
-            hyp = DistanceHypothesiser(predictor, self.updater, Mahalanobis(), missed_distance=math.sqrt(model.gate))
-            self.associator = GNNWith2DAssignment(hyp)
-        else:
-            self.updater = PDAUpdater(meas, use_joseph_cov=True)
-            hyp = PDAHypothesiser(predictor, self.updater, clutter_spatial_density=model.clutter_density,
-                                  prob_detect=model.p_D, prob_gate=model.p_gate)
-            self.associator = {"JPDAwithEHM2": JPDAwithEHM2, "JPDA": JPDA}[kind](hyp)
-        P0 = prior_covariance(cfg)[np.ix_(PERM, PERM)]
-        self.tracks = [Track([GaussianState(x[PERM].reshape(-1, 1), P0, timestamp=T0)]) for x in scenario.initial_states]
-        # Detections are built before timing: data ingest is not part of the tracker's scan.
-        self.scans = []
-        for t, Z in scenario.scan_list():
-            ts = T0 + datetime.timedelta(seconds=float(t))
-            self.scans.append((ts, [Detection(z.reshape(-1, 1), timestamp=ts, measurement_model=meas) for z in Z]))
-
-    def step(self, k):
-        ts, dets = self.scans[k]
-        self.hyps = self.associator.associate(set(self.tracks), set(dets), ts)
-        for tr in self.tracks:
-            h = self.hyps[tr]
-            tr.append((self.updater.update(h) if h else h.prediction) if self.gnn else self.updater.update(h))
-        self.k = k
-
-    def record(self, run):
-        dets = self.scans[self.k][1]
-        index = {id(d): i for i, d in enumerate(dets)}
-        if self.gnn:
-            out = np.full(len(dets), -1)
-            for i, tr in enumerate(self.tracks):
-                h = self.hyps[tr]
-                if h:
-                    out[index[id(h.measurement)]] = i
-        else:
-            out = np.zeros((len(self.tracks), len(dets) + 1))
-            for i, tr in enumerate(self.tracks):
-                for h in self.hyps[tr]:
-                    out[i, 0 if not h else 1 + index[id(h.measurement)]] = float(h.probability)
-        run.outputs.append(out)
-        run.states.append((np.array([np.ravel(t.state_vector)[INV] for t in self.tracks]).reshape(-1, 4),
-                           np.array([t.covar[np.ix_(INV, INV)] for t in self.tracks]).reshape(-1, 4, 4)))
+    predictor = KalmanPredictor(CombinedLinearGaussianTransitionModel([CV(cfg["q"]), CV(cfg["q"])]))
+    n = len(scenario.initial_states)
+    return StoneSoupPeer(kind, predictor, scan_model(scenario, cfg), (0, 2), scenario.initial_states,
+                         np.broadcast_to(prior_covariance(cfg), (n, 4, 4)), scenario.scan_list(), perm=PERM)
 
 
 def brute_force_products(scenario):
@@ -133,7 +78,7 @@ def compare(algorithm, n, rate, peers, *, max_scans, budget_s, seed, spacing=Non
             if products > cfg_all["jpda"]["brute_force_max_products"]:
                 notes[kind] = f"not run: ~{products:.2e} joint products per scan"
                 continue
-        steppers[kind] = StoneSoupStepper(sc, kind)
+        steppers[kind] = stonesoup_peer(sc, kind)
     runs = run_side_by_side(steppers, len(sc.times), max_scans=max_scans, budget_s=budget_s, warmup=warmup)
     rows = []
     for name, run in runs.items():

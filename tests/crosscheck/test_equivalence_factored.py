@@ -267,3 +267,17 @@ def test_c_marginal_split_equals_brute_force_marginals_and_loss():
         assert got.keys() == marg[lab].keys()
         for key, w in got.items():
             assert w == pytest.approx(marg[lab][key], abs=1e-12)
+
+
+@pytest.mark.parametrize("make", [glmb_exhaustive, homht_poisson_births], ids=["glmb", "homht"])
+def test_a_out_of_view_tracks_gating_nothing_changes_no_weight(make):
+    """With ``gate_out_of_view=False`` c (out of view, p_D = 0) does not merge with d at scan 1:
+    one merge fewer, no split needed, the same posterior as the unfactored filter at every scan."""
+    u = make()
+    ff = FactoredFilter.from_filter(make(), split="exact", gate_out_of_view=False)
+    for Z in SCANS:
+        u.step(Z)
+        ff.step(Z)
+        assert_same_posterior(u, ff)
+    assert [s["n_merges"] for s in ff.stats_history] == [0, 1, 0]  # only a + b, at scan 2
+    assert [s["n_splits"] for s in ff.stats_history] == [0, 0, 0]

@@ -129,6 +129,10 @@ def murty_k_best(score, k: int) -> list[tuple[float, np.ndarray]]:
     first = _solve(arr)
     if first is None:
         return []
+    every = _all_assignments(arr, k)
+    if every is not None:  # at most k feasible assignments: all of them are the k best (one LAP, not Murty's)
+        # the solver's optimum first, as Murty's (a near-tie within rounding keeps the solver's pick)
+        return [first] + [(t, c) for t, c in every if not np.array_equal(c, first[1])]
     m = arr.shape[0]
     rows = np.arange(m)
     slack = _row_slack(arr)
@@ -164,6 +168,42 @@ def murty_k_best(score, k: int) -> list[tuple[float, np.ndarray]]:
             row_free[row] = False
             col_free[col] = False
     return results
+
+
+def _all_assignments(score: np.ndarray, limit: int):
+    """Every feasible assignment, best first (ties in enumeration order), when there are at most
+    ``limit`` of them; ``None`` as soon as there are more. The common case of a small gated
+    problem (one return, a few options) costs a depth-first walk instead of Murty's LAPs."""
+    m = score.shape[0]
+    options = [np.flatnonzero(np.isfinite(score[i])) for i in range(m)]
+    if m == 0:
+        return [(0.0, np.zeros(0, dtype=np.intp))]
+    if any(len(o) == 0 for o in options):
+        return []
+    found = []
+    cols = np.empty(m, dtype=np.intp)
+    used = set()
+
+    def walk(i):
+        if i == m:
+            found.append(cols.copy())
+            return len(found) <= limit
+        for c in options[i]:
+            if c not in used:
+                cols[i] = c
+                used.add(c)
+                ok = walk(i + 1)
+                used.discard(c)
+                if not ok:
+                    return False
+        return True
+
+    if not walk(0):
+        return None
+    rows = np.arange(m)
+    totals = [float(score[rows, c].sum()) for c in found]
+    order = sorted(range(len(found)), key=lambda j: -totals[j])
+    return [(totals[j], found[j]) for j in order]
 
 
 def _row_slack(score: np.ndarray) -> np.ndarray:

@@ -153,17 +153,28 @@ def factorise(state: GroupState, part_of_track, tol: float = 1e-10, scan: int = 
     (SplitRecord, list of GroupState) — one state per part, with the marginal weights.
     """
     part_of_track = np.asarray(part_of_track, dtype=np.int64)
-    parts = np.unique(part_of_track)
-    H = len(state.log_w)
-    proj_ids, margs, uniq = [], [], []
-    for c in parts:
-        table, ids = {}, np.empty(H, dtype=np.int64)
-        for h, t in enumerate(state.tracks):
-            key = tuple(sorted(t[part_of_track[t] == c].tolist()))
-            ids[h] = table.setdefault(key, len(table))
-        proj_ids.append(ids)
-        uniq.append(list(table))
-        margs.append(_group_logsumexp(ids, state.log_w, len(table)))
+    parts, pidx = np.unique(part_of_track, return_inverse=True)
+    P, H = len(parts), len(state.log_w)
+    # the projection of every hypothesis on every part (its sorted tracks there), numbered per part
+    # in order of first appearance; one sort per hypothesis, not one mask per (part, hypothesis)
+    tables = [{} for _ in range(P)]
+    ids_all = np.empty((P, H), dtype=np.int64)
+    for h, t in enumerate(state.tracks):
+        t = np.sort(np.asarray(t, dtype=np.int64))
+        pi = pidx[t]
+        order = np.argsort(pi, kind="stable")
+        tl, pl = t[order].tolist(), pi[order].tolist()
+        present, a = {}, 0
+        for b in range(1, len(tl) + 1):
+            if b == len(tl) or pl[b] != pl[a]:
+                present[pl[a]] = tuple(tl[a:b])
+                a = b
+        for c in range(P):
+            table = tables[c]
+            ids_all[c, h] = table.setdefault(present.get(c, ()), len(table))
+    proj_ids = [ids_all[c] for c in range(P)]
+    uniq = [list(t) for t in tables]
+    margs = [_group_logsumexp(ids, state.log_w, len(t)) for ids, t in zip(proj_ids, tables)]
     q = sum(m[ids] for m, ids in zip(margs, proj_ids))
     n_parts = tuple(len(u) for u in uniq)
     complete = H == int(np.prod(n_parts, dtype=object))
@@ -172,13 +183,13 @@ def factorise(state: GroupState, part_of_track, tol: float = 1e-10, scan: int = 
     kl = float(np.sum(p * (state.log_w - q)))
     l1 = float(np.sum(np.abs(p - np.exp(q))) + max(0.0, 1.0 - float(np.sum(np.exp(q)))))
     out = []
-    for c, ids, marg, keys in zip(parts, proj_ids, margs, uniq):
-        entries = np.flatnonzero(part_of_track == c)
-        remap = np.full(len(state.store), -1, dtype=np.int64)
+    by_part = np.argsort(pidx, kind="stable")
+    starts = np.searchsorted(pidx[by_part], np.arange(P + 1))
+    remap = np.empty(len(state.store), dtype=np.int64)
+    for j, (c, ids, marg, keys) in enumerate(zip(parts, proj_ids, margs, uniq)):
+        entries = by_part[starts[j]:starts[j + 1]]  # ascending: the stable sort keeps store order
         remap[entries] = np.arange(len(entries))
-        first = np.full(len(keys), -1, dtype=np.int64)
-        for h in range(H - 1, -1, -1):
-            first[ids[h]] = h
+        first = np.unique(ids, return_index=True)[1]  # ids number first appearances: the first hypothesis of each
         store = TrackStore(state.store.means[entries], state.store.covs[entries], state.store.labels[entries])
         tracks = [remap[np.asarray(k, dtype=np.int64)] for k in keys]
         lineage = [("split", scan, int(c), state.keys[f]) for f in first]

@@ -68,8 +68,25 @@ def _states(x, name="x", ndim=4) -> np.ndarray:
 
 # Taylor series C(z) = Σ (−z)^k/(2k+2)!, S(z) = Σ (−z)^k/(2k+3)!, used for |z| < 0.1 where
 # the closed forms cancel; 8 terms leave a truncation error below 1e-20.
-_C_SERIES = np.polynomial.Polynomial([(-1) ** k / math.factorial(2 * k + 2) for k in range(8)])
-_S_SERIES = np.polynomial.Polynomial([(-1) ** k / math.factorial(2 * k + 3) for k in range(8)])
+_C_COEF = tuple((-1) ** k / math.factorial(2 * k + 2) for k in range(8))
+_S_COEF = tuple((-1) ** k / math.factorial(2 * k + 3) for k in range(8))
+
+
+def _horner(coef, z):
+    """``Σ coef[k] z^k`` by Horner's rule — the operations of ``numpy.polynomial.polyval`` (the
+    same bits) without its per-call overhead, which dominated short Kepler steps."""
+    y = coef[-1] + z * 0
+    for c in coef[-2::-1]:
+        y = c + y * z
+    return y
+
+
+def _C_SERIES(z):
+    return _horner(_C_COEF, z)
+
+
+def _S_SERIES(z):
+    return _horner(_S_COEF, z)
 
 
 def _stumpff(z):

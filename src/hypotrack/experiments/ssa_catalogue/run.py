@@ -129,7 +129,9 @@ def _make(name, cfg, tsensor, motion, means, covs, labels, seed):
                        r_birth=t["r_birth"], gate_probability=gate)
     common = dict(dt=dt, gate_probability=gate, seed=seed, means=means, covs=covs, labels=labels,
                   merge_duplicates=True, max_hypotheses=t["max_hypotheses"])
-    fopts = dict(min_weight=t["min_weight"], split="marginal", lazy=t.get("lazy_prediction", True))
+    # a track out of view can take no return: it gates nothing (same posterior, no needless merges)
+    fopts = dict(min_weight=t["min_weight"], split="marginal", lazy=t.get("lazy_prediction", True),
+                 gate_out_of_view=False)
     if name == "glmb":
         f = glmb(motion, tsensor, population=LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0),
                  n_sweeps=t["gibbs_sweeps"], **common)

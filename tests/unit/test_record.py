@@ -75,3 +75,27 @@ def test_the_record_holds_a_default_run():
     from hypotrack.reporting.record import comparable
 
     assert config_differences(comparable(json.loads(path.read_text())), comparable(default_config())) == []
+
+
+def test_the_catalogue_record_joins_a_full_run_and_refuses_another(tmp_path):
+    """paper/record/ssa_catalogue_full.csv: accuracy and timing joined per (tracker, N), written only
+    from a run of full.yaml's ssa_catalogue section (a default-config run is refused, naming the sizes)."""
+    from hypotrack.reporting.record import full_config, update_catalogue_record
+
+    full = full_config()
+    src = tmp_path / "results" / "ssa_catalogue"
+    src.mkdir(parents=True)
+    (src / "summary.csv").write_text("tracker,n_objects,gospa_km,mean_in_view\nglmb,300,1.5,2.0\nglmb,10855,52.0,105.7\n")
+    (src / "summary_timing.csv").write_text(
+        "tracker,n_objects,cpu_s_per_scan,mean_in_view\nglmb,10855,0.0709,105.7\nglmb,300,0.0066,2.0\n")
+    (src / "run_config.json").write_text(json.dumps({"seed": full["seed"], "ssa_catalogue": full["ssa_catalogue"]}))
+    record = tmp_path / "record"
+    update_catalogue_record(tmp_path / "results", record=record)
+    rows = (record / "ssa_catalogue_full.csv").read_text().splitlines()
+    assert rows == ["tracker,n_objects,gospa_km,mean_in_view,cpu_s_per_scan",
+                    "glmb,300,1.5,2,0.0066", "glmb,10855,52,105.7,0.0709"]
+    assert 10855 in full["ssa_catalogue"]["sizes"]  # the full run tracks the whole catalogue
+    default = default_config()
+    (src / "run_config.json").write_text(json.dumps({"seed": default["seed"], "ssa_catalogue": default["ssa_catalogue"]}))
+    with pytest.raises(ValueError, match=r"ssa_catalogue\.sizes"):
+        update_catalogue_record(tmp_path / "results", record=record)

@@ -61,6 +61,7 @@ rule ssa_catalogue_table:
         groups_png=report_figure(f"{SC_DIR}/groups.png", "ssa_catalogue", "groups"),
         catalogue_pdf=f"{SC_DIR}/catalogue.pdf",
         catalogue_png=report_figure(f"{SC_DIR}/catalogue.png", "ssa_catalogue", "catalogue"),
+        run_config=f"{SC_DIR}/run_config.json",
     params:
         cfg=config["ssa_catalogue"],
         seed=config["seed"],

@@ -267,5 +267,9 @@ def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg, oracle
         claims.append(_paired_claim(power, tol))
     # Every Table 6.1 gap traces to what the document leaves unstated (the multi-sensor PDAF form, the initial
     # variance, the scoring window): the sensitivity tables show each reading's verdict.
+    # An undecided row whose control also passes could not tell the method from its broken form even with
+    # more runs: its cause is the check's lack of power, not the run count.
+    claims = [replace(c, cause="no power") if c.status == "inconclusive" and c.control.endswith("also passes")
+              and not c.cause else c for c in claims]
     return [replace(c, cause="unstated parameter") if c.status == "not reproduced" and not c.cause else c
             for c in claims]

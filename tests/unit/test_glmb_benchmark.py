@@ -256,7 +256,7 @@ def test_follow_diagnosis_by_hand():
     assert d["lost"] == 1 and d["lost_birth"] == 1 and d["lost_speed"] == pytest.approx(5.0)
     note = diagnosis_note(d, 0.1, 10.0)
     assert "0.292 ± 0.208 (s.e. over 2 runs)" in note and "71 % of the error" in note
-    assert "born at scan 1 moving at 5 m/s, against the birth prior's velocity s.d. of 10 m/s" in note
+    assert "missed most in them: born at scan 1, moving at 5 m/s against the birth prior's velocity s.d. of 10 m/s" in note
     # without the missed column the object is not named
     assert "lost" not in follow_diagnosis(per_scan.drop(columns=["missed", "missed_mc"]), "diag_reference", 2)
     with pytest.raises(ValueError, match="lag"):

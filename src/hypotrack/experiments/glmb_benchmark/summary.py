@@ -170,8 +170,9 @@ def follow_diagnosis(per_scan: pd.DataFrame, tracker: str, lag: int, rule: str =
     """Where the error of :func:`follow_score` away from the changes comes from.
 
     Over the scans outside every change's window (as in :func:`follow_score`), per run the mean
-    ``|N̂ − N|``; a *spell* is a run's stretch of consecutive outside scans with the same non-zero error
-    lasting at least ``2 × lag`` scans (a lasting miss or false object, not a one-scan flicker).
+    ``|N̂ − N|``; a *spell* is a run's stretch of consecutive outside scans whose errors have one sign (all
+    under- or all over-counts) lasting at least ``2 × lag`` scans (a lasting miss or false object, not a
+    short flicker).
 
     Returns a dict: ``outside`` (the mean of :func:`follow_score`), ``se`` (standard error of the
     per-run means across runs), ``n_runs``; ``spell_runs`` (runs holding a spell), ``spell_share``
@@ -203,7 +204,7 @@ def follow_diagnosis(per_scan: pd.DataFrame, tracker: str, lag: int, rule: str =
     i = 0
     while i < len(err):
         j = i
-        while (j + 1 < len(err) and runs[j + 1] == runs[i] and err[j + 1] == err[i]
+        while (j + 1 < len(err) and runs[j + 1] == runs[i] and np.sign(err[j + 1]) == np.sign(err[i])
                and pos[scans[j + 1]] == pos[scans[j]] + 1):
             j += 1
         if err[i] != 0 and j - i + 1 >= min_len:
@@ -234,16 +235,16 @@ def diagnosis_note(d: dict, tolerance: float, birth_std: float | None = None) ->
     """One line on :func:`follow_diagnosis`: the value against the threshold in standard errors, and
     where the excess comes from."""
     text = (f"diagnosis: {d['outside']:.3f} ± {d['se']:.3f} (s.e. over {d['n_runs']} runs) against the threshold "
-            f"{tolerance:g}, which is this project's (the document shows the curve, no number)")
+            f"{tolerance:g}, which is this project's (the published figure shows the curve, no number)")
     if d["spell_runs"]:
         text += (f"; {100 * d['spell_share']:.0f} % of the error away from the changes is {d['spell_runs']} "
                  f"run(s) with a lasting miscount after the change at scan "
                  f"{', '.join(str(k) for k in d['spell_after'])}")
         if "lost" in d:
-            text += (f" (the object born at scan {d['lost_birth']} moving at {d['lost_speed']:.0f} m/s"
-                     + (f", against the birth prior's velocity s.d. of {birth_std:g} m/s" if birth_std else "")
-                     + ", never confirmed)")
-        text += f", the rest one-scan flickers ({d['flicker']:.3f} per scan)"
+            text += (f" (the object missed most in them: born at scan {d['lost_birth']}, moving at "
+                     f"{d['lost_speed']:.0f} m/s" + (f" against the birth prior's velocity s.d. of {birth_std:g} m/s"
+                                                     if birth_std else "") + ")")
+        text += f", the rest short miscounts ({d['flicker']:.3f} per scan)"
     return text
 
 

@@ -8,7 +8,8 @@ config section and the published numbers' own Monte Carlo error (``published_run
 
 Every row that claims power names a negative control (:func:`hypotrack.reporting.verdict.with_control`)
 run through the *same* check: the filters with a known defect of :mod:`.controls` for the Monte Carlo
-rows, the ECMHT without swaps (the MHT) for the ordering, the filtered variance ``P(k|k)`` for the
+rows (for the MHT rows the MHT keeping a random joint hypothesis; every broken MHT is in the power
+table of :mod:`.power`, and an inconclusive row whose control also passes gets the cause "no power"), the ECMHT without swaps (the MHT) for the ordering, the filtered variance ``P(k|k)`` for the
 steady-state formula and the ideal filter scored on ``X(k|k)`` for the closed-form rows. A control
 fails only when its own verdict is *not reproduced*; otherwise the row is *uninformative*.
 

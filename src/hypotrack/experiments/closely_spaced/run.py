@@ -1,4 +1,4 @@
-"""Seed 003 Table 6.1 and Figs 6.1–6.2: two closely spaced OU targets seen by N sensors.
+"""Document 003 Table 6.1 and Figs 6.1–6.2: two closely spaced OU targets seen by N sensors.
 
 * :func:`closely_spaced_monte_carlo` — one shard of Table 6.1: MOSPA of the ideal filter,
   PDAF, MHT and ECMHT, scored on the one-step prediction ``X(k|k−1)`` (reconstruction §6.4),

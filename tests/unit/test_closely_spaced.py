@@ -68,3 +68,24 @@ def test_bad_inputs_are_rejected(kwargs, match):
     args = dict(n_runs=2, n_scans=3, n_sensors=2, R=1.0, rng=0) | kwargs
     with pytest.raises(ValueError, match=match):
         simulate_closely_spaced(MODEL, **args)
+
+
+@pytest.mark.parametrize("factors,match", [([1.0], "differ from 1"), ([0.0], "noise_factors"), ([4.0, 4.0], "distinct")])
+def test_misstated_noise_factors_are_checked(factors, match):
+    from hypotrack.experiments.closely_spaced.run import closely_spaced_monte_carlo
+
+    with pytest.raises(ValueError, match=match):
+        closely_spaced_monte_carlo(sigma2=0.01, gamma=0.005, n_runs=2, n_scans=3, n_sensors=2, R=1.0, controls=True,
+                                   noise_factors=factors, seed=0)
+
+
+def test_controls_leave_the_methods_streams_unchanged():
+    """Adding the broken MHTs draws their coins from a child stream: the four methods' numbers are unchanged."""
+    from hypotrack.experiments.closely_spaced.run import closely_spaced_monte_carlo
+
+    kw = dict(sigma2=0.01, gamma=0.005, n_runs=20, n_scans=6, n_sensors=3, R=1.0, seed=11)
+    plain = closely_spaced_monte_carlo(**kw)
+    full = closely_spaced_monte_carlo(**kw, controls=True, noise_factors=[4.0])
+    for m in ("ideal", "PDAF", "MHT", "ECMHT"):
+        np.testing.assert_array_equal(plain["per_run"][m], full["per_run"][m])
+    np.testing.assert_array_equal(full["per_run"]["MHT[R × 4]"] == full["per_run"]["MHT"], False)

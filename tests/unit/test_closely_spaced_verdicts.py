@@ -171,3 +171,118 @@ def test_every_verdict_row_names_its_control_and_a_passing_control_demotes(contr
         assert claims["MospaIdeal"].status == "uninformative"
         assert claims["MospaMht"].status == "uninformative"
         assert parse_control(claims["MospaMht"].control)[2] is True
+
+
+# --- the MHT row's power: broken MHTs (random / no joint hypothesis, misstated noise) -------------------------
+
+
+def test_random_hypothesis_mht_by_hand():
+    """Each sensor's pair goes to the tracks by the control's own coin (drawn here from the same seed)."""
+    from hypotrack.experiments.closely_spaced.controls import RandomHypothesisGNNFilter
+
+    g = RandomHypothesisGNNFilter(MODEL, R, 2, rng=7)
+    g.step(np.array([[-1.0, 1.0], [1.0, -1.0]]))  # tracks (−1, 1), P = R/2
+    coins = np.random.default_rng(7).random((1, 2)) < 0.5
+    Z = np.array([[0.5, -0.7], [-0.2, 1.4]])  # sorted per sensor: (−0.7, 0.5), (−0.2, 1.4)
+    low = [0.5 if coins[0, 0] else -0.7, 1.4 if coins[0, 1] else -0.2]
+    high = [-0.7 if coins[0, 0] else 0.5, -0.2 if coins[0, 1] else 1.4]
+    Pp = A * A * R / 2 + Q
+    L = Pp / (Pp + R / 2)
+    np.testing.assert_allclose(g.step(Z)[0], [-A + L * (np.mean(low) + A), A + L * (np.mean(high) - A)])
+    with pytest.raises(ValueError, match="rng"):
+        RandomHypothesisGNNFilter(MODEL, R, 2)
+
+
+def test_no_joint_hypothesis_lets_both_tracks_take_one_return():
+    from hypotrack.experiments.closely_spaced.controls import NonExclusiveNNFilter
+
+    f = NonExclusiveNNFilter(MODEL, R, 1)
+    f.step(np.array([[-0.2, 0.2]]))  # tracks (−0.2, 0.2)
+    # both predictions (∓0.2 A) are nearer 0.1 than 3.0: both tracks take 0.1
+    x = f.step(np.array([[3.0, 0.1]]))[0]
+    Pp = A * A * R + Q
+    L = Pp / (Pp + R)
+    np.testing.assert_allclose(x, [-0.2 * A + L * (0.1 + 0.2 * A), 0.2 * A + L * (0.1 - 0.2 * A)])
+
+
+def test_control_verdict_takes_the_published_error_from_the_method():
+    from hypotrack.experiments.closely_spaced.power import control_verdict
+    from hypotrack.reporting.verdict import interval_quantile
+
+    method = {"n": 10000, "mean": 0.14, "se": 0.0005}  # sd 0.05: published s.e. 0.05/√1000
+    control = {"n": 10000, "mean": 0.165, "se": 0.0015}  # sd 0.15: its own would give 0.15/√1000
+    v = control_verdict(control, method, 0.1376, 0.01376, 1000)
+    half = interval_quantile(10000) * math.hypot(0.0015, 0.05 / math.sqrt(1000))
+    assert v.low == pytest.approx(0.165 - half) and v.high == pytest.approx(0.165 + half)
+    assert v.status == "not reproduced"  # 0.165 − 0.0065 > 0.1376 + 0.01376
+    # with the control's own spread the published error triples (0.165 − 0.0149 < 0.1514): it would pass
+    own = control_verdict(control, control, 0.1376, 0.01376, 1000)
+    assert own.status == "inconclusive"
+    with pytest.raises(ValueError, match="published_runs"):
+        control_verdict(control, method, 0.1376, 0.01376, 0)
+
+
+def _per_run():
+    """Fabricated per-run MOSPA: 40 runs (4 values, 10 times) of the MHT and its broken forms (hand-chosen
+    differences)."""
+    base = np.array([0.10, 0.14, 0.18, 0.16])
+    shifts = {"MHT": [0, 0, 0, 0], "MHT[swapped labels]": [0.01, -0.01, 0.0, 0.0],
+              "MHT[random hypothesis]": [0.02, 0.02, 0.03, 0.01], "MHT[no joint hypothesis]": [0.1, 0.12, 0.08, 0.1],
+              "MHT[R × 0.25]": [0.01, 0.01, 0.01, 0.01], "MHT[R × 4]": [0.0, -0.002, 0.0, -0.002]}
+    rows = [{"method": m, "run": 4 * rep + i, "mospa": b + s[i], "mospa_steady": b + s[i]}
+            for m, s in shifts.items() for rep in range(10) for i, b in enumerate(base)]
+    return pd.DataFrame(rows)
+
+
+def test_paired_differences_by_hand():
+    from hypotrack.experiments.closely_spaced.power import paired_differences
+
+    out = paired_differences(_per_run(), "MHT", ["MHT[random hypothesis]"], "mospa").iloc[0]
+    d = np.tile([0.02, 0.02, 0.03, 0.01], 10)
+    assert out["n"] == 40 and out["diff"] == pytest.approx(0.02)
+    assert out["diff_se"] == pytest.approx(d.std(ddof=1) / math.sqrt(40))
+    with pytest.raises(ValueError, match="controls must be"):
+        paired_differences(_per_run(), "MHT", ["MHT[nothing]"], "mospa")
+
+
+def test_mht_power_table_and_claims_wire_the_random_hypothesis():
+    from hypotrack.experiments.closely_spaced.power import mht_power_macros, mht_power_table
+
+    cfg = {**CFG, "mht_noise_factors": [0.25, 4.0]}
+    power = mht_power_table(_per_run(), cfg)
+    every = power[power["window"] == "every scan"].set_index("control")
+    assert list(every.index) == ["MHT", "MHT[swapped labels]", "MHT[random hypothesis]", "MHT[no joint hypothesis]",
+                                 "MHT[R × 0.25]", "MHT[R × 4]"]
+    assert every.loc["MHT[random hypothesis]", "chosen"] and every["chosen"].sum() == 1
+    assert every.loc["MHT[no joint hypothesis]", "mean"] == pytest.approx(0.145 + 0.1)
+    assert every.loc["MHT[no joint hypothesis]", "paired_diff"] == pytest.approx(0.1)
+    assert every.loc["MHT[R × 4]", "hypothesis_broken"] == False  # noqa: E712 (numpy bool)
+    # half-width q(39) · √(se² + (sd_MHT/√1000)²) ≈ 0.016: only the no-joint-hypothesis MHT (0.245) lands
+    # wholly outside 0.1376 ± 10 %; the random hypothesis (0.165) and R × 0.25 (0.155) reach into it
+    assert list(every["control_fails"].iloc[1:]) == [False, False, True, False, False]
+    assert list(every["verdict"].iloc[1:]) == ["inconclusive", "inconclusive", "not reproduced", "inconclusive",
+                                                "inconclusive"]
+    m = mht_power_macros(power)
+    assert m["PowerNoJointEveryRel"] == "+78" and m["PowerHypothesisFails"] == "2" and m["PowerNoiseCells"] == "4"
+    with pytest.raises(ValueError, match="chosen"):
+        mht_power_table(_per_run(), cfg, chosen="MHT[nothing]")
+
+
+@pytest.mark.parametrize("random_fails", [True, False])
+def test_mht_rows_name_the_random_hypothesis_control(random_fails):
+    """The MHT rows' control is the random-hypothesis MHT; after the transient its failing makes the row
+    reproduced, its passing uninformative; the paired row is an extension."""
+    from hypotrack.experiments.closely_spaced.power import mht_power_table
+
+    t = _table(True)
+    extra = pd.DataFrame({"method": ["MHT[random hypothesis]"], "n": 10000,
+                          "mean": [0.20 if random_fails else 0.15], "se": [0.0015]})
+    t = pd.concat([t, extra], ignore_index=True)
+    steady = t.assign(mean=np.where(t["method"] == "MHT", 0.1385, t["mean"]))
+    power = mht_power_table(_per_run(), {**CFG, "mht_noise_factors": [0.25, 4.0]})
+    claims = {c.key: c for c in closely_spaced_claims(t, steady, CFG, _oracle(), power=power)}
+    what, value, passes = parse_control(claims["MospaMhtSteady"].control)
+    assert what.startswith("the MHT keeping a random joint hypothesis") and passes is not random_fails
+    assert claims["MospaMhtSteady"].status == ("reproduced" if random_fails else "uninformative")
+    assert "results/closely_spaced/mht_power.csv" in claims["MospaMht"].note
+    assert claims["MhtPairedRandom"].status == "extension" and claims["MhtPairedRandom"].mean == "0.02"

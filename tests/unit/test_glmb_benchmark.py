@@ -223,3 +223,68 @@ def test_follow_score_by_hand_and_the_control_decides_the_status():
     # a control that passes too leaves the check without power: uninformative
     rows = follow_claims(per_scan, {"perfect": "heaviest"}, "perfect", 2, 0.1)
     assert rows[0].status == "uninformative"
+
+
+def _diag_per_scan(name="diag_reference", runs=(0, 1)):
+    """Two runs of 14 scans with two objects throughout (lag 2: window {1, 2}, outside 3..14): run 0 misses
+    truth row 1 on scans 5..9 (a spell of 5 ≥ 2 × lag) and counts one too many on scan 13; run 1 one too
+    many on scan 4."""
+    est = {0: [0, 2, 2, 2, 1, 1, 1, 1, 1, 2, 3, 2, 2, 2], 1: [0, 2, 2, 3] + [2] * 10}
+    rows = []
+    for r in runs:
+        for k, e in enumerate(est[r % 2], start=1):
+            missed = "1" if e == 1 else ""
+            rows.append({"tracker": name, "run": r, "scan": k, "n_true": 2, "n_est": e, "n_est_mc": e,
+                         "missed": missed, "missed_mc": missed})
+    return pd.DataFrame(rows)
+
+
+TRUTH_ROWS = [[1, 101, 0.0, 0.0, 0.0, 0.0], [1, 101, 0.0, 0.0, 3.0, 4.0]]
+
+
+def test_follow_diagnosis_by_hand():
+    from hypotrack.experiments.glmb_benchmark.summary import diagnosis_note, follow_diagnosis, follow_score
+
+    per_scan = _diag_per_scan()
+    d = follow_diagnosis(per_scan, "diag_reference", 2, "map_cardinality", TRUTH_ROWS)
+    # outside errors: run 0 |−1| × 5 + |+1| = 6 of 12 scans, run 1 one of 12: mean 7/24, per-run 1/2 and 1/12
+    assert d["outside"] == pytest.approx(7 / 24) == follow_score(per_scan, "diag_reference", 2, "map_cardinality")[0]
+    assert d["se"] == pytest.approx(abs(0.5 - 1 / 12) / 2)  # sd of two values |a − b|/√2, over √2
+    assert d["n_runs"] == 2 and d["spell_runs"] == 1 and d["undercount_spells"] == 1
+    assert d["spell_share"] == pytest.approx(5 / 7) and d["flicker"] == pytest.approx(2 / 24)
+    assert d["spell_after"] == [1]
+    assert d["lost"] == 1 and d["lost_birth"] == 1 and d["lost_speed"] == pytest.approx(5.0)
+    note = diagnosis_note(d, 0.1, 10.0)
+    assert "0.292 ± 0.208 (s.e. over 2 runs)" in note and "71 % of the error" in note
+    assert "missed most in them: born at scan 1, moving at 5 m/s against the birth prior's velocity s.d. of 10 m/s" in note
+    # without the missed column the object is not named
+    assert "lost" not in follow_diagnosis(per_scan.drop(columns=["missed", "missed_mc"]), "diag_reference", 2)
+    with pytest.raises(ValueError, match="lag"):
+        follow_diagnosis(per_scan, "diag_reference", 0)
+
+
+def test_failing_follow_row_names_its_cause_from_the_diagnosis():
+    from hypotrack.experiments.glmb_benchmark.summary import follow_claims
+
+    blind = _per_scan("blind", [2] * 14, [0] * 14)
+    # two runs: 0.292 ± 0.208 against 0.1, within 3 s.e.: the runs cannot decide
+    rows = follow_claims(pd.concat([_diag_per_scan(), blind]), {"diag_reference": "map_cardinality"}, "blind", 2,
+                         0.1, truth_rows=TRUTH_ROWS)
+    assert rows[0].status == "not reproduced" and rows[0].cause == "too few runs"
+    assert "diagnosis: 0.292 ± 0.208" in rows[0].note
+    # forty runs of the same two patterns: s.e. 0.034, so 0.292 is > 3 s.e. above 0.1; the reference settings'
+    # failing stays open, a budget-truncated filter's is its truncation (project choice)
+    many = _diag_per_scan(runs=range(40))
+    rows = follow_claims(pd.concat([many, blind]), {"diag_reference": "map_cardinality"}, "blind", 2, 0.1)
+    assert rows[0].cause == ""
+    rows = follow_claims(pd.concat([many.assign(tracker="diag"), blind]), {"diag": "map_cardinality"}, "blind", 2, 0.1)
+    assert rows[0].cause == "project choice"
+
+
+def test_missed_objects_by_hand():
+    from hypotrack.experiments.glmb_benchmark.run import missed_objects
+
+    pos = np.array([[0.0, 0.0], [500.0, 0.0], [0.0, 150.0]])
+    assert missed_objects([[10.0, 0.0]], pos, [3, 7, 9], 100.0) == "7 9"
+    assert missed_objects(np.zeros((0, 2)), pos, [3, 7, 9], 100.0) == "3 7 9"
+    assert missed_objects([[0.0, 60.0], [500.0, 99.0]], pos, [3, 7, 9], 100.0) == ""

@@ -2,7 +2,8 @@
 # ideal filter, PDAF, MHT (GNNF) and ECMHT, with negative controls (the filters with a known defect).
 # Monte Carlo runs are sharded (vectorised within a shard); the ideal filter's closed form
 # (hypotrack.experiments.closely_spaced.oracle) is checked against a large ideal-only Monte Carlo and
-# finds the convention behind the published ideal value; the sensitivity tables score the methods and
+# finds the convention behind the published ideal value; mht_power.csv puts every broken MHT (random or no
+# joint hypothesis, swapped labels, misstated noise) through the MHT row's check; the sensitivity tables score the methods and
 # every PDAF form under each plausible reading (initial variance, window, scored estimate).
 CS_DIR = f"{RESULTS}/closely_spaced"
 CS_SHARDS = range(config["closely_spaced"]["n_shards"])
@@ -89,6 +90,8 @@ rule closely_spaced_table:
         fig_pdf=f"{CS_DIR}/mospa_vs_scan.pdf",
         fig_png=report_figure(f"{CS_DIR}/mospa_vs_scan.png", "closely_spaced", "mospa_vs_scan"),
         claims=f"{CS_DIR}/claims.csv",
+        power=report_table(f"{CS_DIR}/mht_power.csv", "closely_spaced", "mht_power"),
+        power_macros=f"{CS_DIR}/mht_power_macros.csv",
     params:
         cfg=config["closely_spaced"],
     script:

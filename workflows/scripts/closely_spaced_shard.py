@@ -17,7 +17,8 @@ res = closely_spaced_monte_carlo(
     sigma2=cfg["sigma2"], gamma=cfg["gamma"], n_runs=n_runs, n_scans=cfg["n_scans"], n_sensors=cfg["n_sensors"],
     R=cfg["R"], dt=cfg["dt"], initial_variance=cfg["initial_variance"], pdaf_variant=cfg["pdaf_variant"],
     extra_pdaf_variants=[v for v in cfg["extra_pdaf_variants"] if v != cfg["pdaf_variant"]],
-    transient_scans=cfg["transient_scans"], controls=True, seed=seed,
+    transient_scans=cfg["transient_scans"], controls=True,
+    noise_factors=cfg["mht_noise_factors"], seed=seed,
 )
 per_run, per_scan = shard_tables(res, first_run=first_run, dt=cfg["dt"])
 write_table(per_run, snakemake.output.per_run)  # noqa: F821

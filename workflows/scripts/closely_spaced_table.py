@@ -5,8 +5,9 @@ import pandas as pd
 from hypotrack.experiments.closely_spaced.run import pool_per_scan, summarise_closely_spaced
 from hypotrack.experiments.closely_spaced.claims import closely_spaced_claims, conventions_table
 from hypotrack.experiments.closely_spaced.figures import plot_mospa_vs_scan
-from hypotrack.experiments.closely_spaced.controls import CONTROLS
-from hypotrack.reporting.ledger import write_claims
+from hypotrack.experiments.closely_spaced.controls import controlled_method
+from hypotrack.experiments.closely_spaced.power import mht_power_macros, mht_power_table
+from hypotrack.reporting.ledger import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
 from hypotrack.reporting.joblog import prefix_output
 
@@ -24,7 +25,12 @@ write_table(conventions_table(cfg), out.conventions)
 curves = pool_per_scan(pd.concat(pd.read_csv(p) for p in snakemake.input.per_scan))  # noqa: F821
 write_table(curves, out.curves)
 print("closely_spaced table:\n" + table.to_string(index=False), flush=True)
-plot_mospa_vs_scan(curves[~curves["method"].isin(CONTROLS)], table, cfg, out.fig_pdf, out.fig_png)  # no controls
+controls = [m for m in curves["method"].unique() if controlled_method(m)]
+plot_mospa_vs_scan(curves[~curves["method"].isin(controls)], table, cfg, out.fig_pdf, out.fig_png)  # no controls
+power = mht_power_table(per_run, cfg)
+write_table(power, out.power)
+print("broken MHTs through the MHT row's check:\n" + power.to_string(index=False), flush=True)
+write_macros("closely_spaced", mht_power_macros(power), out.power_macros)
 oracle = pd.read_csv(snakemake.input.oracle)  # noqa: F821
 pdaf = pd.read_csv(snakemake.input.pdaf)  # noqa: F821
-write_claims(closely_spaced_claims(table, steady, cfg, oracle, pdaf), out.claims)
+write_claims(closely_spaced_claims(table, steady, cfg, oracle, pdaf, power), out.claims)

@@ -7,6 +7,7 @@ from hypotrack.experiments.glmb_benchmark.summary import (
     benchmark_macros,
     curves,
     follow_claims,
+    follow_macros,
     follow_score,
     plot_benchmark,
     summary_table,
@@ -35,10 +36,11 @@ claims = benchmark_claims(summary, cfg["reference_tracker"], controls)
 follow = cfg["follow_check"]
 peers = [name for name, spec in trackers.items() if spec["kind"] == "gmphd"]
 claims += follow_claims(per_scan, follow["trackers"], follow["control"], follow["lag"], follow["tolerance"],
-                        peers[0] if peers else None)
+                        peers[0] if peers else None, truth_rows=cfg["truth"], birth_std=cfg["birth_std"])
 write_claims(claims, out.claims)
 values, times = benchmark_macros(summary, timing)
 values.update(FollowLag=follow["lag"], FollowTolerance=f"{follow['tolerance']:g}",
               FollowControlOutside=f"{follow_score(per_scan, follow['control'], follow['lag'])[0]:.2f}")
+values.update(follow_macros(per_scan, follow["trackers"], follow["lag"], cfg["truth"]))
 write_macros("glmb_benchmark", values, out.macros)
 write_macros("glmb_benchmark", times, out.timing_macros)

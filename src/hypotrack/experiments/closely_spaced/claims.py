@@ -8,7 +8,8 @@ config section and the published numbers' own Monte Carlo error (``published_run
 
 Every row that claims power names a negative control (:func:`hypotrack.reporting.verdict.with_control`)
 run through the *same* check: the filters with a known defect of :mod:`.controls` for the Monte Carlo
-rows, the ECMHT without swaps (the MHT) for the ordering, the filtered variance ``P(k|k)`` for the
+rows (for the MHT rows the MHT keeping a random joint hypothesis; every broken MHT is in the power
+table of :mod:`.power`, and an inconclusive row whose control also passes gets the cause "no power"), the ECMHT without swaps (the MHT) for the ordering, the filtered variance ``P(k|k)`` for the
 steady-state formula and the ideal filter scored on ``X(k|k)`` for the closed-form rows. A control
 fails only when its own verdict is *not reproduced*; otherwise the row is *uninformative*.
 
@@ -25,6 +26,7 @@ import pandas as pd
 from ...reporting.ledger import Claim, monte_carlo_claim, numeric_claim
 from ...reporting.verdict import monte_carlo_verdict, with_control
 from .controls import CONTROLS
+from .power import control_verdict
 from .run import LABELLED_IDEAL, TABLE_6_1
 from .oracle import (ideal_conventions_table, ideal_mospa, parameters_reaching,
                                     riccati_steady_prediction)
@@ -53,14 +55,18 @@ def _mc(key, item, row, published, tol, note, cfg, evidence="published number", 
                              mean=float(row["mean"]), se=float(row["se"]), note=note, evidence=evidence, key=key, **kw)
 
 
-def _mc_control(claim, what, row, published, cfg, *, rel_tol=None, abs_tol=None):
+def _mc_control(claim, what, row, published, cfg, *, rel_tol=None, abs_tol=None, method_row=None):
     """``claim`` with the control ``row`` (n, mean, se) put through the same Monte Carlo check.
 
     The control fails when its own verdict is *not reproduced*; an inconclusive control has not shown
-    that the check has power, so it counts as passing."""
-    runs = None if abs_tol is not None else int(cfg["published_runs"])
-    tol = abs_tol if abs_tol is not None else rel_tol * published
-    v = monte_carlo_verdict(float(row["mean"]), float(row["se"]), float(published), tol, int(row["n"]), runs)
+    that the check has power, so it counts as passing. With a relative tolerance the published number's
+    own Monte Carlo error enters as in the row's check, estimated from the spread of the method it
+    reports (``method_row``; :func:`~.power.control_verdict`)."""
+    if abs_tol is not None:
+        v = monte_carlo_verdict(float(row["mean"]), float(row["se"]), float(published), abs_tol, int(row["n"]))
+    else:
+        v = control_verdict(row, row if method_row is None else method_row, published, rel_tol * published,
+                            int(cfg["published_runs"]))
     value = f"{float(row['mean']):.4g} ± {float(row['se']):.2g} (n = {int(row['n'])}), {v.status}"
     return with_control(claim, what, value, v.status != "not reproduced")
 
@@ -91,14 +97,57 @@ def _pdaf_range(pdaf: pd.DataFrame | None) -> str:
             "(results/closely_spaced/sensitivity_pdaf.csv)")
 
 
+def _mht_control(table: pd.DataFrame) -> str:
+    """The MHT rows' control: the MHT keeping a random joint hypothesis (it breaks exactly what the MHT
+    decides, which hypothesis to keep); tables from before that control existed fall back on the
+    label-swapped MHT."""
+    return "MHT[random hypothesis]" if "MHT[random hypothesis]" in table.index else "MHT[swapped labels]"
+
+
+def _power_note(power: pd.DataFrame, window: str) -> str:
+    """The MHT row's note on power: every broken MHT of :func:`~.power.mht_power_table` in ``window``."""
+    w = power[(power["window"] == window) & (power["control"] != "MHT")]
+    parts = [f"{r.control[4:-1]} {r.mean:.4g} ({_pct(r.relative_to_published)}, {r.verdict})"
+             for r in w.itertuples()]
+    fails = int(w["control_fails"].astype(bool).sum())
+    return (f"broken MHTs through the same check ({fails} of {len(w)} fail; results/closely_spaced/mht_power.csv): "
+            + ", ".join(parts))
+
+
+def _pct(x: float) -> str:
+    """A signed percentage without a negative zero ("+0 %", "−3 %")."""
+    v = round(100 * x)
+    return f"{'+' if v >= 0 else '−'}{abs(v):d} %"
+
+
+def _paired_claim(power: pd.DataFrame, rel_tol: float) -> Claim:
+    """The check with power: the MHT against its random-hypothesis form on the same runs (paired)."""
+    w = power[power["window"] == "every scan"].set_index("control")
+    r, nj = w.loc["MHT[random hypothesis]"], w.loc["MHT[no joint hypothesis]"]
+    share = r["paired_diff"] / w.loc["MHT", "mean"]
+    return monte_carlo_claim(
+        "closely_spaced", "Table 6.1 MHT: the kept hypothesis moves the MOSPA (random-hypothesis MHT minus MHT, "
+        "paired on the same runs)", "extension (003 Table 6.1 scenario)", None, n=int(r["n"]),
+        mean=float(r["paired_diff"]), se=float(r["paired_diff_se"]), evidence="measurement", key="MhtPairedRandom",
+        note=(f"every scan; paired difference {r['paired_diff']:+.3g} ± {r['paired_diff_se']:.2g} m² "
+              f"({r['paired_z']:.3g} s.e.), {_pct(share)} of the MHT's MOSPA, "
+              f"{'less' if abs(share) < rel_tol else 'more'} than the stated tolerance ({100 * rel_tol:g} %); "
+              f"the unpaired check calls the random hypothesis {r['verdict']}. For two targets this close the "
+              f"best hypothesis (the sorted one) already biases the tracks apart, so which feasible hypothesis "
+              f"is kept moves the MOSPA little; without the joint hypothesis the paired difference is "
+              f"{nj['paired_diff']:+.3g} ({nj['paired_z']:.3g} s.e.)"))
+
+
 def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg, oracle: pd.DataFrame | None = None,
-                          pdaf: pd.DataFrame | None = None) -> list:
+                          pdaf: pd.DataFrame | None = None, power: pd.DataFrame | None = None) -> list:
     """Ledger rows from Table 6.1 over every scored scan (``table``) and after the transient (``steady``).
 
     Both tables come from :func:`~.run.summarise_closely_spaced` over a Monte Carlo run with the
     controls of :mod:`.controls`; ``oracle`` is :func:`~.sensitivity.ideal_oracle_monte_carlo` (the
     closed-form rows; without it they use the ideal rows of ``table``/``steady`` and no control) and
-    ``pdaf`` the PDAF-variant table of :func:`~.sensitivity.pdaf_variant_cells` (quoted in the PDAF note).
+    ``pdaf`` the PDAF-variant table of :func:`~.sensitivity.pdaf_variant_cells` (quoted in the PDAF note);
+    ``power`` the broken-MHT table of :func:`~.power.mht_power_table` (quoted in the MHT rows' notes, and
+    the paired MHT-vs-random-hypothesis row, an extension).
     """
     tol = float(cfg["reconstruction_rel_tol"])
     skip = int(cfg["transient_scans"])
@@ -123,10 +172,12 @@ def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg, oracle
                     "must differ in an unstated way")
         claim = _mc(f"Mospa{method.capitalize()}", f"Table 6.1 MOSPA {method}", t.loc[method], TABLE_6_1[method],
                     tol, note, cfg, evidence)
-        control = {"ideal": "ideal[blind]", "MHT": "MHT[swapped labels]", "ECMHT": "ECMHT[independent orders]"}
+        control = {"ideal": "ideal[blind]", "MHT": _mht_control(t), "ECMHT": "ECMHT[independent orders]"}
         if method in control and control[method] in t.index:
             claim = _mc_control(claim, CONTROLS[control[method]][1], t.loc[control[method]], TABLE_6_1[method],
-                                cfg, rel_tol=tol)
+                                cfg, rel_tol=tol, method_row=t.loc[method])
+        if method == "MHT" and power is not None:
+            claim = replace(claim, note=f"{claim.note}; {_power_note(power, 'every scan')}")
         claims.append(claim)
 
     order = ["ideal", "ECMHT", "MHT", "PDAF"]
@@ -199,18 +250,27 @@ def closely_spaced_claims(table: pd.DataFrame, steady: pd.DataFrame, cfg, oracle
                    "(a calibration)", cfg, "calibration")
     if "ideal[blind, labelled]" in s.index:
         labelled = _mc_control(labelled, CONTROLS["ideal[blind, labelled]"][1], s.loc["ideal[blind, labelled]"],
-                               TABLE_6_1["ideal"], cfg, rel_tol=tol)
+                               TABLE_6_1["ideal"], cfg, rel_tol=tol, method_row=s.loc[LABELLED_IDEAL])
     claims.append(labelled)
-    for method, control in (("MHT", "MHT[swapped labels]"), ("ECMHT", "ECMHT[independent orders]")):
+    for method, control in (("MHT", _mht_control(s)), ("ECMHT", "ECMHT[independent orders]")):
         moved = s.loc[method, "mean"] / t.loc[method, "mean"] - 1
         claim = _mc(f"Mospa{method.capitalize()}Steady", f"Table 6.1 MOSPA {method} after the transient",
                     s.loc[method], TABLE_6_1[method], tol,
                     f"scans after the ideal's transient only (labels are not defined for a tracker that does not "
                     f"know the association, so the pairing stays): {100 * moved:+.1f} % against every scan", cfg)
         if control in s.index:
-            claim = _mc_control(claim, CONTROLS[control][1], s.loc[control], TABLE_6_1[method], cfg, rel_tol=tol)
+            claim = _mc_control(claim, CONTROLS[control][1], s.loc[control], TABLE_6_1[method], cfg, rel_tol=tol,
+                                method_row=s.loc[method])
+        if method == "MHT" and power is not None:
+            claim = replace(claim, note=f"{claim.note}; {_power_note(power, 'after the transient')}")
         claims.append(claim)
+    if power is not None:
+        claims.append(_paired_claim(power, tol))
     # Every Table 6.1 gap traces to what the document leaves unstated (the multi-sensor PDAF form, the initial
     # variance, the scoring window): the sensitivity tables show each reading's verdict.
+    # An undecided row whose control also passes could not tell the method from its broken form even with
+    # more runs: its cause is the check's lack of power, not the run count.
+    claims = [replace(c, cause="no power") if c.status == "inconclusive" and c.control.endswith("also passes")
+              and not c.cause else c for c in claims]
     return [replace(c, cause="unstated parameter") if c.status == "not reproduced" and not c.cause else c
             for c in claims]

@@ -1,4 +1,4 @@
-"""Seed 003 Table 6.1 and Figs 6.1–6.2: two closely spaced OU targets seen by N sensors.
+"""Document 003 Table 6.1 and Figs 6.1–6.2: two closely spaced OU targets seen by N sensors.
 
 * :func:`closely_spaced_monte_carlo` — one shard of Table 6.1: MOSPA of the ideal filter,
   PDAF, MHT and ECMHT, scored on the one-step prediction ``X(k|k−1)`` (reconstruction §6.4),
@@ -18,12 +18,13 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ..._validation import check_int, check_nonnegative
+from ..._validation import check_int, check_nonnegative, check_positive
 from ...models.motion import OrnsteinUhlenbeck
 from ...reporting.verdict import monte_carlo_verdict
 from ...scenarios.closely_spaced import simulate_closely_spaced
 from ...trackers.ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter, mospa_two_targets
-from .controls import CONTROLS, IndependentOrderECMHTFilter, PredictionOnlyFilter, SwappedLabelGNNFilter
+from .controls import (CONTROLS, IndependentOrderECMHTFilter, NonExclusiveNNFilter, PredictionOnlyFilter,
+                       RandomHypothesisGNNFilter, SwappedLabelGNNFilter, controlled_method, misstated_noise_name)
 
 __all__ = [
     "LABELLED_IDEAL",
@@ -53,10 +54,11 @@ def _filters(model, R, n_sensors, dt, ecmht_rng, pdaf_variant):
 
 
 def _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance, pdaf_variant, seed,
-                          controls=False):
+                          controls=False, noise_factors=()):
     """Simulate the scenario and build the four filters from independent child streams of ``seed``
     (scenario, ECMHT orders; with ``controls``, the negative controls of :mod:`.controls` too, the
-    ECMHT control from a third stream so the other streams are unchanged)."""
+    ECMHT control from a third stream and the random-hypothesis MHT from a child of that stream, so
+    the other streams are unchanged; ``noise_factors``: the MHT with R × factor for each)."""
     model = OrnsteinUhlenbeck(sigma2, gamma)
     scen_seed, ecmht_seed, control_seed = (np.random.SeedSequence(seed) if isinstance(seed, int) else seed).spawn(3)
     real = simulate_closely_spaced(
@@ -69,6 +71,12 @@ def _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, init
         filters["MHT[swapped labels]"] = SwappedLabelGNNFilter(model, R, n_sensors, dt)
         filters["ECMHT[independent orders]"] = IndependentOrderECMHTFilter(
             model, R, n_sensors, dt, rng=np.random.default_rng(control_seed))
+        (coin_seed,) = control_seed.spawn(1)  # a child: the ECMHT control's stream above is unchanged
+        filters["MHT[random hypothesis]"] = RandomHypothesisGNNFilter(model, R, n_sensors, dt,
+                                                                      rng=np.random.default_rng(coin_seed))
+        filters["MHT[no joint hypothesis]"] = NonExclusiveNNFilter(model, R, n_sensors, dt)
+        for factor in noise_factors:
+            filters[misstated_noise_name(factor)] = GNNFilter(model, R * factor, n_sensors, dt)
     return model, real, filters
 
 
@@ -86,6 +94,7 @@ def closely_spaced_monte_carlo(
     extra_pdaf_variants=(),
     transient_scans: int = 0,
     controls: bool = False,
+    noise_factors=(),
     seed,
 ) -> dict:
     """Table 6.1: MOSPA of the ideal filter, PDAF, MHT and ECMHT over ``n_runs`` realisations.
@@ -115,6 +124,9 @@ def closely_spaced_monte_carlo(
     controls : bool
         Also run the negative controls of :mod:`.controls` (:data:`~.controls.CONTROLS`), scored the
         same way; the blind control is also scored against its own targets (``ideal[blind, labelled]``).
+    noise_factors : sequence of float
+        With ``controls``: also the MHT whose filter assumes the measurement variance ``R × factor``
+        (each factor > 0 and ≠ 1), scored as ``MHT[R × <factor>]``.
     seed : int or numpy.random.SeedSequence
         Seeds the scenario and the ECMHT's sensor orders (two independent streams).
 
@@ -130,9 +142,12 @@ def closely_spaced_monte_carlo(
         if v not in PDAF_VARIANTS:
             raise ValueError(f"PDAF variant must be one of {PDAF_VARIANTS}, got {v!r}")
     n_scans = check_int(n_scans, "n_scans", minimum=2)
+    noise_factors = [check_positive(f, "noise_factors") for f in noise_factors]
+    if any(f == 1 for f in noise_factors) or len(set(noise_factors)) != len(noise_factors):
+        raise ValueError(f"noise_factors must be distinct and differ from 1 (1 is the MHT itself), got {noise_factors}")
     transient_scans = check_int(transient_scans, "transient_scans", minimum=0, maximum=n_scans - 2)
     model, real, filters = _scenario_and_filters(sigma2, gamma, n_runs, n_scans, n_sensors, R, dt, initial_variance,
-                                                 pdaf_variant, seed, controls)
+                                                 pdaf_variant, seed, controls, noise_factors)
     for v in extra_pdaf_variants:
         filters[f"PDAF[{v}]"] = PDAFilter(model, R, n_sensors, dt, variant=v)
     labelled = {LABELLED_IDEAL: "ideal", **({"ideal[blind, labelled]": "ideal[blind]"} if controls else {})}
@@ -211,7 +226,9 @@ def summarise_closely_spaced(per_run: pd.DataFrame, pdaf_variant: str, *, rel_to
     published numbers, whose own Monte Carlo error widens the interval); the row ``PDAF`` is the PDAF
     form ``pdaf_variant``, the other forms follow as ``PDAF[<variant>]``. The labelled ideal is
     compared with the ideal's published value, and each negative control of :data:`~.controls.CONTROLS`
-    with the published value of the method it controls (its verdict should be "not reproduced").
+    (and each misstated-noise MHT) with the published value of the method it controls, the published
+    number's own error taken from that method's spread (:func:`~.power.control_verdict`; a control's
+    verdict should be "not reproduced").
     """
     rel_tol = check_nonnegative(rel_tol, "rel_tol")
     if published_runs is not None:
@@ -223,15 +240,23 @@ def summarise_closely_spaced(per_run: pd.DataFrame, pdaf_variant: str, *, rel_to
     table = table.loc[[m for m in order if m in table.index]].reset_index()
     published = {**TABLE_6_1, LABELLED_IDEAL: TABLE_6_1["ideal"]}
     published.update({name: published[of] for name, (of, _) in CONTROLS.items()})
+    published.update({m: published[controlled_method(m)] for m in table["method"] if controlled_method(m)})
     table["published"] = table["method"].map(published).astype(float)
     table["relative_difference"] = table["mean"] / table["published"] - 1
+    from .power import control_verdict  # power builds on this module
+
+    rows = table.set_index("method")
     z, verdict = [], []
     for r in table.itertuples():
         if np.isnan(r.published):
             z.append(np.nan)
             verdict.append("")
             continue
-        v = monte_carlo_verdict(r.mean, r.se, r.published, rel_tol * r.published, int(r.n), published_runs)
+        of = controlled_method(r.method)
+        if of in rows.index and published_runs is not None:  # the published error from the method's spread
+            v = control_verdict(rows.loc[r.method], rows.loc[of], r.published, rel_tol * r.published, published_runs)
+        else:
+            v = monte_carlo_verdict(r.mean, r.se, r.published, rel_tol * r.published, int(r.n), published_runs)
         z.append(v.z)
         verdict.append(v.status)
     table["z"] = z

@@ -42,7 +42,8 @@ from ...models.sensors import Box, DetectionModel, LinearPositionSensor, Poisson
 from .reference import EXTRACTIONS, BlindTracker, SqrtAllocationFilter, extract
 
 __all__ = ["KINDS", "PEER_KINDS", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
-           "simulate_scans", "make_tracker", "TRUTH_CONVENTIONS", "ALLOCATIONS", "SUFFIX", "implementation_labels", "legend_labels", "run_tracker", "ospa_parts"]
+           "simulate_scans", "make_tracker", "TRUTH_CONVENTIONS", "ALLOCATIONS", "SUFFIX", "implementation_labels", "legend_labels", "run_tracker", "ospa_parts",
+           "missed_objects"]
 
 KINDS = ("glmb", "glmb_murty", "rfisst", "homht_kbest", "gmphd", "blind")
 ALLOCATIONS = ("per_parent", "sqrt_weight")
@@ -233,12 +234,24 @@ def ospa_parts(X, Y, c: float):
 SUFFIX = {"heaviest": "", "map_cardinality": "_mc"}
 
 
+def missed_objects(estimates, positions, ids, c: float) -> str:
+    """The true objects (their rows of the config's ``truth``, space-separated) with no estimate within
+    ``c`` of their position: the objects OSPA (cut-off ``c``) counts as missed."""
+    est = np.asarray(estimates, dtype=float).reshape(-1, 2)
+    pos = np.asarray(positions, dtype=float).reshape(-1, 2)
+    if len(est) == 0:
+        return " ".join(str(int(i)) for i in ids)
+    far = np.linalg.norm(pos[:, None, :] - est[None, :, :], axis=2).min(axis=1) > c
+    return " ".join(str(int(i)) for i in np.asarray(ids)[far])
+
+
 def run_tracker(tracker, scans, truth, c: float) -> pd.DataFrame:
-    """Per scan: OSPA and its parts and the estimated number under both extraction rules
-    (``heaviest``: ``ospa``, ``ospa_loc``, ``ospa_card``, ``n_est``; ``map_cardinality``: the same
-    with suffix ``_mc``), the true number, the expected number and the run time (s)."""
+    """Per scan: OSPA and its parts, the estimated number and the missed true objects under both
+    extraction rules (``heaviest``: ``ospa``, ``ospa_loc``, ``ospa_card``, ``n_est``, ``missed``;
+    ``map_cardinality``: the same with suffix ``_mc``; :func:`missed_objects`), the true number, the
+    expected number and the run time (s)."""
     rows = []
-    for k, (Z, (x, _)) in enumerate(zip(scans, truth), start=1):
+    for k, (Z, (x, ids)) in enumerate(zip(scans, truth), start=1):
         t0 = time.perf_counter()
         post = tracker.step(Z)
         dt = time.perf_counter() - t0
@@ -247,7 +260,8 @@ def run_tracker(tracker, scans, truth, c: float) -> pd.DataFrame:
             est = extract(tracker, post, rule)[:, :2]
             o, loc, card = ospa_parts(est, x[:, :2], c)
             sfx = SUFFIX[rule]
-            row.update({f"ospa{sfx}": o, f"ospa_loc{sfx}": loc, f"ospa_card{sfx}": card, f"n_est{sfx}": len(est)})
+            row.update({f"ospa{sfx}": o, f"ospa_loc{sfx}": loc, f"ospa_card{sfx}": card, f"n_est{sfx}": len(est),
+                        f"missed{sfx}": missed_objects(est, x[:, :2], ids, c)})
         row.update({"n_true": len(x), "expected_number": float(post.expected_number), "time_s": dt})
         rows.append(row)
     return pd.DataFrame(rows)

@@ -7,8 +7,8 @@ import pandas as pd
 
 from ...reporting.ledger import Claim
 
-__all__ = ["summary_table", "curves", "plot_benchmark", "benchmark_claims", "follow_score", "follow_claims",
-           "benchmark_macros"]
+__all__ = ["summary_table", "curves", "plot_benchmark", "benchmark_claims", "follow_score", "follow_diagnosis",
+           "diagnosis_note", "follow_macros", "follow_claims", "benchmark_macros"]
 
 
 def summary_table(per_scan: pd.DataFrame, implementations: dict | None = None):
@@ -148,14 +148,134 @@ def follow_score(per_scan: pd.DataFrame, tracker: str, lag: int, rule: str = "he
     return mean_out, gap
 
 
+def _windows(truth: pd.Series, lag: int):
+    """Scans of every change of the true number and the mask of scans inside a change's window."""
+    prev = np.r_[0, truth.to_numpy()[:-1]]
+    changes = truth.index[truth.to_numpy() != prev]
+    in_window = np.zeros(len(truth), dtype=bool)
+    for k in changes:
+        in_window |= (truth.index >= k) & (truth.index < k + lag)
+    return changes, in_window
+
+
+def _ids(cell) -> list[int]:
+    """Truth rows of a ``missed`` cell (space-separated; empty or NaN: none)."""
+    if cell is None or (isinstance(cell, float) and np.isnan(cell)):
+        return []
+    return [int(float(t)) for t in str(cell).split()]
+
+
+def follow_diagnosis(per_scan: pd.DataFrame, tracker: str, lag: int, rule: str = "heaviest",
+                     truth_rows=None) -> dict:
+    """Where the error of :func:`follow_score` away from the changes comes from.
+
+    Over the scans outside every change's window (as in :func:`follow_score`), per run the mean
+    ``|N̂ − N|``; a *spell* is a run's stretch of consecutive outside scans whose errors have one sign (all
+    under- or all over-counts) lasting at least ``2 × lag`` scans (a lasting miss or false object, not a
+    short flicker).
+
+    Returns a dict: ``outside`` (the mean of :func:`follow_score`), ``se`` (standard error of the
+    per-run means across runs), ``n_runs``; ``spell_runs`` (runs holding a spell), ``spell_share``
+    (their spells' share of the summed outside error), ``flicker`` (the mean error outside spells, per
+    outside scan and run), ``spell_after`` (the change each spell follows, the latest change before
+    its start, as a sorted list), ``undercount_spells``; with the per-scan ``missed`` column
+    (``missed_mc`` under the demo's extraction) and ``truth_rows`` (the config's ``[t_birth, t_death,
+    x, y, vx, vy]``): ``lost`` — the truth row missed on most scans of the under-count spells, its
+    ``lost_birth`` scan and ``lost_speed`` (m/s); absent otherwise.
+    """
+    lag = int(lag)
+    if lag < 1:
+        raise ValueError(f"lag must be an integer >= 1, got {lag}")
+    sfx = "_mc" if rule == "map_cardinality" else ""
+    g = per_scan[per_scan.tracker == tracker]
+    if g.empty:
+        raise ValueError(f"tracker {tracker!r} has no rows in the per-scan table")
+    truth = g.groupby("scan").n_true.first().sort_index()
+    changes, in_window = _windows(truth, lag)
+    outside = truth.index[~in_window]
+    o = g[g.scan.isin(outside)].sort_values(["run", "scan"])
+    err = (o["n_est" + sfx] - o.n_true).to_numpy()
+    per_run = pd.Series(np.abs(err), index=o.run.to_numpy()).groupby(level=0).mean()
+    n_runs = len(per_run)
+    min_len = 2 * lag
+    spell_mass, spell_runs, after, under, missed_counts = 0.0, set(), [], 0, {}
+    scans, runs = o.scan.to_numpy(), o.run.to_numpy()
+    pos = {k: i for i, k in enumerate(outside)}
+    i = 0
+    while i < len(err):
+        j = i
+        while (j + 1 < len(err) and runs[j + 1] == runs[i] and np.sign(err[j + 1]) == np.sign(err[i])
+               and pos[scans[j + 1]] == pos[scans[j]] + 1):
+            j += 1
+        if err[i] != 0 and j - i + 1 >= min_len:
+            spell_mass += np.abs(err[i:j + 1]).sum()
+            spell_runs.add(int(runs[i]))
+            after.append(int(changes[changes <= scans[i]].max()))
+            if err[i] < 0:
+                under += 1
+                if "missed" + sfx in o:
+                    for cell in o["missed" + sfx].iloc[i:j + 1]:
+                        for t in _ids(cell):
+                            missed_counts[t] = missed_counts.get(t, 0) + 1
+        i = j + 1
+    total = np.abs(err).sum()
+    out = {"outside": float(np.abs(err).mean()) if len(err) else 0.0,
+           "se": float(per_run.std(ddof=1) / np.sqrt(n_runs)) if n_runs > 1 else float("nan"),
+           "n_runs": n_runs, "spell_runs": len(spell_runs), "spell_share": float(spell_mass / total) if total else 0.0,
+           "flicker": float((total - spell_mass) / len(err)) if len(err) else 0.0,
+           "spell_after": sorted(set(after)), "undercount_spells": under}
+    if missed_counts and truth_rows is not None:
+        rows = np.asarray(truth_rows, dtype=float).reshape(-1, 6)
+        lost = max(sorted(missed_counts), key=missed_counts.get)
+        out.update(lost=lost, lost_birth=int(rows[lost, 0]), lost_speed=float(np.hypot(*rows[lost, 4:6])))
+    return out
+
+
+def diagnosis_note(d: dict, tolerance: float, birth_std: float | None = None) -> str:
+    """One line on :func:`follow_diagnosis`: the value against the threshold in standard errors, and
+    where the excess comes from."""
+    text = (f"diagnosis: {d['outside']:.3f} ± {d['se']:.3f} (s.e. over {d['n_runs']} runs) against the threshold "
+            f"{tolerance:g}, which is this project's (the published figure shows the curve, no number)")
+    if d["spell_runs"]:
+        text += (f"; {100 * d['spell_share']:.0f} % of the error away from the changes is {d['spell_runs']} "
+                 f"run(s) with a lasting miscount after the change at scan "
+                 f"{', '.join(str(k) for k in d['spell_after'])}")
+        if "lost" in d:
+            text += (f" (the object missed most in them: born at scan {d['lost_birth']}, moving at "
+                     f"{d['lost_speed']:.0f} m/s" + (f" against the birth prior's velocity s.d. of {birth_std:g} m/s"
+                                                     if birth_std else "") + ")")
+        text += f", the rest short miscounts ({d['flicker']:.3f} per scan)"
+    return text
+
+
+def follow_macros(per_scan: pd.DataFrame, checked: dict, lag: int, truth_rows=None) -> dict:
+    """Numbers the paper quotes from :func:`follow_diagnosis`, per checked tracker (``Follow<Tracker>`` +
+    ``Se``, ``NRuns``, ``SpellRuns``, ``SpellShare`` (percent), ``Flicker``, ``LostBirth``, ``LostSpeed``;
+    "--" where the diagnosis found no lasting miss)."""
+    out = {}
+    for name, rule in checked.items():
+        d = follow_diagnosis(per_scan, name, lag, rule, truth_rows)
+        k = "Follow" + _camel(name)
+        out.update({f"{k}Se": f"{d['se']:.3f}", f"{k}NRuns": str(d["n_runs"]), f"{k}SpellRuns": str(d["spell_runs"]),
+                    f"{k}SpellShare": f"{100 * d['spell_share']:.0f}", f"{k}Flicker": f"{d['flicker']:.3f}",
+                    f"{k}LostBirth": str(d["lost_birth"]) if "lost" in d else "--",
+                    f"{k}LostSpeed": f"{d['lost_speed']:.0f}" if "lost" in d else "--"})
+    return out
+
+
 def follow_claims(per_scan: pd.DataFrame, checked: dict, control: str, lag: int, tolerance: float,
-                  peer: str | None = None) -> list:
+                  peer: str | None = None, truth_rows=None, birth_std: float | None = None) -> list:
     """Qualitative rows: the δ-GLMB's estimated number follows the truth, within ``lag`` scans of every
     birth and death (Vo, Vo & Hoang 2017 Sec. V's cardinality curve on this scenario): away from the
     changes the mean ``|N̂ − N|`` is at most ``tolerance`` and at the end of each change's window the
     mean ``N̂`` is within half an object of the truth (:func:`follow_score`). ``checked`` maps a tracker
     to its extraction rule. The negative control, the ``control`` tracker (fed empty scans), is scored the
-    same way and must fail; ``peer`` (the GM-PHD), when given, is scored too and named in the note."""
+    same way and must fail; ``peer`` (the GM-PHD), when given, is scored too and named in the note.
+
+    A failing row is diagnosed (:func:`follow_diagnosis`, one line in the note); its cause is *too few
+    runs* when the threshold lies within 3 standard errors (across runs) of the measured value, else, for
+    a budget-truncated filter, *project choice* (its truncation); ``truth_rows`` and ``birth_std`` (the
+    config's truth and birth standard deviation) name the object a lasting under-count misses."""
     from ...reporting.verdict import with_control
 
     def passes(out, gap):
@@ -172,15 +292,23 @@ def follow_claims(per_scan: pd.DataFrame, checked: dict, control: str, lag: int,
             p_out, p_gap = follow_score(per_scan, peer, lag)
             note += (f"; {peer} scored the same way: {p_out:.3f} away from the changes, gap {p_gap:.2f} "
                      f"({'passes' if passes(p_out, p_gap) else 'fails'})")
+        cause = ""
+        if not ok:
+            d = follow_diagnosis(per_scan, name, lag, rule, truth_rows)
+            note += "; " + diagnosis_note(d, tolerance, birth_std)
+            # within the run-to-run noise of the threshold: the runs cannot decide; else a budget-truncated
+            # filter's failing is this project's truncation choice (the reference settings' stays open)
+            if gap < 0.5 and abs(d["outside"] - tolerance) <= 3 * d["se"]:
+                cause = "too few runs"
+            elif not name.endswith("reference"):
+                cause = "project choice"
         claim = Claim("glmb_benchmark", f"{name}: the estimated number follows the truth, reaching it within {lag} "
                       "scans of every birth and death", "Vo, Vo & Hoang 2017 Sec. V (cardinality curve, this scenario)",
                       "follows the truth",
                       f"mean |N̂ − N| {out:.3f} away from the changes; largest gap {gap:.2f} at a window's end",
                       f"≤ {tolerance:g} away from the changes; gap < 0.5",
                       "qualitative" if ok else "not reproduced", note, "measurement", key="Follows" + _camel(name),
-                      # a budget-truncated filter failing is this project's truncation choice; the reference
-                      # settings' failing is not yet diagnosed
-                      cause="" if ok or name.endswith("reference") else "project choice")
+                      cause=cause)
         claims.append(with_control(claim, f"{control} (the same tracker fed empty scans)",
                                    f"{c_out:.2f} away from the changes, gap {c_gap:.2f}", passes(c_out, c_gap)))
     return claims

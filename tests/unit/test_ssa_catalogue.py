@@ -328,3 +328,21 @@ def test_peer_rows_and_claims_on_fabricated_runs():
     assert "same associations on 2 of 3 timed scans" in row.note and "87 known tracks" in row.note
     m = peer_macros(t)
     assert m["PeergnnGNNWith2DAssignment"] == "10" and m["PeerSamegnnGNNWith2DAssignment"] == 2 and m["PeerN"] == 100
+
+
+def test_full_record_macros_by_hand():
+    """The report's whole-catalogue numbers from the committed record's columns: values at the largest
+    size, the goal word per factored tracker, slopes by hand (log(0.1/0.01) / log(10000/100) = 0.5)."""
+    from hypotrack.experiments.ssa_catalogue.summary import full_record_macros
+
+    t = pd.DataFrame(dict(tracker=["glmb", "glmb", "homht_kbest", "homht_kbest", "gnn", "gnn"],
+                          n_objects=[100, 10000] * 3, n_scans=60, mean_in_view=[1.0, 100.0] * 3,
+                          cpu_s_per_scan=[0.01, 0.1, 0.01, 0.2, 0.001, 0.1],
+                          cpu_ms_per_object_in_view=[10.0, 1.0, 10.0, 2.0, 1.0, 1.0], peak_bytes=4e7,
+                          gospa_km=[1.0, 52.0, 1.0, 48.0, 1.0, 54.0], born=[0, 34, 0, 36, 0, 36],
+                          unknown_in_view=[0, 39, 0, 39, 0, 39]))
+    v = full_record_macros(t, goal_ms=1.0)
+    assert v["FullN"] == 10000 and v["FullSizes"] == "100, 10000" and v["FullInView"] == "100"
+    assert v["FullGoalglmb"] == "meets" and v["FullGoalhomhtkbest"] == "misses" and "FullGoalgnn" not in v
+    assert v["FullCpuScanhomhtkbest"] == "200" and v["FullPeakMBglmb"] == "40" and v["FullBornglmb"] == 34
+    assert v["FullSlopeglmb"] == "0.50" and v["FullSlopegnn"] == "1.00"

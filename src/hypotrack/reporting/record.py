@@ -83,10 +83,11 @@ def full_config(workflow_dir=ROOT / "workflows") -> dict:
     return validate_config(config, cfg / "schema")
 
 
-def update_catalogue_record(results, record=RECORD, workflow_dir=ROOT / "workflows", force: bool = False) -> list[Path]:
+def update_catalogue_record(results, record=RECORD, readme=ROOT / "README.md", workflow_dir=ROOT / "workflows",
+                            force: bool = False) -> list[Path]:
     """``record/ssa_catalogue_full.csv``: the accuracy (``summary.csv``) and timing
     (``summary_timing.csv``) tables of a full-configuration ``ssa_catalogue`` run joined on
-    (tracker, N), and the configuration it ran with.
+    (tracker, N), and the configuration it ran with; the README's generated blocks rewritten.
 
     Raises ``FileNotFoundError`` when the run has not written them, ``ValueError`` when its
     ``ssa_catalogue`` section or seed differ from the full configuration's (``force``: record anyway).
@@ -111,7 +112,9 @@ def update_catalogue_record(results, record=RECORD, workflow_dir=ROOT / "workflo
     Path(record).mkdir(parents=True, exist_ok=True)
     table.to_csv(Path(record) / CATALOGUE_FILE, index=False, float_format="%.6g")
     shutil.copyfile(source / "run_config.json", Path(record) / CATALOGUE_CONFIG)
-    return [Path(record) / CATALOGUE_FILE, Path(record) / CATALOGUE_CONFIG]
+    readme = Path(readme)
+    readme.write_text(generated_readme(readme.read_text(), Path(record) / "ledger.csv"))
+    return [Path(record) / CATALOGUE_FILE, Path(record) / CATALOGUE_CONFIG, readme]
 
 
 def update_record(results="results", record=RECORD, readme=ROOT / "README.md", workflow_dir=ROOT / "workflows",

@@ -15,7 +15,8 @@ from ...reporting.ledger import Claim
 from .run import FACTORED, continuity
 
 __all__ = ["cost_slope", "accuracy_table", "timing_table", "catalogue_claims", "timing_claims", "catalogue_macros",
-           "timing_macros", "parallel_claims", "parallel_macros", "peer_claims", "peer_macros", "TRACKER_NAMES"]
+           "timing_macros", "parallel_claims", "parallel_macros", "peer_claims", "peer_macros", "TRACKER_NAMES",
+           "full_record_macros", "full_record_markdown"]
 
 EXPERIMENT = "ssa_catalogue"
 SOURCE = "extension (catalogue-scale SSA)"
@@ -238,3 +239,46 @@ def peer_macros(peers: pd.DataFrame) -> dict:
     if len(peers):
         v["PeerN"] = int(n)
     return v
+
+
+def full_record_macros(table: pd.DataFrame, goal_ms: float = 1.0) -> dict:
+    """Macros of the committed full-catalogue record (``paper/record/ssa_catalogue_full.csv``, the
+    joined accuracy and timing table of a ``full.yaml`` run): at its largest size, objects in view,
+    and per tracker CPU per scan (ms), per object in view (ms, and whether it meets ``goal_ms``),
+    peak memory (MB), GOSPA (km), objects born of the unknown ones in view; the cost slopes over
+    all its sizes."""
+    n = int(table["n_objects"].max())
+    big = table[table["n_objects"] == n].set_index("tracker")
+    v = {"FullN": n, "FullSizes": ", ".join(str(int(x)) for x in sorted(table["n_objects"].unique())),
+         "FullInView": f"{big['mean_in_view'].iloc[0]:.3g}", "FullScans": int(big["n_scans"].iloc[0])}
+    for name, r in big.iterrows():
+        k = name.replace("_", "")
+        v[f"FullCpuScan{k}"] = f"{1e3 * r.cpu_s_per_scan:.3g}"
+        v[f"FullCpuObj{k}"] = f"{r.cpu_ms_per_object_in_view:.2g}"
+        v[f"FullPeakMB{k}"] = f"{r.peak_bytes / 1e6:.3g}"
+        v[f"FullGospa{k}"] = f"{r.gospa_km:.3g}"
+        v[f"FullBorn{k}"] = int(r.born)
+        v[f"FullUnknown{k}"] = int(r.unknown_in_view)
+        if name in FACTORED:
+            v[f"FullGoal{k}"] = "meets" if r.cpu_ms_per_object_in_view <= goal_ms else "misses"
+    for name, s in slopes(table).items():
+        v[f"FullSlope{name.replace('_', '')}"] = f"{s:.2f}"
+    return v
+
+
+def full_record_markdown(table: pd.DataFrame) -> str:
+    """The full-catalogue record at its largest size as a Markdown table (the README's block)."""
+    n = int(table["n_objects"].max())
+    sl = slopes(table)
+    lines = [f"Whole catalogue, N = {n:,} objects, {int(table['n_scans'].max())} scans of the radar, one run "
+             "(`full.yaml`, recorded in `paper/record/ssa_catalogue_full.csv`):", "",
+             "| tracker | CPU per scan (ms) | CPU per object in view (ms) | cost slope in N | peak memory (MB) "
+             "| GOSPA (km) | unknown objects born |", "|---|---|---|---|---|---|---|"]
+    for _, r in table[table["n_objects"] == n].iterrows():
+        lines.append(f"| {TRACKER_NAMES[r.tracker]} | {1e3 * r.cpu_s_per_scan:.3g} | {r.cpu_ms_per_object_in_view:.2g} "
+                     f"| {sl.get(r.tracker, float('nan')):.2f} | {r.peak_bytes / 1e6:.3g} | {r.gospa_km:.3g} "
+                     f"| {int(r.born)} of {int(r.unknown_in_view)} |")
+    sizes = ", ".join(f"{int(x):,}" for x in sorted(table["n_objects"].unique()))
+    lines += ["", f"Objects in view per scan: {table[table['n_objects'] == n]['mean_in_view'].iloc[0]:.3g} on average; "
+              f"slopes over N ∈ {{{sizes}}}; peak memory traced over the first scans (tracemalloc)."]
+    return "\n".join(lines)

@@ -27,7 +27,7 @@ import pandas as pd
 from ..._validation import check_int, check_nonnegative
 from ...reporting.verdict import Verdict, monte_carlo_verdict
 from .controls import CONTROLS, MHT_CONTROLS, misstated_noise_name
-from .run import TABLE_6_1
+from .published import TABLE_6_1
 
 __all__ = ["WINDOWS", "control_verdict", "paired_differences", "mht_power_table", "mht_power_macros"]
 

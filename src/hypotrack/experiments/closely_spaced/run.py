@@ -23,6 +23,8 @@ from ...models.motion import OrnsteinUhlenbeck
 from ...reporting.verdict import monte_carlo_verdict
 from ...scenarios.closely_spaced import simulate_closely_spaced
 from ...trackers.ecmht import PDAF_VARIANTS, ECMHTFilter, GNNFilter, IdealFilter, PDAFilter, mospa_two_targets
+from .power import control_verdict
+from .published import TABLE_6_1
 from .controls import (CONTROLS, IndependentOrderECMHTFilter, NonExclusiveNNFilter, PredictionOnlyFilter,
                        RandomHypothesisGNNFilter, SwappedLabelGNNFilter, controlled_method, misstated_noise_name)
 
@@ -37,8 +39,6 @@ __all__ = [
     "summarise_closely_spaced",
 ]
 
-#: Published MOSPA (m², see reconstruction §5.4) of Table 6.1.
-TABLE_6_1 = {"ideal": 0.0363, "PDAF": 0.8518, "MHT": 0.1376, "ECMHT": 0.0586}
 
 #: The ideal filter scored against its own targets (known association, no best pairing per scan).
 LABELLED_IDEAL = "ideal[labelled]"
@@ -243,8 +243,6 @@ def summarise_closely_spaced(per_run: pd.DataFrame, pdaf_variant: str, *, rel_to
     published.update({m: published[controlled_method(m)] for m in table["method"] if controlled_method(m)})
     table["published"] = table["method"].map(published).astype(float)
     table["relative_difference"] = table["mean"] / table["published"] - 1
-    from .power import control_verdict  # power builds on this module
-
     rows = table.set_index("method")
     z, verdict = [], []
     for r in table.itertuples():

@@ -59,7 +59,8 @@ class TrackerSettings:
     k_best : int or None
         HOMHT only: Murty's ``k_best`` best children per parent (:func:`hypotrack.hypotheses.homht_kbest`);
         ``None``: exhaustive. With ``k_best >= max_hypotheses`` the kept hypotheses are the exhaustive
-        HOMHT's (the filter keeps the best ``H∞`` children of each parent either way).
+        HOMHT's (the filter keeps the best ``H∞`` children of each parent either way) up to the
+        order in which children of equal weight meet the cap.
     n_sweeps : int
         Gibbs samples per parent per scan (``glmb``: the δ-GLMB filter with the labeled
         multi-Bernoulli population built from the same α and birth regions, ``r_B = α`` per

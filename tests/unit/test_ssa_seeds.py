@@ -204,6 +204,7 @@ def test_the_pair_with_births_and_deaths_on_both_sides_is_one_row_per_tracker():
     # interval 0.9995 +/- 4.094 * 0.0005 lies within 1 +/- 0.01: reproduced; the blind control (0) fails
     assert c.status == "reproduced" and c.control.endswith("-> fails") and "mean 0 over 10 seeds" in c.control
     assert c.claim == "000 ssa15, chain: same MAP hypothesis as HOMHT with births and deaths"
+    assert "this project's construction" in c.note
     # the existing pair (against the fixed-number HOMHT) is unchanged: mean 0.97, se 0.021 -> inconclusive
     assert by_key["ssa15_chain_Agreement"].status == "inconclusive"
     # the births reference is not compared with anything; the fixed-number HOMHT has no row either

@@ -241,7 +241,8 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
 
     Published values: E[N] at the end equals the true number and the whole weight sits on it
     (000 Fig. 11, ssa50); R-FISST and HOMHT give the same estimates at every scan (000 Sec. V-A,
-    ssa15). Births tracked are counted over all seeds. With fewer than two seeds a row reports the
+    ssa15) — against the fixed-number HOMHT (the reference) and, for the trackers with births and
+    deaths, also against HOMHT with the same births and deaths (the births reference). Births tracked are counted over all seeds. With fewer than two seeds a row reports the
     single value as not decidable. The blind tracker's rows (:data:`~hypotrack.experiments.ssa.BLIND`)
     are the negative control: each test is run on them too and fills the row's ``control`` column
     (a passing row whose control also passes is *uninformative*).
@@ -273,6 +274,9 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
                 c = Claim(ex, f"{case}, {label}: {item}", source, f"{published:.4g}",
                           "; ".join(f"{v:.4g}" for v in x), f"+/- {tol:g}", "inconclusive",
                           f"{n} seed(s): too few for a Monte Carlo verdict", "measurement", key=key + k)
+            if k == "AgreementBirths":
+                c = replace(c, note=f"{c.note}; {names[(case, bref)]}: Reid's factors for the objects and document "
+                                    "000 Eq. 30's probabilities for births and deaths (this project's construction)")
             if ctl is not None:
                 c = with_control(c, BLIND_LABEL, *_mc_control(ctl, col, published, tol))
             if c.status == "not reproduced" and col == "p_n_end":

@@ -140,12 +140,17 @@ def test_fisst_poisson_no_clutter_and_overridden_rate():
 
 
 def test_reid_options_births_and_intensity():
-    """Reid: the clutter option is log λ_C (scan's λV/V, or the override), births are a row option
-    (no birth columns even if the scan has birth regions), λ_B is kept as a float."""
+    """Reid: the clutter option is log λ_C (scan's λV/V, or the override); a population's birth region
+    is a birth column ``log(1/V̄) + log p_D`` with the event probability in the count term (Reid's own
+    count term is 0); λ_B is kept as a float."""
     birth = np.log(np.full((2, 1), 1 / 20.0))
     ctx = context(np.zeros((2, 1)), [0.9], rate=2.0, volume=50.0, birth_loglik=birth)
-    problem = ReidWeights().problem(ctx, np.arange(1))
-    assert problem.target_scores.shape == (2, 1)
+    problem = ReidWeights().problem(ctx, np.arange(1), population_log_prob=np.log([0.9, 0.05]))
+    assert problem.target_scores.shape == (2, 2)
+    np.testing.assert_allclose(problem.target_scores[:, 1], math.log(0.9 / 20.0))
+    np.testing.assert_allclose(problem.count_term, np.log([[0.9, 0.05], [0.9, 0.05]]))
+    assert ReidWeights().problem(context(np.zeros((2, 1)), [0.9], rate=2.0, volume=50.0),
+                                 np.arange(1)).target_scores.shape == (2, 1)
     np.testing.assert_allclose(problem.option_scores, np.full((2, 1), math.log(2.0 / 50.0)))
     np.testing.assert_allclose(ReidWeights(clutter_intensity=0.5).option_scores(ctx), np.full((2, 1), math.log(0.5)))
 

@@ -32,11 +32,24 @@ def test_seed_i_is_the_same_whatever_the_number_of_seeds_and_seeds_differ():
 
 def test_tracker_settings_take_the_case_trackers_with_the_seeds_proposals():
     s = ss.tracker_settings(_config(), "ssa15")
-    assert list(s) == ["homht", "rfisst_chain", "rfisst", "rfisst_fixed"]
+    assert list(s) == ["homht", "rfisst_chain", "rfisst", "rfisst_fixed", "homht_births"]
     assert (s["rfisst_chain"].n_steps, s["rfisst_chain"].completion_rounds, s["rfisst"].completion_rounds) == (200, 0, 2)
     # the apples-to-apples pair: R-FISST with a fixed number of objects, like HOMHT
     assert not s["rfisst_fixed"].population and s["rfisst_fixed"].n_steps == 200
-    assert s["homht"].kind == "homht" and s["homht"].max_hypotheses == 3
+    assert s["homht"].kind == "homht" and s["homht"].max_hypotheses == 3 and not s["homht"].population
+    # ... and with births and deaths on both sides: HOMHT (defined in ssa_seeds) with ssa15's Eq. 30 population
+    hb, rf = s["homht_births"], s["rfisst"]
+    assert (hb.kind, hb.population, hb.k_best, hb.max_hypotheses) == ("homht", True, 100, 3)
+    assert (hb.alpha, hb.beta, hb.n_birth_regions) == (rf.alpha, rf.beta, rf.n_birth_regions) == (1e-3, 1e-4, 10)
+    assert (hb.label, s["homht"].label) == ("HOMHT with births and deaths", "HOMHT")
+    config = _config()
+    config["ssa_seeds"]["extra_trackers"] = {"ssa15": {"homht": {"kind": "homht"}}}
+    with pytest.raises(ValueError, match="ssa_seeds.extra_trackers.ssa15 must not redefine ssa15.trackers"):
+        ss.tracker_settings(config, "ssa15")
+    config = _config()
+    config["ssa_seeds"]["births_reference"] = {"ssa15": "homht"}
+    with pytest.raises(ValueError, match="must run with births and deaths"):
+        ss.run_seed(config, 0, progress=None)
 
 
 def test_run_seed_rows_on_a_short_realisation():
@@ -54,6 +67,27 @@ def test_run_seed_rows_on_a_short_realisation():
     # HOMHT runs with a fixed number of objects: all 15 known objects, all weight on 15.
     assert r.loc["homht", "n_catalogue_end"] == 15
     assert (r.loc["homht", "p_n_end"], r.loc["homht", "expected_number_error"]) == pytest.approx((1.0, 0.0), abs=1e-12)
+    again, _ = ss.run_seed(config, 0, progress=None)
+    pd.testing.assert_frame_equal(rows, again)
+
+
+def test_run_seed_compares_the_trackers_with_births_and_deaths_with_homht_with_births_and_deaths():
+    config = _config(n_scans=5)
+    config["ssa_seeds"]["trackers"] = {"ssa15": ["homht", "rfisst", "rfisst_fixed", "homht_births"]}
+    rows, timing = ss.run_seed(config, 0, progress=None)
+    r = rows.set_index("tracker")
+    assert len(timing) == 4
+    # only the trackers with births and deaths (and the blind control) are compared with HOMHT with births
+    assert r["births_reference"].to_dict() == {"homht": "", "rfisst": "homht_births", "rfisst_fixed": "",
+                                               "homht_births": "", "blind": "homht_births"}
+    assert np.isnan(r.loc[["homht", "rfisst_fixed", "homht_births"], "map_agreement_births"]).all()
+    assert 0 <= r.loc["rfisst", "map_agreement_births"] <= 1
+    # the births reference is a reference, not compared with the fixed-number HOMHT
+    assert r.loc["homht_births", "reference"] == "" and np.isnan(r.loc["homht_births", "map_agreement"])
+    # the blind tracker never uses a measurement: the same MAP as either HOMHT at the first scan only
+    assert r.loc["blind", "map_agreement_births"] == r.loc["blind", "map_agreement"] == pytest.approx(0.2)
+    # HOMHT with births and deaths may hold extra objects: E[N] >= 15, the 15 known objects still tracked
+    assert r.loc["homht_births", "expected_number_end"] >= 15.0 - 1e-9
     again, _ = ss.run_seed(config, 0, progress=None)
     pd.testing.assert_frame_equal(rows, again)
 
@@ -141,3 +175,44 @@ def test_over_seed_rows_name_the_blind_control_and_are_demoted_when_it_passes():
     assert demoted["ssa15_chain_Agreement"].status == "uninformative"
     assert demoted["ssa15_chain_Agreement"].control.endswith("-> also passes")
     assert demoted["ssa50_chain_PEnd"].status == "uninformative"
+
+
+def _with_births_pair(per_seed, agree_births, blind_births=0.0):
+    """Fabricated rows of HOMHT with births and deaths and the chain's agreement with it."""
+    per_seed = _with_blind(per_seed).assign(births_reference="", map_agreement_births=np.nan)
+    ssa15 = per_seed["case"] == "ssa15"
+    chain = ssa15 & (per_seed["tracker"] == "chain")
+    blind = ssa15 & (per_seed["tracker"] == "blind")
+    per_seed.loc[chain | blind, "births_reference"] = "homht_births"
+    per_seed.loc[chain, "map_agreement_births"] = agree_births
+    per_seed.loc[blind, "map_agreement_births"] = blind_births
+    hb = per_seed[ssa15 & (per_seed["tracker"] == "homht")].assign(tracker="homht_births",
+                                                                   label="HOMHT with births and deaths")
+    return pd.concat([per_seed, hb], ignore_index=True)
+
+
+def test_the_pair_with_births_and_deaths_on_both_sides_is_one_row_per_tracker():
+    p_end = [0.99, 1.0, 0.98, 1.0, 0.99, 1.0, 0.98, 1.0, 0.99, 1.0]
+    agree = [1.0, 0.9, 1.0, 1.0, 0.8, 1.0, 1.0, 1.0, 1.0, 1.0]  # against the fixed-number HOMHT
+    births = [1.0] * 9 + [0.995]  # against HOMHT with births and deaths: mean 0.9995, se 0.0005
+    claims = ss.ssa_seeds_claims(_with_births_pair(_per_seed(p_end, agree), births))
+    by_key = {c.key: c for c in claims}
+    assert len(by_key) == len(claims)  # one row per claim
+    c = by_key["ssa15_chain_AgreementBirths"]
+    assert c.item == "ssa15, R-FISST, paper chain: same MAP hypothesis as HOMHT with births and deaths (fraction of scans)"
+    assert (c.n, float(c.mean), float(c.se)) == ("10", pytest.approx(0.9995), pytest.approx(0.0005))
+    # interval 0.9995 +/- 4.094 * 0.0005 lies within 1 +/- 0.01: reproduced; the blind control (0) fails
+    assert c.status == "reproduced" and c.control.endswith("-> fails") and "mean 0 over 10 seeds" in c.control
+    assert c.claim == "000 ssa15, chain: same MAP hypothesis as HOMHT with births and deaths"
+    assert "this project's construction" in c.note
+    # the existing pair (against the fixed-number HOMHT) is unchanged: mean 0.97, se 0.021 -> inconclusive
+    assert by_key["ssa15_chain_Agreement"].status == "inconclusive"
+    # the births reference is not compared with anything; the fixed-number HOMHT has no row either
+    assert not [k for k in by_key if k.startswith(("ssa15_homht", "ssa15_blind"))]
+    # a control that also agrees demotes the row
+    demoted = {c.key: c for c in ss.ssa_seeds_claims(_with_births_pair(_per_seed(p_end, agree), births,
+                                                                        blind_births=1.0))}
+    assert demoted["ssa15_chain_AgreementBirths"].status == "uninformative"
+    # a table from before the pair existed gives the same rows as before
+    old = {c.key for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}
+    assert old == set(by_key) - {"ssa15_chain_AgreementBirths"}

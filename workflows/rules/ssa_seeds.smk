@@ -1,13 +1,16 @@
 # The SSA verdicts of document 000 (ssa50, Sec. IV-A; ssa15, Sec. V-A) over scenario seeds: one shard per
 # seed runs R-FISST (paper chain; chain + completion) on a fresh ssa50 realisation and R-FISST (also with a
-# fixed number of objects) and HOMHT on a fresh ssa15 realisation, and the blind tracker (the negative control)
-# on both; the table rule gives the per-seed table, the distribution over seeds, the ledger rows and a figure.
+# fixed number of objects) and HOMHT (also with R-FISST's births and deaths) on a fresh ssa15 realisation, and
+# the blind tracker (the negative control) on both; the table rule gives the per-seed table, the distribution
+# over seeds, the ledger rows and a figure.
 # Config section: ssa_seeds (workflows/config/schema/ssa_seeds.schema.yaml); trackers from ssa50 / ssa15.
 SSA_SEEDS_DIR = f"{RESULTS}/ssa_seeds"
 SSA_SEEDS = range(config["ssa_seeds"]["n_seeds"])
 for _case, _names in config["ssa_seeds"]["trackers"].items():
-    if not set(_names) <= set(config[_case]["trackers"]):
-        raise ValueError(f"ssa_seeds.trackers.{_case}: {_names} names a tracker not in {_case}.trackers")
+    _extra = (config["ssa_seeds"].get("extra_trackers") or {}).get(_case) or {}
+    if not set(_names) <= set(config[_case]["trackers"]) | set(_extra):
+        raise ValueError(f"ssa_seeds.trackers.{_case}: {_names} names a tracker not in {_case}.trackers "
+                         "nor ssa_seeds.extra_trackers")
 
 
 rule ssa_seeds_shard:

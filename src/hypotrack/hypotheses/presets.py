@@ -11,6 +11,9 @@ preset          weight model                       child generator
 ``glmb_murty``  δ-GLMB joint prediction–update      Murty ranked assignment (Vo & Vo 2014)
 =============== ================================= =================================
 
+The HOMHT presets take Reid's births seeded at returns (``birth_intensity``) or a population model
+(``population``: document 000 Eq. 30 or document 001's binomial), never both (:class:`~.weights.ReidWeights`).
+
 The ``glmb`` presets need a :class:`~.population_lmb.LabeledMultiBernoulliPopulation` (per-object
 survival, labeled-Bernoulli births): with it a hypothesis is a δ-GLMB component (label set and
 association history) and the filter is the δ-GLMB filter (DESIGN.md §4.7).
@@ -66,19 +69,44 @@ def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, variant="paper", ini
     return _filter(motion, sensor, HFISSTWeights(), gen, population, **options)
 
 
+def _reid(birth_intensity, birth_density, population):
+    """Reid's weights, refusing two birth models at once (seeded births and population birth regions)."""
+    pop = _population(population)
+    if birth_intensity and pop is not None and getattr(pop, "n_birth_regions", 0):
+        raise ValueError(
+            f"birth_intensity must be 0 when population has birth regions (got birth_intensity = {birth_intensity!r} "
+            f"and {pop.n_birth_regions} birth regions): Reid's births seeded at returns and the population's "
+            "births are two birth models; use one"
+        )
+    return ReidWeights(birth_intensity=birth_intensity, birth_density=birth_density), pop
+
+
 def homht(motion, sensor, *, birth_intensity=0.0, birth_density=None, max_events=10**7, population=None,
           **options) -> HypothesisFilter:
-    """Reid's HOMHT with exhaustive hypothesis generation (births seeded at returns)."""
-    weights = ReidWeights(birth_intensity=birth_intensity, birth_density=birth_density)
-    return _filter(motion, sensor, weights, ExhaustiveGenerator(max_events=max_events), population, **options)
+    """Reid's HOMHT with exhaustive hypothesis generation (document 001 Eq. 30, 35).
+
+    Births either seeded at returns (``birth_intensity`` ``λ_B`` > 0, Reid's own), or from
+    ``population`` — a :class:`~hypotrack.models.population.SingleEventBirthDeath` (document 000
+    Eq. 30: the population R-FISST runs with) or a :class:`~.population_events.BinomialPopulation`
+    (document 001 Eq. 31–33, 59) — scored as in :class:`~.weights.ReidWeights` (this project's
+    construction: Reid's factors for the objects, the population's event probabilities for births
+    and deaths). ``None`` and ``birth_intensity = 0``: a fixed number of objects.
+    """
+    weights, pop = _reid(birth_intensity, birth_density, population)
+    return _filter(motion, sensor, weights, ExhaustiveGenerator(max_events=max_events), pop, **options)
 
 
 def homht_kbest(motion, sensor, *, k=None, birth_intensity=0.0, birth_density=None, population=None,
                 **options) -> HypothesisFilter:
-    """HOMHT with Murty's k best children per parent (``k`` defaults to ``max_hypotheses``)."""
-    weights = ReidWeights(birth_intensity=birth_intensity, birth_density=birth_density)
+    """HOMHT with Murty's k best children per parent (``k`` defaults to ``max_hypotheses``).
+
+    Births and ``population`` as in :func:`homht`. With a population the count term (the event
+    probability) differs between "no birth" and "one detected birth", so the k best are found per
+    count block and merged (:class:`~.generators.MurtyGenerator`): still the exact k best.
+    """
+    weights, pop = _reid(birth_intensity, birth_density, population)
     k = options.get("max_hypotheses", 100) if k is None else k
-    return _filter(motion, sensor, weights, MurtyGenerator(k=k), population, **options)
+    return _filter(motion, sensor, weights, MurtyGenerator(k=k), pop, **options)
 
 
 def _labeled(population):

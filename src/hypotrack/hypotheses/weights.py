@@ -6,7 +6,7 @@ says how the extra columns of the data association matrix and the count term ``�
 
 * object column ``j``: ``log N(z_i; H x̂_j, S_j) + log p_D,j − log(1 − p_D,j)`` and the constant
   ``Σ_j log(1 − p_D,j)`` — together ``Π_detected p_D Π_missed (1 − p_D)``;
-* birth column ``r`` (H-FISST / FISST births): ``log ∫ p(z|x) p_b,r(x) dx + log p_D``;
+* birth column ``r`` (H-FISST / FISST births, and HOMHT with a population model): ``log ∫ p(z|x) p_b,r(x) dx + log p_D``;
 * the population-event probability (Eq. 30 or document 001 Eq. 59) added to ``φ`` by the caller.
 
 Detection probabilities must lie in [0, 1): a missed detection must be possible for
@@ -165,16 +165,34 @@ class ReidWeights(WeightModel):
 
     ``w ∝ w_i p_D^d (1 − p_D)^{n−d} λ_C^{k'} λ_B^{b} Π_assoc N(z; H x̂⁻, S)`` — document 001 writes the
     birth factor as ``(λ_B / p_D)^b`` next to ``p_D^{m−k}``, whose exponent counts the ``b``
-    births' returns; the ``p_D`` cancel. Births are *seeded at their return* (every birth is
-    detected; any number per scan) through the row option "new target" with score
-    ``log λ_B``; their tracks start from the return (``birth_density.initial_state``).
-    The association likelihood is the predictive density ``N(z; H x̂⁻, S)``, not the point
-    likelihood at the mean (document 000 Eq. 21 misstates Reid).
+    births' returns; the ``p_D`` cancel. The association likelihood is the predictive density
+    ``N(z; H x̂⁻, S)``, not the point likelihood at the mean (document 000 Eq. 21 misstates Reid).
+
+    Births come from one of two models, never both:
+
+    * **Reid's own** (``birth_intensity > 0``): births *seeded at their return* (every birth is
+      detected; any number per scan) through the row option "new target" with score
+      ``log λ_B``; their tracks start from the return (``birth_density.initial_state``).
+    * **a population model of the filter** (``birth_intensity = 0`` and the filter's
+      ``population``, e.g. document 000's single-event births and deaths, Eq. 30, or document
+      001's binomial births and survival, Eq. 31–33 and 59). This is *this project's
+      construction*, not Reid's: the objects' factors above are Reid's, unchanged, and the
+      population enters exactly as in the FISST weight models — a detected birth in region ``r``
+      is an exclusive birth column scored ``log ∫ p(z|x) p_b,r(x) dx + log p_D`` (the pdf of the
+      newborn's return, ``1/V̄_r`` for a uniform region, in place of Reid's ``λ_B``), the
+      population-event probability (``1 − M_b α − M_d β``, ``α`` or ``β`` for Eq. 30) is added
+      to the count term by the filter (:meth:`WeightModel.problem`), and the undetected-birth and
+      death *twins* get the population's ratios times ``1 − p_D`` (:mod:`.population_events`).
+      Reid's count term is zero, so a child's weight is Reid's product × the population
+      event's probability × ``p_D/V̄_r`` per detected birth; with ``α = β = 0`` every birth
+      and death child has weight 0 and the association children's weights are the
+      fixed-number HOMHT's exactly. It matches document 001 Sec. V's equivalence of FISST and
+      Reid (``λ_B ↔ α p_D / V̄``; :mod:`hypotrack.experiments.belief_space`).
 
     Parameters
     ----------
     birth_intensity : float, optional
-        ``λ_B`` ≥ 0, new targets per unit volume per scan; 0 disables births.
+        ``λ_B`` ≥ 0, new targets per unit volume per scan; 0 disables Reid's seeded births.
     birth_density : object, optional
         Anything with ``initial_state(z, R) -> (mean, cov)`` (e.g.
         :class:`hypotrack.models.population.UniformBirthDensity`); required when
@@ -200,7 +218,17 @@ class ReidWeights(WeightModel):
         return self.birth_intensity > 0
 
     def uses_birth_columns(self) -> bool:
-        return False
+        """Birth columns of a population model, unless births are Reid's seeded ones."""
+        return not self.seeded_births
+
+    def problem(self, ctx, tracks, constant: float = 0.0, population_log_prob=None) -> AssociationProblem:
+        if self.seeded_births and ctx.n_birth_regions:
+            raise ValueError(
+                f"birth_intensity = {self.birth_intensity:g} > 0 (Reid's births seeded at returns) cannot be used "
+                f"with a population that has {ctx.n_birth_regions} birth regions: two birth models; "
+                "set birth_intensity = 0 to use the population's births"
+            )
+        return super().problem(ctx, tracks, constant, population_log_prob)
 
     def option_scores(self, ctx) -> np.ndarray:
         lam_c = check_positive(ctx.clutter_intensity if self.clutter_intensity is None else self.clutter_intensity,

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..._validation import check_int, check_positive, check_probability
-from ...hypotheses import LabeledMultiBernoulliPopulation, glmb, hfisst, homht, rfisst
+from ...hypotheses import LabeledMultiBernoulliPopulation, glmb, hfisst, homht, homht_kbest, rfisst
 from ...scenarios.ssa import SSAScenario
 from ..seeds import experiment_seeds
 
@@ -31,8 +31,8 @@ class TrackerSettings:
     ----------
     kind : {"rfisst", "hfisst", "homht"}
         R-FISST (H-FISST weights, MCMC search; document 000 Sec. III), H-FISST (exhaustive), or
-        Reid's HOMHT (exhaustive, fixed number of objects: the scenario's objects are all in
-        the initial hypothesis).
+        Reid's HOMHT (exhaustive or Murty's k best; by default a fixed number of objects: the
+        scenario's objects are all in the initial hypothesis).
     max_hypotheses : int
         ``H∞``, hypotheses kept after every scan (document 000 Sec. III-A).
     gate_probability : float or None
@@ -50,10 +50,17 @@ class TrackerSettings:
         number of birth regions (the FOV split in equal angles), and the birth velocity
         prior's standard deviation (km/s) around the circular-orbit velocity.
     population : bool
-        Use the birth/death model (FISST trackers only); ``False`` fixes the number of objects.
-        HOMHT always has a fixed number here.
+        Use the birth/death model; ``False`` fixes the number of objects. Default ``True`` for
+        the FISST trackers and ``False`` for HOMHT, which with ``True`` runs with the same Eq. 30
+        births and deaths as R-FISST (:class:`hypotrack.hypotheses.ReidWeights`: Reid's factors for
+        the objects, the population's event probabilities; this project's construction).
     max_events : int
         Budget of the exhaustive generators (children per parent).
+    k_best : int or None
+        HOMHT only: Murty's ``k_best`` best children per parent (:func:`hypotrack.hypotheses.homht_kbest`);
+        ``None``: exhaustive. With ``k_best >= max_hypotheses`` the kept hypotheses are the exhaustive
+        HOMHT's (the filter keeps the best ``H∞`` children of each parent either way) up to the
+        order in which children of equal weight meet the cap.
     n_sweeps : int
         Gibbs samples per parent per scan (``glmb``: the δ-GLMB filter with the labeled
         multi-Bernoulli population built from the same α and birth regions, ``r_B = α`` per
@@ -73,6 +80,7 @@ class TrackerSettings:
     population: bool = True
     max_events: int = 10**7
     n_sweeps: int = 1000
+    k_best: int | None = None
 
     def __post_init__(self):
         if self.kind not in TRACKER_KINDS:
@@ -84,18 +92,22 @@ class TrackerSettings:
         check_int(self.max_events, "max_events", minimum=1)
         check_int(self.completion_rounds, "completion_rounds", minimum=0)
         check_positive(self.birth_velocity_std, "birth_velocity_std")
-        if self.kind == "homht" and self.population:
-            raise ValueError("population must be False for homht "
-                             "(Reid's HOMHT runs with a fixed number of objects)")
+        if self.k_best is not None:
+            check_int(self.k_best, "k_best", minimum=1)
+            if self.kind != "homht":
+                raise ValueError(f"k_best is a HOMHT option (Murty's k best children), got kind {self.kind!r}")
 
     @property
     def label(self) -> str:
-        """Name for legends and claims, e.g. ``"R-FISST, paper chain"`` or
-        ``"R-FISST + completion, fixed number"``."""
+        """Name for legends and claims, e.g. ``"R-FISST, paper chain"``,
+        ``"R-FISST + completion, fixed number"`` or ``"HOMHT with births and deaths"`` (HOMHT's
+        default is a fixed number: plain ``"HOMHT"``)."""
         name = TRACKER_NAMES[self.kind]
         if self.kind == "rfisst":
             name += " + completion" if self.completion_rounds else ", paper chain"
-        return name if self.population or self.kind == "homht" else f"{name}, fixed number"
+        if self.kind == "homht":
+            return f"{name} with births and deaths" if self.population else name
+        return name if self.population else f"{name}, fixed number"
 
     @classmethod
     def from_config(cls, section: Mapping, name: str) -> TrackerSettings:
@@ -138,10 +150,12 @@ def make_tracker(scenario: SSAScenario, settings: TrackerSettings, seed):
     s = settings
     common = dict(dt=scenario.params.dt, max_hypotheses=s.max_hypotheses, gate_probability=s.gate_probability,
                   seed=seed, means=scenario.prior_means, covs=scenario.prior_covs, labels=scenario.prior_ids)
-    if s.kind == "homht":
-        return homht(scenario.motion, scenario.sensor, max_events=s.max_events, **common)
     population = (scenario.birth_model(s.alpha, s.beta, s.n_birth_regions, s.birth_velocity_std)
                   if s.population else None)
+    if s.kind == "homht":
+        if s.k_best is not None:
+            return homht_kbest(scenario.motion, scenario.sensor, k=s.k_best, population=population, **common)
+        return homht(scenario.motion, scenario.sensor, max_events=s.max_events, population=population, **common)
     if s.kind == "glmb":
         if population is None:
             raise ValueError("population must be true for glmb (its births and deaths are the labeled multi-Bernoulli)")

@@ -5,7 +5,9 @@ the end is 1" or "R-FISST and HOMHT agree at every scan" may be that realisation
 experiment draws ``n_seeds`` independent realisations of both scenarios (objects, births, clutter,
 initial hypothesis) and runs the same named trackers on each — R-FISST as the paper's chain alone
 and with this project's completion step, and on ssa15 HOMHT and R-FISST with the number of objects
-fixed like HOMHT's (the like-for-like pair) — one shard per seed. The blind tracker
+fixed like HOMHT's (the like-for-like pair without births and deaths), and HOMHT with document 000's
+births and deaths (Eq. 30), the population R-FISST runs with (the like-for-like pair with births and
+deaths; ``ssa_seeds.extra_trackers``, ``ssa_seeds.births_reference``) — one shard per seed. The blind tracker
 (:func:`hypotrack.experiments.ssa.blind_run`: EKF prediction of the initial hypothesis, no
 measurement used, no births) runs on every realisation as the negative control of each verdict.
 
@@ -46,7 +48,8 @@ __all__ = ["CASES", "METRICS", "SEED_COLUMNS", "distribution_table", "plot_distr
 CASES = ("ssa50", "ssa15")
 SEED_COLUMNS = ["case", "seed_index", "tracker", "label", "n_scans", "n_catalogue_end", "expected_number_end",
                 "expected_number_error", "p_n_end", "births", "births_tracked_end", "birth_latency_mean", "birth_latency_max", "reference",
-                "map_agreement", "ospa_in_view_mean", "ospa_catalogue_mean", "children_per_scan_mean"]
+                "map_agreement", "births_reference", "map_agreement_births", "ospa_in_view_mean", "ospa_catalogue_mean",
+                "children_per_scan_mean"]
 #: Per-seed metrics summarised over seeds, with their meaning (figure labels).
 METRICS = {
     "p_n_end": "P(N = true number) at the end",
@@ -54,6 +57,7 @@ METRICS = {
     "births_tracked_end": "births tracked at the end",
     "birth_latency_mean": "mean scans from first in view to a correct track",
     "map_agreement": "fraction of scans with the reference's MAP hypothesis",
+    "map_agreement_births": "fraction of scans with the MAP hypothesis of the reference with births and deaths",
     "ospa_in_view_mean": "mean OSPA in view (km)",
 }
 
@@ -72,10 +76,17 @@ def seed_scenario(config: Mapping, case: str, index: int) -> SSAScenario:
 
 
 def tracker_settings(config: Mapping, case: str) -> dict:
-    """The trackers ``ssa_seeds.trackers[case]`` as configured in the ``case`` section, with the
-    MCMC proposals per parent overridden by ``ssa_seeds.n_steps`` when set."""
+    """The trackers ``ssa_seeds.trackers[case]`` as configured in the ``case`` section (or, for
+    those run over seeds only, in ``ssa_seeds.extra_trackers[case]``, with the case section's
+    ``max_hypotheses``, gate and population), with the MCMC proposals per parent overridden by
+    ``ssa_seeds.n_steps`` when set."""
     own = config["ssa_seeds"]
-    section = config[case]
+    section = dict(config[case])
+    extra = (own.get("extra_trackers") or {}).get(case) or {}
+    clash = set(extra) & set(section.get("trackers", {}))
+    if clash:
+        raise ValueError(f"ssa_seeds.extra_trackers.{case} must not redefine {case}.trackers, got {sorted(clash)}")
+    section["trackers"] = {**section.get("trackers", {}), **extra}
     out = {}
     for name in own["trackers"][case]:
         s = TrackerSettings.from_config(section, name)
@@ -85,7 +96,8 @@ def tracker_settings(config: Mapping, case: str) -> dict:
     return out
 
 
-def _row(case, index, name, label, scenario, run, section, reference_map, reference):
+def _row(case, index, name, label, scenario, run, section, reference_map, reference, births_map=None,
+         births_reference=""):
     metrics, matched = evaluate_map(run.map_estimates, scenario, ospa_settings=OSPASettings(**section["ospa"]),
                                     error_bound_probability=section["error_bound_probability"])
     births = birth_recognition(matched, scenario)
@@ -105,6 +117,9 @@ def _row(case, index, name, label, scenario, run, section, reference_map, refere
         "birth_latency_mean": float(delays.mean()) if len(delays) else np.nan,
         "birth_latency_max": float(delays.max()) if len(delays) else np.nan,
         "reference": reference if reference_map is not None else "", "map_agreement": agreement,
+        "births_reference": births_reference if births_map is not None else "",
+        "map_agreement_births": (float(map_agreement(run.map_estimates, births_map, scenario.prior_ids)["agree"].mean())
+                                 if births_map is not None else np.nan),
         "ospa_in_view_mean": float(np.nanmean(metrics["ospa_in_view"])),
         "ospa_catalogue_mean": float(metrics["ospa_catalogue"].mean()),
         "children_per_scan_mean": float(run.summary.loc[run.summary["scan"] > 0, "n_children"].mean()),
@@ -117,6 +132,23 @@ def _reference(config, case, settings):
     return ref if ref in settings else next(iter(settings))
 
 
+def _births_reference(config, case, settings):
+    """The configured tracker with births and deaths (``ssa_seeds.births_reference[case]``) that the
+    trackers with births and deaths are compared with too, or ``None``."""
+    ref = (config["ssa_seeds"].get("births_reference") or {}).get(case)
+    if ref is None:
+        return None
+    if ref not in settings:  # defined but not run (ssa_seeds.trackers names a subset): no such pair
+        defined = {*config[case].get("trackers", {}), *((config["ssa_seeds"].get("extra_trackers") or {}).get(case) or {})}
+        if ref in defined:
+            return None
+        raise ValueError(f"ssa_seeds.births_reference.{case} must be one of the case's trackers {sorted(defined)}, "
+                         f"got {ref!r}")
+    if not settings[ref].population:
+        raise ValueError(f"ssa_seeds.births_reference.{case}: {ref!r} must run with births and deaths (population true)")
+    return ref
+
+
 def run_seed(config: Mapping, index: int, progress: Callable[[str], None] | None = print):
     """Every configured tracker on realisation ``index`` of both cases.
 
@@ -124,12 +156,17 @@ def run_seed(config: Mapping, index: int, progress: Callable[[str], None] | None
     blind tracker (:data:`~hypotrack.experiments.ssa.BLIND`, the negative control of every check:
     EKF prediction of the initial hypothesis, no measurements, no births), deterministic given the
     config; and ``case, seed_index, tracker, seconds, cpu_seconds``.
+
+    Every tracker but the reference is compared with the reference's MAP hypothesis; every tracker
+    with births and deaths (and the blind tracker, the control) also with the births reference's
+    (``births_reference``, ``map_agreement_births``), which itself has no row against the reference.
     """
     rows, timing = [], []
     for case in config["ssa_seeds"]["trackers"]:
         scenario = seed_scenario(config, case, index)
         settings = tracker_settings(config, case)
         ref = _reference(config, case, settings)
+        bref = _births_reference(config, case, settings)
         runs = {}
         for name in [ref, *[n for n in settings if n != ref]]:  # the reference first: the others compare
             s = settings[name]
@@ -142,15 +179,18 @@ def run_seed(config: Mapping, index: int, progress: Callable[[str], None] | None
         runs[BLIND] = blind_run(scenario)  # the negative control of every check (no measurement ever used)
         labels = {**{name: s.label for name, s in settings.items()}, BLIND: BLIND_LABEL}
         for name, label in labels.items():
-            ref_map = runs[ref].map_estimates if name != ref else None
-            rows.append(_row(case, index, name, label, scenario, runs[name], config[case], ref_map, ref))
+            ref_map = runs[ref].map_estimates if name not in (ref, bref) else None
+            births = bref is not None and name != bref and (name == BLIND or settings[name].population)
+            rows.append(_row(case, index, name, label, scenario, runs[name], config[case], ref_map, ref,
+                             runs[bref].map_estimates if births else None, bref or ""))
     return pd.DataFrame(rows, columns=SEED_COLUMNS), pd.DataFrame(timing)
 
 
 def distribution_table(per_seed: pd.DataFrame) -> pd.DataFrame:
     """Per case, tracker and metric of :data:`METRICS` (and the birth latency maximum and OSPA
     over the catalogue): ``n, mean, se, sd, min, q10, q25, median, q75, q90, max`` over seeds."""
-    metrics = [*METRICS, "expected_number_end", "birth_latency_max", "ospa_catalogue_mean", "children_per_scan_mean"]
+    metrics = [m for m in (*METRICS, "expected_number_end", "birth_latency_max", "ospa_catalogue_mean",
+                           "children_per_scan_mean") if m in per_seed]  # (a table without the pair with births)
     rows = []
     for (case, tracker), g in per_seed.groupby(["case", "tracker"], sort=False):
         for m in metrics:
@@ -167,16 +207,24 @@ def distribution_table(per_seed: pd.DataFrame) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def _tests(case: str, g: pd.DataFrame, ref_label: str):
-    """The Monte Carlo tests of one case: ``(column, item, source, published, tolerance, key)``."""
+def _tests(case: str, g: pd.DataFrame, ref_label: str, births_label: str = ""):
+    """The Monte Carlo tests of one case: ``(column, item, source, published, tolerance, key)``.
+
+    ``births_label``: the births reference (HOMHT with document 000's births and deaths) a tracker
+    with births and deaths is compared with too — the like-for-like pair with births and deaths.
+    """
     if case == "ssa50":
         return [("expected_number_end", "E[N] at the end equals the true number", "000 Fig. 11",
                  g["n_catalogue_end"].mean(), 0.1, "ExpectedEnd"),
                 ("p_n_end", "P(N = true number) at the end", "000 Fig. 11", 1.0, 0.05, "PEnd")]
+    tests = []
     if ref_label:
-        return [("map_agreement", f"same MAP hypothesis as {ref_label} (fraction of scans)",
-                 "000 Sec. V-A, Figs 12-14", 1.0, 0.01, "Agreement")]
-    return []
+        tests.append(("map_agreement", f"same MAP hypothesis as {ref_label} (fraction of scans)",
+                      "000 Sec. V-A, Figs 12-14", 1.0, 0.01, "Agreement"))
+    if births_label:
+        tests.append(("map_agreement_births", f"same MAP hypothesis as {births_label} (fraction of scans)",
+                      "000 Sec. V-A, Figs 12-14", 1.0, 0.01, "AgreementBirths"))
+    return tests
 
 
 def _mc_control(g: pd.DataFrame, col: str, published: float, tol: float) -> tuple[str, bool]:
@@ -193,32 +241,42 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
 
     Published values: E[N] at the end equals the true number and the whole weight sits on it
     (000 Fig. 11, ssa50); R-FISST and HOMHT give the same estimates at every scan (000 Sec. V-A,
-    ssa15). Births tracked are counted over all seeds. With fewer than two seeds a row reports the
+    ssa15) — against the fixed-number HOMHT (the reference) and, for the trackers with births and
+    deaths, also against HOMHT with the same births and deaths (the births reference). Births tracked are counted over all seeds. With fewer than two seeds a row reports the
     single value as not decidable. The blind tracker's rows (:data:`~hypotrack.experiments.ssa.BLIND`)
     are the negative control: each test is run on them too and fills the row's ``control`` column
     (a passing row whose control also passes is *uninformative*).
     """
     ex, claims = "ssa_seeds", []
-    per_seed = per_seed.assign(reference=per_seed["reference"].fillna(""))  # "" reads back as NaN
+    if "births_reference" not in per_seed:  # a table without the pair with births and deaths
+        per_seed = per_seed.assign(births_reference="", map_agreement_births=np.nan)
+    # "" reads back as NaN
+    per_seed = per_seed.assign(reference=per_seed["reference"].fillna(""),
+                               births_reference=per_seed["births_reference"].fillna(""))
     names = dict(zip(zip(per_seed["case"], per_seed["tracker"]), per_seed["label"]))
     blind = {case: g for (case, tracker), g in per_seed.groupby(["case", "tracker"], sort=False) if tracker == BLIND}
     for (case, tracker), g in per_seed.groupby(["case", "tracker"], sort=False):
         if tracker == BLIND:
             continue
-        label, n, ref = g["label"].iloc[0], len(g), g["reference"].iloc[0]
+        label, n, ref, bref = g["label"].iloc[0], len(g), g["reference"].iloc[0], g["births_reference"].iloc[0]
         ctl = blind.get(case)
         key = f"{case}_{tracker}_"
-        for col, item, source, published, tol, k in _tests(case, g, names[(case, ref)] if ref else ""):
+        for col, item, source, published, tol, k in _tests(case, g, names[(case, ref)] if ref else "",
+                                                           names[(case, bref)] if bref else ""):
             x = g[col].to_numpy(dtype=float)
             if n >= 2 and np.isfinite(x).all():
                 c = monte_carlo_claim(ex, f"{case}, {label}: {item}", source, float(published), x,
-                                      abs_tol=tol, digits=4, key=key + k, claim=_claim_id(case, tracker, k),
+                                      abs_tol=tol, digits=4, key=key + k,
+                                      claim=_claim_id(case, tracker, k, names.get((case, bref), "")),
                                       note=f"over {n} scenario seeds; min {x.min():.4g}, median "
                                            f"{np.median(x):.4g}, max {x.max():.4g}")
             else:
                 c = Claim(ex, f"{case}, {label}: {item}", source, f"{published:.4g}",
                           "; ".join(f"{v:.4g}" for v in x), f"+/- {tol:g}", "inconclusive",
                           f"{n} seed(s): too few for a Monte Carlo verdict", "measurement", key=key + k)
+            if k == "AgreementBirths":
+                c = replace(c, note=f"{c.note}; {names[(case, bref)]}: Reid's factors for the objects and document "
+                                    "000 Eq. 30's probabilities for births and deaths (this project's construction)")
             if ctl is not None:
                 c = with_control(c, BLIND_LABEL, *_mc_control(ctl, col, published, tol))
             if c.status == "not reproduced" and col == "p_n_end":
@@ -244,8 +302,11 @@ _SINGLE_RUN_KEY = {"ExpectedEnd": ("ssa50", "ExpectedEnd"), "PEnd": ("ssa50", "P
                    "Births": ("ssa50", "BirthsTracked"), "Agreement": ("ssa15", "SameMap")}
 
 
-def _claim_id(case: str, tracker: str, key: str) -> str:
-    """The claim id this over-seed row decides, shared with the single run's illustration row."""
+def _claim_id(case: str, tracker: str, key: str, births_label: str = "") -> str:
+    """The claim id this over-seed row decides, shared with the single run's illustration row (the
+    pair with births and deaths on both sides has no single run: its own id)."""
+    if key == "AgreementBirths":
+        return seed_claim_id(case, tracker, f"same MAP hypothesis as {births_label}")
     single_case, single_key = _SINGLE_RUN_KEY[key]
     return seed_claim_id(case, tracker, OVER_SEEDS[(single_case, single_key)])
 
@@ -264,8 +325,11 @@ def plot_distributions(per_seed: pd.DataFrame, *, title: str):
 
     groups = [(k, g) for k, g in per_seed.groupby(["case", "tracker"], sort=False) if k[1] != BLIND]
     names = [f"{case}: {g['label'].iloc[0]}" for (case, _), g in groups]
-    fig, axes = figure_style.subplots(3, 2, height=min(1.6 + 0.95 * len(groups), figure_style.MAX_HEIGHT_IN),
-                                      sharey=True)
+    n_rows = -(-len(METRICS) // 2)
+    fig, axes = figure_style.subplots(n_rows, 2, height=min(1.6 + 0.32 * n_rows * len(groups),
+                                                            figure_style.MAX_HEIGHT_IN), sharey=True)
+    for ax in axes.flat[len(METRICS):]:
+        ax.set_axis_off()
     for ax, (metric, what) in zip(axes.flat, METRICS.items()):
         data = []
         for _, g in groups:

@@ -314,25 +314,25 @@ for row in growth:
 print("first n with A(n, n) >= 1e8, 1e33, 1e100:", first_over)
 
 # %%
-fig, (ax, ax2) = plt.subplots(1, 2, figsize=(6.5, 3.6))  # the report's line width: 8 pt text prints at 8 pt
+fig, (ax, ax2) = plt.subplots(1, 2, figsize=(6.5, 4.3))  # the report's line width: 8 pt text prints at 8 pt
 n_axis = [r["n"] for r in growth]
 ax.semilogy(n_axis, [10 ** r["log10_A"] for r in growth], "k-", lw=2, label="A(n, n), Eq. 4 (exact)")
 ax.semilogy(n_axis, [10 ** r["log10_perron"] for r in growth], "C1--", label=r"$n!\,e^{2\sqrt{n}-1/2}/(2\sqrt{\pi}n^{1/4})$")
 ax.semilogy(n_axis, [10 ** r["log10_n_factorial"] for r in growth], "C0:", label="n! (all returns assigned)")
 for threshold, style, what in ((8, "C3", "exhaustive HOMHT limit"), (33, "C2", "R-FISST reach")):
-    ax.axhline(10.0**threshold, color=style, lw=0.8)
-    ax.text(n_axis[-1], 10.0 ** (threshold - 2), ha="right", va="top", s=f"10{str(threshold).translate(str.maketrans('0123456789', '⁰¹²³⁴⁵⁶⁷⁸⁹'))}: {what}\n(document 000 Fig 15)", color=style, fontsize=8)
+    sup = str(threshold).translate(str.maketrans("0123456789", "⁰¹²³⁴⁵⁶⁷⁸⁹"))
+    ax.axhline(10.0**threshold, color=style, lw=0.8, label=f"10{sup}: {what} (doc. 000 Fig 15)")
 ax.set_ylim(bottom=0.5)
 ax.set_xlabel("objects = returns, n", fontsize=9)
 ax.set_ylabel("children A(n, n) (count)", fontsize=9)
 ax.set_title("Children per hypothesis,\ndocument 000 Eq. 4", fontsize=9)
-ax.legend(fontsize=8)
+fig.legend(*ax.get_legend_handles_labels(), loc="lower center", ncol=2, fontsize=7, frameon=False)
 ax2.plot(n_axis, [r["ratio_to_perron"] for r in growth], "k.-")
 ax2.axhline(1.0, color="grey", lw=0.8)
 ax2.set_xlabel("n", fontsize=9)
 ax2.set_ylabel("A(n, n) / asymptote (dimensionless)", fontsize=9)
 ax2.set_title(r"Perron asymptote: ratio $\to 1$" "\n" r"as $O(n^{-1/2})$", fontsize=9)
-fig.tight_layout()
+fig.tight_layout(rect=(0, 0.14, 1, 1))  # the legend below both panels, clear of the curves
 findings.figure(fig, "growth")
 plt.show()
 

@@ -12,11 +12,15 @@ returns in its gate.
 
 One ``step(Z)``
 ---------------
-1. Predict every group's tracks; score every return against them (the engine's
+1. Predict every group's tracks (with ``lazy``, of the singletons only those that may be in
+   view); score every return against them (the engine's
    :meth:`~.filter.HypothesisFilter._track_scores`, each (return, track) pair once). A group's
    *gate* is the set of returns inside the validation gate of any of its tracks, in any of its
-   hypotheses (the engine's ``allowed``; the field of view enters through ``p_D``, not the gate).
-2. Build the bipartite graph groups/birth terms — returns: a group is linked to the returns in
+   hypotheses (the engine's ``allowed``; the field of view enters through ``p_D``, not the gate,
+   unless ``gate_out_of_view=False``, when a track out of view gates nothing).
+2. Build the bipartite graph groups/singletons/birth terms — returns (components by
+   :func:`scipy.sparse.csgraph.connected_components`; only the components a return or birth term
+   reaches are visited in Python): a group is linked to the returns in
    its gate, a birth term (or birth region) to the returns it could be the first detection of
    (finite birth likelihood; see ``births``), and with HOMHT's seeded births each return in no
    gate becomes a node of its own (a new object or clutter). Its connected components are this

@@ -243,8 +243,8 @@ def test_tracker_settings_from_the_shipped_config():
         assert set(pair) <= set(config["ssa15"]["trackers"])
     with pytest.raises(ValueError, match="unknown tracker"):
         st.TrackerSettings.from_config(config["ssa15"], "gnn")
-    with pytest.raises(ValueError, match="homht"):
-        st.TrackerSettings(kind="homht", population=True)
+    hb = st.TrackerSettings(kind="homht", population=True)  # HOMHT with R-FISST's births and deaths (Eq. 30)
+    assert hb.population and hb.label.endswith("with births and deaths")
     with pytest.raises(ValueError, match="kind"):
         st.TrackerSettings(kind="jpda")
     with pytest.raises(ValueError, match="gate_probability"):

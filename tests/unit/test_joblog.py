@@ -41,3 +41,13 @@ def test_claims_line_counts_statuses():
     claims = pd.DataFrame({"status": ["reproduced", "not reproduced", "reproduced"], "item": ["a", "b", "c"]})
     assert joblog.claims_line(claims, "r/x/claims.csv") == "3 claims: 1 not reproduced, 2 reproduced -> r/x/claims.csv"
     assert joblog.claims_line(claims.iloc[:0]) == "0 claims: none"
+
+
+def test_progress_log_prints_and_keeps_each_line(tmp_path, capsys):
+    path = tmp_path / "job.log"
+    path.write_text("stale\n")
+    with joblog.progress_log(path) as progress:
+        progress("scan 1/2")
+        progress("scan 2/2")
+    assert path.read_text() == "scan 1/2\nscan 2/2\n"  # truncated first: a rerun's log is its own
+    assert capsys.readouterr().out == "scan 1/2\nscan 2/2\n"

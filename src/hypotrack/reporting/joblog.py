@@ -10,15 +10,30 @@ Snakemake runs several jobs at once and interleaves their output on one terminal
 and from then on every line written to stdout or stderr by the script, by the library's progress
 callbacks and by warnings reads ``[closely_spaced_shard shard=3] ...``.
 :func:`claims_line` gives the one-line account of a claims table that a job prints instead of the
-table itself (the ledger holds the table).
+table itself (the ledger holds the table). :func:`progress_log` gives a long job's progress callback
+that prints each line and keeps it in the job's log file.
 """
 
 from __future__ import annotations
 
+import contextlib
 import io
 import sys
 
-__all__ = ["job_tag", "prefix_output", "claims_line"]
+__all__ = ["job_tag", "prefix_output", "claims_line", "progress_log"]
+
+
+@contextlib.contextmanager
+def progress_log(path):
+    """A progress callback ``progress(line)`` that prints ``line`` (so it carries the job's prefix)
+    and appends it to the log file ``path`` (opened, truncated, for the ``with`` block)."""
+    with open(path, "w") as log:
+
+        def progress(line):
+            print(line, flush=True)
+            print(line, file=log, flush=True)
+
+        yield progress
 
 
 def job_tag(smk) -> str:

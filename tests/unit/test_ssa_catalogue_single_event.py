@@ -3,11 +3,14 @@
 computed by hand, the negative control on ssa50 (α = β = 0: no event, nothing to detect), the
 summary on a hand-made table, the ledger rows and macros, and bad settings."""
 
+import copy
+
 import numpy as np
 import pandas as pd
 import pytest
 import yaml
 
+from hypotrack.config import ConfigError, validate_config
 from hypotrack.experiments.ssa_catalogue.single_event import (
     SingleEventSettings,
     compare_runs,
@@ -156,3 +159,10 @@ def test_tracker_must_be_rfisst_with_births_and_deaths():
         SingleEventSettings(tracker="glmb").tracker_settings(ssa50)
     with pytest.raises(ValueError, match="unknown tracker"):
         SingleEventSettings(tracker="nope").tracker_settings(ssa50)
+
+
+def test_config_validation_names_the_bad_single_event_key():
+    cfg = copy.deepcopy(_config())
+    cfg["ssa_catalogue"]["single_event"]["split"] = "sometimes"
+    with pytest.raises(ConfigError, match=r"ssa_catalogue\.single_event\.split"):
+        validate_config(cfg, "workflows/config/schema")

@@ -205,8 +205,14 @@ def test_the_pair_with_births_and_deaths_on_both_sides_is_one_row_per_tracker():
     assert c.status == "reproduced" and c.control.endswith("-> fails") and "mean 0 over 10 seeds" in c.control
     assert c.claim == "000 ssa15, chain: same MAP hypothesis as HOMHT with births and deaths"
     assert "this project's construction" in c.note
-    # the existing pair (against the fixed-number HOMHT) is unchanged: mean 0.97, se 0.021 -> inconclusive
-    assert by_key["ssa15_chain_Agreement"].status == "inconclusive"
+    # the pair against the fixed-number HOMHT compares unlike models once the tracker has births and deaths:
+    # an extension row (its numbers kept, mean 0.97), no verdict on document 000's claim, no cause
+    unlike = by_key["ssa15_chain_Agreement"]
+    assert (unlike.status, unlike.cause, float(unlike.mean)) == ("extension", "", pytest.approx(0.97))
+    assert "unlike population models" in unlike.note and unlike.note.endswith("against HOMHT with births and deaths)")
+    # without the births reference (a tracker with a fixed number, or an old table) the same numbers get a verdict
+    assert {c.key: c for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}[
+        "ssa15_chain_Agreement"].status == "inconclusive"
     # the births reference is not compared with anything; the fixed-number HOMHT has no row either
     assert not [k for k in by_key if k.startswith(("ssa15_homht", "ssa15_blind"))]
     # a control that also agrees demotes the row

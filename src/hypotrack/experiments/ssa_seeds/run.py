@@ -279,6 +279,13 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
                                     "000 Eq. 30's probabilities for births and deaths (this project's construction)")
             if ctl is not None:
                 c = with_control(c, BLIND_LABEL, *_mc_control(ctl, col, published, tol))
+            if k == "Agreement" and bref:
+                # births and deaths against the fixed-number HOMHT: unlike models, so not document 000's
+                # comparison (the like-for-like pairs are the fixed-number R-FISST's row and AgreementBirths)
+                c = replace(c, status="extension", cause="",
+                            note=f"{c.note}; unlike population models (births and deaths against a fixed number): "
+                                 "measures how often R-FISST's birth model changes the MAP hypothesis, no verdict "
+                                 f"on document 000's claim (decided against {names[(case, bref)]})")
             if c.status == "not reproduced" and col == "p_n_end":
                 # the clutter rate and p_D document 000 does not state decide it (the ssa50 sensitivity grid)
                 c = replace(c, cause="unstated parameter")

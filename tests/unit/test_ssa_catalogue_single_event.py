@@ -13,6 +13,7 @@ import yaml
 from hypotrack.config import ConfigError, validate_config
 from hypotrack.experiments.ssa_catalogue.single_event import (
     SingleEventSettings,
+    against_floor,
     compare_runs,
     pair_summary,
     single_event_claims,
@@ -68,6 +69,7 @@ def test_comparison_of_one_empty_scan_by_hand():
     tv = 0.5 * ((1 - q) ** 2 + abs(1 - p2 - 2 * q * (1 - q)) + abs(p2 - q * q))
     assert r["tv_factoring"] == pytest.approx(tv, abs=1e-12) and r["tv_factoring"] == pytest.approx(0.0675, abs=1e-4)
     assert r["tv_chain_noise"] == pytest.approx(0.0, abs=1e-12)
+    assert r["tv_factoring_reseeded"] == pytest.approx(tv, abs=1e-12)  # the reseeded run is the unfactored one
     assert r["expected_number_unfactored"] == pytest.approx(1 + p2, abs=1e-12)
     assert r["expected_number_factored"] == pytest.approx(2 * q, abs=1e-12)
     assert r["p_true_unfactored"] == pytest.approx(p2, abs=1e-12) and r["p_true_factored"] == pytest.approx(q * q, abs=1e-12)
@@ -87,7 +89,7 @@ def test_no_events_on_ssa50_nothing_to_detect():
     per_scan, _ = single_event_comparison(scenario_from_config(cfg, "ssa50"), SingleEventSettings(n_steps=200, n_scans=6),
                                           cfg["ssa50"], cfg["seed"])
     assert per_scan["scan"].tolist() == [1, 2, 3, 4, 5] and (per_scan["n_true"] == 45).all()
-    for pair in ("factoring", "chain_noise"):
+    for pair in ("factoring", "factoring_reseeded", "chain_noise"):
         assert per_scan[f"tv_{pair}"].abs().max() < 1e-12 and per_scan[f"map_same_n_{pair}"].all()
     for run in ("unfactored", "factored", "reseeded"):
         np.testing.assert_allclose(per_scan[f"expected_number_{run}"], 45.0, rtol=0, atol=1e-9)
@@ -104,20 +106,39 @@ def _hand_frame():
         "expected_number_factored": [45.1, 45.2, 46.3],
         "expected_number_reseeded": [45.0, 45.6, 45.9],
         "p_true_unfactored": [1.0, 0.5, 0.8], "p_true_factored": [0.9, 0.6, 0.7], "p_true_reseeded": [1.0, 0.4, 0.85],
-        "tv_factoring": [0.1, 0.3, 0.2], "tv_chain_noise": [0.0, 0.1, 0.05],
-        "map_same_n_factoring": [True, False, True], "map_same_n_chain_noise": [True, True, True],
+        "tv_factoring": [0.1, 0.3, 0.2], "tv_factoring_reseeded": [0.05, 0.2, 0.02], "tv_chain_noise": [0.0, 0.1, 0.05],
+        "map_same_n_factoring": [True, False, True], "map_same_n_factoring_reseeded": [True, True, False],
+        "map_same_n_chain_noise": [True, True, True],
         "groups": [40, 42, 44], "largest_group": [3, 5, 4]})
 
 
 def test_summary_on_a_hand_made_table():
     s = pair_summary(_hand_frame()).set_index("pair")
-    f, c = s.loc["factoring"], s.loc["chain_noise"]
+    f, r, c = s.loc["factoring"], s.loc["factoring_reseeded"], s.loc["chain_noise"]
     assert f.tv_mean == pytest.approx(0.2) and f.tv_max == 0.3 and f.tv_max_scan == 2 and f.tv_final == 0.2
     assert f.abs_den_mean == pytest.approx((0.1 + 0.3 + 0.3) / 3) and f.den_final == pytest.approx(0.3)
-    assert f.map_same_n_share == pytest.approx(2 / 3) and f.p_true_final == 0.7 and f.p_true_final_unfactored == 0.8
+    assert f.map_same_n_share == pytest.approx(2 / 3) and f.p_true_final == 0.7 and f.p_true_final_reference == 0.8
+    # factored − reseeded: 0.1, −0.4, 0.4
+    assert r.tv_mean == pytest.approx(0.09) and r.tv_max == 0.2 and r.tv_max_scan == 2 and r.tv_final == 0.02
+    assert r.abs_den_mean == pytest.approx(0.3) and r.den_final == pytest.approx(0.4) and r.map_same_n_share == pytest.approx(2 / 3)
+    assert r.p_true_final == 0.7 and r.p_true_final_reference == 0.85
     assert c.tv_mean == pytest.approx(0.05) and c.tv_max == 0.1 and c.tv_final == 0.05
     assert c.abs_den_mean == pytest.approx(0.2 / 3) and c.den_final == pytest.approx(-0.1) and c.map_same_n_share == 1.0
-    assert f.run == "factored" and c.run == "reseeded" and f.n_scans == 3
+    assert [(x.run, x.reference) for x in (f, r, c)] == [("factored", "unfactored"), ("factored", "reseeded"),
+                                                         ("reseeded", "unfactored")]
+    assert f.n_scans == 3
+
+
+@pytest.mark.parametrize("effect, floor, word", [
+    ((0.2, 0.09), 0.05, "about as large as"),  # 0.09 < 2 × 0.05: one factored pair does not exceed the floor twice
+    ((0.2, 0.11), 0.05, "larger than"),
+    ((0.02, 0.04), 0.1, "smaller than"),
+    ((0.02, 0.06), 0.1, "about as large as"),
+    ((0.29, 0.05), 0.29, "about as large as"),  # a wandering unfactored chain: the floor and one pair both large
+])
+def test_against_floor_needs_a_factor_of_two_in_both_factored_pairs(effect, floor, word):
+    summary = pd.DataFrame({"pair": ["factoring", "factoring_reseeded", "chain_noise"], "tv_mean": [*effect, floor]})
+    assert against_floor(summary) == word
 
 
 def test_claims_and_macros_quote_effect_and_floor():
@@ -125,22 +146,24 @@ def test_claims_and_macros_quote_effect_and_floor():
     summary = pair_summary(frame)
     settings = SingleEventSettings()
     tv, en = single_event_claims(summary, frame, settings, h_inf=100)
-    assert tv.reproduced == "TV mean 0.2 (max 0.3) vs chain-seed floor 0.05 (max 0.1)"
-    assert en.reproduced == "mean |ΔE[N]| 0.23 vs chain-seed floor 0.067"
+    assert tv.reproduced == "TV mean 0.2 (max 0.3) and 0.09 (max 0.2) vs chain-seed floor 0.05 (max 0.1)"
+    assert en.reproduced == "mean |ΔE[N]| 0.23 and 0.3 vs chain-seed floor 0.067"
     for row in (tv, en):
         assert (row.status, row.evidence, row.experiment) == ("extension", "measurement", "ssa_catalogue")
         assert "3 scans" in row.note and "H_inf = 100 per group" in row.note and "count term" in row.note
-    assert "last scan TV 0.2 (floor 0.05)" in tv.note and "largest 5 objects" in tv.note
-    assert "66.7 % of scans (floor 100 %)" in en.note
+    assert "last scan TV 0.2 and 0.02 (floor 0.05)" in tv.note and "largest 5 objects" in tv.note
+    assert "effect about as large as the floor" in tv.note
+    assert "66.7 % and 66.7 % of scans (floor 100 %)" in en.note and "0.700 factored, 0.800 unfactored, 0.850 reseeded" in en.note
     m = single_event_macros(summary, frame, settings)
     assert m == {"SingleEventScans": 3, "SingleEventGateMiss": "1e-09", "SingleEventGroupsMean": "42",
                  "SingleEventLargestGroup": 5, "SingleEventTvMean": "0.2", "SingleEventTvMax": "0.3",
                  "SingleEventTvFinal": "0.2", "SingleEventDenMean": "0.23", "SingleEventMapSame": "66.7",
                  "SingleEventFloorTvMean": "0.05", "SingleEventFloorTvMax": "0.1", "SingleEventFloorTvFinal": "0.05",
+                 "SingleEventReseededTvMean": "0.09", "SingleEventReseededTvMax": "0.2",
+                 "SingleEventReseededTvFinal": "0.02", "SingleEventReseededDenMean": "0.3",
+                 "SingleEventReseededMapSame": "66.7",
                  "SingleEventFloorDenMean": "0.067", "SingleEventFloorMapSame": "100",
-                 "SingleEventAgainstFloor": "larger than"}
-    below = summary.assign(tv_mean=summary["tv_mean"][::-1].to_numpy())  # the floor's mean TV above the effect's
-    assert single_event_macros(below, frame, settings)["SingleEventAgainstFloor"] == "smaller than"
+                 "SingleEventAgainstFloor": "about as large as", "SingleEventFloorFactor": "2"}
 
 
 @pytest.mark.parametrize("kw, message", [({"split": "sometimes"}, "split"), ({"gate_probability": 1.0}, "gate_probability"),

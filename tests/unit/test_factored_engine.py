@@ -520,3 +520,33 @@ def test_singletons_live_in_the_lane_and_lazy_prediction_is_exact_for_a_linear_m
     (j,) = a0.tracks[int(np.argmax(a0.log_w))]
     np.testing.assert_allclose(a0.store.means[j], x, atol=1e-9)
     np.testing.assert_allclose(a0.store.covs[j], P, atol=1e-9)
+
+
+def test_map_means_are_the_map_estimate_without_predicting_the_lane():
+    """``map_means`` gives the labels and means of ``posterior().map_estimate`` — the lazy lane's
+    means advanced one scan at a time (equal to its one prediction over the gap for the
+    constant-velocity model) — and, at scans 1–2, the out-of-view object a where its true motion
+    (x = 13 − t) puts it, which a lane whose means were not advanced (x = 13) would fail."""
+    for lazy in (False, True):
+        ff, _ = _lazy_scene(lazy)
+        est = ff.posterior().map_estimate
+        labels, means = ff.map_means()
+        order, want = np.argsort(labels), np.argsort(est.labels)
+        assert labels[order].tolist() == est.labels[want].tolist() == [0, 1, 2]
+        np.testing.assert_allclose(means[order], est.means[want], atol=1e-12)
+        np.testing.assert_allclose(ff.estimates(), means)
+    ff = FactoredFilter.from_filter(homht(MOTION, SENSOR, merge_duplicates=True, max_hypotheses=1000,
+                                          gate_probability=0.99, means=np.array([[13.0, 0.0, -1.0, 0.0]]),
+                                          covs=P0[:1], seed=0), lazy=True)
+    for k in (1, 2):
+        ff.step(np.zeros((0, 2)))
+        assert ff.last_stats["n_predicted"] == 0  # out of view (x > 10): never predicted in full
+        labels, means = ff.map_means()
+        np.testing.assert_allclose(means, [[13.0 - k, 0.0, -1.0, 0.0]], atol=1e-12)
+    ff.step(np.zeros((0, 2)))  # x = 10: on the edge, in view, predicted in full over its 3-scan gap
+    assert ff.last_stats["n_predicted"] == 1
+    # a failed step leaves the lane (and its means) as they were
+    before = ff.map_means()[1].copy()
+    with pytest.raises(ValueError):
+        ff.step(np.array([[np.nan, 0.0]]))
+    np.testing.assert_array_equal(ff.map_means()[1], before)

@@ -52,7 +52,7 @@ covariances, labels, the time each was last predicted to) instead of one Python 
 a scan costs Python work only for the groups and singletons a return or birth term reaches,
 and a step's results that are singletons go back to the lane. The lane changes no number.
 With ``lazy=True`` a singleton is predicted only when it may be observed: each scan the lane's
-means (not covariances) are propagated from their own times, and only the singletons whose
+means at the last scan (not covariances) are advanced by one scan interval, and only the singletons whose
 predicted position is inside the sensor's field of view (``p_D > 0``) are predicted in full
 (mean and covariance, over the whole gap since their last prediction) and scored. A track out
 of view can take no return, so this changes the posterior only through the process noise: one
@@ -192,20 +192,6 @@ def _silent(population) -> bool:
     missed", as with no population)."""
     return population is None or (isinstance(population, (LabeledMultiBernoulliPopulation, BinomialPopulation))
                                   and population.p_survive == 1.0)
-
-
-def _propagate_each(motion, x, dt):
-    """Means ``x`` (n, d) propagated by their own intervals ``dt`` (n,): the motion model's
-    ``propagate_each`` where it has one (per-row intervals in one batch), else one batch per
-    distinct interval."""
-    if hasattr(motion, "propagate_each"):
-        return motion.propagate_each(x, dt)
-    out = x.copy()
-    for u in np.unique(dt):
-        if u != 0:
-            sel = dt == u
-            out[sel] = motion.propagate(x[sel], float(u))
-    return out
 
 
 def _predict_each(motion, x, P, dt):
@@ -501,6 +487,7 @@ class FactoredFilter:
                 groups = parts
         obj._groups, obj._lane = obj._sort_out(groups)
         obj._lane_t = np.zeros(len(obj._lane))
+        obj._lane_view = obj._lane.means.copy()
         obj._next_label = f._next_label
         obj.scan_index = f.scan_index
         return obj
@@ -549,6 +536,7 @@ class FactoredFilter:
         self._groups = []
         self._lane = _cat([], self.ndim)  # the singletons (module docstring), at the times _lane_t
         self._lane_t = np.zeros(0)
+        self._lane_view = np.zeros((0, self.ndim))  # the lane's means at _time (module docstring)
         self._time = 0.0
         self._object = {}  # label -> object id, for labels that are not their own object
         self._next_label = 0
@@ -572,7 +560,7 @@ class FactoredFilter:
         if len(np.unique(store.labels)) != len(store):
             raise ValueError("labels must be distinct (one per object)")
         if self._lane_on:
-            self._lane, self._lane_t = store, np.zeros(len(store))
+            self._lane, self._lane_t, self._lane_view = store, np.zeros(len(store)), store.means.copy()
         else:
             self._groups = [_singleton(store, j) for j in range(len(store))]
         self._next_label = int(store.labels.max()) + 1
@@ -613,7 +601,7 @@ class FactoredFilter:
     # ------------------------------------------------------------------ scan
     def step(self, Z, dt=None) -> FactoredPosterior:
         """Advance one scan with returns ``Z`` (m, p); all-or-nothing like the engine's step."""
-        saved = (self._groups, self._lane, self._lane_t, self._time, self._next_label, self.scan_index,
+        saved = (self._groups, self._lane, self._lane_t, self._lane_view, self._time, self._next_label, self.scan_index,
                  self.rng.bit_generator.state, self.last_stats, len(self.stats_history), len(self.split_records),
                  dict(self._object))
         pop = self._template.population
@@ -621,7 +609,7 @@ class FactoredFilter:
         try:
             return self._step(Z, dt)
         except BaseException:
-            (self._groups, self._lane, self._lane_t, self._time, self._next_label, self.scan_index, rng_state,
+            (self._groups, self._lane, self._lane_t, self._lane_view, self._time, self._next_label, self.scan_index, rng_state,
              self.last_stats, n_hist, n_split, self._object) = saved
             if terms is not None:
                 self._set_birth_terms(terms)
@@ -648,9 +636,12 @@ class FactoredFilter:
         # 1. predict the groups and the singletons that may be observed (lazy: those in view); score them
         sizes = np.array([len(s.store) for s in groups], dtype=np.int64)
         bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
-        lane, gap = self._lane, now - self._lane_t
+        lane, gap, view = self._lane, now - self._lane_t, None
         if self.lazy and len(lane):
-            cand = np.flatnonzero(T.sensor.detection.in_view(_propagate_each(T.motion, lane.means, gap) @ T.H.T))
+            # the lane's means advanced one scan (one batch, one interval): the in-view test costs one
+            # short propagation per singleton whatever its gap since its last full prediction
+            view = T.motion.propagate(self._lane_view, dt)
+            cand = np.flatnonzero(T.sensor.detection.in_view(view @ T.H.T))
         else:
             cand = np.arange(len(lane))
         L = len(cand)
@@ -734,6 +725,9 @@ class FactoredFilter:
         self._groups = groups_new
         self._lane = _cat([_take(moved, np.flatnonzero(keep)), lane_new], d)
         self._lane_t = np.concatenate([lane_t[keep], np.full(len(lane_new), now)])
+        view = (moved.means if view is None else view).copy()
+        view[cand] = pred.means[bounds[-1]:]
+        self._lane_view = np.concatenate([view[keep], lane_new.means])
         self._time = now
         if self._object:
             held = np.concatenate([s.store.labels for s in self._groups] + [self._lane.labels])
@@ -991,9 +985,19 @@ class FactoredFilter:
         n_top = check_int(n_top, "n_top", minimum=1)
         return FactoredPosterior(self._groups, self._lane_now, len(self._lane), n_top=n_top)
 
+    def map_means(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(labels, means)`` of the MAP joint hypothesis: :attr:`posterior`'s ``map_estimate``
+        without covariances, so the lane's singletons are not predicted (their means at the current
+        scan are kept; with ``lazy``, advanced a scan at a time rather than over their whole gap,
+        equal to rounding for the Kepler model and to the integrator's error for a numerical one).
+        """
+        maps = [summarise(s.log_w, s.tracks, s.store).map_estimate for s in self._groups]
+        return (np.concatenate([e.labels for e in maps] + [self._lane.labels]).astype(np.int64),
+                np.concatenate([e.means for e in maps] + [self._lane_view]).reshape(-1, self.ndim))
+
     def estimates(self) -> np.ndarray:
         """Means ``(n, d)`` of the objects of the MAP joint hypothesis (union of the groups' MAPs)."""
-        return self.posterior().map_estimate.means
+        return self.map_means()[1]
 
     def joint_hypotheses(self, limit: int = 100_000) -> list:
         """The product expanded into joint hypotheses (for checks), heaviest first.

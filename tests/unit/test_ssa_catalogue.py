@@ -13,6 +13,7 @@ from hypotrack.experiments.ssa_catalogue.run import continuity
 from hypotrack.experiments.ssa_catalogue.summary import (
     accuracy_table,
     catalogue_claims,
+    catalogue_macros,
     cost_slope,
     timing_claims,
     timing_table,
@@ -147,6 +148,27 @@ def test_continuity_counts_switches_fragmentations_and_latency_by_hand():
     assert c["label_switches"] == 1 and c["fragmentations"] == 1
     # target 9 (unknown): in view from scan 0, first assigned at scan 2
     assert c["unknown_in_view"] == 1 and c["born"] == 1 and c["latency_mean"] == 2.0
+    assert c["objects_in_view"] == 2 and c["reentries"] == c["reacquired"] == 0  # no pass after a gap
+
+
+def test_continuity_counts_reentries_and_reacquisitions_by_hand():
+    """Passes separated by more than ``reentry_gap`` scans out of view: target 1 keeps label 3 through
+    its first gap (re-acquired) and comes back as 8 after the second (a re-entry, not re-acquired,
+    and a label switch); target 2 has no track before its gap (no re-entry counted); target 4's
+    second pass is never assigned and its third is, with its old label (two re-entries, one
+    re-acquired); a gap of exactly ``reentry_gap`` scans is the same pass."""
+    a = pd.DataFrame({
+        "scan": [0, 1, 40, 41, 80, 81, 0, 50, 51, 0, 40, 80, 100, 110],
+        "target": [1] * 6 + [2] * 3 + [4] * 3 + [5] * 2,
+        "label": [3, 3, -1, 3, 8, 8, -1, 6, 6, 4, -1, 4, 9, 9],
+        "unknown": [False] * 14,
+    })
+    c = continuity(a, reentry_gap=10)
+    assert (c["objects_in_view"], c["reentries"], c["reacquired"]) == (4, 4, 2)
+    # target 1: one switch (3 -> 8); fragmentations: targets 1 and 4 assigned again after scan 40's miss
+    assert c["label_switches"] == 1 and c["fragmentations"] == 2
+    # no gap exceeds 60 scans (the longest is target 2's 50): one pass each
+    assert (continuity(a, reentry_gap=60)["reentries"], continuity(a, reentry_gap=60)["reacquired"]) == (0, 0)
 
 
 def _fabricated():
@@ -171,6 +193,17 @@ def test_claims_writer_on_a_fabricated_table():
     assert claims["gospa_glmb"].reproduced == "2 km" and "GNN: 4 km" in claims["gospa_glmb"].note
     assert claims["gospa_glmb"].status == "extension"
     assert claims["born_glmb"].reproduced == "1 of 1" and "mean latency 1 scans" in claims["born_glmb"].note
+    assert "reacquired_glmb" not in claims  # no object came back after a gap: no custody row
+    # object 2 comes back 40 scans later (a new pass) under its old label 7 for the GLMB, under 9 for GNN
+    back = pd.DataFrame({"tracker": ["glmb"] * 2 + ["gnn"] * 2, "n_objects": [1000] * 4, "scan": [0, 40] * 2,
+                         "target": [2] * 4, "label": [7, 7, 8, 9], "unknown": [False] * 4})
+    acc = accuracy_table(ps, pd.concat([assign, back], ignore_index=True))
+    claims = {c.key: c for c in catalogue_claims(acc, "gnn")}
+    r = claims["reacquired_glmb"]
+    assert (r.reproduced, r.status) == ("1 of 1 re-entries", "extension")
+    assert "2 distinct objects in view" in r.note and r.note.endswith("GNN: 0 of 1")
+    m = catalogue_macros(acc)
+    assert (m["ObjectsSeenLargest"], m["Reentriesglmb"], m["Reacquiredglmb"], m["Reacquiredgnn"]) == (2, 1, 1, 0)
     tim = timing_table(ps)
     assert tim.set_index("tracker").loc["glmb"].query("n_objects == 1000").cpu_ms_per_object_in_view.item() == \
         pytest.approx(100.0)  # 1 s per scan over 10 objects in view

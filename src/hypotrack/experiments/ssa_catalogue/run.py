@@ -52,7 +52,7 @@ from ...scenarios.catalogue import (
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
 
-__all__ = ["TRACKERS", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+__all__ = ["REENTRY_GAP_SCANS", "TRACKERS", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
            "CatalogueSHTStepper", "peer_rows"]
 
@@ -161,9 +161,8 @@ def _make(name, cfg, tsensor, motion, means, covs, labels, seed):
 
 def _estimates(name, tracker, tsensor):
     """(labels, TEME positions) of the tracker's estimates inside the field of view."""
-    if name in FACTORED:
-        est = tracker.posterior().map_estimate
-        lab, X = est.labels, est.means
+    if name in FACTORED:  # the MAP's means only: the lazy lane's covariances are not predicted to the scan
+        lab, X = tracker.map_means()
     else:
         e = tracker.estimates()
         n0 = len(tracker._labels)
@@ -253,29 +252,47 @@ def _n_tracks(name, tracker):
     return len(tracker.ids)
 
 
-def continuity(assign: pd.DataFrame, n_unknown_in_view=None) -> dict:
+#: Scans out of view after which an object's next scan in view is a *re-entry* (a new pass): 30 scans of
+#: the default radar are 5 minutes, far longer than a pass's flicker at the edge of the field of view.
+REENTRY_GAP_SCANS = 30
+
+
+def continuity(assign: pd.DataFrame, reentry_gap: int = REENTRY_GAP_SCANS) -> dict:
     """Continuity and birth measures of one (tracker, size) from its assignment table.
 
     Per true object, in scan order over the scans it is in view: a **label switch** is an
     assigned label different from the last assigned label; a **fragmentation** is a return to
     assigned after one or more unassigned scans that followed an assigned one. An **unknown**
     object is *born from the data* when it is ever assigned an estimate; its **latency** is the
-    number of scans from its first scan in view to its first assignment.
+    number of scans from its first scan in view to its first assignment. A **re-entry** is a scan
+    in view more than ``reentry_gap`` scans after the object's previous one (a new pass, after
+    which its track was only predicted), counted when the object had a track before; it is
+    **re-acquired** when the first label assigned in the new pass is the last one of the
+    previous passes (the track kept custody through the gap).
 
-    Returns a dict: ``label_switches``, ``fragmentations``, ``unknown_in_view``, ``born``,
-    ``latency_mean`` (scans; NaN when none born).
+    Returns a dict: ``objects_in_view`` (distinct objects ever in view), ``label_switches``,
+    ``fragmentations``, ``unknown_in_view``, ``born``, ``latency_mean`` (scans; NaN when none
+    born), ``reentries``, ``reacquired``.
     """
     switches = frags = 0
     born, lat = 0, []
-    n_unknown = 0
+    n_unknown = n_objects = reentries = reacquired = 0
     for (_, unk), g in assign.sort_values("scan").groupby(["target", "unknown"]):
+        n_objects += 1
         labels = g["label"].to_numpy()
         scans = g["scan"].to_numpy()
-        last, gap, was = None, False, False
-        for x in labels:
+        new_pass = np.r_[False, np.diff(scans) > reentry_gap]
+        last, gap, was, pending = None, False, False, False
+        for x, fresh in zip(labels, new_pass):
+            if fresh and last is not None:
+                reentries += 1
+                pending = True
             if x < 0:
                 gap = was
                 continue
+            if pending:
+                reacquired += int(x == last)
+                pending = False
             if last is not None and x != last:
                 switches += 1
             if gap:
@@ -287,8 +304,9 @@ def continuity(assign: pd.DataFrame, n_unknown_in_view=None) -> dict:
             if len(hit):
                 born += 1
                 lat.append(int(scans[hit[0]] - scans[0]))
-    return dict(label_switches=switches, fragmentations=frags, unknown_in_view=n_unknown, born=born,
-                latency_mean=float(np.mean(lat)) if lat else float("nan"))
+    return dict(objects_in_view=n_objects, label_switches=switches, fragmentations=frags, unknown_in_view=n_unknown,
+                born=born, latency_mean=float(np.mean(lat)) if lat else float("nan"), reentries=reentries,
+                reacquired=reacquired)
 
 
 def scan_rows(per_scan: pd.DataFrame) -> pd.DataFrame:

@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ...reporting.ledger import Claim
-from .run import FACTORED, continuity
+from .run import FACTORED, REENTRY_GAP_SCANS, continuity
 
 __all__ = ["cost_slope", "accuracy_table", "timing_table", "catalogue_claims", "timing_claims", "catalogue_macros",
            "timing_macros", "parallel_claims", "parallel_macros", "peer_claims", "peer_macros", "TRACKER_NAMES",
@@ -98,6 +98,15 @@ def catalogue_claims(acc: pd.DataFrame, reference: str = "gnn") -> list[Claim]:
                          SOURCE, "--", f"{int(r.born)} of {int(r.unknown_in_view)}", "--", "extension",
                          f"{lat}; {int(r.label_switches)} label switches, {int(r.fragmentations)} fragmentations",
                          "measurement", key=f"born_{name}"))
+        if r.get("reentries", 0) > 0:  # custody through a pass out of view (runs longer than a pass apart)
+            ref_txt = (f"; {TRACKER_NAMES[reference]}: {int(ref.reacquired)} of {int(ref.reentries)}"
+                       if ref is not None and "reentries" in ref else "")
+            out.append(Claim(EXPERIMENT, f"tracks kept through a pass out of view, {TRACKER_NAMES[name]}, N = {int(n)}",
+                             SOURCE, "--", f"{int(r.reacquired)} of {int(r.reentries)} re-entries", "--", "extension",
+                             f"an object back in view after more than {REENTRY_GAP_SCANS} scans out of it is "
+                             f"re-acquired when its first label of the new pass is its last of the previous ones; "
+                             f"{int(r.objects_in_view)} distinct objects in view over the run{ref_txt}",
+                             "measurement", key=f"reacquired_{name}"))
     return out
 
 
@@ -140,8 +149,12 @@ def catalogue_macros(acc: pd.DataFrame) -> dict:
     n = acc["n_objects"].max()
     big = acc[acc["n_objects"] == n].set_index("tracker")
     v = {"NLargest": int(n), "InViewLargest": f"{big['mean_in_view'].iloc[0]:.3g}"}
+    if "objects_in_view" in big:
+        v["ObjectsSeenLargest"] = int(big["objects_in_view"].iloc[0])
     for name, r in big.iterrows():
         k = name.replace("_", "")
+        if "reentries" in r:
+            v[f"Reentries{k}"], v[f"Reacquired{k}"] = int(r.reentries), int(r.reacquired)
         v[f"Gospa{k}"] = f"{r.gospa_km:.3g}"
         v[f"Ospa{k}"] = f"{r.ospa_km:.3g}"
         v[f"Born{k}"] = int(r.born)
@@ -251,8 +264,12 @@ def full_record_macros(table: pd.DataFrame, goal_ms: float = 1.0) -> dict:
     big = table[table["n_objects"] == n].set_index("tracker")
     v = {"FullN": n, "FullSizes": ", ".join(str(int(x)) for x in sorted(table["n_objects"].unique())),
          "FullInView": f"{big['mean_in_view'].iloc[0]:.3g}", "FullScans": int(big["n_scans"].iloc[0])}
+    if "objects_in_view" in big:  # a record from before the re-entry measures lacks them
+        v["FullObjectsSeen"] = int(big["objects_in_view"].iloc[0])
     for name, r in big.iterrows():
         k = name.replace("_", "")
+        if "reentries" in r and np.isfinite(r.reentries):
+            v[f"FullReentries{k}"], v[f"FullReacquired{k}"] = int(r.reentries), int(r.reacquired)
         v[f"FullCpuScan{k}"] = f"{1e3 * r.cpu_s_per_scan:.3g}"
         v[f"FullCpuObj{k}"] = f"{r.cpu_ms_per_object_in_view:.2g}"
         v[f"FullPeakMB{k}"] = f"{r.peak_bytes / 1e6:.3g}"
@@ -270,15 +287,20 @@ def full_record_markdown(table: pd.DataFrame) -> str:
     """The full-catalogue record at its largest size as a Markdown table (the README's block)."""
     n = int(table["n_objects"].max())
     sl = slopes(table)
+    big = table[table["n_objects"] == n]
+    custody = "reentries" in big and bool(np.isfinite(big["reentries"]).all())
     lines = [f"Whole catalogue, N = {n:,} objects, {int(table['n_scans'].max())} scans of the radar, one run "
              "(`full.yaml`, recorded in `paper/record/ssa_catalogue_full.csv`):", "",
              "| tracker | CPU per scan (ms) | CPU per object in view (ms) | cost slope in N | peak memory (MB) "
-             "| GOSPA (km) | unknown objects born |", "|---|---|---|---|---|---|---|"]
-    for _, r in table[table["n_objects"] == n].iterrows():
+             "| GOSPA (km) | unknown objects born |" + (" tracks kept through a pass out of view |" if custody else ""),
+             "|---|---|---|---|---|---|---|" + ("---|" if custody else "")]
+    for _, r in big.iterrows():
         lines.append(f"| {TRACKER_NAMES[r.tracker]} | {1e3 * r.cpu_s_per_scan:.3g} | {r.cpu_ms_per_object_in_view:.2g} "
                      f"| {sl.get(r.tracker, float('nan')):.2f} | {r.peak_bytes / 1e6:.3g} | {r.gospa_km:.3g} "
-                     f"| {int(r.born)} of {int(r.unknown_in_view)} |")
+                     f"| {int(r.born)} of {int(r.unknown_in_view)} |"
+                     + (f" {int(r.reacquired)} of {int(r.reentries)} |" if custody else ""))
     sizes = ", ".join(f"{int(x):,}" for x in sorted(table["n_objects"].unique()))
-    lines += ["", f"Objects in view per scan: {table[table['n_objects'] == n]['mean_in_view'].iloc[0]:.3g} on average; "
+    seen = f"{int(big['objects_in_view'].iloc[0]):,} distinct objects in view over the run; " if custody else ""
+    lines += ["", f"Objects in view per scan: {big['mean_in_view'].iloc[0]:.3g} on average; {seen}"
               f"slopes over N ∈ {{{sizes}}}; peak memory traced over the first scans (tracemalloc)."]
     return "\n".join(lines)

@@ -2,7 +2,7 @@
 
 from .motion import ConstantVelocity, OrnsteinUhlenbeck
 from .orbit import TwoBodyOrbit
-from .orbit3d import TwoBodyOrbit3D
+from .orbit3d import J2Orbit3D, TwoBodyOrbit3D
 from .population import (
     BinomialBirth,
     BinomialSurvival,
@@ -25,6 +25,7 @@ __all__ = [
     "OrnsteinUhlenbeck",
     "TwoBodyOrbit",
     "TwoBodyOrbit3D",
+    "J2Orbit3D",
     "LinearPositionSensor",
     "FieldOfView",
     "Box",

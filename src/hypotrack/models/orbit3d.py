@@ -36,15 +36,32 @@ deviations ``sqrt(q Δt³/3)`` in position and ``sqrt(q Δt)`` in velocity; the 
 (the median mismatch is 0.8 σ, the worst 1.7 σ in position and 2 σ in velocity).
 The test ``test_two_body_one_scan_mismatch_against_sgp4`` holds these numbers (median in 0.4–0.9 m,
 max < 8 m at 10 s, Δt² ratio in 3.6–4.4).
+
+Over longer gaps the missing J2 dominates: after 1 h two-body drifts from SGP4 by a median 35 km
+(2 h: 54 km). :class:`J2Orbit3D` is the remedy — the same protocol with the J2 acceleration, integrated
+by RK4 (median 0.12 km after 1 h, 0.19 km after 2 h; its docstring) — for a tracker that must
+re-acquire objects after an orbit out of view.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-from .orbit import MU_EARTH, TwoBodyOrbit, integrate_variational
+import numpy as np
 
-__all__ = ["TwoBodyOrbit3D", "integrate_variational_3d", "DEFAULT_Q_3D"]
+from .._validation import check_finite_array, check_nonnegative, check_positive
+from .orbit import _H_STEP, MU_EARTH, TwoBodyOrbit, _check_dt, _states, integrate_variational
+
+__all__ = [
+    "TwoBodyOrbit3D",
+    "J2Orbit3D",
+    "integrate_variational_3d",
+    "DEFAULT_Q_3D",
+    "MU_WGS72",
+    "EARTH_RADIUS_WGS72",
+    "J2_WGS72",
+]
 
 DEFAULT_Q_3D = 1e-8
 """Default white-acceleration intensity (km²/s³): covers the 10-s mismatch against SGP4 (module docstring)."""
@@ -82,3 +99,176 @@ def integrate_variational_3d(x0, dt, mu=MU_EARTH, *, rtol=1e-13, atol=1e-13):
     x : (6,) state at ``dt``; Phi : (6, 6).
     """
     return integrate_variational(x0, dt, mu, rtol=rtol, atol=atol, ndim=6)
+
+
+MU_WGS72 = 398600.8
+"""Earth's gravitational parameter μ (km³/s²) of WGS-72, the constant SGP4 uses (Vallado et al. 2006)."""
+
+EARTH_RADIUS_WGS72 = 6378.135
+"""Earth's equatorial radius (km) of WGS-72, SGP4's."""
+
+J2_WGS72 = 0.001082616
+"""Second zonal harmonic J2 of WGS-72, SGP4's."""
+
+
+def _j2_acceleration(r, mu, c_j2):
+    """Two-body plus J2 acceleration of positions ``r`` ``(3, N)`` (real or complex);
+    ``c_j2 = (3/2) J2 μ R²``.
+
+    Only analytic operations (no ``abs``, no conjugation), so the complex step through it is exact.
+    """
+    x, y, z = r
+    ir2 = 1.0 / (x * x + y * y + z * z)
+    ir3 = ir2 * np.sqrt(ir2)  # 1/r³
+    kj = c_j2 * ir2  # (3/2) J2 μ R²/r² : times x/r³ etc. gives the 1/r⁵ law
+    s = 5.0 * z * z * ir2
+    f = ir3 * (kj * (s - 1.0) - mu)
+    a = r * f
+    a[2] = z * (ir3 * (kj * (s - 3.0) - mu))
+    return a
+
+
+def _rk4_j2(X, dt, mu, c_j2, max_step):
+    """Classical RK4 of ``r̈ = −μ r/r³ + a_J2(r)`` for rows ``X`` ``(N, 6)`` (real or complex), each by its
+    own interval ``dt`` ``(N,)``: ``n = ceil(max|dt| / max_step)`` steps of ``dt_i / n`` for every row."""
+    span = float(np.max(np.abs(dt))) if len(dt) else 0.0
+    n = math.ceil(span / max_step)
+    if n == 0:
+        return X.copy()
+    h = dt / n
+    hh, h6 = h / 2, h / 6
+    r = np.ascontiguousarray(X[:, :3].T)
+    v = np.ascontiguousarray(X[:, 3:].T)
+    for _ in range(n):
+        a1 = _j2_acceleration(r, mu, c_j2)
+        v2 = v + hh * a1
+        a2 = _j2_acceleration(r + hh * v, mu, c_j2)
+        v3 = v + hh * a2
+        a3 = _j2_acceleration(r + hh * v2, mu, c_j2)
+        v4 = v + h * a3
+        a4 = _j2_acceleration(r + h * v3, mu, c_j2)
+        r = r + h6 * (v + 2 * (v2 + v3) + v4)
+        v = v + h6 * (a1 + 2 * (a2 + a3) + a4)
+    return np.vstack([r, v]).T
+
+
+@dataclass(frozen=True)
+class J2Orbit3D(TwoBodyOrbit3D):
+    """Two-body motion plus the Earth's oblateness J2 by fixed-step RK4, plus white acceleration noise.
+
+    Equations of motion (TEME, km, km/s; ``r = |r|``)::
+
+        r̈ = −μ r / r³ + a_J2(r),
+        a_J2 = (3/2) J2 μ R² / r⁵ · [x (5 z²/r² − 1), y (5 z²/r² − 1), z (5 z²/r² − 3)]
+
+    (``a_J2 = −∇ V_J2`` with the J2 term of the geopotential ``V_J2 = μ J2 R² P₂(z/r) / r³``,
+    ``P₂(s) = (3 s² − 1)/2``; Vallado, *Fundamentals of Astrodynamics*). Integrated by the classical
+    fourth-order Runge–Kutta method with a fixed step: an interval ``Δt`` is cut into
+    ``n = ceil(|Δt| / max_step)`` equal steps (:meth:`propagate_each`: ``n = ceil(max_i |Δt_i| / max_step)``
+    for every row, each with its own step ``Δt_i / n``; a zero interval leaves its row unchanged, a
+    negative one integrates backwards).
+
+    Constants. The defaults are those SGP4 uses — WGS-72: μ = 398600.8 km³/s², R = 6378.135 km,
+    J2 = 0.001082616 (Vallado, Crawford, Hujsak & Kelso 2006, "Revisiting Spacetrack Report #3",
+    AIAA 2006-6753; ``sgp4.earth_gravity.wgs72``), since the truth the model predicts is SGP4 (the
+    bundled element sets are fitted with them). WGS-84/EGM-96 values (μ = 398600.4418, R = 6378.137,
+    J2 = 1.08262668e-3) may be passed instead: they move the prediction by a median 59 m after 1 h
+    and 86 m after 2 h, and leave it slightly further from SGP4 (below).
+
+    State-transition matrix. ``Φ = ∂x(t + Δt)/∂x(t)`` is the complex-step derivative of the RK4 map itself
+    (six perturbed copies of each state through the same integration, as the parent class does
+    through the Kepler solution): the exact Jacobian of the discrete propagation, J2 included, and
+    consistent with the mean to rounding (the mean is the real part of the same run, bit-identical to
+    :meth:`propagate`). Measured for 100 LEO states (``time.perf_counter``, best of 200): over Δt = 10 s
+    (one RK4 step) it costs 0.18 ms against 0.38 ms for the two-body complex-step Φ of
+    :class:`TwoBodyOrbit3D` (0.33 against 0.39 ms over 60 s); its cost grows with the number of steps
+    (10,000 states over intervals up to 2 h: 3.6 s against 0.08 s). The two-body Φ would differ from it
+    by 2e-7 of ``‖Φ‖`` over 10 s, 6e-4 over 600 s and 1e-2 over one orbit (``test_orbit_j2.py``).
+
+    Integration error. Against a DOP853 solution of the same equations (tolerances 1e-12), one orbit of
+    a LEO state (a = 6,900–7,500 km, e = 0.01–0.05) ends 0.8–1.4 m off at the default step of 30 s,
+    0.15–0.26 m at 20 s and 1–2 cm at 10 s (fourth order: ×16 per halving) — far below the distance
+    to SGP4. Cost: 10,000 LEO states each propagated by its own interval, uniform in [0, 2 h], take 0.16 s at
+    ``max_step = 30`` and 0.08 s at 60 (:meth:`propagate_each`; two-body: 4 ms).
+
+    Against SGP4. Measured from the SGP4 TEME states of 1,000 LEO objects (a seeded sample, seed 1, of
+    the bundled catalogue's objects with perigee ≥ 200 km and apogee ≤ 2,000 km: 607 active satellites,
+    393 debris; each catalogue at its own epoch), propagated 1 h and 2 h and compared with SGP4 there —
+    position error median 0.12 km, 90th percentile 0.90 km, max 6.1 km after 1 h; median 0.19 km, 90 %
+    1.3 km, max 10 km after 2 h (the step hardly matters: the same to 0.01 km at 20 and 60 s). Two-body
+    (:class:`TwoBodyOrbit3D`) from the same states: median 35 km, 90 % 94 km, max 122 km after 1 h;
+    median 54 km, 90 % 136 km, max 172 km after 2 h. With the WGS-84 constants the J2 medians are
+    0.13 and 0.19 km. The test ``test_j2_against_sgp4`` holds a 200-object sample to a 1-h median
+    below 1 km and at least 10× below two-body's.
+
+    What it still neglects: the zonal harmonics J3, J4 and higher (SGP4 carries J3 and J4), tesseral
+    harmonics (SGP4 has none except deep-space resonances), atmospheric drag (SGP4's B*), the Moon and
+    the Sun (SDP4's deep-space terms), and SGP4's own approximations (an analytic mean-element theory
+    with truncated periodic terms), which the residual against SGP4 above also contains.
+
+    Parameters
+    ----------
+    mu : float
+        Gravitational parameter (km³/s²) > 0; default :data:`MU_WGS72`.
+    q : float
+        Acceleration-noise intensity (km²/s³) ≥ 0; default :data:`DEFAULT_Q_3D`.
+    j2 : float
+        Second zonal harmonic ≥ 0 (0 gives two-body motion, by RK4); default :data:`J2_WGS72`.
+    radius : float
+        Equatorial radius R (km) > 0 of the J2 term; default :data:`EARTH_RADIUS_WGS72`.
+    max_step : float
+        Longest RK4 step (s) > 0; default 30.
+    """
+
+    mu: float = MU_WGS72
+    j2: float = J2_WGS72
+    radius: float = EARTH_RADIUS_WGS72
+    max_step: float = 30.0
+
+    def __post_init__(self):
+        super().__post_init__()
+        object.__setattr__(self, "j2", check_nonnegative(self.j2, "j2"))
+        object.__setattr__(self, "radius", check_positive(self.radius, "radius"))
+        object.__setattr__(self, "max_step", check_positive(self.max_step, "max_step"))
+
+    def _integrate(self, X, dt):
+        return _rk4_j2(X, dt, self.mu, 1.5 * self.j2 * self.mu * self.radius**2, self.max_step)
+
+    def _transition_rows(self, X, dt):
+        """Means and Φ of rows ``X`` ``(n, 6)``, intervals ``dt`` ``(n,)``: complex step through the RK4."""
+        d, n = self.ndim, len(X)
+        if n == 0:
+            return X.copy(), np.zeros((0, d, d))
+        # row (k, j): object k with its component j perturbed by i·h
+        Xc = np.repeat(X[:, None, :], d, axis=1).astype(complex)
+        Xc[:, np.arange(d), np.arange(d)] += 1j * _H_STEP
+        out = self._integrate(Xc.reshape(d * n, d), np.repeat(dt, d)).reshape(n, d, d)
+        return out[:, 0, :].real.copy(), np.swapaxes(out.imag, 1, 2) / _H_STEP
+
+    def propagate(self, x, dt) -> np.ndarray:
+        """Propagate states ``(n, 6)`` (or one ``(6,)``) by ``dt`` seconds (any sign), RK4 with J2."""
+        single = np.ndim(x) == 1
+        X = _states(x, ndim=self.ndim)
+        dt = _check_dt(dt)
+        out = self._integrate(X, np.full(len(X), dt))
+        return out[0] if single else out
+
+    def propagate_each(self, x, dt) -> np.ndarray:
+        """States ``(n, 6)`` propagated by their own intervals ``dt`` ``(n,)`` (s) in one batch (see the
+        class docstring)."""
+        X = _states(x, ndim=self.ndim)
+        dt = check_finite_array(np.asarray(dt, dtype=float), "dt", shape=(len(X),))
+        return self._integrate(X, dt)
+
+    def transition(self, x, dt):
+        """Propagated states ``(n, 6)`` and their state-transition matrices ``(n, 6, 6)`` (class
+        docstring)."""
+        X = _states(x, ndim=self.ndim)
+        dt = _check_dt(dt)
+        return self._transition_rows(X, np.full(len(X), dt))
+
+    def transition_each(self, x, dt):
+        """:meth:`transition` with an interval per state, ``dt`` ``(n,)``, in one batch."""
+        X = _states(x, ndim=self.ndim)
+        dt = check_finite_array(np.asarray(dt, dtype=float), "dt", shape=(len(X),))
+        return self._transition_rows(X, dt)

@@ -2,9 +2,9 @@
 
 Stone Soup is a benchmark/test-only dependency; its side is
 :class:`hypotrack.interop.stonesoup.peer.StoneSoupPeer` (shared with ``perf_sht_benchmark.py``) with
-an EKF predictor on the two-body model defined here; without Stone Soup the rule times hypotrack alone. Both sides run the
-known objects with no initiation or deletion, the same two-body EKF dynamics (hypotrack's
-``TwoBodyOrbit3D`` wrapped as a Stone Soup transition model, integrated once per track and scan),
+an EKF predictor on the trackers' motion model wrapped here; without Stone Soup the rule times hypotrack alone. Both sides
+run the known objects with no initiation or deletion, the same EKF dynamics (hypotrack's motion model, two-body plus J2
+by default, ``make_motion``, wrapped as a Stone Soup transition model, integrated once per track and scan),
 the same linear TEME position measurement, gate, p_D and clutter density.
 """
 import numpy as np
@@ -35,9 +35,9 @@ def two_body_model_class():
     from stonesoup.models.transition.base import TransitionModel
     from stonesoup.types.array import CovarianceMatrix, StateVector
 
-    class HypotrackTwoBody(TransitionModel, GaussianModel, TimeVariantModel):
-        """hypotrack's two-body EKF dynamics (TwoBodyOrbit3D.transition, Q) as a Stone Soup model."""
-        motion: object = Property(doc="hypotrack TwoBodyOrbit3D")
+    class HypotrackOrbit(TransitionModel, GaussianModel, TimeVariantModel):
+        """hypotrack's EKF dynamics (the motion model's transition and Q) as a Stone Soup model."""
+        motion: object = Property(doc="hypotrack orbit motion model (J2Orbit3D or TwoBodyOrbit3D)")
 
         @property
         def ndim_state(self):
@@ -61,11 +61,11 @@ def two_body_model_class():
         def covar(self, time_interval=None, **kwargs):
             return CovarianceMatrix(self.motion.Q(time_interval.total_seconds()))
 
-    return HypotrackTwoBody
+    return HypotrackOrbit
 
 
 def stonesoup_peer(scenario, kind):
-    """Stone Soup's ``kind`` on the catalogue scans: EKF predictor on hypotrack's two-body dynamics."""
+    """Stone Soup's ``kind`` on the catalogue scans: EKF predictor on hypotrack's orbit dynamics."""
     from stonesoup.predictor.kalman import ExtendedKalmanPredictor
 
     predictor = ExtendedKalmanPredictor(two_body_model_class()(motion=scenario.motion))

@@ -8,9 +8,11 @@ Scenario (config section ``ssa_catalogue``)
   site, field of view, 10-s revisit, p_D and Poisson clutter from the config) reporting ENU
   positions with isotropic error σ — converted to TEME positions for the trackers
   (:mod:`hypotrack.scenarios.catalogue.tracking`);
-* **motion model** of every tracker: the two-body EKF
-  (:class:`~hypotrack.models.orbit3d.TwoBodyOrbit3D`), which neglects J2, the higher zonals,
-  drag and third bodies (SGP4 has them) — the process noise ``q`` covers the mismatch;
+* **motion model** of every tracker (:func:`make_motion`, ``trackers.motion``): the EKF of
+  two-body motion plus J2 (:class:`~hypotrack.models.orbit3d.J2Orbit3D`), which neglects the
+  higher zonals, drag and third bodies (SGP4 has them), or of two-body motion alone
+  (:class:`~hypotrack.models.orbit3d.TwoBodyOrbit3D`), which neglects J2 too and drifts tens of
+  kilometres from SGP4 in an orbit — the process noise ``q`` covers the mismatch;
 * **known objects** start at their SGP4 state at scan 0 plus a seeded Gaussian error (the
   catalogue's uncertainty, ``init_position_std``/``init_velocity_std``) with that covariance;
   a share ``unknown_share`` of the debris is **unknown** at the start and must be born from the data.
@@ -40,7 +42,7 @@ from scipy.optimize import linear_sum_assignment
 from ...hypotheses import BinomialPopulation, LabeledMultiBernoulliPopulation, glmb, homht_kbest, rfisst
 from ...hypotheses.factored import AdaptiveBirth, FactoredFilter
 from ...metrics import gospa, ospa
-from ...models.orbit3d import TwoBodyOrbit3D
+from ...models.orbit3d import J2Orbit3D, TwoBodyOrbit3D
 from ...scenarios.catalogue import (
     GroundRadar,
     GroundSite,
@@ -52,7 +54,7 @@ from ...scenarios.catalogue import (
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
 
-__all__ = ["REENTRY_GAP_SCANS", "TRACKERS", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "TRACKERS", "make_motion", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
            "CatalogueSHTStepper", "peer_rows"]
 
@@ -98,6 +100,20 @@ def make_radar(cfg) -> GroundRadar:
                            r["r_min_km"], r["r_max_km"])
     return GroundRadar(site, fov, revisit_s=r["revisit_s"], p_D=r["p_D"], clutter_rate=r["clutter_rate"],
                        measurement="enu", sigma_enu_km=r["sigma_km"])
+
+
+#: The trackers' motion models (``trackers.motion``).
+MOTIONS = {"two_body": TwoBodyOrbit3D, "j2": J2Orbit3D}
+
+
+def make_motion(cfg):
+    """The trackers' EKF motion model: ``trackers.motion`` (two-body, or two-body + J2) with white
+    acceleration noise of intensity ``trackers.process_noise_q``."""
+    t = cfg["trackers"]
+    kind = t.get("motion", "two_body")
+    if kind not in MOTIONS:
+        raise ValueError(f"trackers.motion must be one of {tuple(MOTIONS)}, got {kind!r}")
+    return MOTIONS[kind](q=t["process_noise_q"])
 
 
 def build_scenario(cfg, n: int, seed: int):
@@ -197,7 +213,7 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     radar = sc.sensors[0]
     tsensor = TrackerSensor(radar)
-    motion = TwoBodyOrbit3D(q=cfg["trackers"]["process_noise_q"])
+    motion = make_motion(cfg)
     means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
     scans = sc.scan_list(0)
     truth = sc.truth[sc.truth["in_view"]]
@@ -362,7 +378,7 @@ def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, s
         raise ValueError(f"pools must hold 'process' and/or 'thread', got {pools!r}")
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     tsensor = TrackerSensor(sc.sensors[0])
-    motion = TwoBodyOrbit3D(q=cfg["trackers"]["process_noise_q"])
+    motion = make_motion(cfg)
     means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
     confs = [("serial", 1)] + [(p, int(workers)) for p in pools]
     filters = []
@@ -430,7 +446,7 @@ class PeerScenario:
     times: np.ndarray
     returns: list
     model: ScanModel
-    motion: TwoBodyOrbit3D
+    motion: TwoBodyOrbit3D  # or J2Orbit3D (make_motion)
 
     def scan_list(self):
         return list(zip(self.times, self.returns))
@@ -449,7 +465,7 @@ def peer_scenario(cfg, n: int, seed: int, scenario=None) -> PeerScenario:
     t = cfg["trackers"]
     model = ScanModel(tsensor.measurement.H, tsensor.measurement.R, tsensor.detection.p_D, t["gate_probability"],
                       max(tsensor.clutter.intensity, 1e-300))
-    return PeerScenario(means, covs, np.array(times), returns, model, TwoBodyOrbit3D(q=t["process_noise_q"]))
+    return PeerScenario(means, covs, np.array(times), returns, model, make_motion(cfg))
 
 
 class CatalogueSHTStepper:

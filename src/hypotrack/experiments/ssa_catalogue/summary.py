@@ -234,7 +234,7 @@ def peer_claims(peers: pd.DataFrame) -> list[Claim]:
         out.append(Claim(EXPERIMENT, f"per-scan speed-up of hypotrack's {r.algorithm.upper()} over Stone Soup "
                          f"{r.implementation}, catalogue N = {int(r.n_objects)}", SOURCE, "--",
                          f"{r.peer_over_hypotrack:.3g}×", "--", "extension",
-                         f"{int(r.n_tracks)} known tracks, two-body EKF (hypotrack's dynamics on both sides), "
+                         f"{int(r.n_tracks)} known tracks, EKF (hypotrack's dynamics on both sides), "
                          f"median of {int(r.scans_timed)} scans: {_fmt(ref.median_ms)} ms against "
                          f"{_fmt(r.median_ms)} ms; {agree}", "measurement",
                          key=f"peer_{r.algorithm}_{r.implementation}_size{rank[r.n_objects]}"))

@@ -92,6 +92,14 @@ def test_reporting_modules_import_each_other_one_way():
     assert ("hypotrack.reporting.ledger", "hypotrack.reporting.readme") not in graph
 
 
+def test_reporting_never_imports_the_experiments():
+    """Layering: the experiments use the reporting modules (ledger, macros, README), never the reverse,
+    so a report or README block that needs an experiment's rendering reads a file the experiment wrote."""
+    upward = sorted((a, b) for a, b in import_graph()
+                    if a.startswith("hypotrack.reporting") and b.startswith("hypotrack.experiments"))
+    assert upward == [], f"reporting modules importing experiments: {upward}"
+
+
 def test_one_package_per_experiment():
     loose = sorted(p.stem for p in EXPERIMENTS.glob("*.py") if p.stem not in SHARED_MODULES)
     assert loose == [], f"experiment modules outside a package: {loose}"

@@ -100,8 +100,9 @@ rule ssa_catalogue_single_event:
 
 SC_TARGETS.extend(rules.ssa_catalogue_single_event.output)
 
-# The committed whole-catalogue record (a full.yaml run, recorded by `python -m hypotrack.reporting.record
-# --catalogue`): its macros let the report quote it. Read only; absent, the report says it is not recorded.
+# The committed whole-catalogue record (a full.yaml run, recorded by `python -m
+# hypotrack.experiments.ssa_catalogue.record <results>`): its macros let the report quote it. Read only;
+# absent, the report says it is not recorded.
 SC_FULL_RECORD = "paper/record/ssa_catalogue_full.csv"
 if Path(SC_FULL_RECORD).exists():
 

@@ -47,5 +47,5 @@ X, valid = sc.states(np.array([0.0]))
 r_ef, _ = teme_to_ef(X[valid[:, 0], :1, :3], X[valid[:, 0], :1, 3:], sc.theta[:1])
 plot_catalogue(r_ef[:, 0], (objects["group"] != "active").to_numpy()[valid[:, 0]], sc.sensors[0],
                out.catalogue_pdf, out.catalogue_png)
-with open(out.run_config, "w") as fh:  # what ran: the catalogue record checks it (reporting.record --catalogue)
+with open(out.run_config, "w") as fh:  # what ran: the catalogue record checks it (experiments.ssa_catalogue.record)
     json.dump({"seed": seed, "ssa_catalogue": cfg}, fh, indent=1, sort_keys=True)

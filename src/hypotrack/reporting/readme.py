@@ -11,7 +11,10 @@ rewrites the block in place (``--check`` only compares and exits 1 on a differen
 (speed-ups, throughput: ``ledger_timing.csv`` beside the ledger, kept apart so that ``ledger.csv`` is
 byte-identical for one config and seed) are read with it. The quick start's run time, between
 :data:`RUNTIME_BEGIN` and :data:`RUNTIME_END`, is generated the same way from ``pipeline_timing.csv``
-beside the ledger (the last full run's wall clock and CPU time per rule, :mod:`hypotrack.reporting.pipeline_time`). Why a committed
+beside the ledger (the last full run's wall clock and CPU time per rule, :mod:`hypotrack.reporting.pipeline_time`),
+and the whole-catalogue table, between :data:`CATALOGUE_BEGIN` and :data:`CATALOGUE_END`, is the text of
+``ssa_catalogue_full.md`` beside it (rendered by its own recording step,
+:mod:`hypotrack.experiments.ssa_catalogue.record`). Why a committed
 ledger and a developer command rather than a pipeline rule: the README is a source file, and no
 rule may write outside ``results``; the ledger it quotes is the default run's evidence, tracked in
 git (``paper/record/``, apart from the outputs of whatever run a user makes) so a reader (and the
@@ -39,8 +42,9 @@ RUNTIME_BEGIN = "<!-- runtime:begin -->"
 RUNTIME_END = "<!-- runtime:end -->"
 CATALOGUE_BEGIN = "<!-- catalogue:begin -->"
 CATALOGUE_END = "<!-- catalogue:end -->"
+CATALOGUE_RECORD = "ssa_catalogue_full.md"  # the whole-catalogue block, beside the ledger
 NO_CATALOGUE = ("The whole-catalogue run (`full.yaml`) is not recorded yet: run it, then "
-                "`python -m hypotrack.reporting.record --catalogue <results>`.")
+                "`python -m hypotrack.experiments.ssa_catalogue.record <results>`.")
 NO_RUNTIME = "run time not measured yet: no paper/record/pipeline_timing.csv is committed"
 NO_LEDGER = ("No ledger is recorded yet. Run the pipeline (`snakemake -c2`), then "
              "`python -m hypotrack.reporting.record` and commit README.md with `paper/record/`.")
@@ -97,13 +101,12 @@ def runtime_text(ledger) -> str:
 
 
 def catalogue_text(ledger) -> str:
-    """The whole-catalogue block from ``ssa_catalogue_full.csv`` beside the ledger."""
-    from ..experiments.ssa_catalogue.summary import full_record_markdown
-
-    record = None if ledger is None else Path(ledger).with_name("ssa_catalogue_full.csv")
+    """The whole-catalogue block: ``ssa_catalogue_full.md`` beside the ledger, as the experiment
+    rendered it (:mod:`hypotrack.experiments.ssa_catalogue.record`; reporting does not import experiments)."""
+    record = None if ledger is None else Path(ledger).with_name(CATALOGUE_RECORD)
     if record is None or not record.exists():
         return NO_CATALOGUE + "\n"
-    return full_record_markdown(pd.read_csv(record)) + "\n"
+    return record.read_text()
 
 
 def generated_readme(text: str, ledger) -> str:

@@ -15,12 +15,10 @@ the results were written): a quick or reseeded run is not the record. The mutati
 ``workflows/mutation/run_mutation.py``.
 
 The catalogue-scale run (``ssa_catalogue`` under ``workflows/config/full.yaml``: every object of the
-catalogue, longer than the default budget) is recorded the same way, by its own command::
+catalogue, longer than the default budget) is recorded the same way by its experiment's own command,
+which uses this module's config checks (:func:`comparable`, :func:`config_differences`, :func:`full_config`)::
 
-    python -m hypotrack.reporting.record --catalogue results-full   # -> paper/record/ssa_catalogue_full.csv
-
-which joins its accuracy and timing tables (one row per tracker and population size) and refuses a
-run whose ``ssa_catalogue`` section or seed is not the full configuration's.
+    python -m hypotrack.experiments.ssa_catalogue.record results-full   # -> paper/record/ssa_catalogue_full.*
 """
 
 from __future__ import annotations
@@ -65,10 +63,6 @@ def config_differences(run: dict, default: dict, prefix: str = "") -> list[str]:
     return out
 
 
-CATALOGUE_FILE = "ssa_catalogue_full.csv"
-CATALOGUE_CONFIG = "ssa_catalogue_full_config.json"
-
-
 def full_config(workflow_dir=ROOT / "workflows") -> dict:
     """``default.yaml`` overlaid with ``full.yaml`` (dictionaries merged key by key, as Snakemake
     merges a ``--configfile``), validated."""
@@ -81,40 +75,6 @@ def full_config(workflow_dir=ROOT / "workflows") -> dict:
     cfg = Path(workflow_dir) / "config"
     config = merge(yaml.safe_load((cfg / "default.yaml").read_text()), yaml.safe_load((cfg / "full.yaml").read_text()))
     return validate_config(config, cfg / "schema")
-
-
-def update_catalogue_record(results, record=RECORD, readme=ROOT / "README.md", workflow_dir=ROOT / "workflows",
-                            force: bool = False) -> list[Path]:
-    """``record/ssa_catalogue_full.csv``: the accuracy (``summary.csv``) and timing
-    (``summary_timing.csv``) tables of a full-configuration ``ssa_catalogue`` run joined on
-    (tracker, N), and the configuration it ran with; the README's generated blocks rewritten.
-
-    Raises ``FileNotFoundError`` when the run has not written them, ``ValueError`` when its
-    ``ssa_catalogue`` section or seed differ from the full configuration's (``force``: record anyway).
-    """
-    import pandas as pd
-
-    source = Path(results) / "ssa_catalogue"
-    need = ("summary.csv", "summary_timing.csv", "run_config.json")
-    missing = [f for f in need if not (source / f).exists()]
-    if missing:
-        raise FileNotFoundError(f"results {source} lacks {', '.join(missing)}: run the ssa_catalogue rules first")
-    run = comparable(json.loads((source / "run_config.json").read_text()))
-    full = full_config(workflow_dir)
-    want = comparable({"seed": full["seed"], "ssa_catalogue": full["ssa_catalogue"]})
-    differ = config_differences(run, want)
-    if differ and not force:
-        raise ValueError("the run's ssa_catalogue config is not workflows/config/full.yaml's (differs at "
-                         + ", ".join(differ[:8]) + "); the catalogue record is the full run")
-    acc = pd.read_csv(source / "summary.csv")
-    tim = pd.read_csv(source / "summary_timing.csv")
-    table = acc.merge(tim.drop(columns=[c for c in ("mean_in_view",) if c in tim]), on=["tracker", "n_objects"])
-    Path(record).mkdir(parents=True, exist_ok=True)
-    table.to_csv(Path(record) / CATALOGUE_FILE, index=False, float_format="%.6g")
-    shutil.copyfile(source / "run_config.json", Path(record) / CATALOGUE_CONFIG)
-    readme = Path(readme)
-    readme.write_text(generated_readme(readme.read_text(), Path(record) / "ledger.csv"))
-    return [Path(record) / CATALOGUE_FILE, Path(record) / CATALOGUE_CONFIG, readme]
 
 
 def update_record(results="results", record=RECORD, readme=ROOT / "README.md", workflow_dir=ROOT / "workflows",
@@ -142,26 +102,34 @@ def update_record(results="results", record=RECORD, readme=ROOT / "README.md", w
     for name in FILES:
         shutil.copyfile(source / name, Path(record) / name)
         written.append(Path(record) / name)
+    return [*written, rewrite_readme(readme, record)]
+
+
+def rewrite_readme(readme, record=RECORD) -> Path:
+    """``readme`` with its generated blocks rewritten from the record folder ``record``."""
     readme = Path(readme)
     readme.write_text(generated_readme(readme.read_text(), Path(record) / "ledger.csv"))
-    return [*written, readme]
+    return readme
+
+
+def run_step(step) -> int:
+    """A recording ``step`` (a callable returning the paths it wrote) run as a command's body: prints
+    what it wrote and returns 0, or prints why it refused (a run unfinished or of another config) and returns 1."""
+    try:
+        written = step()
+    except (FileNotFoundError, ValueError) as exc:
+        print(f"record: {exc}", file=sys.stderr)
+        return 1
+    print("record: wrote " + ", ".join(str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p) for p in written))
+    return 0
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(prog="python -m hypotrack.reporting.record", description=__doc__.split("\n")[0])
     parser.add_argument("results", nargs="?", default="results", help="the run's results folder (default: results)")
     parser.add_argument("--force", action="store_true", help="record a run of another config (not the default)")
-    parser.add_argument("--catalogue", action="store_true",
-                        help="record the full-configuration ssa_catalogue run (paper/record/ssa_catalogue_full.csv)")
     args = parser.parse_args(argv)
-    try:
-        written = (update_catalogue_record(args.results, force=args.force) if args.catalogue
-                   else update_record(args.results, force=args.force))
-    except (FileNotFoundError, ValueError) as exc:
-        print(f"record: {exc}", file=sys.stderr)
-        return 1
-    print("record: wrote " + ", ".join(str(p.relative_to(ROOT)) if p.is_relative_to(ROOT) else str(p) for p in written))
-    return 0
+    return run_step(lambda: update_record(args.results, force=args.force))
 
 
 if __name__ == "__main__":

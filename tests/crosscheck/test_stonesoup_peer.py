@@ -54,3 +54,37 @@ def test_peer_bad_kind():
     sc = formation(2, 1.0, CFG, 3)
     with pytest.raises(ValueError, match="kind"):
         _peer(sc, "MHT")
+
+
+@pytest.mark.parametrize("dt", [10.0, 600.0])
+def test_orbit_transition_model_is_hypotracks_motion_model(dt):
+    """The Stone Soup wrapper of an orbit model (the catalogue peers' EKF dynamics) gives hypotrack's
+    propagation as ``function``, its state-transition matrix as ``jacobian`` and ``Q(dt)`` as ``covar``,
+    over one scan (10 s: one RK4 step) and over a gap of many steps (600 s: J2 moves the state by
+    metres); Stone Soup's EKF predictor on it is hypotrack's EKF prediction."""
+    import datetime
+
+    from stonesoup.predictor.kalman import ExtendedKalmanPredictor
+    from stonesoup.types.state import GaussianState, State
+
+    from hypotrack.interop.stonesoup.transition import orbit_transition_model
+    from hypotrack.models.orbit3d import J2Orbit3D, TwoBodyOrbit3D
+
+    motion = J2Orbit3D(q=1e-9)
+    x = np.array([6800.0, 1200.0, 900.0, -1.1, 5.2, 5.3])  # LEO, inclined: J2 acts on every component
+    step = datetime.timedelta(seconds=dt)
+    model = orbit_transition_model(motion)
+    assert model.ndim_state == 6
+    xp, F = motion.transition(x[None], dt)
+    np.testing.assert_allclose(np.ravel(model.function(State(x.reshape(-1, 1)), time_interval=step)),
+                               motion.propagate(x, dt), rtol=1e-12, atol=0)
+    np.testing.assert_allclose(model.jacobian(State(x.reshape(-1, 1)), time_interval=step), F[0], rtol=1e-12, atol=0)
+    np.testing.assert_array_equal(model.covar(time_interval=step), motion.Q(dt))
+    # not two-body: the J2 term is wrapped, not dropped
+    assert np.linalg.norm(motion.propagate(x, dt)[:3] - TwoBodyOrbit3D(q=1e-9).propagate(x, dt)[:3]) > 1e-4
+
+    t0 = datetime.datetime(2026, 1, 1)
+    P = np.diag([1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3])
+    pred = ExtendedKalmanPredictor(model).predict(GaussianState(x.reshape(-1, 1), P, timestamp=t0), timestamp=t0 + step)
+    np.testing.assert_allclose(np.ravel(pred.state_vector), xp[0], rtol=1e-12, atol=0)
+    np.testing.assert_allclose(pred.covar, F[0] @ P @ F[0].T + motion.Q(dt), rtol=1e-10, atol=1e-15)

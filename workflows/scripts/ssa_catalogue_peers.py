@@ -2,17 +2,18 @@
 
 Stone Soup is a benchmark/test-only dependency; its side is
 :class:`hypotrack.interop.stonesoup.peer.StoneSoupPeer` (shared with ``perf_sht_benchmark.py``) with
-an EKF predictor on the trackers' motion model wrapped here; without Stone Soup the rule times hypotrack alone. Both sides
+an EKF predictor on the trackers' motion model; without Stone Soup the rule times hypotrack alone. Both sides
 run the known objects with no initiation or deletion, the same EKF dynamics (hypotrack's motion model, two-body plus J2
-by default, ``make_motion``, wrapped as a Stone Soup transition model, integrated once per track and scan),
+by default, ``make_motion``, wrapped as a Stone Soup transition model by
+:func:`hypotrack.interop.stonesoup.transition.orbit_transition_model`, integrated once per track and scan),
 the same linear TEME position measurement, gate, p_D and clutter density.
 """
-import numpy as np
 import pandas as pd
 
 from hypotrack.experiments.perf_sht.run import run_side_by_side
 from hypotrack.experiments.ssa_catalogue.run import CatalogueSHTStepper, peer_rows, peer_scenario
 from hypotrack.interop.stonesoup.peer import StoneSoupPeer
+from hypotrack.interop.stonesoup.transition import orbit_transition_model
 from hypotrack.reporting.joblog import prefix_output
 from hypotrack.scenarios.tables import write_table
 
@@ -29,46 +30,11 @@ except ImportError:
     print("ssa_catalogue: Stone Soup is not installed; timing hypotrack only", flush=True)
 
 
-def two_body_model_class():
-    from stonesoup.base import Property
-    from stonesoup.models.base import GaussianModel, TimeVariantModel
-    from stonesoup.models.transition.base import TransitionModel
-    from stonesoup.types.array import CovarianceMatrix, StateVector
-
-    class HypotrackOrbit(TransitionModel, GaussianModel, TimeVariantModel):
-        """hypotrack's EKF dynamics (the motion model's transition and Q) as a Stone Soup model."""
-        motion: object = Property(doc="hypotrack orbit motion model (J2Orbit3D or TwoBodyOrbit3D)")
-
-        @property
-        def ndim_state(self):
-            return 6
-
-        def _transition(self, state, time_interval):
-            x = np.asarray(state.state_vector, float).reshape(1, 6)
-            dt = time_interval.total_seconds()
-            key = (x.tobytes(), dt)
-            if getattr(self, "_key", None) != key:  # function and jacobian of one state: integrate once
-                xp, F = self.motion.transition(x, dt)
-                self._key, self._val = key, (xp[0], F[0])
-            return self._val
-
-        def function(self, state, noise=False, time_interval=None, **kwargs):
-            return StateVector(self._transition(state, time_interval)[0])
-
-        def jacobian(self, state, time_interval=None, **kwargs):
-            return self._transition(state, time_interval)[1]
-
-        def covar(self, time_interval=None, **kwargs):
-            return CovarianceMatrix(self.motion.Q(time_interval.total_seconds()))
-
-    return HypotrackOrbit
-
-
 def stonesoup_peer(scenario, kind):
     """Stone Soup's ``kind`` on the catalogue scans: EKF predictor on hypotrack's orbit dynamics."""
     from stonesoup.predictor.kalman import ExtendedKalmanPredictor
 
-    predictor = ExtendedKalmanPredictor(two_body_model_class()(motion=scenario.motion))
+    predictor = ExtendedKalmanPredictor(orbit_transition_model(scenario.motion))
     return StoneSoupPeer(kind, predictor, scenario.model, (0, 1, 2), scenario.initial_states, scenario.initial_covs,
                          scenario.scan_list(), time0=scenario.times[0])
 

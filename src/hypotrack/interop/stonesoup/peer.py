@@ -9,7 +9,8 @@ track keeps its prediction). No initiation and no deletion, as on hypotrack's si
 the same problem. Detections are built before timing: data ingest is not part of a scan.
 
 The caller gives Stone Soup's predictor (e.g. a ``KalmanPredictor`` on a combined constant-velocity
-model, or an ``ExtendedKalmanPredictor`` on hypotrack's two-body dynamics) and the permutation
+model, or an ``ExtendedKalmanPredictor`` on hypotrack's orbit dynamics,
+:func:`~hypotrack.interop.stonesoup.transition.orbit_transition_model`) and the permutation
 ``perm`` from hypotrack's state order to Stone Soup's (``[x, y, vx, vy]`` → ``[x, vx, y, vy]`` is
 ``[0, 2, 1, 3]``); states are mapped in at construction and back in :meth:`StoneSoupPeer.record`.
 Stone Soup is imported only when a peer is built.

@@ -148,7 +148,7 @@ def catalogue_macros(acc: pd.DataFrame) -> dict:
     """Macros of the accuracy table at the largest size."""
     n = acc["n_objects"].max()
     big = acc[acc["n_objects"] == n].set_index("tracker")
-    v = {"NLargest": int(n), "InViewLargest": f"{big['mean_in_view'].iloc[0]:.3g}"}
+    v = {"NLargest": int(n), "InViewLargest": f"{big['mean_in_view'].iloc[0]:.3g}", "ReentryGapScans": REENTRY_GAP_SCANS}
     if "objects_in_view" in big:
         v["ObjectsSeenLargest"] = int(big["objects_in_view"].iloc[0])
     for name, r in big.iterrows():

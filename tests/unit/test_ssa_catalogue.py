@@ -379,3 +379,25 @@ def test_full_record_macros_by_hand():
     assert v["FullGoalglmb"] == "meets" and v["FullGoalhomhtkbest"] == "misses" and "FullGoalgnn" not in v
     assert v["FullCpuScanhomhtkbest"] == "200" and v["FullPeakMBglmb"] == "40" and v["FullBornglmb"] == 34
     assert v["FullSlopeglmb"] == "0.50" and v["FullSlopegnn"] == "1.00"
+
+
+def test_same_posterior_reads_the_stored_state_groups_and_lane():
+    """``same_posterior`` (the parallel timing's check) holds for workers = 1 against workers = 2,
+    and fails when one number of the stored state differs: a hypothesis weight, a lane covariance,
+    or a lane mean at the scan (the lazy lane compared as kept, not predicted)."""
+    import copy as _copy
+
+    from hypotrack.experiments.ssa_catalogue.run import same_posterior
+
+    serial, pooled = _run_parallel(1), _run_parallel(2, "thread")
+    assert same_posterior(serial, pooled) and same_posterior(pooled, serial)
+    assert len(serial._groups) and len(serial._lane)  # both parts are compared
+    for change in ("weight", "cov", "view"):
+        other = _copy.deepcopy(pooled)
+        if change == "weight":
+            other._groups[0].log_w[0] += 1e-12
+        elif change == "cov":
+            other._lane.covs[0, 0, 0] *= 1 + 1e-12
+        else:
+            other._lane_view[0, 0] += 1e-9
+        assert not same_posterior(serial, other), change

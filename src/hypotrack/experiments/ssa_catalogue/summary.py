@@ -19,7 +19,7 @@ __all__ = ["cost_slope", "accuracy_table", "timing_table", "catalogue_claims", "
            "full_record_macros", "full_record_markdown"]
 
 EXPERIMENT = "ssa_catalogue"
-SOURCE = "extension (catalogue-scale SSA)"
+SOURCE = "extension (SSA at catalogue scale)"
 TRACKER_NAMES = {"glmb": "δ-GLMB (Gibbs), factored", "homht_kbest": "HOMHT k-best, factored",
                  "rfisst": "R-FISST, factored", "gnn": "GNN", "jpda": "JPDA"}
 

@@ -209,7 +209,7 @@ def test_the_pair_with_births_and_deaths_on_both_sides_is_one_row_per_tracker():
     # an extension row (its numbers kept, mean 0.97), no verdict on document 000's claim, no cause
     unlike = by_key["ssa15_chain_Agreement"]
     assert (unlike.status, unlike.cause, float(unlike.mean)) == ("extension", "", pytest.approx(0.97))
-    assert (unlike.published, unlike.tolerance, unlike.z) == ("--", "--", "")  # scored against no published value
+    assert (unlike.published, unlike.tolerance, unlike.z, unlike.evidence) == ("--", "--", "", "measurement")
     assert "unlike population models" in unlike.note and unlike.note.endswith("against HOMHT with births and deaths)")
     # without the births reference (a tracker with a fixed number, or an old table) the same numbers get a verdict
     assert {c.key: c for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}[

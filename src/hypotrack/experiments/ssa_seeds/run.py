@@ -282,7 +282,7 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
             if k == "Agreement" and bref:
                 # births and deaths against the fixed-number HOMHT: unlike models, so not document 000's
                 # comparison (the like-for-like pairs are the fixed-number R-FISST's row and AgreementBirths)
-                c = replace(c, status="extension", cause="", published="--", tolerance="--", z="",
+                c = replace(c, status="extension", cause="", published="--", tolerance="--", z="", evidence="measurement",
                             note=f"{c.note}; unlike population models (births and deaths against a fixed number): "
                                  "measures how often R-FISST's birth model changes the MAP hypothesis, no verdict "
                                  f"on document 000's claim (decided against {names[(case, bref)]})")

@@ -58,7 +58,9 @@ predicted position is inside the sensor's field of view (``p_D > 0``) are predic
 of view can take no return, so this changes the posterior only through the process noise: one
 EKF prediction over a gap of ``k`` scans adds ``Q(kΔ)`` where ``k`` predictions add
 ``Σ Φ Q(Δ) Φᵀ`` (equal for a linear constant-velocity model, a few per cent apart on an
-orbit over minutes; the Kepler means are exact either way).
+orbit over minutes). The means are exact either way for the Kepler model; a numerically integrated
+one (``J2Orbit3D``) advances the lane's means scan by scan and a candidate's over its whole gap, equal
+up to its integration error.
 :attr:`~FactoredFilter.posterior` predicts the lazy singletons to the current scan.
 
 When the factored posterior equals the unfactored one

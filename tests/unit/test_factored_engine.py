@@ -13,6 +13,8 @@ engine is in ``tests/crosscheck/test_equivalence_factored.py``.
 
 import numpy as np
 import pytest
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
 from scipy.special import logsumexp
 
 from hypotrack.hypotheses import (
@@ -33,7 +35,7 @@ from hypotrack.hypotheses import duplicates as dup_mod
 from hypotrack.hypotheses.duplicates import child_hashes, child_pairs, merge_duplicates
 from hypotrack.hypotheses.factored_groups import GroupState, components, factorise, product, restrict_population
 from hypotrack.models.motion import ConstantVelocity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box, DetectionModel, FieldOfView, LinearPositionSensor, PoissonClutter, Sensor
 
 R = np.eye(2) * 0.5
 P_D, P_S, R_B = 0.8, 0.9, 0.2
@@ -242,6 +244,25 @@ def test_components_of_the_bipartite_graph():
     # nodes 0, 1, 2; returns 0, 1, 2: node 0 - r0 - node 1 ; node 2 - r2 ; r1 alone
     n, lab = components(3, 3, [0, 1, 2], [0, 0, 2])
     assert n == 3 and lab[0] == lab[1] == lab[3] and lab[2] == lab[5] and lab[4] not in (lab[0], lab[2])
+    # numbered by smallest vertex, as scipy numbers them: node 2 is alone before r1 (vertex 4)
+    assert lab.tolist() == [0, 0, 1, 0, 2, 1]
+
+
+@pytest.mark.parametrize("size", [(12, 9, 14), (150, 140, 180)])  # union–find (≤ 256 vertices) and scipy
+def test_components_equal_scipy_labels_on_random_graphs(size):
+    """Both code paths give scipy's ``connected_components`` labels (numbered by smallest vertex),
+    on graphs with isolated nodes, isolated returns and repeated edges."""
+    rng = np.random.default_rng(7)
+    n_nodes, n_ret, n_edges = size
+    for _ in range(200):
+        e = int(rng.integers(0, n_edges))
+        node, ret = rng.integers(0, n_nodes, e), rng.integers(0, n_ret, e)
+        n = n_nodes + n_ret
+        g = coo_matrix((np.ones(e, dtype=np.int8), (node, ret + n_nodes)), shape=(n, n))
+        want = connected_components(g, directed=False)
+        got = components(n_nodes, n_ret, node, ret)
+        assert got[0] == want[0]
+        np.testing.assert_array_equal(got[1], want[1])
 
 
 def test_restrict_population_keeps_the_chosen_terms():
@@ -520,6 +541,63 @@ def test_singletons_live_in_the_lane_and_lazy_prediction_is_exact_for_a_linear_m
     (j,) = a0.tracks[int(np.argmax(a0.log_w))]
     np.testing.assert_allclose(a0.store.means[j], x, atol=1e-9)
     np.testing.assert_allclose(a0.store.covs[j], P, atol=1e-9)
+
+
+# an annulus: an object crossing the middle leaves the view and comes back
+RING = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)),
+              DetectionModel(P_D, FieldOfView(0.0, 360.0, 3.5, 20.0)), PoissonClutter(1.5, Box([-20.0, -20.0], [20.0, 20.0])))
+
+
+def _ring_scene(lazy):
+    """GLMB, two objects that always exist (labeled multi-Bernoulli, no births, p_S = 1): a crosses the
+    ring's hole (x = −6 + t: in view at scans 1–2, out at 3–9, back at 10), b sits in view at (0, 8).
+    Two returns near each at scan 1 leave both a group of two hypotheses (either return; missed is pruned),
+    so b's group is stepped while a's waits.
+    A track out of view gates nothing (the catalogue's setting), so both filters form the same groups."""
+    X = np.array([[-6.0, 0.0, 1.0, 0.0], [0.0, 8.0, 0.0, 0.0]])
+    f = HypothesisFilter(MOTION, RING, GLMBWeights(), ExhaustiveGenerator(), merge_duplicates=True,
+                         population=LabeledMultiBernoulliPopulation([], r_birth=R_B, p_survive=1.0),
+                         max_hypotheses=1000, gate_probability=0.99, means=X, covs=P0[:2], seed=0)
+    ff = FactoredFilter.from_filter(f, lazy=lazy, min_weight=0.01, gate_out_of_view=False)
+    b = np.array([[0.1, 8.0]])
+    scans = [np.array([[-5.3, 0.2], [-4.8, -0.3], [0.5, 8.4], [-0.3, 7.7]]), EMPTY] + [b] * 7 + [np.array([[4.1, 0.1], [0.0, 7.9]]),
+                                                                            np.array([[5.0, 0.0]])]
+    out = []
+    for Z in scans:
+        ff.step(Z)
+        out.append((dict(ff.last_stats), ff.groups, ff.map_means()))
+    return ff, out
+
+
+def test_lazy_groups_out_of_view_wait_and_are_exact_for_a_linear_model():
+    """A multi-hypothesis group whose tracks are all out of view is left unpredicted (``lazy``): not
+    scored, not stepped, its means advanced; when a track may be seen again it is predicted over its whole
+    gap. For the constant-velocity model that is the eager posterior at every scan (weights, means,
+    covariances), read while asleep (``groups``, ``map_means``) and after it wakes."""
+    _, eager = _ring_scene(False)
+    _, lazy = _ring_scene(True)
+    asleep = [st.get("n_asleep", 0) for st, _, _ in lazy]
+    assert asleep == [0, 0, 1, 1, 1, 1, 1, 1, 1, 0, 0]  # a's tracks leave the ring at scan 3, are back at 10
+    assert [st.get("n_asleep", 0) for st, _, _ in eager] == [0] * 11
+    n_a = [len(g.store) for g in eager[5][1] if 0 in g.labels.tolist()]
+    assert n_a == [2]  # a: two hypotheses, one track each
+    assert [e[0]["n_predicted"] - x[0]["n_predicted"] for e, x in zip(eager, lazy)] == [0, 0] + [2] * 7 + [0, 0]
+    for (_, ge, (le, me)), (_, gl, (ll, ml)) in zip(eager, lazy):
+        assert sorted(g.labels.tolist() for g in ge) == sorted(g.labels.tolist() for g in gl)
+        for a in ge:
+            (b,) = [g for g in gl if g.labels.tolist() == a.labels.tolist()]
+            np.testing.assert_allclose(b.log_w, a.log_w, atol=1e-12)
+            np.testing.assert_allclose(b.store.means, a.store.means, atol=1e-9)
+            np.testing.assert_allclose(b.store.covs, a.store.covs, atol=1e-9)
+        assert sorted(le.tolist()) == sorted(ll.tolist())
+        np.testing.assert_allclose(ml[np.argsort(ll)], me[np.argsort(le)], atol=1e-9)
+    # by hand while asleep (scan 6): a's MAP mean is the scan-2 mean moved 4 scans at its velocity
+    (a2,) = [g for g in lazy[1][1] if g.labels.tolist() == [0]]
+    (a6,) = [g for g in lazy[5][1] if g.labels.tolist() == [0]]
+    j2, j6 = (g.tracks[int(np.argmax(g.log_w))][0] for g in (a2, a6))
+    np.testing.assert_allclose(a6.store.means[j6], MOTION.F(4.0) @ a2.store.means[j2], atol=1e-12)
+    np.testing.assert_allclose(a6.store.covs[j6], MOTION.F(4.0) @ a2.store.covs[j2] @ MOTION.F(4.0).T + MOTION.Q(4.0),
+                               atol=1e-12)
 
 
 def test_map_means_are_the_map_estimate_without_predicting_the_lane():

@@ -85,15 +85,20 @@ def test_rk4_against_dop853_oracle_over_one_orbit():
 
 
 def test_propagate_each_is_rowwise_propagate():
-    """Every row takes n = ceil(max|dt| / max_step) = 180 steps of its own dt_i / n: the 5,400-s row is
-    ``propagate`` exactly, the −1,800-s row ``propagate`` at a 10-s step exactly, the zero row unchanged."""
+    """Each row takes its own n_i = ceil(|dt_i| / max_step) steps: the 5,400-s row is ``propagate`` exactly
+    (180 steps), the −1,800-s row ``propagate`` of itself alone exactly (60 steps, not the 180 of the
+    longest row: a 10-s step would end ~1e-5 km elsewhere), the zero row unchanged; a row's result does
+    not depend on the rest of the batch."""
     x0 = np.vstack([LEO, LEO[0]])
     dt = np.array([5400.0, 0.0, -1800.0])
     out = MODEL.propagate_each(x0, dt)
     np.testing.assert_array_equal(out[0], MODEL.propagate(x0[0], 5400.0))
     np.testing.assert_array_equal(out[1], x0[1])
-    np.testing.assert_array_equal(out[2], J2Orbit3D(max_step=10.0).propagate(x0[2], -1800.0))
-    assert np.linalg.norm(out[2, :3] - MODEL.propagate(x0[2], -1800.0)[:3]) < 1e-3
+    np.testing.assert_array_equal(out[2], MODEL.propagate(x0[2], -1800.0))
+    fine = J2Orbit3D(max_step=10.0).propagate(x0[2], -1800.0)
+    assert 1e-9 < np.linalg.norm(out[2, :3] - fine[:3]) < 1e-3
+    np.testing.assert_array_equal(MODEL.propagate_each(x0[[2, 0]], dt[[2, 0]]), out[[2, 0]])
+    np.testing.assert_array_equal(MODEL.propagate_each(x0[[2]], dt[[2]]), out[[2]])
     # backwards is the inverse of forwards (to the integration error)
     back = MODEL.propagate(MODEL.propagate(LEO, 3000.0), -3000.0)
     np.testing.assert_allclose(back[:, :3], LEO[:, :3], rtol=0, atol=1e-3)

@@ -61,7 +61,12 @@ EKF prediction over a gap of ``k`` scans adds ``Q(kΔ)`` where ``k`` predictions
 orbit over minutes). The means are exact either way for the Kepler model; a numerically integrated
 one (``J2Orbit3D``) advances the lane's means scan by scan and a candidate's over its whole gap, equal
 up to its integration error.
-:attr:`~FactoredFilter.posterior` predicts the lazy singletons to the current scan.
+The same holds for a multi-hypothesis group (an object whose existence or association is still
+open) whose tracks are all out of view: it is left as it was, its means advanced a scan at a time
+in the same batch, and predicted over its whole gap when one of its tracks may be seen again. At
+catalogue scale these groups accumulate out of view (nothing resolves them there) and would otherwise
+be predicted and visited every scan. :attr:`~FactoredFilter.posterior` and
+:attr:`~FactoredFilter.groups` predict the lazy singletons and groups to the current scan.
 
 When the factored posterior equals the unfactored one
 -----------------------------------------------------
@@ -132,10 +137,15 @@ class FactoredPosterior:
         independent distributions — with weight the product of theirs.
     """
 
-    def __init__(self, states, singles, n_singles: int, n_top: int = 1):
-        # singles: the lane's TrackStore, or a function giving it (lazy singletons are predicted
-        # to the scan only when a summary that needs them is read)
-        self._states, self._get_singles, self._n_singles, self._n_top = tuple(states), singles, n_singles, n_top
+    def __init__(self, states, singles, n_singles: int, n_top: int = 1, n_states: int | None = None):
+        # states, singles: the groups and the lane's TrackStore, or functions giving them (lazy
+        # groups and singletons are predicted to the scan only when a summary that needs them is read)
+        self._get_states, self._get_singles, self._n_singles, self._n_top = states, singles, n_singles, n_top
+        self._n_states = len(states) if n_states is None else n_states
+
+    @cached_property
+    def _states(self) -> tuple:
+        return tuple(self._get_states() if callable(self._get_states) else self._get_states)
 
     @cached_property
     def _singles(self) -> TrackStore:
@@ -154,7 +164,7 @@ class FactoredPosterior:
 
     @property
     def n_groups(self) -> int:
-        return len(self._states) + self._n_singles
+        return self._n_states + self._n_singles
 
     @cached_property
     def cardinality(self) -> np.ndarray:
@@ -412,9 +422,10 @@ class FactoredFilter:
         groups' hypotheses, track moments and the returns of their gates) and results
         (``bytes_from_workers``) even when ``workers = 1``.
     lazy : bool
-        Predict a singleton only when its predicted mean is in the field of view (module
-        docstring, "Singletons and lazy prediction"); ``False`` (default) predicts every track
-        every scan, as the unfactored engine does. A singleton left unpredicted gates nothing.
+        Predict a singleton, or a group, only when the predicted mean of one of its tracks is in the
+        field of view (module docstring, "Singletons and lazy prediction"); ``False`` (default)
+        predicts every track every scan, as the unfactored engine does. A track left unpredicted
+        gates nothing.
     gate_out_of_view : bool
         ``True`` (default): a track's gate is geometric, the field of view entering only through
         ``p_D`` — a track out of view still links the returns in its gate to its group (a merge
@@ -430,7 +441,7 @@ class FactoredFilter:
         Of the last scan: ``n_groups``, ``largest_group`` (objects), ``largest_group_hypotheses``,
         ``n_touched`` (groups stepped with returns or birth terms), ``n_predict_only`` (groups
         only predicted, or with ``lazy`` left for later), ``n_singletons`` (groups in the lane),
-        ``n_predicted`` (tracks predicted this scan),
+        ``n_predicted`` (tracks predicted this scan), ``n_asleep`` (groups left unpredicted, ``lazy``),
         ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
         ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
@@ -488,6 +499,8 @@ class FactoredFilter:
             if record.exact:
                 groups = parts
         obj._groups, obj._lane = obj._sort_out(groups)
+        obj._group_t = np.zeros(len(obj._groups))
+        obj._group_view = [s.store.means for s in obj._groups]
         obj._lane_t = np.zeros(len(obj._lane))
         obj._lane_view = obj._lane.means.copy()
         obj._next_label = f._next_label
@@ -536,6 +549,8 @@ class FactoredFilter:
         if getattr(self, "adaptive_birth", None) is not None:
             self._set_birth_terms([])
         self._groups = []
+        self._group_t = np.zeros(0)  # the time each group's tracks were last predicted to (lazy: may lag)
+        self._group_view = []  # each group's track means at _time (lazy groups: advanced a scan at a time)
         self._lane = _cat([], self.ndim)  # the singletons (module docstring), at the times _lane_t
         self._lane_t = np.zeros(0)
         self._lane_view = np.zeros((0, self.ndim))  # the lane's means at _time (module docstring)
@@ -565,6 +580,8 @@ class FactoredFilter:
             self._lane, self._lane_t, self._lane_view = store, np.zeros(len(store)), store.means.copy()
         else:
             self._groups = [_singleton(store, j) for j in range(len(store))]
+            self._group_t = np.zeros(len(store))
+            self._group_view = [s.store.means for s in self._groups]
         self._next_label = int(store.labels.max()) + 1
 
     @property
@@ -572,7 +589,7 @@ class FactoredFilter:
         """The groups' states (:class:`~.factored_groups.GroupState`): the multi-hypothesis
         groups, then the singletons (predicted to the current scan), as a new list."""
         lane = self._lane_now()
-        return list(self._groups) + [_singleton(lane, j) for j in range(len(lane))]
+        return self._groups_now() + [_singleton(lane, j) for j in range(len(lane))]
 
     def _sort_out(self, states):
         """``(groups, lane)``: the singletons of ``states`` moved to a lane store (when the lane is on)."""
@@ -581,6 +598,16 @@ class FactoredFilter:
         single = [_is_singleton(s) for s in states]
         return ([s for s, x in zip(states, single) if not x],
                 _cat([s.store for s, x in zip(states, single) if x], self.ndim))
+
+    def _groups_now(self) -> list:
+        """The multi-hypothesis groups predicted to the current scan (only lazy ones move)."""
+        out = list(self._groups)
+        for g in np.flatnonzero(self._group_t != self._time):
+            s = out[g]
+            x, P = _predict_each(self._template.motion, s.store.means, s.store.covs,
+                                 np.full(len(s.store), self._time - self._group_t[g]))
+            out[g] = GroupState(TrackStore(x, P, s.store.labels), s.log_w, s.tracks, s.keys)
+        return out
 
     def _lane_now(self) -> TrackStore:
         """The singletons predicted to the current scan (only lazy ones move)."""
@@ -603,7 +630,7 @@ class FactoredFilter:
     # ------------------------------------------------------------------ scan
     def step(self, Z, dt=None) -> FactoredPosterior:
         """Advance one scan with returns ``Z`` (m, p); all-or-nothing like the engine's step."""
-        saved = (self._groups, self._lane, self._lane_t, self._lane_view, self._time, self._next_label, self.scan_index,
+        saved = (self._groups, self._group_t, self._group_view, self._lane, self._lane_t, self._lane_view, self._time, self._next_label, self.scan_index,
                  self.rng.bit_generator.state, self.last_stats, len(self.stats_history), len(self.split_records),
                  dict(self._object))
         pop = self._template.population
@@ -611,7 +638,7 @@ class FactoredFilter:
         try:
             return self._step(Z, dt)
         except BaseException:
-            (self._groups, self._lane, self._lane_t, self._lane_view, self._time, self._next_label, self.scan_index, rng_state,
+            (self._groups, self._group_t, self._group_view, self._lane, self._lane_t, self._lane_view, self._time, self._next_label, self.scan_index, rng_state,
              self.last_stats, n_hist, n_split, self._object) = saved
             if terms is not None:
                 self._set_birth_terms(terms)
@@ -634,8 +661,9 @@ class FactoredFilter:
         Z = check_measurements(Z, "Z", T.H.shape[0])
         m, groups, d = len(Z), self._groups, self.ndim
         now = self._time + dt
-        G = len(groups)
         # 1. predict the groups and the singletons that may be observed (lazy: those in view); score them
+        groups, group_gap, asleep = self._wake(groups, dt, now)
+        G = len(groups)
         sizes = np.array([len(s.store) for s in groups], dtype=np.int64)
         bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
         lane, gap, view = self._lane, now - self._lane_t, None
@@ -648,7 +676,7 @@ class FactoredFilter:
             cand = np.arange(len(lane))
         L = len(cand)
         prior = _cat([s.store for s in groups] + [_take(lane, cand)], d)
-        pm, pP = _predict_each(T.motion, prior.means, prior.covs, np.concatenate([np.full(bounds[-1], dt), gap[cand]]))
+        pm, pP = _predict_each(T.motion, prior.means, prior.covs, np.concatenate([np.repeat(group_gap, sizes), gap[cand]]))
         pred = TrackStore(pm, pP, prior.labels)
         scores = self._scores(pred, Z)
         birth_ll = T.population.birth_loglik(Z) if T.population is not None else np.zeros((m, 0))
@@ -722,9 +750,13 @@ class FactoredFilter:
         moved = TrackStore(lane.means.copy(), lane.covs.copy(), lane.labels)
         moved.means[cand], moved.covs[cand] = pred.means[bounds[-1]:], pred.covs[bounds[-1]:]
         keep[cand[quiet_c]] = True
-        stats["n_predict_only"] += int(keep.sum())
+        stats["n_predict_only"] += int(keep.sum()) + len(asleep[0])
+        stats["n_asleep"] = len(asleep[0])
         groups_new, lane_new = self._sort_out([s for s in (self._prune(s) for s in new_groups) if s is not None])
-        self._groups = groups_new
+        # the groups left for later first (unpredicted, their means advanced), then the scan's
+        self._groups = asleep[0] + groups_new
+        self._group_t = np.concatenate([asleep[1], np.full(len(groups_new), now)])
+        self._group_view = asleep[2] + [s.store.means for s in groups_new]
         self._lane = _cat([_take(moved, np.flatnonzero(keep)), lane_new], d)
         self._lane_t = np.concatenate([lane_t[keep], np.full(len(lane_new), now)])
         view = (moved.means if view is None else view).copy()
@@ -749,6 +781,30 @@ class FactoredFilter:
         self.last_stats = stats
         self.stats_history.append(stats)
         return self.posterior()
+
+    def _wake(self, groups, dt, now):
+        """``(groups to predict, their gaps, (groups left for later, their times, their means))``.
+
+        Without ``lazy`` every group is predicted. With it (and a silent population, as for the
+        lane) a group is predicted only when the mean of one of its tracks, advanced one scan, is in
+        the field of view; the others keep their moments and are only advanced in their means
+        (one batch), like the lane's singletons: a group whose tracks are all out of view takes no
+        return and, with no population event, changes in nothing but its prediction."""
+        t = self._group_t
+        if not (self.lazy and self._lane_on and groups):
+            return groups, now - t, ([], np.zeros(0), [])
+        T = self._template
+        n = np.array([len(v) for v in self._group_view], dtype=np.int64)
+        view = T.motion.propagate(np.concatenate(self._group_view), dt)
+        seen = T.sensor.detection.in_view(view @ T.H.T).astype(np.int64)
+        awake = np.add.reduceat(seen, np.concatenate([[0], np.cumsum(n)[:-1]])) > 0
+        awake |= n == 0
+        if awake.all():
+            return groups, now - t, ([], np.zeros(0), [])
+        views = np.split(view, np.cumsum(n)[:-1])
+        sleep = np.flatnonzero(~awake)
+        return ([groups[g] for g in np.flatnonzero(awake)], now - t[awake],
+                ([groups[g] for g in sleep], t[sleep], [views[g] for g in sleep]))
 
     def _scores(self, pred, Z) -> _Scores:
         """Every return against every predicted track (the engine's
@@ -985,7 +1041,8 @@ class FactoredFilter:
     def posterior(self, n_top: int = 1) -> FactoredPosterior:
         """Per-group posteriors, the convolved cardinality distribution and the union of MAPs."""
         n_top = check_int(n_top, "n_top", minimum=1)
-        return FactoredPosterior(self._groups, self._lane_now, len(self._lane), n_top=n_top)
+        return FactoredPosterior(self._groups_now, self._lane_now, len(self._lane), n_top=n_top,
+                                 n_states=len(self._groups))
 
     def map_means(self) -> tuple[np.ndarray, np.ndarray]:
         """``(labels, means)`` of the MAP joint hypothesis: :attr:`posterior`'s ``map_estimate``
@@ -993,7 +1050,8 @@ class FactoredFilter:
         scan are kept; with ``lazy``, advanced a scan at a time rather than over their whole gap,
         equal to rounding for the Kepler model and to the integrator's error for a numerical one).
         """
-        maps = [summarise(s.log_w, s.tracks, s.store).map_estimate for s in self._groups]
+        maps = [summarise(s.log_w, s.tracks, TrackStore(v, s.store.covs, s.store.labels)).map_estimate
+                for s, v in zip(self._groups, self._group_view)]
         return (np.concatenate([e.labels for e in maps] + [self._lane.labels]).astype(np.int64),
                 np.concatenate([e.means for e in maps] + [self._lane_view]).reshape(-1, self.ndim))
 

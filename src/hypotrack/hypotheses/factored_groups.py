@@ -208,8 +208,37 @@ def components(n_nodes: int, n_returns: int, node, ret):
     n = n_nodes + n_returns
     node = np.asarray(node, dtype=np.int64)
     ret = np.asarray(ret, dtype=np.int64) + n_nodes
+    if n <= _SMALL_GRAPH:
+        return _components_small(n, node.tolist(), ret.tolist())
     g = coo_matrix((np.ones(len(node), dtype=np.int8), (node, ret)), shape=(n, n))
     return connected_components(g, directed=False)
+
+
+_SMALL_GRAPH = 256
+"""Graphs up to this many vertices are labelled by union–find in Python: a group's interaction graph
+has a few dozen, where building a sparse matrix for scipy costs ~0.5 ms and union–find ~20 µs."""
+
+
+def _components_small(n: int, a: list, b: list):
+    """:func:`components` by union–find, labelled as scipy's ``connected_components`` labels them
+    (components numbered in the order of their smallest vertex)."""
+    parent = list(range(n))
+
+    def root(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for u, v in zip(a, b):
+        ru, rv = root(u), root(v)
+        if ru != rv:
+            parent[rv] = ru
+    # numbered in the order of their first vertex, whichever vertex is the root
+    number, labels = {}, np.empty(n, dtype=np.int32)
+    for x in range(n):
+        labels[x] = number.setdefault(root(x), len(number))
+    return len(number), labels
 
 
 class _RemappedCache(dict):

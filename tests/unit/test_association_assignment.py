@@ -79,6 +79,38 @@ def test_murty_matches_brute_force_in_order():
             assert score[np.arange(m), cols].sum() == pytest.approx(t)
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_murty_on_independent_blocks_matches_scored_enumeration(seed):
+    """A gated problem that falls into independent blocks — returns 0–2 share objects 0–1, returns
+    3–4 share object 2, return 5 gates object 3 alone, return 6 gates nothing (clutter only) — is
+    ranked per block and the block rankings combined: the k best totals and events equal those of
+    every event scored exhaustively, for k cutting inside the product and beyond its size."""
+    rng = np.random.default_rng(seed)
+    allowed = np.zeros((7, 4), dtype=bool)
+    allowed[:3, :2] = rng.random((3, 2)) < 0.8
+    allowed[0, 0] = allowed[1, 1] = allowed[3, 2] = allowed[4, 2] = allowed[5, 3] = True
+    ell = np.where(allowed, rng.normal(size=(7, 4)), -np.inf)
+    clutter = rng.normal(-1.0, 0.5, size=7)
+    events = enumerate_associations(4, 7, allowed=allowed)
+    scores = event_scores(events, ell, clutter)
+    order = np.argsort(-scores, kind="stable")
+    matrix = association_score_matrix(ell, clutter)
+    for k in (1, 7, 40, len(events) + 5):
+        ranked = murty_k_best(matrix, k)
+        assert len(ranked) == min(k, len(events))
+        np.testing.assert_allclose([t for t, _ in ranked], scores[order][:k], rtol=0, atol=1e-12)
+        got = {tuple(columns_to_event(c, 4).tolist()) for _, c in ranked}
+        assert len(got) == len(ranked)
+        assert got <= {tuple(e) for e in events.tolist()}
+        for t, c in ranked:
+            assert matrix[np.arange(7), c].sum() == pytest.approx(t, abs=1e-12)
+        assert ranked[0][0] == best_assignment(matrix)[0]
+    # a block with no allowed assignment makes the whole problem infeasible
+    bad = matrix.copy()
+    bad[6, :] = -np.inf
+    assert murty_k_best(bad, 5) == []
+
+
 def test_murty_edge_cases():
     assert murty_k_best(np.ones((2, 2)), 0) == []
     assert murty_k_best(np.full((2, 2), -np.inf), 5) == []

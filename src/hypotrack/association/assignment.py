@@ -121,12 +121,91 @@ def murty_k_best(score, k: int) -> list[tuple[float, np.ndarray]]:
     its column), so the children with a small cost increase come last, with most rows pinned.
     Their other optimisation (re-using the parent's dual variables) is not available through
     scipy's solver. Ties among equal totals are broken by creation order (deterministic output).
+
+    Independent blocks. Rows that share no allowed column (through any chain of rows) are
+    independent problems: an assignment is one assignment per block and its total the sum of
+    theirs. The matrix is split into these blocks, each block's ``k`` best ranked on its own (by
+    Murty, or by enumeration when it has at most ``k`` assignments), and the ``k`` best sums of one
+    entry per block kept, block by block. A gated association problem is mostly such blocks — a
+    return's clutter and birth columns are its own — where Murty on the whole matrix solves
+    ``O(k m)`` assignment problems of the full size and ranks the product of the blocks.
     """
     arr = _check_score(score)
     k = check_int(k, "k", minimum=0)
     if k == 0:
         return []
     first = _solve(arr)
+    if first is None:
+        return []
+    blocks = _row_blocks(arr) if arr.shape[0] > 1 else None
+    if blocks is not None and len(blocks) > 1:
+        return _blocks_k_best(arr, blocks, k, first)
+    return _murty(arr, k, first)
+
+
+def _row_blocks(arr: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``(rows, columns)`` of each independent block (rows linked by a shared allowed column),
+    in the order of their first row; a block's columns are those allowed to one of its rows."""
+    fin = np.isfinite(arr)
+    m = arr.shape[0]
+    parent = list(range(m))
+
+    def root(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for c in np.flatnonzero(fin.sum(axis=0) >= 2).tolist():
+        r0, *rest = np.flatnonzero(fin[:, c]).tolist()
+        a = root(r0)
+        for r in rest:
+            b = root(r)
+            if b != a:
+                parent[b] = a
+    members: dict[int, list[int]] = {}
+    for r in range(m):
+        members.setdefault(root(r), []).append(r)
+    out = []
+    for rows in members.values():
+        rows = np.array(rows, dtype=np.intp)
+        out.append((rows, np.flatnonzero(fin[rows].any(axis=0))))
+    return out
+
+
+def _blocks_k_best(arr, blocks, k, first):
+    """The ``k`` best assignments of a matrix split into independent ``blocks`` (best first; the
+    solver's optimum ``first`` of the whole matrix leads, as in :func:`_murty`)."""
+    tot, pick = np.zeros(1), np.zeros((1, 0), dtype=np.intp)
+    ranked = []
+    for rows, cols in blocks:
+        sub = arr[np.ix_(rows, cols)]
+        if len(rows) == 1:  # a lone row: its entries, best first
+            order = np.argsort(-sub[0], kind="stable")[:k]
+            best = [(float(sub[0, j]), np.array([j], dtype=np.intp)) for j in order]
+        else:
+            best = _murty(sub, k, _solve(sub))
+        ranked.append(best)
+        t = np.array([b[0] for b in best])
+        both = (tot[:, None] + t[None, :]).ravel()
+        keep = np.argsort(-both, kind="stable")[:k]
+        tot = both[keep]
+        pick = np.column_stack([pick[keep // len(t)], keep % len(t)])
+    m = arr.shape[0]
+    out = []
+    for row in pick:
+        c = np.empty(m, dtype=np.intp)
+        for (rows, cols), best, j in zip(blocks, ranked, row):
+            c[rows] = cols[best[j][1]]
+        out.append((float(arr[np.arange(m), c].sum()), c))
+    out.sort(key=lambda tc: -tc[0])  # stable: the blocks' summed totals equal these to rounding
+    # the solver's optimum first, as Murty's (a tie may have put another optimum there)
+    rest = [(t, c) for t, c in out if not np.array_equal(c, first[1])]
+    return ([first] + rest)[:k]
+
+
+def _murty(arr, k, first):
+    """Murty's k best of a validated matrix whose optimum (:func:`_solve`) is ``first``."""
     if first is None:
         return []
     every = _all_assignments(arr, k)

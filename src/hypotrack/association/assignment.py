@@ -24,6 +24,7 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 
 from .._validation import check_finite_array, check_int
+from .clustering import graph_components
 from .enumeration import event_dtype
 
 __all__ = [
@@ -148,27 +149,11 @@ def _row_blocks(arr: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     in the order of their first row; a block's columns are those allowed to one of its rows."""
     fin = np.isfinite(arr)
     m = arr.shape[0]
-    parent = list(range(m))
-
-    def root(x):
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    for c in np.flatnonzero(fin.sum(axis=0) >= 2).tolist():
-        r0, *rest = np.flatnonzero(fin[:, c]).tolist()
-        a = root(r0)
-        for r in rest:
-            b = root(r)
-            if b != a:
-                parent[b] = a
-    members: dict[int, list[int]] = {}
-    for r in range(m):
-        members.setdefault(root(r), []).append(r)
+    r, c = np.nonzero(fin)
+    _, lab = graph_components(m + arr.shape[1], r, m + c)
     out = []
-    for rows in members.values():
-        rows = np.array(rows, dtype=np.intp)
+    for x in dict.fromkeys(lab[:m].tolist()):  # first-row order
+        rows = np.flatnonzero(lab[:m] == x)
         out.append((rows, np.flatnonzero(fin[rows].any(axis=0))))
     return out
 

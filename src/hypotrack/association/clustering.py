@@ -15,7 +15,7 @@ import numpy as np
 from scipy.sparse import csr_array
 from scipy.sparse.csgraph import connected_components
 
-__all__ = ["Cluster", "find_clusters", "unassociated_measurements", "check_validation"]
+__all__ = ["Cluster", "find_clusters", "unassociated_measurements", "check_validation", "graph_components"]
 
 
 def check_validation(validation, name: str = "validation") -> np.ndarray:
@@ -71,12 +71,47 @@ class Cluster:
         return np.asarray(matrix)[np.ix_(self.measurements, self.tracks)]
 
 
+SMALL_GRAPH = 256
+"""Graphs up to this many vertices are labelled by union–find in Python: a gated problem or a group's
+interaction graph has a few dozen, where building a sparse matrix for scipy costs ~0.5 ms and
+union–find ~20 µs."""
+
+
+def graph_components(n: int, a, b) -> tuple[int, np.ndarray]:
+    """Connected components of the undirected graph on vertices ``0..n-1`` with edges ``(a[k], b[k])``.
+
+    Returns ``(count, labels)`` as :func:`scipy.sparse.csgraph.connected_components` does: components
+    numbered in the order of their smallest vertex (small graphs by union–find, the same labels).
+    """
+    a = np.asarray(a, dtype=np.int64)
+    b = np.asarray(b, dtype=np.int64)
+    if n > SMALL_GRAPH:
+        graph = csr_array((np.ones(a.size, dtype=np.int8), (a, b)), shape=(n, n))
+        return connected_components(graph, directed=False)
+    parent = list(range(n))
+
+    def root(x):
+        while parent[x] != x:
+            parent[x] = parent[parent[x]]
+            x = parent[x]
+        return x
+
+    for u, v in zip(a.tolist(), b.tolist()):
+        ru, rv = root(u), root(v)
+        if ru != rv:
+            parent[rv] = ru
+    # numbered in the order of their first vertex, whichever vertex is the root
+    number, labels = {}, np.empty(n, dtype=np.int32)
+    for x in range(n):
+        labels[x] = number.setdefault(root(x), len(number))
+    return len(number), labels
+
+
 def component_labels(validation: np.ndarray) -> tuple[int, np.ndarray]:
     """Component label of every node of the gating graph: returns ``0..m-1``, then tracks."""
     m, n = validation.shape
     rows, cols = np.nonzero(validation)
-    graph = csr_array((np.ones(rows.size, dtype=np.int8), (rows, m + cols)), shape=(m + n, m + n))
-    return connected_components(graph, directed=False)
+    return graph_components(m + n, rows, m + cols)
 
 
 def find_clusters(validation) -> list[Cluster]:

@@ -29,9 +29,8 @@ import copy
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
+from ..association.clustering import graph_components
 from .generators import top_k
 from .population_lmb import LabeledMultiBernoulliPopulation
 from .tracks import TrackStore
@@ -205,40 +204,8 @@ def components(n_nodes: int, n_returns: int, node, ret):
     Returns ``(n, labels)``: ``labels[:n_nodes]`` the component of each node,
     ``labels[n_nodes:]`` of each return.
     """
-    n = n_nodes + n_returns
     node = np.asarray(node, dtype=np.int64)
-    ret = np.asarray(ret, dtype=np.int64) + n_nodes
-    if n <= _SMALL_GRAPH:
-        return _components_small(n, node.tolist(), ret.tolist())
-    g = coo_matrix((np.ones(len(node), dtype=np.int8), (node, ret)), shape=(n, n))
-    return connected_components(g, directed=False)
-
-
-_SMALL_GRAPH = 256
-"""Graphs up to this many vertices are labelled by union–find in Python: a group's interaction graph
-has a few dozen, where building a sparse matrix for scipy costs ~0.5 ms and union–find ~20 µs."""
-
-
-def _components_small(n: int, a: list, b: list):
-    """:func:`components` by union–find, labelled as scipy's ``connected_components`` labels them
-    (components numbered in the order of their smallest vertex)."""
-    parent = list(range(n))
-
-    def root(x):
-        while parent[x] != x:
-            parent[x] = parent[parent[x]]
-            x = parent[x]
-        return x
-
-    for u, v in zip(a, b):
-        ru, rv = root(u), root(v)
-        if ru != rv:
-            parent[rv] = ru
-    # numbered in the order of their first vertex, whichever vertex is the root
-    number, labels = {}, np.empty(n, dtype=np.int32)
-    for x in range(n):
-        labels[x] = number.setdefault(root(x), len(number))
-    return len(number), labels
+    return graph_components(n_nodes + n_returns, node, np.asarray(ret, dtype=np.int64) + n_nodes)
 
 
 class _RemappedCache(dict):

@@ -363,6 +363,19 @@ def test_peer_rows_and_claims_on_fabricated_runs():
     assert m["PeergnnGNNWith2DAssignment"] == "10" and m["PeerSamegnnGNNWith2DAssignment"] == 2 and m["PeerN"] == 100
 
 
+def test_timing_table_cost_per_object_in_the_first_and_last_quarter():
+    """Scan 0 is left out (warm-up); of the 8 timed scans the first quarter is scans 1–2, the last 7–8:
+    CPU ms per object in view over each, by hand — a cost growing through the run shows as last > first."""
+    ps = pd.DataFrame(dict(tracker="rfisst", n_objects=3000, scan=[8, 0, 1, 2, 3, 4, 5, 6, 7],  # unsorted on purpose
+                           cpu_s=[0.5, 9.0, 0.1, 0.3, 0.2, 0.2, 0.2, 0.2, 0.3],
+                           n_in_view=[100, 1, 100, 100, 100, 100, 100, 100, 100]))
+    r = timing_table(ps).iloc[0]
+    assert r.scans_timed == 8
+    assert r.cpu_ms_per_object_first_quarter == pytest.approx(1e3 * 0.4 / 200)
+    assert r.cpu_ms_per_object_last_quarter == pytest.approx(1e3 * 0.8 / 200)
+    assert r.cpu_ms_per_object_in_view == pytest.approx(1e3 * 2.0 / 800)
+
+
 def test_full_record_macros_by_hand():
     """The report's whole-catalogue numbers from the committed record's columns: values at the largest
     size, the goal word per factored tracker, slopes by hand (log(0.1/0.01) / log(10000/100) = 0.5)."""
@@ -379,6 +392,10 @@ def test_full_record_macros_by_hand():
     assert v["FullGoalglmb"] == "meets" and v["FullGoalhomhtkbest"] == "misses" and "FullGoalgnn" not in v
     assert v["FullCpuScanhomhtkbest"] == "200" and v["FullPeakMBglmb"] == "40" and v["FullBornglmb"] == 34
     assert v["FullSlopeglmb"] == "0.50" and v["FullSlopegnn"] == "1.00"
+    assert "FullCpuObjLastglmb" not in v  # a record from before the quarter columns
+    t["cpu_ms_per_object_first_quarter"], t["cpu_ms_per_object_last_quarter"] = 0.8, [0.5, 1.25] * 3
+    v = full_record_macros(t, goal_ms=1.0)
+    assert v["FullCpuObjFirstglmb"] == "0.8" and v["FullCpuObjLastglmb"] == "1.2"
 
 
 def test_same_posterior_reads_the_stored_state_groups_and_lane():
@@ -392,12 +409,16 @@ def test_same_posterior_reads_the_stored_state_groups_and_lane():
     serial, pooled = _run_parallel(1), _run_parallel(2, "thread")
     assert same_posterior(serial, pooled) and same_posterior(pooled, serial)
     assert len(serial._groups) and len(serial._lane)  # both parts are compared
-    for change in ("weight", "cov", "view"):
+    for change in ("weight", "cov", "view", "group time", "group view"):
         other = _copy.deepcopy(pooled)
         if change == "weight":
             other._groups[0].log_w[0] += 1e-12
         elif change == "cov":
             other._lane.covs[0, 0, 0] *= 1 + 1e-12
-        else:
+        elif change == "view":
             other._lane_view[0, 0] += 1e-9
+        elif change == "group time":
+            other._group_t[0] -= 10.0
+        else:
+            other._group_view[0] = other._group_view[0] + 1e-9
         assert not same_posterior(serial, other), change

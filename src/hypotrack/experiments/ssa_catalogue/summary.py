@@ -60,15 +60,20 @@ WARM_UP_SCANS = 1
 
 def timing_table(per_scan: pd.DataFrame, memory: pd.DataFrame | None = None) -> pd.DataFrame:
     """Per (tracker, size), over the scans after :data:`WARM_UP_SCANS`: mean CPU seconds per scan,
-    CPU ms per object in view per scan, the largest CPU seconds of a scan; peak memory (bytes,
-    from the separate traced pass) when given."""
+    CPU ms per object in view per scan, the largest CPU seconds of a scan, the CPU ms per object in
+    view over the first and the last quarter of those scans (does the cost grow through the run?);
+    peak memory (bytes, from the separate traced pass) when given."""
     rows = []
     for (name, n), g in per_scan.groupby(["tracker", "n_objects"], sort=False):
-        g = g[g["scan"] >= WARM_UP_SCANS]
+        g = g[g["scan"] >= WARM_UP_SCANS].sort_values("scan")
         view = g["n_in_view"].to_numpy(float)
-        rows.append(dict(tracker=name, n_objects=int(n), scans_timed=len(g), cpu_s_per_scan=g["cpu_s"].mean(),
-                         cpu_s_max=g["cpu_s"].max(), mean_in_view=view.mean(),
-                         cpu_ms_per_object_in_view=1e3 * g["cpu_s"].sum() / max(view.sum(), 1.0)))
+        cpu = g["cpu_s"].to_numpy(float)
+        q = max(len(g) // 4, 1)
+        rows.append(dict(tracker=name, n_objects=int(n), scans_timed=len(g), cpu_s_per_scan=cpu.mean(),
+                         cpu_s_max=cpu.max(), mean_in_view=view.mean(),
+                         cpu_ms_per_object_in_view=1e3 * cpu.sum() / max(view.sum(), 1.0),
+                         cpu_ms_per_object_first_quarter=1e3 * cpu[:q].sum() / max(view[:q].sum(), 1.0),
+                         cpu_ms_per_object_last_quarter=1e3 * cpu[-q:].sum() / max(view[-q:].sum(), 1.0)))
     out = pd.DataFrame(rows)
     if memory is not None and len(memory):
         out = out.merge(memory[["tracker", "n_objects", "peak_bytes"]], on=["tracker", "n_objects"], how="left")
@@ -272,6 +277,9 @@ def full_record_macros(table: pd.DataFrame, goal_ms: float = 1.0) -> dict:
             v[f"FullReentries{k}"], v[f"FullReacquired{k}"] = int(r.reentries), int(r.reacquired)
         v[f"FullCpuScan{k}"] = f"{1e3 * r.cpu_s_per_scan:.3g}"
         v[f"FullCpuObj{k}"] = f"{r.cpu_ms_per_object_in_view:.2g}"
+        if "cpu_ms_per_object_last_quarter" in r and np.isfinite(r.cpu_ms_per_object_last_quarter):
+            v[f"FullCpuObjFirst{k}"] = f"{r.cpu_ms_per_object_first_quarter:.2g}"
+            v[f"FullCpuObjLast{k}"] = f"{r.cpu_ms_per_object_last_quarter:.2g}"
         v[f"FullPeakMB{k}"] = f"{r.peak_bytes / 1e6:.3g}"
         v[f"FullGospa{k}"] = f"{r.gospa_km:.3g}"
         v[f"FullBorn{k}"] = int(r.born)
@@ -289,13 +297,19 @@ def full_record_markdown(table: pd.DataFrame) -> str:
     sl = slopes(table)
     big = table[table["n_objects"] == n]
     custody = "reentries" in big and bool(np.isfinite(big["reentries"]).all())
+    quarters = "cpu_ms_per_object_last_quarter" in big
     lines = [f"Whole catalogue, N = {n:,} objects, {int(table['n_scans'].max())} scans of the radar, one run "
              "(`full.yaml`, recorded in `paper/record/ssa_catalogue_full.csv`):", "",
-             "| tracker | CPU per scan (ms) | CPU per object in view (ms) | cost slope in N | peak memory (MB) "
+             "| tracker | CPU per scan (ms) | CPU per object in view (ms) "
+             + ("| first → last quarter of the run (ms) " if quarters else "")
+             + "| cost slope in N | peak memory (MB) "
              "| GOSPA (km) | unknown objects born |" + (" tracks kept through a pass out of view |" if custody else ""),
-             "|---|---|---|---|---|---|---|" + ("---|" if custody else "")]
+             "|---|---|---|---|---|---|---|" + ("---|" if quarters else "") + ("---|" if custody else "")]
     for _, r in big.iterrows():
+        growth = (f"| {r.cpu_ms_per_object_first_quarter:.2g} → {r.cpu_ms_per_object_last_quarter:.2g} "
+                  if quarters else "")
         lines.append(f"| {TRACKER_NAMES[r.tracker]} | {1e3 * r.cpu_s_per_scan:.3g} | {r.cpu_ms_per_object_in_view:.2g} "
+                     + growth +
                      f"| {sl.get(r.tracker, float('nan')):.2f} | {r.peak_bytes / 1e6:.3g} | {r.gospa_km:.3g} "
                      f"| {int(r.born)} of {int(r.unknown_in_view)} |"
                      + (f" {int(r.reacquired)} of {int(r.reentries)} |" if custody else ""))

@@ -14,6 +14,7 @@ import math
 import os
 import subprocess
 import sys
+from concurrent.futures import ThreadPoolExecutor
 from math import comb, factorial
 from pathlib import Path
 
@@ -43,13 +44,42 @@ def run_notebook(name, out_dir, *, perturb=None, extra_args=()):
                           capture_output=True, text=True, timeout=300)
 
 
+# One formula per notebook, and the check that must then fail first.
+PERTURBATIONS = [
+    ("hypothesis_count", "eq4_count", "Eq. 4 equals brute-force enumeration"),
+    ("likelihood_normalisation", "eq8_prior", "Eq. 9: sum_j p_ij = 1 exactly"),
+    ("birth_poisson_limit", "binomial_birth_probability", "Eq. 32: the direct series of the binomial pmf"),
+    ("set_integrals", "poisson_rfs_density", "Poisson RFS: the n-point term of the set integral"),
+    ("ideal_filter_mospa", "negative_part_formula", "polar integral = rho/2 - (sqrt(1 - rho^2) + rho arcsin rho)/pi"),
+    ("ideal_filter_mospa", "riccati_map", "fixed point of the Riccati map is a root"),
+]
+
+
 @pytest.fixture(scope="module")
-def executed(tmp_path_factory):
-    """Run every notebook once as a plain script; keep its process result and findings."""
+def notebook_runs(tmp_path_factory):
+    """Every notebook as a plain script, as it is and with each formula of PERTURBATIONS broken:
+    {(name, perturbed formula or None): (process result, output folder)}.
+
+    The runs are independent processes (each with its own output folder), so they run as many at
+    a time as there are cores instead of one after another.
+    """
+    runs = [(name, None) for name in NOTEBOOKS] + [(name, formula) for name, formula, _ in PERTURBATIONS]
+
+    def run(key):
+        name, formula = key
+        out = tmp_path_factory.mktemp(name if formula is None else f"{name}-{formula}")
+        return key, (run_notebook(name, out, perturb=formula), out)
+
+    with ThreadPoolExecutor(max_workers=os.cpu_count() or 2) as pool:
+        return dict(pool.map(run, runs))
+
+
+@pytest.fixture(scope="module")
+def executed(notebook_runs):
+    """Every notebook run once as a plain script: its process result, findings and output folder."""
     results = {}
     for name in NOTEBOOKS:
-        out = tmp_path_factory.mktemp(name)
-        proc = run_notebook(name, out)
+        proc, out = notebook_runs[name, None]
         findings = json.loads((out / f"{name}.json").read_text()) if (out / f"{name}.json").exists() else None
         results[name] = (proc, findings, out)
     return results
@@ -123,23 +153,12 @@ def test_ideal_filter_mospa_values(executed):
     assert abs(values["labelled_after_transient"] - 0.0363) <= 5e-5
 
 
-# One formula per notebook, and the check that must then fail first.
-PERTURBATIONS = [
-    ("hypothesis_count", "eq4_count", "Eq. 4 equals brute-force enumeration"),
-    ("likelihood_normalisation", "eq8_prior", "Eq. 9: sum_j p_ij = 1 exactly"),
-    ("birth_poisson_limit", "binomial_birth_probability", "Eq. 32: the direct series of the binomial pmf"),
-    ("set_integrals", "poisson_rfs_density", "Poisson RFS: the n-point term of the set integral"),
-    ("ideal_filter_mospa", "negative_part_formula", "polar integral = rho/2 - (sqrt(1 - rho^2) + rho arcsin rho)/pi"),
-    ("ideal_filter_mospa", "riccati_map", "fixed point of the Riccati map is a root"),
-]
-
-
 @pytest.mark.parametrize("name,formula_name,failing_check", PERTURBATIONS)
-def test_breaking_a_formula_makes_the_notebook_fail(tmp_path, name, formula_name, failing_check):
-    proc = run_notebook(name, tmp_path, perturb=formula_name)
+def test_breaking_a_formula_makes_the_notebook_fail(notebook_runs, name, formula_name, failing_check):
+    proc, out = notebook_runs[name, formula_name]
     assert proc.returncode != 0
     assert f"check failed: {failing_check}" in proc.stderr
-    assert not (tmp_path / f"{name}.json").exists(), "a failed notebook must not write findings"
+    assert not (out / f"{name}.json").exists(), "a failed notebook must not write findings"
 
 
 @pytest.fixture()

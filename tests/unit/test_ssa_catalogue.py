@@ -395,7 +395,8 @@ def test_full_record_macros_by_hand():
     assert "FullCpuObjLastglmb" not in v  # a record from before the quarter columns
     t["cpu_ms_per_object_first_quarter"], t["cpu_ms_per_object_last_quarter"] = 0.8, [0.5, 1.25] * 3
     v = full_record_macros(t, goal_ms=1.0)
-    assert v["FullCpuObjFirstglmb"] == "0.8" and v["FullCpuObjLastglmb"] == "1.2"
+    assert v["FullCpuObjFirstglmb"] == "0.8" and v["FullCpuObjLastglmb"] == "1.25"
+    assert v["FullCpuObjglmb"] == "1" and v["FullCpuObjhomhtkbest"] == "2"
 
 
 def test_same_posterior_reads_the_stored_state_groups_and_lane():

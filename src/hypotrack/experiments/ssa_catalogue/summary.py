@@ -276,10 +276,10 @@ def full_record_macros(table: pd.DataFrame, goal_ms: float = 1.0) -> dict:
         if "reentries" in r and np.isfinite(r.reentries):
             v[f"FullReentries{k}"], v[f"FullReacquired{k}"] = int(r.reentries), int(r.reacquired)
         v[f"FullCpuScan{k}"] = f"{1e3 * r.cpu_s_per_scan:.3g}"
-        v[f"FullCpuObj{k}"] = f"{r.cpu_ms_per_object_in_view:.2g}"
+        v[f"FullCpuObj{k}"] = f"{r.cpu_ms_per_object_in_view:.3g}"
         if "cpu_ms_per_object_last_quarter" in r and np.isfinite(r.cpu_ms_per_object_last_quarter):
-            v[f"FullCpuObjFirst{k}"] = f"{r.cpu_ms_per_object_first_quarter:.2g}"
-            v[f"FullCpuObjLast{k}"] = f"{r.cpu_ms_per_object_last_quarter:.2g}"
+            v[f"FullCpuObjFirst{k}"] = f"{r.cpu_ms_per_object_first_quarter:.3g}"
+            v[f"FullCpuObjLast{k}"] = f"{r.cpu_ms_per_object_last_quarter:.3g}"
         v[f"FullPeakMB{k}"] = f"{r.peak_bytes / 1e6:.3g}"
         v[f"FullGospa{k}"] = f"{r.gospa_km:.3g}"
         v[f"FullBorn{k}"] = int(r.born)
@@ -306,9 +306,9 @@ def full_record_markdown(table: pd.DataFrame) -> str:
              "| GOSPA (km) | unknown objects born |" + (" tracks kept through a pass out of view |" if custody else ""),
              "|---|---|---|---|---|---|---|" + ("---|" if quarters else "") + ("---|" if custody else "")]
     for _, r in big.iterrows():
-        growth = (f"| {r.cpu_ms_per_object_first_quarter:.2g} → {r.cpu_ms_per_object_last_quarter:.2g} "
+        growth = (f"| {r.cpu_ms_per_object_first_quarter:.3g} → {r.cpu_ms_per_object_last_quarter:.3g} "
                   if quarters else "")
-        lines.append(f"| {TRACKER_NAMES[r.tracker]} | {1e3 * r.cpu_s_per_scan:.3g} | {r.cpu_ms_per_object_in_view:.2g} "
+        lines.append(f"| {TRACKER_NAMES[r.tracker]} | {1e3 * r.cpu_s_per_scan:.3g} | {r.cpu_ms_per_object_in_view:.3g} "
                      + growth +
                      f"| {sl.get(r.tracker, float('nan')):.2f} | {r.peak_bytes / 1e6:.3g} | {r.gospa_km:.3g} "
                      f"| {int(r.born)} of {int(r.unknown_in_view)} |"

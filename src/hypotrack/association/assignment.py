@@ -189,9 +189,7 @@ def _blocks_k_best(arr, blocks, k, first):
 
 
 def _murty(arr, k, first):
-    """Murty's k best of a validated matrix whose optimum (:func:`_solve`) is ``first``."""
-    if first is None:
-        return []
+    """Murty's k best of a validated, feasible matrix whose optimum (:func:`_solve`) is ``first``."""
     every = _all_assignments(arr, k)
     if every is not None:  # at most k feasible assignments: all of them are the k best (one LAP, not Murty's)
         # the solver's optimum first, as Murty's (a near-tie within rounding keeps the solver's pick)

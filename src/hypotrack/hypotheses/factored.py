@@ -670,8 +670,8 @@ class FactoredFilter:
         if self.lazy and len(lane):
             # the lane's means advanced one scan (one batch, one interval): the in-view test costs one
             # short propagation per singleton whatever its gap since its last full prediction
-            view = T.motion.propagate(self._lane_view, dt)
-            cand = np.flatnonzero(T.sensor.detection.in_view(view @ T.H.T))
+            view, seen = self._advance_view(self._lane_view, dt)
+            cand = np.flatnonzero(seen)
         else:
             cand = np.arange(len(lane))
         L = len(cand)
@@ -793,18 +793,21 @@ class FactoredFilter:
         t = self._group_t
         if not (self.lazy and self._lane_on and groups):
             return groups, now - t, ([], np.zeros(0), [])
-        T = self._template
-        n = np.array([len(v) for v in self._group_view], dtype=np.int64)
-        view = T.motion.propagate(np.concatenate(self._group_view), dt)
-        seen = T.sensor.detection.in_view(view @ T.H.T).astype(np.int64)
-        awake = np.add.reduceat(seen, np.concatenate([[0], np.cumsum(n)[:-1]])) > 0
-        awake |= n == 0
+        n = np.array([len(v) for v in self._group_view], dtype=np.int64)  # >= 1: _prune drops empty groups
+        view, seen = self._advance_view(np.concatenate(self._group_view), dt)
+        awake = np.logical_or.reduceat(seen, np.concatenate([[0], np.cumsum(n)[:-1]]))
         if awake.all():
             return groups, now - t, ([], np.zeros(0), [])
         views = np.split(view, np.cumsum(n)[:-1])
         sleep = np.flatnonzero(~awake)
         return ([groups[g] for g in np.flatnonzero(awake)], now - t[awake],
                 ([groups[g] for g in sleep], t[sleep], [views[g] for g in sleep]))
+
+    def _advance_view(self, means, dt):
+        """Means ``(n, d)`` advanced by ``dt`` (means only, one batch) and whether each is in the field of view."""
+        T = self._template
+        view = T.motion.propagate(means, dt)
+        return view, T.sensor.detection.in_view(view @ T.H.T)
 
     def _scores(self, pred, Z) -> _Scores:
         """Every return against every predicted track (the engine's

@@ -131,7 +131,7 @@ def _native_tracks(algorithm, scans):
         Z = np.array([d.state_vector.ravel() for d in dets]).reshape(-1, 2)
         Z = Z[np.lexsort((Z[:, 1], Z[:, 0]))]
         if algorithm in ("gnn", "jpda"):
-            est = tracker.step(((time - start).total_seconds(), Z))
+            est = tracker.step(Z, (time - start).total_seconds())
             ids, x, P = est.ids, est.x, est.P
         else:
             best = tracker.step(Z, (time - previous).total_seconds()).map_estimate

@@ -192,14 +192,14 @@ def test_tracker_handles_empty_scans_and_rejects_nan_returns():
     tr = SingleHypothesisTracker(ConstantVelocity(0.1), model, association="gnn", max_misses=2)
     x, P = tracks_at([[0, 0]])
     tr.initialise(x, P, 0.0)
-    est = tr.step((1.0, np.zeros((0, 2))))
+    est = tr.step(np.zeros((0, 2)), 1.0)
     assert est.ids.tolist() == [0]
-    est = tr.step((2.0, []))
+    est = tr.step([], 2.0)
     assert len(est) == 0  # deleted after two consecutive misses
     with pytest.raises(ValueError, match="rows \\[1\\]"):
-        tr.step((3.0, np.array([[0.0, 0.0], [np.nan, 1.0]])))
+        tr.step(np.array([[0.0, 0.0], [np.nan, 1.0]]), 3.0)
     with pytest.raises(ValueError, match="decrease"):
-        tr.step((1.0, np.zeros((0, 2))))
+        tr.step(np.zeros((0, 2)), 1.0)
     with pytest.raises(TypeError, match="scan"):
         tr.step(5.0)
     with pytest.raises(ValueError, match="association"):
@@ -329,7 +329,7 @@ def test_mahalanobis_tracker_skips_logdet_but_likelihood_is_still_right():
     x, P, Z = lecture_example()
     tracker = SingleHypothesisTracker(ConstantVelocity(0.1), model, gnn_score="mahalanobis", max_misses=5)
     tracker.initialise(x, P, 0.0)
-    tracker.step((0.0, Z))
+    tracker.step(Z, 0.0)
     assert tracker.last_gated.logdet is None
     ref = gate_tracks(x, P, Z, model)
     np.testing.assert_allclose(tracker.last_gated.log_likelihood(), ref.log_likelihood(), rtol=1e-12)

@@ -86,13 +86,13 @@ def test_ids_are_stable_and_deleted_tracks_are_not_reused(association):
         Z = [target_return(k, (0, 0)), target_return(k, (0, 500))]
         if k >= 6:
             Z = Z[:1]  # the second target disappears after scan 5
-        est = tr.step((float(k), np.concatenate(Z)))
+        est = tr.step(np.concatenate(Z), float(k))
         ids_seen.append(est.ids.tolist())
     assert ids_seen[0] == [] and ids_seen[1] == [0, 1]
     assert all(ids == [0, 1] for ids in ids_seen[1:8])  # misses at scans 6, 7 …
     assert all(ids == [0] for ids in ids_seen[8:])  # … and 8: deleted after 3 misses
-    est = tr.step((12.0, np.concatenate([target_return(12, (0, 0)), np.array([[2000.0, 2000.0]])])))
-    est = tr.step((13.0, np.concatenate([target_return(13, (0, 0)), np.array([[2000.0, 2000.0]])])))
+    est = tr.step(np.concatenate([target_return(12, (0, 0)), np.array([[2000.0, 2000.0]])]), 12.0)
+    est = tr.step(np.concatenate([target_return(13, (0, 0)), np.array([[2000.0, 2000.0]])]), 13.0)
     assert est.ids.tolist() == [0, 2]  # a new track gets a new id
 
 
@@ -102,8 +102,8 @@ def test_known_tracks_then_initiation_on_crossing_scenario():
     model = ScanModel(H, sc.sensor.measurement.R, 0.99, 0.99, 1e-6)
     tr = SingleHypothesisTracker(MOTION, model, association="gnn",
                                  initiator=MOfNInitiator(MOTION, model, m=2, n=3, initial_velocity_std=15.0))
-    for scan in sc.scan_list():
-        est = tr.step(scan)
+    for t, Z in sc.scan_list():
+        est = tr.step(Z, t)
     truth = sc.truth_list()[-1][2]
     assert len(est) == 2
     assert ospa(est.x[:, :2], truth[:, :2], c=50.0, p=2) < 4.0

@@ -38,11 +38,11 @@ def test_lecture_score_leaves_a_costly_return_to_clutter_where_mahalanobis_assig
     assert lecture.gnn_score == "lecture"
     gain = np.log(0.9) - 0.5 * (4 + np.log(4.0) + 2 * np.log(2 * np.pi)) - np.log1p(-0.9 * 0.99) - np.log(0.2)
     assert gain < 0  # ≈ −0.81
-    est = lecture.step((0.0, z))
+    est = lecture.step(z, 0.0)
     np.testing.assert_array_equal(lecture.last_association, [-1])
     np.testing.assert_array_equal(est.x, [[0.0, 0.0, 0.0, 0.0]])
     np.testing.assert_array_equal(lecture.misses, [1])
-    est = maha.step((0.0, z))
+    est = maha.step(z, 0.0)
     np.testing.assert_array_equal(maha.last_association, [0])
     x_kf, P_kf = update(np.zeros(4), P1, z[0], H, np.eye(2))
     np.testing.assert_allclose(est.x[0], x_kf, atol=1e-12)
@@ -50,7 +50,7 @@ def test_lecture_score_leaves_a_costly_return_to_clutter_where_mahalanobis_assig
     np.testing.assert_array_equal(maha.misses, [0])
     # a tighter missed distance (g = 1.5 < d) rejects the pair again
     tight = one_track(mdl, gnn_score="mahalanobis", missed_distance=1.5)
-    tight.step((0.0, z))
+    tight.step(z, 0.0)
     np.testing.assert_array_equal(tight.last_association, [-1])
 
 
@@ -68,7 +68,7 @@ def two_tracks_three_returns(association):
 def test_each_association_updates_with_its_own_rule(association):
     tr, mdl, Z = two_tracks_three_returns(association)
     x0, P0 = tr.x.copy(), tr.P.copy()
-    est = tr.step((1.0, Z))
+    est = tr.step(Z, 1.0)
     F, Q = MOTION.F(1.0), MOTION.Q(1.0)
     x_pred = x0 @ F.T
     P_pred = F @ P0 @ F.T + Q
@@ -99,7 +99,7 @@ def test_each_association_updates_with_its_own_rule(association):
 def test_default_deletion_after_three_missed_scans(association):
     tr = one_track(model(), association=association)
     empty = np.zeros((0, 2))
-    assert [len(tr.step((float(k), empty))) for k in (1, 2, 3)] == [1, 1, 0]
+    assert [len(tr.step(empty, float(k))) for k in (1, 2, 3)] == [1, 1, 0]
     assert tr.max_misses == 3
 
 
@@ -107,7 +107,7 @@ def test_run_is_step_over_the_scans():
     scans = [(1.0, np.array([[0.1, 0.0]])), (2.0, np.zeros((0, 2))), (3.0, np.array([[0.3, 0.1], [9.0, 9.0]]))]
     a, b = one_track(model()), one_track(model())
     ran = a.run(scans)
-    stepped = [b.step(s) for s in scans]
+    stepped = [b.step(Z, t) for t, Z in scans]
     assert len(ran) == 3
     for r, s in zip(ran, stepped):
         assert r.time == s.time
@@ -235,7 +235,7 @@ def test_a_motion_model_of_its_own_predicts_through_its_transition():
     x0 = np.array([[0.0, 0.0, 2.0, -1.0]])
     tr.initialise(x0, [P1], 0.0)
     z = np.array([[3.1, -1.2], [30.0, 30.0], [-20.0, 5.0]])
-    est = tr.step((2.0, z))
+    est = tr.step(z, 2.0)
     F = motion.jacobian(2.0)
     x_pred, P_pred = F @ x0[0], F @ P1 @ F.T + 0.4 * np.eye(4)
     x_kf, P_kf = update(x_pred, P_pred, z[0], H, mdl.R)

@@ -85,7 +85,7 @@ def test_jpda_marginals_budget_error_leaves_tracker_unchanged_and_retry_matches(
     with monkeypatch.context() as mp:
         mp.setattr(jpda_module, "jpda_marginals", functools.partial(jpda_marginals, max_nodes=20_000))
         with pytest.raises(MarginalsBudgetError, match="max_nodes"):
-            tr.step((1.0, Z))
+            tr.step(Z, 1.0)
     _assert_same(_state(tr), before)  # time not advanced, priors not replaced
     # the same time again with a scan the tracker can take (two far returns): as if never failed
     ok = (1.0, np.array([[3.0, 3.0], [500.0, 500.0]]))
@@ -102,18 +102,18 @@ def test_jpda_marginals_budget_error_leaves_tracker_unchanged_and_retry_matches(
 def test_bad_scans_leave_tracker_unchanged(association):
     tr = _sht(association, initiator=True)
     rng = np.random.default_rng(1)
-    scans = [(float(t), np.array([[t, 0.0], [0.0, -t]]) + rng.normal(scale=0.3, size=(2, 2))) for t in range(4)]
+    scans = [(np.array([[t, 0.0], [0.0, -t]]) + rng.normal(scale=0.3, size=(2, 2)), float(t)) for t in range(4)]  # (Z, time)
     for s in scans[:3]:
-        tr.step(s)
+        tr.step(*s)
     before = _state(tr)
-    for bad in [(3.0, np.array([[np.nan, 0.0]])), (3.0, np.zeros((2, 3))), (1.0, np.zeros((0, 2))), (np.inf, [])]:
+    for bad in [(np.array([[np.nan, 0.0]]), 3.0), (np.zeros((2, 3)), 3.0), (np.zeros((0, 2)), 1.0), ([], np.inf)]:
         with pytest.raises(ValueError):
-            tr.step(bad)
+            tr.step(*bad)
         _assert_same(_state(tr), before)
     ref = _sht(association, initiator=True)
     for s in scans[:3]:
-        ref.step(s)
-    got, want = tr.step(scans[3]), ref.step(scans[3])
+        ref.step(*s)
+    got, want = tr.step(*scans[3]), ref.step(*scans[3])
     np.testing.assert_array_equal(got.x, want.x)
     np.testing.assert_array_equal(got.ids, want.ids)
 
@@ -121,8 +121,8 @@ def test_bad_scans_leave_tracker_unchanged(association):
 def test_failure_inside_the_initiator_rolls_back_tracker_and_initiator(monkeypatch):
     tr = _sht("gnn", initiator=True)
     tr.initialise(np.array([[0.0, 0.0, 1.0, 0.0]]), np.diag([1.0, 1.0, 0.5, 0.5])[None], time=0.0)
-    scans = [(1.0, np.array([[1.0, 0.1], [20.0, 20.0]])), (2.0, np.array([[2.1, 0.0], [20.5, 20.2]]))]
-    tr.step(scans[0])
+    scans = [(np.array([[1.0, 0.1], [20.0, 20.0]]), 1.0), (np.array([[2.1, 0.0], [20.5, 20.2]]), 2.0)]  # (Z, time)
+    tr.step(*scans[0])
     before = _state(tr)
 
     def boom(*args, **kwargs):
@@ -131,12 +131,12 @@ def test_failure_inside_the_initiator_rolls_back_tracker_and_initiator(monkeypat
     with monkeypatch.context() as mp:
         mp.setattr(initiation_module, "gnn_update", boom)
         with pytest.raises(RuntimeError, match="simulated"):
-            tr.step(scans[1])
+            tr.step(*scans[1])
     _assert_same(_state(tr), before)
     ref = _sht("gnn", initiator=True)
     ref.initialise(np.array([[0.0, 0.0, 1.0, 0.0]]), np.diag([1.0, 1.0, 0.5, 0.5])[None], time=0.0)
-    ref.step(scans[0])
-    got, want = tr.step(scans[1]), ref.step(scans[1])
+    ref.step(*scans[0])
+    got, want = tr.step(*scans[1]), ref.step(*scans[1])
     assert len(got) == 2  # the second target confirmed (2 of 3)
     np.testing.assert_array_equal(got.x, want.x)
     np.testing.assert_array_equal(got.P, want.P)

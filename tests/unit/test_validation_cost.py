@@ -23,7 +23,7 @@ def test_recording_sees_one_scan_check_per_step_and_restores_the_checks():
     with recorded_checks() as calls:
         assert tracker_module.check_measurements is not _validation.check_measurements
         for k in range(3):
-            tracker.step((float(k + 1), np.array([[0.1, 0.2], [5.0, 5.0]])))
+            tracker.step(np.array([[0.1, 0.2], [5.0, 5.0]]), float(k + 1))
     assert tracker_module.check_measurements is _validation.check_measurements
     scans = [(args[1:], kwargs) for f, args, kwargs in calls if f is _validation.check_measurements]
     assert scans == [(("Z", 2), {})] * 3  # each scan's returns, checked once, as (m, 2)

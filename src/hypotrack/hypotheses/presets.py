@@ -7,6 +7,7 @@ preset          weight model                       child generator
 ``rfisst``      H-FISST                             MCMC search (document 000 Sec. III)
 ``homht``       Reid (document 001 Eq. 30, 35)          exhaustive
 ``homht_kbest`` Reid                                Murty k-best
+``fisst_kbest`` FISST, Poisson clutter (001 Eq. 18)   Murty k-best
 ``glmb``        δ-GLMB joint prediction–update      Gibbs sampler (Vo, Vo & Hoang 2017)
 ``glmb_murty``  δ-GLMB joint prediction–update      Murty ranked assignment (Vo & Vo 2014)
 =============== ================================= =================================
@@ -31,10 +32,10 @@ from .generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from .gibbs import GibbsGenerator
 from .population_events import SingleEventPopulation
 from .population_lmb import LabeledMultiBernoulliPopulation
-from .weights import HFISSTWeights, ReidWeights
+from .weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
 from .weights_glmb import GLMBWeights
 
-__all__ = ["hfisst", "rfisst", "homht", "homht_kbest", "glmb", "glmb_murty"]
+__all__ = ["hfisst", "rfisst", "homht", "homht_kbest", "fisst_kbest", "glmb", "glmb_murty"]
 
 
 def _population(population):
@@ -56,15 +57,16 @@ def hfisst(motion, sensor, *, max_events=10**7, population=None, **options) -> H
     return _filter(motion, sensor, HFISSTWeights(), ExhaustiveGenerator(max_events=max_events), population, **options)
 
 
-def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, variant="paper", init="random", completion_rounds=2,
+def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, mcmc_variant="paper", init="random", completion_rounds=2,
            population=None, **options) -> HypothesisFilter:
     """R-FISST: H-FISST weights on the children found by the MCMC search (document 000 Sec. III).
 
-    ``n_steps`` proposals per parent per scan (document 000 Fig. 15 uses 100,000);
+    ``n_steps`` proposals per parent per scan (document 000 Fig. 15 uses 100,000) with the proposal
+    ``mcmc_variant`` (``"paper"``: document 000 Sec. III-B) from the start ``init``;
     ``completion_rounds`` rounds of this project's neighbour search after the chain
     (:class:`MCMCGenerator`; ``0`` is the paper's chain alone).
     """
-    gen = MCMCGenerator(n_steps=n_steps, burn_in=burn_in, variant=variant, init=init,
+    gen = MCMCGenerator(n_steps=n_steps, burn_in=burn_in, variant=mcmc_variant, init=init,
                         completion_rounds=completion_rounds)
     return _filter(motion, sensor, HFISSTWeights(), gen, population, **options)
 
@@ -107,6 +109,17 @@ def homht_kbest(motion, sensor, *, k=None, birth_intensity=0.0, birth_density=No
     weights, pop = _reid(birth_intensity, birth_density, population)
     k = options.get("max_hypotheses", 100) if k is None else k
     return _filter(motion, sensor, weights, MurtyGenerator(k=k), pop, **options)
+
+
+def fisst_kbest(motion, sensor, *, k=None, population=None, **options) -> HypothesisFilter:
+    """FISST weights with Poisson clutter (document 001 Eq. 6–7, 18) on Murty's ``k`` best children per
+    parent (``k`` defaults to ``max_hypotheses``); ``population`` as in :func:`hfisst`.
+
+    The GLMB benchmark's "HOMHT k-best" column: with document 001's binomial population it is the
+    FISST side of document 001's FISST = HOMHT equivalence, ranked by Murty.
+    """
+    k = options.get("max_hypotheses", 100) if k is None else k
+    return _filter(motion, sensor, FISSTPoissonWeights(), MurtyGenerator(k=k), population, **options)
 
 
 def _labeled(population):

@@ -76,8 +76,8 @@ def own_api_setup(transition, measurement_model, region, scans, priors, p_D, clu
 def run_own_api(tracker, algorithm, arrays) -> None:
     """Step ``tracker`` through the scans, reading what a user reads (the MAP estimate of a filter)."""
     if algorithm in ("gnn", "jpda", "pdaf"):
-        for scan in arrays:
-            tracker.step(scan)
+        for t, Z in arrays:
+            tracker.step(Z, t)
     else:
         previous = 0.0
         for t, Z in arrays:

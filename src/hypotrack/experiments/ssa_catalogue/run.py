@@ -489,11 +489,12 @@ class CatalogueSHTStepper:
             raise ValueError(f"algorithm must be 'gnn' or 'jpda', got {algorithm!r}")
         self.tracker = SingleHypothesisTracker(scenario.motion, scenario.model, association=algorithm,
                                                gnn_score="mahalanobis", max_misses=10**9)
-        self.tracker.initialise(scenario.initial_states, scenario.initial_covs, scenario.times[0])
+        self.tracker.initialise(scenario.initial_states, scenario.initial_covs, time=scenario.times[0])
         self.scans = scenario.scan_list()
 
     def step(self, k):
-        self.tracker.step(self.scans[k])
+        t, Z = self.scans[k]
+        self.tracker.step(Z, t)
 
     def record(self, run):
         tr = self.tracker

@@ -58,7 +58,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -126,7 +126,7 @@ class SingleEventSettings:
         if base.kind != "rfisst" or not base.population:
             raise ValueError(f"tracker must be an R-FISST tracker with births and deaths in ssa50.trackers, "
                              f"got {self.tracker!r} ({base.label})")
-        return replace(base, n_steps=self.n_steps, gate_probability=self.gate_probability)
+        return base.with_options(n_steps=self.n_steps, gate_probability=self.gate_probability)
 
 
 def single_event_filters(scenario, tracker: TrackerSettings, master_seed: int, *, split: str = "exact") -> dict:

@@ -223,7 +223,7 @@ def tracker_class():
             ids_before, time_before = tr.ids, tr.time
             ini = tr.initiator
             ini_before = None if ini is None else (ini.x, ini.P, ini.hits)
-            est = tr.step((t, Z))
+            est = tr.step(Z, t)
             gated, assoc = tr.last_gated, tr.last_association
             preds = self._predictions(gated.x, gated.P, time)
             pos = {int(i): j for j, i in enumerate(ids_before.tolist())}

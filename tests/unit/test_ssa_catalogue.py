@@ -9,6 +9,7 @@ import pytest
 import yaml
 
 from hypotrack.config import ConfigError, validate_config
+from hypotrack.registry import TrackerSpec
 from hypotrack.experiments.ssa_catalogue.run import continuity
 from hypotrack.experiments.ssa_catalogue.summary import (
     accuracy_table,
@@ -238,8 +239,11 @@ def _config():
 @pytest.mark.parametrize("path, value, message", [
     (("sizes",), [100], "sizes"),
     (("radar", "p_D"), 1.0, "p_D"),
-    (("trackers", "r_birth"), 0.0, "r_birth"),
+    (("model", "r_birth"), 0.0, "r_birth"),
     (("debris_group",), "starlink", "debris_group"),
+    (("trackers", "rfisst", "n_step"), 10, r"ssa_catalogue\.trackers\.rfisst\.n_step'.*unknown option"),
+    (("trackers", "glmb", "n_sweeps"), 0, r"ssa_catalogue\.trackers\.glmb\.n_sweeps"),
+    (("trackers", "gnn", "kind"), "gnm", r"ssa_catalogue\.trackers\.gnn\.kind'.*unknown tracker kind 'gnm'"),
 ])
 def test_config_validation_names_the_bad_key(path, value, message):
     cfg = copy.deepcopy(_config())
@@ -248,11 +252,11 @@ def test_config_validation_names_the_bad_key(path, value, message):
         d = d[key]
     d[path[-1]] = value
     with pytest.raises(ConfigError, match=message):
-        validate_config(cfg, "workflows/config/schema")
+        validate_config(cfg, "workflows/config/schema", tracker_specs=TrackerSpec.from_config)
 
 
 def test_default_config_is_valid():
-    validate_config(_config(), "workflows/config/schema")
+    validate_config(_config(), "workflows/config/schema", tracker_specs=TrackerSpec.from_config)
 
 
 def _parallel_scene(seed=0):

@@ -39,7 +39,7 @@ def test_tracker_settings_take_the_case_trackers_with_the_seeds_proposals():
     assert s["homht"].kind == "homht" and s["homht"].max_hypotheses == 3 and not s["homht"].population
     # ... and with births and deaths on both sides: HOMHT (defined in ssa_seeds) with ssa15's Eq. 30 population
     hb, rf = s["homht_births"], s["rfisst"]
-    assert (hb.kind, hb.population, hb.k_best, hb.max_hypotheses) == ("homht", True, 100, 3)
+    assert (hb.kind, hb.population, hb.k, hb.max_hypotheses) == ("homht_kbest", True, 100, 3)
     assert (hb.alpha, hb.beta, hb.n_birth_regions) == (rf.alpha, rf.beta, rf.n_birth_regions) == (1e-3, 1e-4, 10)
     assert (hb.label, s["homht"].label) == ("HOMHT with births and deaths", "HOMHT")
     config = _config()

@@ -79,10 +79,8 @@ def run_own_api(tracker, algorithm, arrays) -> None:
         for t, Z in arrays:
             tracker.step(Z, t)
     else:
-        previous = 0.0
         for t, Z in arrays:
-            _ = tracker.step(Z, t - previous).map_estimate
-            previous = t
+            _ = tracker.step(Z, t).map_estimate
 
 
 def _own_api_seconds(algorithm, transition, measurement_model, region, scans, priors, p_D, clutter_rate, options):

@@ -20,8 +20,8 @@ from ..seeds import experiment_seeds
 __all__ = ["TRACKER_KINDS", "TRACKER_NAMES", "TrackerSettings", "make_tracker", "make_problem", "tracker_seed"]
 
 #: The kinds the SSA configs use (any registered kind of the engine family is accepted).
-TRACKER_KINDS = ("rfisst", "hfisst", "homht", "glmb")
-TRACKER_NAMES = {"rfisst": "R-FISST", "hfisst": "H-FISST", "homht": "HOMHT", "glmb": "GLMB (Gibbs)"}
+TRACKER_KINDS = ("rfisst", "hfisst", "homht", "homht_kbest", "glmb")
+TRACKER_NAMES = {"rfisst": "R-FISST", "hfisst": "H-FISST", "homht": "HOMHT", "homht_kbest": "HOMHT", "glmb": "GLMB (Gibbs)"}
 _BIRTH_KEYS = ("alpha", "beta", "n_birth_regions", "birth_velocity_std")
 
 
@@ -88,7 +88,7 @@ class TrackerSettings:
         name = TRACKER_NAMES.get(kind, kind)
         if kind == "rfisst":
             name += " + completion" if self.completion_rounds else ", paper chain"
-        if kind == "homht":
+        if kind in ("homht", "homht_kbest"):  # Reid's filter: a fixed number unless said otherwise
             return f"{name} with births and deaths" if self.population else name
         return name if self.population else f"{name}, fixed number"
 

@@ -146,7 +146,7 @@ def compare_runs(filters: Mapping, scans: Sequence, n_true: Sequence[int], *,
     Parameters
     ----------
     filters : mapping
-        ``"unfactored"``, ``"factored"``, ``"reseeded"`` → a filter with ``step(Z, dt)`` returning
+        ``"unfactored"``, ``"factored"``, ``"reseeded"`` → a filter with ``step(Z, time)`` returning
         a posterior (``cardinality``, ``expected_number``, ``map_estimate``).
     scans : sequence of (t, Z)
         Scan 0 is the filters' start time (its returns are not used); the filters step from scan 1.
@@ -176,11 +176,10 @@ def compare_runs(filters: Mapping, scans: Sequence, n_true: Sequence[int], *,
     rows = []
     for k in range(1, len(scans)):
         t, Z = scans[k]
-        dt = t - scans[k - 1][0]
         post = {}
         for name in RUNS:
             c0 = time.process_time()
-            post[name] = filters[name].step(Z, dt=dt)
+            post[name] = filters[name].step(Z, t)
             cpu[name] += time.process_time() - c0
         n = int(n_true[k])
         row = {"scan": k, "time": t, "n_returns": len(Z), "n_true": n}

@@ -12,7 +12,8 @@ from ...hypotheses.association_problem import SEEDED_BIRTH
 from ...trackers._sht_common import gate_tracks, predict_tracks
 from ...trackers.gnn import gnn_associate, gnn_gains, gnn_update
 from ._build import _build, glmb_population, scan_settings
-from ._common import ALGORITHMS, SINGLE_HYPOTHESIS, require_stonesoup
+from ...registry import kinds, preset
+from ._common import require_stonesoup
 from ._models import DetectionFrame, _region, translate_models
 
 __all__ = ["tracker_class"]
@@ -113,7 +114,8 @@ def tracker_class():
         transition_model = Property(object, doc="CombinedLinearGaussianTransitionModel of ConstantVelocity.")
         measurement_model = Property(object, doc="LinearGaussian position measurement model (that of detections "
                                                  "without their own; clutter_region is in its measured axes).")
-        algorithm: str = Property(doc=f"One of {ALGORITHMS}.")
+        algorithm: str = Property(doc="A kind of hypotrack.registry (gnn, jpda, pdaf, hfisst, rfisst, homht, "
+                                      "homht_kbest, glmb, glmb_murty, ... and any kind registered since).")
         detection_probability: float = Property(doc="P_D of every object, in (0, 1).")
         clutter_rate: float = Property(doc="Expected clutter returns per scan (> 0).")
         clutter_region = Property(object, doc="[[low, high], ...] per measured axis: where clutter falls.")
@@ -126,8 +128,9 @@ def tracker_class():
         def __init__(self, *args, **kwargs):
             super().__init__(*args, **kwargs)
             self.detector_iter = None
-            if self.algorithm not in ALGORITHMS:
-                raise ValueError(f"algorithm must be one of {ALGORITHMS}, got {self.algorithm!r}")
+            if self.algorithm not in kinds():
+                raise ValueError(f"algorithm must be a registered tracker kind ({', '.join(kinds())}), "
+                                 f"got {self.algorithm!r}")
             motion, measurement, self._perm = translate_models(self.transition_model, self.measurement_model)
             self._inverse = np.argsort(self._perm)
             self._frame = DetectionFrame(self.measurement_model, self._perm, measurement.H, measurement.R)
@@ -144,7 +147,7 @@ def tracker_class():
             options = glmb_population(self.algorithm, self.options or {}, self._perm, measurement.H, measurement.R)
             self.tracker = _build(self.algorithm, motion, measurement, self.detection_probability,
                                   self.clutter_rate, region, means, covs, options)
-            self._single = self.algorithm in SINGLE_HYPOTHESIS
+            self._single = preset(self.algorithm).family == "single"
             self._tracks = {}
             self._current = set()
             self._n_scans = 0
@@ -184,7 +187,7 @@ def tracker_class():
                                  f"time {previous}")
             dt = 0.0 if previous is None else (time - previous).total_seconds()
             R = None if variant is None else self._frame.variants[variant]
-            settings = scan_settings(self.tracker, self.algorithm, R, zero_time=not self._single and dt == 0)
+            settings = scan_settings(self.tracker, R)
             with _applied(settings):
                 ids, means, covs, states = (self._step_single if self._single else self._step_filter)(
                     time, Z, dets, dt)
@@ -273,7 +276,8 @@ def tracker_class():
             """Hypothesis-filter step; per object of the MAP hypothesis ``(is_update, hypothesis)``."""
             f = self.tracker
             store, lists = f.store, f.track_lists
-            best = f.step(Z, dt if dt > 0 else 1.0).map_estimate  # dt = 0: the motion is ZeroTime here
+            epoch = self._epoch if self._epoch is not None else time
+            best = f.step(Z, (time - epoch).total_seconds()).map_estimate  # a zero interval: no prediction
             # The MAP hypothesis' child: its parent, association event and silent events give each
             # object's return, in the order HypothesisFilter._materialise lists the child's objects.
             h = int(np.argsort(-f.log_weights, kind="stable")[0])
@@ -294,8 +298,7 @@ def tracker_class():
                                    "please report this (HypothesisFilter._materialise changed?)")
             states = []
             if n_alive:
-                x, P = predict_with(f.motion, store.means[parent[alive]], store.covs[parent[alive]],
-                                    dt if dt > 0 else 1.0)
+                x, P = predict_with(f.motion, store.means[parent[alive]], store.covs[parent[alive]], dt)
                 preds = self._predictions(x, P, time)
                 states += [(True, SingleHypothesis(preds(k), dets[ret[j]])) if ret[j] >= 0 else (False, None)
                            for k, j in enumerate(alive)]

@@ -255,7 +255,7 @@ def test_committed_ledger_follows_the_rules():
 
     from hypotrack.reporting.ledger import ledger_problems
 
-    path = Path(__file__).resolve().parents[2] / "paper" / "record" / "ledger.csv"
+    path = Path(__file__).resolve().parents[3] / "paper" / "record" / "ledger.csv"
     if path.exists():
         timing = path.with_name("ledger_timing.csv")
         problems = ledger_problems(read_claims([path, *([timing] if timing.exists() else [])]))

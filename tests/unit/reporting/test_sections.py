@@ -44,7 +44,7 @@ def test_every_failing_row_is_discussed(tmp_path):
 def test_the_committed_record_has_a_discussion_for_every_failing_row():
     from pathlib import Path
 
-    record = Path(__file__).resolve().parents[2] / "paper" / "record"
+    record = Path(__file__).resolve().parents[3] / "paper" / "record"
     ledger = read_claims([record / "ledger.csv", record / "ledger_timing.csv"])
     text = gaps_tex(ledger)
     failing = ledger[ledger["status"].isin(FAILING)]

@@ -20,7 +20,7 @@ from hypotrack.reporting import figure_style as fs
 fs.use()
 import matplotlib.pyplot as plt  # noqa: E402
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def placed_widths() -> dict[str, float]:

@@ -13,7 +13,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 QUALITY = ROOT / "paper" / "record"
 MODULES = {"gaussian", "metrics", "hypotheses", "association", "trackers"}
 NAME = re.compile(r"^hypotrack\.[a-z_]+(\.[a-z_]+)*\.x.+__mutmut_\d+$")

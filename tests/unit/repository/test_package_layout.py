@@ -14,7 +14,7 @@ import pytest
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 PKG = ROOT / "src" / "hypotrack"
 EXPERIMENTS = PKG / "experiments"
 RULES = {p.stem for p in (ROOT / "workflows" / "rules").glob("*.smk")}

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from hypotrack.reporting.paper import bare_numbers, latex_log_problems, overfull_boxes, scan_sections
 
-PAPER = Path(__file__).resolve().parents[2] / "paper"
+PAPER = Path(__file__).resolve().parents[3] / "paper"
 
 
 def test_paper_sections_have_no_bare_numbers():

@@ -12,7 +12,7 @@ import yaml
 from hypotrack.reporting import readme as readme_mod
 from hypotrack.reporting.record import FILES, RECORD, config_differences, default_config, full_config, update_record
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _fake_run(tmp_path: Path, config: dict) -> Path:

@@ -21,7 +21,7 @@ from pathlib import Path
 import pytest
 from scipy.stats import binom, poisson
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 THEORY = ROOT / "theory"
 NOTEBOOKS = ["hypothesis_count", "likelihood_normalisation", "birth_poisson_limit", "set_integrals",
              "ideal_filter_mospa"]

@@ -114,7 +114,7 @@ def test_validate_truth_rejects_bad_tables():
 
 # --- SSA scenario -----------------------------------------------------------------------------
 
-CONFIG_DIR = Path(__file__).resolve().parents[2] / "workflows" / "config"
+CONFIG_DIR = Path(__file__).resolve().parents[3] / "workflows" / "config"
 
 
 @pytest.fixture(scope="module")

@@ -19,7 +19,7 @@ from hypotrack.models.population import UniformBirthDensity
 from hypotrack.models.sensors import Box
 from hypotrack.reporting.ledger import read_claims, write_claims
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[4]
 
 RATIO = dict(p_D=[0.6, 0.95], alpha=[1e-3, 0.2], n_pixels=3, pixel_size=10.0, velocity_std=0.5, beta=1e-4,
              measurement_var=0.25, clutter_rate=1.0, q=0.01)

@@ -21,7 +21,7 @@ SIGMA2, GAMMA, R = 0.02, 0.01, 0.5
 MODEL = OrnsteinUhlenbeck(SIGMA2, GAMMA)
 A = math.exp(-GAMMA)
 Q = SIGMA2 / (2 * GAMMA) * (1 - A * A)  # Eq. 5.3 with dt = 1
-CFG = yaml.safe_load((Path(__file__).parents[2] / "workflows/config/default.yaml").read_text())["closely_spaced"]
+CFG = yaml.safe_load((Path(__file__).parents[4] / "workflows/config/default.yaml").read_text())["closely_spaced"]
 
 
 def _pda_scalar(x, P, returns, beta, r):

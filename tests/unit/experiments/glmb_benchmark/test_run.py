@@ -116,7 +116,7 @@ def test_gen_truth_first_scan_is_one_step_past_x_start_and_death_scan_is_include
     import yaml
     from pathlib import Path
 
-    cfg = yaml.safe_load((Path(__file__).parents[2] / "workflows/config/default.yaml").read_text())["glmb_benchmark"]
+    cfg = yaml.safe_load((Path(__file__).parents[4] / "workflows/config/default.yaml").read_text())["glmb_benchmark"]
     assert cfg["truth"] == VO_TRUTH and cfg["truth_convention"] == "gen_truth"
     truth = truth_states(VO_TRUTH, 100, convention="gen_truth")
     # numbers present, by hand: 3 from scan 1, +3 at 20, +2 at 40, +2 at 60, objects 1 and 3 last seen at 70

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from hypotrack.experiments.perf_sht import run as ps
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[4]
 
 
 def test_numpy_baseline_associates_and_updates_as_hypotrack():

@@ -12,7 +12,7 @@ from hypotrack.models.orbit import MU_EARTH, TwoBodyOrbit
 from hypotrack.reporting.ledger import Claim
 from hypotrack.scenarios.ssa import params_from_config, simulate_ssa
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[4]
 
 
 def test_blind_prediction_of_a_circular_orbit_is_the_rotated_position():

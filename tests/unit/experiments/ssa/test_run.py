@@ -17,7 +17,7 @@ from hypotrack.reporting.ledger import STATUSES
 from hypotrack.scenarios.ssa import SSAParams, prior_table, simulate_ssa
 from hypotrack.scenarios.tables import state_columns, write_table
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[4]
 SIGMA = 1.0  # km, the scenarios' measurement noise
 
 

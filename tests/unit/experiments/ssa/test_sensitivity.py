@@ -80,7 +80,7 @@ def test_run_setting_is_deterministic_and_keeps_the_orbits_across_settings():
 
     import yaml
 
-    root = Path(__file__).resolve().parents[2]
+    root = Path(__file__).resolve().parents[4]
     config = yaml.safe_load((root / "workflows" / "config" / "default.yaml").read_text())
     config["ssa50"]["max_hypotheses"] = 3
     config["ssa50"]["sensitivity"].update(n_seeds=2, n_scans=8, n_steps=100, clutter_rates=[0.0, 2.0], p_D=[0.9])

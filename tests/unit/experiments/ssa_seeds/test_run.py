@@ -9,7 +9,7 @@ import yaml
 
 from hypotrack.experiments.ssa_seeds import run as ss
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[4]
 
 
 def _config(n_seeds=3, n_scans=6):

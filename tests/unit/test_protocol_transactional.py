@@ -14,10 +14,7 @@ import hypotrack.trackers.jpda as jpda_module
 from hypotrack.association import EnumerationBudgetError
 from hypotrack.association.marginals import MarginalsBudgetError, jpda_marginals
 from hypotrack.hypotheses import ExhaustiveGenerator, hfisst, rfisst
-from hypotrack.hypotheses.population_events import SingleEventPopulation
 from hypotrack.models import ConstantVelocity, OrnsteinUhlenbeck
-from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
 from hypotrack.trackers import (
     CardinalityTracker,
     ClassicalCountMHT,
@@ -30,8 +27,10 @@ from hypotrack.trackers import (
     SingleHypothesisTracker,
 )
 
+from scenes import H_POSITION, REGION, THREE_COVS, THREE_MEANS, observed_scans, position_sensor, single_event_population
+
 MOTION = ConstantVelocity(0.05)
-H = np.hstack([np.eye(2), np.zeros((2, 2))])
+H = H_POSITION
 
 
 def _state(obj):
@@ -143,27 +142,19 @@ def test_failure_inside_the_initiator_rolls_back_tracker_and_initiator(monkeypat
 
 
 # ------------------------------------------------------------------ hypothesis filter
-REGION = Box([-50.0, -50.0], [50.0, 50.0])
-X0 = np.array([[0.0, 0.0, 1.0, 0.0], [4.0, 1.0, 0.0, 1.0], [-10.0, 5.0, 0.5, -0.5]])
-P0 = np.repeat(np.diag([1.0, 1.0, 0.2, 0.2])[None], 3, axis=0)
+X0, P0 = THREE_MEANS, THREE_COVS
 
 
 def _sensor():
-    return Sensor(LinearPositionSensor(np.eye(2) * 0.5, 4), DetectionModel(0.9, REGION), PoissonClutter(1.0, REGION))
+    return position_sensor(0.5, 0.9, REGION, 1.0)
 
 
 def _population():
-    return SingleEventPopulation(SingleEventBirthDeath(0.01, 0.01, 1),
-                                 birth_densities=[UniformBirthDensity(REGION, np.eye(2))])
+    return single_event_population(0.01, 0.01, 1, (REGION,))
 
 
 def _scans(n, seed=3):
-    rng = np.random.default_rng(seed)
-    X, F, out = X0.copy(), MOTION.F(1.0), []
-    for _ in range(n):
-        X = X @ F.T
-        out.append(_sensor().observe(X, rng)[0])
-    return out
+    return observed_scans(X0.copy(), MOTION, _sensor(), n, seed)[0]
 
 
 def _filter_state(f):

@@ -35,14 +35,14 @@ from hypotrack.hypotheses import duplicates as dup_mod
 from hypotrack.hypotheses.duplicates import child_hashes, child_pairs, merge_duplicates
 from hypotrack.hypotheses.factored_groups import GroupState, components, factorise, product, restrict_population
 from hypotrack.models.motion import ConstantVelocity
-from hypotrack.models.sensors import Box, DetectionModel, FieldOfView, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box, FieldOfView
+from scenes import position_sensor
 
 R = np.eye(2) * 0.5
 P_D, P_S, R_B = 0.8, 0.9, 0.2
 MOTION = ConstantVelocity(q=0.05)
 VIEW = Box([-10.0, -10.0], [10.0, 10.0])
-SENSOR = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)), DetectionModel(P_D, VIEW),
-                PoissonClutter(1.5, Box([-20.0, -20.0], [20.0, 20.0])))
+SENSOR = position_sensor(R, P_D, VIEW, 1.5, Box([-20.0, -20.0], [20.0, 20.0]))
 H = SENSOR.measurement.H
 X0 = np.array([[0.0, 0.0, 1.0, 0.5], [5.0, 2.0, -0.5, 0.6], [-6.0, -4.0, 0.3, 0.0]])
 P0 = np.repeat(np.diag([1.0, 1.0, 0.1, 0.1])[None], 3, axis=0)
@@ -544,8 +544,7 @@ def test_singletons_live_in_the_lane_and_lazy_prediction_is_exact_for_a_linear_m
 
 
 # an annulus: an object crossing the middle leaves the view and comes back
-RING = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)),
-              DetectionModel(P_D, FieldOfView(0.0, 360.0, 3.0, 20.0)), PoissonClutter(1.5, Box([-20.0, -20.0], [20.0, 20.0])))
+RING = position_sensor(R, P_D, FieldOfView(0.0, 360.0, 3.0, 20.0), 1.5, Box([-20.0, -20.0], [20.0, 20.0]))
 
 
 def _ring_scene(lazy):

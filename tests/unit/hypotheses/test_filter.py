@@ -17,18 +17,18 @@ from hypotrack.hypotheses import (
     rfisst,
 )
 from hypotrack.models import ConstantVelocity
-from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.hypotheses.population_events import BinomialPopulation, SingleEventPopulation
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.population import UniformBirthDensity
+from hypotrack.hypotheses.population_events import BinomialPopulation
+from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, Sensor
+from scenes import HALVES, REGION, position_sensor, single_event_population
+from scenes import THREE_COVS as P0
+from scenes import THREE_MEANS as X0
 
-REGION = Box([-50.0, -50.0], [50.0, 50.0])
-X0 = np.array([[0.0, 0.0, 1.0, 0.0], [4.0, 1.0, 0.0, 1.0], [-10.0, 5.0, 0.5, -0.5]])
-P0 = np.repeat(np.diag([1.0, 1.0, 0.2, 0.2])[None], 3, axis=0)
 MOTION = ConstantVelocity(0.05)
 
 
 def sensor(p_D=0.9, rate=1.0, region=REGION):
-    return Sensor(LinearPositionSensor(np.eye(2) * 0.5, 4), DetectionModel(p_D, region), PoissonClutter(rate, region))
+    return position_sensor(0.5, p_D, region, rate)
 
 
 def observe(X, rng, s=None):
@@ -36,9 +36,7 @@ def observe(X, rng, s=None):
 
 
 def population(alpha=1e-3, beta=1e-3):
-    halves = [Box([-50.0, -50.0], [0.0, 50.0]), Box([0.0, -50.0], [50.0, 50.0])]
-    return SingleEventPopulation(SingleEventBirthDeath(alpha, beta, 2),
-                                 birth_densities=[UniformBirthDensity(h, np.eye(2) * 4.0) for h in halves])
+    return single_event_population(alpha, beta, 2, HALVES, np.eye(2) * 4.0)
 
 
 def run(f, n_scans=4, seed=0, X=X0):
@@ -195,7 +193,7 @@ def test_parent_with_underflowing_weight_keeps_its_children():
     """A hypothesis of normalised weight ~e^-1400 (0.0 in linear space) survives and has
     children with finite log-weights (its lineage is traceable through lineage_keys)."""
     huge = Box([-1e150, -1e150], [1e150, 1e150])  # log g = -log V = -690.8 per clutter return
-    s = Sensor(LinearPositionSensor(np.eye(2) * 0.01, 4), DetectionModel(0.9, huge), PoissonClutter(1.0, huge))
+    s = position_sensor(0.01, 0.9, huge, 1.0)
     X = X0[:2]
     f = homht(MOTION, s, max_hypotheses=1000, means=X, covs=P0[:2])
     Z = (X @ MOTION.F(1.0).T)[:, :2]
@@ -233,8 +231,7 @@ def test_binomial_survival_death_twins():
 def _hand_scene(population_model):
     """One object in view at the origin, one out of view (x = 60), one return near the first;
     the view is REGION (V = 100 × 100), the birth region is the whole view."""
-    view_sensor = Sensor(LinearPositionSensor(np.eye(2) * 0.5, 4), DetectionModel(0.8, REGION),
-                         PoissonClutter(1.0, REGION))
+    view_sensor = position_sensor(0.5, 0.8, REGION, 1.0)
     X = np.array([[0.0, 0.0, 1.0, 0.0], [60.0, 0.0, 0.0, 0.0]])
     P = np.repeat(np.diag([1.0, 1.0, 0.2, 0.2])[None], 2, axis=0)
     f = hfisst(MOTION, view_sensor, population=population_model, max_hypotheses=50, means=X, covs=P)
@@ -256,8 +253,7 @@ def test_single_event_children_weighed_by_hand():
     M_d (P(no event) = 1 − α − 1·β, not 1 − α − 2β) and only it may die; the out-of-view object
     has p_D = 0 (missed with probability 1). Columns: 0 object in view, 1 out of view, 2 birth."""
     alpha, beta, p_D, V = 0.01, 0.05, 0.8, 100.0 * 100.0
-    pop = SingleEventPopulation(SingleEventBirthDeath(alpha, beta, 1),
-                                birth_densities=[UniformBirthDensity(REGION, np.eye(2) * 4.0)])
+    pop = single_event_population(alpha, beta, 1, (REGION,), np.eye(2) * 4.0)
     f, Z, log_n = _hand_scene(pop)
     p_none = np.log(1 - alpha - beta)
     a_detect = p_none + np.log(p_D) + log_n  # −log(C(1,1) 1!) = 0

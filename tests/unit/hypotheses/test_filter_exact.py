@@ -41,12 +41,13 @@ from hypotrack.hypotheses.generators import top_k
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
 from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from scenes import H_POSITION, position_sensor
 
 REGION = Box([-50.0, -50.0], [50.0, 50.0])
 V = 100.0 * 100.0
 HALVES = [Box([-50.0, -50.0], [0.0, 50.0]), Box([0.0, -50.0], [50.0, 50.0])]
 MOTION = ConstantVelocity(0.05)
-H = np.hstack([np.eye(2), np.zeros((2, 2))])
+H = H_POSITION
 R = np.eye(2) * 0.5
 # objects 0 and 1 in view, object 2 out of view (x = 60 > 50: p_D = 0)
 X0 = np.array([[0.0, 0.0, 1.0, 0.0], [4.0, 1.0, 0.0, 1.0], [60.0, 0.0, 0.0, 0.0]])
@@ -55,7 +56,7 @@ Z = np.array([[1.3, -0.2], [4.2, 1.7], [-30.0, 20.0]])  # near object 0, near ob
 
 
 def _sensor(p_D, rate=1.0):
-    return Sensor(LinearPositionSensor(R, 4), DetectionModel(p_D, REGION), PoissonClutter(rate, REGION))
+    return position_sensor(R, p_D, REGION, rate)
 
 
 def _births():
@@ -463,8 +464,8 @@ def test_filter_construction_messages_name_the_argument():
             HypothesisFilter(MOTION, s, HFISSTWeights(), ExhaustiveGenerator(), **kw)
     with pytest.raises(ValueError, match=r"^the motion model's states are 4-dimensional but the sensor \(H of "
                                          r"shape \(2, 6\)\) expects 6-dimensional states$"):
-        HypothesisFilter(MOTION, Sensor(LinearPositionSensor(R, 6), DetectionModel(0.8, REGION),
-                                        PoissonClutter(1.0, REGION)), HFISSTWeights(), ExhaustiveGenerator())
+        HypothesisFilter(MOTION, position_sensor(R, 0.8, REGION, 1.0, ndim_state=6), HFISSTWeights(),
+                         ExhaustiveGenerator())
     f = HypothesisFilter(MOTION, s, HFISSTWeights(), ExhaustiveGenerator(), means=X0, covs=P0)
     for bad, match in ((np.zeros((1, 3)), r"^Z must have shape \(m, 2\), got \(1, 3\)$"), ([[np.nan, 0.0]], "^Z must")):
         with pytest.raises(ValueError, match=match):

@@ -18,11 +18,11 @@ from hypotrack.hypotheses import (
 )
 from hypotrack.hypotheses.gibbs import gibbs_search
 from hypotrack.models.motion import ConstantVelocity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 
 R = np.eye(2) * 0.5
-SENSOR = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)), DetectionModel(0.8),
-                PoissonClutter(2.0, Box([-10.0, -10.0], [10.0, 10.0])))
+SENSOR = position_sensor(R, 0.8, None, 2.0, Box([-10.0, -10.0], [10.0, 10.0]))
 H = SENSOR.measurement.H
 MOTION = ConstantVelocity(q=0.0)  # no process noise: the predicted covariance is F P Fᵀ
 

@@ -29,13 +29,13 @@ from hypotrack.hypotheses import (
 from hypotrack.hypotheses.gibbs import gibbs_search
 from hypotrack.hypotheses.population_lmb import DIED, MAX_OBJECTS, MISSED
 from hypotrack.models.motion import ConstantVelocity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 
 VIEW = Box([-10.0, -10.0], [10.0, 10.0])
 R = np.diag([0.5, 0.3])
 P_D, RATE, V = 0.85, 1.5, 400.0
-SENSOR = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)), DetectionModel(P_D, VIEW),
-                PoissonClutter(RATE, VIEW))
+SENSOR = position_sensor(R, P_D, VIEW, RATE)
 H = SENSOR.measurement.H
 MOTION = ConstantVelocity(q=0.1)
 # two objects in view, one out of view (x = 30: p_D = 0, it can only be missed or die)

@@ -24,20 +24,20 @@ from hypotrack.hypotheses import (
     ExhaustiveGenerator,
     HypothesisFilter,
     ReidWeights,
-    SingleEventPopulation,
     homht,
     homht_kbest,
 )
 from hypotrack.models import ConstantVelocity
-from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.population import UniformBirthDensity
+from hypotrack.models.sensors import Box
+from scenes import H_POSITION, position_sensor, single_event_population
 
 REGION = Box([-50.0, -50.0], [50.0, 50.0])
 V = 100.0 * 100.0
 BIRTH = Box([-50.0, -50.0], [0.0, 50.0])  # the one birth region: the left half, V̄ = 5000
 V_BAR = 50.0 * 100.0
 MOTION = ConstantVelocity(0.05)
-H = np.hstack([np.eye(2), np.zeros((2, 2))])
+H = H_POSITION
 R = np.eye(2) * 0.5
 X0 = np.array([[0.0, 0.0, 1.0, 0.0], [70.0, 0.0, 0.0, 0.0]])  # object 1 at x = 70 > 50: out of view
 P0 = np.stack([np.diag([1.0, 1.0, 0.2, 0.2]), np.eye(4)])
@@ -48,12 +48,11 @@ LAM_C = RATE / V
 
 
 def _sensor():
-    return Sensor(LinearPositionSensor(R, 4), DetectionModel(P_D, REGION), PoissonClutter(RATE, REGION))
+    return position_sensor(R, P_D, REGION, RATE)
 
 
 def _population(alpha, beta):
-    return SingleEventPopulation(SingleEventBirthDeath(alpha, beta, 1),
-                                 birth_densities=[UniformBirthDensity(BIRTH, np.eye(2) * 4.0)])
+    return single_event_population(alpha, beta, 1, (BIRTH,), np.eye(2) * 4.0)
 
 
 def oracle(alpha, beta, mutate=None):

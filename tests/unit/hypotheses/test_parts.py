@@ -35,7 +35,8 @@ from hypotrack.hypotheses.problems import DIFFICULTY_SPACING, synthetic_problem
 from hypotrack.hypotheses.tracks import update_pairs
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, FieldOfView, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box, FieldOfView
+from scenes import position_sensor
 
 
 def _ctx(m=3, n=2, B=1, rate=2.0, volume=400.0):
@@ -284,7 +285,7 @@ def test_summarise_of_no_hypothesis_has_unit_mass_at_zero_objects():
 
 # ---------------------------------------------------------------- presets
 _VIEW = Box([-20.0, -20.0], [20.0, 20.0])
-_SENSOR = Sensor(LinearPositionSensor(np.eye(2) * 0.5, 4), DetectionModel(0.9, _VIEW), PoissonClutter(1.0, _VIEW))
+_SENSOR = position_sensor(0.5, 0.9, _VIEW, 1.0)
 _BIRTH = UniformBirthDensity(_VIEW, np.eye(2))
 
 

@@ -21,14 +21,14 @@ from hypotrack.experiments.ssa_catalogue.summary import (
 from hypotrack.hypotheses import LabeledMultiBernoulliPopulation, glmb, homht_kbest
 from hypotrack.hypotheses.factored import AdaptiveBirth, FactoredFilter
 from hypotrack.models.motion import ConstantVelocity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 from hypotrack.scenarios.catalogue import GroundRadar
 from hypotrack.scenarios.catalogue.tracking import TrackerSensor, enu_to_teme, teme_to_enu
 
 R = np.eye(2) * 0.01
 VIEW = Box([-100.0, -100.0], [100.0, 100.0])
-SENSOR = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)), DetectionModel(0.9, VIEW),
-                PoissonClutter(1.0, VIEW))
+SENSOR = position_sensor(R, 0.9, VIEW, 1.0)
 MOTION = ConstantVelocity(q=1e-4)
 
 

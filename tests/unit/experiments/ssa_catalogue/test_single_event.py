@@ -29,13 +29,13 @@ from hypotrack.hypotheses import (
 )
 from hypotrack.models.motion import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 from hypotrack.scenarios.ssa import scenario_from_config
 
 P_D = 0.85
 VIEW = Box([-10.0, -10.0], [10.0, 10.0])
-SENSOR = Sensor(LinearPositionSensor(np.eye(2) * 0.3, ndim_state=4, position_indices=(0, 1)),
-                DetectionModel(P_D, VIEW), PoissonClutter(1.0, Box([-20.0, -20.0], [20.0, 20.0])))
+SENSOR = position_sensor(0.3, P_D, VIEW, 1.0, Box([-20.0, -20.0], [20.0, 20.0]))
 
 
 def _config():

@@ -109,6 +109,42 @@ def tracker_class():
         ``max_hypotheses``, ``gate_probability``, ``population``, ``seed``, ...); for ``glmb`` and
         ``glmb_murty`` also ``birth_states``, ``birth_probability`` and ``survival_probability``
         (:func:`~hypotrack.interop.stonesoup._build.glmb_population`).
+
+        Examples
+        --------
+        Stone Soup's models, two objects known at ``t0`` (Stone Soup's state order ``x, vx, y, vy``)
+        and a detector of one scan, a second later, with a detection near each:
+
+        >>> import datetime
+        >>> import numpy as np
+        >>> from stonesoup.models.measurement.linear import LinearGaussian
+        >>> from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity
+        >>> from stonesoup.types.detection import Detection
+        >>> from stonesoup.types.state import GaussianState
+        >>> from hypotrack.interop.stonesoup import HypotrackTracker
+        >>> t0 = datetime.datetime(2025, 1, 1)
+        >>> t1 = t0 + datetime.timedelta(seconds=1)
+        >>> transition = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.05), ConstantVelocity(0.05)])
+        >>> measurement = LinearGaussian(4, (0, 2), np.eye(2))
+        >>> prior = np.diag([4.0, 1.0, 4.0, 1.0])
+        >>> priors = [GaussianState([[0.0], [1.0], [0.0], [0.0]], prior, timestamp=t0),
+        ...           GaussianState([[20.0], [0.0], [0.0], [1.0]], prior, timestamp=t0)]
+        >>> scan = {Detection([[1.2], [0.1]], timestamp=t1, measurement_model=measurement),
+        ...         Detection([[19.9], [0.8]], timestamp=t1, measurement_model=measurement)}
+        >>> tracker = HypotrackTracker(
+        ...     detector=[(t1, scan)], transition_model=transition, measurement_model=measurement,
+        ...     algorithm="homht", detection_probability=0.9, clutter_rate=1.0,
+        ...     clutter_region=[[-50, 50], [-50, 50]], initial_states=priors, options={"max_hypotheses": 10})
+        >>> time, tracks = next(iter(tracker))
+        >>> time == t1, len(tracks)
+        (True, 2)
+
+        Each track (its id the object's label) is updated with its detection, in Stone Soup's order:
+
+        >>> [(t.id, type(t.state).__name__, np.round(t.state_vector.ravel().astype(float), 2).tolist())
+        ...  for t in sorted(tracks, key=lambda t: t.id)]   # doctest: +NORMALIZE_WHITESPACE
+        [('0', 'GaussianStateUpdate', [1.17, 1.03, 0.08, 0.02]),
+         ('1', 'GaussianStateUpdate', [19.92, -0.02, 0.83, 0.97])]
         """
 
         transition_model = Property(object, doc="CombinedLinearGaussianTransitionModel of ConstantVelocity.")

@@ -191,7 +191,7 @@ def test_tracker_handles_empty_scans_and_rejects_nan_returns():
     model = scan_model()
     tr = SingleHypothesisTracker(ConstantVelocity(0.1), model, association="gnn", max_misses=2)
     x, P = tracks_at([[0, 0]])
-    tr.initialise(x, P, 0.0)
+    tr.initialise(x, P, time=0.0)
     est = tr.step(np.zeros((0, 2)), 1.0)
     assert est.ids.tolist() == [0]
     est = tr.step([], 2.0)
@@ -328,7 +328,7 @@ def test_mahalanobis_tracker_skips_logdet_but_likelihood_is_still_right():
     model = scan_model()
     x, P, Z = lecture_example()
     tracker = SingleHypothesisTracker(ConstantVelocity(0.1), model, gnn_score="mahalanobis", max_misses=5)
-    tracker.initialise(x, P, 0.0)
+    tracker.initialise(x, P, time=0.0)
     tracker.step(Z, 0.0)
     assert tracker.last_gated.logdet is None
     ref = gate_tracks(x, P, Z, model)

@@ -24,7 +24,7 @@ def model(beta_fa=1e-3, p_D=0.9):
 
 def one_track(mdl, **kw):
     tr = SingleHypothesisTracker(MOTION, mdl, **kw)
-    tr.initialise([[0.0, 0.0, 0.0, 0.0]], [P1], 0.0)
+    tr.initialise([[0.0, 0.0, 0.0, 0.0]], [P1], time=0.0)
     return tr
 
 
@@ -59,7 +59,7 @@ def two_tracks_three_returns(association):
     mdl = model()
     tr = SingleHypothesisTracker(MOTION, mdl, association=association)
     P = np.stack([P1, P1])
-    tr.initialise([[0.0, 0, 0, 0], [5.0, 0, 0, 0]], P, 0.0)
+    tr.initialise([[0.0, 0, 0, 0], [5.0, 0, 0, 0]], P, time=0.0)
     Z = np.array([[2.4, 0.2], [-0.5, -0.3], [5.3, 0.4], [40.0, 40.0]])
     return tr, mdl, Z
 
@@ -121,15 +121,16 @@ def test_fresh_tracker_state_and_integer_ids():
     est = tr.estimates()
     assert est.time == -np.inf and len(est) == 0
     assert tr.ids.dtype == np.int64 and tr.misses.dtype == np.int64
-    ids = tr.initialise(np.zeros((2, 4)), np.stack([P1, P1]), 5.0)
+    ids = tr.initialise(np.zeros((2, 4)), np.stack([P1, P1]), time=5.0)
     np.testing.assert_array_equal(ids, [0, 1])
     assert ids.dtype == np.int64 and tr.ids.dtype == np.int64 and tr.misses.dtype == np.int64
-    assert tr.initialise(np.zeros((0, 4)), np.zeros((0, 4, 4)), 5.0).shape == (0,)
-    np.testing.assert_array_equal(tr.initialise([[1.0, 1.0, 0.0, 0.0]], P1, 5.0), [2])  # same time: allowed
-    with pytest.raises(ValueError, match=r"^initialise\(\) must be called before the first scan or at the current time$"):
-        tr.initialise([[1.0, 1.0, 0.0, 0.0]], P1, 6.0)
-    with pytest.raises(ValueError, match="^P must hold one covariance per track: 2 means, 1 covariances$"):
-        tr.initialise(np.zeros((2, 4)), P1, 5.0)
+    assert tr.initialise(np.zeros((0, 4)), np.zeros((0, 4, 4)), time=5.0).shape == (0,)
+    np.testing.assert_array_equal(tr.initialise([[1.0, 1.0, 0.0, 0.0]], P1, time=5.0), [2])  # same time: allowed
+    with pytest.raises(ValueError, match=r"^time: initialise\(\) must be called before the first scan or at the "
+                                         r"current time 5.0, got 6.0$"):
+        tr.initialise([[1.0, 1.0, 0.0, 0.0]], P1, time=6.0)
+    with pytest.raises(ValueError, match="^covs must hold one covariance per track: 2 means, 1 covariances$"):
+        tr.initialise(np.zeros((2, 4)), P1, time=5.0)
 
 
 def test_tracker_messages_name_the_argument():
@@ -143,8 +144,10 @@ def test_tracker_messages_name_the_argument():
     other = ScanModel(np.eye(4)[:3], np.eye(3), 0.9, 0.99, 1e-3)
     with pytest.raises(ValueError, match=r"^initiator's scan model has H of shape \(3, 4\), the tracker's \(2, 4\)"):
         SingleHypothesisTracker(MOTION, mdl, initiator=MOfNInitiator(MOTION, other))
-    with pytest.raises(TypeError, match=r"^scan must be a \(time, Z\) pair$"):
-        SingleHypothesisTracker(MOTION, mdl).step(1.0)
+    with pytest.raises(TypeError, match=r"^time is required: step\(Z, time\)"):
+        SingleHypothesisTracker(MOTION, mdl).step(np.zeros((0, 2)))
+    with pytest.raises(TypeError, match=r"got a \(time, Z\) pair"):
+        SingleHypothesisTracker(MOTION, mdl).step((1.0, np.zeros((0, 2))))
 
 
 def test_fresh_initiator_is_empty_with_integer_counters_and_default_p0():
@@ -233,7 +236,7 @@ def test_a_motion_model_of_its_own_predicts_through_its_transition():
     tr = SingleHypothesisTracker(motion, mdl)
     assert tr.motion is motion
     x0 = np.array([[0.0, 0.0, 2.0, -1.0]])
-    tr.initialise(x0, [P1], 0.0)
+    tr.initialise(x0, [P1], time=0.0)
     z = np.array([[3.1, -1.2], [30.0, 30.0], [-20.0, 5.0]])
     est = tr.step(z, 2.0)
     F = motion.jacobian(2.0)

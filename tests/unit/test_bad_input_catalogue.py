@@ -177,7 +177,8 @@ BAD = [
     ("filter weights type", lambda: HypothesisFilter(CV, sensor(), "hfisst", ExhaustiveGenerator()), "weights must be a"),
     ("filter step NaN scan", lambda: hf().step(np.array([[np.nan, 0.0]])), "Z must be finite"),
     ("filter step 3-D returns", lambda: hf().step(np.zeros((2, 3))), "Z must have shape (m, 2)"),
-    ("filter step dt = 0", lambda: hf().step(np.zeros((0, 2)), dt=0.0), "dt must be a finite number > 0"),
+    ("filter step dt < 0", lambda: hf().step(np.zeros((0, 2)), dt=-1.0), "dt must be a finite number >= 0"),
+    ("filter step time before the filter's", lambda: hf().step(np.zeros((0, 2)), -0.5), "time must be >= the filter's time"),
     ("rfisst n_steps 0", lambda: rfisst(CV, sensor(), n_steps=0), "n_steps must be an integer in [1"),
     ("homht births without density", lambda: homht(CV, sensor(), birth_intensity=1.0), "birth_density"),
     # ---------------------------------------------------------------- trackers

@@ -159,7 +159,7 @@ def _scans(n, seed=3):
 
 def _filter_state(f):
     return (f.log_weights, f.track_lists, f.store.means, f.store.covs, f.store.labels, f.lineage_keys,
-            f.scan_index, f.rng.bit_generator.state, f._next_label)
+            f.scan_index, f.rng.bit_generator.state, f.next_label, f.time)
 
 
 def test_rfisst_failure_in_a_later_parent_restores_rng_and_retry_matches(monkeypatch):

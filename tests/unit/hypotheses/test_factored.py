@@ -344,10 +344,10 @@ def test_step_is_all_or_nothing():
     ff = FactoredFilter.from_filter(f)
     ff.step(np.array([[20.0, 20.1], [1.0, 0.0], [1.0, 6.0]]))
     assert ff.last_stats["n_groups"] == 3
-    before = (ff.groups, ff.scan_index, len(ff.stats_history), ff.rng.bit_generator.state, ff._next_label)
+    before = (ff.groups, ff.scan_index, len(ff.stats_history), ff.rng.bit_generator.state, ff.next_label)
     with pytest.raises(ValueError, match="budget|max_events"):
         ff.step(np.array([[20.0, 20.1], [2.0, 2.9], [2.0, 3.0], [2.0, 3.1]]))  # a + b merge: 13 events
-    after = (ff.groups, ff.scan_index, len(ff.stats_history), ff.rng.bit_generator.state, ff._next_label)
+    after = (ff.groups, ff.scan_index, len(ff.stats_history), ff.rng.bit_generator.state, ff.next_label)
     assert len(before[0]) == len(after[0]) == 3 and before[1:] == after[1:]
     for x, y in zip(before[0], after[0]):  # the same hypotheses, weights and tracks as before the failed step
         assert np.array_equal(x.log_w, y.log_w) and np.array_equal(x.store.labels, y.store.labels)
@@ -432,7 +432,7 @@ def test_posterior_convolves_cardinalities_and_unites_maps():
     assert post.map_estimate.log_weight == pytest.approx(sum(p.map_estimate.log_weight for p in post.groups))
     joint = ff.joint_hypotheses()
     assert joint[0].weight == pytest.approx(post.map_estimate.weight, abs=1e-14)
-    np.testing.assert_allclose(np.sort(joint[0].means[:, 1]), np.sort(ff.estimates()[:, 1]), atol=1e-14)
+    np.testing.assert_allclose(np.sort(joint[0].means[:, 1]), np.sort(ff.estimates().x[:, 1]), atol=1e-14)
     assert [s["n_groups"] for s in ff.stats_history] == [2] and ff.stats_history[0]["largest_group"] == 1
 
 
@@ -612,7 +612,9 @@ def test_map_means_are_the_map_estimate_without_predicting_the_lane():
         order, want = np.argsort(labels), np.argsort(est.labels)
         assert labels[order].tolist() == est.labels[want].tolist() == [0, 1, 2]
         np.testing.assert_allclose(means[order], est.means[want], atol=1e-12)
-        np.testing.assert_allclose(ff.estimates(), means)
+        est = ff.estimates()
+        np.testing.assert_allclose(est.x, means)
+        assert est.labels.tolist() == labels.tolist() and est.P is None and est.time == ff.time == ff.scan_index * 1.0
     ff = FactoredFilter.from_filter(homht(MOTION, SENSOR, merge_duplicates=True, max_hypotheses=1000,
                                           gate_probability=0.99, means=np.array([[13.0, 0.0, -1.0, 0.0]]),
                                           covs=P0[:1], seed=0), lazy=True)

@@ -57,8 +57,8 @@ def test_presets_track_three_objects(preset):
     assert post.cardinality.sum() == pytest.approx(1.0)
     assert post.expected_number == pytest.approx(np.dot(np.arange(len(post.cardinality)), post.cardinality))
     est = f.estimates()
-    assert est.shape == (3, 4)
-    assert np.max(np.abs(est[:, :2] - X[:, :2])) < 3.0
+    assert est.x.shape == (3, 4) and est.P.shape == (3, 4, 4) and est.time == f.time
+    assert np.max(np.abs(est.x[:, :2] - X[:, :2])) < 3.0
 
 
 def test_zero_objects_and_births():

@@ -38,6 +38,7 @@ from hypotrack.hypotheses import (
 )
 from hypotrack.hypotheses.filter import _twins_never_heavier
 from hypotrack.hypotheses.generators import top_k
+from hypotrack.hypotheses.state import FilterState
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
 from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
@@ -426,8 +427,8 @@ def test_kept_hypotheses_hold_the_updated_surviving_and_newborn_tracks(case):
         assert f.lineage_keys[c] == ((), kind, arg, ev.tobytes())
     assert len(set(label_of.values())) == len(label_of)  # one fresh label per newborn track
     assert f.last_stats["n_kalman_updates"] == len(pairs)
-    assert f.scan_index == 1 and f._next_label == 3 + len(label_of)
-    np.testing.assert_allclose(f.estimates(), store.means[f.track_lists[int(np.argmax(f.log_weights))]])
+    assert f.scan_index == 1 and f.next_label == 3 + len(label_of)
+    np.testing.assert_allclose(f.estimates().x, store.means[f.track_lists[int(np.argmax(f.log_weights))]])
     assert len(f.posterior(n_top=2).top) == 2 and len(f.posterior().top) == min(10, len(kept))
 
 
@@ -470,10 +471,14 @@ def test_filter_construction_messages_name_the_argument():
     for bad, match in ((np.zeros((1, 3)), r"^Z must have shape \(m, 2\), got \(1, 3\)$"), ([[np.nan, 0.0]], "^Z must")):
         with pytest.raises(ValueError, match=match):
             f.step(bad)
-    with pytest.raises(ValueError, match=r"^dt must be a finite number > 0, got -1.0$"):
+    with pytest.raises(ValueError, match=r"^dt must be a finite number >= 0, got -1.0$"):
         f.step(Z, dt=-1.0)
-    with pytest.raises(ValueError, match=r"^dt must be a finite number > 0, got 0.0$"):
-        f.expand(Z, dt=0.0)
+    with pytest.raises(ValueError, match=r"^dt must be a finite number >= 0, got -0.5$"):
+        f.expand(Z, dt=-0.5)
+    with pytest.raises(ValueError, match=r"^time must be >= the filter's time 0.0 \(scans in order\), got -1.0$"):
+        f.step(Z, -1.0)
+    with pytest.raises(ValueError, match=r"^give the scan's time or its interval dt, not both"):
+        f.step(Z, 1.0, dt=1.0)
 
 
 def test_filter_state_accessors_and_initialisation():
@@ -483,7 +488,7 @@ def test_filter_state_accessors_and_initialisation():
     assert f.rng is g and f.dt == 0.5 and f.max_hypotheses == 7 and f.gate_probability == 0.95 and f.p_D == 0.8
     assert f.scan_index == 0 and f.last_kept is None and f.lineage_keys == [()] and f.last_stats == {}
     np.testing.assert_array_equal(f.store.labels, [5, 2])
-    assert f._next_label == 6
+    assert f.next_label == 6
     assert f.hypotheses == [Hypothesis(0.0, (0, 1))]
     lw, lists, keys = f.log_weights, f.track_lists, f.lineage_keys
     lw[0], lists[0][0] = 5.0, 9
@@ -491,7 +496,7 @@ def test_filter_state_accessors_and_initialisation():
     assert f.log_weights[0] == 0.0 and f.track_lists[0][0] == 0 and f.lineage_keys == [()]  # copies
     empty = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator())
     assert len(empty.store) == 0 and empty.store.ndim == 4 and empty.hypotheses == [Hypothesis(0.0, ())]
-    assert empty._next_label == 0 and empty.posterior().expected_number == 0.0
+    assert empty.next_label == 0 and empty.posterior().expected_number == 0.0
     np.testing.assert_array_equal(empty.store.labels, np.zeros(0))
     assert empty.gate_probability is None
     again = HypothesisFilter(MOTION, _sensor(0.8), HFISSTWeights(), ExhaustiveGenerator(), means=np.zeros((0, 4)))
@@ -740,7 +745,7 @@ def test_second_scan_expands_every_kept_parent():
     np.testing.assert_array_equal(np.unique(ch.parent), np.arange(4))
     for h in range(4):  # parent h alone, at its weight, has exactly its children
         alone = copy.copy(f)
-        alone._log_w, alone._tracks = parents[h:h + 1], [f._tracks[h]]
+        alone.state = FilterState(f.store, parents[h:h + 1], [f.track_lists[h]], [keys1[h]], f.next_label)
         mine = alone.expand(Z2)
         np.testing.assert_array_equal(mine.events, ch.events[ch.parent == h])
         np.testing.assert_allclose(mine.log_weights, ch.log_weights[ch.parent == h], rtol=0, atol=1e-12)

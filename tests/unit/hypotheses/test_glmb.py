@@ -86,7 +86,7 @@ def test_to_events_codes_and_silent_masks():
 
 def test_gibbs_starts_from_all_missed_and_is_reproducible():
     f = glmb(MOTION, SENSOR, population=lmb(births=2), means=np.zeros((2, 4)), covs=np.repeat(np.eye(4)[None], 2, 0))
-    ctx = f._context(f.store.predict(MOTION, 1.0), np.array([[0.1, 0.0], [4.0, 5.0], [-3.0, 2.0]]))
+    ctx = f.scan_context(f.store.predict(MOTION, 1.0), np.array([[0.1, 0.0], [4.0, 5.0], [-3.0, 2.0]]))
     log_r, log_not = f.population.log_existence(2)
     problem = GLMBWeights().labeled_problem(ctx, np.arange(2), log_r, log_not)
     ev, lw = gibbs_search(problem, 50, seed=7)

@@ -146,7 +146,7 @@ def test_labeled_problem_rows_are_the_objects():
     pop = _population(0.9, 0.2)
     f = _filter(pop, n=2)
     pred = f.store.predict(MOTION, 1.0)
-    ctx = f._context(pred, Z)
+    ctx = f.scan_context(pred, Z)
     log_r, log_not = pop.log_existence(2)
     problem = GLMBWeights().labeled_problem(ctx, [1, 0], log_r, log_not, constant=-0.75)
     assert problem.n_returns == 3 and problem.n_objects == 3 and problem.n_exclusive == 3
@@ -207,7 +207,7 @@ def test_gibbs_finds_every_child_above_1e3_of_the_mass_with_exact_weights():
 def test_gibbs_search_starts_all_missed_and_refuses_an_impossible_start():
     pop = _population(0.7, 0.3)
     f = _filter(pop, n=2)
-    ctx = f._context(f.store.predict(MOTION, 1.0), Z)
+    ctx = f.scan_context(f.store.predict(MOTION, 1.0), Z)
     log_r, log_not = pop.log_existence(2)
     problem = GLMBWeights().labeled_problem(ctx, [0, 1], log_r, log_not)
     events, lw = gibbs_search(problem, 0, seed=5)  # no sweep: the start only, every object missed
@@ -293,7 +293,7 @@ def test_gibbs_search_and_generator_return_int32_events_also_without_rows():
     np.testing.assert_array_equal(lw, [-2.5])
     pop = _population(0.7, 0.3)
     f = _filter(pop, n=2)
-    ctx = f._context(f.store.predict(MOTION, 1.0), Z)
+    ctx = f.scan_context(f.store.predict(MOTION, 1.0), Z)
     log_r, log_not = pop.log_existence(2)
     problem = GLMBWeights().labeled_problem(ctx, [0, 1], log_r, log_not)
     events, lw = GibbsGenerator(n_sweeps=200).generate(problem, np.random.default_rng(1), keep=4)
@@ -372,7 +372,7 @@ def test_zero_survival_risk_and_out_of_view_objects_raise_no_warning():
 def test_labeled_problem_of_a_parent_without_tracks_and_its_messages():
     pop = _population(0.9, 0.2, births=2)
     f = _filter(pop, n=0)
-    ctx = f._context(f.store.predict(MOTION, 1.0), Z)
+    ctx = f.scan_context(f.store.predict(MOTION, 1.0), Z)
     log_r, log_not = pop.log_existence(0)
     problem = GLMBWeights().labeled_problem(ctx, [], log_r, log_not)
     assert problem.n_returns == 2 and problem.n_objects == 3  # rows: the two birth terms

@@ -69,7 +69,7 @@ def extract(tracker, post, rule: str) -> np.ndarray:
     tracker = tracker.tracker if isinstance(tracker, BlindTracker) else tracker
     if rule == "heaviest" or not isinstance(tracker, HypothesisFilter):
         return post.map_estimate.means if post.map_estimate is not None else np.zeros((0, 4))
-    lists = tracker._tracks
+    lists = tracker.state.tracks
     h = map_cardinality_index(tracker.log_weights, [len(t) for t in lists])
     return tracker.store.means[lists[h]]
 
@@ -85,27 +85,21 @@ def sqrt_allocation(log_weights, total: int) -> np.ndarray:
 
 class SqrtAllocationFilter(HypothesisFilter):
     """The δ-GLMB filter with the demo's truncation (module docstring): the Gibbs generator's
-    number of samples is set per parent from its weight; ``total_samples`` is ``H_upd``."""
+    number of samples is set per parent from its weight; ``total_samples`` is ``H_upd``.
+
+    It uses the engine's extension point :meth:`~hypotrack.hypotheses.filter.HypothesisFilter.parent_generators`:
+    one generator per parent, each with its own number of sweeps."""
 
     def __init__(self, *args, total_samples: int, **kwargs):
         super().__init__(*args, **kwargs)
         if not isinstance(self.generator, GibbsGenerator):
             raise TypeError(f"SqrtAllocationFilter needs a GibbsGenerator, got {type(self.generator).__name__}")
         self.total_samples = check_int(total_samples, "total_samples", minimum=1)
-        self._allocation = None
 
-    def _advance(self, pred, ctx, t0):
-        self._allocation = sqrt_allocation(self._log_w, self.total_samples)
-        return super()._advance(pred, ctx, t0)
-
-    def _parent_children(self, ctx, h, keep, keys_rng):
-        base = self.generator
+    def parent_generators(self, state):
         # n samples = the start plus n - 1 sweeps (a parent allotted none still yields its start)
-        self.generator = replace(base, n_sweeps=max(int(self._allocation[h]) - 1, 0))
-        try:
-            return super()._parent_children(ctx, h, keep, keys_rng)
-        finally:
-            self.generator = base
+        allocation = sqrt_allocation(state.log_w, self.total_samples)
+        return [replace(self.generator, n_sweeps=max(int(n) - 1, 0)) for n in allocation]
 
 
 class BlindTracker:

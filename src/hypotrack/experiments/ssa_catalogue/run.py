@@ -325,22 +325,9 @@ def same_posterior(a: FactoredFilter, b: FactoredFilter) -> bool:
     """Whether two factored filters hold bit-for-bit the same posterior (groups, weights, labels,
     track moments, hypotheses, next label): their stored state — the multi-hypothesis groups and the
     lane of singletons as kept (means, covariances, labels, the times they were predicted to, the
-    means at the scan) — so the lazy lane and lazy groups are compared without predicting them to the scan."""
-    if a._next_label != b._next_label or len(a._groups) != len(b._groups):
-        return False
-    if not (np.array_equal(a._group_t, b._group_t)
-            and all(np.array_equal(x, y) for x, y in zip(a._group_view, b._group_view))):
-        return False
-    la, lb = a._lane, b._lane
-    if not all(np.array_equal(x, y) for x, y in ((la.means, lb.means), (la.covs, lb.covs), (la.labels, lb.labels),
-                                                  (a._lane_t, b._lane_t), (a._lane_view, b._lane_view))):
-        return False
-    for s, t in zip(a._groups, b._groups):
-        if not (np.array_equal(s.log_w, t.log_w) and np.array_equal(s.store.labels, t.store.labels)
-                and np.array_equal(s.store.means, t.store.means) and np.array_equal(s.store.covs, t.store.covs)
-                and len(s.tracks) == len(t.tracks) and all(np.array_equal(x, y) for x, y in zip(s.tracks, t.tracks))):
-            return False
-    return True
+    means at the scan) — so the lazy lane and lazy groups are compared without predicting them to the
+    scan (:meth:`FactoredFilter.same_posterior`)."""
+    return a.same_posterior(b)
 
 
 def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, scenario=None) -> pd.DataFrame:

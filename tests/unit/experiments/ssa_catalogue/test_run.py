@@ -2,6 +2,7 @@
 claims writer on a fabricated table, the TEME view of an ENU radar, and config validation."""
 
 import copy
+from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -288,7 +289,7 @@ def _run_parallel(workers, parallel="process", seed=0, **kw):
 
 
 def _posterior(ff):
-    return [(s.log_w, s.store.labels, s.store.means, s.store.covs, s.tracks) for s in ff.groups], ff._next_label
+    return [(s.log_w, s.store.labels, s.store.means, s.store.covs, s.tracks) for s in ff.groups], ff.next_label
 
 
 @pytest.mark.parametrize("parallel", ["process", "thread"])
@@ -413,17 +414,21 @@ def test_same_posterior_reads_the_stored_state_groups_and_lane():
 
     serial, pooled = _run_parallel(1), _run_parallel(2, "thread")
     assert same_posterior(serial, pooled) and same_posterior(pooled, serial)
-    assert len(serial._groups) and len(serial._lane)  # both parts are compared
+    held = serial.state()
+    assert len(held.groups) and len(held.lane)  # both parts are compared
     for change in ("weight", "cov", "view", "group time", "group view"):
         other = _copy.deepcopy(pooled)
+        state = other.state()  # the filter's own arrays: a change here is a change of the filter
         if change == "weight":
-            other._groups[0].log_w[0] += 1e-12
+            state.groups.states[0].log_w[0] += 1e-12
         elif change == "cov":
-            other._lane.covs[0, 0, 0] *= 1 + 1e-12
+            state.lane.store.covs[0, 0, 0] *= 1 + 1e-12
         elif change == "view":
-            other._lane_view[0, 0] += 1e-9
+            state.lane.view[0, 0] += 1e-9
         elif change == "group time":
-            other._group_t[0] -= 10.0
-        else:
-            other._group_view[0] = other._group_view[0] + 1e-9
+            state.groups.times[0] -= 10.0
+        else:  # the means at the scan alone (not the moments they may share an array with)
+            views = (state.groups.views[0] + 1e-9,) + state.groups.views[1:]
+            assert not held.same_as(replace(state, groups=replace(state.groups, views=views))), change
+            continue
         assert not same_posterior(serial, other), change

@@ -82,13 +82,14 @@ def test_catalogue_experiment_factored_and_single():
         "mine": {"kind": "test_chain", "chain_length": 30, "max_hypotheses": 4, "gate_probability": 0.999,
                  "factored": {"lazy": True, "min_weight": 0.001, "gate_out_of_view": False}},
         "mine_nn": {"kind": "test_nn", "gate_probability": 0.999}})
-    per_scan, assign, _ = cat.run_tracker("mine", cfg, 30, 0)
-    assert len(per_scan) == 2 and per_scan["n_groups"].notna().all() and per_scan["n_estimates"].iloc[-1] > 0
+    per_scan, assign, _ = cat.run_tracker("mine", cfg, 100, 0)  # two objects in view at scans 0 and 1
+    assert len(per_scan) == 2 and per_scan["n_groups"].notna().all()
+    assert (per_scan["n_estimates"] == per_scan["n_in_view"]).all() and (per_scan["gospa_km"] < 2.0).all()
     problem = built[-1][1]
     assert built[-1][0] == "test_chain" and problem.adaptive_birth() is not None
-    per_scan, _, _ = cat.run_tracker("mine_nn", cfg, 30, 0)
+    per_scan, _, _ = cat.run_tracker("mine_nn", cfg, 100, 0)
     assert len(per_scan) == 2 and per_scan["n_groups"].isna().all() and built[-1][0] == "test_nn"
-    assert (per_scan["n_estimates"] == per_scan["n_estimates"].iloc[0]).all()  # the known objects, kept
+    assert (per_scan["n_estimates"] == per_scan["n_in_view"]).all() and (per_scan["gospa_km"] < 2.0).all()
     tracker = cat.make_tracker("mine", cfg, problem, 0)
     assert isinstance(tracker, FactoredFilter)
 

@@ -7,7 +7,7 @@ import inspect
 import pytest
 
 from hypotrack.hypotheses import presets
-from hypotrack.hypotheses.factored import FactoredFilter
+from hypotrack.hypotheses.factored import FactoredOptions
 from hypotrack.hypotheses.generators import MCMCGenerator
 from hypotrack.registry import FAMILIES, SpecError, TrackerSpec, kinds, preset, register, unregister
 from hypotrack.trackers import MOfNInitiator, SingleHypothesisTracker
@@ -59,8 +59,10 @@ def test_schema_defaults_equal_the_python_defaults_they_reach():
     for name in ("max_hypotheses", "gate_probability", "cap", "merge_duplicates"):
         assert opts("hfisst")[name] == _default(HypothesisFilter, name), name
     factored = FAMILIES["engine"]["factored"]["properties"]
+    fields = FactoredOptions.__dataclass_fields__
+    assert set(factored) == set(fields) - {"adaptive_birth"}  # the birth terms come from the problem
     for name, schema in factored.items():
-        assert schema["default"] == _default(FactoredFilter, name), name
+        assert schema["default"] == fields[name].default, name
     sht = opts("gnn")
     for name in ("max_misses", "gnn_score"):
         assert sht[name] == _default(SingleHypothesisTracker, name), name

@@ -266,7 +266,7 @@ def tracker_class():
             gated, assoc = tr.last_gated, tr.last_association
             preds = self._predictions(gated.x, gated.P, time)
             pos = {int(i): j for j, i in enumerate(ids_before.tolist())}
-            gnn = self.algorithm == "gnn"
+            gnn = tr.association == "gnn"
             if gnn:
                 ret = np.full(len(ids_before), -1)
                 hit = np.flatnonzero(assoc >= 0)

@@ -1,8 +1,11 @@
 """The event encodings and the compiled event kernels of hypotrack.association.samplers.events,
 against hand-computed values."""
 
+import doctest
+
 import numpy as np
 
+from hypotrack.association.samplers import events as events_module
 from hypotrack.association.samplers.events import (
     count_delta,
     event_log_weights,
@@ -68,3 +71,7 @@ def test_gather_sum_is_the_state_log_weight_of_every_event():
     np.testing.assert_array_equal(out, want)
     np.testing.assert_array_equal(out[:2], [2.0 + 6.0 + 1.5 - 3.0, 0.25 + 0.125 + 0.0625])
     np.testing.assert_array_equal(event_log_weights(SCORE, N_OBJ, N_EXCL, PHI, events), out)
+
+
+def test_the_module_examples_run():
+    assert doctest.testmod(events_module).failed == 0

@@ -25,7 +25,7 @@ import pandas as pd
 
 from ..._validation import check_finite_array
 from .frames import julian_date, utc_timestamp
-from .tle import _check_catalogue, satrec_array
+from .tle import check_catalogue, satrec_array
 
 __all__ = ["reference_epoch", "Propagation", "propagate", "time_grid_jd", "sgp4_states", "IMPLAUSIBLE"]
 
@@ -46,7 +46,7 @@ def reference_epoch(cat: pd.DataFrame) -> pd.Timestamp:
     date); for the 2022 active catalogue with a 2021 debris cloud it is the active catalogue's,
     so the debris are propagated about 13 months past their epoch (see the data README).
     """
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     if len(cat) == 0:
         raise ValueError("catalogue must hold at least one object")
     medians = cat.groupby("group", sort=False)["epoch"].median()
@@ -126,7 +126,7 @@ def propagate(cat: pd.DataFrame, times, start=None, *, satrecs=None) -> Propagat
     -------
     Propagation
     """
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     start = reference_epoch(cat) if start is None else utc_timestamp(start)
     jd, fr = time_grid_jd(start, times)
     sats = satrec_array(cat) if satrecs is None else satrecs

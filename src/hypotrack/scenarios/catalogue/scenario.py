@@ -42,7 +42,7 @@ from ..tables import scans_table, scans_to_list, truth_table, truth_to_list
 from .frames import gmst, teme_to_ef, utc_timestamp
 from .propagation import propagate, reference_epoch, sgp4_states, time_grid_jd
 from .sensors import DEFAULT_RADAR, GroundRadar
-from .tle import _check_catalogue, satrec_array
+from .tle import check_catalogue, satrec_array
 
 __all__ = ["CatalogueScenario", "simulate_catalogue", "TRUTH_ROWS"]
 
@@ -140,7 +140,7 @@ def simulate_catalogue(
     -------
     CatalogueScenario
     """
-    cat = _check_catalogue(catalogue)
+    cat = check_catalogue(catalogue)
     if len(cat) == 0:
         raise ValueError("catalogue must hold at least one object")
     sensors = _check_sensors(sensors)

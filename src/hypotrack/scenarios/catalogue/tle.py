@@ -52,6 +52,7 @@ __all__ = [
     "read_tle",
     "load_catalogue",
     "select_groups",
+    "check_catalogue",
     "sample_objects",
     "select_altitude",
     "satrec_array",
@@ -282,7 +283,9 @@ def load_catalogue(groups="all") -> pd.DataFrame:
     return cat
 
 
-def _check_catalogue(cat) -> pd.DataFrame:
+def check_catalogue(cat) -> pd.DataFrame:
+    """``cat`` itself when it is a catalogue table (a DataFrame with the columns of :func:`parse_tle`), else
+    a ``TypeError`` or a ``ValueError`` naming the missing columns."""
     if not isinstance(cat, pd.DataFrame):
         raise TypeError(f"catalogue must be a pandas DataFrame (see parse_tle), got {type(cat).__name__}")
     missing = [c for c in _COLUMNS if c not in cat.columns]
@@ -293,7 +296,7 @@ def _check_catalogue(cat) -> pd.DataFrame:
 
 def select_groups(cat: pd.DataFrame, groups) -> pd.DataFrame:
     """Rows of ``cat`` whose ``group`` is among ``groups`` (a name or a sequence), catalogue order."""
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     names = (groups,) if isinstance(groups, str) else tuple(groups)
     present = sorted(set(cat["group"]))
     bad = [g for g in names if g not in present]
@@ -308,7 +311,7 @@ def sample_objects(cat: pd.DataFrame, n: int, seed) -> pd.DataFrame:
     ``numpy.random.default_rng(seed).choice(len(cat), n, replace=False)``: the same catalogue, n
     and seed give the same objects.
     """
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     n = check_int(n, "n", minimum=0, maximum=len(cat))
     seed = seed if isinstance(seed, np.random.SeedSequence) else check_int(seed, "seed")
     idx = np.sort(np.random.default_rng(seed).choice(len(cat), n, replace=False))
@@ -321,7 +324,7 @@ def select_altitude(cat: pd.DataFrame, low_km: float, high_km: float) -> pd.Data
     Altitudes above SGP4's spherical Earth (R_E = 6378.135 km) from the mean elements; e.g.
     ``(200, 2000)`` is LEO, ``(35286, 36286)`` the geosynchronous belt ±500 km.
     """
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     low = check_nonnegative(low_km, "low_km")
     high = check_nonnegative(high_km, "high_km")
     if not high > low:
@@ -332,7 +335,7 @@ def select_altitude(cat: pd.DataFrame, low_km: float, high_km: float) -> pd.Data
 
 def satrec_array(cat: pd.DataFrame) -> SatrecArray:
     """SGP4 satellites (WGS-72 constants, as the elements are fitted) for every row, in order."""
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     if len(cat) == 0:
         raise ValueError("catalogue must hold at least one object to propagate")
     return SatrecArray([Satrec.twoline2rv(a, b) for a, b in zip(cat["line1"], cat["line2"])])
@@ -340,4 +343,4 @@ def satrec_array(cat: pd.DataFrame) -> SatrecArray:
 
 def groups_in(cat: pd.DataFrame) -> Sequence[str]:
     """The groups present in ``cat``, in order of first appearance."""
-    return list(dict.fromkeys(_check_catalogue(cat)["group"]))
+    return list(dict.fromkeys(check_catalogue(cat)["group"]))

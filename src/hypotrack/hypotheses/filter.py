@@ -38,6 +38,7 @@ from .._validation import (
     check_measurements,
     check_positive,
     check_probability,
+    check_seed,
     check_state_dimension,
 )
 from ..association import gate_threshold, validation_matrix
@@ -152,7 +153,7 @@ class HypothesisFilter:
             else check_probability(gate_probability, "gate_probability", low_open=True, high_open=True)
         )
         self.p_D = p_D
-        self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+        self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))
         self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
         self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
         check_state_dimension(motion, self.H.shape[1], f"the sensor (H of shape {self.H.shape})")

@@ -33,13 +33,12 @@ from ..._validation import check_int, check_positive
 from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation, glmb, glmb_murty
 from ...hypotheses.filter import HypothesisFilter
 from ...hypotheses.generators import MCMCGenerator, MurtyGenerator
-from ...hypotheses.gibbs import GibbsGenerator
 from ...hypotheses.population_events import BinomialPopulation
 from ...hypotheses.weights import FISSTPoissonWeights, HFISSTWeights
 from ...hypotheses.weights_glmb import GLMBWeights
 from ...metrics import ospa
 from ...models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
-from .reference import EXTRACTIONS, BlindTracker, SqrtAllocationFilter, extract
+from .reference import EXTRACTIONS, AllocatedGibbsGenerator, BlindTracker, SqrtAllocationFilter, extract
 
 __all__ = ["KINDS", "PEER_KINDS", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
            "simulate_scans", "make_tracker", "TRUTH_CONVENTIONS", "ALLOCATIONS", "SUFFIX", "implementation_labels", "legend_labels", "run_tracker", "ospa_parts",
@@ -180,7 +179,7 @@ def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed):
                              f"got {options['sample_allocation']!r}")
         if "total_samples" not in options:
             raise ValueError("sample_allocation sqrt_weight needs total_samples (H_upd, an integer >= 1)")
-        return SqrtAllocationFilter(model.motion, model.sensor, GLMBWeights(), GibbsGenerator(n_sweeps=0),
+        return SqrtAllocationFilter(model.motion, model.sensor, GLMBWeights(), AllocatedGibbsGenerator(),
                                     population=lmb, total_samples=options["total_samples"],
                                     merge_duplicates=bool(options.get("merge_duplicates", False)), **common)
     if kind == "glmb":

@@ -185,6 +185,12 @@ class HypothesisFilter:
         return [Hypothesis(float(w), tuple(int(j) for j in t)) for w, t in zip(self._log_w, self._tracks)]
 
     @property
+    def sensor_parameters(self) -> tuple:
+        """The sensor parameters this filter's weights use (:attr:`WeightModel.sensor_parameters`), e.g.
+        H-FISST/R-FISST: the clutter region but not ``clutter.rate``, which changes none of their weights."""
+        return self.weights.sensor_parameters
+
+    @property
     def store(self) -> TrackStore:
         return self._store
 

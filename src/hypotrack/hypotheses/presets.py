@@ -52,6 +52,8 @@ def hfisst(motion, sensor, *, max_events=10**7, population=None, **options) -> H
 
     ``population`` may be a :class:`~hypotrack.models.population.SingleEventBirthDeath`
     (document 000 Eq. 30) or a :class:`~.population_events.BinomialPopulation` (document 001).
+    The sensor's clutter *rate* is not used: the weights take the clutter density ``1/V`` (the
+    clutter region) only (:class:`~.weights.HFISSTWeights`, ``filter.sensor_parameters``).
     """
     return _filter(motion, sensor, HFISSTWeights(), ExhaustiveGenerator(max_events=max_events), population, **options)
 
@@ -62,7 +64,8 @@ def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, variant="paper", ini
 
     ``n_steps`` proposals per parent per scan (document 000 Fig. 15 uses 100,000);
     ``completion_rounds`` rounds of this project's neighbour search after the chain
-    (:class:`MCMCGenerator`; ``0`` is the paper's chain alone).
+    (:class:`MCMCGenerator`; ``0`` is the paper's chain alone). As for :func:`hfisst`, the
+    sensor's clutter *rate* is not used, only the clutter density ``1/V``.
     """
     gen = MCMCGenerator(n_steps=n_steps, burn_in=burn_in, variant=variant, init=init,
                         completion_rounds=completion_rounds)

@@ -112,3 +112,15 @@ def test_a_string_field_keeps_its_string():
     config["results"] = "123"
     validate_config(config, SCHEMAS)
     assert config["results"] == "123"
+
+
+def test_snakemakes_own_parsing_of_a_nested_config_validates():
+    """``snakemake --config 'swaps={n_runs: 30, n_shards: 3}'``: Snakemake reads the nested mapping with
+    YAML's base loader, every value a string; the schema's types are restored before validation."""
+    cli = pytest.importorskip("snakemake.cli")
+    given = cli.parse_config(["swaps={n_runs: 30, n_shards: 3}"])
+    assert given == {"swaps": {"n_runs": "30", "n_shards": "3"}}
+    config = _merged("default.yaml")
+    config["swaps"].update(given["swaps"])
+    validate_config(config, SCHEMAS)
+    assert (config["swaps"]["n_runs"], config["swaps"]["n_shards"]) == (30, 3)

@@ -45,14 +45,15 @@ class GibbsGenerator(ChildGenerator):
     Parameters
     ----------
     n_sweeps : int
-        Samples per parent (each a sweep over all rows: ``n_sweeps × rows`` conditional draws).
+        Samples per parent (each a sweep over all rows: ``n_sweeps × rows`` conditional draws), at
+        least 1: with none, every child is the all-missed start and no measurement is ever used.
     """
 
     n_sweeps: int = 1000
     name = "gibbs"
 
     def __post_init__(self):
-        check_int(self.n_sweeps, "n_sweeps", minimum=0)
+        check_int(self.n_sweeps, "n_sweeps", minimum=1)
 
     def generate(self, problem, rng=None, keep=None):
         rng = np.random.default_rng(rng)

@@ -87,7 +87,7 @@ BUNDLED = {
 GROUPS = tuple(BUNDLED)
 DEBRIS_GROUPS = ("fengyun-1c-debris", "cosmos-2251-debris", "iridium-33-debris")
 
-_UNIX_EPOCH_JD = 2440587.5
+UNIX_EPOCH_JD = 2440587.5
 _COLUMNS = [
     "group",
     "name",
@@ -185,7 +185,7 @@ def _table(rows, group, source) -> pd.DataFrame:
     re_km = sats[0].radiusearthkm if sats else 6378.135
     jd, fr = get("jdsatepoch"), get("jdsatepochF")
     # Whole microseconds since the Unix epoch: exact for the TLE's 1e-8-day resolution (0.864 ms).
-    us = np.round(((jd - _UNIX_EPOCH_JD) + fr) * 86400e6).astype(np.int64)
+    us = np.round(((jd - UNIX_EPOCH_JD) + fr) * 86400e6).astype(np.int64)
     n_rev_day = get("no_kozai") * 1440.0 / (2 * np.pi)
     a_km = get("a") * re_km
     ecc = get("ecco")
@@ -230,10 +230,19 @@ def read_tle(path, *, group: str | None = None, sha256: str | None = None) -> pd
         The ``group`` column; default: the file name up to its first ``_`` or ``.``.
     sha256 : str, optional
         Expected SHA-256 (hex) of the uncompressed bytes; a mismatch raises ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        Each naming the file: a ``.gz`` file that is not gzip, content that is not ASCII, a file with
+        no element set (empty or blank), or any error of :func:`parse_tle`.
     """
     path = Path(path)
     raw = path.read_bytes()
-    data = gzip.decompress(raw) if path.name.endswith(".gz") else raw
+    try:
+        data = gzip.decompress(raw) if path.name.endswith(".gz") else raw
+    except (OSError, EOFError) as exc:  # gzip.BadGzipFile is an OSError; a truncated stream an EOFError
+        raise ValueError(f"{path}: not a valid gzip file (the name ends in .gz): {exc}") from None
     if sha256 is not None:
         got = hashlib.sha256(data).hexdigest()
         if got != sha256.lower():
@@ -243,7 +252,16 @@ def read_tle(path, *, group: str | None = None, sha256: str | None = None) -> pd
             )
     if group is None:
         group = path.name.split("_")[0].split(".")[0]
-    return parse_tle(data.decode("ascii"), group=group, source=path.name)
+    try:
+        text = data.decode("ascii")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise ValueError(f"{path}: not an ASCII element-set file: byte {data[exc.start]:#04x} at offset "
+                         f"{exc.start} (line {line})") from None
+    cat = parse_tle(text, group=group, source=path.name)
+    if len(cat) == 0:
+        raise ValueError(f"{path}: the file holds no element set (it is empty or blank)")
+    return cat
 
 
 def _bundled_path(name: str):

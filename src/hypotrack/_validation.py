@@ -174,3 +174,19 @@ def check_state_dimension(motion, d: int, what: str) -> int:
     if int(nd) != d:
         raise ValueError(f"the motion model's states are {int(nd)}-dimensional but {what} expects {d}-dimensional states")
     return d
+
+
+def check_labels(labels, n: int, *, held=None, name: str = "labels") -> np.ndarray:
+    """``n`` distinct integer labels (int64), none of them in ``held``; an error naming ``name`` otherwise."""
+    a = np.asarray(labels)
+    if a.shape != (n,):
+        raise ValueError(f"{name} must hold one label per track, shape ({n},), got shape {a.shape}")
+    if n and not (np.issubdtype(a.dtype, np.integer) or (np.issubdtype(a.dtype, np.floating)
+                                                          and np.all(np.isfinite(a)) and np.all(a == np.round(a)))):
+        raise ValueError(f"{name} must be integers, got {labels!r}")
+    a = a.astype(np.int64)
+    if len(np.unique(a)) != n:
+        raise ValueError(f"{name} must be distinct, got {a.tolist()}")
+    if held is not None and len(held) and np.isin(a, held).any():
+        raise ValueError(f"{name} {sorted(set(a[np.isin(a, held)].tolist()))} are already held by the tracker")
+    return a

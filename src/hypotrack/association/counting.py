@@ -48,6 +48,15 @@ def count_associations(M: int, m: int) -> int:
     --------
     >>> count_associations(10, 5)
     63591
+
+    By hand: two objects and two returns give ``1 + 2·2 + 2 = 7`` events (none detected, one of
+    two objects on one of two returns, both detected in one of two pairings); three objects and
+    two returns ``1 + 3·2 + 3·1·2 = 13``, as two objects and three returns:
+
+    >>> count_associations(2, 2), count_associations(3, 2), count_associations(2, 3)
+    (7, 13, 13)
+    >>> count_associations(0, 4), count_associations(1, 1)
+    (1, 2)
     """
     M = check_int(M, "M", minimum=0)
     m = check_int(m, "m", minimum=0)

@@ -102,7 +102,7 @@ class HFISSTWeights(WeightModel):
     mass of "more detections than returns". The engine implements Eq. 8 as published (the
     lost mass is common to all children of a parent with the same ``M``, but it does change
     the relative weights of parents with different numbers of objects);
-    ``tests/unit/test_hypotheses_weights.py`` checks the binomial-CDF sum.
+    ``tests/unit/hypotheses/test_weights.py`` checks the binomial-CDF sum.
     """
 
     name = "hfisst"

@@ -76,13 +76,11 @@ def own_api_setup(transition, measurement_model, region, scans, priors, p_D, clu
 def run_own_api(tracker, algorithm, arrays) -> None:
     """Step ``tracker`` through the scans, reading what a user reads (the MAP estimate of a filter)."""
     if algorithm in ("gnn", "jpda", "pdaf"):
-        for scan in arrays:
-            tracker.step(scan)
-    else:
-        previous = 0.0
         for t, Z in arrays:
-            _ = tracker.step(Z, t - previous).map_estimate
-            previous = t
+            tracker.step(Z, t)
+    else:
+        for t, Z in arrays:
+            _ = tracker.step(Z, t).map_estimate
 
 
 def _own_api_seconds(algorithm, transition, measurement_model, region, scans, priors, p_D, clutter_rate, options):

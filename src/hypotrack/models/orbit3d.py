@@ -192,7 +192,7 @@ class J2Orbit3D(TwoBodyOrbit3D):
     (one RK4 step) it costs 0.18 ms against 0.38 ms for the two-body complex-step Φ of
     :class:`TwoBodyOrbit3D` (0.33 against 0.39 ms over 60 s); its cost grows with the number of steps
     (10,000 states over intervals uniform in [0, 2 h]: 2.2 s against 0.10 s). The two-body Φ would differ from it
-    by 2e-7 of ``‖Φ‖`` over 10 s, 6e-4 over 600 s and 1e-2 over one orbit (``test_orbit_j2.py``).
+    by 2e-7 of ``‖Φ‖`` over 10 s, 6e-4 over 600 s and 1e-2 over one orbit (``tests/unit/models/test_orbit3d_j2.py``).
 
     Integration error. Against a DOP853 solution of the same equations (tolerances 1e-12), one orbit of
     a LEO state (a = 6,900–7,500 km, e = 0.01–0.05) ends 0.8–1.4 m off at the default step of 30 s,

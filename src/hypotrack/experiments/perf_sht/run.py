@@ -105,12 +105,13 @@ class HypotrackStepper:
         )
         n = len(scenario.initial_states)
         self.tracker.initialise(
-            scenario.initial_states, np.broadcast_to(prior_covariance(cfg), (n, 4, 4)), scenario.times[0]
+            scenario.initial_states, np.broadcast_to(prior_covariance(cfg), (n, 4, 4)), time=scenario.times[0]
         )
         self.scans = scenario.scan_list()
 
     def step(self, k):
-        self.tracker.step(self.scans[k])
+        t, Z = self.scans[k]
+        self.tracker.step(Z, t)
 
     def record(self, run: "BenchmarkRun"):
         tr = self.tracker

@@ -149,7 +149,7 @@ def run_tracker(tracker, scenario: SSAScenario, *, snapshots: Sequence[int] = ()
     start = time.perf_counter()
     for k, (t, Z) in enumerate(scans):
         t0, c0 = time.perf_counter(), time.process_time()
-        post = tracker.step(Z, dt=t - scans[k - 1][0]) if k else tracker.posterior(n_top=1)
+        post = tracker.step(Z, t) if k else tracker.posterior(n_top=1)
         seconds[k], cpu_seconds[k] = time.perf_counter() - t0, time.process_time() - c0
         w = post.weights
         stats = tracker.last_stats if k else {}

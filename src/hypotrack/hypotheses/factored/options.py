@@ -63,7 +63,7 @@ class FactoredOptions:
         Predict a singleton, or a group, only when the predicted mean of one of its tracks is in the
         field of view (package docstring, "Singletons and lazy prediction"). ``False`` (the default)
         predicts every track every scan, as the unfactored engine does; the SSA catalogue
-        experiment's configuration turns it on (``lazy_prediction``). A track left unpredicted
+        experiment's configuration turns it on (its trackers' ``factored: {lazy: true}``). A track left unpredicted
         gates nothing.
     gate_out_of_view : bool
         ``True`` (default): a track's gate is geometric, the field of view entering only through

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 __all__ = ["SINGLE_HYPOTHESIS", "HYPOTHESIS_FILTERS", "GLMB", "ALGORITHMS", "require_stonesoup"]
 
+#: hypotrack's own kinds, which the adapter's tests run (every kind of hypotrack.registry is accepted).
 SINGLE_HYPOTHESIS = ("gnn", "jpda", "pdaf")
 GLMB = ("glmb", "glmb_murty")
 HYPOTHESIS_FILTERS = ("hfisst", "rfisst", "homht", "homht_kbest") + GLMB

@@ -305,16 +305,6 @@ class HypothesisFilter:
             clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area),
         )
 
-    def at_interval(self, interval: float) -> "HypothesisFilter":
-        """The engine of a scan ``interval`` after the last: this filter, or for a zero interval (a
-        second sensor's scan at the same time, the first scan at the priors' epoch) a copy sharing its
-        random generator whose population takes no event (``population.without_events()``: no
-        death, no birth in no time). HOMHT's seeded births (document 001 Eq. 35) are the weight
-        model's and stay: a return no track explains may still start an object."""
-        if interval != 0 or self.population is None:
-            return self
-        return self.with_options(population=self.population.without_events(), seed=self.rng)
-
     def predict(self, store: TrackStore, interval: float) -> TrackStore:
         """``store`` predicted over ``interval`` (batched EKF); a zero interval is no prediction at
         all — the moments are returned as they are (no motion, no process noise)."""
@@ -440,12 +430,11 @@ class HypothesisFilter:
         """
         interval, _ = scan_interval(self.time, dt=dt, default=self.dt)
         state = self._state
-        engine = self.at_interval(interval)
-        pred = engine.predict(state.store, interval)
+        pred = self.predict(state.store, interval)
         Z = check_measurements(Z, "Z", self.H.shape[0])
-        ctx = engine.scan_context(pred, Z)
-        gens = engine.parent_generators(state)
-        parts = [engine.children_of(ctx, state, h, None, None, gens[h])[0] for h in range(len(state.log_w))]
+        ctx = self.scan_context(pred, Z)
+        gens = self.parent_generators(state)
+        parts = [self.children_of(ctx, state, h, None, None, gens[h])[0] for h in range(len(state.log_w))]
         return ChildSet.concatenate(parts, len(Z))
 
     def step(self, Z, time=None, *, dt=None):
@@ -453,11 +442,13 @@ class HypothesisFilter:
 
         ``time``: the scan's absolute time; the filter predicts over ``time − self.time`` (``dt``:
         give the interval instead; neither: the filter's ``dt``). A zero interval is an update
-        without prediction: the prediction is skipped entirely — the tracks' moments enter the
-        update as they are (no motion, no process noise, :meth:`predict`), and no object dies or
-        is born (:meth:`at_interval`: the population models' probabilities are per scan, with no
-        interval in them, so they are switched off rather than scaled). A negative interval
-        raises ``ValueError``.
+        without prediction: the tracks' moments enter the update as they are — no motion, no
+        process noise (:meth:`predict`). The population events are those of a scan all the same:
+        the population models of this package have no interval in them (a death or birth
+        probability is per scan, :mod:`.population_events`, :mod:`.population_lmb`), so with a
+        population a zero-interval scan is still a scan for births and deaths (a first scan at the
+        priors' epoch can start an object; a second sensor's scan at the same time weighs another
+        survival). A negative interval raises ``ValueError``.
 
         Returns the :class:`Posterior` after the scan. All-or-nothing: if the step raises (bad
         scan, a generator over its budget, no child left), the filter — hypotheses, tracks,
@@ -474,9 +465,8 @@ class HypothesisFilter:
         t0 = _clock.perf_counter()
         interval, now = scan_interval(self.time, time, dt, self.dt)
         Z = check_measurements(Z, "Z", self.H.shape[0])
-        engine = self.at_interval(interval)
-        pred = engine.predict(self._state.store, interval)
-        result = engine.advance(self._state, pred, engine.scan_context(pred, Z))
+        pred = self.predict(self._state.store, interval)
+        result = self.advance(self._state, pred, self.scan_context(pred, Z))
         result.stats["time_total"] = _clock.perf_counter() - t0
         self._state, self.time = result.state, now
         self.scan_index += 1

@@ -129,13 +129,6 @@ class _Population:
         new.clear_cache()
         return new
 
-    def without_events(self):
-        """The population of a scan at the time of the last one (a zero interval, no prediction):
-        no object dies and none is born in no time — ``p_S = 1`` and no birth term."""
-        new = self.with_birth_terms(())
-        new.p_survive = 1.0
-        return new
-
     def birth_loglik(self, Z) -> np.ndarray:
         """(m, B) log-likelihood of each return under each birth pdf."""
         return _region_loglik(self.birth_densities, Z)
@@ -205,11 +198,6 @@ class SingleEventPopulation(_Population):
     def death_eligible(self, in_view: np.ndarray) -> np.ndarray:
         """Only objects in view may die (the ``M_d`` of Eq. 30)."""
         return np.asarray(in_view, dtype=bool)
-
-    def without_events(self):
-        """``None``: a scan at the time of the last one takes neither the scene's birth nor a death
-        (Eq. 30's ``P(no event) = 1``), which is the engine without population."""
-        return None
 
 
 @dataclass(eq=False)

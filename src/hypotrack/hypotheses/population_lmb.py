@@ -158,13 +158,6 @@ class LabeledMultiBernoulliPopulation(_Population):
         new.r_birth = r
         return new
 
-    def without_events(self):
-        """The population of a zero-interval scan: ``p_S = 1`` and no birth term (the δ-GLMB
-        prediction, Vo, Vo & Hoang 2017 Eq. 8, is the identity over no time)."""
-        new = self.with_birth_terms((), r_birth=np.zeros(0))
-        new.p_survive = 1.0
-        return new
-
     def log_existence(self, n_objects: int):
         """``(log r, log(1 − r))`` per object row: ``p_S`` for the tracks, ``r_B`` for births."""
         r = np.concatenate([np.full(n_objects, self.p_survive), self.r_birth])

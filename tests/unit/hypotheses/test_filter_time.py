@@ -64,9 +64,11 @@ def test_zero_interval_is_an_update_of_the_unpredicted_prior_by_hand():
     assert h.state.same_as(f.state) and h.time == 0.0
 
 
-def test_zero_interval_takes_no_death_and_no_birth():
-    """δ-GLMB with ``p_S = 0.9`` and a birth term at the returns: a scan one interval on can lose the
-    object and gain one (cardinalities 0, 1, 2); a scan at the same time cannot (only 1)."""
+def test_zero_interval_skips_the_kinematics_not_the_scans_population_events():
+    """δ-GLMB with ``p_S = 0.9`` and a birth term at the returns: the population's probabilities are
+    per scan (no interval in them), so a scan at the same time still weighs a death and a birth —
+    what a first scan at the priors' epoch needs to start an object. Its tracks are the updates of
+    the unpredicted moments: the object's surviving, missed track is the prior itself."""
     birth = GaussianBirthTerm(np.array([0.5, 2.5, 0.0, 0.0]), np.diag([4.0, 4.0, 1.0, 1.0]), H, R)
 
     def make():
@@ -77,10 +79,11 @@ def test_zero_interval_takes_no_death_and_no_birth():
     later, same = make(), make()
     card = later.step(Z, 1.0).cardinality
     assert len(card) == 3 and card[0] > 0 and card[2] > 0
-    card = same.step(Z, 0.0).cardinality
-    assert len(card) == 2 and card[0] == 0.0 and card[1] == pytest.approx(1.0, abs=1e-14)  # no hypothesis without it
-    assert same.population.p_survive == 0.9 and same.population.n_birth_regions == 1  # the filter's own is kept
-    assert same.next_label == 1  # nobody born
+    post = same.step(Z, 0.0)
+    assert len(post.cardinality) == 3 and post.cardinality[0] > 0 and post.cardinality[2] > 0
+    assert same.next_label > 1  # an object born at the zero-interval scan
+    tracks = same.store.means[same.store.labels == 0]
+    assert any(np.array_equal(x, X0[0]) for x in tracks)  # the missed track: the prior, not predicted
 
 
 def test_negative_interval_is_refused_and_leaves_the_filter_unchanged():

@@ -1,13 +1,12 @@
 """The populations' own methods for their birth terms and cache: ``restricted_to``,
-``with_birth_terms``, ``clear_cache``, ``without_events``."""
+``with_birth_terms``, ``clear_cache``."""
 
 import numpy as np
 import pytest
 
-from hypotrack.hypotheses import (BinomialPopulation, GaussianBirthTerm, LabeledMultiBernoulliPopulation,
-                                  SingleEventPopulation)
+from hypotrack.hypotheses import BinomialPopulation, GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from hypotrack.hypotheses.factored_groups import restrict_population
-from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
+from hypotrack.models.population import UniformBirthDensity
 from hypotrack.models.sensors import Box
 
 H = np.hstack([np.eye(2), np.zeros((2, 2))])
@@ -53,13 +52,3 @@ def test_with_birth_terms_makes_a_new_population():
         pop.with_birth_terms(_terms(1), r_birth=1.0)
     binomial = BinomialPopulation([], alpha=0.2)
     assert binomial.with_birth_terms(_terms(3), r_birth=0.9).n_birth_regions == 3  # its alpha, not r_birth
-
-
-def test_without_events_no_birth_no_death():
-    lmb = LabeledMultiBernoulliPopulation(_terms(2), r_birth=0.2, p_survive=0.9).without_events()
-    assert lmb.n_birth_regions == 0 and lmb.p_survive == 1.0 and lmb.log_existence(2)[1].tolist() == [-np.inf] * 2
-    binomial = BinomialPopulation(_terms(2), alpha=0.2, p_survive=0.8).without_events()
-    assert binomial.n_birth_regions == 0 and binomial.death_log_ratio(1, 1).tolist() == [-np.inf]
-    region = UniformBirthDensity(Box([0.0, 0.0], [10.0, 10.0]), np.eye(2))
-    pop = SingleEventPopulation(SingleEventBirthDeath(alpha=0.01, beta=0.02, n_birth_regions=1), [region])
-    assert pop.without_events() is None  # the engine without population: P(no event) = 1

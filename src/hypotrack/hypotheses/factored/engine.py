@@ -266,10 +266,9 @@ class FactoredFilter:
         """Advance one scan with returns ``Z`` (m, p) observed at ``time`` (package docstring, steps 1–4).
 
         ``time``/``dt`` as :meth:`HypothesisFilter.step <..filter.HypothesisFilter.step>`: a zero
-        interval skips the prediction entirely — every gap since a track's last prediction is then
-        zero, the lazy lane's means are not advanced, and the population takes no event (no death,
-        no birth term: :meth:`~..filter.HypothesisFilter.at_interval`) — and updates; a negative one
-        raises ``ValueError``.
+        interval predicts nothing (every gap since a track's last prediction is then zero, the lazy
+        lane's means are not advanced; the population's per-scan events are those of any scan) and
+        updates; a negative one raises ``ValueError``.
         All-or-nothing like the engine's step: if it raises, the filter is as before.
         """
         saved = (self._groups, self._lane, self.time, self._next_label, self.scan_index, self.rng.bit_generator.state,
@@ -290,18 +289,12 @@ class FactoredFilter:
         E = self._engine
         interval, now = scan_interval(self.time, time, dt, E.dt)
         Z = check_measurements(Z, "Z", E.H.shape[0])
-        configured = E.population
-        if interval == 0 and configured is not None:  # no prediction: no death, no birth (HypothesisFilter.at_interval)
-            E.set_population(configured.without_events())
-        try:
-            scan = self._predict_and_score(Z, interval, now)
-            graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
-                               E.weights.seeded_births)
-            stats = dict(_STATS0, n_predicted=len(scan.pred))
-            plans = self._plan(scan, graph, Z, stats)
-            new_groups = self._run_plans(plans, stats)
-        finally:
-            E.set_population(configured)
+        scan = self._predict_and_score(Z, interval, now)
+        graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
+                           E.weights.seeded_births)
+        stats = dict(_STATS0, n_predicted=len(scan.pred))
+        plans = self._plan(scan, graph, Z, stats)
+        new_groups = self._run_plans(plans, stats)
         self._keep(scan, graph, new_groups, now, stats)
         self.time = now
         self._objects.keep_held(np.concatenate([s.store.labels for s in self._groups.states] + [self._lane.store.labels]))

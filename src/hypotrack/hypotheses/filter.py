@@ -39,6 +39,7 @@ from .._validation import (
     check_measurements,
     check_positive,
     check_probability,
+    check_seed,
     check_state_dimension,
 )
 from ..association import gate_threshold, validation_matrix
@@ -162,7 +163,7 @@ class HypothesisFilter:
             else check_probability(gate_probability, "gate_probability", low_open=True, high_open=True)
         )
         self.p_D = p_D
-        self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+        self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))
         self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
         self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
         check_state_dimension(motion, self.H.shape[1], f"the sensor (H of shape {self.H.shape})")
@@ -243,6 +244,12 @@ class HypothesisFilter:
     @property
     def hypotheses(self) -> list[Hypothesis]:
         return [Hypothesis(float(w), tuple(int(j) for j in t)) for w, t in zip(self._state.log_w, self._state.tracks)]
+
+    @property
+    def sensor_parameters(self) -> tuple:
+        """The sensor parameters this filter's weights use (:attr:`WeightModel.sensor_parameters`), e.g.
+        H-FISST/R-FISST: the clutter region but not ``clutter.rate``, which changes none of their weights."""
+        return self.weights.sensor_parameters
 
     @property
     def store(self) -> TrackStore:

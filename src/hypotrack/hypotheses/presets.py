@@ -53,6 +53,8 @@ def hfisst(motion, sensor, *, max_events=10**7, population=None, **options) -> H
 
     ``population`` may be a :class:`~hypotrack.models.population.SingleEventBirthDeath`
     (document 000 Eq. 30) or a :class:`~.population_events.BinomialPopulation` (document 001).
+    The sensor's clutter *rate* is not used: the weights take the clutter density ``1/V`` (the
+    clutter region) only (:class:`~.weights.HFISSTWeights`, ``filter.sensor_parameters``).
     """
     return _filter(motion, sensor, HFISSTWeights(), ExhaustiveGenerator(max_events=max_events), population, **options)
 
@@ -64,7 +66,8 @@ def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, mcmc_variant="paper"
     ``n_steps`` proposals per parent per scan (document 000 Fig. 15 uses 100,000) with the proposal
     ``mcmc_variant`` (``"paper"``: document 000 Sec. III-B) from the start ``init``;
     ``completion_rounds`` rounds of this project's neighbour search after the chain
-    (:class:`MCMCGenerator`; ``0`` is the paper's chain alone).
+    (:class:`MCMCGenerator`; ``0`` is the paper's chain alone). As for :func:`hfisst`, the
+    sensor's clutter *rate* is not used, only the clutter density ``1/V``.
 
     Examples
     --------

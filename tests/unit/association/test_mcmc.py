@@ -1,4 +1,5 @@
-"""R-FISST MCMC search (hypotrack.association.mcmc) against brute-force enumeration."""
+"""R-FISST MCMC search (hypotrack.association.samplers.chain, re-exported by
+hypotrack.association.mcmc) against brute-force enumeration."""
 
 import itertools
 
@@ -117,14 +118,14 @@ def test_reused_buffers_give_the_fresh_search():
     """A search reuses the previous search's buffers (table emptied slot by slot): interleaving
     other problems of the same and other shapes, including a completion that grows the buffers,
     must leave every result equal to the first run of the same problem."""
-    import hypotrack.association.mcmc as mc
+    import hypotrack.association.samplers.visited as vs
 
     rng = np.random.default_rng(5)
     problems = [random_problem(rng, m, 4, 1, 1, forbid=0.1) for m in (5, 5, 3)]
     kw = dict(n_steps=3000, burn_in=100, seed=7)
     first = [mcmc_search(s, 4, n_excl, phi, completion_rounds=r, **kw)
              for (s, n_excl, phi), r in zip(problems, (0, 2, 1))]
-    assert mc._BUFFERS.pool is not None and np.all(mc._BUFFERS.pool[-1] == -1)  # handed back empty
+    assert vs._BUFFERS.pool is not None and np.all(vs._BUFFERS.pool[-1] == -1)  # handed back empty
     for _ in range(2):
         for (s, n_excl, phi), r, (ev, lw) in zip(problems, (0, 2, 1), first):
             ev2, lw2 = mcmc_search(s, 4, n_excl, phi, completion_rounds=r, **kw)
@@ -312,23 +313,23 @@ def test_search_in_a_fresh_thread_equals_the_main_thread():
 
 
 def test_zobrist_keys_drawn_once_per_shape_deterministic_and_bounded(monkeypatch):
-    import hypotrack.association.mcmc as mc
+    import hypotrack.association.samplers.visited as vs
 
-    monkeypatch.setattr(mc._BUFFERS, "zobrist", {}, raising=False)
-    z = mc._zobrist(10, 12)
+    monkeypatch.setattr(vs._BUFFERS, "zobrist", {}, raising=False)
+    z = vs.zobrist_keys(10, 12)
     assert z.shape == (10, 12) and z.dtype == np.int64
-    assert mc._zobrist(10, 12) is z  # reused, not redrawn
-    assert mc._zobrist(12, 10).shape == (12, 10)  # another shape, other keys
+    assert vs.zobrist_keys(10, 12) is z  # reused, not redrawn
+    assert vs.zobrist_keys(12, 10).shape == (12, 10)  # another shape, other keys
     assert len(np.unique(z)) == z.size and (z < 0).any() and (z > 0).any()  # 64-bit keys, both signs
-    monkeypatch.setattr(mc._BUFFERS, "zobrist", {})
-    again = mc._zobrist(10, 12)
+    monkeypatch.setattr(vs._BUFFERS, "zobrist", {})
+    again = vs.zobrist_keys(10, 12)
     assert again is not z
     np.testing.assert_array_equal(again, z)  # a fresh cache draws the same keys
-    cache = mc._BUFFERS.zobrist
-    for n_col in range(1, mc._ZOBRIST_CACHE_SIZE):  # with (10, 12): the cache is full
-        mc._zobrist(1, n_col)
-    assert len(cache) == mc._ZOBRIST_CACHE_SIZE
-    mc._zobrist(2, 1)  # one shape more: the cache is emptied first
+    cache = vs._BUFFERS.zobrist
+    for n_col in range(1, vs._ZOBRIST_CACHE_SIZE):  # with (10, 12): the cache is full
+        vs.zobrist_keys(1, n_col)
+    assert len(cache) == vs._ZOBRIST_CACHE_SIZE
+    vs.zobrist_keys(2, 1)  # one shape more: the cache is emptied first
     assert len(cache) == 1
 
 
@@ -336,31 +337,31 @@ def test_buffers_of_equal_capacity_are_reused_and_others_are_not(monkeypatch):
     """A search hands its buffers to the next search of the same capacity (same row store), not to
     one whose rows do not fit; a reused search that grows its buffers during the completion gives
     the same events as in a fresh thread."""
-    import hypotrack.association.mcmc as mc
+    import hypotrack.association.samplers.visited as vs
 
-    monkeypatch.setattr(mc._BUFFERS, "pool", None, raising=False)
+    monkeypatch.setattr(vs._BUFFERS, "pool", None, raising=False)
     m = n_obj = 4
     score, phi = np.zeros((m, n_obj + 1)), np.zeros((n_obj + 1, 1))
     mcmc_search(score, n_obj, n_obj, phi, n_steps=20, seed=0)
-    store = mc._BUFFERS.pool[1]
-    assert mc._BUFFERS.pool[0] == 21  # capacity n_steps - burn_in + 1
+    store = vs._BUFFERS.pool[1]
+    assert vs._BUFFERS.pool[0] == 21  # capacity n_steps - burn_in + 1
 
     def grown():  # 20 steps record at most 21 events; two completion rounds reach far more
         return mcmc_search(score, n_obj, n_obj, phi, n_steps=20, seed=1, completion_rounds=2)
 
     ev, lw = grown()
-    assert mc._BUFFERS.pool[1] is not store  # the reused store was replaced by a grown one
+    assert vs._BUFFERS.pool[1] is not store  # the reused store was replaced by a grown one
     ev_fresh, lw_fresh = _in_fresh_thread(grown)
     np.testing.assert_array_equal(ev, ev_fresh)
     np.testing.assert_array_equal(lw, lw_fresh)
     assert len(ev) > 21
     mcmc_search(score, n_obj, n_obj, phi, n_steps=20, seed=2)
-    store = mc._BUFFERS.pool[1]
+    store = vs._BUFFERS.pool[1]
     mcmc_search(score, n_obj, n_obj, phi, n_steps=20, seed=3)
-    assert mc._BUFFERS.pool[1] is store  # same capacity and m: the same row store
+    assert vs._BUFFERS.pool[1] is store  # same capacity and m: the same row store
     wide = np.zeros((6, n_obj + 1))
     ev6, lw6 = mcmc_search(wide, n_obj, n_obj, phi, n_steps=20, seed=3)  # 6 rows per event: too big
-    assert mc._BUFFERS.pool[1] is not store
+    assert vs._BUFFERS.pool[1] is not store
     ev6_fresh, _ = _in_fresh_thread(lambda: mcmc_search(wide, n_obj, n_obj, phi, n_steps=20, seed=3))
     np.testing.assert_array_equal(ev6, ev6_fresh)
 

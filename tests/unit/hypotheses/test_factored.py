@@ -108,6 +108,17 @@ def test_merge_keeps_heaviest_member_and_moves_its_key():
         assert mkeys[c] - merged.log_weights[c] == pytest.approx(keys[rep] - children.log_weights[rep], abs=1e-12)
 
 
+def test_merge_refuses_keys_of_the_wrong_length():
+    """Keys too short or too long were taken, each child paired with some other child's key."""
+    f = glmb_filter(lmb(births=False))
+    f.step(EMPTY)
+    children = f.expand(EMPTY)
+    E = len(children)
+    for keys in (children.log_weights[:-1], np.append(children.log_weights, 0.0), children.log_weights[:, None]):
+        with pytest.raises(ValueError, match=rf"keys must have shape \({E},\), one cap key per child"):
+            merge_duplicates(children, keys, f.track_lists, 0)
+
+
 def test_hash_collisions_cannot_merge_different_hypotheses(monkeypatch):
     """Every child given the same hash: the exact pair sets still decide (same result)."""
     f = glmb_filter(lmb(births=False))

@@ -114,6 +114,11 @@ def test_bad_input_is_refused_with_the_parameter_named():
         glmb(MOTION, SENSOR, population=BinomialPopulation())
     with pytest.raises(ValueError, match="n_sweeps"):
         GibbsGenerator(n_sweeps=-1)
+    # no sweep: every child the all-missed start, no measurement ever used
+    with pytest.raises(ValueError, match=r"n_sweeps must be an integer in \[1, inf\], got 0"):
+        GibbsGenerator(n_sweeps=0)
+    with pytest.raises(ValueError, match=r"n_sweeps must be an integer in \[1, inf\], got 0"):
+        glmb(MOTION, SENSOR, population=lmb(), n_sweeps=0)
     with pytest.raises(ValueError, match="cov"):
         GaussianBirthTerm([0, 0, 0, 0], -np.eye(4), H, R)
 

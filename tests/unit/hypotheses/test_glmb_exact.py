@@ -352,8 +352,8 @@ def test_gibbs_buffers_grow_when_every_sweep_is_a_new_sample():
     np.testing.assert_array_equal(lw, problem.log_weights(events))
     short, _ = gibbs_search(problem, 100, seed=3)
     np.testing.assert_array_equal(short, events[:101])  # a longer run extends the same chain
-    assert GibbsGenerator(n_sweeps=0).n_sweeps == 0
-    with pytest.raises(ValueError, match=r"^n_sweeps must be an integer in \[0, inf\], got -2$"):
+    assert GibbsGenerator(n_sweeps=1).n_sweeps == 1
+    with pytest.raises(ValueError, match=r"^n_sweeps must be an integer in \[1, inf\], got -2$"):
         GibbsGenerator(n_sweeps=-2)
 
 

@@ -299,7 +299,7 @@ def test_presets_wire_their_weight_model_generator_and_options():
     assert f.max_hypotheses == 9 and f.dt == 2.0
     assert hfisst(motion, _SENSOR).generator == ExhaustiveGenerator(max_events=10**7)
     assert hfisst(motion, _SENSOR).population is None
-    f = rfisst(motion, _SENSOR, n_steps=500, burn_in=20, variant="symmetric", init="best", completion_rounds=1)
+    f = rfisst(motion, _SENSOR, n_steps=500, burn_in=20, mcmc_variant="symmetric", init="best", completion_rounds=1)
     assert isinstance(f.weights, HFISSTWeights)
     assert f.generator == MCMCGenerator(n_steps=500, burn_in=20, variant="symmetric", init="best",
                                         completion_rounds=1)

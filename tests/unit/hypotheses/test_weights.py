@@ -210,3 +210,38 @@ def test_population_probability_shape_message_counts_the_birth_columns():
     with pytest.raises(ValueError) as info:
         HFISSTWeights().problem(ctx, np.arange(1), population_log_prob=np.zeros(3))
     assert str(info.value) == "population_log_prob must have shape (2,), got (3,)"
+
+
+def test_the_weight_models_say_which_sensor_parameters_they_use():
+    """H-FISST/R-FISST use the clutter density 1/V, not the rate; FISST-Poisson, Reid and GLMB use both."""
+    from hypotrack.hypotheses import GLMBWeights
+
+    base = ("measurement.H", "measurement.R", "detection.p_D")
+    assert HFISSTWeights().sensor_parameters == (*base, "clutter.region")
+    assert "clutter.rate" in FISSTPoissonWeights().sensor_parameters
+    assert "clutter.rate" not in FISSTPoissonWeights(clutter_rate=3.0).sensor_parameters  # overridden
+    assert {"clutter.rate", "clutter.region"} <= set(ReidWeights().sensor_parameters)
+    assert ReidWeights(clutter_intensity=0.1).sensor_parameters == base
+    assert {"clutter.rate", "clutter.region"} <= set(GLMBWeights().sensor_parameters)
+
+
+def test_rfisst_and_hfisst_posteriors_do_not_depend_on_the_clutter_rate():
+    """What sensor_parameters says: rates 0, 2 and 50 give bit-identical posteriors (only 1/V counts)."""
+    from hypotrack.hypotheses import hfisst, rfisst
+    from hypotrack.models import ConstantVelocity
+    from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+
+    region = Box([-100.0, -100.0], [100.0, 100.0])
+    scans = [np.array([[-19.0, 0.3], [19.2, -0.1], [50.0, 60.0]]), np.array([[-18.1, 0.2], [-70.0, 5.0]])]
+    for preset, opts in ((hfisst, {}), (rfisst, {"n_steps": 200, "seed": 1})):
+        out = []
+        for rate in (0.0, 2.0, 50.0):
+            sensor = Sensor(LinearPositionSensor(np.eye(2), ndim_state=4), DetectionModel(p_D=0.9, fov=region),
+                            PoissonClutter(rate=rate, region=region))
+            t = preset(ConstantVelocity(q=0.1), sensor, max_hypotheses=20, **opts)
+            assert "clutter.rate" not in t.sensor_parameters
+            t.initialise(means=[[-20.0, 0.0, 1.0, 0.0], [20.0, 0.0, -1.0, 0.0]], covs=np.tile(np.eye(4), (2, 1, 1)))
+            for Z in scans:
+                t.step(Z)
+            out.append((t.log_weights.tobytes(), t.store.means.tobytes()))
+        assert out[0] == out[1] == out[2]

@@ -247,3 +247,18 @@ def test_process_noise_and_ekf_prediction():
 def test_bad_input(call, fragment):
     with pytest.raises(ValueError, match=fragment):
         call()
+
+
+@pytest.mark.parametrize("x", [np.zeros(6), np.array([100.0, 0.0, 0.0, 0.0, 1.0, 0.0]),
+                               np.array([[7000.0, 0, 0, 0, 7.5, 0], [0, 0, 6300.0, 7.5, 0, 0]])])
+@pytest.mark.parametrize("method", ["propagate", "transition", "propagate_each", "transition_each"])
+def test_a_state_inside_the_earth_is_refused_not_nan(x, method):
+    """The Earth's centre gave NaN, a state 100 km from it a meaningless orbit: both are refused."""
+    dt = 60.0 if method in ("propagate", "transition") else np.full(len(np.atleast_2d(x)), 60.0)
+    with pytest.raises(ValueError, match=r"x: state \d has position radius .* inside the Earth.*polar radius 6356"):
+        getattr(MODEL, method)(x, dt)
+
+
+def test_states_above_the_surface_still_propagate():
+    x = np.array([6400.0, 0.0, 0.0, 0.0, 7.9, 0.0])  # 22 km above the equator: allowed
+    assert np.all(np.isfinite(MODEL.propagate(x, 10.0)))

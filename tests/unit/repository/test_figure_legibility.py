@@ -252,7 +252,8 @@ def test_seed_distributions_figure_says_na_for_births_of_a_case_without_births()
 
 
 def test_scenario_figure_lists_births_in_its_legend():
-    from hypotrack.scenarios.ssa import SSAParams, plot_scenario, simulate_ssa
+    from hypotrack.experiments.ssa.scenario_figures import plot_scenario
+    from hypotrack.scenarios.ssa import SSAParams, simulate_ssa
 
     small = simulate_ssa(SSAParams(n_scans=60), 9)
     fig = plot_scenario(small.truth, small.scans, small.fov, small.prior_ids)

@@ -132,3 +132,50 @@ def test_pipeline_time_record_counts_only_this_run_and_feeds_the_readme(tmp_path
     record.loc[0, "wall_s"] = 3000
     record.to_csv(path, index=False)
     assert "50 minutes" in check_readme(readme, ledger)
+
+
+def test_readme_states_the_detection_probability_ranges_the_code_enforces():
+    """The README said p_D lies in (0, 1] while the hypothesis filters refuse 1."""
+    import numpy as np
+    import pytest
+
+    from hypotrack.hypotheses import hfisst
+    from hypotrack.models import ConstantVelocity
+    from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+    from hypotrack.trackers import ScanModel, SingleHypothesisTracker
+
+    text = " ".join(README.read_text().split())
+    assert "lies in (0, 1) for the hypothesis filters" in text and "(0, 1] for GNN, JPDA and PDAF" in text
+    region = Box([-10.0, -10.0], [10.0, 10.0])
+    sensor = Sensor(LinearPositionSensor(np.eye(2), ndim_state=4), DetectionModel(p_D=1.0, fov=region),
+                    PoissonClutter(rate=1.0, region=region))
+    with pytest.raises(ValueError, match=r"p_D must lie in \(0, 1\)"):
+        hfisst(ConstantVelocity(q=0.1), sensor)
+    H = np.hstack([np.eye(2), np.zeros((2, 2))])
+    for association in ("gnn", "jpda", "pdaf"):
+        SingleHypothesisTracker(ConstantVelocity(0.1), ScanModel(H, np.eye(2), 1.0, 0.99, 1e-3), association=association)
+
+
+def test_results_readme_lists_every_folder_the_rules_write_and_names_real_modules():
+    """results/README.md named a module that does not exist and omitted three result folders."""
+    import importlib
+
+    root = README.parent
+    text = (root / "results" / "README.md").read_text()
+    rules = "\n".join(p.read_text() for p in [root / "Snakefile", *sorted((root / "workflows" / "rules").glob("*.smk"))])
+    folders = set(re.findall(r"\{RESULTS\}/([A-Za-z0-9_]+)(?=[/\"])", rules))
+    assert {"ssa", "paper", "logs", "benchmarks", "glmb_benchmark", "samplers", "ssa_catalogue"} <= folders
+    listed = set(re.findall(r"^\| `([A-Za-z0-9_]+)/` \|", text, re.M))
+    assert folders <= listed, f"results/README.md does not list {sorted(folders - listed)}"
+    modules = set(re.findall(r"`(?:python -m )?(hypotrack(?:\.[A-Za-z_][A-Za-z0-9_]*)+)", text))
+    assert modules
+    for name in sorted(modules):
+        importlib.import_module(name)
+
+
+def test_readme_report_command_takes_the_runs_config():
+    """Without the run's --configfile the report mixed two configs (46 missing-metadata warnings)."""
+    text = README.read_text()
+    commands = re.findall(r"^snakemake --report [^\n]*", text, re.M)
+    assert commands and all("--configfile" in c for c in commands)
+    assert "they must match" in " ".join(text.split())

@@ -333,7 +333,7 @@ def test_plot_scenario_marks_every_birth(ssa50):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from hypotrack.scenarios.ssa import plot_scenario
+    from hypotrack.experiments.ssa.scenario_figures import plot_scenario
 
     small = simulate_ssa(SSAParams(n_scans=60), 9)
     fig = plot_scenario(small.truth, small.scans, small.fov, small.prior_ids)

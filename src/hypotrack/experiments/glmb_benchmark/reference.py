@@ -20,7 +20,7 @@ follow no birth; scored the same way it must fail any check that a tracker follo
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -29,7 +29,7 @@ from ...hypotheses.filter import HypothesisFilter
 from ...hypotheses.gibbs import GibbsGenerator
 
 __all__ = ["EXTRACTIONS", "heaviest_index", "map_cardinality_index", "extract", "sqrt_allocation",
-           "SqrtAllocationFilter", "BlindTracker"]
+           "AllocatedGibbsGenerator", "SqrtAllocationFilter", "BlindTracker"]
 
 EXTRACTIONS = ("heaviest", "map_cardinality")
 
@@ -83,6 +83,18 @@ def sqrt_allocation(log_weights, total: int) -> np.ndarray:
     return np.floor(share + 0.5).astype(np.int64)
 
 
+@dataclass(frozen=True)
+class AllocatedGibbsGenerator(GibbsGenerator):
+    """The Gibbs generator whose number of sweeps :class:`SqrtAllocationFilter` sets per parent:
+    ``n_sweeps = 0`` is allowed here (a parent allotted one sample keeps only its all-missed start),
+    unlike :class:`GibbsGenerator`, where it would mean never using a measurement."""
+
+    n_sweeps: int = 0
+
+    def __post_init__(self):
+        check_int(self.n_sweeps, "n_sweeps", minimum=0)
+
+
 class SqrtAllocationFilter(HypothesisFilter):
     """The δ-GLMB filter with the demo's truncation (module docstring): the Gibbs generator's
     number of samples is set per parent from its weight; ``total_samples`` is ``H_upd``.
@@ -99,7 +111,7 @@ class SqrtAllocationFilter(HypothesisFilter):
     def parent_generators(self, state):
         # n samples = the start plus n - 1 sweeps (a parent allotted none still yields its start)
         allocation = sqrt_allocation(state.log_w, self.total_samples)
-        return [replace(self.generator, n_sweeps=max(int(n) - 1, 0)) for n in allocation]
+        return [AllocatedGibbsGenerator(n_sweeps=max(int(n) - 1, 0)) for n in allocation]
 
 
 class BlindTracker:

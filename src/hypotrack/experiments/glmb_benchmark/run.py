@@ -32,12 +32,11 @@ import pandas as pd
 
 from ..._validation import check_int, check_positive
 from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation
-from ...hypotheses.gibbs import GibbsGenerator
 from ...hypotheses.weights_glmb import GLMBWeights
 from ...metrics import ospa
 from ...models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
 from ...registry import TrackingProblem, build
-from .reference import EXTRACTIONS, BlindTracker, SqrtAllocationFilter, extract
+from .reference import EXTRACTIONS, AllocatedGibbsGenerator, BlindTracker, SqrtAllocationFilter, extract
 
 __all__ = ["LOCAL_KINDS", "LOCAL_OPTIONS", "PEER_KINDS", "make_problem", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
            "simulate_scans", "make_tracker", "TRUTH_CONVENTIONS", "ALLOCATIONS", "SUFFIX", "implementation_labels", "legend_labels", "run_tracker", "ospa_parts",
@@ -187,7 +186,7 @@ def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed):
         if "max_hypotheses" not in options:
             raise ValueError("sample_allocation sqrt_weight needs max_hypotheses (H_inf, an integer >= 1)")
         problem = make_problem(model)
-        return SqrtAllocationFilter(model.motion, model.sensor, GLMBWeights(), GibbsGenerator(n_sweeps=0),
+        return SqrtAllocationFilter(model.motion, model.sensor, GLMBWeights(), AllocatedGibbsGenerator(),
                                     population=problem.labeled_population(), total_samples=options["total_samples"],
                                     merge_duplicates=bool(options.get("merge_duplicates", False)),
                                     max_hypotheses=options["max_hypotheses"],

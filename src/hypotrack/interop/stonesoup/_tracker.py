@@ -13,7 +13,7 @@ from ...trackers._sht_common import gate_tracks, predict_tracks
 from ...trackers.gnn import gnn_associate, gnn_gains, gnn_update
 from ._build import _build, glmb_population, scan_settings
 from ...registry import kinds, preset
-from ._common import require_stonesoup
+from ._common import check_scan_time, check_tracker_inputs, require_stonesoup
 from ._models import DetectionFrame, _region, translate_models
 
 __all__ = ["tracker_class"]
@@ -168,6 +168,8 @@ def tracker_class():
                 raise ValueError(f"algorithm must be a registered tracker kind ({', '.join(kinds())}), "
                                  f"got {self.algorithm!r}")
             motion, measurement, self._perm = translate_models(self.transition_model, self.measurement_model)
+            check_tracker_inputs(self.algorithm, self.detection_probability, self.clutter_rate, self.initial_states,
+                                 motion.ndim)
             self._inverse = np.argsort(self._perm)
             self._frame = DetectionFrame(self.measurement_model, self._perm, measurement.H, measurement.R)
             region = _region(self.clutter_region, measurement.dim)
@@ -213,9 +215,11 @@ def tracker_class():
             """Process one scan; returns ``(time, tracks present now)``.
 
             Raises ``ValueError`` (and leaves the tracker as it was) for a scan earlier than the
-            previous one and for detections the tracker cannot take (see the class docstring).
+            previous one, for a detection whose timestamp is not ``time`` and for detections the
+            tracker cannot take (see the class docstring); ``TypeError`` for a ``time`` that is not
+            a ``datetime.datetime`` or ``detections`` that are not Stone Soup ``Detection`` objects.
             """
-            Z, dets, variant = self._frame.returns(detections, time)
+            Z, dets, variant = self._frame.returns(detections, check_scan_time(time))
             previous = self._time
             if previous is not None and time < previous:
                 what = "the previous scan's" if self._n_scans else "initial_states'"

@@ -15,13 +15,16 @@ the recursion tractable by searching children with MCMC instead of enumerating t
 :func:`rfisst`, :func:`homht`, :func:`homht_kbest`, and the δ-GLMB filter :func:`glmb`,
 :func:`glmb_murty`.
 
-:class:`FactoredFilter` (:mod:`.factored`) runs the same engine on a posterior kept as a product
+The engine's state is a :class:`FilterState` apart from its configuration:
+:meth:`HypothesisFilter.advance` maps a state and a scan to the next (:mod:`.state`).
+
+:class:`FactoredFilter` (:mod:`.factored`, options :class:`FactoredOptions`) runs the same engine on a posterior kept as a product
 of independent groups of objects (merged when a return falls in two groups' gates, split when
 their objects no longer interact), so that cost grows with the largest group, not the scene.
 """
 
 from .association_problem import CLUTTER, SEEDED_BIRTH, AssociationProblem
-from .factored import FactoredFilter, FactoredPosterior, cardinality_total_variation
+from .factored import FactoredFilter, FactoredOptions, FactoredPosterior, cardinality_total_variation
 from .filter import HypothesisFilter
 from .generators import ChildGenerator, ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from .gibbs import GibbsGenerator
@@ -31,6 +34,7 @@ from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from .posterior import HypothesisEstimate, Posterior
 from .presets import fisst_kbest, glmb, glmb_murty, hfisst, homht, homht_kbest, rfisst
 from .scan_context import ScanContext
+from .state import FilterState, StepResult
 from .tracks import TrackStore
 from .weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights, WeightModel, make_weight_model
 from .weights_glmb import GLMBWeights
@@ -40,7 +44,10 @@ __all__ = [
     "CLUTTER",
     "SEEDED_BIRTH",
     "HypothesisFilter",
+    "FilterState",
+    "StepResult",
     "FactoredFilter",
+    "FactoredOptions",
     "FactoredPosterior",
     "cardinality_total_variation",
     "ChildGenerator",

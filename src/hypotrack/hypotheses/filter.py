@@ -453,8 +453,9 @@ class HypothesisFilter:
         process noise (:meth:`predict`). The population events are those of a scan all the same:
         the population models of this package have no interval in them (a death or birth
         probability is per scan, :mod:`.population_events`, :mod:`.population_lmb`), so with a
-        population a zero-interval scan is still a scan for births and deaths. A negative interval
-        raises ``ValueError``.
+        population a zero-interval scan is still a scan for births and deaths (a first scan at the
+        priors' epoch can start an object; a second sensor's scan at the same time weighs another
+        survival). A negative interval raises ``ValueError``.
 
         Returns the :class:`Posterior` after the scan. All-or-nothing: if the step raises (bad
         scan, a generator over its budget, no child left), the filter — hypotheses, tracks,

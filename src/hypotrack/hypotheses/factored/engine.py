@@ -267,7 +267,8 @@ class FactoredFilter:
 
         ``time``/``dt`` as :meth:`HypothesisFilter.step <..filter.HypothesisFilter.step>`: a zero
         interval predicts nothing (every gap since a track's last prediction is then zero, the lazy
-        lane's means are not advanced) and updates; a negative one raises ``ValueError``.
+        lane's means are not advanced; the population's per-scan events are those of any scan) and
+        updates; a negative one raises ``ValueError``.
         All-or-nothing like the engine's step: if it raises, the filter is as before.
         """
         saved = (self._groups, self._lane, self.time, self._next_label, self.scan_index, self.rng.bit_generator.state,

@@ -82,7 +82,13 @@ class FactoredPosterior:
 
 
 def cardinality_total_variation(p, q) -> float:
-    """``½ Σ_n |p(n) − q(n)|`` between two cardinality distributions (zero-padded)."""
+    """``½ Σ_n |p(n) − q(n)|`` between two cardinality distributions (zero-padded).
+
+    Examples
+    --------
+    >>> cardinality_total_variation([0.2, 0.8], [0.0, 0.5, 0.5])
+    0.5
+    """
     p, q = np.asarray(p, dtype=float), np.asarray(q, dtype=float)
     n = max(len(p), len(q))
     return 0.5 * float(np.abs(np.pad(p, (0, n - len(p))) - np.pad(q, (0, n - len(q)))).sum())

@@ -87,10 +87,10 @@ def test_jpda_marginals_budget_error_leaves_tracker_unchanged_and_retry_matches(
             tr.step(Z, 1.0)
     _assert_same(_state(tr), before)  # time not advanced, priors not replaced
     # the same time again with a scan the tracker can take (two far returns): as if never failed
-    ok = (1.0, np.array([[3.0, 3.0], [500.0, 500.0]]))
+    ok = np.array([[3.0, 3.0], [500.0, 500.0]])
     ref = _sht("jpda")
     ref.initialise(x, P, time=0.0)
-    got, want = tr.step(ok), ref.step(ok)
+    got, want = tr.step(ok, 1.0), ref.step(ok, 1.0)
     assert got.time == want.time == 1.0
     np.testing.assert_array_equal(got.x, want.x)
     np.testing.assert_array_equal(got.P, want.P)

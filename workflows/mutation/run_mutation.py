@@ -81,8 +81,7 @@ EXTRA_TESTS = {
     "association": ["tests/property/test_association_assignment_properties.py",
                     "tests/property/test_association_clustering_properties.py",
                     "tests/property/test_association_enumeration_properties.py",
-                    "tests/crosscheck/test_cardinality_assignment.py",
-                    "tests/unit/hypotheses/test_glmb_exact.py",  # the Gibbs sweeps against exhaustive enumeration
+                    "tests/crosscheck/test_cardinality_assignment.py", "tests/crosscheck/test_equivalence_glmb_gibbs.py",
                     CATALOGUE],
     "trackers": ["tests/crosscheck/test_stonesoup_sht.py", STEPS, CATALOGUE],
 }

@@ -282,7 +282,7 @@ def test_cardinality_figure_tells_tetris_from_count_dp():
 
 
 def test_belief_space_figures(monkeypatch):
-    from hypotrack.experiments.belief_space import run as br
+    from hypotrack.experiments.belief_space import figures as br
 
     seen = _save_and_check(monkeypatch, "belief_space")
     alpha = np.logspace(-6, -2, 8)

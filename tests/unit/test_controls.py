@@ -68,7 +68,7 @@ CFG = {"p_d": 0.9, "lambda_b": 1.0, "p_chi": 0.01, "control_lambda_fa": 0.1}
 
 
 def test_cardinality_rows_and_their_controls():
-    from hypotrack.experiments.cardinality.run import cardinality_claims
+    from hypotrack.experiments.cardinality.claims import cardinality_claims
 
     fig42 = pd.DataFrame(dict(classical_mht=[0, 0, 0]))
     low_clutter = pd.DataFrame(dict(classical_mht=[90, 101, 97]))
@@ -93,7 +93,7 @@ def test_cardinality_rows_and_their_controls():
 
 
 def test_cardinality_power_test_passes_for_a_good_tracker_and_the_control_can_pass():
-    from hypotrack.experiments.cardinality.run import cardinality_claims
+    from hypotrack.experiments.cardinality.claims import cardinality_claims
 
     good = _errors(tracker=2.0)
     rows = {c.key: c for c in cardinality_claims(good, OPTIMALITY, pd.DataFrame(dict(classical_mht=[0])), CFG,

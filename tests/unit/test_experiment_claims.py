@@ -83,7 +83,7 @@ def test_swap_claims_follow_the_curves():
 
 
 def test_cardinality_claims_need_a_significant_difference():
-    from hypotrack.experiments.cardinality.run import cardinality_claims
+    from hypotrack.experiments.cardinality.claims import cardinality_claims
 
     methods = ["classical_mht", "cardinality_tracker", "exact_class_map", "constant_prior", "per_scan"]
     errors = pd.DataFrame(dict(method=methods, mean_abs_error=[100.0, 11.7, 11.7, 60.0, 3.9],

@@ -263,7 +263,7 @@ def test_scenario_figure_lists_births_in_its_legend():
 
 
 def test_cardinality_figure_tells_tetris_from_count_dp():
-    from hypotrack.experiments.cardinality.run import plot_realisation
+    from hypotrack.experiments.cardinality.figures import plot_realisation
 
     k = np.arange(50)
     counts = pd.DataFrame(dict(scan=k, r=k % 5, n_true=np.full(50, 3), cardinality_tracker=np.full(50, 2),

@@ -154,7 +154,7 @@ def test_reach_rows_are_uninformative_when_one_assignment_finds_the_truth():
 
 
 def test_sweep_rows_carry_their_controls():
-    from hypotrack.experiments.generation_time.run import generation_time_claims, generation_time_timing_claims
+    from hypotrack.experiments.generation_time.claims import generation_time_claims, generation_time_timing_claims
 
     rows = []
     for method in ("homht", "rfisst", "homht_kbest"):

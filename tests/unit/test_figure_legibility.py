@@ -313,6 +313,7 @@ def test_belief_space_figures(monkeypatch):
 def test_coraluppi_and_benchmark_figures(monkeypatch):
     from hypotrack.experiments.closely_spaced import figures as cf
     from hypotrack.experiments.glmb_benchmark import summary as gs
+    from hypotrack.experiments.perf_sht import figures as pf
     from hypotrack.experiments.perf_sht import run as ps
     from hypotrack.experiments.swaps import run as sw
 
@@ -348,7 +349,7 @@ def test_coraluppi_and_benchmark_figures(monkeypatch):
     ratios = pd.DataFrame([dict(algorithm=a, peer=p, clutter_rate=10.0, n_targets=n, speedup=3.0 * n,
                                 goal=10.0 if a == "gnn" else 100.0)
                            for a in ("gnn", "jpda") for p in ("Stone Soup", "baseline") for n in (2, 4, 8, 16)])
-    ps.plot_benchmark(timings, ratios, "x.pdf", "x.png")
+    pf.plot_benchmark(timings, ratios, "x.pdf", "x.png")
     fig, _ = seen.pop()
     ax = fig.axes[-1 - sum(not a.get_visible() for a in fig.axes)]
     assert all(t.get_text() == "" or "goal" not in t.get_text() for t in ax.texts)  # goals named in the legend

@@ -3,7 +3,7 @@
 import pandas as pd
 
 from hypotrack.experiments.generation_time.claims import throughput_claims
-from hypotrack.experiments.perf_sht.run import perf_sht_claims
+from hypotrack.experiments.perf_sht.claims import perf_sht_claims
 from hypotrack.reporting.ledger import write_claims
 from hypotrack.reporting.joblog import prefix_output
 

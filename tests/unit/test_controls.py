@@ -208,7 +208,8 @@ def _curves(jpda_lag, gnn_lag, se=0.5):
 
 
 def test_sht_controls():
-    from hypotrack.experiments.sht.run import LECTURE_VALIDATION, lecture_summary, sht_claims
+    from hypotrack.experiments.sht.claims import sht_claims
+    from hypotrack.experiments.sht.run import LECTURE_VALIDATION, lecture_summary
 
     _, clusters = lecture_summary(LECTURE_VALIDATION)
     summary = pd.DataFrame(columns=["method"])

@@ -4,7 +4,8 @@ import pandas as pd
 
 from hypotrack.experiments.generation_time.claims import throughput_claims
 from hypotrack.experiments.perf_sht.claims import perf_sht_claims
-from hypotrack.experiments.sht.run import lecture_summary, sht_claims
+from hypotrack.experiments.sht.claims import sht_claims
+from hypotrack.experiments.sht.run import lecture_summary
 
 
 def _curves(jpda_lag, gnn_lag):

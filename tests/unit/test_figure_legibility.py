@@ -367,6 +367,7 @@ def test_legend_below_drops_columns_until_it_fits():
 
 
 def test_sht_figures(monkeypatch):
+    from hypotrack.experiments.sht import figures as sf
     from hypotrack.experiments.sht import run as sr
 
     seen = _save_and_check(monkeypatch, "sht")
@@ -381,13 +382,13 @@ def test_sht_figures(monkeypatch):
     curves = pd.concat([pd.DataFrame(dict(method=m, time=t, separation=np.abs(t - 30), separation_se=1.0,
                                           truth_separation=np.abs(t - 30), mospa=5.0, mospa_se=1.0, mospa_targets=4.0,
                                           mospa_targets_se=1.0, n_runs=6)) for m in sr.METHODS], ignore_index=True)
-    sr.plot_crossing(pd.DataFrame(rows), curves, cfg, "x.pdf", "x.png")
+    sf.plot_crossing(pd.DataFrame(rows), curves, cfg, "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "sht/crossing_coalescence")
     table = pd.DataFrame([dict(method=m, clutter_rate=r, mospa=5.0 + r, mospa_se=1.0, mospa_targets=4.0,
                                mospa_targets_se=1.0, mean_tracks=2 + r / 10, track_loss=0.1, track_loss_se=0.05, n_runs=4)
                           for m in sr.METHODS for r in (0.0, 10.0, 40.0)])
-    sr.plot_sweep(table, cfg, "x.pdf", "x.png")
+    sf.plot_sweep(table, cfg, "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "sht/clutter_sweep")
 

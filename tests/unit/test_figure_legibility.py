@@ -232,7 +232,8 @@ def test_sampler_mass_figure(monkeypatch):
 
 
 def test_seed_distributions_figure_says_na_for_births_of_a_case_without_births():
-    from hypotrack.experiments.ssa_seeds.run import METRICS, plot_distributions
+    from hypotrack.experiments.ssa_seeds.figures import plot_distributions
+    from hypotrack.experiments.ssa_seeds.run import METRICS
 
     rows = []
     for case, trackers, births in (("ssa50", ["rfisst_chain", "rfisst", "glmb"], 5),

@@ -179,7 +179,8 @@ def test_sweep_rows_carry_their_controls():
 
 # ---------------------------------------------------------------- swaps
 def test_swap_controls():
-    from hypotrack.experiments.swaps.run import summarise_swaps, swap_claims, swap_shard
+    from hypotrack.experiments.swaps.claims import swap_claims
+    from hypotrack.experiments.swaps.run import summarise_swaps, swap_shard
 
     table = swap_shard([0.0, 10.0, 30.0], n_sensors=30, sigma=10.0, n_runs=1500, seed=3)
     curves, rates = summarise_swaps(table)

@@ -62,7 +62,7 @@ def test_perf_claims_report_measured_ranges():
 
 
 def test_swap_claims_follow_the_curves():
-    from hypotrack.experiments.swaps.run import swap_claims
+    from hypotrack.experiments.swaps.claims import swap_claims
 
     swaps = list(range(8))
     rms = [2.6, 2.2, 1.9, 1.7, 1.6, 1.7, 1.9, 2.1]  # minimum at 4 swaps

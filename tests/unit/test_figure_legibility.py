@@ -316,7 +316,7 @@ def test_coraluppi_and_benchmark_figures(monkeypatch):
     from hypotrack.experiments.glmb_benchmark import summary as gs
     from hypotrack.experiments.perf_sht import figures as pf
     from hypotrack.experiments.perf_sht import run as ps
-    from hypotrack.experiments.swaps import run as sw
+    from hypotrack.experiments.swaps import figures as sw
 
     seen = _save_and_check(monkeypatch, "coraluppi")
     swaps = np.arange(11)

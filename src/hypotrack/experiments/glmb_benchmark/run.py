@@ -13,7 +13,7 @@ Trackers (named in the config): ``glmb`` (Gibbs), ``glmb_murty``, ``rfisst`` (th
 ``completion_rounds = 0``, or with the neighbour completion) and ``homht_kbest``; R-FISST and
 HOMHT run with the same labeled multi-Bernoulli birth terms expressed as their own population
 models (see :func:`make_tracker`); ``gmphd`` is Stone Soup's GM-PHD filter with the same models,
-the peer baseline (:mod:`.glmb_benchmark_gmphd`); ``blind`` is the ``glmb`` tracker fed empty scans
+the peer baseline (:mod:`.gmphd`); ``blind`` is the ``glmb`` tracker fed empty scans
 (the negative control). Estimates by two rules (:mod:`.reference`): the heaviest hypothesis's means,
 and the demo's MAP cardinality then the heaviest hypothesis of that cardinality (the GM-PHD's: its
 components with weight > 0.5, for both). Metrics: OSPA (``c = 100 m``, ``p = 1``) on
@@ -149,7 +149,7 @@ def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed):
     """A named tracker with the scenario's models.
 
     ``gmphd``: Stone Soup's GM-PHD filter, the peer implementation
-    (:mod:`.glmb_benchmark_gmphd`; deterministic, ``seed`` unused).
+    (:mod:`.gmphd`; deterministic, ``seed`` unused).
 
     ``glmb`` / ``glmb_murty``: the δ-GLMB presets with the labeled multi-Bernoulli population.
     ``glmb`` with ``sample_allocation: sqrt_weight`` is the demo's truncation

@@ -28,6 +28,7 @@ from ...association import EnumerationBudgetError, count_associations
 from ...association.mcmc import mcmc_search
 from ...hypotheses.generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from ...hypotheses.problems import synthetic_problem, truth_rank
+from ..stepping import best_time
 
 __all__ = [
     "METHODS",
@@ -149,11 +150,7 @@ def exhaustive_throughput(n_objects, n_returns, repeats=3, seed=0, keep=None, ch
     sp = synthetic_problem(n_objects, n_returns, np.random.default_rng(seed), weights="reid")
     gen = ExhaustiveGenerator(max_events=10**9, chunk_size=chunk_size)
     gen.generate(synthetic_problem(2, 2, np.random.default_rng(0), weights="reid").problem)  # warm-up
-    best = np.inf
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        _, lw = gen.generate(sp.problem, keep=keep)
-        best = min(best, time.perf_counter() - t0)
+    _, best = best_time(lambda: gen.generate(sp.problem, keep=keep), repeats)
     A = count_associations(n_objects, n_returns)
     return {"n_objects": n_objects, "n_returns": n_returns, "children": A, "mode": "all" if keep is None else f"top{keep}",
             "seconds": best, "per_second": A / best}

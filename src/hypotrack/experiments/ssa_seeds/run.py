@@ -24,7 +24,6 @@ many seeds are run.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 
@@ -34,6 +33,7 @@ import pandas as pd
 from ..._validation import check_int
 from ...scenarios.ssa import SSAScenario, params_from_config, simulate_ssa
 from ..seeds import experiment_seeds
+from ..stepping import Clocks
 from ..ssa import (BLIND, BLIND_LABEL, OSPASettings, TrackerSettings, birth_recognition, blind_run, evaluate_map,
                    make_tracker, map_agreement, run_tracker)
 
@@ -166,11 +166,11 @@ def run_seed(config: Mapping, index: int, progress: Callable[[str], None] | None
         for name in [ref, *[n for n in settings if n != ref]]:  # the reference first: the others compare
             s = settings[name]
             rng = np.random.default_rng(experiment_seeds(config["seed"], f"ssa_seeds/{case}/{index}/{name}", 1)[0])
-            c0, t0 = time.process_time(), time.perf_counter()
-            runs[name] = run_tracker(make_tracker(scenario, s, rng), scenario, name=f"ssa_seeds seed {index} {case} "
-                                     f"{s.label}", progress=progress, n_progress=4)
+            with Clocks() as clocks:
+                runs[name] = run_tracker(make_tracker(scenario, s, rng), scenario, name=f"ssa_seeds seed {index} "
+                                         f"{case} {s.label}", progress=progress, n_progress=4)
             timing.append({"case": case, "seed_index": index, "tracker": name,
-                           "seconds": time.perf_counter() - t0, "cpu_seconds": time.process_time() - c0})
+                           "seconds": clocks.wall, "cpu_seconds": clocks.cpu})
         runs[BLIND] = blind_run(scenario)  # the negative control of every check (no measurement ever used)
         labels = {**{name: s.label for name, s in settings.items()}, BLIND: BLIND_LABEL}
         for name, label in labels.items():

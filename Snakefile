@@ -13,12 +13,13 @@ import glob
 from pathlib import Path
 
 from hypotrack.config import validate_config
+from hypotrack.registry import TrackerSpec
 
 
 configfile: "workflows/config/default.yaml"
 
 
-validate_config(config, "workflows/config/schema")
+validate_config(config, "workflows/config/schema", tracker_specs=TrackerSpec.from_config)
 
 RESULTS = config["results"]
 ALL_TARGETS = []

@@ -22,6 +22,7 @@ __all__ = [
     "check_psd",
     "check_measurements",
     "check_state_dimension",
+    "check_seed",
 ]
 
 
@@ -78,7 +79,7 @@ def check_finite_array(a, name: str, *, ndim: int | None = None, shape: tuple | 
 
     ``shape`` may contain ``None`` for a free axis, e.g. ``(None, 2)``.
     """
-    arr = np.asarray(a, dtype=float)
+    arr = _as_float_array(a, name)
     if ndim is not None and arr.ndim != ndim:
         raise ValueError(f"{name} must be a {ndim}-D array, got shape {arr.shape}")
     if shape is not None:
@@ -148,9 +149,56 @@ def check_psd(M, name: str, *, definite: bool = False, what: str | None = None) 
     return arr
 
 
+def _as_float_array(a, name: str) -> np.ndarray:
+    """``np.asarray(a, dtype=float)``, refusing strings and ragged nesting with a message that
+    names the parameter (NumPy's own says neither which argument nor what was expected)."""
+    if isinstance(a, np.ndarray):
+        if a.dtype.kind in "USO" and a.size and any(isinstance(v, (str, bytes)) for v in a.flat):
+            raise TypeError(f"{name} must hold numbers, got strings (dtype {a.dtype})")
+    elif isinstance(a, (str, bytes)):
+        raise TypeError(f"{name} must be an array of numbers, got a string {a!r}")
+    try:
+        arr = np.asarray(a, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be a rectangular array of numbers (an (m, d) array or a list of "
+                        f"equal-length rows), got {type(a).__name__} that NumPy cannot convert: {exc}") from None
+    if arr.dtype.kind == "f" and not isinstance(a, np.ndarray) and _holds_strings(a):
+        raise TypeError(f"{name} must hold numbers, got strings")
+    return arr
+
+
+def _holds_strings(a) -> bool:
+    """Whether a (nested) list or tuple holds a string anywhere; one look per level along the first
+    element only would miss a string further on, so this walks every element (lists are small)."""
+    if isinstance(a, (str, bytes)):
+        return True
+    if isinstance(a, (list, tuple)):
+        return any(_holds_strings(v) for v in a)
+    return False
+
+
+def check_seed(seed, name: str = "seed"):
+    """Return ``seed`` unchanged if ``numpy.random.default_rng`` takes it as a seed: ``None``, an integer
+    >= 0, a sequence of such integers, a ``SeedSequence``, a ``BitGenerator`` or a ``Generator``."""
+    if seed is None or isinstance(seed, (np.random.Generator, np.random.BitGenerator, np.random.SeedSequence)):
+        return seed
+    if isinstance(seed, bool):
+        raise TypeError(f"{name} must be None, an integer >= 0 or a numpy Generator, got bool {seed!r}")
+    if isinstance(seed, (Integral, np.integer)):
+        if int(seed) < 0:
+            raise ValueError(f"{name} must be an integer >= 0, got {seed!r}")
+        return seed
+    if isinstance(seed, (list, tuple, np.ndarray)) and len(seed) > 0 and all(
+            isinstance(v, (Integral, np.integer)) and not isinstance(v, bool) and int(v) >= 0
+            for v in np.ravel(np.asarray(seed, dtype=object))):
+        return seed
+    raise TypeError(f"{name} must be None, an integer >= 0, a sequence of such integers or a numpy Generator, "
+                    f"got {type(seed).__name__} {seed!r}")
+
+
 def check_measurements(Z, name: str, dim: int) -> np.ndarray:
     """Return a scan as an (m, dim) float array; ``m = 0`` (an empty scan) is allowed."""
-    arr = np.asarray(Z, dtype=float)
+    arr = _as_float_array(Z, name)
     if arr.size == 0:
         return np.zeros((0, dim))
     if arr.ndim == 1 and dim == 1:
@@ -174,3 +222,19 @@ def check_state_dimension(motion, d: int, what: str) -> int:
     if int(nd) != d:
         raise ValueError(f"the motion model's states are {int(nd)}-dimensional but {what} expects {d}-dimensional states")
     return d
+
+
+def check_labels(labels, n: int, *, held=None, name: str = "labels") -> np.ndarray:
+    """``n`` distinct integer labels (int64), none of them in ``held``; an error naming ``name`` otherwise."""
+    a = np.asarray(labels)
+    if a.shape != (n,):
+        raise ValueError(f"{name} must hold one label per track, shape ({n},), got shape {a.shape}")
+    if n and not (np.issubdtype(a.dtype, np.integer) or (np.issubdtype(a.dtype, np.floating)
+                                                          and np.all(np.isfinite(a)) and np.all(a == np.round(a)))):
+        raise ValueError(f"{name} must be integers, got {labels!r}")
+    a = a.astype(np.int64)
+    if len(np.unique(a)) != n:
+        raise ValueError(f"{name} must be distinct, got {a.tolist()}")
+    if held is not None and len(held) and np.isin(a, held).any():
+        raise ValueError(f"{name} {sorted(set(a[np.isin(a, held)].tolist()))} are already held by the tracker")
+    return a

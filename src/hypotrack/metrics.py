@@ -164,6 +164,16 @@ def ospa(X, Y, c: float, p: float = 1.0) -> float:
     --------
     >>> ospa([0.5, 1.5, 2.5, 3.5], [0, 1, 2, 3, 4], c=10, p=1)
     2.4
+
+    (four pairs at 0.5, one point unpaired at ``c``: ``(4 × 0.5 + 10) / 5``). In the plane, a
+    3-4-5 pair, and one empty set:
+
+    >>> ospa([[0.0, 0.0]], [[3.0, 4.0]], c=10, p=2)
+    5.0
+    >>> ospa([[0.0, 0.0], [6.0, 8.0]], [[3.0, 4.0]], c=10, p=2) ** 2   # (5² + 10²) / 2
+    62.5
+    >>> ospa(np.zeros((0, 2)), [[1.0, 1.0]], c=10)
+    10.0
     """
     X, Y = _check_sets(X, Y)
     c = check_positive(c, "c")
@@ -213,6 +223,16 @@ def gospa(X, Y, c: float, p: float = 1.0, alpha: float = 2.0) -> GospaResult:
     >>> r = gospa([0.5, 1.5, 2.5, 3.5], [0, 1, 2, 3, 4], c=10, p=1)
     >>> r.value, r.localisation, r.missed, r.false
     (7.0, 2.0, 5.0, 0.0)
+
+    (four pairs at 0.5; one missed truth point at ``c / α = 5``). In the plane, one estimate 5 from
+    the truth and one false estimate, and a pair farther apart than ``c`` (one missed plus one false):
+
+    >>> r = gospa([[0.0, 0.0], [30.0, 40.0]], [[3.0, 4.0]], c=10, p=1)
+    >>> r.value, r.localisation, r.missed, r.false, r.assignment.tolist()
+    (10.0, 5.0, 0.0, 5.0, [[0, 0]])
+    >>> r = gospa([[30.0, 40.0]], [[0.0, 0.0]], c=10, p=2)
+    >>> r.value ** 2, r.n_missed, r.n_false   # 10²/2 + 10²/2
+    (100.0, 1, 1)
     """
     X, Y = _check_sets(X, Y)
     c = check_positive(c, "c")

@@ -14,7 +14,8 @@ from hypotrack.hypotheses import ChildSet, ExhaustiveGenerator, FISSTPoissonWeig
 from hypotrack.hypotheses.population_events import BinomialPopulation, SingleEventPopulation
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 
 P_D = 0.9
 ALPHA = 2e-3
@@ -27,7 +28,7 @@ Z = np.array([[6.2, 5.1], [29.8, 29.0], [15.0, 35.0], [35.0, 10.0]])
 
 
 def make_filter(weights, population):
-    sensor = Sensor(LinearPositionSensor(np.eye(2), 4), DetectionModel(P_D, REGION), PoissonClutter(0.5, REGION))
+    sensor = position_sensor(1.0, P_D, REGION, 0.5)
     return HypothesisFilter(ConstantVelocity(0.1), sensor, weights, ExhaustiveGenerator(), population=population,
                             max_hypotheses=10**6, means=X0, covs=P0)
 

@@ -37,14 +37,14 @@ from hypotrack.hypotheses import (
 from hypotrack.hypotheses.factored_groups import factorise
 from hypotrack.models.motion import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 
 R = np.eye(2) * 0.3
 MOTION = ConstantVelocity(q=0.02)
 VIEW = Box([-10.0, -10.0], [10.0, 10.0])
 P_D = 0.85
-SENSOR = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)), DetectionModel(P_D, VIEW),
-                PoissonClutter(1.0, Box([-20.0, -20.0], [20.0, 20.0])))
+SENSOR = position_sensor(R, P_D, VIEW, 1.0, Box([-20.0, -20.0], [20.0, 20.0]))
 H = SENSOR.measurement.H
 GATE = 0.99
 # a, b share a return at scan 2 (genuine merge); c starts out of view beside d, its gate holds d's

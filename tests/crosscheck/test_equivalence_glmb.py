@@ -35,14 +35,14 @@ from hypotrack.hypotheses import (
 )
 from hypotrack.models.motion import ConstantVelocity
 from hypotrack.models.population import UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 
 R = np.eye(2) * 0.5
 P_D = 0.8
 MOTION = ConstantVelocity(q=0.05)
 VIEW = Box([-10.0, -10.0], [10.0, 10.0])  # detection region; clutter over a larger box
-SENSOR = Sensor(LinearPositionSensor(R, ndim_state=4, position_indices=(0, 1)), DetectionModel(P_D, VIEW),
-                PoissonClutter(1.5, Box([-20.0, -20.0], [20.0, 20.0])))
+SENSOR = position_sensor(R, P_D, VIEW, 1.5, Box([-20.0, -20.0], [20.0, 20.0]))
 H = SENSOR.measurement.H
 # object 1 starts at x = 11 and moves out: it is out of view at every scan (p_D = 0)
 X0 = np.array([[0.0, 0.0, 1.0, 0.5], [11.0, 0.0, 1.0, 0.0], [5.0, 2.0, -0.5, 0.6]])

@@ -39,7 +39,7 @@ T0 = datetime.datetime(2025, 1, 1)
 SECOND = datetime.timedelta(seconds=1)
 STARTS = [[-20.0, 1.0, -5.0, 0.2], [20.0, -1.0, 5.0, -0.2], [0.0, 0.0, 25.0, -1.0]]  # x, vx, y, vy
 OPTIONS = {
-    "gnn": {"initiator": {"m": 2, "n": 3, "initial_velocity_std": 2.0}}, "jpda": {}, "pdaf": {},
+    "gnn": {"m_of_n": [2, 3], "initial_velocity_std": 2.0}, "jpda": {}, "pdaf": {},
     "hfisst": {"max_hypotheses": 10, "gate_probability": 0.999},
     "rfisst": {"n_steps": 300, "max_hypotheses": 10, "gate_probability": 0.999, "seed": 7},
     "homht": {"max_hypotheses": 10, "gate_probability": 0.999},
@@ -207,7 +207,7 @@ def test_initiator_starts_tracks_with_the_detection_noise():
     # 1-of-1 initiation: a track starts at its return with position covariance R (the detection's
     # 400 I, not the tracker's diag(1, 2)) and velocity variance initial_velocity_std².
     model = LinearGaussian(4, (0, 2), 400.0 * np.eye(2))
-    tracker = _tracker("gnn", priors=[], initiator={"m": 1, "n": 1, "initial_velocity_std": 3.0})
+    tracker = _tracker("gnn", priors=[], m_of_n=[1, 1], initial_velocity_std=3.0)
     det = Detection(np.array([[10.0], [20.0]]), timestamp=T0, measurement_model=model)
     _, (track,) = tracker.update_tracker(T0, {det})
     np.testing.assert_array_equal(track.state_vector.ravel(), [10.0, 0.0, 20.0, 0.0])

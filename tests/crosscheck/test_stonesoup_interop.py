@@ -89,7 +89,7 @@ def _priors():
 
 
 OPTIONS = {
-    "gnn": {"initiator": {"m": 2, "n": 3, "initial_velocity_std": 2.0}, "max_misses": 3},
+    "gnn": {"m_of_n": [2, 3], "initial_velocity_std": 2.0, "max_misses": 3},
     "jpda": {},
     "rfisst": {"n_steps": 2000, "max_hypotheses": 20, "gate_probability": 0.999, "seed": 7},
     "homht": {"max_hypotheses": 20, "gate_probability": 0.999},
@@ -116,27 +116,26 @@ def _native_tracks(algorithm, scans):
     opts = dict(OPTIONS[algorithm])
     if algorithm in ("gnn", "jpda"):
         model = ScanModel(measurement.H, measurement.R, P_D, 0.99, CLUTTER / 120.0**2)
-        init = opts.pop("initiator", None)
-        tracker = SingleHypothesisTracker(motion, model, association=algorithm,
-                                          initiator=init and MOfNInitiator(motion, model, **init), **opts)
+        m_of_n, v0 = opts.pop("m_of_n", None), opts.pop("initial_velocity_std", None)
+        init = m_of_n and MOfNInitiator(motion, model, m=m_of_n[0], n=m_of_n[1], initial_velocity_std=v0)
+        tracker = SingleHypothesisTracker(motion, model, association=algorithm, initiator=init, **opts)
         tracker.initialise(means, covs, time=0.0)
     else:
         sensor = Sensor(measurement, DetectionModel(p_D=P_D),
                         PoissonClutter(rate=CLUTTER, region=Box([-60.0, -60.0], [60.0, 60.0])))
         tracker = {"rfisst": rfisst, "homht": homht, "hfisst": hfisst}[algorithm](
             motion, sensor, means=means, covs=covs, **opts)
-    start = previous = T0 - datetime.timedelta(seconds=1)  # the priors' time
+    start = T0 - datetime.timedelta(seconds=1)  # the priors' time
     tracks = {}
     for time, dets in scans:
         Z = np.array([d.state_vector.ravel() for d in dets]).reshape(-1, 2)
         Z = Z[np.lexsort((Z[:, 1], Z[:, 0]))]
         if algorithm in ("gnn", "jpda"):
-            est = tracker.step(((time - start).total_seconds(), Z))
+            est = tracker.step(Z, (time - start).total_seconds())
             ids, x, P = est.ids, est.x, est.P
         else:
-            best = tracker.step(Z, (time - previous).total_seconds()).map_estimate
+            best = tracker.step(Z, (time - start).total_seconds()).map_estimate
             ids, x, P = best.labels, best.means, best.covs
-        previous = time
         inv = np.argsort(HT)
         for i, k in enumerate(ids):
             track = tracks.setdefault(int(k), Track(id=str(k)))

@@ -222,7 +222,7 @@ def _simple_tracker(algorithm):
               for i in range(3)]
     options = dict(OPTIONS[algorithm])
     if algorithm in ("gnn", "jpda", "pdaf"):
-        options.update(max_misses=1, initiator={"m": 1, "n": 1, "initial_velocity_std": 0.02})
+        options.update(max_misses=1, m_of_n=[1, 1], initial_velocity_std=0.02)
     return HypotrackTracker(
         transition_model=ConstantVelocity(1e-8), measurement_model=LinearGaussian(2, (0,), [[2.0]]),
         algorithm=algorithm, detection_probability=0.8, clutter_rate=1e-3, clutter_region=[[-20.0, 50.0]],

@@ -8,7 +8,7 @@ Conventions matched: the clutter spatial density is passed explicitly to
 ``PDAHypothesiser`` (otherwise Stone Soup estimates it from the data); GNN is compared in the
 criterion Stone Soup's ``GNNWith2DAssignment`` + ``DistanceHypothesiser`` actually solves (sum
 of unsquared Mahalanobis distances, ``gnn_score="mahalanobis"``) — the lecture's log-likelihood
-criterion is tested separately in ``tests/unit/test_gnn.py``; Stone Soup's updaters use the
+criterion is tested separately in ``tests/unit/trackers/test_gnn.py``; Stone Soup's updaters use the
 Joseph form as hypotrack does.
 """
 

@@ -228,7 +228,7 @@ def test_an_initiated_track_starts_with_its_confirming_detection(algorithm):
     tracker = HypotrackTracker(
         transition_model=tm, measurement_model=mm, algorithm=algorithm, detection_probability=0.9,
         clutter_rate=1e-6, clutter_region=[[-60, 60], [-60, 60]], detector=scans,
-        options={"initiator": {"m": 2, "n": 3, "initial_velocity_std": 3.0}})
+        options={"m_of_n": [2, 3], "initial_velocity_std": 3.0})
     out = [tracks for _, tracks in tracker]
     assert out[0] == set() and len(out[1]) == 1
     (track,) = out[2]

@@ -9,7 +9,8 @@ from scipy.special import logsumexp
 
 from hypotrack.hypotheses import AssociationProblem, ExhaustiveGenerator, MCMCGenerator, hfisst
 from hypotrack.models import ConstantVelocity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 
 
 @st.composite
@@ -75,7 +76,7 @@ def test_keep_returns_the_best_and_mcmc_is_a_subset(problem, keep):
 def test_filter_invariants(seed, n_objects, cap):
     rng = np.random.default_rng(seed)
     region = Box([0.0, 0.0], [30.0, 30.0])
-    sensor = Sensor(LinearPositionSensor(np.eye(2), 4), DetectionModel(0.8, region), PoissonClutter(1.0, region))
+    sensor = position_sensor(1.0, 0.8, region, 1.0)
     X = np.hstack([region.sample_uniform(n_objects, rng), rng.normal(size=(n_objects, 2))])
     f = hfisst(ConstantVelocity(0.1), sensor, max_hypotheses=cap, means=X, covs=np.repeat(np.eye(4)[None], n_objects, 0))
     for _ in range(3):

@@ -17,7 +17,8 @@ from hypotrack.hypotheses import BinomialPopulation, hfisst
 from hypotrack.hypotheses.population_events import SingleEventPopulation
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
-from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.models.sensors import Box
+from scenes import position_sensor
 
 VIEW = Box([-10.0, -10.0], [10.0, 10.0])
 HALVES = [Box([-10.0, -10.0], [0.0, 10.0]), Box([0.0, -10.0], [10.0, 10.0])]
@@ -65,7 +66,7 @@ def _keys(children, idx):
 @given(scenes())
 def test_kept_children_are_exact_top_h(scene):
     kind, p_D, alpha, beta, n_regions, X, Z, H, rate, spread = scene
-    sensor = Sensor(LinearPositionSensor(np.eye(2) * 0.5, 4), DetectionModel(p_D, VIEW), PoissonClutter(rate, VIEW))
+    sensor = position_sensor(0.5, p_D, VIEW, rate)
     f = hfisst(MOTION, sensor, population=_population(kind, alpha, beta, n_regions), max_hypotheses=H,
                means=X, covs=spread * np.repeat(np.eye(4)[None], len(X), axis=0))
     full = f.expand(Z)
@@ -91,7 +92,7 @@ def test_death_twin_of_a_trimmed_child_is_kept():
     ``w₃ · β / (1 − α − β) / (1 − p_D) = w₃ · 0.6414 / 0.03`` ≈ 21 w₃ > w₂, so it is the exact
     2nd child; trimming to the best two association children first loses it.
     """
-    sensor = Sensor(LinearPositionSensor(np.eye(2) * 0.5, 4), DetectionModel(0.97, VIEW), PoissonClutter(1.0, VIEW))
+    sensor = position_sensor(0.5, 0.97, VIEW, 1.0)
     f = hfisst(MOTION, sensor, population=_population("single", 0.002, 0.39, 1), max_hypotheses=2,
                means=np.array([[4.5, -1.9, 0.0, 0.0]]), covs=1.65 * np.eye(4)[None])
     Z = np.array([[4.8, -1.85], [-1.8, 1.0]])

@@ -85,8 +85,8 @@ def _sht_initialised():
     return tr
 
 
-def _step(tracker, scan):
-    return lambda: tracker().step(scan)
+def _step(tracker, *scan):
+    return lambda: tracker().step(*scan)
 
 
 BAD = [
@@ -177,7 +177,8 @@ BAD = [
     ("filter weights type", lambda: HypothesisFilter(CV, sensor(), "hfisst", ExhaustiveGenerator()), "weights must be a"),
     ("filter step NaN scan", lambda: hf().step(np.array([[np.nan, 0.0]])), "Z must be finite"),
     ("filter step 3-D returns", lambda: hf().step(np.zeros((2, 3))), "Z must have shape (m, 2)"),
-    ("filter step dt = 0", lambda: hf().step(np.zeros((0, 2)), dt=0.0), "dt must be a finite number > 0"),
+    ("filter step dt < 0", lambda: hf().step(np.zeros((0, 2)), dt=-1.0), "dt must be a finite number >= 0"),
+    ("filter step time before the filter's", lambda: hf().step(np.zeros((0, 2)), -0.5), "time must be >= the filter's time"),
     ("rfisst n_steps 0", lambda: rfisst(CV, sensor(), n_steps=0), "n_steps must be an integer in [1"),
     ("homht births without density", lambda: homht(CV, sensor(), birth_intensity=1.0), "birth_density"),
     # ---------------------------------------------------------------- trackers
@@ -190,13 +191,16 @@ BAD = [
     ("SHT association", lambda: sht(association="mht"), "association must be one of"),
     ("SHT max_misses 0", lambda: sht(max_misses=0), "max_misses must be an integer in [1"),
     ("SHT missed distance < 0", lambda: sht(gnn_score="mahalanobis", missed_distance=-1.0), "missed_distance must be a finite number > 0"),
-    ("SHT initialise NaN", lambda: sht().initialise(np.full((1, 4), np.nan), I4[None], 0.0), "x must be finite"),
-    ("SHT initialise indefinite P", lambda: sht().initialise(X4[None], -I4[None], 0.0), "P must be positive"),
-    ("SHT step time backwards", _step(_sht_initialised, (-1.0, np.zeros((0, 2)))), "scan time must not decrease"),
-    ("SHT step NaN time", _step(_sht_initialised, (np.nan, np.zeros((0, 2)))), "scan time must be finite"),
-    ("SHT step NaN return", _step(_sht_initialised, (1.0, NAN2[None])), "Z must be finite"),
-    ("SHT step not a pair", _step(_sht_initialised, np.zeros((2, 2))), "scan must be a (time, Z) pair"),
-    ("SHT step no time", _step(_sht_initialised, np.zeros((3, 2))), "scan must be a (time, Z) pair"),
+    ("SHT initialise NaN", lambda: sht().initialise(np.full((1, 4), np.nan), I4[None], time=0.0), "means must be finite"),
+    ("SHT initialise indefinite P", lambda: sht().initialise(X4[None], -I4[None], time=0.0), "covs must be positive"),
+    ("SHT initialise float labels", lambda: sht().initialise(X4[None], I4[None], 0.5), "labels must"),
+    ("SHT initialise repeated labels", lambda: sht().initialise(np.stack([X4, X4]), np.stack([I4, I4]), [3, 3]),
+     "labels must be distinct"),
+    ("SHT step time backwards", _step(_sht_initialised, np.zeros((0, 2)), -1.0), "scan times must not decrease"),
+    ("SHT step NaN time", _step(_sht_initialised, np.zeros((0, 2)), np.nan), "time must be finite"),
+    ("SHT step NaN return", _step(_sht_initialised, NAN2[None], 1.0), "Z must be finite"),
+    ("SHT step old (time, Z) pair", _step(_sht_initialised, (1.0, np.zeros((2, 2)))), "got a (time, Z) pair"),
+    ("SHT step no time", _step(_sht_initialised, np.zeros((3, 2))), "time is required"),
     ("initiator m > n", lambda: MOfNInitiator(CV, scan_model(), m=4, n=3), "m must be an integer in [1, 3]"),
     ("initiator velocity std 0", lambda: MOfNInitiator(CV, scan_model(), initial_velocity_std=0.0),
      "initial_velocity_std must be a finite number > 0"),
@@ -257,9 +261,9 @@ def _work_filter_objects_empty_scan():
 def _work_sht_zero_tracks_and_empty_scans():
     tr = SingleHypothesisTracker(CV, scan_model(), association="jpda", initiator=MOfNInitiator(CV, scan_model()))
     for t in range(3):
-        est = tr.step((float(t), np.zeros((0, 2))))
+        est = tr.step(np.zeros((0, 2)), float(t))
     assert len(est) == 0
-    est = tr.step((3.0, np.array([[1.0, 1.0]])))
+    est = tr.step(np.array([[1.0, 1.0]]), 3.0)
     return [est.x, est.P]
 
 

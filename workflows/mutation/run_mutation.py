@@ -61,35 +61,52 @@ OUT = ROOT / "paper" / "record"  # the committed record; scratch copies stay und
 WORK = ROOT / "results" / "quality" / "mutmut"
 EQUIVALENT = Path(__file__).with_name("equivalent.yaml")
 
-CATALOGUE = "tests/unit/test_bad_input_catalogue.py"
-MODULES = {
-    "gaussian": (["src/hypotrack/gaussian.py"], ["tests/unit/test_gaussian.py", CATALOGUE]),
-    "metrics": (["src/hypotrack/metrics.py"],
-                ["tests/unit/test_metrics.py", "tests/property/test_metrics_properties.py", CATALOGUE]),
-    "hypotheses": (["src/hypotrack/hypotheses/*"],
-                   ["tests/unit/test_hypotheses_filter.py", "tests/unit/test_hypotheses_weights.py",
-                    "tests/unit/test_hypotheses_engine_exact.py", "tests/unit/test_hypotheses_parts.py",
-                    "tests/unit/test_glmb.py", "tests/unit/test_glmb_exact.py",
-                    "tests/crosscheck/test_equivalence_glmb.py",
-                    "tests/unit/test_hypotheses_problems.py", "tests/unit/test_population_events.py",
-                    "tests/unit/test_transactional_steps.py",
-                    "tests/property/test_pretrim_exact.py", "tests/property/test_hypotheses_properties.py",
-                    CATALOGUE]),
-    "association": (["src/hypotrack/association/*"],
-                    ["tests/unit/test_association_assignment.py", "tests/unit/test_association_clustering.py",
-                     "tests/unit/test_association_counting.py", "tests/unit/test_association_enumeration.py",
-                     "tests/unit/test_association_gating.py", "tests/unit/test_marginals.py",
-                     "tests/unit/test_mcmc.py", "tests/property/test_association_assignment_properties.py",
-                     "tests/property/test_association_clustering_properties.py",
-                     "tests/property/test_association_enumeration_properties.py",
-                     "tests/crosscheck/test_cardinality_assignment.py", CATALOGUE]),
-    "trackers": (["src/hypotrack/trackers/*"],
-                 ["tests/unit/test_gnn.py", "tests/unit/test_jpda.py", "tests/unit/test_initiation.py",
-                  "tests/unit/test_ecmht.py", "tests/unit/test_ecmht_mospa.py", "tests/unit/test_cardinality.py",
-                  "tests/unit/test_cardinality_oracles.py", "tests/unit/test_sht_tracker_values.py", "tests/unit/test_jpda_values.py",
-                  "tests/unit/test_ecmht_values.py", "tests/unit/test_gnn_values.py",
-                  "tests/unit/test_transactional_steps.py", "tests/crosscheck/test_stonesoup_sht.py", CATALOGUE]),
+# The modules mutated (a subpackage as ``<folder>/*``) and the tests each runs. The unit tests are
+# found from the layout, tests/unit mirroring src/hypotrack (unit_tests); only the crosscheck,
+# property and package-wide tests that also guard a module are listed by hand.
+SOURCES = {
+    "gaussian": ["src/hypotrack/gaussian.py"],
+    "metrics": ["src/hypotrack/metrics.py"],
+    "hypotheses": ["src/hypotrack/hypotheses/*"],
+    "association": ["src/hypotrack/association/*"],
+    "trackers": ["src/hypotrack/trackers/*"],
 }
+CATALOGUE = "tests/unit/test_bad_input_catalogue.py"  # bad input at every public entry point
+STEPS = "tests/unit/test_protocol_transactional.py"  # every tracker's step is all-or-nothing
+EXTRA_TESTS = {
+    "gaussian": [CATALOGUE],
+    "metrics": ["tests/property/test_metrics_properties.py", CATALOGUE],
+    "hypotheses": ["tests/crosscheck/test_equivalence_glmb.py", "tests/property/test_pretrim_exact.py",
+                   "tests/property/test_hypotheses_properties.py", STEPS, CATALOGUE],
+    "association": ["tests/property/test_association_assignment_properties.py",
+                    "tests/property/test_association_clustering_properties.py",
+                    "tests/property/test_association_enumeration_properties.py",
+                    "tests/crosscheck/test_cardinality_assignment.py",
+                    "tests/unit/hypotheses/test_glmb_exact.py",  # the Gibbs sweeps against exhaustive enumeration
+                    CATALOGUE],
+    "trackers": ["tests/crosscheck/test_stonesoup_sht.py", STEPS, CATALOGUE],
+}
+# Imported by the tests (``from scenes import ...``; the scratch pyproject puts tests/ on the path).
+TEST_HELPERS = ["tests/scenes.py"]
+
+
+def unit_tests(source: str, root: Path = ROOT) -> list:
+    """The unit tests of a source file or subpackage, from the mirrored layout: the tests of
+    ``src/hypotrack/a/b.py`` are ``tests/unit/a/test_b*.py`` (a leading underscore of the module
+    dropped), those of a subpackage ``src/hypotrack/a/*`` every ``test_*.py`` under ``tests/unit/a/``."""
+    rel = Path(source).relative_to("src/hypotrack")
+    folder = root / "tests" / "unit" / rel.parent
+    found = folder.rglob("test_*.py") if rel.name == "*" else folder.glob(f"test_{rel.stem.lstrip('_')}*.py")
+    return sorted(p.relative_to(root).as_posix() for p in found)
+
+
+def module_tests(module: str, root: Path = ROOT) -> list:
+    """The test files run against ``module``'s mutants: its unit tests, then its listed extras."""
+    derived = [t for source in SOURCES[module] for t in unit_tests(source, root)]
+    return list(dict.fromkeys(derived + EXTRA_TESTS.get(module, [])))
+
+
+MODULES = {module: (sources, module_tests(module)) for module, sources in SOURCES.items()}
 
 # mutmut 3 exit codes (mutmut.stats.status_by_exit_code)
 # (-11: the tests crashed with SIGSEGV, e.g. a mutant indexing out of bounds in compiled code: detected;
@@ -117,11 +134,12 @@ def prepare_files(module: str, only, work: Path) -> int:
     """Copy the source and the module's tests into ``work`` and write its pyproject; the number of test files."""
     tests = MODULES[module][1]
     shutil.copytree(ROOT / "src", work / "src", ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"))
-    for t in tests:
+    for t in [*tests, *TEST_HELPERS]:
         (work / t).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(ROOT / t, work / t)
     base = tomllib.loads((ROOT / "pyproject.toml").read_text()).get("tool", {}).get("mutmut", {})
-    lines = ["[tool.pytest.ini_options]", 'addopts = "-p no:cacheprovider"', "", "[tool.mutmut]"]
+    lines = ["[tool.pytest.ini_options]", 'addopts = "-p no:cacheprovider"', 'pythonpath = ["tests"]', "",
+             "[tool.mutmut]"]
     opts = {**base, "source_paths": ["src/hypotrack"], "only_mutate": only,
             "pytest_add_cli_args_test_selection": tests}
     for k, v in opts.items():

@@ -4,7 +4,8 @@ import pandas as pd
 
 from hypotrack.reporting import figure_style
 
-from hypotrack.scenarios.ssa import params_from_config, plot_scenario, read_prior
+from hypotrack.experiments.ssa.scenario_figures import plot_scenario
+from hypotrack.scenarios.ssa import params_from_config, read_prior
 from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job

@@ -5,6 +5,10 @@ association event is an int vector ``a`` of length ``m``; ``a[i] = j`` (``0 <= j
 return ``i`` to object ``j`` and ``a[i] = -1`` makes it clutter (or, in a hypothesis filter, a
 birth handled by the caller's extra columns). Non-negative entries are distinct; objects not
 named in ``a`` are missed detections.
+
+The samplers that search the events of one parent hypothesis (R-FISST's MCMC chain, the Gibbs sweeps
+of the δ-GLMB filter) are :mod:`hypotrack.association.samplers`, imported on their own (compiled with
+numba).
 """
 
 from .assignment import (

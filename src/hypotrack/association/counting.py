@@ -19,7 +19,7 @@ import numpy as np
 from .._validation import check_int
 from .clustering import check_validation, component_labels
 
-__all__ = ["count_associations", "count_children", "count_gated_associations"]
+__all__ = ["as_validation", "count_associations", "count_children", "count_gated_associations", "count_gated_capped"]
 
 # Exact component counts by the frontier dynamic programme are cheap while at most this many
 # columns are open at once (2**20 states at worst); wider components are counted up to a cap.
@@ -48,6 +48,15 @@ def count_associations(M: int, m: int) -> int:
     --------
     >>> count_associations(10, 5)
     63591
+
+    By hand: two objects and two returns give ``1 + 2·2 + 2 = 7`` events (none detected, one of
+    two objects on one of two returns, both detected in one of two pairings); three objects and
+    two returns ``1 + 3·2 + 3·1·2 = 13``, as two objects and three returns:
+
+    >>> count_associations(2, 2), count_associations(3, 2), count_associations(2, 3)
+    (7, 13, 13)
+    >>> count_associations(0, 4), count_associations(1, 1)
+    (1, 2)
     """
     M = check_int(M, "M", minimum=0)
     m = check_int(m, "m", minimum=0)
@@ -95,7 +104,9 @@ def count_children(M: int, m: int, n_birth_regions: int = 0, n_deaths: int = 0) 
     return total
 
 
-def _as_validation(allowed, n_tracks: int, n_meas: int) -> np.ndarray:
+def as_validation(allowed, n_tracks: int, n_meas: int) -> np.ndarray:
+    """The validated ``(n_meas, n_tracks)`` bool validation (gating) matrix ``allowed``; a wrong shape is an
+    error naming both shapes."""
     arr = check_validation(allowed, "allowed")
     if arr.shape != (n_meas, n_tracks):
         raise ValueError(
@@ -182,11 +193,12 @@ def count_gated_associations(allowed, cap: int | None = None) -> int:
     int
         The count (exact when ``cap`` is None or the count is ``<= cap``).
     """
-    return _count_gated(allowed, cap)[0]
+    return count_gated_capped(allowed, cap)[0]
 
 
-def _count_gated(allowed, cap: int | None) -> tuple[int, bool]:
-    """:func:`count_gated_associations` plus a flag telling whether the count is exact."""
+def count_gated_capped(allowed, cap: int | None) -> tuple[int, bool]:
+    """:func:`count_gated_associations` plus a flag telling whether the count is exact (``False``: a wide
+    component was counted only up to ``cap``, and the count is a lower bound above ``cap``)."""
     arr = check_validation(allowed, "allowed")
     if cap is not None:
         cap = check_int(cap, "cap", minimum=0)

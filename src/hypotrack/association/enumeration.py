@@ -26,7 +26,7 @@ import numba
 import numpy as np
 
 from .._validation import check_int
-from .counting import _as_validation, _count_gated, count_associations
+from .counting import as_validation, count_associations, count_gated_capped
 
 __all__ = ["EnumerationBudgetError", "enumerate_associations", "iter_association_chunks", "event_dtype"]
 
@@ -98,7 +98,7 @@ def _prepare(n_tracks, n_meas, allowed):
     m = check_int(n_meas, "n_meas", minimum=0)
     if allowed is None:
         return n, m, np.ones((m, n), dtype=np.bool_), None
-    gate = np.ascontiguousarray(_as_validation(allowed, n, m))
+    gate = np.ascontiguousarray(as_validation(allowed, n, m))
     return n, m, gate, gate
 
 
@@ -138,7 +138,7 @@ def enumerate_associations(n_tracks: int, n_meas: int, allowed=None, max_events:
     if given is None:
         count, exact = count_associations(n, m), True
     else:
-        count, exact = _count_gated(given, budget)
+        count, exact = count_gated_capped(given, budget)
     if count > budget:
         raise EnumerationBudgetError(count, budget, exact=exact)
     out = np.empty((count, m), dtype=event_dtype(n))

@@ -1,6 +1,6 @@
 """numba's ``np.random.random`` stream as a local, buffered generator for compiled chains.
 
-A compiled MCMC chain (:mod:`.mcmc`) draws two or three uniforms per proposal. numba's
+A compiled MCMC chain (:mod:`.samplers.chain`) draws two or three uniforms per proposal. numba's
 ``np.random.random()`` reads the thread's Mersenne Twister state through a pointer, tempers two
 32-bit words and converts them one draw at a time; here the state lives in a local array and
 every refill of 624 words is tempered and converted in one loop into 312 doubles, which the

@@ -142,12 +142,13 @@ class SHTStepper:
             raise ValueError(f"algorithm must be 'gnn' or 'jpda', got {algorithm!r}")
         self.tracker = SingleHypothesisTracker(motion, model, association=algorithm, gnn_score="mahalanobis",
                                                max_misses=10**9)
-        self.tracker.initialise(initial_states, initial_covs, start_time)
+        self.tracker.initialise(initial_states, initial_covs, time=start_time)
         self.scans = scans
         self.clusters = clusters
 
     def step(self, k):
-        self.tracker.step(self.scans[k])
+        t, Z = self.scans[k]
+        self.tracker.step(Z, t)
 
     def record(self, run: BenchmarkRun):
         tr = self.tracker

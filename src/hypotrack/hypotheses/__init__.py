@@ -29,7 +29,7 @@ from .hypothesis import ChildSet, Hypothesis
 from .population_events import BinomialPopulation, SingleEventPopulation
 from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from .posterior import HypothesisEstimate, Posterior
-from .presets import glmb, glmb_murty, hfisst, homht, homht_kbest, rfisst
+from .presets import fisst_kbest, glmb, glmb_murty, hfisst, homht, homht_kbest, rfisst
 from .scan_context import ScanContext
 from .tracks import TrackStore
 from .weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights, WeightModel, make_weight_model
@@ -68,6 +68,7 @@ __all__ = [
     "rfisst",
     "homht",
     "homht_kbest",
+    "fisst_kbest",
     "glmb",
     "glmb_murty",
 ]

@@ -27,7 +27,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..association.mcmc import check_problem, checked_event_log_weights
+from ..association.samplers import check_problem, checked_event_log_weights
 
 __all__ = ["AssociationProblem", "CLUTTER", "SEEDED_BIRTH"]
 
@@ -109,7 +109,7 @@ class AssociationProblem:
     @cached_property
     def checked(self) -> tuple:
         """``(score, n_objects, n_exclusive, count_term)`` validated once
-        (:func:`hypotrack.association.mcmc.check_problem`) for the searches and weights of this problem."""
+        (:func:`hypotrack.association.samplers.check_problem`) for the searches and weights of this problem."""
         return check_problem(self.score, self.n_objects, self.n_exclusive, self.count_term)
 
     def log_weights(self, events) -> np.ndarray:

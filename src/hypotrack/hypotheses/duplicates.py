@@ -153,8 +153,11 @@ def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth:
     log-sum-exp of theirs; its cap key (the log-weight, or the log-weight plus a Gumbel draw
     for the sampled cap) moves by the same amount, so the sampled cap still draws each
     distinct hypothesis with one Gumbel key. The order of the remaining children is kept.
+    ``keys`` has one entry per child, shape ``(len(children),)``.
     """
     E = len(children)
+    if np.ndim(keys) != 1 or len(keys) != E:
+        raise ValueError(f"keys must have shape ({E},), one cap key per child, got shape {np.shape(keys)}")
     if E < 2:
         return children, keys, 0
     lens = np.array([len(track_lists[p]) for p in children.parent], dtype=np.int64)

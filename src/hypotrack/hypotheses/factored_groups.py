@@ -2,7 +2,7 @@
 
 A *group* is a hypothesis set over its own objects — a :class:`~.tracks.TrackStore`,
 normalised log-weights and, per hypothesis, the indices of its tracks: the state of a
-:class:`~.filter.HypothesisFilter` (:class:`GroupState`). The factored posterior is the
+:class:`~.filter.HypothesisFilter` (:class:`~.state.FilterState`, here also called :data:`GroupState`). The factored posterior is the
 product of the groups': a joint hypothesis takes one hypothesis of every group, its weight is
 the product, its tracks the union (the labeled-RFS product of independent labeled sets, Beard,
 Vo & Vo, "A solution for large-scale multi-object tracking", IEEE TSP 68, 2020, Sec. III).
@@ -25,33 +25,21 @@ Vo & Vo, "A solution for large-scale multi-object tracking", IEEE TSP 68, 2020, 
 
 from __future__ import annotations
 
-import copy
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..association.clustering import graph_components
 from .generators import top_k
-from .population_lmb import LabeledMultiBernoulliPopulation
+from .state import FilterState
 from .tracks import TrackStore
 
 __all__ = ["GroupState", "SplitRecord", "product", "factorise", "restrict_population", "components"]
 
 
-@dataclass(frozen=True, eq=False)
-class GroupState:
-    """Hypotheses of one group: ``log_w`` (H,), per hypothesis its track indices into ``store``,
-    and a hashable lineage key per hypothesis."""
-
-    store: TrackStore
-    log_w: np.ndarray
-    tracks: list
-    keys: list
-
-    @property
-    def labels(self) -> np.ndarray:
-        """The object labels held by some hypothesis of the group."""
-        return np.unique(self.store.labels) if len(self.store) else np.zeros(0, dtype=np.int64)
+GroupState = FilterState
+"""A group's hypotheses: the engine's :class:`~.state.FilterState` (its ``next_label`` unused, 0:
+the factored filter numbers newborn objects itself)."""
 
 
 def _concat(stores, ndim):
@@ -208,23 +196,6 @@ def components(n_nodes: int, n_returns: int, node, ret):
     return graph_components(n_nodes + n_returns, node, np.asarray(ret, dtype=np.int64) + n_nodes)
 
 
-class _RemappedCache(dict):
-    """A population's undetected-birth cache seen through a subset of its birth regions."""
-
-    def __init__(self, base: dict, regions):
-        super().__init__()
-        self.base, self.regions = base, [int(r) for r in regions]
-
-    def __contains__(self, i):
-        return self.regions[i] in self.base
-
-    def __getitem__(self, i):
-        return self.base[self.regions[i]]
-
-    def __setitem__(self, i, value):
-        self.base[self.regions[i]] = value
-
-
 def restrict_population(population, regions):
     """The population with only birth terms/regions ``regions`` (all their other terms unchanged).
 
@@ -234,15 +205,4 @@ def restrict_population(population, regions):
     the restriction is exact; the single-event population's ``P(no event)`` is then evaluated per
     group (see :mod:`.factored`).
     """
-    if population is None:
-        return None
-    regions = np.asarray(regions, dtype=np.int64)
-    if len(regions) == population.n_birth_regions and np.array_equal(regions, np.arange(len(regions))):
-        return population
-    sub = copy.copy(population)
-    sub.birth_densities = tuple(population.birth_densities[r] for r in regions)
-    if isinstance(population, LabeledMultiBernoulliPopulation):
-        sub.r_birth = population.r_birth[regions]
-    if hasattr(population, "_undetected_cache"):
-        sub._undetected_cache = _RemappedCache(population._undetected_cache, regions)
-    return sub
+    return None if population is None else population.restricted_to(regions)

@@ -26,7 +26,8 @@ One ``step(Z)``:
 
 from __future__ import annotations
 
-import time
+import copy
+import time as _clock
 
 import numpy as np
 from .._logspace import logsumexp
@@ -38,6 +39,7 @@ from .._validation import (
     check_measurements,
     check_positive,
     check_probability,
+    check_seed,
     check_state_dimension,
 )
 from ..association import gate_threshold, validation_matrix
@@ -46,7 +48,9 @@ from .duplicates import child_pairs, merge_duplicates
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
 from .posterior import summarise
+from ..protocol import TrackEstimates
 from .scan_context import ScanContext
+from .state import FilterState, StepResult, check_finite_float, scan_interval
 from .tracks import TrackStore, update_pairs
 from .weights import WeightModel
 
@@ -116,6 +120,13 @@ class HypothesisFilter:
         Merge identical children (the same tracks, from different parents) by adding their weights
         before the cap (:mod:`.duplicates`); on by default. ``False`` keeps every copy (the engine
         before duplicate merging; a comparison only).
+
+    Attributes
+    ----------
+    time : float
+        Time of the last scan (or of :meth:`initialise`); :meth:`step` predicts from it.
+    state : FilterState
+        The hypotheses (:mod:`.state`); :meth:`advance` maps a state to the next.
     """
 
     def __init__(self, motion, sensor, weights: WeightModel, generator: ChildGenerator, *, population=None,
@@ -152,60 +163,122 @@ class HypothesisFilter:
             else check_probability(gate_probability, "gate_probability", low_open=True, high_open=True)
         )
         self.p_D = p_D
-        self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed)
+        self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))
         self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
         self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
         check_state_dimension(motion, self.H.shape[1], f"the sensor (H of shape {self.H.shape})")
         self.last_stats = {}
         self.initialise(np.zeros((0, self.H.shape[1])) if means is None else means, covs, labels)
 
+    _OPTIONS = ("motion", "sensor", "weights", "generator", "population", "dt", "max_hypotheses", "cap",
+                "gate_probability", "seed", "merge_duplicates")
+
+    def configuration(self) -> dict:
+        """The constructor's keywords that configure this filter (everything but the initial objects
+        and ``seed``): ``HypothesisFilter(**f.configuration(), seed=...)`` is a filter configured as ``f``."""
+        return dict(motion=self.motion, sensor=self.sensor, weights=self.weights, generator=self.generator,
+                    population=self.population, dt=self.dt, max_hypotheses=self.max_hypotheses, cap=self.cap,
+                    gate_probability=self.gate_probability, merge_duplicates=self.merge_duplicates)
+
+    def with_options(self, **changes) -> "HypothesisFilter":
+        """A filter with this one's configuration, ``changes`` applied, and no hypotheses yet.
+
+        ``changes``: any keyword of :meth:`configuration`, or ``seed`` (default: a copy of this
+        filter's random generator, so the copy draws what this one would). The copy starts from the
+        empty hypothesis at time 0 (give it a state with :attr:`state` or :meth:`initialise`); this
+        filter is not changed. Only the changed options are validated (the others were), so a copy
+        is cheap: the factored engine makes one per group and scan.
+        """
+        unknown = set(changes) - set(self._OPTIONS)
+        if unknown:
+            raise ValueError(f"unknown options {sorted(unknown)}; allowed: {', '.join(self._OPTIONS)}")
+        if {"motion", "sensor", "weights", "generator", "dt", "max_hypotheses", "cap", "gate_probability"} & set(changes):
+            options = {**self.configuration(), "seed": copy.deepcopy(self.rng), **changes}
+            return HypothesisFilter(**options)
+        new = copy.copy(self)  # the models are shared, never written: only the options below change
+        if "population" in changes:
+            new.set_population(changes["population"])
+        if "merge_duplicates" in changes:
+            new.merge_duplicates = bool(changes["merge_duplicates"])
+        seed = changes.get("seed")
+        new.rng = copy.deepcopy(self.rng) if "seed" not in changes else (
+            seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed))
+        new.last_stats = {}
+        new.initialise(np.zeros((0, self.H.shape[1])))
+        return new
+
+    def set_population(self, population) -> None:
+        """Use ``population`` (birth/death model, or ``None``) from the next scan on."""
+        if population is not None and self.weights.seeded_births and population.n_birth_regions:
+            raise ValueError("HOMHT's seeded births and population birth regions are two birth models; use one")
+        self.population = population
+
     # ------------------------------------------------------------------ state
-    def initialise(self, means, covs=None, labels=None):
-        """Start from one hypothesis holding ``n`` objects (``n = 0`` allowed), weight 1."""
+    def initialise(self, means, covs=None, labels=None, *, time: float = 0.0):
+        """Start from one hypothesis holding ``n`` objects (``n = 0`` allowed), weight 1, at ``time``."""
         d = self.H.shape[1]
         means = np.asarray(means, dtype=float)
-        if means.size == 0:
-            self._store = TrackStore.from_arrays(np.zeros((0, d)), None, ndim=d)
-        else:
+        if means.size:
             means = check_finite_array(np.atleast_2d(means), "means", shape=(None, d))
-            if covs is None:
-                raise ValueError("covs are required with means")
-            self._store = TrackStore.from_arrays(means, covs, labels)
-        self._log_w = np.zeros(1)
-        self._tracks = [np.arange(len(self._store), dtype=np.int64)]
-        self._next_label = int(self._store.labels.max()) + 1 if len(self._store) else 0
+        self.time = check_finite_float(time, "time")
+        self._state = FilterState.initial(means, covs, labels, ndim=d)
         self.scan_index = 0
         self.last_kept = None  # ChildSet of the current hypotheses: parent, event, kind, arg
         self.last_track_sources = None
-        self._keys = [()]
+
+    @property
+    def state(self) -> FilterState:
+        """The hypotheses (:class:`~.state.FilterState`; immutable: a step makes a new one).
+
+        Assigning a state (e.g. one saved earlier, or a group's) makes it the filter's."""
+        return self._state
+
+    @state.setter
+    def state(self, state: FilterState) -> None:
+        if not isinstance(state, FilterState):
+            raise TypeError(f"state must be a FilterState, got {type(state).__name__}")
+        if state.store.ndim != self.H.shape[1] or not len(state.tracks) == len(state.log_w) == len(state.keys):
+            raise ValueError("state must hold one track list and key per weight, tracks of the sensor's dimension")
+        self._state = state
 
     @property
     def hypotheses(self) -> list[Hypothesis]:
-        return [Hypothesis(float(w), tuple(int(j) for j in t)) for w, t in zip(self._log_w, self._tracks)]
+        return [Hypothesis(float(w), tuple(int(j) for j in t)) for w, t in zip(self._state.log_w, self._state.tracks)]
+
+    @property
+    def sensor_parameters(self) -> tuple:
+        """The sensor parameters this filter's weights use (:attr:`WeightModel.sensor_parameters`), e.g.
+        H-FISST/R-FISST: the clutter region but not ``clutter.rate``, which changes none of their weights."""
+        return self.weights.sensor_parameters
 
     @property
     def store(self) -> TrackStore:
-        return self._store
+        return self._state.store
 
     @property
     def log_weights(self) -> np.ndarray:
         """Normalised log-weights of the current hypotheses (internal order)."""
-        return self._log_w.copy()
+        return self._state.log_w.copy()
 
     @property
     def track_lists(self) -> list:
         """Per hypothesis, the indices of its tracks in :attr:`store` (internal order)."""
-        return [t.copy() for t in self._tracks]
+        return [t.copy() for t in self._state.tracks]
 
     @property
     def lineage_keys(self) -> list:
         """Per hypothesis, a hashable key of its whole history (the population event and
         association event of every scan), identical across filters that generated the same
         hypothesis — e.g. to compare H-FISST and HOMHT hypothesis by hypothesis."""
-        return list(self._keys)
+        return list(self._state.keys)
+
+    @property
+    def next_label(self) -> int:
+        """The label the next newborn track gets."""
+        return self._state.next_label
 
     # ------------------------------------------------------------------ scan
-    def _track_scores(self, pred: TrackStore, Z):
+    def track_scores(self, pred: TrackStore, Z):
         """``(loglik (m, n), allowed (m, n), p_detect (n,))`` of returns ``Z`` against the predicted
         tracks: the track columns of the scan's :class:`ScanContext` (also used, group by group,
         by :class:`~.factored.FactoredFilter`)."""
@@ -224,9 +297,11 @@ class HypothesisFilter:
             allowed = validation_matrix(d2, gate_threshold(self.gate_probability, self.H.shape[0]))
         return loglik, allowed, np.where(in_view, self.p_D, 0.0)
 
-    def _context(self, pred: TrackStore, Z) -> ScanContext:
+    def scan_context(self, pred: TrackStore, Z) -> ScanContext:
+        """The :class:`ScanContext` of returns ``Z`` against the predicted tracks ``pred`` and the
+        population's birth terms (document 000 Eq. 8, 18, 30)."""
         m = len(Z)
-        loglik, allowed, p_detect = self._track_scores(pred, Z)
+        loglik, allowed, p_detect = self.track_scores(pred, Z)
         clutter = self.sensor.clutter
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))
@@ -237,17 +312,33 @@ class HypothesisFilter:
             clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area),
         )
 
-    def _parent_children(self, ctx, h, keep, keys_rng):
-        """Association children and twins of parent ``h``, reduced to the best ``keep``.
+    def predict(self, store: TrackStore, interval: float) -> TrackStore:
+        """``store`` predicted over ``interval`` (batched EKF); a zero interval is no prediction at
+        all — the moments are returned as they are (no motion, no process noise)."""
+        return store if interval == 0 else store.predict(self.motion, interval)
+
+    # ------------------------------------------------------------ extension points
+    def parent_generators(self, state: FilterState) -> list:
+        """Extension point: the child generator of each parent of ``state`` (called once per scan
+        by :meth:`advance`). Default: the filter's generator for every parent. Override to give
+        parents different budgets, e.g. the GLMB demo's Gibbs samples allotted by ``√w``
+        (:class:`hypotrack.experiments.glmb_benchmark.reference.SqrtAllocationFilter`)."""
+        return [self.generator] * len(state.log_w)
+
+    def children_of(self, ctx: ScanContext, state: FilterState, h: int, keep, keys_rng, generator=None):
+        """Extension point: association children and twins of parent ``h`` of ``state``, reduced to the best ``keep``.
 
         "Best" is by log-weight, or by Gumbel-perturbed log-weight (``keys_rng`` given) for the
-        weighted sample; the keys are returned so that the global cap uses the same draw.
+        weighted sample; the keys are returned so that the global cap uses the same draw. Returns
+        ``(ChildSet, keys, n_generated, log mass generated, n_twins)``. ``generator``: the parent's
+        child generator (default the filter's; see :meth:`parent_generators`).
         """
-        tr = self._tracks[h]
+        generator = self.generator if generator is None else generator
+        tr = state.tracks[h]
         pop = self.population
         if hasattr(pop, "children"):
             # Population models that generate whole children themselves (labeled multi-Bernoulli).
-            ev, kind, arg, lw = pop.children(self.weights, self.generator, ctx, tr, float(self._log_w[h]), self.rng,
+            ev, kind, arg, lw = pop.children(self.weights, generator, ctx, tr, float(state.log_w[h]), self.rng,
                                              keep=keep if keys_rng is None else None)
             keys = _gumbel_keys(lw, keys_rng)
             mass = np.logaddexp.reduce(lw) if len(lw) else -np.inf
@@ -259,11 +350,11 @@ class HypothesisFilter:
         in_view = p > 0
         n_view = int(in_view.sum())
         pop_lp = pop.log_event_prob(n_view, len(tr)) if pop is not None else None
-        problem = self.weights.problem(ctx, tr, float(self._log_w[h]), pop_lp)
+        problem = self.weights.problem(ctx, tr, float(state.log_w[h]), pop_lp)
         gen_keep = None
         if keep is not None and keys_rng is None and (pop is None or _twins_never_heavier(pop, ctx, p, in_view)):
             gen_keep = keep
-        events, lw = self.generator.generate(problem, self.rng, keep=gen_keep)
+        events, lw = generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
         n_generated = len(lw)
         mass = [np.logaddexp.reduce(lw)] if len(lw) else []
@@ -318,78 +409,120 @@ class HypothesisFilter:
         arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
         return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
 
+
+    @staticmethod
+    def _candidates(events, tw, kind, keep, keys_rng, mass):
+        """Children from an (E, K) matrix of log-weights (−inf = no such child), with their keys.
+
+        Column ``c`` of ``tw`` is the child's argument (birth region, dead object); association
+        children come as a single column with argument −1.
+        """
+        finite = np.isfinite(tw)
+        rows, cols = np.nonzero(finite)
+        vals = tw[rows, cols]
+        if mass is not None and len(vals):
+            mass.append(np.logaddexp.reduce(vals))  # diagnostics only; ufunc, no per-call overhead
+        keys = _gumbel_keys(vals, keys_rng)
+        if keep is not None and len(vals) > keep:
+            sel = top_k(keys, keep)
+            rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
+        arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
+        return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
+
     def expand(self, Z, dt=None) -> ChildSet:
         """All children of the current hypotheses for scan ``Z``, unnormalised, nothing kept.
 
         For inspection and tests: the filter's state is not changed (MCMC generators do use the
-        filter's random generator).
+        filter's random generator). ``dt``: the interval (default the filter's ``dt``; 0: no prediction).
         """
-        dt = self.dt if dt is None else check_positive(dt, "dt")
-        pred = self._store.predict(self.motion, dt)
+        interval, _ = scan_interval(self.time, dt=dt, default=self.dt)
+        state = self._state
+        pred = self.predict(state.store, interval)
         Z = check_measurements(Z, "Z", self.H.shape[0])
-        ctx = self._context(pred, Z)
-        parts = [self._parent_children(ctx, h, None, None)[0] for h in range(len(self._log_w))]
+        ctx = self.scan_context(pred, Z)
+        gens = self.parent_generators(state)
+        parts = [self.children_of(ctx, state, h, None, None, gens[h])[0] for h in range(len(state.log_w))]
         return ChildSet.concatenate(parts, len(Z))
 
-    def step(self, Z, dt=None):
-        """Advance one scan with returns ``Z`` (m, p); ``m = 0`` is a scan with no returns.
+    def step(self, Z, time=None, *, dt=None):
+        """Advance one scan with returns ``Z`` (m, p) observed at ``time``; ``m = 0`` is a scan with no returns.
+
+        ``time``: the scan's absolute time; the filter predicts over ``time − self.time`` (``dt``:
+        give the interval instead; neither: the filter's ``dt``). A zero interval is an update
+        without prediction: the tracks' moments enter the update as they are — no motion, no
+        process noise (:meth:`predict`). The population events are those of a scan all the same:
+        the population models of this package have no interval in them (a death or birth
+        probability is per scan, :mod:`.population_events`, :mod:`.population_lmb`), so with a
+        population a zero-interval scan is still a scan for births and deaths. A negative interval
+        raises ``ValueError``.
 
         Returns the :class:`Posterior` after the scan. All-or-nothing: if the step raises (bad
         scan, a generator over its budget, no child left), the filter — hypotheses, tracks,
-        scan index and the random generator's state — is as before, so the scan can be retried.
+        time, scan index and the random generator's state — is as before, so the scan can be retried.
         """
         rng_state = self.rng.bit_generator.state
         try:
-            return self._step(Z, dt)
+            return self._step(Z, time, dt)
         except BaseException:
             self.rng.bit_generator.state = rng_state
             raise
 
-    def _step(self, Z, dt):
-        t0 = time.perf_counter()
-        dt = self.dt if dt is None else check_positive(dt, "dt")
+    def _step(self, Z, time, dt):
+        t0 = _clock.perf_counter()
+        interval, now = scan_interval(self.time, time, dt, self.dt)
         Z = check_measurements(Z, "Z", self.H.shape[0])
-        pred = self._store.predict(self.motion, dt)
-        return self._advance(pred, self._context(pred, Z), t0)
+        pred = self.predict(self._state.store, interval)
+        result = self.advance(self._state, pred, self.scan_context(pred, Z))
+        result.stats["time_total"] = _clock.perf_counter() - t0
+        self._state, self.time = result.state, now
+        self.scan_index += 1
+        self.last_stats, self.last_kept, self.last_track_sources = result.stats, result.kept, result.sources
+        return self.posterior()
 
-    def _advance(self, pred: TrackStore, ctx: ScanContext, t0: float):
-        """Children of every hypothesis for the scan of ``ctx`` (tracks predicted in ``pred``),
-        duplicates merged, capped and materialised."""
+    def advance(self, state: FilterState, pred: TrackStore, ctx: ScanContext) -> StepResult:
+        """The state after one scan: children of every hypothesis of ``state`` for the scan of
+        ``ctx`` (their tracks predicted in ``pred``, entry for entry of ``state.store``), duplicates
+        merged, capped and materialised (module docstring, steps 3–5; document 000 Eq. 11, 19).
+
+        Draws from the filter's random generator and changes nothing else: the filter's own state
+        is the :meth:`step`'s business. Newborn tracks are labelled from ``state.next_label``.
+        """
+        t0 = _clock.perf_counter()
         keys_rng = self.rng if self.cap == "sample" else None
+        gens = self.parent_generators(state)
         parts, all_keys, n_gen, n_twins, masses = [], [], 0, 0, []
-        t1 = time.perf_counter()
-        for h in range(len(self._log_w)):
-            cs, keys, ng, mass, nt = self._parent_children(ctx, h, self.max_hypotheses, keys_rng)
+        t1 = _clock.perf_counter()
+        for h in range(len(state.log_w)):
+            cs, keys, ng, mass, nt = self.children_of(ctx, state, h, self.max_hypotheses, keys_rng, gens[h])
             parts.append(cs)
             all_keys.append(keys)
             n_gen += ng
             n_twins += nt
             masses.append(mass)
-        t2 = time.perf_counter()
+        t2 = _clock.perf_counter()
         children = ChildSet.concatenate(parts, ctx.n_returns)
         if len(children) == 0:
             raise RuntimeError("no child hypothesis has a positive weight (every event was gated out or forbidden)")
         if self.merge_duplicates:
-            children, all_keys, n_dup = merge_duplicates(children, np.concatenate(all_keys), self._tracks,
+            children, all_keys, n_dup = merge_duplicates(children, np.concatenate(all_keys), state.tracks,
                                                          ctx.n_birth_regions)
         else:
             all_keys, n_dup = np.concatenate(all_keys), 0
         sel = top_k(all_keys, self.max_hypotheses)
         kept = children.take(sel)
-        n_updates = self._materialise(kept, pred, ctx)
+        new, sources, n_updates = self._materialise(state, kept, pred, ctx)
         log_total = logsumexp(masses)
-        self.scan_index += 1
-        self.last_stats = {
+        stats = {
             "n_parents": len(parts), "n_association_children": n_gen, "n_twin_children": n_twins,
             "n_duplicates_merged": n_dup,
             "n_kept": len(kept), "log_mass_generated": float(log_total),
             "mass_retained": float(np.exp(logsumexp(kept.log_weights) - log_total)),
-            "n_kalman_updates": n_updates, "time_generate": t2 - t1, "time_total": time.perf_counter() - t0,
+            "n_kalman_updates": n_updates, "time_generate": t2 - t1, "time_total": _clock.perf_counter() - t0,
         }
-        return self.posterior()
+        return StepResult(new, sources, kept, stats, new.next_label - state.next_label)
 
-    def _materialise(self, kept: ChildSet, pred: TrackStore, ctx: ScanContext) -> int:
-        """New store and hypotheses from the kept children; returns the number of Kalman updates."""
+    def _materialise(self, state: FilterState, kept: ChildSet, pred: TrackStore, ctx: ScanContext):
+        """The new state from the kept children; returns ``(state, track sources, Kalman updates)``."""
         pair_index = {}
         pairs = []
         new_lists = []
@@ -397,7 +530,7 @@ class HypothesisFilter:
         seeded_src = -1 - B
         for c in range(len(kept)):
             idx = []
-            for key in child_pairs(kept, c, self._tracks[kept.parent[c]], B):
+            for key in child_pairs(kept, c, state.tracks[kept.parent[c]], B):
                 if key not in pair_index:
                     pair_index[key] = len(pairs)
                     pairs.append(key)
@@ -414,7 +547,7 @@ class HypothesisFilter:
         if old.any():
             means[old], covs[old] = update_pairs(pred, ctx.Z, self.H, self.R, src[old], ret[old])
             labels[old] = pred.labels[src[old]]
-        next_label = self._next_label
+        next_label = state.next_label
         for q in np.flatnonzero(~old):
             z = ctx.Z[ret[q]] if ret[q] >= 0 else None
             if src[q] == seeded_src:
@@ -423,25 +556,21 @@ class HypothesisFilter:
                 means[q], covs[q] = self.population.birth_track(int(-1 - src[q]), z, self.R)
             labels[q] = next_label
             next_label += 1
-        self._next_label = next_label
-        self._store = TrackStore(means, covs, labels)
         # (source, return) of each store entry: source >= 0 a predicted track, -1 - r birth term r,
         # -1 - B a seeded birth (read by the factored engine to place newborn objects)
-        self.last_track_sources = np.stack([src, ret], axis=1) if len(pairs) else np.zeros((0, 2), np.int64)
-        self._tracks = new_lists
-        self._keys = [
-            (self._keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())
-            for c in range(len(kept))
-        ]
-        self.last_kept = kept
-        self._log_w = kept.log_weights - logsumexp(kept.log_weights)
-        return n_updates
+        sources = np.stack([src, ret], axis=1) if len(pairs) else np.zeros((0, 2), np.int64)
+        keys = [(state.keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())
+                for c in range(len(kept))]
+        log_w = kept.log_weights - logsumexp(kept.log_weights)
+        return FilterState(TrackStore(means, covs, labels), log_w, new_lists, keys, next_label), sources, n_updates
 
     # ------------------------------------------------------------------ output
     def posterior(self, n_top: int = 10):
         """Cardinality distribution, expected number of objects and the top hypotheses."""
-        return summarise(self._log_w, self._tracks, self._store, n_top=n_top)
+        s = self._state
+        return summarise(s.log_w, s.tracks, s.store, n_top=n_top)
 
-    def estimates(self) -> np.ndarray:
-        """Means ``(n, d)`` of the objects of the maximum-a-posteriori hypothesis."""
-        return self.posterior(n_top=1).map_estimate.means
+    def estimates(self) -> TrackEstimates:
+        """The maximum-a-posteriori hypothesis's tracks at :attr:`time`: labels, means and covariances."""
+        e = self.posterior(n_top=1).map_estimate
+        return TrackEstimates(self.time, e.labels, e.means, e.covs)

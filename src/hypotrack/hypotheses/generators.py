@@ -22,7 +22,7 @@ log-weights (:meth:`AssociationProblem.log_weights`); ``keep`` asks for the ``ke
     k-th exact weight beats every unseen event's upper bound.
 :class:`MCMCGenerator`
     R-FISST (document 000 Sec. III): the distinct events an MCMC chain visits after burn-in, each
-    weighted exactly (:func:`hypotrack.association.mcmc.mcmc_search`).
+    weighted exactly (:func:`hypotrack.association.samplers.mcmc_search`).
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ from ..association import (
     murty_k_best,
 )
 from ..association.cardinality_assignment import cardinality_k_best
-from ..association.mcmc import MCMC_VARIANTS, _state_log_weight, checked_search, to_state
+from ..association.samplers import MCMC_VARIANTS, checked_search, state_log_weight, to_state
 from .association_problem import SEEDED_BIRTH, AssociationProblem
 
 __all__ = ["ChildGenerator", "ExhaustiveGenerator", "MurtyGenerator", "MCMCGenerator", "top_k"]
@@ -226,7 +226,7 @@ class MCMCGenerator(ChildGenerator):
     completion_rounds, completion_threshold :
         After the chain, add the single-move neighbours of the found children that weigh at
         least ``completion_threshold`` times the best (repeated ``completion_rounds`` times;
-        :func:`hypotrack.association.mcmc.neighbour_completion`). ``0`` rounds is the paper's
+        :func:`hypotrack.association.samplers.neighbour_completion`). ``0`` rounds is the paper's
         search alone. The chain finds the modes; the completion finds the light children next
         to them that a 10⁵-step chain meets too rarely (tests: every child above 10⁻⁶ found).
     """
@@ -269,7 +269,7 @@ class MCMCGenerator(ChildGenerator):
             init = _decode_enumerated(np.asarray(columns_to_event(cols, n_cols))[None], problem)[0]
         # Feasibility as problem.log_weights(init[None]) decides it (the same sum, in the same order).
         score, n_obj, n_excl, count_term = problem.checked
-        if not np.isfinite(problem.constant + _state_log_weight(score, to_state(init, n_excl), n_obj, n_excl, count_term)):
+        if not np.isfinite(problem.constant + state_log_weight(score, to_state(init, n_excl), n_obj, n_excl, count_term)):
             init = np.full(m, -1, dtype=np.int64)
         return init
 

@@ -28,6 +28,7 @@ Two models are offered:
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -71,12 +72,62 @@ def _region_loglik(densities, Z):
     return out
 
 
+class _RemappedCache(dict):
+    """A population's undetected-birth cache seen through a subset of its birth regions."""
+
+    def __init__(self, base: dict, regions):
+        super().__init__()
+        self.base, self.regions = base, [int(r) for r in regions]
+
+    def __contains__(self, i):
+        return self.regions[i] in self.base
+
+    def __getitem__(self, i):
+        return self.base[self.regions[i]]
+
+    def __setitem__(self, i, value):
+        self.base[self.regions[i]] = value
+
+
 class _Population:
+    """What every population model shares: birth terms, their likelihoods, newborn tracks, and the
+    memo ``undetected_cache`` (region → the moment-matched Gaussian of an undetected birth,
+    :func:`birth_prior_gaussian`; a cache only, it changes no number)."""
+
     birth_densities: tuple
 
     @property
     def n_birth_regions(self) -> int:
         return len(self.birth_densities)
+
+    def clear_cache(self) -> None:
+        """Forget the undetected-birth moments computed so far (after the birth terms changed)."""
+        self.undetected_cache = {}
+
+    def restricted_to(self, regions):
+        """This population with only birth terms ``regions`` (in that order), all else unchanged.
+
+        The copy shares this population's undetected-birth cache (through the regions' indices).
+        Used by the factored engine, which gives every birth term to one group per scan
+        (:func:`.factored_groups.restrict_population`)."""
+        regions = np.asarray(regions, dtype=np.int64)
+        if len(regions) == self.n_birth_regions and np.array_equal(regions, np.arange(len(regions))):
+            return self
+        sub = copy.copy(self)
+        sub.birth_densities = tuple(self.birth_densities[r] for r in regions)
+        sub.undetected_cache = _RemappedCache(self.undetected_cache, regions)
+        return sub
+
+    def with_birth_terms(self, terms, r_birth=None):
+        """A copy of this population with birth terms ``terms`` (and an empty cache).
+
+        ``r_birth``: each term's existence probability, for the labeled multi-Bernoulli population
+        (:class:`~.population_lmb.LabeledMultiBernoulliPopulation`); other models ignore it (the
+        binomial population's birth probability is its ``alpha``)."""
+        new = copy.copy(self)
+        new.birth_densities = tuple(terms)
+        new.clear_cache()
+        return new
 
     def birth_loglik(self, Z) -> np.ndarray:
         """(m, B) log-likelihood of each return under each birth pdf."""
@@ -89,9 +140,9 @@ class _Population:
         if z is None:
             if hasattr(d, "prior"):
                 return d.prior()
-            if region not in self._undetected_cache:
-                self._undetected_cache[region] = birth_prior_gaussian(d)
-            return self._undetected_cache[region]
+            if region not in self.undetected_cache:
+                self.undetected_cache[region] = birth_prior_gaussian(d)
+            return self.undetected_cache[region]
         return d.initial_state(z, R)
 
 
@@ -111,7 +162,7 @@ class SingleEventPopulation(_Population):
 
     model: object
     birth_densities: tuple = None
-    _undetected_cache: dict = field(default_factory=dict, repr=False)
+    undetected_cache: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self):
         if self.birth_densities is None:
@@ -170,7 +221,7 @@ class BinomialPopulation(_Population):
     alpha: float = 0.0
     p_survive: float = 1.0
     poisson_limit: bool = False
-    _undetected_cache: dict = field(default_factory=dict, repr=False)
+    undetected_cache: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self):
         self.birth_densities = tuple(self.birth_densities)

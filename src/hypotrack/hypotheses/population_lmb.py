@@ -130,7 +130,7 @@ class LabeledMultiBernoulliPopulation(_Population):
     birth_densities: tuple = ()
     r_birth: object = 0.0
     p_survive: float = 1.0
-    _undetected_cache: dict = field(default_factory=dict, repr=False)
+    undetected_cache: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self):
         self.birth_densities = tuple(self.birth_densities)
@@ -139,6 +139,24 @@ class LabeledMultiBernoulliPopulation(_Population):
             check_probability(x, "r_birth", low_open=True, high_open=True)
         self.r_birth = r
         self.p_survive = check_probability(self.p_survive, "p_survive", low_open=True)
+
+    def restricted_to(self, regions):
+        """This population with only birth terms ``regions`` and their ``r_B`` (see the base class)."""
+        sub = super().restricted_to(regions)
+        if sub is not self:
+            sub.r_birth = self.r_birth[np.asarray(regions, dtype=np.int64)]
+        return sub
+
+    def with_birth_terms(self, terms, r_birth=None):
+        """A copy with birth terms ``terms``, each of existence ``r_birth`` (in (0, 1), required)."""
+        if r_birth is None:
+            raise ValueError("r_birth is required: the existence probability of each new birth term")
+        new = super().with_birth_terms(terms)
+        r = np.broadcast_to(np.asarray(r_birth, dtype=float), (new.n_birth_regions,)).copy()
+        for x in r:
+            check_probability(x, "r_birth", low_open=True, high_open=True)
+        new.r_birth = r
+        return new
 
     def log_existence(self, n_objects: int):
         """``(log r, log(1 − r))`` per object row: ``p_S`` for the tracks, ``r_B`` for births."""

@@ -7,6 +7,7 @@ preset          weight model                       child generator
 ``rfisst``      H-FISST                             MCMC search (document 000 Sec. III)
 ``homht``       Reid (document 001 Eq. 30, 35)          exhaustive
 ``homht_kbest`` Reid                                Murty k-best
+``fisst_kbest`` FISST, Poisson clutter (001 Eq. 18)   Murty k-best
 ``glmb``        δ-GLMB joint prediction–update      Gibbs sampler (Vo, Vo & Hoang 2017)
 ``glmb_murty``  δ-GLMB joint prediction–update      Murty ranked assignment (Vo & Vo 2014)
 =============== ================================= =================================
@@ -31,10 +32,10 @@ from .generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from .gibbs import GibbsGenerator
 from .population_events import SingleEventPopulation
 from .population_lmb import LabeledMultiBernoulliPopulation
-from .weights import HFISSTWeights, ReidWeights
+from .weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
 from .weights_glmb import GLMBWeights
 
-__all__ = ["hfisst", "rfisst", "homht", "homht_kbest", "glmb", "glmb_murty"]
+__all__ = ["hfisst", "rfisst", "homht", "homht_kbest", "fisst_kbest", "glmb", "glmb_murty"]
 
 
 def _population(population):
@@ -52,19 +53,48 @@ def hfisst(motion, sensor, *, max_events=10**7, population=None, **options) -> H
 
     ``population`` may be a :class:`~hypotrack.models.population.SingleEventBirthDeath`
     (document 000 Eq. 30) or a :class:`~.population_events.BinomialPopulation` (document 001).
+    The sensor's clutter *rate* is not used: the weights take the clutter density ``1/V`` (the
+    clutter region) only (:class:`~.weights.HFISSTWeights`, ``filter.sensor_parameters``).
     """
     return _filter(motion, sensor, HFISSTWeights(), ExhaustiveGenerator(max_events=max_events), population, **options)
 
 
-def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, variant="paper", init="random", completion_rounds=2,
+def rfisst(motion, sensor, *, n_steps=10_000, burn_in=None, mcmc_variant="paper", init="random", completion_rounds=2,
            population=None, **options) -> HypothesisFilter:
     """R-FISST: H-FISST weights on the children found by the MCMC search (document 000 Sec. III).
 
-    ``n_steps`` proposals per parent per scan (document 000 Fig. 15 uses 100,000);
+    ``n_steps`` proposals per parent per scan (document 000 Fig. 15 uses 100,000) with the proposal
+    ``mcmc_variant`` (``"paper"``: document 000 Sec. III-B) from the start ``init``;
     ``completion_rounds`` rounds of this project's neighbour search after the chain
-    (:class:`MCMCGenerator`; ``0`` is the paper's chain alone).
+    (:class:`MCMCGenerator`; ``0`` is the paper's chain alone). As for :func:`hfisst`, the
+    sensor's clutter *rate* is not used, only the clutter density ``1/V``.
+
+    Examples
+    --------
+    Two objects (state ``(x, y, vx, vy)``), a 100 × 100 view with one clutter return expected per
+    scan, one scan with a return near each object and one far from both:
+
+    >>> import numpy as np
+    >>> from hypotrack.models import ConstantVelocity
+    >>> from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+    >>> view = Box([-50.0, -50.0], [50.0, 50.0])
+    >>> sensor = Sensor(LinearPositionSensor(0.5 * np.eye(2), 4), DetectionModel(0.9, view),
+    ...                 PoissonClutter(1.0, view))
+    >>> means = np.array([[0.0, 0.0, 1.0, 0.0], [20.0, 0.0, 0.0, 1.0]])
+    >>> covs = np.repeat(np.eye(4)[None], 2, axis=0)
+    >>> Z = np.array([[1.1, 0.2], [19.8, 1.1], [-30.0, 25.0]])
+    >>> f = rfisst(ConstantVelocity(0.1), sensor, n_steps=500, means=means, covs=covs, seed=0)
+    >>> post = f.step(Z)
+
+    The chain visits a few of the 13 possible associations (``count_associations(2, 3)``), among
+    them the maximum-a-posteriori one: both objects detected, the far return clutter.
+
+    >>> len(post.log_weights) <= 13, int(post.n_objects[0]), post.top[0].labels.tolist()
+    (True, 2, [0, 1])
+    >>> round(post.top[0].weight, 4)
+    0.9993
     """
-    gen = MCMCGenerator(n_steps=n_steps, burn_in=burn_in, variant=variant, init=init,
+    gen = MCMCGenerator(n_steps=n_steps, burn_in=burn_in, variant=mcmc_variant, init=init,
                         completion_rounds=completion_rounds)
     return _filter(motion, sensor, HFISSTWeights(), gen, population, **options)
 
@@ -91,6 +121,38 @@ def homht(motion, sensor, *, birth_intensity=0.0, birth_density=None, max_events
     (document 001 Eq. 31–33, 59) — scored as in :class:`~.weights.ReidWeights` (this project's
     construction: Reid's factors for the objects, the population's event probabilities for births
     and deaths). ``None`` and ``birth_intensity = 0``: a fixed number of objects.
+
+    Examples
+    --------
+    Two objects (state ``(x, y, vx, vy)``), a 100 × 100 view with one clutter return expected per
+    scan, one scan with a return near each object and one far from both:
+
+    >>> import numpy as np
+    >>> from hypotrack.models import ConstantVelocity
+    >>> from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+    >>> view = Box([-50.0, -50.0], [50.0, 50.0])
+    >>> sensor = Sensor(LinearPositionSensor(0.5 * np.eye(2), 4), DetectionModel(0.9, view),
+    ...                 PoissonClutter(1.0, view))
+    >>> means = np.array([[0.0, 0.0, 1.0, 0.0], [20.0, 0.0, 0.0, 1.0]])
+    >>> covs = np.repeat(np.eye(4)[None], 2, axis=0)
+    >>> Z = np.array([[1.1, 0.2], [19.8, 1.1], [-30.0, 25.0]])
+    >>> f = homht(ConstantVelocity(0.1), sensor, means=means, covs=covs)
+    >>> post = f.step(Z)
+
+    Every association of 2 objects with 3 returns is a hypothesis (``count_associations(2, 3)``):
+
+    >>> len(post.log_weights), int(np.argmax(post.cardinality)), post.top[0].labels.tolist()
+    (13, 2, [0, 1])
+
+    The runner-up misses one object (its return clutter; both residuals have length √0.05), at
+    ``(1 − p_D) κ / (p_D N(z; ẑ, S))`` times the MAP's weight, ``κ = 10⁻⁴``, ``S = 2.5333 I`` (the
+    predicted position variance ``1 + 1 + q/3`` plus ``R``):
+
+    >>> w = np.exp(post.log_weights)
+    >>> S = 2 + 0.1 / 3 + 0.5
+    >>> N = np.exp(-0.5 * (0.1**2 + 0.2**2) / S) / (2 * np.pi * S)
+    >>> bool(np.isclose(w[1] / w[0], 0.1 * 1e-4 / (0.9 * N))), round(post.top[0].weight, 4)
+    (True, 0.9996)
     """
     weights, pop = _reid(birth_intensity, birth_density, population)
     return _filter(motion, sensor, weights, ExhaustiveGenerator(max_events=max_events), pop, **options)
@@ -109,6 +171,17 @@ def homht_kbest(motion, sensor, *, k=None, birth_intensity=0.0, birth_density=No
     return _filter(motion, sensor, weights, MurtyGenerator(k=k), pop, **options)
 
 
+def fisst_kbest(motion, sensor, *, k=None, population=None, **options) -> HypothesisFilter:
+    """FISST weights with Poisson clutter (document 001 Eq. 6–7, 18) on Murty's ``k`` best children per
+    parent (``k`` defaults to ``max_hypotheses``); ``population`` as in :func:`hfisst`.
+
+    The GLMB benchmark's "HOMHT k-best" column: with document 001's binomial population it is the
+    FISST side of document 001's FISST = HOMHT equivalence, ranked by Murty.
+    """
+    k = options.get("max_hypotheses", 100) if k is None else k
+    return _filter(motion, sensor, FISSTPoissonWeights(), MurtyGenerator(k=k), population, **options)
+
+
 def _labeled(population):
     if not isinstance(population, LabeledMultiBernoulliPopulation):
         raise ValueError("population must be a LabeledMultiBernoulliPopulation for the GLMB presets, "
@@ -118,7 +191,36 @@ def _labeled(population):
 
 def glmb(motion, sensor, *, population, n_sweeps=1000, **options) -> HypothesisFilter:
     """δ-GLMB filter with the joint prediction–update and Gibbs sampling (Vo, Vo & Hoang 2017):
-    ``n_sweeps`` Gibbs samples per parent per scan, distinct ones kept with exact weights."""
+    ``n_sweeps`` Gibbs samples per parent per scan, distinct ones kept with exact weights.
+
+    Examples
+    --------
+    Two objects (state ``(x, y, vx, vy)``), a 100 × 100 view with one clutter return expected per
+    scan, one scan with a return near each object and one far from both:
+
+    >>> import numpy as np
+    >>> from hypotrack.models import ConstantVelocity
+    >>> from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+    >>> view = Box([-50.0, -50.0], [50.0, 50.0])
+    >>> sensor = Sensor(LinearPositionSensor(0.5 * np.eye(2), 4), DetectionModel(0.9, view),
+    ...                 PoissonClutter(1.0, view))
+    >>> means = np.array([[0.0, 0.0, 1.0, 0.0], [20.0, 0.0, 0.0, 1.0]])
+    >>> covs = np.repeat(np.eye(4)[None], 2, axis=0)
+    >>> Z = np.array([[1.1, 0.2], [19.8, 1.1], [-30.0, 25.0]])
+    >>> from hypotrack.hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation
+    >>> birth = GaussianBirthTerm([-30.0, 25.0, 0.0, 0.0], np.diag([4.0, 4.0, 1.0, 1.0]),
+    ...                           sensor.measurement.H, sensor.measurement.R)
+    >>> population = LabeledMultiBernoulliPopulation([birth], r_birth=0.1, p_survive=0.95)
+    >>> f = glmb(ConstantVelocity(0.1), sensor, population=population, n_sweeps=100, means=means, covs=covs,
+    ...          seed=0)
+    >>> post = f.step(Z)
+
+    The far return is a birth: the MAP cardinality is 3, and two objects (the return clutter, no
+    birth) have probability ``0.9 κ / (0.9 κ + 0.1 (0.9 N(z; m_b, 4.5 I) + 0.1 κ)) = 0.027``:
+
+    >>> int(np.argmax(post.cardinality)), post.top[0].labels.tolist(), round(float(post.cardinality[2]), 3)
+    (3, [0, 1, 2], 0.027)
+    """
     return _filter(motion, sensor, GLMBWeights(), GibbsGenerator(n_sweeps=n_sweeps), _labeled(population), **options)
 
 

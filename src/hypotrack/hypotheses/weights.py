@@ -28,10 +28,19 @@ __all__ = ["WeightModel", "HFISSTWeights", "FISSTPoissonWeights", "ReidWeights",
 
 
 class WeightModel:
-    """Base class: builds the association problem of a parent; subclasses fill the extras."""
+    """Base class: builds the association problem of a parent; subclasses fill the extras.
+
+    :attr:`sensor_parameters` names the sensor's parameters the model's weights use (``Sensor``
+    attribute paths); a parameter not listed — H-FISST's ``clutter.rate`` — does not change them.
+    """
 
     name = "base"
     seeded_births = False
+
+    @property
+    def sensor_parameters(self) -> tuple:
+        """The sensor parameters the weights use (every model: ``H``, ``R``, ``p_D``)."""
+        return ("measurement.H", "measurement.R", "detection.p_D")
 
     def option_scores(self, ctx) -> np.ndarray:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -91,7 +100,10 @@ class HFISSTWeights(WeightModel):
     ``w_ij ∝ w_i p_pop p_D^k (1 − p_D)^{N−k} / (C(m, k) k!) Π_assoc N(z; H x̂⁻, S) Π_clutter g(z)``
     with ``k`` the detected objects (births included) among the ``N`` of the child and
     ``g(z) = 1/V`` the clutter density. H-FISST uses no clutter *rate*: the number of clutter
-    returns enters only through ``C(m, k) k!``.
+    returns enters only through ``C(m, k) k!``. A sensor's ``PoissonClutter(rate=...)`` therefore
+    changes nothing in H-FISST/R-FISST posteriors (rates 0, 2 and 50 give identical ones); only its
+    ``region`` (``V``) counts (:attr:`sensor_parameters`). :class:`FISSTPoissonWeights` and
+    :class:`ReidWeights` use the rate.
 
     Notes
     -----
@@ -102,10 +114,15 @@ class HFISSTWeights(WeightModel):
     mass of "more detections than returns". The engine implements Eq. 8 as published (the
     lost mass is common to all children of a parent with the same ``M``, but it does change
     the relative weights of parents with different numbers of objects);
-    ``tests/unit/test_hypotheses_weights.py`` checks the binomial-CDF sum.
+    ``tests/unit/hypotheses/test_weights.py`` checks the binomial-CDF sum.
     """
 
     name = "hfisst"
+
+    @property
+    def sensor_parameters(self) -> tuple:
+        """``H``, ``R``, ``p_D`` and the clutter region (``g(z) = 1/V``); not the clutter rate."""
+        return (*super().sensor_parameters, "clutter.region")
 
     def option_scores(self, ctx) -> np.ndarray:
         return np.full((ctx.n_returns, 1), ctx.log_clutter_density)
@@ -144,6 +161,11 @@ class FISSTPoissonWeights(WeightModel):
 
     clutter_rate: float | None = None
     name = "fisst_poisson"
+
+    @property
+    def sensor_parameters(self) -> tuple:
+        """``H``, ``R``, ``p_D``, the clutter region and (unless overridden here) the clutter rate."""
+        return (*super().sensor_parameters, "clutter.region") + (("clutter.rate",) if self.clutter_rate is None else ())
 
     def option_scores(self, ctx) -> np.ndarray:
         return np.zeros((ctx.n_returns, 1))
@@ -216,6 +238,12 @@ class ReidWeights(WeightModel):
     @property
     def seeded_births(self) -> bool:
         return self.birth_intensity > 0
+
+    @property
+    def sensor_parameters(self) -> tuple:
+        """``H``, ``R``, ``p_D`` and (unless overridden here) ``λ_C``: the clutter rate over the region's volume."""
+        return super().sensor_parameters + (() if self.clutter_intensity is not None else
+                                            ("clutter.rate", "clutter.region"))
 
     def uses_birth_columns(self) -> bool:
         """Birth columns of a population model, unless births are Reid's seeded ones."""

@@ -44,6 +44,12 @@ class GLMBWeights(WeightModel):
     clutter_intensity: float | None = None
     name = "glmb"
 
+    @property
+    def sensor_parameters(self) -> tuple:
+        """``H``, ``R``, ``p_D`` and (unless overridden here) ``κ``: the clutter rate over the region's volume."""
+        return super().sensor_parameters + (() if self.clutter_intensity is not None else
+                                            ("clutter.rate", "clutter.region"))
+
     def __post_init__(self):
         if self.clutter_intensity is not None:
             check_positive(self.clutter_intensity, "clutter_intensity")

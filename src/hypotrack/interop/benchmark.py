@@ -22,6 +22,7 @@ import time
 import numpy as np
 import pandas as pd
 
+from .._validation import check_seed
 from .stonesoup import _build, _region, translate_models
 
 __all__ = ["adapter_overhead", "own_api_setup", "plot_overhead", "run_own_api", "simulate_scenario"]
@@ -34,7 +35,7 @@ def simulate_scenario(*, n_targets, n_scans, clutter_rate, p_D, q, half_width, s
     from stonesoup.simulator.simple import MultiTargetGroundTruthSimulator, SimpleDetectionSimulator
     from stonesoup.types.state import GaussianState
 
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(check_seed(seed))
     t0 = datetime.datetime(2025, 1, 1)
     transition = CombinedLinearGaussianTransitionModel(
         [ConstantVelocity(q, seed=seed + 1), ConstantVelocity(q, seed=seed + 2)])
@@ -76,13 +77,11 @@ def own_api_setup(transition, measurement_model, region, scans, priors, p_D, clu
 def run_own_api(tracker, algorithm, arrays) -> None:
     """Step ``tracker`` through the scans, reading what a user reads (the MAP estimate of a filter)."""
     if algorithm in ("gnn", "jpda", "pdaf"):
-        for scan in arrays:
-            tracker.step(scan)
-    else:
-        previous = 0.0
         for t, Z in arrays:
-            _ = tracker.step(Z, t - previous).map_estimate
-            previous = t
+            tracker.step(Z, t)
+    else:
+        for t, Z in arrays:
+            _ = tracker.step(Z, t).map_estimate
 
 
 def _own_api_seconds(algorithm, transition, measurement_model, region, scans, priors, p_D, clutter_rate, options):

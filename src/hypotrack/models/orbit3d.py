@@ -59,6 +59,7 @@ __all__ = [
     "DEFAULT_Q_3D",
     "MU_WGS72",
     "EARTH_RADIUS_WGS72",
+    "FLATTENING_WGS72",
     "J2_WGS72",
 ]
 
@@ -108,6 +109,9 @@ EARTH_RADIUS_WGS72 = 6378.135
 
 J2_WGS72 = 0.001082616
 """Second zonal harmonic J2 of WGS-72, SGP4's."""
+
+FLATTENING_WGS72 = 1.0 / 298.26
+"""Earth's flattening f of WGS-72: the polar radius is ``R (1 − f)`` (6356.75 km)."""
 
 
 def _j2_acceleration(r, mu, c_j2):
@@ -192,7 +196,7 @@ class J2Orbit3D(TwoBodyOrbit3D):
     (one RK4 step) it costs 0.18 ms against 0.38 ms for the two-body complex-step Φ of
     :class:`TwoBodyOrbit3D` (0.33 against 0.39 ms over 60 s); its cost grows with the number of steps
     (10,000 states over intervals uniform in [0, 2 h]: 2.2 s against 0.10 s). The two-body Φ would differ from it
-    by 2e-7 of ``‖Φ‖`` over 10 s, 6e-4 over 600 s and 1e-2 over one orbit (``test_orbit_j2.py``).
+    by 2e-7 of ``‖Φ‖`` over 10 s, 6e-4 over 600 s and 1e-2 over one orbit (``tests/unit/models/test_orbit3d_j2.py``).
 
     Integration error. Against a DOP853 solution of the same equations (tolerances 1e-12), one orbit of
     a LEO state (a = 6,900–7,500 km, e = 0.01–0.05) ends 0.8–1.4 m off at the default step of 30 s,
@@ -224,7 +228,9 @@ class J2Orbit3D(TwoBodyOrbit3D):
     j2 : float
         Second zonal harmonic ≥ 0 (0 gives two-body motion, by RK4); default :data:`J2_WGS72`.
     radius : float
-        Equatorial radius R (km) > 0 of the J2 term; default :data:`EARTH_RADIUS_WGS72`.
+        Equatorial radius R (km) > 0 of the J2 term; default :data:`EARTH_RADIUS_WGS72`. A state whose
+        position radius is below the polar radius ``R (1 − f)`` (:data:`FLATTENING_WGS72`) lies inside the
+        Earth and is refused (``ValueError``): the Earth's centre would give NaN.
     max_step : float
         Longest RK4 step (s) > 0; default 30.
     """
@@ -239,6 +245,20 @@ class J2Orbit3D(TwoBodyOrbit3D):
         object.__setattr__(self, "j2", check_nonnegative(self.j2, "j2"))
         object.__setattr__(self, "radius", check_positive(self.radius, "radius"))
         object.__setattr__(self, "max_step", check_positive(self.max_step, "max_step"))
+
+    def _above_surface(self, X):
+        """``X`` if every state's position lies outside the Earth (radius at least the polar radius
+        ``radius · (1 − f)``); a state inside it — the centre gives NaN — has no orbit to propagate."""
+        if len(X):
+            r = np.sqrt(np.einsum("ij,ij->i", X[:, :3], X[:, :3]))
+            low = np.flatnonzero(r < self.radius * (1.0 - FLATTENING_WGS72))
+            if len(low):
+                i = int(low[0])
+                raise ValueError(f"x: state {i} has position radius {r[i]:.6g} km, inside the Earth: J2Orbit3D "
+                                 f"propagates states whose radius is at least the polar radius "
+                                 f"{self.radius * (1.0 - FLATTENING_WGS72):.6g} km (radius · (1 − f)); "
+                                 "positions are TEME in km")
+        return X
 
     def _integrate(self, X, dt):
         return _rk4_j2(X, dt, self.mu, 1.5 * self.j2 * self.mu * self.radius**2, self.max_step)
@@ -257,7 +277,7 @@ class J2Orbit3D(TwoBodyOrbit3D):
     def propagate(self, x, dt) -> np.ndarray:
         """Propagate states ``(n, 6)`` (or one ``(6,)``) by ``dt`` seconds (any sign), RK4 with J2."""
         single = np.ndim(x) == 1
-        X = _states(x, ndim=self.ndim)
+        X = self._above_surface(_states(x, ndim=self.ndim))
         dt = _check_dt(dt)
         out = self._integrate(X, np.full(len(X), dt))
         return out[0] if single else out
@@ -265,19 +285,19 @@ class J2Orbit3D(TwoBodyOrbit3D):
     def propagate_each(self, x, dt) -> np.ndarray:
         """States ``(n, 6)`` propagated by their own intervals ``dt`` ``(n,)`` (s) in one batch (see the
         class docstring)."""
-        X = _states(x, ndim=self.ndim)
+        X = self._above_surface(_states(x, ndim=self.ndim))
         dt = check_finite_array(np.asarray(dt, dtype=float), "dt", shape=(len(X),))
         return self._integrate(X, dt)
 
     def transition(self, x, dt):
         """Propagated states ``(n, 6)`` and their state-transition matrices ``(n, 6, 6)`` (class
         docstring)."""
-        X = _states(x, ndim=self.ndim)
+        X = self._above_surface(_states(x, ndim=self.ndim))
         dt = _check_dt(dt)
         return self._transition_rows(X, np.full(len(X), dt))
 
     def transition_each(self, x, dt):
         """:meth:`transition` with an interval per state, ``dt`` ``(n,)``, in one batch."""
-        X = _states(x, ndim=self.ndim)
+        X = self._above_surface(_states(x, ndim=self.ndim))
         dt = check_finite_array(np.asarray(dt, dtype=float), "dt", shape=(len(X),))
         return self._transition_rows(X, dt)

@@ -17,7 +17,7 @@ Greek, ``≤ ≥ × · √ ∞ ≈``  their math symbols
 ``N̂``, ``x̄``          ``\hat{N}``, ``\bar{x}``
 ====================  ==========================================
 
-Every other character is escaped by :func:`~hypotrack.reporting.ledger.latex_escape`. A code name
+Every other character is escaped by :func:`latex_escape`. A code name
 such as ``rfisst_chain`` is left alone: only a single letter before ``_`` starts a subscript.
 """
 

@@ -3,7 +3,7 @@ r"""Checks and build of the reproduction report (``paper/``): no typed result, n
 Two rules keep the report honest:
 
 * **No bare number.** Every digit in ``paper/sections/**/*.tex`` that describes a result comes from a
-  generated macro (``\htval{...}``, see :mod:`hypotrack.reporting.ledger`). :func:`bare_numbers` lists the
+  generated macro (``\htval{...}``, see :mod:`hypotrack.reporting.macros`). :func:`bare_numbers` lists the
   digits that remain after removing what is allowed: macro arguments, references and citations
   (``\ref``, ``\label``, ``\cite*``, ``\input``, file names in ``\texttt``/``\htfigure``), the
   documents' own numbering (``Eq.~39``, ``Figs.~8--11``, ``Table~6.1``, ``Sec.~IV-A``, ``Prop.~1``,

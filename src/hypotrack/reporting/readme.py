@@ -31,7 +31,9 @@ from pathlib import Path
 import pandas as pd
 
 from .pipeline_time import runtime_sentence
-from .ledger import STATUS_MEANING, STATUSES, _measured_text, claims_markdown, read_claims
+from .claims import STATUS_MEANING, STATUSES, measured_text
+from .ledger_io import read_claims
+from .renderers import claims_markdown
 
 __all__ = ["BEGIN", "END", "RUNTIME_BEGIN", "RUNTIME_END", "check_readme", "readme_block", "replace_block",
            "status_counts"]
@@ -51,7 +53,7 @@ NO_LEDGER = ("No ledger is recorded yet. Run the pipeline (`snakemake -c2`), the
 
 
 def status_counts(claims: pd.DataFrame) -> dict:
-    """Rows per status, in :data:`~hypotrack.reporting.ledger.STATUSES` order (zeros included)."""
+    """Rows per status, in :data:`~hypotrack.reporting.claims.STATUSES` order (zeros included)."""
     counts = claims["status"].value_counts()
     return {s: int(counts.get(s, 0)) for s in STATUSES}
 
@@ -79,7 +81,7 @@ def readme_block(claims: pd.DataFrame | None) -> str:
     for r in bad.to_dict("records"):
         why = f" {r['note']}" if r["note"] else ""
         lines.append(f"* **{r['experiment']}: {r['item']}** ({r['source']}; {r['status']}): published "
-                     f"{r['published']}, measured {_measured_text(r)}.{why}")
+                     f"{r['published']}, measured {measured_text(r)}.{why}")
     return "\n".join(lines) + "\n"
 
 

@@ -2,7 +2,7 @@ r"""Report text generated from the ledger: the status counts with every status d
 section on what did not reproduce, one paragraph per row (so no failing row goes undiscussed).
 
 :func:`status_summary_tex` writes ``generated/status_summary.tex`` (the counts add up to the
-ledger's rows; every status is defined by :data:`~.ledger.STATUS_MEANING`); :func:`gaps_tex` writes
+ledger's rows; every status is defined by :data:`~.claims.STATUS_MEANING`); :func:`gaps_tex` writes
 ``generated/gaps_rows.tex``: for every row that is *not reproduced*, *inconclusive* or
 *uninformative*, its measured value against the published one, the tolerance, the evidence, the
 control and the experiment's note on the cause. The report's hand-written discussion of the larger
@@ -16,7 +16,7 @@ import re
 import pandas as pd
 
 from .latex_text import latex_escape, latex_text
-from .ledger import CAUSES, STATUS_MEANING, STATUSES, _measured_text
+from .claims import CAUSES, STATUS_MEANING, STATUSES, measured_text
 
 __all__ = ["FAILING", "gap_cause", "gap_label", "gaps_tex", "monte_carlo_rule_tex", "status_summary_tex"]
 
@@ -53,7 +53,7 @@ def monte_carlo_rule_tex() -> str:
 
 
 def gap_cause(row) -> str:
-    """The row's cause key (:data:`~.ledger.CAUSES`); inconclusive rows default to too few runs,
+    """The row's cause key (:data:`~.claims.CAUSES`); inconclusive rows default to too few runs,
     uninformative ones to no power, an undiagnosed failure to ``""``."""
     cause = row.get("cause", "") or ""
     if cause:
@@ -72,12 +72,12 @@ def _gap_row_tex(r) -> str:
     note = f" {latex_text(note[:1].upper() + note[1:])}." if note else ""
     return (rf"\textbf{{{latex_text(r['item'])}}}\label{{{gap_label(r)}}} ({latex_escape(r['experiment'])}; "
             rf"{latex_text(r['source'])}): \emph{{{latex_escape(r['status'])}}}, published {latex_text(r['published'])}, "
-            rf"measured {latex_text(_measured_text(r))}, tolerance {latex_text(r['tolerance'])}; evidence: "
+            rf"measured {latex_text(measured_text(r))}, tolerance {latex_text(r['tolerance'])}; evidence: "
             rf"{latex_text(r.get('evidence', '') or '--')}." + note + control)
 
 
 def gaps_tex(claims: pd.DataFrame) -> str:
-    """Every failing row (:data:`FAILING`), grouped by its cause (:data:`~.ledger.CAUSES`), one paragraph
+    """Every failing row (:data:`FAILING`), grouped by its cause (:data:`~.claims.CAUSES`), one paragraph
     per claim: rows sharing a ``claim`` id are discussed together. Each paragraph carries a
     ``\\label`` per row (:func:`gap_label`), so a test can check that none is missing."""
     bad = claims[claims["status"].isin(FAILING)]

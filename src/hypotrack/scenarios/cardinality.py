@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_int, check_nonnegative, check_positive, check_probability
+from .._validation import check_int, check_nonnegative, check_positive, check_probability, check_seed
 
 __all__ = ["CardinalityRealisation", "simulate_cardinality"]
 
@@ -74,7 +74,7 @@ def simulate_cardinality(
     lambda_fa = check_nonnegative(lambda_fa, "lambda_fa")
     if start not in ("steady_state", "empty"):
         raise ValueError(f"start must be 'steady_state' or 'empty', got {start!r}")
-    rng = np.random.default_rng(rng)
+    rng = np.random.default_rng(check_seed(rng, "rng"))
     births_per_scan = rng.poisson(lambda_b, size=T)
     if start == "steady_state":
         births_per_scan[0] = rng.poisson(check_positive(lambda_b, "lambda_b") / p_chi) if lambda_b > 0 else 0

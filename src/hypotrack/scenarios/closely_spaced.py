@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .._validation import check_int, check_nonnegative, check_positive
+from .._validation import check_int, check_nonnegative, check_positive, check_seed
 from ..models.motion import OrnsteinUhlenbeck
 
 __all__ = ["CloselySpacedRealisation", "simulate_closely_spaced", "static_pair_scans"]
@@ -84,7 +84,7 @@ def simulate_closely_spaced(
     R = check_positive(R, "R")
     dt = check_positive(dt, "dt")
     initial_variance = check_nonnegative(initial_variance, "initial_variance")
-    rng = np.random.default_rng(rng)
+    rng = np.random.default_rng(check_seed(rng, "rng"))
     A = float(model.F(dt)[0, 0])
     Q = float(model.Q(dt)[0, 0])
     truth = np.empty((n_runs, n_scans, 2))
@@ -110,7 +110,7 @@ def static_pair_scans(distance, *, n_runs: int, n_sensors: int, sigma: float, rn
     n_runs = check_int(n_runs, "n_runs", minimum=1)
     n_sensors = check_int(n_sensors, "n_sensors", minimum=1)
     sigma = check_positive(sigma, "sigma")
-    rng = np.random.default_rng(rng)
+    rng = np.random.default_rng(check_seed(rng, "rng"))
     truth = np.array([0.0, distance])
     Z = truth + sigma * rng.standard_normal((n_runs, n_sensors, 2))
     Z.sort(axis=-1)

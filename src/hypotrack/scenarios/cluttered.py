@@ -31,6 +31,7 @@ from .._validation import (
     check_nonnegative,
     check_positive,
     check_probability,
+    check_seed,
 )
 from ..models.motion import ConstantVelocity
 from ..models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
@@ -129,7 +130,7 @@ def simulate_cv_targets(initial_states, *, n_scans, dt, q_truth, R, p_D, clutter
     dt = check_positive(dt, "dt")
     motion = ConstantVelocity(check_nonnegative(q_truth, "q_truth"))
     sensor = _sensor(R, p_D, clutter_rate, region)
-    rng = np.random.default_rng(rng)
+    rng = np.random.default_rng(check_seed(rng, "rng"))
     n = len(X0)
     F = motion.F(dt)
     chol_Q = np.linalg.cholesky(motion.Q(dt)) if motion.q > 0 else np.zeros((4, 4))

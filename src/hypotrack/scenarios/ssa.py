@@ -52,13 +52,11 @@ from ..models.orbit import (
 from ..models.population import SingleEventBirthDeath
 from ..models.sensors import DetectionModel, FieldOfView, LinearPositionSensor, PoissonClutter, Sensor
 from .tables import (
-    CLUTTER,
     scans_table,
     scans_to_list,
     state_columns,
     truth_table,
     truth_to_list,
-    validate_truth,
 )
 
 __all__ = [
@@ -69,7 +67,7 @@ __all__ = [
     "scenario_from_config",
     "prior_table",
     "read_prior",
-    "plot_scenario",
+    "ssa_sensor",
 ]
 
 _MAX_BIRTH_TRIES = 10_000
@@ -251,7 +249,9 @@ class SSAScenario:
         )
 
 
-def _sensor(p: SSAParams) -> Sensor:
+def ssa_sensor(p: SSAParams) -> Sensor:
+    """The scenario's sensor: position measurements (σ² I), detection with ``p_D`` inside the FOV wedge,
+    Poisson clutter at ``clutter_rate`` returns per scan uniform over the FOV."""
     fov = p.fov
     return Sensor(
         LinearPositionSensor(np.eye(2) * p.sigma**2, 4, (0, 1)),
@@ -326,7 +326,7 @@ def simulate_ssa(params: SSAParams, seed) -> SSAScenario:
     rng_orbit, rng_noise, rng_meas, rng_prior = (np.random.default_rng(s) for s in ss.spawn(4))
     p = params
     motion = TwoBodyOrbit(p.mu, p.q)
-    sensor = _sensor(p)
+    sensor = ssa_sensor(p)
     times = p.times
     N, K = p.n_objects, p.n_scans
 
@@ -442,141 +442,3 @@ def read_prior(df: pd.DataFrame):
     means = check_finite_array(df[state_columns(4)].to_numpy(dtype=float), "prior means")
     covs = check_finite_array(df[cov_cols].to_numpy(dtype=float), "prior covariances").reshape(-1, 4, 4)
     return ids, means, covs
-
-
-# --- figure -----------------------------------------------------------------------------------
-
-
-def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
-    from matplotlib.patches import Circle, Wedge
-
-    u = 1e-3  # km -> 10³ km
-    ax.add_patch(
-        Circle((0, 0), EARTH_RADIUS * u, color="#9cc3e6", ec="#3b6ea5", lw=0.8, zorder=1, label="Earth")
-    )
-    lo, hi = fov.angle_limits_deg
-    ax.add_patch(
-        Wedge(
-            (0, 0),
-            fov.r_max * u,
-            lo,
-            hi,
-            width=(fov.r_max - fov.r_min) * u,
-            fc="#fff3c4",
-            ec="black",
-            lw=1.0,
-            zorder=0,
-            label=f"sensor FOV ({fov.full_angle_deg:g}° wide, look {fov.look_angle_deg:g}°)",
-        )
-    )
-    for tid, g in truth.groupby("target"):
-        is_birth = tid not in known
-        ax.plot(
-            g["state_0"] * u,
-            g["state_1"] * u,
-            color="#e07b00" if is_birth else "0.6",
-            lw=1.3 if is_birth else 0.6,
-            zorder=2,
-        )
-    ax.plot([], [], color="0.6", lw=0.6, label="true path, object in initial hypothesis")
-    if set(truth["target"].unique()) - known:
-        ax.plot([], [], color="#e07b00", lw=1.3, label="true path, unknown object (birth)")
-    clu = scans[scans["origin"] == CLUTTER]
-    det = scans[scans["origin"] != CLUTTER]
-    ax.scatter(
-        clu["z_0"] * u,
-        clu["z_1"] * u,
-        s=10 if zoom else 5,
-        marker="x",
-        color="#d62728",
-        lw=0.6,
-        alpha=0.7,
-        zorder=3,
-        label=f"clutter returns ({len(clu)})",
-    )
-    ax.scatter(
-        det["z_0"] * u,
-        det["z_1"] * u,
-        s=3 if zoom else 1.5,
-        color="#1f4e9c",
-        zorder=4,
-        label=f"returns from objects ({len(det)})",
-    )
-    order = sorted(births, key=lambda b: np.hypot(b[1]["state_0"], b[1]["state_1"]))
-    for n, (tid, first) in enumerate(order):
-        xy = first["state_0"] * u, first["state_1"] * u
-        ax.plot(
-            *xy,
-            marker="*",
-            ms=15 if zoom else 10,
-            color="#ffd21f",
-            mec="black",
-            zorder=5,
-            label="birth: first entry into FOV" if n == 0 else None,
-        )
-        if zoom:
-            # Births enter along the same FOV edge: fan the labels out below it.
-            ax.annotate(
-                f"id {tid}",
-                xy,
-                xytext=(10 * (n - len(order) / 2), -10 - 8 * n),
-                textcoords="offset points",
-                ha="center",
-                fontsize=7.5,
-                zorder=6,
-                arrowprops=dict(arrowstyle="-", color="0.3", lw=0.6),
-            )
-    ax.set_aspect("equal")
-    ax.set_xlabel("x (10³ km, Earth-centred inertial)")
-    ax.set_ylabel("y (10³ km)")
-    ax.grid(alpha=0.3)
-    if zoom:
-        th = np.deg2rad(np.linspace(lo, hi, 50))
-        xs = np.concatenate([fov.r_min * np.cos(th), fov.r_max * np.cos(th)]) * u
-        ys = np.concatenate([fov.r_min * np.sin(th), fov.r_max * np.sin(th)]) * u
-        pad = 0.04 * fov.r_max * u
-        ax.set_xlim(xs.min() - pad, xs.max() + pad)
-        ax.set_ylim(ys.min() - 0.3 * (ys.max() - ys.min()), ys.max() + pad)  # room below the edge for birth labels
-    else:
-        lim = max(fov.r_max, np.abs(truth[["state_0", "state_1"]].to_numpy()).max(initial=0.0)) * u * 1.05
-        ax.set_xlim(-lim, lim)
-        ax.set_ylim(-lim, lim)
-
-
-def plot_scenario(truth: pd.DataFrame, scans: pd.DataFrame, fov: FieldOfView, known_ids, *, title=None):
-    """Draw an SSA scenario: Earth, FOV wedge, true paths, returns by origin, births.
-
-    Left panel: the whole orbits; right panel: the FOV enlarged, where the returns are. The
-    legend (with the time each birth enters the FOV) sits below both panels. Drawn only from the
-    saved tables (and the FOV), so the figure can be restyled without regenerating the scenario.
-    Axes in 10³ km. Returns the matplotlib figure, at the report's line width.
-    """
-    from matplotlib.lines import Line2D
-
-    from ..reporting import figure_style
-
-    truth = validate_truth(truth)
-    known = set(np.asarray(known_ids, dtype=int).tolist())
-    births = [
-        (tid, g[g["in_view"]].iloc[0])
-        for tid, g in truth.groupby("target")
-        if tid not in known and g["in_view"].any()
-    ]
-    fig, (ax_all, ax_fov) = figure_style.subplots(1, 2, height=4.6, gridspec_kw={"width_ratios": [1, 1.1]})
-    _draw_scenario(ax_all, truth, scans, fov, known, births, zoom=False)
-    _draw_scenario(ax_fov, truth, scans, fov, known, births, zoom=True)
-    ax_all.set_title("whole orbits")
-    ax_fov.set_title("field of view (enlarged)")
-    handles, labels = ax_all.get_legend_handles_labels()
-    for tid, first in births:
-        handles.append(Line2D([], [], ls="none"))
-        labels.append(f"birth id {tid}: in view from t = {first['time'] / 60:.0f} min")
-    figure_style.legend_below(fig, handles, labels, ncol=2)
-    n_obj = truth["target"].nunique()
-    n_scans = int(truth["scan"].max()) + 1 if len(truth) else 0
-    dt_h = (truth["time"].max() if len(truth) else 0.0) / 3600
-    fig.suptitle(figure_style.wrap(
-        title
-        or f"SSA scenario: {n_obj} objects ({len(known)} in the initial hypothesis, "
-        f"{n_obj - len(known)} births), {n_scans} scans over {dt_h:.1f} h", fig))
-    return fig

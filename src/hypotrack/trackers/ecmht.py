@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.special import gammaln
 
-from .._validation import check_finite_array, check_int, check_positive
+from .._validation import check_finite_array, check_int, check_positive, check_seed
 from ..models.motion import OrnsteinUhlenbeck
 
 __all__ = [
@@ -272,7 +272,7 @@ class ECMHTFilter(_EquivalentMeasurementFilter):
         super().__init__(model, R, n_sensors, dt)
         if rng is None:
             raise ValueError("rng must be given (a numpy Generator or an int seed): the ECMHT draws sensor orders")
-        self.rng = np.random.default_rng(rng)
+        self.rng = np.random.default_rng(check_seed(rng, "rng"))
         self.last_swaps = None
 
     def _update(self, Z: np.ndarray) -> None:

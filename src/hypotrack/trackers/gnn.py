@@ -104,6 +104,20 @@ def gnn_associate(gain) -> np.ndarray:
     a : (m,) int64
         Event vector (project convention): ``a[i] = j`` if return i updates target j, ``−1`` if
         it goes to external sources (initiation).
+
+    Examples
+    --------
+    Return 0 is in both targets' gates, return 1 only in target 0's. Giving each its own best
+    target gains 3.0 and leaves return 1 unused; crossing them gains ``1.0 + 2.5 = 3.5``:
+
+    >>> gnn_associate([[3.0, 1.0], [2.5, -np.inf]]).tolist()
+    [1, 0]
+
+    A pair with a negative gain is worse than leaving both unassigned (return to initiation,
+    target missed):
+
+    >>> gnn_associate([[-0.5, -np.inf], [0.2, -np.inf]]).tolist()
+    [-1, 0]
     """
     gain = np.asarray(gain, dtype=float)
     if gain.ndim != 2:

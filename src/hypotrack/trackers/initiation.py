@@ -47,6 +47,9 @@ class MOfNInitiator:
         Tentative tracks' current means and covariances.
     hits, age : (k,) int
         Detections so far and scans since creation (creation scan included).
+    P0 : (d, d)
+        Covariance of a new tentative track: the return's noise on the measured components,
+        ``initial_velocity_std²`` on the others (one-point initiation).
     """
 
     def __init__(self, motion, model: ScanModel, *, m: int = 2, n: int = 3, initial_velocity_std: float = 10.0):
@@ -62,7 +65,7 @@ class MOfNInitiator:
         H_pinv = np.linalg.pinv(model.H)
         self._H_pinv = H_pinv
         # Position block from the return's noise; the unmeasured (velocity) block broad.
-        self._P0 = H_pinv @ model.R @ H_pinv.T + self.initial_velocity_std**2 * (np.eye(d) - H_pinv @ model.H)
+        self.P0 = H_pinv @ model.R @ H_pinv.T + self.initial_velocity_std**2 * (np.eye(d) - H_pinv @ model.H)
         self.x = np.zeros((0, d))
         self.P = np.zeros((0, d, d))
         self.hits = np.zeros(0, dtype=np.int64)
@@ -109,7 +112,7 @@ class MOfNInitiator:
         k = len(unused)
         self._time = time  # nothing below can fail: the step is all-or-nothing
         self.x = np.concatenate([x[alive], unused @ self._H_pinv.T])
-        self.P = np.concatenate([P[alive], np.broadcast_to(self._P0, (k, d, d))])
+        self.P = np.concatenate([P[alive], np.broadcast_to(self.P0, (k, d, d))])
         self.hits = np.concatenate([hits[alive], np.ones(k, dtype=np.int64)])
         self.age = np.concatenate([age[alive], np.ones(k, dtype=np.int64)])
         # With m = 1 a single return confirms a track at once.

@@ -19,18 +19,18 @@ Confirmed tracks get stable integer ids ``0, 1, 2, …`` in order of confirmatio
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from .._validation import (
     check_covariance,
+    check_labels,
     check_finite_array,
     check_int,
     check_measurements,
     check_positive,
     check_state_dimension,
 )
+from ..protocol import TrackEstimates
 from ._sht_common import ScanModel, _gate_scan, _ScanPredictor
 from .gnn import _associate, gnn_gains, gnn_update, mahalanobis_gains
 from .initiation import MOfNInitiator
@@ -39,27 +39,6 @@ from .jpda import jpda_log_weights, jpda_probabilities, pda_update, pdaf_probabi
 __all__ = ["TrackEstimates", "SingleHypothesisTracker"]
 
 _ASSOCIATIONS = ("gnn", "jpda", "pdaf")
-
-
-@dataclass(frozen=True, eq=False)
-class TrackEstimates:
-    """Confirmed tracks after a scan.
-
-    Attributes
-    ----------
-    time : float
-    ids : (n,) int64 — stable track ids.
-    x : (n, d) — means.
-    P : (n, d, d) — covariances.
-    """
-
-    time: float
-    ids: np.ndarray
-    x: np.ndarray
-    P: np.ndarray
-
-    def __len__(self) -> int:
-        return len(self.ids)
 
 
 class SingleHypothesisTracker:
@@ -82,6 +61,14 @@ class SingleHypothesisTracker:
     missed_distance : float, optional
         For ``gnn_score="mahalanobis"``: the missed distance ``g`` (default: the square root of
         the model's gate).
+    in_view : callable, optional
+        ``in_view(x) -> (n,) bool`` for states ``x`` ``(n, d)``: where the sensor can see. A track
+        whose updated mean is out of view has its miss count reset after each scan, so deletion
+        counts misses *in view* only (a catalogue object out of the radar's field of view is not
+        missed). ``None``: every track can be missed everywhere (the lecture's rule).
+
+    The tracker follows :class:`hypotrack.protocol.Tracker`: :meth:`initialise` with known objects
+    and their labels, :meth:`step` with each scan's returns and time, :meth:`estimates`.
 
     Attributes
     ----------
@@ -101,6 +88,7 @@ class SingleHypothesisTracker:
         max_misses: int = 3,
         gnn_score: str = "lecture",
         missed_distance: float | None = None,
+        in_view=None,
     ):
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
@@ -120,6 +108,9 @@ class SingleHypothesisTracker:
         self.initiator = initiator
         self.max_misses = check_int(max_misses, "max_misses", minimum=1)
         self.gnn_score = gnn_score
+        if in_view is not None and not callable(in_view):
+            raise TypeError(f"in_view must be a callable of the track states or None, got {type(in_view).__name__}")
+        self.in_view = in_view
         self.missed_distance = (
             float(np.sqrt(model.gate)) if missed_distance is None else check_positive(missed_distance, "missed_distance")
         )
@@ -133,47 +124,67 @@ class SingleHypothesisTracker:
         self.last_gated = None
         self.last_association = None
 
-    def initialise(self, x, P, time: float) -> np.ndarray:
+    def initialise(self, means, covs, labels=None, *, time: float = 0.0) -> np.ndarray:
         """Add known confirmed tracks (means ``(n, d)``, covariances ``(n, d, d)``) valid at ``time``.
 
-        Returns their ids.
+        ``labels`` (``(n,)`` distinct integers, none already held): the tracks' labels in
+        :meth:`estimates`; default the next free ones (``0, 1, …`` on a new tracker). Tracks confirmed
+        later get labels above every label held so far. May be called again at the current time.
+        Returns the labels.
         """
         d = self.model.ndim_state
-        x = check_finite_array(np.asarray(x, dtype=float).reshape(-1, d), "x", shape=(None, d))
-        P = np.asarray(P, dtype=float).reshape(-1, d, d)
+        x = check_finite_array(np.asarray(means, dtype=float).reshape(-1, d), "means", shape=(None, d))
+        P = np.asarray(covs, dtype=float).reshape(-1, d, d)
         if len(P) != len(x):
-            raise ValueError(f"P must hold one covariance per track: {len(x)} means, {len(P)} covariances")
-        P = check_covariance(P, "P", dim=d, batched=True) if len(P) else P
-        if self.time is not None and float(time) != self.time:
-            raise ValueError("initialise() must be called before the first scan or at the current time")
-        self.time = float(time)
-        return self._add(x, P)
-
-    def _add(self, x, P) -> np.ndarray:
-        new = np.arange(self._next_id, self._next_id + len(x), dtype=np.int64)
-        self._next_id += len(x)
-        self.ids = np.concatenate([self.ids, new])
-        self.x = np.concatenate([self.x, x])
-        self.P = np.concatenate([self.P, P])
-        self.misses = np.concatenate([self.misses, np.zeros(len(x), dtype=np.int64)])
-        return new
-
-    def step(self, scan) -> TrackEstimates:
-        """Process one scan ``(time, Z)`` (``Z`` of shape (m, p), possibly empty) and return the estimates."""
-        try:
-            time, Z = scan
-        except (TypeError, ValueError):
-            raise TypeError("scan must be a (time, Z) pair") from None
+            raise ValueError(f"covs must hold one covariance per track: {len(x)} means, {len(P)} covariances")
+        P = check_covariance(P, "covs", dim=d, batched=True) if len(P) else P
         try:
             time = float(time)
         except (TypeError, ValueError):
-            raise TypeError(f"scan must be a (time, Z) pair with a scalar time, got time {time!r}") from None
+            raise TypeError(f"time must be a number, got {time!r}") from None
         if not np.isfinite(time):
-            raise ValueError(f"scan time must be finite, got {time}")
+            raise ValueError(f"time must be finite, got {time}")
+        if self.time is not None and time != self.time:
+            raise ValueError(f"time: initialise() must be called before the first scan or at the current time "
+                             f"{self.time}, got {time}")
+        if labels is not None:
+            labels = check_labels(labels, len(x), held=self.ids)
+        self.time = time
+        return self._add(x, P, labels)
+
+    def _add(self, x, P, labels=None) -> np.ndarray:
+        if labels is None:
+            labels = np.arange(self._next_id, self._next_id + len(x), dtype=np.int64)
+        if len(labels):
+            self._next_id = max(self._next_id, int(labels.max()) + 1)
+        self.ids = np.concatenate([self.ids, labels])
+        self.x = np.concatenate([self.x, x])
+        self.P = np.concatenate([self.P, P])
+        self.misses = np.concatenate([self.misses, np.zeros(len(x), dtype=np.int64)])
+        return labels
+
+    def step(self, Z, time=None) -> TrackEstimates:
+        """Process one scan: returns ``Z`` (``(m, p)``, possibly empty) observed at ``time``; the estimates.
+
+        The tracks are predicted over ``time − self.time`` (zero: an update without prediction); a
+        scan earlier than the previous one is refused and leaves the tracker as it was.
+        """
+        if isinstance(Z, tuple) and len(Z) == 2 and np.ndim(Z[0]) == 0:
+            raise TypeError("step(Z, time) takes the returns and the scan's time; got a (time, Z) pair "
+                            "(use run() for a sequence of (time, Z) pairs)")
+        if time is None:
+            raise TypeError("time is required: step(Z, time) with the scan's time (the single-hypothesis "
+                            "trackers have no default scan interval)")
+        try:
+            time = float(time)
+        except (TypeError, ValueError):
+            raise TypeError(f"time must be a scalar number, got {time!r}") from None
+        if not np.isfinite(time):
+            raise ValueError(f"time must be finite, got {time}")
         Z = check_measurements(Z, "Z", self.model.dim)
         dt = 0.0 if self.time is None else time - self.time
         if dt < 0:
-            raise ValueError(f"scan time must not decrease: got {time} after {self.time}")
+            raise ValueError(f"time: scan times must not decrease, got {time} after {self.time}")
 
         # Everything is computed into locals and committed at the end, so that a failure (e.g. a
         # JPDA cluster over its marginals budget) leaves the tracker as it was and the scan can
@@ -202,6 +213,9 @@ class SingleHypothesisTracker:
         misses = self.misses + 1
         misses[detected] = 0
         keep = misses < self.max_misses
+        if self.in_view is not None and len(x):
+            # deletion counts misses in view only: a track out of view is not missed
+            misses[~np.asarray(self.in_view(x), dtype=bool)] = 0
         # The initiator's own step is transactional: it is the last thing that may fail.
         new_x, new_P = self.initiator.step(time, Z[unused]) if self.initiator is not None else (None, None)
 
@@ -223,4 +237,4 @@ class SingleHypothesisTracker:
 
     def run(self, scans) -> list[TrackEstimates]:
         """:meth:`step` over a sequence of scans; the estimates after each."""
-        return [self.step(s) for s in scans]
+        return [self.step(Z, t) for t, Z in scans]

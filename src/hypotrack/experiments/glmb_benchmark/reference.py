@@ -20,7 +20,7 @@ follow no birth; scored the same way it must fail any check that a tracker follo
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -29,7 +29,7 @@ from ...hypotheses.filter import HypothesisFilter
 from ...hypotheses.gibbs import GibbsGenerator
 
 __all__ = ["EXTRACTIONS", "heaviest_index", "map_cardinality_index", "extract", "sqrt_allocation",
-           "SqrtAllocationFilter", "BlindTracker"]
+           "AllocatedGibbsGenerator", "SqrtAllocationFilter", "BlindTracker"]
 
 EXTRACTIONS = ("heaviest", "map_cardinality")
 
@@ -69,7 +69,7 @@ def extract(tracker, post, rule: str) -> np.ndarray:
     tracker = tracker.tracker if isinstance(tracker, BlindTracker) else tracker
     if rule == "heaviest" or not isinstance(tracker, HypothesisFilter):
         return post.map_estimate.means if post.map_estimate is not None else np.zeros((0, 4))
-    lists = tracker._tracks
+    lists = tracker.state.tracks
     h = map_cardinality_index(tracker.log_weights, [len(t) for t in lists])
     return tracker.store.means[lists[h]]
 
@@ -83,29 +83,35 @@ def sqrt_allocation(log_weights, total: int) -> np.ndarray:
     return np.floor(share + 0.5).astype(np.int64)
 
 
+@dataclass(frozen=True)
+class AllocatedGibbsGenerator(GibbsGenerator):
+    """The Gibbs generator whose number of sweeps :class:`SqrtAllocationFilter` sets per parent:
+    ``n_sweeps = 0`` is allowed here (a parent allotted one sample keeps only its all-missed start),
+    unlike :class:`GibbsGenerator`, where it would mean never using a measurement."""
+
+    n_sweeps: int = 0
+
+    def __post_init__(self):
+        check_int(self.n_sweeps, "n_sweeps", minimum=0)
+
+
 class SqrtAllocationFilter(HypothesisFilter):
     """The δ-GLMB filter with the demo's truncation (module docstring): the Gibbs generator's
-    number of samples is set per parent from its weight; ``total_samples`` is ``H_upd``."""
+    number of samples is set per parent from its weight; ``total_samples`` is ``H_upd``.
+
+    It uses the engine's extension point :meth:`~hypotrack.hypotheses.filter.HypothesisFilter.parent_generators`:
+    one generator per parent, each with its own number of sweeps."""
 
     def __init__(self, *args, total_samples: int, **kwargs):
         super().__init__(*args, **kwargs)
         if not isinstance(self.generator, GibbsGenerator):
             raise TypeError(f"SqrtAllocationFilter needs a GibbsGenerator, got {type(self.generator).__name__}")
         self.total_samples = check_int(total_samples, "total_samples", minimum=1)
-        self._allocation = None
 
-    def _advance(self, pred, ctx, t0):
-        self._allocation = sqrt_allocation(self._log_w, self.total_samples)
-        return super()._advance(pred, ctx, t0)
-
-    def _parent_children(self, ctx, h, keep, keys_rng):
-        base = self.generator
+    def parent_generators(self, state):
         # n samples = the start plus n - 1 sweeps (a parent allotted none still yields its start)
-        self.generator = replace(base, n_sweeps=max(int(self._allocation[h]) - 1, 0))
-        try:
-            return super()._parent_children(ctx, h, keep, keys_rng)
-        finally:
-            self.generator = base
+        allocation = sqrt_allocation(state.log_w, self.total_samples)
+        return [AllocatedGibbsGenerator(n_sweeps=max(int(n) - 1, 0)) for n in allocation]
 
 
 class BlindTracker:

@@ -9,10 +9,11 @@ constant-velocity motion) is the public demo's, given as data in the config, and
 demo's convention (:func:`truth_states`, ``gen_truth``: each object's first scan is ``F x_start``
 and its death scan is included).
 
-Trackers (named in the config): ``glmb`` (Gibbs), ``glmb_murty``, ``rfisst`` (the chain alone,
-``completion_rounds = 0``, or with the neighbour completion) and ``homht_kbest``; R-FISST and
-HOMHT run with the same labeled multi-Bernoulli birth terms expressed as their own population
-models (see :func:`make_tracker`); ``gmphd`` is Stone Soup's GM-PHD filter with the same models,
+Trackers (named in the config, built by :mod:`hypotrack.registry`): ``glmb`` (Gibbs),
+``glmb_murty``, ``rfisst`` (the chain alone, ``completion_rounds = 0``, or with the neighbour
+completion) and ``fisst_kbest`` (FISST weights with Poisson clutter, Murty's k best: document 001's
+FISST = HOMHT); R-FISST and ``fisst_kbest`` run with the same labeled multi-Bernoulli birth terms
+expressed as their own population models (see :func:`make_problem`); ``gmphd`` is Stone Soup's GM-PHD filter with the same models,
 the peer baseline (:mod:`.gmphd`); ``blind`` is the ``glmb`` tracker fed empty scans
 (the negative control). Estimates by two rules (:mod:`.reference`): the heaviest hypothesis's means,
 and the demo's MAP cardinality then the heaviest hypothesis of that cardinality (the GM-PHD's: its
@@ -30,22 +31,19 @@ import numpy as np
 import pandas as pd
 
 from ..._validation import check_int, check_positive
-from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation, glmb, glmb_murty
-from ...hypotheses.filter import HypothesisFilter
-from ...hypotheses.generators import MCMCGenerator, MurtyGenerator
-from ...hypotheses.gibbs import GibbsGenerator
-from ...hypotheses.population_events import BinomialPopulation
-from ...hypotheses.weights import FISSTPoissonWeights, HFISSTWeights
+from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from ...hypotheses.weights_glmb import GLMBWeights
 from ...metrics import ospa
 from ...models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
-from .reference import EXTRACTIONS, BlindTracker, SqrtAllocationFilter, extract
+from ...registry import TrackingProblem, build
+from .reference import EXTRACTIONS, AllocatedGibbsGenerator, BlindTracker, SqrtAllocationFilter, extract
 
-__all__ = ["KINDS", "PEER_KINDS", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
+__all__ = ["LOCAL_KINDS", "LOCAL_OPTIONS", "PEER_KINDS", "make_problem", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
            "simulate_scans", "make_tracker", "TRUTH_CONVENTIONS", "ALLOCATIONS", "SUFFIX", "implementation_labels", "legend_labels", "run_tracker", "ospa_parts",
            "missed_objects"]
 
-KINDS = ("glmb", "glmb_murty", "rfisst", "homht_kbest", "gmphd", "blind")
+#: Kinds the benchmark adds to the registry's: the Stone Soup peer and the negative control.
+LOCAL_KINDS = ("gmphd", "blind")
 ALLOCATIONS = ("per_parent", "sqrt_weight")
 PEER_KINDS = {"gmphd": "Stone Soup GM-PHD, peer implementation"}
 
@@ -145,56 +143,56 @@ def _birth_terms(model):
     return [GaussianBirthTerm(m, model.birth_cov, H, R) for m in model.birth_means]
 
 
+def make_problem(model: BenchmarkModel) -> TrackingProblem:
+    """The benchmark as a :class:`~hypotrack.registry.TrackingProblem`: no known objects, the labeled
+    multi-Bernoulli birth terms (``r_B``, ``p_S``) that every preset takes in its own terms (R-FISST and
+    ``fisst_kbest``: document 001's binomial population with ``α = r_B`` and the same survival, the
+    nesting of :mod:`hypotrack.hypotheses.population_lmb` — at most one death or undetected birth per child)."""
+    lmb = LabeledMultiBernoulliPopulation(_birth_terms(model), r_birth=model.r_birth, p_survive=model.p_survive)
+    return TrackingProblem(model.motion, model.sensor, births=lmb, dt=1.0)
+
+
+#: Keys of a tracker entry that belong to the benchmark, not to the tracker's specification.
+LOCAL_OPTIONS = ("run_every", "sample_allocation", "total_samples")
+
+
 def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed):
     """A named tracker with the scenario's models.
 
+    Every kind of :mod:`hypotrack.registry` (``glmb``, ``glmb_murty``, ``rfisst``, ``fisst_kbest``, …)
+    is built there from ``options`` (its specification; the benchmark's own keys
+    :data:`LOCAL_OPTIONS` removed) on :func:`make_problem`. The benchmark adds:
+
     ``gmphd``: Stone Soup's GM-PHD filter, the peer implementation
     (:mod:`.gmphd`; deterministic, ``seed`` unused).
-
-    ``glmb`` / ``glmb_murty``: the δ-GLMB presets with the labeled multi-Bernoulli population.
-    ``glmb`` with ``sample_allocation: sqrt_weight`` is the demo's truncation
+    ``glmb`` with ``sample_allocation: sqrt_weight``: the demo's truncation
     (:class:`.reference.SqrtAllocationFilter`: ``total_samples`` Gibbs samples per scan shared
     ∝ √w over the parents, ``max_hypotheses`` kept; ``merge_duplicates`` adds identical children's
     weights as the demo does). ``blind``: the ``glmb`` tracker fed empty scans, the negative control.
-    ``rfisst`` and ``homht_kbest``: H-FISST weights with the chain, and FISST weights with Poisson
-    clutter with Murty, both under document 001's binomial population with the *same* birth terms
-    (``α = r_B``) and survival — the nesting of :mod:`hypotrack.hypotheses.population_lmb`: at
-    most one death or undetected birth per child.
     """
+    options = {k: v for k, v in dict(options).items() if k != "kind"}
     if kind == "gmphd":
         from .gmphd import make_gmphd
 
         return make_gmphd(model, options)
-    if kind not in KINDS:
-        raise ValueError(f"tracker kind must be one of {', '.join(KINDS)}, got {kind!r}")
-    if "max_hypotheses" not in options:
-        raise ValueError(f"tracker kind {kind} needs max_hypotheses (H_inf, an integer >= 1)")
-    common = {"max_hypotheses": options["max_hypotheses"], "gate_probability": options.get("gate_probability"),
-              "seed": seed}
-    lmb = LabeledMultiBernoulliPopulation(_birth_terms(model), r_birth=model.r_birth, p_survive=model.p_survive)
     if kind == "blind":
         return BlindTracker(make_tracker("glmb", model, options, seed))
-    if kind == "glmb" and options.get("sample_allocation", "per_parent") != "per_parent":
-        if options["sample_allocation"] not in ALLOCATIONS:
-            raise ValueError(f"sample_allocation must be one of {', '.join(ALLOCATIONS)}, "
-                             f"got {options['sample_allocation']!r}")
+    allocation = options.get("sample_allocation", "per_parent")
+    if kind == "glmb" and allocation != "per_parent":
+        if allocation not in ALLOCATIONS:
+            raise ValueError(f"sample_allocation must be one of {', '.join(ALLOCATIONS)}, got {allocation!r}")
         if "total_samples" not in options:
             raise ValueError("sample_allocation sqrt_weight needs total_samples (H_upd, an integer >= 1)")
-        return SqrtAllocationFilter(model.motion, model.sensor, GLMBWeights(), GibbsGenerator(n_sweeps=0),
-                                    population=lmb, total_samples=options["total_samples"],
-                                    merge_duplicates=bool(options.get("merge_duplicates", False)), **common)
-    if kind == "glmb":
-        return glmb(model.motion, model.sensor, population=lmb, n_sweeps=options["n_sweeps"], **common)
-    if kind == "glmb_murty":
-        return glmb_murty(model.motion, model.sensor, population=lmb, **common)
-    binom = BinomialPopulation(_birth_terms(model), alpha=model.r_birth, p_survive=model.p_survive)
-    if kind == "rfisst":
-        gen = MCMCGenerator(n_steps=options["n_steps"], completion_rounds=options.get("completion_rounds", 2))
-        return HypothesisFilter(model.motion, model.sensor, HFISSTWeights(), gen, population=binom, **common)
-    if kind == "homht_kbest":
-        gen = MurtyGenerator(k=options["max_hypotheses"])
-        return HypothesisFilter(model.motion, model.sensor, FISSTPoissonWeights(), gen, population=binom, **common)
-    raise ValueError(f"tracker kind must be one of {', '.join(KINDS)}, got {kind!r}")
+        if "max_hypotheses" not in options:
+            raise ValueError("sample_allocation sqrt_weight needs max_hypotheses (H_inf, an integer >= 1)")
+        problem = make_problem(model)
+        return SqrtAllocationFilter(model.motion, model.sensor, GLMBWeights(), AllocatedGibbsGenerator(),
+                                    population=problem.labeled_population(), total_samples=options["total_samples"],
+                                    merge_duplicates=bool(options.get("merge_duplicates", False)),
+                                    max_hypotheses=options["max_hypotheses"],
+                                    gate_probability=options.get("gate_probability"), seed=seed)
+    spec = {"kind": kind, **{k: v for k, v in options.items() if k not in LOCAL_OPTIONS}}
+    return build(spec, make_problem(model), seed=seed, where=f"glmb_benchmark.trackers ({kind})")
 
 
 def implementation_labels(trackers: dict) -> dict:
@@ -204,7 +202,8 @@ def implementation_labels(trackers: dict) -> dict:
 
 def legend_labels(trackers: dict) -> dict:
     """Per named tracker: its name and what it is, for figure legends."""
-    what = {"glmb": "δ-GLMB, Gibbs", "glmb_murty": "δ-GLMB, Murty", "homht_kbest": "HOMHT, Murty k-best"}
+    what = {"glmb": "δ-GLMB, Gibbs", "glmb_murty": "δ-GLMB, Murty", "homht_kbest": "HOMHT, Murty k-best",
+            "fisst_kbest": "FISST = HOMHT weights, Murty k-best"}
     out = {}
     for name, spec in trackers.items():
         kind = spec["kind"]

@@ -39,9 +39,7 @@ from ...association import count_gated_associations, enumerate_associations, fin
 from ...metrics import ospa
 from ...models.motion import ConstantVelocity
 from ...scenarios.cluttered import crossing_targets
-from ...trackers._sht_common import ScanModel
-from ...trackers.initiation import MOfNInitiator
-from ...trackers.tracker import SingleHypothesisTracker
+from ...registry import TrackingProblem, build
 from ..seeds import experiment_seeds
 
 __all__ = [
@@ -150,22 +148,15 @@ def _scenario(cfg, clutter_rate, seed):
     )
 
 
-def _tracker(association, scenario, tcfg):
-    # The scores need β_FA > 0: without clutter the tracker assumes a small floor rate.
-    rate = max(scenario.sensor.clutter.rate, tcfg["min_clutter_rate"])
-    model = ScanModel.from_sensor(
-        scenario.sensor, p_gate=tcfg["p_gate"], new_target_density=tcfg["new_target_density"],
-        clutter_density=rate / scenario.region.area,
-    )
-    motion = ConstantVelocity(tcfg["q"])
-    initiator = MOfNInitiator(
-        motion, model, m=tcfg["confirm_m"], n=tcfg["confirm_n"], initial_velocity_std=tcfg["initial_velocity_std"]
-    )
-    tr = SingleHypothesisTracker(motion, model, association=association, initiator=initiator, max_misses=tcfg["max_misses"])
+def _tracker(association, scenario, cfg):
+    """The GNN or JPDA tracker (:mod:`hypotrack.registry`, options ``cfg["tracker"]``) on the scenario, started
+    from the known initial states with the ``model`` block's prior spreads."""
+    m = cfg["model"]
     n = len(scenario.initial_states)
-    P0 = np.diag([tcfg["prior_position_std"] ** 2] * 2 + [tcfg["prior_velocity_std"] ** 2] * 2)
-    tr.initialise(scenario.initial_states, np.broadcast_to(P0, (n, 4, 4)), scenario.times[0])
-    return tr
+    P0 = np.diag([m["prior_position_std"] ** 2] * 2 + [m["prior_velocity_std"] ** 2] * 2)
+    problem = TrackingProblem(ConstantVelocity(m["q"]), scenario.sensor, scenario.initial_states,
+                              np.broadcast_to(P0, (n, 4, 4)), time=scenario.times[0])
+    return build({"kind": association, **cfg["tracker"]}, problem, where="sht.tracker")
 
 
 def run_crossing(cfg, association, scenario, *, keep_estimates=False):
@@ -183,12 +174,12 @@ def run_crossing(cfg, association, scenario, *, keep_estimates=False):
     estimates : DataFrame or None
         With ``keep_estimates``: ``scan``, ``track``, ``x``, ``y`` of every confirmed track.
     """
-    tr = _tracker(association, scenario, cfg["tracker"])
+    tr = _tracker(association, scenario, cfg)
     c, p = cfg["ospa"]["c"], cfg["ospa"]["p"]
     rows, est_rows = [], []
     scans, truths = scenario.scan_list(), scenario.truth_list()
     for k in range(1, len(scans)):
-        est = tr.step(scans[k])
+        est = tr.step(scans[k][1], scans[k][0])
         X = truths[k][2][:, :2]
         pos = dict(zip(est.ids.tolist(), est.x[:, :2]))
         sep = np.linalg.norm(pos[0] - pos[1]) if (0 in pos and 1 in pos) else np.nan

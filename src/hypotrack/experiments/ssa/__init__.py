@@ -23,7 +23,7 @@ One module per step of the data's way; each step reads and writes tables:
    over the objects in view and over the catalogue, and the paper's "green circle / red star"
    verdict of every estimate (Fig. 7: an estimate is correct when the true object lies inside
    its error bound); :func:`map_agreement` compares two trackers' MAP hypotheses scan by scan;
-4. :mod:`.figures` draws the figures from those tables only;
+4. :mod:`.figures` draws the figures from those tables only (:mod:`.scenario_figures` the scenario itself);
 5. :mod:`.controls` — the negative control of every check: the blind tracker (EKF prediction of
    the initial hypothesis, no measurement ever used, no births), :func:`blind_run`, scored by the
    same evaluation and claim code; :func:`attach_controls` fills the ledger's ``control`` column;

@@ -259,7 +259,7 @@ def completion_pair(settings: Mapping):
     """``(chain, completion)``: the first R-FISST tracker (with births and deaths) without and the
     first with the completion step, among ``settings`` (name -> :class:`TrackerSettings`);
     ``None`` when the section does not run both."""
-    rf = {n: s for n, s in settings.items() if s.kind == "rfisst" and s.population}
+    rf = {n: s for n, s in settings.items() if s.kind == "rfisst" and s.population}  # kinds with a completion step
     chain = next((n for n, s in rf.items() if s.completion_rounds == 0), None)
     comp = next((n for n, s in rf.items() if s.completion_rounds > 0), None)
     return (chain, comp) if chain and comp else None
@@ -277,7 +277,9 @@ def completion_table(summaries: Mapping, settings: Mapping, agreements: Mapping 
         ch = run["n_children"]
         ag = agreements.get(tr) if agreements else None
         rows.append({
-            "tracker": tr, "label": settings[tr].label, "completion_rounds": settings[tr].completion_rounds,
+            # 0 for a kind without a completion step (the exhaustive HOMHT)
+            "tracker": tr, "label": settings[tr].label,
+            "completion_rounds": int(settings[tr].spec.options.get("completion_rounds", 0)),
             "children_total": int(ch.sum()), "children_per_scan_mean": float(ch.mean()),
             "children_per_scan_median": float(ch.median()), "children_per_scan_max": int(ch.max()),
             "effective_hypotheses_mean": float(run["effective_hypotheses"].mean()),

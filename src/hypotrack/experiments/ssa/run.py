@@ -150,7 +150,7 @@ def run_tracker(tracker, scenario: SSAScenario, *, snapshots: Sequence[int] = ()
     start = time.perf_counter()
     for k, (t, Z) in enumerate(scans):
         with Clocks() as clocks:
-            post = tracker.step(Z, dt=t - scans[k - 1][0]) if k else tracker.posterior(n_top=1)
+            post = tracker.step(Z, t) if k else tracker.posterior(n_top=1)
         seconds[k], cpu_seconds[k] = clocks.wall, clocks.cpu
         w = post.weights
         stats = tracker.last_stats if k else {}

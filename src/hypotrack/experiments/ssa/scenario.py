@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from ...models.orbit import TwoBodyOrbit
-from ...scenarios.ssa import SSAParams, SSAScenario, _sensor, params_from_config, read_prior
+from ...scenarios.ssa import SSAParams, SSAScenario, params_from_config, read_prior, ssa_sensor
 from ...scenarios.tables import state_columns, validate_scans, validate_truth
 
 __all__ = ["catalogue_mask", "scenario_from_files", "scenario_from_tables", "truth_arrays"]
@@ -66,7 +66,7 @@ def scenario_from_tables(params: SSAParams, truth: pd.DataFrame, scans: pd.DataF
         prior_covs=covs, birth_ids=np.setdiff1d(np.arange(N), ids), first_in_view_scan=first,
         # The ssa module builds its sensor from the parameters with a private helper; using it
         # keeps one definition of the sensor (see the report: a public builder is requested).
-        motion=TwoBodyOrbit(params.mu, params.q), sensor=_sensor(params),
+        motion=TwoBodyOrbit(params.mu, params.q), sensor=ssa_sensor(params),
     )
 
 

@@ -27,7 +27,6 @@ writes the ledger row and macros, :func:`plot_sensitivity` the figure.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -91,7 +90,7 @@ def run_setting(config: Mapping, setting: int, progress: Callable[[str], None] |
     lam, p_d = float(g.loc[setting, "clutter_rate"]), float(g.loc[setting, "p_D"])
     settings = TrackerSettings.from_config(config["ssa50"], own["tracker"])
     if own.get("n_steps") and settings.kind == "rfisst":
-        settings = replace(settings, n_steps=int(own["n_steps"]))
+        settings = settings.with_options(n_steps=int(own["n_steps"]))
     rows, timing = [], []
     for i in range(check_int(own["n_seeds"], "n_seeds", minimum=1)):
         scenario = _scenario(config, lam, p_d, i)

@@ -1,111 +1,94 @@
 """SSA experiments, step 2a: the hypothesis filters, built from a named tracker of a config section.
 
 A config section (``ssa50``, ``ssa15``, ``ssa_seeds``) names its trackers under ``trackers``;
-each entry's ``kind`` selects the preset (:data:`TRACKER_KINDS`) and the other keys its options.
-Each tracker draws from its own random stream (:func:`tracker_seed`).
+each entry is a tracker specification of :mod:`hypotrack.registry` (``kind`` plus options, one
+vocabulary for every experiment). The section's ``max_hypotheses`` and ``gate_probability`` apply to
+every tracker and its ``population`` block (document 000's Eq. 30) is the birth model of the
+problem every tracker is built on. Each tracker draws from its own random stream (:func:`tracker_seed`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validation import check_int, check_positive, check_probability
-from ...hypotheses import LabeledMultiBernoulliPopulation, glmb, hfisst, homht, homht_kbest, rfisst
+from ...registry import TrackerSpec, TrackingProblem, build, preset
 from ...scenarios.ssa import SSAScenario
 from ..seeds import experiment_seeds
 
-__all__ = ["TRACKER_KINDS", "TRACKER_NAMES", "TrackerSettings", "make_tracker", "tracker_seed"]
+__all__ = ["TRACKER_KINDS", "TRACKER_NAMES", "TrackerSettings", "make_tracker", "make_problem", "tracker_seed"]
 
-TRACKER_KINDS = ("rfisst", "hfisst", "homht", "glmb")
-TRACKER_NAMES = {"rfisst": "R-FISST", "hfisst": "H-FISST", "homht": "HOMHT", "glmb": "GLMB (Gibbs)"}
+#: The kinds the SSA configs use (any registered kind of the engine family is accepted).
+TRACKER_KINDS = ("rfisst", "hfisst", "homht", "homht_kbest", "glmb")
+TRACKER_NAMES = {"rfisst": "R-FISST", "hfisst": "H-FISST", "homht": "HOMHT", "homht_kbest": "HOMHT", "glmb": "GLMB (Gibbs)"}
+_BIRTH_KEYS = ("alpha", "beta", "n_birth_regions", "birth_velocity_std")
 
 
-@dataclass(frozen=True)
 class TrackerSettings:
-    """How one hypothesis filter of the SSA experiments is configured.
+    """One hypothesis filter of the SSA experiments: a tracker specification and the birth model.
 
     Parameters
     ----------
-    kind : {"rfisst", "hfisst", "homht"}
-        R-FISST (H-FISST weights, MCMC search; document 000 Sec. III), H-FISST (exhaustive), or
-        Reid's HOMHT (exhaustive or Murty's k best; by default a fixed number of objects: the
-        scenario's objects are all in the initial hypothesis).
-    max_hypotheses : int
-        ``H∞``, hypotheses kept after every scan (document 000 Sec. III-A).
-    gate_probability : float or None
-        Validation gate ``P_G`` in (0, 1) applied to every track; ``None``: no gating.
-    n_steps : int
-        MCMC proposals per parent per scan (R-FISST).
-    mcmc_variant : {"paper", "symmetric", "gibbs"}
-        The MCMC proposal (``"paper"``: document 000 Sec. III-B).
-    completion_rounds : int
-        Rounds of this project's deterministic neighbour search after the chain
-        (:class:`hypotrack.hypotheses.MCMCGenerator`); ``0`` is the paper's chain alone (R-FISST).
+    kind : str
+        A registered kind of the hypothesis engine (:func:`hypotrack.registry.kinds`), e.g.
+        ``"rfisst"`` (document 000 Sec. III), ``"hfisst"``, ``"homht"`` (Reid's; by default a
+        fixed number of objects: the scenario's objects are all in the initial hypothesis), ``"glmb"``.
     alpha, beta, n_birth_regions, birth_velocity_std :
-        Document 000's single-event birth/death model (Eq. 30) of the FISST trackers: birth
-        probability per region per scan, death probability per in-view object per scan,
-        number of birth regions (the FOV split in equal angles), and the birth velocity
-        prior's standard deviation (km/s) around the circular-orbit velocity.
-    population : bool
-        Use the birth/death model; ``False`` fixes the number of objects. Default ``True`` for
-        the FISST trackers and ``False`` for HOMHT, which with ``True`` runs with the same Eq. 30
-        births and deaths as R-FISST (:class:`hypotrack.hypotheses.ReidWeights`: Reid's factors for
-        the objects, the population's event probabilities; this project's construction).
-    max_events : int
-        Budget of the exhaustive generators (children per parent).
-    k_best : int or None
-        HOMHT only: Murty's ``k_best`` best children per parent (:func:`hypotrack.hypotheses.homht_kbest`);
-        ``None``: exhaustive. With ``k_best >= max_hypotheses`` the kept hypotheses are the exhaustive
-        HOMHT's (the filter keeps the best ``H∞`` children of each parent either way) up to the
-        order in which children of equal weight meet the cap.
-    n_sweeps : int
-        Gibbs samples per parent per scan (``glmb``: the δ-GLMB filter with the labeled
-        multi-Bernoulli population built from the same α and birth regions, ``r_B = α`` per
-        region, and ``p_S = 1 − β`` for every object at every scan, in view or not).
+        Document 000's single-event birth/death model (Eq. 30) of the trackers with births and
+        deaths: birth probability per region per scan, death probability per in-view object per
+        scan, number of birth regions (the FOV split in equal angles), and the birth velocity
+        prior's standard deviation (km/s) around the circular-orbit velocity. The δ-GLMB filter
+        takes it as one labeled-Bernoulli term per region, ``r_B = α``, ``p_S = 1 − β``
+        (:meth:`hypotrack.registry.TrackingProblem.labeled_population`).
+    **options :
+        The kind's options (``presets.yaml`` of :mod:`hypotrack.registry`: ``max_hypotheses``,
+        ``gate_probability``, ``population``, ``n_steps``, ``completion_rounds``, ``k``, …),
+        validated; a misspelled option is an error naming it.
     """
 
-    kind: str = "rfisst"
-    max_hypotheses: int = 100
-    gate_probability: float | None = None
-    n_steps: int = 10_000
-    mcmc_variant: str = "paper"
-    completion_rounds: int = 2
-    alpha: float = 1e-3
-    beta: float = 1e-4
-    n_birth_regions: int = 10
-    birth_velocity_std: float = 0.5
-    population: bool = True
-    max_events: int = 10**7
-    n_sweeps: int = 1000
-    k_best: int | None = None
+    def __init__(self, kind: str = "rfisst", *, alpha: float = 1e-3, beta: float = 1e-4, n_birth_regions: int = 10,
+                 birth_velocity_std: float = 0.5, **options):
+        spec = TrackerSpec.from_config({"kind": kind, **options})
+        if preset(kind).family != "engine":
+            raise ValueError(f"kind must be a preset of the hypothesis engine for the SSA experiments (their "
+                             f"metrics read the posterior), got {kind!r}")
+        if not birth_velocity_std > 0:
+            raise ValueError(f"birth_velocity_std must be > 0, got {birth_velocity_std!r}")
+        self.spec = spec
+        self.births = dict(alpha=alpha, beta=beta, n_birth_regions=n_birth_regions,
+                           birth_velocity_std=birth_velocity_std)
 
-    def __post_init__(self):
-        if self.kind not in TRACKER_KINDS:
-            raise ValueError(f"kind must be one of {TRACKER_KINDS}, got {self.kind!r}")
-        check_int(self.max_hypotheses, "max_hypotheses", minimum=1)
-        if self.gate_probability is not None:
-            check_probability(self.gate_probability, "gate_probability", low_open=True, high_open=True)
-        check_int(self.n_steps, "n_steps", minimum=1)
-        check_int(self.max_events, "max_events", minimum=1)
-        check_int(self.completion_rounds, "completion_rounds", minimum=0)
-        check_positive(self.birth_velocity_std, "birth_velocity_std")
-        if self.k_best is not None:
-            check_int(self.k_best, "k_best", minimum=1)
-            if self.kind != "homht":
-                raise ValueError(f"k_best is a HOMHT option (Murty's k best children), got kind {self.kind!r}")
+    def __repr__(self) -> str:
+        return f"TrackerSettings({self.spec.to_config()!r}, births={self.births!r})"
+
+    def __getattr__(self, name):
+        """The specification's options as attributes (``settings.n_steps``, ``settings.population``)."""
+        if name.startswith("__") or name in ("spec", "births"):
+            raise AttributeError(name)
+        if name == "kind":
+            return self.spec.kind
+        if name in self.spec.options:
+            return self.spec.options[name]
+        if name in self.births:
+            return self.births[name]
+        raise AttributeError(f"{type(self).__name__} has no option {name!r}")
+
+    def with_options(self, **options) -> TrackerSettings:
+        """The same settings with some options changed (validated again)."""
+        births = {k: options.pop(k, v) for k, v in self.births.items()}
+        return TrackerSettings(self.spec.kind, **births, **{**self.spec.options, **options})
 
     @property
     def label(self) -> str:
         """Name for legends and claims, e.g. ``"R-FISST, paper chain"``,
         ``"R-FISST + completion, fixed number"`` or ``"HOMHT with births and deaths"`` (HOMHT's
         default is a fixed number: plain ``"HOMHT"``)."""
-        name = TRACKER_NAMES[self.kind]
-        if self.kind == "rfisst":
+        kind = self.spec.kind
+        name = TRACKER_NAMES.get(kind, kind)
+        if kind == "rfisst":
             name += " + completion" if self.completion_rounds else ", paper chain"
-        if self.kind == "homht":
+        if kind in ("homht", "homht_kbest"):  # Reid's filter: a fixed number unless said otherwise
             return f"{name} with births and deaths" if self.population else name
         return name if self.population else f"{name}, fixed number"
 
@@ -113,20 +96,17 @@ class TrackerSettings:
     def from_config(cls, section: Mapping, name: str) -> TrackerSettings:
         """Settings of the tracker called ``name`` in an ``ssa50`` / ``ssa15`` config section.
 
-        ``section["trackers"][name]`` gives the ``kind`` and the tracker's own options
-        (``n_steps``, ``mcmc_variant``, ``max_events``, ``population``); the section's
-        ``max_hypotheses`` and ``gate_probability`` apply to every tracker, and its
-        ``population`` block (α, β, regions, birth velocity) to the trackers with births and deaths.
+        ``section["trackers"][name]`` is the tracker's specification; the section's
+        ``max_hypotheses`` and ``gate_probability`` apply to every tracker, and its ``population``
+        block (α, β, regions, birth velocity) is the birth model.
         """
         trackers = section.get("trackers", {})
         if name not in trackers:
             raise ValueError(f"unknown tracker {name!r}; the config section defines {sorted(trackers)}")
+        pop = {k: v for k, v in dict(section.get("population", {})).items() if k in _BIRTH_KEYS}
         own = dict(trackers[name])
-        kind = own.pop("kind")
-        population = own.pop("population", kind != "homht")
-        pop = dict(section.get("population", {})) if population else {}
-        return cls(kind=kind, max_hypotheses=section["max_hypotheses"],
-                   gate_probability=section.get("gate_probability"), population=population, **pop, **own)
+        return cls(own.pop("kind"), **pop, **{"max_hypotheses": section["max_hypotheses"],
+                                              "gate_probability": section.get("gate_probability"), **own})
 
 
 def tracker_seed(master_seed: int, experiment: str, name: str) -> np.random.Generator:
@@ -141,28 +121,16 @@ def tracker_seed(master_seed: int, experiment: str, name: str) -> np.random.Gene
     return np.random.default_rng(experiment_seeds(master_seed, f"{experiment}/{name}", 1)[0])
 
 
-def make_tracker(scenario: SSAScenario, settings: TrackerSettings, seed):
-    """A :class:`hypotrack.hypotheses.HypothesisFilter` started from the initial hypothesis.
+def make_problem(scenario: SSAScenario, settings: TrackerSettings) -> TrackingProblem:
+    """The scenario as a :class:`~hypotrack.registry.TrackingProblem`: its EKF and sensor, the objects of
+    its initial hypothesis labelled with their true ids (so their tracks can be checked object by
+    object, :func:`evaluate_map`), the scan interval and document 000's Eq. 30 birth model."""
+    b = settings.births
+    births = scenario.birth_model(b["alpha"], b["beta"], b["n_birth_regions"], b["birth_velocity_std"])
+    return TrackingProblem(scenario.motion, scenario.sensor, scenario.prior_means, scenario.prior_covs,
+                           scenario.prior_ids, time=float(scenario.times[0]), dt=scenario.params.dt, births=births)
 
-    The objects of the initial hypothesis are labelled with their true ids, so their tracks
-    can be checked object by object (:func:`evaluate_map`).
-    """
-    s = settings
-    common = dict(dt=scenario.params.dt, max_hypotheses=s.max_hypotheses, gate_probability=s.gate_probability,
-                  seed=seed, means=scenario.prior_means, covs=scenario.prior_covs, labels=scenario.prior_ids)
-    population = (scenario.birth_model(s.alpha, s.beta, s.n_birth_regions, s.birth_velocity_std)
-                  if s.population else None)
-    if s.kind == "homht":
-        if s.k_best is not None:
-            return homht_kbest(scenario.motion, scenario.sensor, k=s.k_best, population=population, **common)
-        return homht(scenario.motion, scenario.sensor, max_events=s.max_events, population=population, **common)
-    if s.kind == "glmb":
-        if population is None:
-            raise ValueError("population must be true for glmb (its births and deaths are the labeled multi-Bernoulli)")
-        births = [population.birth_density(r) for r in range(population.n_birth_regions)]
-        lmb = LabeledMultiBernoulliPopulation(births, r_birth=s.alpha, p_survive=1.0 - s.beta)
-        return glmb(scenario.motion, scenario.sensor, population=lmb, n_sweeps=s.n_sweeps, **common)
-    if s.kind == "rfisst":
-        return rfisst(scenario.motion, scenario.sensor, n_steps=s.n_steps, variant=s.mcmc_variant,
-                      completion_rounds=s.completion_rounds, population=population, **common)
-    return hfisst(scenario.motion, scenario.sensor, max_events=s.max_events, population=population, **common)
+
+def make_tracker(scenario: SSAScenario, settings: TrackerSettings, seed):
+    """The tracker of ``settings`` on the scenario (:func:`make_problem`), started from its initial hypothesis."""
+    return build(settings.spec, make_problem(scenario, settings), seed=seed)

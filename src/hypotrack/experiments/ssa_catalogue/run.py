@@ -21,7 +21,7 @@ Trackers on the same scans: the δ-GLMB filter (Gibbs), HOMHT k-best (Murty) and
 on the factored engine (:class:`~hypotrack.hypotheses.factored.FactoredFilter`; GLMB and R-FISST
 with measurement-driven births, :class:`~hypotrack.hypotheses.factored.AdaptiveBirth`, HOMHT
 with Reid's births seeded at the returns), GNN and JPDA (M-of-N initiation; a track is deleted
-after ``sht_max_misses`` consecutive misses *in view* — out of view is not a miss).
+after ``max_misses`` consecutive misses *in view* — out of view is not a miss).
 
 Per tracker, population size and scan (:func:`run_tracker`): CPU seconds
 (``time.process_time``), groups and the largest group, GOSPA and OSPA of the estimates in view
@@ -39,7 +39,6 @@ import numpy as np
 import pandas as pd
 from scipy.optimize import linear_sum_assignment
 
-from ...hypotheses import BinomialPopulation, LabeledMultiBernoulliPopulation, glmb, homht_kbest, rfisst
 from ...hypotheses.factored import AdaptiveBirth, FactoredFilter
 from ...metrics import gospa, ospa
 from ...models.orbit3d import J2Orbit3D, TwoBodyOrbit3D
@@ -52,13 +51,15 @@ from ...scenarios.catalogue import (
     simulate_catalogue,
 )
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
-from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
+from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
+from ...trackers import ScanModel
 from ..stepping import SHTStepper, max_abs_difference
 
-__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "TRACKERS", "make_motion", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "TRACKERS", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
            "CatalogueSHTStepper", "peer_rows"]
 
+#: The trackers of the committed configurations (names of ``ssa_catalogue.trackers``); the factored ones.
 TRACKERS = ("glmb", "homht_kbest", "rfisst", "gnn", "jpda")
 FACTORED = ("glmb", "homht_kbest", "rfisst")
 
@@ -108,13 +109,12 @@ MOTIONS = {"two_body": TwoBodyOrbit3D, "j2": J2Orbit3D}
 
 
 def make_motion(cfg):
-    """The trackers' EKF motion model: ``trackers.motion`` (two-body, or two-body + J2) with white
-    acceleration noise of intensity ``trackers.process_noise_q``."""
-    t = cfg["trackers"]
-    kind = t.get("motion", "two_body")
-    if kind not in MOTIONS:
-        raise ValueError(f"trackers.motion must be one of {tuple(MOTIONS)}, got {kind!r}")
-    return MOTIONS[kind](q=t["process_noise_q"])
+    """The trackers' EKF motion model: ``model.motion`` (two-body, or two-body + J2) with white
+    acceleration noise of intensity ``model.process_noise_q``."""
+    m = cfg["model"]
+    if m["motion"] not in MOTIONS:
+        raise ValueError(f"model.motion must be one of {tuple(MOTIONS)}, got {m['motion']!r}")
+    return MOTIONS[m["motion"]](q=m["process_noise_q"])
 
 
 def build_scenario(cfg, n: int, seed: int):
@@ -138,58 +138,47 @@ def _initial_tracks(sc, unknown, cfg, init_seed):
     return X[known] + err, P, norad[known]
 
 
-def _make(name, cfg, tsensor, motion, means, covs, labels, seed):
-    t = cfg["trackers"]
-    dt = cfg["radar"]["revisit_s"]
-    gate = t["gate_probability"]
-    ab = AdaptiveBirth(position_std=t["birth_position_std_km"], velocity_std=t["birth_velocity_std_km_s"],
-                       r_birth=t["r_birth"], gate_probability=gate)
-    common = dict(dt=dt, gate_probability=gate, seed=seed, means=means, covs=covs, labels=labels,
-                  merge_duplicates=True, max_hypotheses=t["max_hypotheses"])
-    # a track out of view can take no return: it gates nothing (same posterior, no needless merges)
-    fopts = dict(min_weight=t["min_weight"], split="marginal", lazy=t.get("lazy_prediction", True),
-                 gate_out_of_view=False)
-    if name == "glmb":
-        f = glmb(motion, tsensor, population=LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0),
-                 n_sweeps=t["gibbs_sweeps"], **common)
-        return FactoredFilter.from_filter(f, adaptive_birth=ab, **fopts)
-    if name == "rfisst":
-        f = rfisst(motion, tsensor, population=BinomialPopulation([], alpha=t["r_birth"], p_survive=1.0),
-                   n_steps=t["mcmc_steps"], **common)
-        return FactoredFilter.from_filter(f, adaptive_birth=ab, **fopts)
-    if name == "homht_kbest":
-        lam_b = t["homht_births_per_scan"] / tsensor.clutter.region.area
-        f = homht_kbest(motion, tsensor, k=t["max_hypotheses"], birth_intensity=lam_b,
-                        birth_density=OnePointBirth(t["birth_velocity_std_km_s"], t["birth_position_std_km"]),
-                        **common)
-        return FactoredFilter.from_filter(f, **fopts)
-    if name in ("gnn", "jpda"):
-        model = ScanModel(tsensor.measurement.H, tsensor.measurement.R, tsensor.detection.p_D, gate,
-                          max(tsensor.clutter.intensity, 1e-300),
-                          t["homht_births_per_scan"] / tsensor.clutter.region.area)
-        init = MOfNInitiator(motion, model, m=t["m_of_n"][0], n=t["m_of_n"][1],
-                             initial_velocity_std=t["birth_velocity_std_km_s"])
-        tr = SingleHypothesisTracker(motion, model, association=name, initiator=init, max_misses=t["sht_max_misses"])
-        tr.initialise(means, covs, 0.0)
-        tr._labels = np.asarray(labels, dtype=np.int64)
-        return tr
-    raise ValueError(f"tracker must be one of {TRACKERS}, got {name!r}")
+def make_problem(cfg, tsensor: TrackerSensor, motion, means, covs, labels) -> TrackingProblem:
+    """The catalogue as a :class:`~hypotrack.registry.TrackingProblem`: the known objects at scan 0, the radar
+    (TEME returns), the EKF, the revisit interval, and births from the returns (``model`` block):
+    adaptive birth terms (δ-GLMB, R-FISST), Reid's births seeded at the returns (HOMHT) and GNN/JPDA's
+    ``β_NT``, all from ``homht_births_per_scan`` and the birth spreads; a miss counts in view only."""
+    m = cfg["model"]
+    adaptive = AdaptiveBirth(position_std=m["birth_position_std_km"], velocity_std=m["birth_velocity_std_km_s"],
+                             r_birth=m["r_birth"], gate_probability=m["gate_probability"])
+    births = MeasurementBirths(adaptive, r_birth=m["r_birth"],
+                               seeded_intensity=m["homht_births_per_scan"] / tsensor.clutter.region.area,
+                               seeded_density=OnePointBirth(m["birth_velocity_std_km_s"], m["birth_position_std_km"]))
+    return TrackingProblem(motion, tsensor, means, covs, labels, time=0.0, dt=cfg["radar"]["revisit_s"],
+                           births=births, in_view=lambda x: tsensor.detection.in_view(x[:, :3]))
 
 
-def _estimates(name, tracker, tsensor):
-    """(labels, TEME positions) of the tracker's estimates inside the field of view."""
-    if name in FACTORED:  # the MAP's means only: the lazy lane's covariances are not predicted to the scan
-        lab, X = tracker.map_means()
-    else:
-        e = tracker.estimates()
-        n0 = len(tracker._labels)
-        lab = np.where(e.ids < n0, tracker._labels[np.minimum(e.ids, max(n0 - 1, 0))] if n0 else -1,
-                       10**9 + e.ids)
-        X = e.x
-    if len(X) == 0:
+def tracker_spec(cfg, name: str, **factored) -> TrackerSpec:
+    """The specification of tracker ``name`` (``ssa_catalogue.trackers``), with ``factored`` options overridden."""
+    trackers = cfg["trackers"]
+    if name not in trackers:
+        raise ValueError(f"tracker must be one of {tuple(trackers)} (ssa_catalogue.trackers), got {name!r}")
+    own = dict(trackers[name])
+    if factored:
+        if own.get("factored") is None:
+            raise ValueError(f"tracker {name!r} is not factored (ssa_catalogue.trackers.{name}.factored)")
+        own["factored"] = {**own["factored"], **factored}
+    return TrackerSpec.from_config(own, f"ssa_catalogue.trackers.{name}")
+
+
+def make_tracker(name: str, cfg, problem: TrackingProblem, seed: int, **factored):
+    """Tracker ``name`` of the config on the problem (:func:`hypotrack.registry.build`)."""
+    return build(tracker_spec(cfg, name, **factored), problem, seed=seed)
+
+
+def _estimates(tracker, in_view):
+    """(labels, TEME positions) of the tracker's estimates inside the field of view (the factored
+    trackers' MAP means: their lazy lane's covariances are not predicted to the scan)."""
+    e = tracker.estimates()
+    if len(e) == 0:
         return np.zeros(0, np.int64), np.zeros((0, 3))
-    inv = tsensor.detection.in_view(X[:, :3])
-    return np.asarray(lab)[inv], X[inv, :3]
+    inv = in_view(e.x)
+    return np.asarray(e.labels)[inv], e.x[inv, :3]
 
 
 def _assign(truth_X, est_X, c):
@@ -223,34 +212,26 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
     n_scans = cfg["memory_scans"] if memory else len(scans)
     if memory:
         tracemalloc.start()
-    tracker = _make(name, cfg, tsensor, motion, means, covs, labels, int(seed))
+    problem = make_problem(cfg, tsensor, motion, means, covs, labels)
+    tracker = make_tracker(name, cfg, problem, int(seed))
+    factored = isinstance(tracker, FactoredFilter)
     rows, assign = [], []
     for k in range(n_scans):
         t_k, Z = scans[k]
         tsensor.at(sc.theta[k])
         t0 = time.process_time()
-        Zt = tsensor.returns(Z)
-        if name in FACTORED:
-            if k > 0:
-                tracker.step(Zt)
-            else:  # scan 0 is at the tracks' epoch: an update without prediction is not offered; use a tiny dt
-                tracker.step(Zt, dt=1e-6)
-        else:
-            tracker.step((float(t_k), Zt))
-            # deletion counts misses in view only: a catalogue object out of the field of view is not missed
-            if len(tracker.x):
-                tracker.misses[~tsensor.detection.in_view(tracker.x[:, :3])] = 0
+        tracker.step(tsensor.returns(Z), float(t_k))  # scan 0 is at the tracks' epoch: an update without prediction
         cpu = time.process_time() - t0
-        lab, EX = _estimates(name, tracker, tsensor)
+        lab, EX = _estimates(tracker, problem.in_view)
         g = by_scan.get(k)
         TX = g[["state_0", "state_1", "state_2"]].to_numpy() if g is not None else np.zeros((0, 3))
         tid = g["target"].to_numpy(np.int64) if g is not None else np.zeros(0, np.int64)
         gr = gospa(EX, TX, c=c, p=p)
-        st = tracker.last_stats if name in FACTORED else {}
+        st = tracker.last_stats if factored else {}
         rows.append(dict(tracker=name, n_objects=n, scan=k, cpu_s=cpu, n_returns=len(Z), n_in_view=len(TX),
                          n_estimates=len(EX), gospa_km=gr.value, gospa_missed=gr.missed, gospa_false=gr.false,
                          ospa_km=ospa(EX, TX, c=c, p=p), n_groups=st.get("n_groups", np.nan),
-                         largest_group=st.get("largest_group", np.nan), n_tracks=_n_tracks(name, tracker)))
+                         largest_group=st.get("largest_group", np.nan), n_tracks=_n_tracks(tracker)))
         r, q = _assign(TX, EX, c)
         lab_of = np.full(len(TX), -1, np.int64)
         lab_of[r] = lab[q]
@@ -263,10 +244,10 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
     return pd.DataFrame(rows), pd.DataFrame(assign), info
 
 
-def _n_tracks(name, tracker):
-    if name in FACTORED:
+def _n_tracks(tracker):
+    if isinstance(tracker, FactoredFilter):
         return tracker.n_objects_held
-    return len(tracker.ids)
+    return len(tracker.estimates())
 
 
 #: Scans out of view after which an object's next scan in view is a *re-entry* (a new pass): 30 scans of
@@ -345,22 +326,9 @@ def same_posterior(a: FactoredFilter, b: FactoredFilter) -> bool:
     """Whether two factored filters hold bit-for-bit the same posterior (groups, weights, labels,
     track moments, hypotheses, next label): their stored state — the multi-hypothesis groups and the
     lane of singletons as kept (means, covariances, labels, the times they were predicted to, the
-    means at the scan) — so the lazy lane and lazy groups are compared without predicting them to the scan."""
-    if a._next_label != b._next_label or len(a._groups) != len(b._groups):
-        return False
-    if not (np.array_equal(a._group_t, b._group_t)
-            and all(np.array_equal(x, y) for x, y in zip(a._group_view, b._group_view))):
-        return False
-    la, lb = a._lane, b._lane
-    if not all(np.array_equal(x, y) for x, y in ((la.means, lb.means), (la.covs, lb.covs), (la.labels, lb.labels),
-                                                  (a._lane_t, b._lane_t), (a._lane_view, b._lane_view))):
-        return False
-    for s, t in zip(a._groups, b._groups):
-        if not (np.array_equal(s.log_w, t.log_w) and np.array_equal(s.store.labels, t.store.labels)
-                and np.array_equal(s.store.means, t.store.means) and np.array_equal(s.store.covs, t.store.covs)
-                and len(s.tracks) == len(t.tracks) and all(np.array_equal(x, y) for x, y in zip(s.tracks, t.tracks))):
-            return False
-    return True
+    means at the scan) — so the lazy lane and lazy groups are compared without predicting them to the
+    scan (:meth:`FactoredFilter.same_posterior`)."""
+    return a.same_posterior(b)
 
 
 def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, scenario=None) -> pd.DataFrame:
@@ -381,8 +349,6 @@ def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, s
     engine steps and the Amdahl ceiling ``1 / (1 − s + s / workers)`` of the speed-up; and, on
     the serial row, bytes in and out per scan and per step.
     """
-    if name not in FACTORED:
-        raise ValueError(f"tracker must be one of {FACTORED}, got {name!r}")
     pools = list(pools)
     if any(p not in ("process", "thread") for p in pools):
         raise ValueError(f"pools must hold 'process' and/or 'thread', got {pools!r}")
@@ -390,29 +356,27 @@ def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, s
     tsensor = TrackerSensor(sc.sensors[0])
     motion = make_motion(cfg)
     means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    problem = make_problem(cfg, tsensor, motion, means, covs, labels)
     confs = [("serial", 1)] + [(p, int(workers)) for p in pools]
-    filters = []
-    for pool, w in confs + [("bytes", 1)]:
-        f = _make(name, cfg, tsensor, motion, means, covs, labels, int(seed))
-        f.workers, f.parallel, f.measure_transfer = w, "process" if pool in ("serial", "bytes") else pool, pool == "bytes"
-        filters.append(f)
+    filters = [make_tracker(name, cfg, problem, int(seed), workers=w, measure_transfer=pool == "bytes",
+                            parallel="process" if pool in ("serial", "bytes") else pool)
+               for pool, w in confs + [("bytes", 1)]]
     acc = [dict(cpu=0.0, wcpu=0.0, wall=0.0, steps=0.0, jobs=0, identical=True) for _ in confs]
     b_in = b_out = 0
     scans = sc.scan_list(0)
     try:
-        for k, (_, Z) in enumerate(scans):
+        for k, (t_k, Z) in enumerate(scans):
             tsensor.at(sc.theta[k])
-            Zt = tsensor.returns(Z)
-            dt = None if k else 1e-6  # scan 0 is at the tracks' epoch (as run_tracker)
+            Zt, t_k = tsensor.returns(Z), float(t_k)  # scan 0 is at the tracks' epoch (as run_tracker)
             if k < _WARM_SCANS:  # untimed: the pools start and every process runs (and compiles) its first steps
                 for i in range(len(confs)):
                     if k == 0:
                         filters[i].warm_up()
-                    filters[i].step(Zt, dt=dt)
+                    filters[i].step(Zt, t_k)
             order = np.roll(np.arange(len(confs)), -k) if k >= _WARM_SCANS else []
             for i in order:
                 c0, w0 = time.process_time(), time.perf_counter()
-                filters[i].step(Zt, dt=dt)
+                filters[i].step(Zt, t_k)
                 a = acc[i]
                 a["cpu"] += time.process_time() - c0
                 a["wall"] += time.perf_counter() - w0
@@ -420,7 +384,7 @@ def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, s
                 a["wcpu"] += st.get("worker_cpu_s", 0.0)
                 a["steps"] += st["time_steps"]
                 a["jobs"] += st["n_jobs"]
-            filters[-1].step(Zt, dt=dt)
+            filters[-1].step(Zt, t_k)
             if k >= _WARM_SCANS:
                 b_in += filters[-1].last_stats["bytes_to_workers"]
                 b_out += filters[-1].last_stats["bytes_from_workers"]
@@ -472,8 +436,7 @@ def peer_scenario(cfg, n: int, seed: int, scenario=None) -> PeerScenario:
         tsensor.at(sc.theta[k])
         times.append(float(t_k))
         returns.append(tsensor.returns(Z))
-    t = cfg["trackers"]
-    model = ScanModel(tsensor.measurement.H, tsensor.measurement.R, tsensor.detection.p_D, t["gate_probability"],
+    model = ScanModel(tsensor.measurement.H, tsensor.measurement.R, tsensor.detection.p_D, cfg["model"]["gate_probability"],
                       max(tsensor.clutter.intensity, 1e-300))
     return PeerScenario(means, covs, np.array(times), returns, model, make_motion(cfg))
 

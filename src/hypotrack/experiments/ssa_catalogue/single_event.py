@@ -57,7 +57,7 @@ groups. :func:`pair_summary` reduces it per pair, :func:`single_event_claims` an
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 import pandas as pd
@@ -126,7 +126,7 @@ class SingleEventSettings:
         if base.kind != "rfisst" or not base.population:
             raise ValueError(f"tracker must be an R-FISST tracker with births and deaths in ssa50.trackers, "
                              f"got {self.tracker!r} ({base.label})")
-        return replace(base, n_steps=self.n_steps, gate_probability=self.gate_probability)
+        return base.with_options(n_steps=self.n_steps, gate_probability=self.gate_probability)
 
 
 def single_event_filters(scenario, tracker: TrackerSettings, master_seed: int, *, split: str = "exact") -> dict:
@@ -146,7 +146,7 @@ def compare_runs(filters: Mapping, scans: Sequence, n_true: Sequence[int], *,
     Parameters
     ----------
     filters : mapping
-        ``"unfactored"``, ``"factored"``, ``"reseeded"`` → a filter with ``step(Z, dt)`` returning
+        ``"unfactored"``, ``"factored"``, ``"reseeded"`` → a filter with ``step(Z, time)`` returning
         a posterior (``cardinality``, ``expected_number``, ``map_estimate``).
     scans : sequence of (t, Z)
         Scan 0 is the filters' start time (its returns are not used); the filters step from scan 1.
@@ -176,11 +176,10 @@ def compare_runs(filters: Mapping, scans: Sequence, n_true: Sequence[int], *,
     rows = []
     for k in range(1, len(scans)):
         t, Z = scans[k]
-        dt = t - scans[k - 1][0]
         post = {}
         for name in RUNS:
             with Clocks() as clocks:
-                post[name] = filters[name].step(Z, dt=dt)
+                post[name] = filters[name].step(Z, t)
             cpu[name] += clocks.cpu
         n = int(n_true[k])
         row = {"scan": k, "time": t, "n_returns": len(Z), "n_true": n}

@@ -25,7 +25,6 @@ many seeds are run.
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import replace
 
 import numpy as np
 import pandas as pd
@@ -86,7 +85,7 @@ def tracker_settings(config: Mapping, case: str) -> dict:
     for name in own["trackers"][case]:
         s = TrackerSettings.from_config(section, name)
         if own.get("n_steps") and s.kind == "rfisst":
-            s = replace(s, n_steps=int(own["n_steps"]))
+            s = s.with_options(n_steps=int(own["n_steps"]))
         out[name] = s
     return out
 

@@ -6,10 +6,11 @@ import dataclasses
 
 import numpy as np
 
-from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation, presets
+from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from ...models.sensors import DetectionModel, PoissonClutter, Sensor
-from ...trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
-from ._common import GLMB, SINGLE_HYPOTHESIS
+from ...registry import TrackingProblem, build
+from ...trackers import MOfNInitiator, SingleHypothesisTracker
+from ._common import GLMB
 
 __all__ = ["_build", "glmb_population", "scan_settings"]
 
@@ -17,18 +18,19 @@ BIRTH_OPTIONS = ("birth_states", "birth_probability", "survival_probability")
 
 
 def _build(algorithm, motion, measurement, p_D, clutter_rate, region, means, covs, options):
-    """The hypotrack tracker, constructed exactly as a hypotrack user would."""
+    """The hypotrack tracker of kind ``algorithm`` (any kind of :mod:`hypotrack.registry`), built there.
+
+    ``options`` are the kind's options (the registry's vocabulary, validated there) plus ``seed`` and,
+    for the hypothesis filters, ``population``: a hypotrack population object, the problem's birth
+    model (:class:`~hypotrack.registry.TrackingProblem`). The known objects start at time 0 (seconds
+    since the adapter's epoch).
+    """
     options = dict(options)
-    if algorithm in SINGLE_HYPOTHESIS:
-        initiation = options.pop("initiator", None)
-        model = ScanModel(measurement.H, measurement.R, p_D, options.pop("p_gate", 0.99), clutter_rate / region.area,
-                          options.pop("new_target_density", 0.0))
-        initiator = None if initiation is None else MOfNInitiator(motion, model, **initiation)
-        tracker = SingleHypothesisTracker(motion, model, association=algorithm, initiator=initiator, **options)
-        tracker.initialise(means, covs, time=0.0)
-        return tracker
+    seed = options.pop("seed", None)
+    population = options.pop("population", None)
     sensor = Sensor(measurement, DetectionModel(p_D=p_D), PoissonClutter(rate=clutter_rate, region=region))
-    return getattr(presets, algorithm)(motion, sensor, means=means, covs=covs, **options)
+    problem = TrackingProblem(motion, sensor, means, covs, time=0.0, births=population)
+    return build({"kind": algorithm, **options}, problem, seed=seed, where="options")
 
 
 def glmb_population(algorithm, options, perm, H, R):
@@ -88,35 +90,16 @@ def glmb_population(algorithm, options, perm, H, R):
     return options
 
 
-class ZeroTime:
-    """A motion model frozen at ``dt = 0`` (``F = I``, ``Q = 0``) whatever ``dt`` it is asked for.
-
-    The hypothesis filters predict over ``dt > 0`` only; a scan at the previous scan's time (or at
-    the priors' time) is stepped with this model so that it is, as in Stone Soup's predictors,
-    an update without prediction.
-    """
-
-    def __init__(self, motion):
-        self.motion = motion
-        self.ndim = motion.ndim
-
-    def transition(self, x, dt):
-        return self.motion.transition(x, 0.0)
-
-    def Q(self, dt):
-        return self.motion.Q(0.0)
-
-
-def scan_settings(tracker, algorithm, R=None, zero_time=False):
+def scan_settings(tracker, R=None):
     """``[(object, attribute, value)]`` that run one scan of ``tracker`` with noise covariance ``R``
-    (a detection model's, see :class:`DetectionFrame`) and/or without prediction.
+    (a detection model's, see :class:`DetectionFrame`).
 
     The hypotrack trackers take one ``H`` and ``R`` at construction; a scan with another ``R`` sets
     it on the tracker (and on the parts that derive quantities from it: the initiator's initial
     covariance, the GLMB birth terms' likelihoods) for that scan only.
     """
     settings = []
-    if algorithm in SINGLE_HYPOTHESIS:
+    if isinstance(tracker, SingleHypothesisTracker):
         if R is not None:
             model = dataclasses.replace(tracker.model, R=R)
             settings.append((tracker, "model", model))
@@ -124,7 +107,7 @@ def scan_settings(tracker, algorithm, R=None, zero_time=False):
             if ini is not None:
                 template = MOfNInitiator(ini.motion, dataclasses.replace(ini.model, R=R), m=ini.m, n=ini.n,
                                          initial_velocity_std=ini.initial_velocity_std)
-                settings += [(ini, "model", template.model), (ini, "_P0", template._P0)]
+                settings += [(ini, "model", template.model), (ini, "P0", template.P0)]
         return settings
     if R is not None:
         settings.append((tracker, "R", np.asarray(R, dtype=float)))
@@ -133,6 +116,4 @@ def scan_settings(tracker, algorithm, R=None, zero_time=False):
             terms = tuple(dataclasses.replace(b, R=R) if isinstance(b, GaussianBirthTerm) else b
                           for b in pop.birth_densities)
             settings.append((pop, "birth_densities", terms))
-    if zero_time:
-        settings.append((tracker, "motion", ZeroTime(tracker.motion)))
     return settings

@@ -39,6 +39,7 @@ def translate_models(transition_model, measurement_model):
         hypotrack state component ``i`` is Stone Soup component ``perm[i]``.
     """
     require_stonesoup()
+    from stonesoup.models.base import GaussianModel, LinearModel
     from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel
     from stonesoup.models.transition.linear import ConstantVelocity as SSConstantVelocity
 
@@ -57,10 +58,24 @@ def translate_models(transition_model, measurement_model):
     k = len(parts)
     perm = stonesoup_order(k)
     inverse = np.argsort(perm)
+    supported = (f"supported: a linear-Gaussian position measurement (e.g. LinearGaussian({2 * k}, mapping, "
+                 f"noise_covar)) whose mapping selects position components among {tuple(range(0, 2 * k, 2))} of "
+                 f"Stone Soup's [x, vx, y, vy, ...] state; convert non-linear returns (bearing-range, ...) to "
+                 "Cartesian positions first")
+    if not (isinstance(measurement_model, LinearModel) and isinstance(measurement_model, GaussianModel)):
+        raise ValueError(f"measurement_model {type(measurement_model).__name__} is not a linear-Gaussian model (the "
+                         f"trackers are linear Kalman filters and would read its components as positions); {supported}")
     if int(measurement_model.ndim_state) != 2 * k:
         raise ValueError(
             f"measurement_model.ndim_state must be {2 * k} (the transition model's), got {measurement_model.ndim_state}"
         )
+    mapping = tuple(int(i) for i in getattr(measurement_model, "mapping", ()))
+    selection = np.zeros((len(mapping), 2 * k))
+    selection[np.arange(len(mapping)), list(mapping)] = 1.0
+    if (not mapping or any(i % 2 for i in mapping) or len(set(mapping)) != len(mapping)
+            or not np.array_equal(np.asarray(measurement_model.matrix(), dtype=float), selection)):
+        raise ValueError(f"measurement_model {type(measurement_model).__name__} with mapping {mapping} does not "
+                         f"measure distinct position components alone; {supported}")
     position_indices = tuple(int(inverse[i]) for i in measurement_model.mapping)
     R = np.asarray(measurement_model.covar(), dtype=float)
     measurement = LinearPositionSensor(R, ndim_state=2 * k, position_indices=position_indices)
@@ -186,10 +201,24 @@ class DetectionFrame:
         """``(Z, detections, variant)``: returns sorted lexicographically (a seeded run is reproducible
         whatever the set's order), the detections in the same order, and the index in
         :attr:`variants` of the scan's noise covariance (``None``: the tracker's ``R``)."""
+        from stonesoup.types.detection import Detection
+
+        if isinstance(detections, (np.ndarray, str, bytes)) or not hasattr(detections, "__iter__"):
+            raise TypeError(f"detections must be a set (or list) of Stone Soup Detections, got "
+                            f"{type(detections).__name__}")
         dets = list(detections)
         m, p, default = len(dets), self.p, self.default
         if m == 0:
             return np.zeros((0, p)), dets, None
+        for det in dets:
+            if not isinstance(det, Detection):
+                raise TypeError(f"detections must be Stone Soup Detections (state_vector, timestamp, "
+                                f"measurement_model), got a {type(det).__name__}: {det!r}"[:300])
+            if det.timestamp is not None and det.timestamp != time:
+                raise ValueError(f"detection at {np.ravel(det.state_vector).tolist()} ({type(det).__name__}) has "
+                                 f"timestamp {det.timestamp}, but its scan's time is {time}: "
+                                 "every detection of a scan must carry the scan's time (or none); yield "
+                                 "detections of another time as their own scan")
         frames = [None if (mm := det.measurement_model) is None or mm is default else self._frame(mm)
                   for det in dets]
         # Plain ndarray views: numpy's conversion of Stone Soup's StateVector subclass is 3x slower.

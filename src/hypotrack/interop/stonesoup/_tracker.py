@@ -12,7 +12,8 @@ from ...hypotheses.association_problem import SEEDED_BIRTH
 from ...trackers._sht_common import gate_tracks, predict_tracks
 from ...trackers.gnn import gnn_associate, gnn_gains, gnn_update
 from ._build import _build, glmb_population, scan_settings
-from ._common import ALGORITHMS, SINGLE_HYPOTHESIS, require_stonesoup
+from ...registry import kinds, preset
+from ._common import check_scan_time, check_tracker_inputs, require_stonesoup
 from ._models import DetectionFrame, _region, translate_models
 
 __all__ = ["tracker_class"]
@@ -108,12 +109,49 @@ def tracker_class():
         ``max_hypotheses``, ``gate_probability``, ``population``, ``seed``, ...); for ``glmb`` and
         ``glmb_murty`` also ``birth_states``, ``birth_probability`` and ``survival_probability``
         (:func:`~hypotrack.interop.stonesoup._build.glmb_population`).
+
+        Examples
+        --------
+        Stone Soup's models, two objects known at ``t0`` (Stone Soup's state order ``x, vx, y, vy``)
+        and a detector of one scan, a second later, with a detection near each:
+
+        >>> import datetime
+        >>> import numpy as np
+        >>> from stonesoup.models.measurement.linear import LinearGaussian
+        >>> from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity
+        >>> from stonesoup.types.detection import Detection
+        >>> from stonesoup.types.state import GaussianState
+        >>> from hypotrack.interop.stonesoup import HypotrackTracker
+        >>> t0 = datetime.datetime(2025, 1, 1)
+        >>> t1 = t0 + datetime.timedelta(seconds=1)
+        >>> transition = CombinedLinearGaussianTransitionModel([ConstantVelocity(0.05), ConstantVelocity(0.05)])
+        >>> measurement = LinearGaussian(4, (0, 2), np.eye(2))
+        >>> prior = np.diag([4.0, 1.0, 4.0, 1.0])
+        >>> priors = [GaussianState([[0.0], [1.0], [0.0], [0.0]], prior, timestamp=t0),
+        ...           GaussianState([[20.0], [0.0], [0.0], [1.0]], prior, timestamp=t0)]
+        >>> scan = {Detection([[1.2], [0.1]], timestamp=t1, measurement_model=measurement),
+        ...         Detection([[19.9], [0.8]], timestamp=t1, measurement_model=measurement)}
+        >>> tracker = HypotrackTracker(
+        ...     detector=[(t1, scan)], transition_model=transition, measurement_model=measurement,
+        ...     algorithm="homht", detection_probability=0.9, clutter_rate=1.0,
+        ...     clutter_region=[[-50, 50], [-50, 50]], initial_states=priors, options={"max_hypotheses": 10})
+        >>> time, tracks = next(iter(tracker))
+        >>> time == t1, len(tracks)
+        (True, 2)
+
+        Each track (its id the object's label) is updated with its detection, in Stone Soup's order:
+
+        >>> [(t.id, type(t.state).__name__, np.round(t.state_vector.ravel().astype(float), 2).tolist())
+        ...  for t in sorted(tracks, key=lambda t: t.id)]   # doctest: +NORMALIZE_WHITESPACE
+        [('0', 'GaussianStateUpdate', [1.17, 1.03, 0.08, 0.02]),
+         ('1', 'GaussianStateUpdate', [19.92, -0.02, 0.83, 0.97])]
         """
 
         transition_model = Property(object, doc="CombinedLinearGaussianTransitionModel of ConstantVelocity.")
         measurement_model = Property(object, doc="LinearGaussian position measurement model (that of detections "
                                                  "without their own; clutter_region is in its measured axes).")
-        algorithm: str = Property(doc=f"One of {ALGORITHMS}.")
+        algorithm: str = Property(doc="A kind of hypotrack.registry (gnn, jpda, pdaf, hfisst, rfisst, homht, "
+                                      "homht_kbest, glmb, glmb_murty, ... and any kind registered since).")
         detection_probability: float = Property(doc="P_D of every object, in (0, 1).")
         clutter_rate: float = Property(doc="Expected clutter returns per scan (> 0).")
         clutter_region = Property(object, doc="[[low, high], ...] per measured axis: where clutter falls.")
@@ -126,9 +164,12 @@ def tracker_class():
         def __init__(self, *args, **kwargs):
             super().__init__(*args, **kwargs)
             self.detector_iter = None
-            if self.algorithm not in ALGORITHMS:
-                raise ValueError(f"algorithm must be one of {ALGORITHMS}, got {self.algorithm!r}")
+            if self.algorithm not in kinds():
+                raise ValueError(f"algorithm must be a registered tracker kind ({', '.join(kinds())}), "
+                                 f"got {self.algorithm!r}")
             motion, measurement, self._perm = translate_models(self.transition_model, self.measurement_model)
+            check_tracker_inputs(self.algorithm, self.detection_probability, self.clutter_rate, self.initial_states,
+                                 motion.ndim)
             self._inverse = np.argsort(self._perm)
             self._frame = DetectionFrame(self.measurement_model, self._perm, measurement.H, measurement.R)
             region = _region(self.clutter_region, measurement.dim)
@@ -144,7 +185,7 @@ def tracker_class():
             options = glmb_population(self.algorithm, self.options or {}, self._perm, measurement.H, measurement.R)
             self.tracker = _build(self.algorithm, motion, measurement, self.detection_probability,
                                   self.clutter_rate, region, means, covs, options)
-            self._single = self.algorithm in SINGLE_HYPOTHESIS
+            self._single = preset(self.algorithm).family == "single"
             self._tracks = {}
             self._current = set()
             self._n_scans = 0
@@ -174,9 +215,11 @@ def tracker_class():
             """Process one scan; returns ``(time, tracks present now)``.
 
             Raises ``ValueError`` (and leaves the tracker as it was) for a scan earlier than the
-            previous one and for detections the tracker cannot take (see the class docstring).
+            previous one, for a detection whose timestamp is not ``time`` and for detections the
+            tracker cannot take (see the class docstring); ``TypeError`` for a ``time`` that is not
+            a ``datetime.datetime`` or ``detections`` that are not Stone Soup ``Detection`` objects.
             """
-            Z, dets, variant = self._frame.returns(detections, time)
+            Z, dets, variant = self._frame.returns(detections, check_scan_time(time))
             previous = self._time
             if previous is not None and time < previous:
                 what = "the previous scan's" if self._n_scans else "initial_states'"
@@ -184,7 +227,7 @@ def tracker_class():
                                  f"time {previous}")
             dt = 0.0 if previous is None else (time - previous).total_seconds()
             R = None if variant is None else self._frame.variants[variant]
-            settings = scan_settings(self.tracker, self.algorithm, R, zero_time=not self._single and dt == 0)
+            settings = scan_settings(self.tracker, R)
             with _applied(settings):
                 ids, means, covs, states = (self._step_single if self._single else self._step_filter)(
                     time, Z, dets, dt)
@@ -223,11 +266,11 @@ def tracker_class():
             ids_before, time_before = tr.ids, tr.time
             ini = tr.initiator
             ini_before = None if ini is None else (ini.x, ini.P, ini.hits)
-            est = tr.step((t, Z))
+            est = tr.step(Z, t)
             gated, assoc = tr.last_gated, tr.last_association
             preds = self._predictions(gated.x, gated.P, time)
             pos = {int(i): j for j, i in enumerate(ids_before.tolist())}
-            gnn = self.algorithm == "gnn"
+            gnn = tr.association == "gnn"
             if gnn:
                 ret = np.full(len(ids_before), -1)
                 hit = np.flatnonzero(assoc >= 0)
@@ -273,7 +316,8 @@ def tracker_class():
             """Hypothesis-filter step; per object of the MAP hypothesis ``(is_update, hypothesis)``."""
             f = self.tracker
             store, lists = f.store, f.track_lists
-            best = f.step(Z, dt if dt > 0 else 1.0).map_estimate  # dt = 0: the motion is ZeroTime here
+            epoch = self._epoch if self._epoch is not None else time
+            best = f.step(Z, (time - epoch).total_seconds()).map_estimate  # a zero interval: no prediction
             # The MAP hypothesis' child: its parent, association event and silent events give each
             # object's return, in the order HypothesisFilter._materialise lists the child's objects.
             h = int(np.argsort(-f.log_weights, kind="stable")[0])
@@ -294,8 +338,7 @@ def tracker_class():
                                    "please report this (HypothesisFilter._materialise changed?)")
             states = []
             if n_alive:
-                x, P = predict_with(f.motion, store.means[parent[alive]], store.covs[parent[alive]],
-                                    dt if dt > 0 else 1.0)
+                x, P = predict_with(f.motion, store.means[parent[alive]], store.covs[parent[alive]], dt)
                 preds = self._predictions(x, P, time)
                 states += [(True, SingleHypothesis(preds(k), dets[ret[j]])) if ret[j] >= 0 else (False, None)
                            for k, j in enumerate(alive)]

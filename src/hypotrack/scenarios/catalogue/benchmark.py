@@ -16,7 +16,7 @@ import pandas as pd
 
 from ...models.orbit3d import TwoBodyOrbit3D
 from .propagation import propagate, reference_epoch, sgp4_states, time_grid_jd
-from .tle import _check_catalogue, groups_in, load_catalogue, satrec_array, select_altitude, select_groups
+from .tle import check_catalogue, groups_in, load_catalogue, satrec_array, select_altitude, select_groups
 
 __all__ = ["benchmark_propagation", "two_body_mismatch"]
 
@@ -39,7 +39,7 @@ def benchmark_propagation(
     ``us_per_object_epoch_checked`` (with the plausibility check of :func:`.sgp4_states`, the
     scenario's path), ``us_per_object_init``.
     """
-    cat = load_catalogue() if cat is None else _check_catalogue(cat)
+    cat = load_catalogue() if cat is None else check_catalogue(cat)
     if int(n_epochs) < 1 or int(repeats) < 1:
         raise ValueError(f"n_epochs and repeats must be >= 1, got {n_epochs!r}, {repeats!r}")
     jd, fr = time_grid_jd(reference_epoch(cat), np.arange(int(n_epochs)) * float(dt))
@@ -87,7 +87,7 @@ def two_body_mismatch(cat: pd.DataFrame | None = None, dt: float = 10.0, start=N
     DataFrame: ``norad``, ``group``, ``perigee_alt_km``, ``position_error_km``, ``velocity_error_km_s``
     (objects SGP4 cannot propagate at either time are left out).
     """
-    cat = select_altitude(load_catalogue(), 200.0, 2000.0) if cat is None else _check_catalogue(cat)
+    cat = select_altitude(load_catalogue(), 200.0, 2000.0) if cat is None else check_catalogue(cat)
     if start is None:
         parts = [
             two_body_mismatch(select_groups(cat, g), dt, reference_epoch(select_groups(cat, g)))

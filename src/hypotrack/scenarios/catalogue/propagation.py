@@ -25,12 +25,21 @@ import pandas as pd
 
 from ..._validation import check_finite_array
 from .frames import julian_date, utc_timestamp
-from .tle import _check_catalogue, satrec_array
+from .tle import UNIX_EPOCH_JD, check_catalogue, satrec_array
 
-__all__ = ["reference_epoch", "Propagation", "propagate", "time_grid_jd", "sgp4_states", "IMPLAUSIBLE"]
+__all__ = ["reference_epoch", "Propagation", "propagate", "time_grid_jd", "sgp4_states", "check_epoch_span",
+           "IMPLAUSIBLE", "MAX_EPOCH_SPAN_DAYS"]
 
 IMPLAUSIBLE = -1
 """``error`` of a state SGP4 returned without an error code but no real object can be in."""
+
+MAX_EPOCH_SPAN_DAYS = 731.0
+"""Longest interval (days, two years) between an element set's epoch and an instant it is propagated to.
+
+An element set is fitted to a few days of observations and is meaningful for days to weeks; the bound
+is generous on purpose — the bundled scenario propagates the 2021 debris clouds about 13 months (424 days
+at most) past their epochs — and refuses only what no element set can say anything about (a start
+mistyped by years or a century). Decayed or implausible states inside it are absent (:data:`IMPLAUSIBLE`)."""
 
 _MU = 398600.4418  # km³/s², for the osculating elements of the plausibility check
 _R_EARTH_SGP4 = 6378.135  # km, WGS-72 (SGP4's Earth)
@@ -46,11 +55,31 @@ def reference_epoch(cat: pd.DataFrame) -> pd.Timestamp:
     date); for the 2022 active catalogue with a 2021 debris cloud it is the active catalogue's,
     so the debris are propagated about 13 months past their epoch (see the data README).
     """
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     if len(cat) == 0:
         raise ValueError("catalogue must hold at least one object")
     medians = cat.groupby("group", sort=False)["epoch"].median()
     return medians.max().floor("min")
+
+
+def check_epoch_span(cat: pd.DataFrame, jd, fr) -> None:
+    """Refuse instants ``(jd, fr)`` more than :data:`MAX_EPOCH_SPAN_DAYS` from any object's element epoch
+    (``ValueError`` naming the instant, the object and its epoch)."""
+    t = np.asarray(jd, dtype=float) + np.asarray(fr, dtype=float)
+    if len(t) == 0 or len(cat) == 0:
+        return
+    ep = cat["epoch_jd"].to_numpy(float) + cat["epoch_fr"].to_numpy(float)
+    i_t_hi, i_t_lo, i_e_lo, i_e_hi = int(np.argmax(t)), int(np.argmin(t)), int(np.argmin(ep)), int(np.argmax(ep))
+    after, before = t[i_t_hi] - ep[i_e_lo], ep[i_e_hi] - t[i_t_lo]
+    k, i, gap = (i_t_hi, i_e_lo, after) if after >= before else (i_t_lo, i_e_hi, -before)
+    if abs(gap) > MAX_EPOCH_SPAN_DAYS:
+        when = pd.Timestamp(round((t[k] - UNIX_EPOCH_JD) * 86400e6), unit="us")
+        row = cat.iloc[i]
+        raise ValueError(
+            f"propagation time {when} is {abs(gap):.1f} days {'after' if gap > 0 else 'before'} the element "
+            f"epoch {row['epoch']} of NORAD {int(row['norad'])} ({row['name']}): SGP4 element sets are meaningful "
+            f"for days to weeks, and this library propagates at most {MAX_EPOCH_SPAN_DAYS:g} days (two years) "
+            "from an epoch; choose a start near the catalogue's epochs (default: reference_epoch(cat))")
 
 
 def sgp4_states(sats, jd, fr, a_mean):
@@ -126,9 +155,10 @@ def propagate(cat: pd.DataFrame, times, start=None, *, satrecs=None) -> Propagat
     -------
     Propagation
     """
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     start = reference_epoch(cat) if start is None else utc_timestamp(start)
     jd, fr = time_grid_jd(start, times)
+    check_epoch_span(cat, jd, fr)
     sats = satrec_array(cat) if satrecs is None else satrecs
     e, r, v = sgp4_states(sats, jd, fr, cat["semi_major_axis_km"].to_numpy(float))
     return Propagation(

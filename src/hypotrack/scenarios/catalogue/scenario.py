@@ -40,9 +40,9 @@ import pandas as pd
 from ..._validation import check_int
 from ..tables import scans_table, scans_to_list, truth_table, truth_to_list
 from .frames import gmst, teme_to_ef, utc_timestamp
-from .propagation import propagate, reference_epoch, sgp4_states, time_grid_jd
+from .propagation import check_epoch_span, propagate, reference_epoch, sgp4_states, time_grid_jd
 from .sensors import DEFAULT_RADAR, GroundRadar
-from .tle import _check_catalogue, satrec_array
+from .tle import check_catalogue, satrec_array
 
 __all__ = ["CatalogueScenario", "simulate_catalogue", "TRUTH_ROWS"]
 
@@ -140,7 +140,7 @@ def simulate_catalogue(
     -------
     CatalogueScenario
     """
-    cat = _check_catalogue(catalogue)
+    cat = check_catalogue(catalogue)
     if len(cat) == 0:
         raise ValueError("catalogue must hold at least one object")
     sensors = _check_sensors(sensors)
@@ -153,6 +153,7 @@ def simulate_catalogue(
 
     times = np.arange(K) * sensors[0].revisit_s
     jd, fr = time_grid_jd(start, times)
+    check_epoch_span(cat, jd, fr)
     theta = gmst(jd, fr)
     norad = cat["norad"].to_numpy(np.int64)
     N, S = len(cat), len(sensors)

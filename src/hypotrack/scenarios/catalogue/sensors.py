@@ -48,6 +48,17 @@ def _in_range(value, name, lo, hi, *, lo_open=False, hi_open=False):
     return v
 
 
+def _rows3(a, name):
+    """``a`` as ``(n, 3)`` rows: an ``(n, 3)`` array or one ``(3,)`` position; any other shape is refused
+    (a reshape would silently regroup the numbers of ``(n, 2)`` rows into other rows). NaN rows stay."""
+    arr = np.asarray(a, dtype=float)
+    if arr.ndim == 1 and arr.shape == (3,):
+        return arr[None]
+    if arr.ndim == 2 and arr.shape[1] == 3 or arr.size == 0:
+        return arr.reshape(-1, 3)
+    raise ValueError(f"{name} must have shape (n, 3) (one row of three coordinates per object), got {arr.shape}")
+
+
 @dataclass(frozen=True)
 class GroundSite:
     """A sensor site: geodetic latitude and longitude (degrees, WGS-84) and height (km)."""
@@ -255,7 +266,7 @@ class GroundRadar:
         -------
         Z : (m, 3) returns; origin : (m,) row of ``rae`` that produced each, or −1 (clutter).
         """
-        rae = np.asarray(rae, dtype=float).reshape(-1, 3)
+        rae = _rows3(rae, "rae")
         det = rng.uniform(size=len(rae)) < self.p_D
         true = rae[det]
         if self.measurement == "enu":
@@ -277,7 +288,7 @@ class GroundRadar:
         """
         if not isinstance(rng, np.random.Generator):
             raise TypeError(f"rng must be a numpy.random.Generator, got {type(rng).__name__}")
-        r_ef = np.asarray(r_ef, dtype=float).reshape(-1, 3)
+        r_ef = _rows3(r_ef, "r_ef")
         rae = self.rae(r_ef)
         rows = np.flatnonzero(self.fov.contains(rae))
         Z, origin = self.observe_rae(rae[rows], rng)

@@ -52,6 +52,7 @@ __all__ = [
     "read_tle",
     "load_catalogue",
     "select_groups",
+    "check_catalogue",
     "sample_objects",
     "select_altitude",
     "satrec_array",
@@ -86,7 +87,7 @@ BUNDLED = {
 GROUPS = tuple(BUNDLED)
 DEBRIS_GROUPS = ("fengyun-1c-debris", "cosmos-2251-debris", "iridium-33-debris")
 
-_UNIX_EPOCH_JD = 2440587.5
+UNIX_EPOCH_JD = 2440587.5
 _COLUMNS = [
     "group",
     "name",
@@ -184,7 +185,7 @@ def _table(rows, group, source) -> pd.DataFrame:
     re_km = sats[0].radiusearthkm if sats else 6378.135
     jd, fr = get("jdsatepoch"), get("jdsatepochF")
     # Whole microseconds since the Unix epoch: exact for the TLE's 1e-8-day resolution (0.864 ms).
-    us = np.round(((jd - _UNIX_EPOCH_JD) + fr) * 86400e6).astype(np.int64)
+    us = np.round(((jd - UNIX_EPOCH_JD) + fr) * 86400e6).astype(np.int64)
     n_rev_day = get("no_kozai") * 1440.0 / (2 * np.pi)
     a_km = get("a") * re_km
     ecc = get("ecco")
@@ -229,10 +230,19 @@ def read_tle(path, *, group: str | None = None, sha256: str | None = None) -> pd
         The ``group`` column; default: the file name up to its first ``_`` or ``.``.
     sha256 : str, optional
         Expected SHA-256 (hex) of the uncompressed bytes; a mismatch raises ``ValueError``.
+
+    Raises
+    ------
+    ValueError
+        Each naming the file: a ``.gz`` file that is not gzip, content that is not ASCII, a file with
+        no element set (empty or blank), or any error of :func:`parse_tle`.
     """
     path = Path(path)
     raw = path.read_bytes()
-    data = gzip.decompress(raw) if path.name.endswith(".gz") else raw
+    try:
+        data = gzip.decompress(raw) if path.name.endswith(".gz") else raw
+    except (OSError, EOFError) as exc:  # gzip.BadGzipFile is an OSError; a truncated stream an EOFError
+        raise ValueError(f"{path}: not a valid gzip file (the name ends in .gz): {exc}") from None
     if sha256 is not None:
         got = hashlib.sha256(data).hexdigest()
         if got != sha256.lower():
@@ -242,7 +252,16 @@ def read_tle(path, *, group: str | None = None, sha256: str | None = None) -> pd
             )
     if group is None:
         group = path.name.split("_")[0].split(".")[0]
-    return parse_tle(data.decode("ascii"), group=group, source=path.name)
+    try:
+        text = data.decode("ascii")
+    except UnicodeDecodeError as exc:
+        line = data[: exc.start].count(b"\n") + 1
+        raise ValueError(f"{path}: not an ASCII element-set file: byte {data[exc.start]:#04x} at offset "
+                         f"{exc.start} (line {line})") from None
+    cat = parse_tle(text, group=group, source=path.name)
+    if len(cat) == 0:
+        raise ValueError(f"{path}: the file holds no element set (it is empty or blank)")
+    return cat
 
 
 def _bundled_path(name: str):
@@ -282,7 +301,9 @@ def load_catalogue(groups="all") -> pd.DataFrame:
     return cat
 
 
-def _check_catalogue(cat) -> pd.DataFrame:
+def check_catalogue(cat) -> pd.DataFrame:
+    """``cat`` itself when it is a catalogue table (a DataFrame with the columns of :func:`parse_tle`), else
+    a ``TypeError`` or a ``ValueError`` naming the missing columns."""
     if not isinstance(cat, pd.DataFrame):
         raise TypeError(f"catalogue must be a pandas DataFrame (see parse_tle), got {type(cat).__name__}")
     missing = [c for c in _COLUMNS if c not in cat.columns]
@@ -293,7 +314,7 @@ def _check_catalogue(cat) -> pd.DataFrame:
 
 def select_groups(cat: pd.DataFrame, groups) -> pd.DataFrame:
     """Rows of ``cat`` whose ``group`` is among ``groups`` (a name or a sequence), catalogue order."""
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     names = (groups,) if isinstance(groups, str) else tuple(groups)
     present = sorted(set(cat["group"]))
     bad = [g for g in names if g not in present]
@@ -308,7 +329,7 @@ def sample_objects(cat: pd.DataFrame, n: int, seed) -> pd.DataFrame:
     ``numpy.random.default_rng(seed).choice(len(cat), n, replace=False)``: the same catalogue, n
     and seed give the same objects.
     """
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     n = check_int(n, "n", minimum=0, maximum=len(cat))
     seed = seed if isinstance(seed, np.random.SeedSequence) else check_int(seed, "seed")
     idx = np.sort(np.random.default_rng(seed).choice(len(cat), n, replace=False))
@@ -321,7 +342,7 @@ def select_altitude(cat: pd.DataFrame, low_km: float, high_km: float) -> pd.Data
     Altitudes above SGP4's spherical Earth (R_E = 6378.135 km) from the mean elements; e.g.
     ``(200, 2000)`` is LEO, ``(35286, 36286)`` the geosynchronous belt ±500 km.
     """
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     low = check_nonnegative(low_km, "low_km")
     high = check_nonnegative(high_km, "high_km")
     if not high > low:
@@ -332,7 +353,7 @@ def select_altitude(cat: pd.DataFrame, low_km: float, high_km: float) -> pd.Data
 
 def satrec_array(cat: pd.DataFrame) -> SatrecArray:
     """SGP4 satellites (WGS-72 constants, as the elements are fitted) for every row, in order."""
-    cat = _check_catalogue(cat)
+    cat = check_catalogue(cat)
     if len(cat) == 0:
         raise ValueError("catalogue must hold at least one object to propagate")
     return SatrecArray([Satrec.twoline2rv(a, b) for a, b in zip(cat["line1"], cat["line2"])])
@@ -340,4 +361,4 @@ def satrec_array(cat: pd.DataFrame) -> SatrecArray:
 
 def groups_in(cat: pd.DataFrame) -> Sequence[str]:
     """The groups present in ``cat``, in order of first appearance."""
-    return list(dict.fromkeys(_check_catalogue(cat)["group"]))
+    return list(dict.fromkeys(check_catalogue(cat)["group"]))

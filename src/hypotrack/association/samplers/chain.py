@@ -1,0 +1,389 @@
+"""R-FISST's MCMC search over association events (document 000 Sec. III, Algorithm 1).
+
+The chain walks on the association events of one parent hypothesis (:mod:`.events`: returns on
+exclusive columns or row options, log-weight ``Σ_i score[i, a_i] + count_term[k, b]``). Three
+proposals are offered:
+
+``"paper"``
+    Document 000 Sec. III-B: pick a return uniformly, pick a column uniformly; a return that
+    already holds that column is moved to clutter; Metropolis test ``U < w'/w``. The proposal
+    is **not** symmetric (the displaced return cannot come back in one step), so visit counts
+    are not probabilities.
+``"symmetric"``
+    The same pick, but the two returns *swap* columns, which makes the proposal symmetric and
+    the chain a proper Metropolis sampler of ``w``.
+``"gibbs"``
+    Random-scan Gibbs (Vo, Vo & Hoang 2017 style): pick a return uniformly and redraw its
+    column from its exact conditional given the other returns (:func:`.gibbs.gibbs_draw`).
+
+Whatever the proposal, the chain is used as a *search* (DESIGN.md §4.3): the distinct events it
+visits after burn-in (:mod:`.visited`) are returned with their exact log-weights; the caller
+normalises those. Visit counts are never returned. :func:`neighbour_completion` then adds the
+heavy single-move neighbours of what was found (a deterministic local search).
+
+The inner loops are compiled with numba (``cache=True``). The paper and symmetric chains read
+numba's ``np.random`` stream from a local buffer (:mod:`hypotrack.association.mt19937`) and
+reject forbidden pairs (``−inf`` scores) without evaluating the rest of the move: the same
+uniforms and decisions as ``np.random.random()`` and the full test, measured 32 → 12 ns per
+proposal on ssa50 parents (two shared cores).
+
+References
+----------
+Faber, Chakravorty & Hussein (document 000), Algorithm 1 and Sec. III-B.
+Vo, Vo & Hoang, "An efficient implementation of the generalized labeled multi-Bernoulli
+filter", IEEE TSP 65 (2017) — the Gibbs variant.
+"""
+
+from __future__ import annotations
+
+import numba
+import numpy as np
+
+from ..._validation import check_int, check_positive, check_probability
+from ..mt19937 import N_DOUBLES, fill_doubles, seed_state
+from .events import check_problem, count_delta, gather_sum, owners_and_counts, state_log_weight, to_events, to_state
+from .gibbs import gibbs_draw, move_row
+from .visited import Visited, insert_rows, lookup_or_insert
+
+__all__ = ["MCMC_VARIANTS", "checked_search", "mcmc_search", "neighbour_completion"]
+
+MCMC_VARIANTS = ("paper", "symmetric", "gibbs")
+_VARIANT_CODE = {v: i for i, v in enumerate(MCMC_VARIANTS)}
+# Below this log-ratio a Metropolis test ``log(U) < delta`` can only pass for ``U = 0``: the smallest
+# positive uniform of the 53-bit generator is 2^-53 (log = -36.74). Testing ``U == 0`` there gives
+# the same decisions as the logarithm without computing it (most proposals of a chain that has found
+# its mode are far below the threshold).
+_LOG_U_FLOOR = -40.0
+
+
+@numba.njit(cache=True, nogil=True)
+def _chain_start(score, n_obj, n_excl, count_term, state, zobrist, burn_in, table, hashes, rows, logw):
+    """Owners, counts, hash and log-weight of the starting event (recorded when ``burn_in == 0``)."""
+    owner, k, b = owners_and_counts(state, n_obj, n_excl)
+    h = np.int64(0)
+    for i in range(state.shape[0]):
+        h ^= zobrist[i, state[i]]
+    lw = state_log_weight(score, state, n_obj, n_excl, count_term)
+    n_found = 0
+    if burn_in == 0:
+        n_found = lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found)
+    return owner, k, b, h, lw, n_found
+
+
+@numba.njit(cache=True, nogil=True)
+def _run_gibbs_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in, seed,
+                     table, hashes, rows, logw):
+    """The Gibbs variant of :func:`_run_chain` (numba's ``np.random`` stream, as :func:`gibbs_draw`)."""
+    np.random.seed(seed)
+    m = state.shape[0]
+    owner, k, b, h, lw, n_found = _chain_start(score, n_obj, n_excl, count_term, state, zobrist, burn_in,
+                                               table, hashes, rows, logw)
+    cond = np.empty(score.shape[1])
+    for step in range(1, n_steps + 1):
+        moved = False
+        if m > 0:
+            i = int(np.random.random() * m)
+            cur = state[i]
+            new = gibbs_draw(score, count_term, owner, i, cur, k, b, n_obj, n_excl, cond)
+            if new != cur:
+                lw += cond[new]
+                h, k, b = move_row(state, owner, zobrist, h, k, b, i, new, n_obj, n_excl)
+                moved = True
+        if step == burn_in or (moved and step > burn_in):
+            n_found = lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found)
+    return n_found
+
+
+@numba.njit(cache=True, nogil=True)
+def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in, variant, seed,
+               table, hashes, rows, logw):
+    """Run the chain in place; return the number of distinct events recorded.
+
+    The uniforms are numba's ``np.random`` stream seeded with ``seed``, read from a local
+    buffer (:mod:`hypotrack.association.mt19937`, bit-identical and about twice as fast as
+    ``np.random.random()`` per proposal). Column classes are looked up rather than branched on:
+    ``owner`` covers every column (−1 on the row options), ``is_obj`` / ``is_birth`` give the
+    count changes.
+    """
+    if variant == 2:
+        return _run_gibbs_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_in, seed,
+                                table, hashes, rows, logw)
+    mt = seed_state(seed)
+    buf = np.empty(N_DOUBLES)
+    pos = N_DOUBLES
+    m = state.shape[0]
+    n_col = score.shape[1]
+    clutter = n_excl  # row option 0
+    owner_excl, k, b, h, lw, n_found = _chain_start(score, n_obj, n_excl, count_term, state, zobrist, burn_in,
+                                                    table, hashes, rows, logw)
+    owner = np.full(n_col, -1, dtype=np.int64)
+    owner[:n_excl] = owner_excl
+    is_obj = np.zeros(n_col, dtype=np.int64)
+    is_obj[:n_obj] = 1
+    is_birth = np.zeros(n_col, dtype=np.int64)
+    is_birth[n_obj:n_excl] = 1
+    for step in range(1, n_steps + 1):
+        moved = False
+        if m > 0:
+            if pos >= N_DOUBLES:
+                fill_doubles(mt, buf)
+                pos = 0
+            i = int(buf[pos] * m)
+            cur = state[i]
+            if pos + 1 >= N_DOUBLES:
+                fill_doubles(mt, buf)
+                pos = -1
+            c = int(buf[pos + 1] * n_col)
+            pos += 2
+            if c != cur and score[i, c] == -np.inf:
+                # Forbidden pair (out of view, gated out): Δ = −inf whatever the conflict and
+                # count terms, so the test consumes its uniform and rejects (most proposals when
+                # most of a parent's objects are out of view).
+                if pos >= N_DOUBLES:
+                    fill_doubles(mt, buf)
+                    pos = 0
+                pos += 1
+            elif c != cur:
+                delta = score[i, c] - score[i, cur]
+                dk = is_obj[c] - is_obj[cur]
+                db = is_birth[c] - is_birth[cur]
+                i2 = owner[c]
+                dest2 = clutter
+                if i2 != -1:
+                    # paper: the conflicting return goes to clutter; symmetric: it takes cur.
+                    dest2 = clutter if variant == 0 else cur
+                    delta += score[i2, dest2] - score[i2, c]
+                    dk += is_obj[dest2] - is_obj[c]
+                    db += is_birth[dest2] - is_birth[c]
+                delta += count_term[k + dk, b + db] - count_term[k, b]
+                accept = delta >= 0.0
+                if not accept:
+                    if pos >= N_DOUBLES:
+                        fill_doubles(mt, buf)
+                        pos = 0
+                    u = buf[pos]
+                    pos += 1
+                    accept = (u == 0.0 and delta > -np.inf) if delta < _LOG_U_FLOOR else np.log(u) < delta
+                if accept:
+                    lw += delta
+                    owner[cur] = -1
+                    state[i] = c
+                    h ^= zobrist[i, cur] ^ zobrist[i, c]
+                    if i2 != -1:
+                        state[i2] = dest2
+                        h ^= zobrist[i2, c] ^ zobrist[i2, dest2]
+                        if dest2 < n_excl:
+                            owner[dest2] = i2
+                    if c < n_excl:
+                        owner[c] = i
+                    k += dk
+                    b += db
+                    moved = True
+        if step == burn_in or (moved and step > burn_in):
+            n_found = lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found)
+    return n_found
+
+
+@numba.njit(cache=True, nogil=True)
+def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, zobrist, table, hashes, rows, logw,
+                      n_found):
+    """Expand visited events ``start .. stop-1``: add every single move of the paper's proposal
+    (return ``i`` to column ``c``, a conflicting return to clutter) reaching ``threshold``.
+
+    Returns ``(n_found, overflow)``; on overflow the buffers must grow and the round be re-run
+    (events already added are recognised as visited).
+    """
+    m = rows.shape[1]
+    n_col = score.shape[1]
+    cap = rows.shape[0]
+    state = np.empty(m, dtype=np.int64)
+    for q in range(start, stop):
+        lw = logw[q]
+        if lw < threshold:
+            continue
+        for i in range(m):
+            state[i] = rows[q, i]
+        owner, k, b = owners_and_counts(state, n_obj, n_excl)
+        h0 = hashes[q]
+        for i in range(m):
+            cur = state[i]
+            for c in range(n_col):
+                if c == cur:
+                    continue
+                delta = score[i, c] - score[i, cur]
+                dk, db = count_delta(cur, c, n_obj, n_excl)
+                i2 = -1
+                if c < n_excl and owner[c] != -1:
+                    i2 = owner[c]
+                    delta += score[i2, n_excl] - score[i2, c]
+                    dk2, db2 = count_delta(c, n_excl, n_obj, n_excl)
+                    dk += dk2
+                    db += db2
+                new = lw + delta + count_term[k + dk, b + db] - count_term[k, b]
+                if not new >= threshold:
+                    continue
+                if n_found >= cap:
+                    return n_found, True
+                h = h0 ^ zobrist[i, cur] ^ zobrist[i, c]
+                state[i] = c
+                if i2 != -1:
+                    h ^= zobrist[i2, c] ^ zobrist[i2, n_excl]
+                    state[i2] = n_excl
+                n_found = lookup_or_insert(h, state, table, hashes, rows, logw, new, n_found)
+                state[i] = cur
+                if i2 != -1:
+                    state[i2] = c
+    return n_found, False
+
+
+def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_threshold):
+    """Run ``rounds`` completion rounds on ``visited`` (growing it on overflow)."""
+    start = 0
+    for _ in range(rounds):
+        stop = visited.n
+        if stop == start:
+            break
+        threshold = float(visited.logw[:stop].max()) + np.log(relative_threshold)
+        while True:
+            n, overflow = _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold,
+                                            visited.zobrist, visited.table, visited.hashes, visited.rows,
+                                            visited.logw, visited.n)
+            visited.n = n
+            if not overflow:
+                break
+            visited.grow()
+        start = stop
+
+
+def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, burn_in=0, variant="paper",
+                init=None, temperature=1.0, completion_rounds=0, completion_threshold=1e-9):
+    """Search the association events of one parent with an MCMC chain.
+
+    Parameters
+    ----------
+    score : (m, n_exclusive + n_options) array_like
+        Log-scores: ``score[i, c]`` for return ``i`` on exclusive column ``c`` (objects first,
+        then births; ``-inf`` = forbidden, e.g. gated out) and ``score[i, n_exclusive + t]``
+        for row option ``t`` (``t = 0`` clutter, which must be finite).
+    n_objects : int
+        Columns ``0 .. n_objects-1`` are objects (counted by ``k``).
+    n_exclusive : int
+        Number of exclusive columns; columns ``n_objects .. n_exclusive-1`` are counted by ``b``.
+    count_term : (n_objects + 1, n_exclusive - n_objects + 1) array_like
+        ``φ[k, b]`` added to the gather-sum (``-inf`` forbids a count, e.g. two births).
+    n_steps : int
+        Number of proposals (document 000 Fig 15 uses 100,000).
+    seed : int
+        Seed of the chain's random numbers (the search is reproducible).
+    burn_in : int, optional
+        Steps before recording starts (the state at step ``burn_in`` is the first recorded).
+    variant : {"paper", "symmetric", "gibbs"}
+        Proposal (see the module docstring).
+    init : (m,) array_like of int, optional
+        Starting event in public codes; default all-clutter. It must have finite weight.
+    temperature : float, optional
+        The chain targets ``w^(1/T)``; ``T = 1`` is document 000's Metropolis test. ``T > 1``
+        flattens the target so the search leaves the heaviest children more often; the
+        returned weights are exact whatever ``T``.
+    completion_rounds, completion_threshold : optional
+        After the chain, :func:`neighbour_completion` (0 rounds: the chain's visits only).
+
+    Returns
+    -------
+    events : (K, m) int32 array
+        Distinct events visited after burn-in, in order of first visit (public codes), then
+        those added by the completion.
+    log_weights : (K,) array
+        Their exact log-weights.
+    """
+    score, n_obj, n_excl, count_term = check_problem(score, n_objects, n_exclusive, count_term)
+    n_steps = check_int(n_steps, "n_steps", minimum=0)
+    burn_in = check_int(burn_in, "burn_in", minimum=0, maximum=n_steps)
+    seed = check_int(seed, "seed", minimum=0)
+    if variant not in _VARIANT_CODE:
+        raise ValueError(f"variant must be one of {MCMC_VARIANTS}, got {variant!r}")
+    temperature = check_positive(temperature, "temperature")
+    completion_rounds = check_int(completion_rounds, "completion_rounds", minimum=0)
+    completion_threshold = check_probability(completion_threshold, "completion_threshold", low_open=True,
+                                             high_open=True)
+    m, n_col = score.shape
+    if init is None:
+        state = np.full(m, n_excl, dtype=np.int64)
+    else:
+        init = np.asarray(init)
+        if init.shape != (m,):
+            raise ValueError(f"init must have shape ({m},), got {init.shape}")
+        # Codes n_exclusive.. are no column (reading them as row options would be silent nonsense).
+        if init.size and (init.min() < n_excl - n_col or init.max() >= n_excl):
+            raise ValueError(f"init codes must lie in [{n_excl - n_col}, {n_excl - 1}], "
+                             f"got [{init.min()}, {init.max()}]")
+        state = to_state(init, n_excl)
+        excl = state[state < n_excl]
+        if len(np.unique(excl)) != len(excl):
+            raise ValueError("init assigns two returns to the same exclusive column")
+    return checked_search(score, n_obj, n_excl, count_term, state, n_steps=n_steps, burn_in=burn_in, seed=seed,
+                          variant=variant, temperature=temperature, completion_rounds=completion_rounds,
+                          completion_threshold=completion_threshold)
+
+
+def checked_search(score, n_obj, n_excl, count_term, state, *, n_steps, burn_in, seed, variant, temperature,
+                   completion_rounds, completion_threshold):
+    """:func:`mcmc_search` from a validated problem (:func:`.events.check_problem`), validated options
+    and a starting ``state`` in internal column codes (:func:`.events.to_state`): the per-parent path
+    of :class:`hypotrack.hypotheses.MCMCGenerator`, which builds these once per problem."""
+    m, n_col = score.shape
+    if not np.isfinite(state_log_weight(score, state, n_obj, n_excl, count_term)):
+        raise ValueError("init must have a finite log-weight (a feasible event)")
+    ss = np.random.SeedSequence(seed)
+    _, chain_seed = ss.generate_state(2, dtype=np.uint32)  # the first word once seeded the Zobrist keys
+    visited = Visited(m, n_col, n_steps - burn_in + 1)
+    found = _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, variant, chain_seed,
+                    temperature, completion_rounds, completion_threshold)
+    visited.release()
+    return found
+
+
+def _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, variant, chain_seed, temperature,
+            completion_rounds, completion_threshold):
+    tempered = temperature != 1.0
+    visited.n = _run_chain(score / temperature if tempered else score, n_obj, n_excl,
+                           count_term / temperature if tempered else count_term, state, visited.zobrist, n_steps,
+                           burn_in, _VARIANT_CODE[variant], int(chain_seed), visited.table, visited.hashes,
+                           visited.rows, visited.logw)
+    if tempered:  # the chain recorded tempered weights: record the exact ones
+        gather_sum(score, to_events(visited.rows[: visited.n], n_excl), n_obj, n_excl, count_term,
+                   visited.logw[: visited.n])
+    if completion_rounds:
+        _complete(visited, score, n_obj, n_excl, count_term, completion_rounds, completion_threshold)
+    return to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()
+
+
+def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_weights, *, rounds=2,
+                         relative_threshold=1e-9):
+    """Add the heavy single-move neighbours of found events (a deterministic local search).
+
+    A Metropolis chain visits a child of relative weight ``r`` next to the mode only about
+    ``r / (m (C + T))`` times per step, so children a million times lighter than the mode are
+    rarely met in 10⁵ steps although they matter at the 10⁻⁶ level. This completes the chain's
+    search: every single move of the paper's proposal (return ``i`` to column ``c``, conflicting
+    return to clutter) from each found event whose weight is at least ``relative_threshold``
+    times the best is evaluated exactly, and those reaching that threshold are added;
+    ``rounds`` repeats this from the newly added events. Compiled; duplicates are recognised
+    through the same Zobrist-hashed visited set as the chain's.
+
+    Returns the augmented ``(events, log_weights)``, the given (distinct) events first.
+    """
+    score, n_obj, n_excl, count_term = check_problem(score, n_objects, n_exclusive, count_term)
+    rounds = check_int(rounds, "rounds", minimum=0)
+    tau = check_probability(relative_threshold, "relative_threshold", low_open=True, high_open=True)
+    events = np.asarray(events)
+    lw = np.asarray(log_weights, dtype=float)
+    m, n_col = score.shape
+    if rounds == 0 or len(lw) == 0 or m == 0:
+        return events.astype(np.int32), lw
+    visited = Visited(m, n_col, 4 * len(lw) + 64)
+    visited.rows[: len(lw)] = to_state(events, n_excl)
+    visited.logw[: len(lw)] = lw
+    visited.n = insert_rows(visited.rows, visited.logw, len(lw), visited.zobrist, visited.table, visited.hashes)
+    _complete(visited, score, n_obj, n_excl, count_term, rounds, tau)
+    return to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()

@@ -1,0 +1,113 @@
+"""The factored hypothesis engine: the posterior as a product of independent groups.
+
+:class:`~.filter.HypothesisFilter` keeps *global* hypotheses: every parent's association problem
+spans every object and every return, so the number of hypotheses — and the work per scan —
+grows with the product of the ambiguities anywhere in view, although two objects whose gates
+never share a return do not influence each other's weights. :class:`FactoredFilter` keeps the
+posterior as a product of *groups* (Beard, Vo & Vo, "A solution for large-scale multi-object
+tracking", IEEE TSP 68, 2020): each group is a hypothesis set over its own objects, run by the
+engine's own machinery (any weight model × child generator × population, the same children,
+duplicate merging, cap and Kalman updates), and a scan touches a group only through the
+returns in its gate.
+
+One ``step(Z)``
+---------------
+1. Predict every group's tracks (with ``lazy``, of the singletons only those that may be in
+   view); score every return against them (the engine's
+   :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once). A group's
+   *gate* is the set of returns inside the validation gate of any of its tracks, in any of its
+   hypotheses (the engine's ``allowed``; the field of view enters through ``p_D``, not the gate,
+   unless ``gate_out_of_view=False``, when a track out of view gates nothing).
+2. Build the bipartite graph groups/singletons/birth terms — returns (components by
+   :func:`scipy.sparse.csgraph.connected_components`; only the components a return or birth term
+   reaches are visited in Python): a group is linked to the returns in
+   its gate, a birth term (or birth region) to the returns it could be the first detection of
+   (finite birth likelihood; see ``births``), and with HOMHT's seeded births each return in no
+   gate becomes a node of its own (a new object or clutter). Its connected components are this
+   scan's problems: groups in one component are **merged** (the product of their hypotheses,
+   capped at ``H∞`` as the engine caps, :func:`~..factored_groups.product`), receive the
+   component's returns and birth terms, and take one engine step. A birth term linked to no
+   return still forms a group (a birth that is not detected). Returns linked to nothing are
+   clutter for every hypothesis: a common factor, dropped.
+3. A group with no return and no birth term only predicts when that is exact (no population
+   events and the same ``Π (1 − p_D)`` in all its hypotheses); otherwise it takes the engine's
+   step on an empty scan (deaths, survival and missed detections change its weights).
+4. **Split**: the objects of each group are partitioned by this scan's interaction (objects
+   linked through a shared gated return, a newborn object with its birth term or return); if
+   there are several parts the joint is compared with the product of its marginals
+   (:func:`~..factored_groups.factorise`). ``split="marginal"`` (Beard et al.'s method) splits
+   always, exactly when the joint factorises and otherwise with the marginal-product
+   approximation, whose KL and L1 losses are recorded (:attr:`split_records`, ``last_stats``);
+   ``split="exact"`` splits off each part that is exactly independent of the rest of its group
+   (one two-way check per part) and keeps the others together; ``split="never"`` keeps groups
+   merged.
+
+Singletons and lazy prediction
+------------------------------
+At catalogue scale nearly every group is a *singleton*: one object, one hypothesis, one track
+(an object nothing has disturbed). With a population that can take no event in a quiet group
+(:func:`.lane.silent`: none, or labeled multi-Bernoulli / binomial with ``p_S = 1``) a singleton is
+exactly its Gaussian, so the filter keeps all singletons in one batched *lane* (means,
+covariances, labels, the time each was last predicted to) instead of one Python object each;
+a scan costs Python work only for the groups and singletons a return or birth term reaches,
+and a step's results that are singletons go back to the lane. The lane changes no number.
+With ``lazy=True`` a singleton is predicted only when it may be observed: each scan the lane's
+means at the last scan (not covariances) are advanced by one scan interval, and only the singletons whose
+predicted position is inside the sensor's field of view (``p_D > 0``) are predicted in full
+(mean and covariance, over the whole gap since their last prediction) and scored. A track out
+of view can take no return, so this changes the posterior only through the process noise: one
+EKF prediction over a gap of ``k`` scans adds ``Q(kΔ)`` where ``k`` predictions add
+``Σ Φ Q(Δ) Φᵀ`` (equal for a linear constant-velocity model, a few per cent apart on an
+orbit over minutes). The means are exact either way for the Kepler model; a numerically integrated
+one (``J2Orbit3D``) advances the lane's means scan by scan and a candidate's over its whole gap, equal
+up to its integration error.
+The same holds for a multi-hypothesis group (an object whose existence or association is still
+open) whose tracks are all out of view: it is left as it was, its means advanced a scan at a time
+in the same batch, and predicted over its whole gap when one of its tracks may be seen again. At
+catalogue scale these groups accumulate out of view (nothing resolves them there) and would otherwise
+be predicted and visited every scan. :attr:`~FactoredFilter.posterior` and
+:attr:`~FactoredFilter.groups` predict the lazy singletons and groups to the current scan (:mod:`.lane`).
+
+When the factored posterior equals the unfactored one
+-----------------------------------------------------
+The joint children of a product of groups are the products of the groups' children exactly
+when each child's weight is a product of per-group factors and no return is open to two
+groups — the second holds by construction, the first is a property of the model:
+
+* **separable** (exact, tested in ``tests/crosscheck/test_equivalence_factored.py``): the δ-GLMB
+  weights with the labeled multi-Bernoulli population (Vo, Vo & Hoang 2017: ``Π_i η_i(γ_i)``;
+  each birth term is given to one group per scan), and Reid's HOMHT with a fixed number of
+  objects or Poisson births seeded at returns (document 001 Eq. 30, 35: a product over returns and
+  objects), and FISST with Poisson clutter (document 001 Eq. 6–7); all as long as no cap binds
+  (each group keeps ``H∞`` hypotheses, so the factored filter keeps more joint hypotheses than
+  the unfactored one) and every split was exact. A split after a real interaction is never
+  exact: the joint lacks the configurations where both groups took the shared return.
+* **not separable** (the factored filter is a different approximation): H-FISST's count term
+  ``−log(m!/(m − n)!)`` (document 000 Eq. 8) counts the returns of the whole scan, and a group sees
+  its own; document 001's binomial population allows one silent event per child, i.e. per group
+  here; document 000's **single-event** population (one birth or one death per scan for the whole
+  scene, Eq. 30) couples every object through ``P(no event) = 1 − M_b α − M_d β``. The factored
+  engine applies the event model **per group** — one event per group and scan, ``M_d`` the
+  group's objects in view — which changes the prior: with ``G`` groups up to ``G`` events
+  per scan can happen, and no-event children weigh ``1 − M_b α − M_d,g β`` per group instead
+  of ``1 − M_b α − M_d β`` overall. :func:`cardinality_total_variation` (:mod:`.summary`) measures the effect;
+  the test reports it on a small scene.
+
+Where each job lives
+--------------------
+:mod:`.options` (:class:`FactoredOptions`, every option stated and checked once), :mod:`.engine`
+(:class:`FactoredFilter`: the scan in named stages), :mod:`.planner` (the graph, the plans, the
+splits), :mod:`.lane` (singletons and lazy prediction), :mod:`.pool` (the engine steps and the
+workers that run them), :mod:`.summary` (:class:`FactoredPosterior`); the measurement-driven birth
+model :class:`AdaptiveBirth` lives beside the populations (:mod:`..population_adaptive`).
+"""
+
+from ..population_adaptive import AdaptiveBirth
+from .engine import FactoredFilter, FactoredState
+from .lane import predict_each as _predict_each  # noqa: F401 (the name callers used before the split)
+from .options import SPLITS as _SPLITS  # noqa: F401 (the name callers used before the split)
+from .options import FactoredOptions
+from .summary import FactoredPosterior, cardinality_total_variation
+
+__all__ = ["AdaptiveBirth", "FactoredFilter", "FactoredOptions", "FactoredPosterior", "FactoredState",
+           "cardinality_total_variation"]

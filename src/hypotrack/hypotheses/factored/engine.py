@@ -1,0 +1,489 @@
+"""The factored filter itself: :class:`FactoredFilter` (package docstring) and its state, :class:`FactoredState`."""
+
+from __future__ import annotations
+
+import copy
+import time as _clock
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..._validation import check_finite_array, check_int, check_measurements
+from ...protocol import TrackEstimates
+from ..factored_groups import factorise, product
+from ..filter import HypothesisFilter
+from ..posterior import HypothesisEstimate, summarise
+from ..state import check_finite_float, scan_interval
+from ..tracks import TrackStore
+from .lane import GroupSet, Lane, cat, is_singleton, predict_each, silent, singleton, take
+from .options import FactoredOptions
+from .planner import (ObjectIds, Scores, interaction_parts, prune, quiet_plan, scan_graph, split_group,
+                      touched_plan)
+from .pool import WorkerPool
+from .summary import FactoredPosterior
+
+__all__ = ["FactoredFilter", "FactoredState"]
+
+
+@dataclass(frozen=True, eq=False)
+class FactoredState:
+    """The factored posterior as held: the multi-hypothesis groups (:class:`~.lane.GroupSet`), the
+    lane of singletons (:class:`~.lane.Lane`), each as kept (lazy ones at the time they were last
+    predicted to), the scan's time, the next label and the label → object map of this scan's births."""
+
+    groups: GroupSet
+    lane: Lane
+    time: float
+    next_label: int
+    objects: dict
+
+    def same_as(self, other: "FactoredState") -> bool:
+        """Bit-for-bit the same posterior: groups (weights, labels, track moments, hypotheses), lane,
+        the times each was predicted to, their means at the scan, and the next label."""
+        return (self.next_label == other.next_label and self.groups.same_as(other.groups)
+                and self.lane.same_as(other.lane))
+
+
+_STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
+               n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0)
+
+
+class FactoredFilter:
+    """Hypothesis filter whose posterior is a product of independent groups (package docstring).
+
+    Parameters
+    ----------
+    motion, sensor, weights, generator, population, dt, max_hypotheses, cap, gate_probability, seed, merge_duplicates :
+        As :class:`~..filter.HypothesisFilter`; ``max_hypotheses`` caps each group (and each merge).
+    means, covs, labels : array_like, optional
+        Initial objects, one group each.
+    options : FactoredOptions, optional
+        How the filter factors, prunes and parallelises (:class:`~.options.FactoredOptions`: every
+        option, its default and its allowed values, stated once). The keywords ``split``,
+        ``births``, ``factor_tol``, ``min_weight``, ``adaptive_birth``, ``workers``, ``parallel``,
+        ``measure_transfer``, ``lazy``, ``gate_out_of_view`` override single options (``lazy``
+        is off by default; the SSA catalogue experiment's configuration turns it on).
+
+    Attributes
+    ----------
+    options : FactoredOptions
+        The options (``workers``, ``parallel`` and ``measure_transfer`` may be set between scans;
+        they are validated like the options and change no posterior).
+    time : float
+        Time of the last scan (or of :meth:`initialise`).
+    last_stats : dict
+        Of the last scan: ``n_groups``, ``largest_group`` (objects), ``largest_group_hypotheses``,
+        ``n_touched`` (groups stepped with returns or birth terms), ``n_predict_only`` (groups
+        only predicted, or with ``lazy`` left for later), ``n_singletons`` (groups in the lane),
+        ``n_predicted`` (tracks predicted this scan), ``n_asleep`` (groups left unpredicted, ``lazy``),
+        ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
+        ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
+        ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
+        touched group kept under the cap), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
+        ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
+    stats_history : list of the ``last_stats`` of every scan.
+    split_records : list of :class:`~..factored_groups.SplitRecord`, every split (and, with
+        ``split="exact"``, every rejected one), with its KL and L1 loss.
+    """
+
+    def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
+                 cap="top", gate_probability=None, seed=None, means=None, covs=None, labels=None,
+                 merge_duplicates=True, options: FactoredOptions | None = None, **option_changes):
+        engine = HypothesisFilter(motion, sensor, weights, generator, population=population, dt=dt,
+                                  max_hypotheses=max_hypotheses, cap=cap, gate_probability=gate_probability,
+                                  seed=seed, merge_duplicates=merge_duplicates)
+        self._configure(engine, options, option_changes)
+        self.initialise(np.zeros((0, self.ndim)) if means is None else means, covs, labels)
+
+    @classmethod
+    def from_filter(cls, f: HypothesisFilter, options: FactoredOptions | None = None, **option_changes):
+        """The factored form of a configured engine (e.g. a preset) and its current posterior.
+
+        ``f``'s configuration is used and its random generator copied (``f`` is not changed).
+        Its hypotheses become one group, split exactly into one group per object where the
+        joint factorises (a single hypothesis always does). ``options``/``option_changes``: as the
+        constructor's (:class:`~.options.FactoredOptions`).
+        """
+        if not isinstance(f, HypothesisFilter):
+            raise TypeError(f"f must be a HypothesisFilter, got {type(f).__name__}")
+        unknown = set(option_changes) - set(FactoredOptions.names())
+        if unknown:
+            raise ValueError(f"unknown options {sorted(unknown)}; allowed: {', '.join(FactoredOptions.names())}")
+        obj = cls(**f.configuration(), seed=copy.deepcopy(f.rng), options=options, **option_changes)
+        obj.initialise(np.zeros((0, obj.ndim)), time=f.time)
+        state = f.state.with_next_label(0)
+        groups = [state] if any(len(t) for t in state.tracks) else []
+        if groups and len(state.labels) > 1:
+            record, parts = factorise(state, np.searchsorted(state.labels, state.store.labels), obj.options.factor_tol)
+            if record.exact:
+                groups = parts
+        states, lane = obj._sort_out(groups)
+        obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time)
+        obj._next_label = f.next_label
+        obj.scan_index = f.scan_index
+        return obj
+
+    def _configure(self, engine: HypothesisFilter, options, changes):
+        options = FactoredOptions() if options is None else options
+        if not isinstance(options, FactoredOptions):
+            raise TypeError(f"options must be a FactoredOptions, got {type(options).__name__}")
+        options = options.with_changes(**changes) if changes else options
+        ab = options.adaptive_birth
+        if ab is not None:
+            if engine.weights.seeded_births:
+                raise ValueError("adaptive_birth needs a population with birth terms; HOMHT's seeded births already "
+                                 "start objects at returns (use one of the two)")
+            if engine.population is None or not hasattr(engine.population, "birth_densities"):
+                raise ValueError("adaptive_birth needs a population (labeled multi-Bernoulli or binomial) whose "
+                                 "birth terms it sets each scan")
+            if engine.population.n_birth_regions:
+                raise ValueError("adaptive_birth sets the population's birth terms itself: give a population "
+                                 f"with no birth terms, got {engine.population.n_birth_regions}")
+        self._options = options
+        self._engine = engine  # the template of every group's step: models, population, settings; no hypotheses
+        self._pool = WorkerPool()
+        self.rng = engine.rng
+        self.ndim = engine.H.shape[1]
+        # singletons are exactly their Gaussian when a quiet group takes no population event
+        self._lane_on = silent(engine.population)
+
+    # ------------------------------------------------------------------ options
+    @property
+    def options(self) -> FactoredOptions:
+        return self._options
+
+    def set_options(self, **changes) -> None:
+        """Change ``workers``, ``parallel`` or ``measure_transfer`` between scans (validated)."""
+        bad = set(changes) - {"workers", "parallel", "measure_transfer"}
+        if bad:
+            raise ValueError(f"only workers, parallel and measure_transfer can change after construction, got {sorted(bad)}")
+        self._options = self._options.with_changes(**changes)
+
+    @property
+    def workers(self) -> int:
+        return self._options.workers
+
+    @workers.setter
+    def workers(self, value):
+        self.set_options(workers=value)
+
+    @property
+    def parallel(self) -> str:
+        return self._options.parallel
+
+    @parallel.setter
+    def parallel(self, value):
+        self.set_options(parallel=value)
+
+    @property
+    def measure_transfer(self) -> bool:
+        return self._options.measure_transfer
+
+    @measure_transfer.setter
+    def measure_transfer(self, value):
+        self.set_options(measure_transfer=value)
+
+    @property
+    def engine(self) -> HypothesisFilter:
+        """The engine every group's step runs (its configuration; it holds no hypotheses)."""
+        return self._engine
+
+    def _reset(self, time: float = 0.0):
+        if self._options.adaptive_birth is not None:
+            self._set_birth_terms([])
+        self._groups = GroupSet.at((), time)
+        self._lane = Lane.empty(self.ndim)
+        self.time = float(time)
+        self._objects = ObjectIds()
+        self._next_label = 0
+        self.scan_index = 0
+        self.last_stats = {}
+        self.stats_history = []
+        self.split_records = []
+
+    # ------------------------------------------------------------------ state
+    def initialise(self, means, covs=None, labels=None, *, time: float = 0.0):
+        """One group per object (``n = 0`` allowed), each with its single hypothesis, at ``time``."""
+        self._reset(check_finite_float(time, "time"))
+        d = self.ndim
+        means = np.asarray(means, dtype=float)
+        if means.size == 0:
+            return
+        means = check_finite_array(np.atleast_2d(means), "means", shape=(None, d))
+        if covs is None:
+            raise ValueError("covs are required with means")
+        store = TrackStore.from_arrays(means, covs, labels)
+        if len(np.unique(store.labels)) != len(store):
+            raise ValueError("labels must be distinct (one per object)")
+        if self._lane_on:
+            self._lane = Lane.at(store, self.time)
+        else:
+            self._groups = GroupSet.at([singleton(store, j) for j in range(len(store))], self.time)
+        self._next_label = int(store.labels.max()) + 1
+
+    def state(self) -> FactoredState:
+        """The posterior as held (:class:`FactoredState`; lazy groups and singletons not predicted)."""
+        return FactoredState(self._groups, self._lane, self.time, self._next_label, dict(self._objects.mapping))
+
+    def same_posterior(self, other: "FactoredFilter") -> bool:
+        """Whether ``other`` holds bit-for-bit the same posterior (:meth:`FactoredState.same_as`)."""
+        return self.state().same_as(other.state())
+
+    @property
+    def next_label(self) -> int:
+        """The label the next newborn object gets."""
+        return self._next_label
+
+    @property
+    def groups(self) -> list:
+        """The groups' states (:class:`~..state.FilterState`): the multi-hypothesis groups, then the
+        singletons (predicted to the current scan), as a new list."""
+        lane = self._lane.now(self.time, self._engine.motion)
+        return self._groups.now(self.time, self._engine.motion) + [singleton(lane, j) for j in range(len(lane))]
+
+    def _sort_out(self, states):
+        """``(groups, lane store)``: the singletons of ``states`` moved to a lane store (when the lane is on)."""
+        if not self._lane_on:
+            return list(states), cat([], self.ndim)
+        single = [is_singleton(s) for s in states]
+        return ([s for s, x in zip(states, single) if not x],
+                cat([s.store for s, x in zip(states, single) if x], self.ndim))
+
+    @property
+    def n_objects_held(self) -> int:
+        """Objects (labels) held by some hypothesis of some group."""
+        return int(sum(len(s.labels) for s in self._groups.states) + len(self._lane))
+
+    @property
+    def n_joint_hypotheses(self) -> int:
+        """Hypotheses of the product (``Π_g H_g``, exact integer)."""
+        states = self._groups.states
+        return int(np.prod([len(s.log_w) for s in states], dtype=object)) if states else 1
+
+    # ------------------------------------------------------------------ scan
+    def step(self, Z, time=None, *, dt=None) -> FactoredPosterior:
+        """Advance one scan with returns ``Z`` (m, p) observed at ``time`` (package docstring, steps 1–4).
+
+        ``time``/``dt`` as :meth:`HypothesisFilter.step <..filter.HypothesisFilter.step>`: a zero
+        interval predicts nothing (every gap since a track's last prediction is then zero, the lazy
+        lane's means are not advanced) and updates; a negative one raises ``ValueError``.
+        All-or-nothing like the engine's step: if it raises, the filter is as before.
+        """
+        saved = (self._groups, self._lane, self.time, self._next_label, self.scan_index, self.rng.bit_generator.state,
+                 self.last_stats, len(self.stats_history), len(self.split_records), self._objects.copy(),
+                 self._engine.population)
+        try:
+            return self._step(Z, time, dt)
+        except BaseException:
+            (self._groups, self._lane, self.time, self._next_label, self.scan_index, rng_state, self.last_stats,
+             n_hist, n_split, self._objects, population) = saved
+            self._engine.set_population(population)
+            self.rng.bit_generator.state = rng_state
+            del self.stats_history[n_hist:], self.split_records[n_split:]
+            raise
+
+    def _step(self, Z, time, dt):
+        t0 = _clock.perf_counter()
+        E = self._engine
+        interval, now = scan_interval(self.time, time, dt, E.dt)
+        Z = check_measurements(Z, "Z", E.H.shape[0])
+        scan = self._predict_and_score(Z, interval, now)
+        graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
+                           E.weights.seeded_births)
+        stats = dict(_STATS0, n_predicted=len(scan.pred))
+        plans = self._plan(scan, graph, Z, stats)
+        new_groups = self._run_plans(plans, stats)
+        self._keep(scan, graph, new_groups, now, stats)
+        self.time = now
+        self._objects.keep_held(np.concatenate([s.store.labels for s in self._groups.states] + [self._lane.store.labels]))
+        self.scan_index += 1
+        sizes = [len(np.unique(self._objects.of(s.labels))) for s in self._groups.states]
+        states = self._groups.states
+        stats.update(n_groups=len(states) + len(self._lane), n_singletons=len(self._lane),
+                     largest_group=max(sizes, default=int(len(self._lane) > 0)),
+                     largest_group_hypotheses=max((len(s.log_w) for s in states), default=int(len(self._lane) > 0)),
+                     time_total=_clock.perf_counter() - t0)
+        ab = self._options.adaptive_birth
+        if ab is not None:
+            # the next scan's birth terms: one at each return no group or birth term explained
+            terms = ab.terms(Z[graph.unexplained], E.H, E.R, E.motion, interval)
+            self._set_birth_terms(terms)
+            stats["n_adaptive_terms"] = len(terms)
+        self.last_stats = stats
+        self.stats_history.append(stats)
+        return self.posterior()
+
+    def _predict_and_score(self, Z, interval, now) -> "_Scan":
+        """Step 1: predict the groups and the singletons that may be observed (``lazy``: those whose
+        mean, advanced a scan, is in view), score every return against them."""
+        E, lazy = self._engine, self._options.lazy
+        groups, group_gap, asleep = self._groups.wake(lazy and self._lane_on, interval, now, self._advance_view)
+        sizes = np.array([len(s.store) for s in groups], dtype=np.int64)
+        bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
+        cand, view = self._lane.candidates(lazy, interval, self._advance_view)
+        lane = self._lane
+        prior = cat([s.store for s in groups] + [take(lane.store, cand)], self.ndim)
+        pm, pP = predict_each(E.motion, prior.means, prior.covs,
+                              np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]))
+        pred = TrackStore(pm, pP, prior.labels)
+        G, L = len(groups), len(cand)
+        birth_ll = E.population.birth_loglik(Z) if E.population is not None else np.zeros((len(Z), 0))
+        col_node = np.concatenate([np.repeat(np.arange(G), sizes), G + np.arange(L)]).astype(np.int64)
+        return _Scan(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
+
+    def _plan(self, scan, graph, Z, stats) -> list:
+        """Step 2–3: one plan per component, in the order of its first node (deterministic): a quiet
+        group predicts or takes an empty-scan step; a touched component merges its groups and steps."""
+        E, plans, bounds = self._engine, [], scan.bounds
+        for key, c, members, regions, rows in graph.components():
+            if c is None:
+                cols = np.arange(bounds[key], bounds[key + 1])
+                plans.append(quiet_plan(E, self._lane_on, self._objects, scan.groups[key], take(scan.pred, cols),
+                                        scan.scores.columns(cols), Z, scan.birth_ll, stats))
+            else:
+                plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
+                                          scan.scores, Z, scan.birth_ll, stats))
+        return plans
+
+    def _run_plans(self, plans, stats) -> list:
+        """The engine steps of the components are independent: run them (in a pool when workers > 1),
+        each with its own random stream and labels counted from the scan's first free label; then
+        each result in component order, split by its objects' interaction (step 4)."""
+        jobs = [p for p in plans if p[0] != "done"]
+        seeds = self.rng.integers(0, 2**63 - 1, size=len(jobs)) if jobs else np.zeros(0, np.int64)
+        base = self._next_label
+        results = iter(self._pool.run(self._engine, [(p[1], p[2], p[3], p[4], base, int(s)) for p, s in zip(jobs, seeds)],
+                                      self._options, stats))
+        new_groups = []
+        opts = self._options
+        for plan in plans:
+            if plan[0] == "done":
+                state, parts = plan[1], plan[2]
+            else:
+                state, parts = self._finish(plan, next(results), base, stats)
+            new_groups.extend(split_group(state, parts, opts.split, opts.factor_tol, self.scan_index + 1,
+                                          self.split_records, stats))
+        return new_groups
+
+    def _finish(self, plan, result, base, stats):
+        """A planned step's result in component order: its new labels moved past the labels
+        already given this scan (the serial numbering), births registered, interaction parts."""
+        kind, _, pred, ctx, regions = plan
+        new, sources, n_new, st = result
+        if n_new:
+            labels = new.store.labels.copy()
+            labels[labels >= base] += self._next_label - base
+            new = new.with_store(TrackStore(new.store.means, new.store.covs, labels))
+        self._next_label += n_new
+        stats["n_duplicates_merged"] += st["n_duplicates_merged"]
+        if kind == "quiet":
+            return new, self._objects.of(new.store.labels)
+        stats["n_touched"] += 1
+        stats["mass_retained_min"] = min(stats["mass_retained_min"], st["mass_retained"])
+        stats["n_kalman_updates"] += st["n_kalman_updates"]
+        self._objects.register_births(new.store, sources, len(regions))
+        return new, interaction_parts(self._objects.of(pred.labels), ctx, sources, len(regions))
+
+    def _keep(self, scan, graph, new_groups, now, stats):
+        """Step 4's end: singletons back to the lane — the untouched candidates predicted, then those
+        the steps produced, in plan order; the groups left for later first, then the scan's."""
+        tail = take(scan.pred, np.arange(scan.bounds[-1], len(scan.pred)))
+        groups_new, lane_new = self._sort_out([s for s in (prune(s, self._options.min_weight) for s in new_groups)
+                                               if s is not None])
+        self._lane, n_kept = self._lane.after_scan(scan.cand, graph.quiet_singletons(), tail, now, scan.view, lane_new)
+        stats["n_predict_only"] += n_kept + len(scan.asleep)
+        stats["n_asleep"] = len(scan.asleep)
+        self._groups = scan.asleep.then(groups_new, now)
+
+    def _advance_view(self, means, interval):
+        """Means ``(n, d)`` advanced by ``interval`` (means only, one batch; a zero interval leaves them)
+        and whether each is in the field of view."""
+        E = self._engine
+        view = means if interval == 0 else E.motion.propagate(means, interval)
+        return view, E.sensor.detection.in_view(view @ E.H.T)
+
+    def _scores(self, pred, Z) -> Scores:
+        """Every return against every predicted track (the engine's
+        :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once); without
+        ``gate_out_of_view`` a track with ``p_D = 0`` gates nothing."""
+        loglik, allowed, p_detect = self._engine.track_scores(pred, Z)
+        if not self._options.gate_out_of_view:
+            allowed = allowed & (p_detect > 0)[None, :]
+        return Scores(loglik, allowed, p_detect)
+
+    def _set_birth_terms(self, terms):
+        pop = self._engine.population.with_birth_terms(terms, r_birth=self._options.adaptive_birth.r_birth)
+        self._engine.set_population(pop)
+
+    # ------------------------------------------------------------------ pool
+    def warm_up(self):
+        """Start the pool's workers now and set up numba's typing in each (about a second of CPU on
+        a worker's first compiled call otherwise), so the first scans do not pay for it; no-op for
+        ``workers = 1``."""
+        self._pool.warm_up(self._options)
+
+    def close(self):
+        """Shut the worker pool down (a later parallel step starts a new one)."""
+        self._pool.close()
+
+    # ------------------------------------------------------------------ output
+    def posterior(self, n_top: int = 1) -> FactoredPosterior:
+        """Per-group posteriors, the convolved cardinality distribution and the union of MAPs."""
+        n_top = check_int(n_top, "n_top", minimum=1)
+        motion, t, groups, lane = self._engine.motion, self.time, self._groups, self._lane
+        return FactoredPosterior(lambda: groups.now(t, motion), lambda: lane.now(t, motion),
+                                 len(lane), n_top=n_top, n_states=len(groups))
+
+    def map_means(self) -> tuple[np.ndarray, np.ndarray]:
+        """``(labels, means)`` of the MAP joint hypothesis: :attr:`posterior`'s ``map_estimate``
+        without covariances, so the lane's singletons are not predicted (their means at the current
+        scan are kept; with ``lazy``, advanced a scan at a time rather than over their whole gap,
+        equal to rounding for the Kepler model and to the integrator's error for a numerical one).
+        """
+        maps = [summarise(s.log_w, s.tracks, TrackStore(v, s.store.covs, s.store.labels)).map_estimate
+                for s, v in zip(self._groups.states, self._groups.views)]
+        return (np.concatenate([e.labels for e in maps] + [self._lane.store.labels]).astype(np.int64),
+                np.concatenate([e.means for e in maps] + [self._lane.view]).reshape(-1, self.ndim))
+
+    def estimates(self) -> TrackEstimates:
+        """The MAP joint hypothesis (the union of the groups' MAPs) at :attr:`time`: labels and means
+        (:meth:`map_means`), ``P = None`` — the lazy lane's and lazy groups' covariances are not
+        predicted to the scan (:attr:`posterior`'s ``map_estimate`` has them, at that cost)."""
+        labels, means = self.map_means()
+        return TrackEstimates(self.time, labels, means, None)
+
+    def joint_hypotheses(self, limit: int = 100_000) -> list:
+        """The product expanded into joint hypotheses (for checks), heaviest first.
+
+        Raises ``ValueError`` when there are more than ``limit`` (>= 1).
+        """
+        limit = check_int(limit, "limit", minimum=1)
+        if self.n_joint_hypotheses > limit:
+            raise ValueError(f"the product has {self.n_joint_hypotheses} joint hypotheses, more than limit = {limit}")
+        groups = self.groups
+        if not groups:
+            d = self.ndim
+            return [HypothesisEstimate(1.0, 0.0, np.zeros(0, np.int64), np.zeros((0, d)), np.zeros((0, d, d)))]
+        joint, _ = product(groups, limit, "top")
+        post = summarise(joint.log_w, joint.tracks, joint.store, n_top=len(joint.log_w))
+        return list(post.top)
+
+
+@dataclass(frozen=True, eq=False)
+class _Scan:
+    """Step 1's results: the groups to step and those left for later, each group's track columns
+    ``bounds``, the lane's candidates (and every singleton's mean advanced, ``lazy``), the predicted
+    tracks (the groups' then the candidates'), their scores, the birth likelihoods, each column's graph node."""
+
+    groups: list
+    asleep: GroupSet
+    bounds: np.ndarray
+    cand: np.ndarray
+    view: np.ndarray | None
+    pred: TrackStore
+    scores: Scores
+    birth_ll: np.ndarray
+    col_node: np.ndarray
+    G: int
+    L: int

@@ -1,0 +1,202 @@
+"""The singleton lane and lazy prediction (package docstring, "Singletons and lazy prediction").
+
+At catalogue scale nearly every group is a singleton: one object, one hypothesis, one track. With
+a population that takes no event in a quiet group (:func:`silent`) a singleton is exactly its
+Gaussian, so the factored filter keeps all of them in one batched :class:`Lane` (moments, the time
+each was last predicted to, its mean at the current scan) instead of one Python object each; the
+multi-hypothesis groups are a :class:`GroupSet` (the same times and means per group). With ``lazy``
+only what may be in view is predicted in full (:meth:`Lane.candidates`, :meth:`GroupSet.wake`):
+a track out of view takes no return, and one EKF prediction over a gap of ``k`` scans replaces
+``k`` predictions (equal for a linear constant-velocity model).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...gaussian import _predict_with, symmetrize
+from ..population_events import BinomialPopulation
+from ..population_lmb import LabeledMultiBernoulliPopulation
+from ..state import FilterState
+from ..tracks import TrackStore
+
+__all__ = ["Lane", "GroupSet", "silent", "predict_each", "singleton", "is_singleton", "take", "cat", "empty_state"]
+
+
+def silent(population) -> bool:
+    """Whether a group without birth terms can take no population event: no population, or the
+    labeled multi-Bernoulli or binomial population with ``p_S = 1`` (its only child of an empty scan is "every object
+    missed", as with no population)."""
+    return population is None or (isinstance(population, (LabeledMultiBernoulliPopulation, BinomialPopulation))
+                                  and population.p_survive == 1.0)
+
+
+def predict_each(motion, x, P, dt):
+    """EKF prediction of ``(x, P)`` by their own intervals ``dt`` (n,): the motion model's
+    ``transition_each``/``Q_each`` where it has them (one batch), else one batch per distinct
+    interval (a zero interval leaves a track as it is)."""
+    if len(dt) and np.all(dt == dt[0]):
+        return _predict_with(motion, x, P, float(dt[0])) if dt[0] != 0 else (x.copy(), P.copy())
+    if hasattr(motion, "transition_each"):  # one batch for every interval (a zero one is the identity)
+        xo, F = motion.transition_each(x, dt)
+        return xo, symmetrize(F @ P @ np.swapaxes(F, -1, -2) + motion.Q_each(dt))
+    xo, Po = x.copy(), P.copy()
+    for u in np.unique(dt):
+        if u != 0:
+            sel = dt == u
+            xo[sel], Po[sel] = _predict_with(motion, x[sel], P[sel], float(u))
+    return xo, Po
+
+
+def singleton(store: TrackStore, j) -> FilterState:
+    """The group of store entry ``j`` alone: one hypothesis holding one track."""
+    return FilterState(TrackStore(store.means[[j]], store.covs[[j]], store.labels[[j]]), np.zeros(1),
+                       [np.zeros(1, dtype=np.int64)], [()])
+
+
+def is_singleton(state: FilterState) -> bool:
+    return len(state.log_w) == 1 and len(state.store) == 1 and len(state.tracks[0]) == 1
+
+
+def take(store: TrackStore, idx) -> TrackStore:
+    return TrackStore(store.means[idx], store.covs[idx], store.labels[idx])
+
+
+def cat(stores, ndim) -> TrackStore:
+    stores = [s for s in stores if len(s)]
+    if not stores:
+        return TrackStore(np.zeros((0, ndim)), np.zeros((0, ndim, ndim)), np.zeros(0, dtype=np.int64))
+    if len(stores) == 1:
+        return stores[0]
+    return TrackStore(*(np.concatenate([getattr(s, f) for s in stores]) for f in ("means", "covs", "labels")))
+
+
+def empty_state(ndim: int) -> FilterState:
+    return FilterState(TrackStore.from_arrays(np.zeros((0, ndim)), None, ndim=ndim), np.zeros(1),
+                       [np.zeros(0, dtype=np.int64)], [()])
+
+
+@dataclass(frozen=True, eq=False)
+class Lane:
+    """The singletons: ``store`` (each at its own time ``times``) and ``view``, their means at the
+    current scan (with ``lazy``, advanced a scan at a time)."""
+
+    store: TrackStore
+    times: np.ndarray
+    view: np.ndarray
+
+    @classmethod
+    def empty(cls, ndim: int) -> "Lane":
+        return cls(cat([], ndim), np.zeros(0), np.zeros((0, ndim)))
+
+    @classmethod
+    def at(cls, store: TrackStore, time: float) -> "Lane":
+        """Singletons ``store``, all predicted to ``time``."""
+        return cls(store, np.full(len(store), float(time)), store.means.copy())
+
+    def __len__(self) -> int:
+        return len(self.store)
+
+    def now(self, time: float, motion) -> TrackStore:
+        """The singletons predicted to ``time`` (only lazy ones move)."""
+        gap = time - self.times
+        if not np.any(gap):
+            return self.store
+        x, P = predict_each(motion, self.store.means, self.store.covs, gap)
+        return TrackStore(x, P, self.store.labels)
+
+    def candidates(self, lazy: bool, interval: float, advance_view):
+        """``(cand, view)``: the singletons to predict in full this scan and, with ``lazy``, every
+        singleton's mean advanced one scan (``advance_view(means, interval)`` → ``(means, in view)``:
+        one short propagation per singleton whatever its gap since its last full prediction)."""
+        if lazy and len(self):
+            view, seen = advance_view(self.view, interval)
+            return np.flatnonzero(seen), view
+        return np.arange(len(self)), None
+
+    def after_scan(self, cand, quiet, pred: TrackStore, now: float, view, new: TrackStore):
+        """``(lane, n_kept)``: the lane after a scan whose candidates ``cand`` were predicted to
+        ``pred`` (their order), the ``quiet`` ones (no return, no birth term) kept here, the others
+        stepped; then the singletons ``new`` the scan's steps produced, at ``now``."""
+        keep = np.ones(len(self), dtype=bool)
+        keep[cand] = False
+        times = self.times.copy()
+        times[cand] = now
+        moved = TrackStore(self.store.means.copy(), self.store.covs.copy(), self.store.labels)
+        moved.means[cand], moved.covs[cand] = pred.means, pred.covs
+        keep[cand[quiet]] = True
+        view = (moved.means if view is None else view).copy()
+        view[cand] = pred.means
+        lane = Lane(cat([take(moved, np.flatnonzero(keep)), new], self.store.ndim),
+                    np.concatenate([times[keep], np.full(len(new), now)]),
+                    np.concatenate([view[keep], new.means]))
+        return lane, int(keep.sum())
+
+    def same_as(self, other: "Lane") -> bool:
+        """Bit-for-bit the same singletons, times and means at the scan."""
+        a, b = self.store, other.store
+        return all(np.array_equal(x, y) for x, y in ((a.means, b.means), (a.covs, b.covs), (a.labels, b.labels),
+                                                      (self.times, other.times), (self.view, other.view)))
+
+
+@dataclass(frozen=True, eq=False)
+class GroupSet:
+    """The multi-hypothesis groups: their states, the time each was last predicted to, and each
+    one's track means at the current scan (lazy groups: advanced a scan at a time)."""
+
+    states: tuple
+    times: np.ndarray
+    views: tuple
+
+    @classmethod
+    def at(cls, states, time: float) -> "GroupSet":
+        states = tuple(states)
+        return cls(states, np.full(len(states), float(time)), tuple(s.store.means for s in states))
+
+    def __len__(self) -> int:
+        return len(self.states)
+
+    def now(self, time: float, motion) -> list:
+        """The groups predicted to ``time`` (only lazy ones move)."""
+        out = list(self.states)
+        for g in np.flatnonzero(self.times != time):
+            s = out[g]
+            x, P = predict_each(motion, s.store.means, s.store.covs, np.full(len(s.store), time - self.times[g]))
+            out[g] = s.with_store(TrackStore(x, P, s.store.labels))
+        return out
+
+    def wake(self, lazy: bool, interval: float, now: float, advance_view):
+        """``(groups to predict, their gaps, the groups left for later as a GroupSet)``.
+
+        Without ``lazy`` every group is predicted. With it a group is predicted only when the mean
+        of one of its tracks, advanced one scan, is in the field of view; the others keep their
+        moments and are only advanced in their means (one batch), like the lane's singletons: a
+        group whose tracks are all out of view takes no return and, with no population event (the
+        caller turns ``lazy`` off otherwise), changes in nothing but its prediction."""
+        groups, t = list(self.states), self.times
+        nobody = GroupSet((), np.zeros(0), ())
+        if not (lazy and groups):
+            return groups, now - t, nobody
+        n = np.array([len(v) for v in self.views], dtype=np.int64)  # >= 1: pruning drops empty groups
+        view, seen = advance_view(np.concatenate(self.views), interval)
+        awake = np.logical_or.reduceat(seen, np.concatenate([[0], np.cumsum(n)[:-1]]))
+        if awake.all():
+            return groups, now - t, nobody
+        views = np.split(view, np.cumsum(n)[:-1])
+        sleep = np.flatnonzero(~awake)
+        return ([groups[g] for g in np.flatnonzero(awake)], now - t[awake],
+                GroupSet(tuple(groups[g] for g in sleep), t[sleep], tuple(views[g] for g in sleep)))
+
+    def then(self, states, time: float) -> "GroupSet":
+        """These groups followed by ``states``, predicted to ``time``."""
+        states = tuple(states)
+        return GroupSet(self.states + states, np.concatenate([self.times, np.full(len(states), float(time))]),
+                        self.views + tuple(s.store.means for s in states))
+
+    def same_as(self, other: "GroupSet") -> bool:
+        """Bit-for-bit the same groups (weights, tracks, moments, labels), times and means at the scan."""
+        return (len(self) == len(other) and np.array_equal(self.times, other.times)
+                and all(np.array_equal(x, y) for x, y in zip(self.views, other.views))
+                and all(s.same_as(t) for s, t in zip(self.states, other.states)))

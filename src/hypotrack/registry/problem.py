@@ -1,0 +1,190 @@
+"""What the trackers of one experiment share: the models, the known objects, the birth model.
+
+A :class:`TrackingProblem` is handed with a tracker specification to :func:`hypotrack.registry.build`;
+each preset takes from it what it needs and expresses the problem's birth model in its own terms
+(:meth:`TrackingProblem.event_population`, :meth:`~TrackingProblem.labeled_population`,
+:meth:`~TrackingProblem.reid_births`), so one problem serves every preset — the documents'
+comparisons on identical terms.
+
+Birth models a problem may carry (``births``):
+
+* ``None`` — a fixed number of objects;
+* :class:`~hypotrack.models.population.SingleEventBirthDeath` — document 000's Eq. 30 (at most one
+  birth in one of ``M_b`` regions, or one death, per scan);
+* :class:`~hypotrack.hypotheses.LabeledMultiBernoulliPopulation` — labeled-Bernoulli birth terms
+  with existence ``r_B`` and survival ``p_S`` (the GLMB papers' model);
+* :class:`MeasurementBirths` — births started at the returns no track explains (adaptive birth
+  terms for the factored δ-GLMB and FISST presets, Reid's births seeded at the returns for HOMHT,
+  β_NT for GNN/JPDA).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .._validation import check_covariance, check_finite_array, check_labels, check_positive, check_probability
+from ..hypotheses import BinomialPopulation, LabeledMultiBernoulliPopulation
+from ..hypotheses.factored import AdaptiveBirth
+from ..models.population import SingleEventBirthDeath
+
+__all__ = ["MeasurementBirths", "TrackingProblem"]
+
+
+@dataclass(frozen=True)
+class MeasurementBirths:
+    """Births started at the returns no track explains.
+
+    Parameters
+    ----------
+    adaptive : AdaptiveBirth
+        The factored engine's measurement-driven birth terms (δ-GLMB and the FISST presets).
+    r_birth : float
+        Existence of each adaptive birth term, in (0, 1) (the FISST presets' binomial ``α``).
+    seeded_intensity : float
+        Reid's birth intensity ``λ_B`` per unit measurement volume (HOMHT's births seeded at the
+        returns; GNN/JPDA's ``β_NT``), ≥ 0.
+    seeded_density : object, optional
+        Reid's birth density at a return (e.g. :class:`hypotrack.scenarios.catalogue.tracking.OnePointBirth`).
+    """
+
+    adaptive: AdaptiveBirth
+    r_birth: float
+    seeded_intensity: float = 0.0
+    seeded_density: object = None
+
+    def __post_init__(self):
+        if not isinstance(self.adaptive, AdaptiveBirth):
+            raise TypeError(f"adaptive must be an AdaptiveBirth, got {type(self.adaptive).__name__}")
+        check_probability(self.r_birth, "r_birth", low_open=True, high_open=True)
+        if not (np.isfinite(self.seeded_intensity) and self.seeded_intensity >= 0):
+            raise ValueError(f"seeded_intensity must be a finite number >= 0, got {self.seeded_intensity!r}")
+
+
+_BIRTHS = (SingleEventBirthDeath, LabeledMultiBernoulliPopulation, MeasurementBirths)
+
+
+@dataclass(frozen=True, eq=False)
+class TrackingProblem:
+    """The models and known objects every tracker of an experiment shares.
+
+    Parameters
+    ----------
+    motion : motion model
+        ``transition(x, dt)`` and ``Q(dt)``.
+    sensor : hypotrack.models.sensors.Sensor or a sensor of the same shape
+        ``measurement`` (``H``, ``R``), ``detection`` (``p_D``) and ``clutter`` (rate, region).
+    means, covs : array_like, optional
+        The objects known at ``time``: ``(n, d)`` means and ``(n, d, d)`` covariances.
+    labels : array_like, optional
+        Their integer labels (default ``0 .. n − 1``).
+    time : float
+        Time of the known objects (the first scan may be at this time: an update without prediction).
+    dt : float
+        The hypothesis filters' default scan interval (> 0).
+    births : None, SingleEventBirthDeath, LabeledMultiBernoulliPopulation or MeasurementBirths
+        The birth model (module docstring).
+    in_view : callable, optional
+        ``in_view(x) -> (n,) bool`` for states ``x``: where the sensor sees (single-hypothesis
+        trackers count misses there only).
+    """
+
+    motion: object
+    sensor: object
+    means: np.ndarray | None = None
+    covs: np.ndarray | None = None
+    labels: np.ndarray | None = None
+    time: float = 0.0
+    dt: float = 1.0
+    births: object = None
+    in_view: object = field(default=None, repr=False)
+
+    def __post_init__(self):
+        d = np.asarray(self.sensor.measurement.H).shape[1]
+        means = np.zeros((0, d)) if self.means is None else np.asarray(self.means, dtype=float)
+        means = check_finite_array(means.reshape(-1, d) if means.size == 0 else means, "means", shape=(None, d))
+        n = len(means)
+        if self.covs is None:
+            if n:
+                raise ValueError("covs are required with means")
+            covs = np.zeros((0, d, d))
+        else:
+            covs = np.asarray(self.covs, dtype=float).reshape(-1, d, d)
+            if len(covs) != n:
+                raise ValueError(f"covs must hold one covariance per mean: {n} means, {len(covs)} covariances")
+            if n:
+                covs = check_covariance(covs, "covs", dim=d, batched=True)
+        labels = np.arange(n, dtype=np.int64) if self.labels is None else check_labels(self.labels, n)
+        object.__setattr__(self, "means", means)
+        object.__setattr__(self, "covs", covs)
+        object.__setattr__(self, "labels", labels)
+        object.__setattr__(self, "time", float(self.time))
+        object.__setattr__(self, "dt", check_positive(self.dt, "dt"))
+        if self.births is not None and not isinstance(self.births, _BIRTHS):
+            raise TypeError("births must be None, a SingleEventBirthDeath, a LabeledMultiBernoulliPopulation or "
+                            f"MeasurementBirths, got {type(self.births).__name__}")
+        if self.in_view is not None and not callable(self.in_view):
+            raise TypeError(f"in_view must be callable or None, got {type(self.in_view).__name__}")
+
+    @property
+    def ndim(self) -> int:
+        return self.means.shape[1]
+
+    # ---------------------------------------------------------------- births, per family of presets
+    def event_population(self):
+        """The birth model as the FISST presets take it (``population`` of :func:`~hypotrack.hypotheses.hfisst`).
+
+        Document 000's Eq. 30 as it is; labeled-Bernoulli terms as document 001's binomial
+        population with ``α = r_B`` and the same survival (at most one death or undetected birth
+        per child: :mod:`hypotrack.hypotheses.population_lmb`); measurement births as a binomial
+        population with no terms of its own (the factored engine's adaptive terms fill it).
+        """
+        b = self.births
+        if b is None or isinstance(b, SingleEventBirthDeath):
+            return b
+        if isinstance(b, LabeledMultiBernoulliPopulation):
+            return BinomialPopulation(list(b.birth_densities), alpha=_scalar(b.r_birth, "r_birth"),
+                                      p_survive=b.p_survive)
+        return BinomialPopulation([], alpha=b.r_birth, p_survive=1.0)
+
+    def labeled_population(self) -> LabeledMultiBernoulliPopulation:
+        """The birth model as the δ-GLMB presets take it (a labeled multi-Bernoulli population).
+
+        Document 000's Eq. 30 becomes one labeled-Bernoulli term per birth region with ``r_B = α``
+        and ``p_S = 1 − β`` for every object at every scan; measurement births, a population with
+        no terms of its own (the factored engine's adaptive terms fill it).
+        """
+        b = self.births
+        if b is None:
+            raise ValueError("births: the δ-GLMB presets need a birth model (their births and deaths are the "
+                             "labeled multi-Bernoulli's); the problem has none")
+        if isinstance(b, LabeledMultiBernoulliPopulation):
+            return b
+        if isinstance(b, SingleEventBirthDeath):
+            terms = [b.birth_density(r) for r in range(b.n_birth_regions)]
+            return LabeledMultiBernoulliPopulation(terms, r_birth=b.alpha, p_survive=1.0 - b.beta)
+        return LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0)
+
+    def reid_births(self) -> dict:
+        """The birth model as Reid's HOMHT presets take it: ``population``, or ``birth_intensity`` and
+        ``birth_density`` for births seeded at the returns (measurement births)."""
+        b = self.births
+        if isinstance(b, MeasurementBirths):
+            return {"birth_intensity": b.seeded_intensity, "birth_density": b.seeded_density}
+        return {"population": self.event_population()}
+
+    def adaptive_birth(self):
+        """The factored engine's measurement-driven birth terms (or ``None``)."""
+        return self.births.adaptive if isinstance(self.births, MeasurementBirths) else None
+
+    def seeded_intensity(self) -> float:
+        """``λ_B`` (``β_NT``) of births seeded at the returns; 0 without measurement births."""
+        return self.births.seeded_intensity if isinstance(self.births, MeasurementBirths) else 0.0
+
+
+def _scalar(value, name):
+    a = np.asarray(value, dtype=float)
+    if a.ndim and not np.all(a == a.flat[0]):
+        raise ValueError(f"{name}: the binomial population takes one birth probability, got {value!r}")
+    return float(a.flat[0]) if a.ndim else float(a)

@@ -1,0 +1,68 @@
+"""Scene builders shared by the tests.
+
+Most hypothesis-filter and tracker tests use one kind of scene: objects with a 2-D
+constant-velocity state ``(x, y, vx, vy)``, a linear sensor of their positions with a detection
+probability inside a field of view, and Poisson clutter uniform over a region. The builders
+below write that scene once; each test module keeps its own numbers (noise, rates, regions), so
+the values it asserts do not change.
+
+Import them as ``from scenes import ...``: pyproject's ``[tool.pytest.ini_options] pythonpath``
+puts ``tests/`` on the import path (test modules are imported with ``--import-mode=importlib``,
+which does not, and cannot import from ``conftest``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from hypotrack.hypotheses.population_events import SingleEventPopulation
+from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
+from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+
+#: Measurement matrix of a position sensor on ``(x, y, vx, vy)``.
+H_POSITION = np.hstack([np.eye(2), np.zeros((2, 2))])
+
+#: The 100 x 100 field of view centred on the origin, and its left and right halves (two birth regions).
+REGION = Box([-50.0, -50.0], [50.0, 50.0])
+HALVES = (Box([-50.0, -50.0], [0.0, 50.0]), Box([0.0, -50.0], [50.0, 50.0]))
+
+#: Three objects in view, moving apart, with a common prior covariance (the small filter scene).
+THREE_MEANS = np.array([[0.0, 0.0, 1.0, 0.0], [4.0, 1.0, 0.0, 1.0], [-10.0, 5.0, 0.5, -0.5]])
+THREE_COVS = np.repeat(np.diag([1.0, 1.0, 0.2, 0.2])[None], 3, axis=0)
+for _shared in (H_POSITION, THREE_MEANS, THREE_COVS):  # shared by several modules: read-only
+    _shared.setflags(write=False)
+
+
+def position_sensor(R=0.5, p_D=0.9, view=REGION, clutter_rate=1.0, clutter_region=None, ndim_state=4) -> Sensor:
+    """A linear sensor of the positions (the first two state components).
+
+    ``R`` is the measurement-noise covariance (a scalar ``r`` means ``r I``); objects are detected with
+    probability ``p_D`` inside ``view`` (``None``: everywhere); clutter is Poisson with mean
+    ``clutter_rate`` uniform over ``clutter_region`` (default: ``view``). ``clutter_rate=None``: no clutter.
+    """
+    R = np.eye(2) * R if np.ndim(R) == 0 else R
+    detection = DetectionModel(p_D) if view is None else DetectionModel(p_D, view)
+    if clutter_rate is None:
+        return Sensor(LinearPositionSensor(R, ndim_state), detection)
+    return Sensor(LinearPositionSensor(R, ndim_state), detection,
+                  PoissonClutter(clutter_rate, view if clutter_region is None else clutter_region))
+
+
+def single_event_population(alpha, beta, max_events, regions=(REGION,), birth_cov=None) -> SingleEventPopulation:
+    """H-FISST's single-event population: birth probability ``alpha``, death probability ``beta``, at
+    most ``max_events`` births or deaths per scan, a uniform birth density on each region (position
+    covariance ``birth_cov``, default ``I``)."""
+    cov = np.eye(2) if birth_cov is None else birth_cov
+    return SingleEventPopulation(SingleEventBirthDeath(alpha, beta, max_events),
+                                 birth_densities=[UniformBirthDensity(r, cov) for r in regions])
+
+
+def observed_scans(X, motion, sensor, n_scans, seed, dt=1.0):
+    """``n_scans`` scans of ``sensor`` observing objects at ``X`` moved by ``motion``'s mean (no process
+    noise), one generator seeded with ``seed``; the scans and the objects' final states."""
+    rng = np.random.default_rng(seed)
+    F, scans = motion.F(dt), []
+    for _ in range(n_scans):
+        X = X @ F.T
+        scans.append(sensor.observe(X, rng)[0])
+    return scans, X

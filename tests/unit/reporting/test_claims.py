@@ -1,0 +1,26 @@
+"""The cell formatting of hypotrack.reporting.claims, against hand-written cells."""
+
+import math
+
+from hypotrack.reporting.claims import KEY_PATTERN, format_value, measured_text
+
+
+def test_format_value_by_hand():
+    assert format_value("0.5 %", 4) == "0.5 %"  # text as is
+    assert format_value(None, 4) == "--" and format_value(math.nan, 4) == "--"
+    assert format_value(63591, 4) == "63591" and format_value(2.0, 4) == "2"  # integers without a point
+    assert format_value(0.0363456, 3) == "0.0363"
+    assert format_value(3e-14, 4) == "3e-14"
+    assert format_value(1e16, 4) == "1e+16"  # too large to be written as an integer
+
+
+def test_measured_text_of_a_plain_and_a_monte_carlo_row():
+    assert measured_text({"reproduced": "0.85", "n": ""}) == "0.85"
+    row = {"reproduced": "0.85", "n": "100", "mean": "0.851", "se": "0.002", "z": "1.50"}
+    assert measured_text(row) == "0.851 ± 0.002 (n = 100, z = 1.50)"
+    assert measured_text({**row, "z": ""}) == "0.851 ± 0.002 (n = 100)"
+
+
+def test_key_pattern():
+    assert KEY_PATTERN.fullmatch("Mass1Sigma") and KEY_PATTERN.fullmatch("a_1")
+    assert not KEY_PATTERN.fullmatch("1a") and not KEY_PATTERN.fullmatch("a-b")

@@ -10,8 +10,8 @@ The public functions check their input (finite, matching shapes, ``P``, ``Q``, `
 positive semi-definite and ``S`` positive definite, by Cholesky) and raise ``ValueError``
 naming the argument: a covariance with a negative variance would otherwise come out as a
 zero or negative variance, and a NaN as a NaN likelihood. The trackers call the unchecked
-batched forms (``_predict``, ``_innovation``, ``_update``, ``_mahalanobis2``,
-``_joseph_covariance``) once per scan on states they built themselves and checked at their
+batched forms (``predict_unchecked``, ``predict_with_unchecked``, ``innovation_unchecked``,
+``update_unchecked``, ``mahalanobis2_unchecked``, ``joseph_covariance_unchecked``) once per scan on states they built themselves and checked at their
 own boundary (construction, ``initialise``, ``step``).
 
 References
@@ -108,7 +108,7 @@ def _unbatch(single, *arrays):
     return tuple(a[0] for a in arrays) if single else arrays
 
 
-def _predict(x, P, F, Q):
+def predict_unchecked(x, P, F, Q):
     """Unchecked batched prediction (``x`` (n, d), ``P`` (n, d, d))."""
     x_pred = np.einsum("...ij,...j->...i", F, x) if F.ndim == 3 else x @ F.T
     return x_pred, symmetrize(F @ P @ np.swapaxes(F, -1, -2) + Q)
@@ -134,10 +134,10 @@ def predict(x, P, F, Q):
     n, d = x.shape
     F = _matrix(F, "F", (d, d), n)
     Q = check_psd(_matrix(Q, "Q", (d, d), n), "Q", what="Q (process-noise covariance)")
-    return _unbatch(single, *_predict(x, P, F, Q))
+    return _unbatch(single, *predict_unchecked(x, P, F, Q))
 
 
-def _predict_with(model, x, P, dt):
+def predict_with_unchecked(model, x, P, dt):
     """Unchecked batched (E)KF prediction through a motion model."""
     x_pred, F = model.transition(x, dt)
     return x_pred, symmetrize(F @ P @ np.swapaxes(F, -1, -2) + model.Q(dt))
@@ -150,10 +150,10 @@ def predict_with(model, x, P, dt):
     through the dynamics and the covariances through the state-transition matrices (EKF).
     """
     x, P, single = _checked_batch(x, P)
-    return _unbatch(single, *_predict_with(model, x, P, dt))
+    return _unbatch(single, *predict_with_unchecked(model, x, P, dt))
 
 
-def _innovation(x, P, H, R):
+def innovation_unchecked(x, P, H, R):
     """Unchecked batched ``(z_pred, S, K)``; ``S`` must be positive definite."""
     z_pred = x @ H.T
     PHt = P @ H.T
@@ -176,14 +176,14 @@ def innovation(x, P, H, R):
     Returns ``(z_pred, S, K)`` in the batch form of ``x``.
     """
     x, P, H, R, single = _checked_innovation(x, P, H, R)
-    return _unbatch(single, *_innovation(x, P, H, R))
+    return _unbatch(single, *innovation_unchecked(x, P, H, R))
 
 
-def _update(x, P, z, H, R):
+def update_unchecked(x, P, z, H, R):
     """Unchecked batched Joseph-form update; ``z`` (n, p)."""
-    z_pred, _, K = _innovation(x, P, H, R)
+    z_pred, _, K = innovation_unchecked(x, P, H, R)
     x_upd = x + np.einsum("nij,nj->ni", K, z - z_pred)
-    return x_upd, _joseph_covariance(P, K, H, R)
+    return x_upd, joseph_covariance_unchecked(P, K, H, R)
 
 
 def update(x, P, z, H, R):
@@ -213,10 +213,10 @@ def update(x, P, z, H, R):
     elif z.shape != (n, p):
         raise ValueError(f"z must have shape ({p},) or ({n}, {p}), got {z.shape}")
     check_finite_array(z, "z")
-    return _unbatch(single, *_update(x, P, z, H, R))
+    return _unbatch(single, *update_unchecked(x, P, z, H, R))
 
 
-def _joseph_covariance(P, K, H, R):
+def joseph_covariance_unchecked(P, K, H, R):
     I_KH = np.eye(P.shape[-1]) - K @ H
     return symmetrize(I_KH @ P @ np.swapaxes(I_KH, -1, -2) + K @ R @ np.swapaxes(K, -1, -2))
 
@@ -235,7 +235,7 @@ def joseph_covariance(P, K, H, R):
     K = check_finite_array(K, "K")
     if K.shape[-2:] != (d, H.shape[0]):
         raise ValueError(f"K must have shape (..., {d}, {H.shape[0]}), got {K.shape}")
-    return _joseph_covariance(P, K, H, R)
+    return joseph_covariance_unchecked(P, K, H, R)
 
 
 def _chol_logdet(S, name="S"):
@@ -274,7 +274,7 @@ def log_likelihood(z, z_pred, S):
     return float(out[0]) if single else out
 
 
-def _mahalanobis2(Z, z_pred, S):
+def mahalanobis2_unchecked(Z, z_pred, S):
     """Unchecked :func:`mahalanobis2_matrix` (``Z`` (m, p), ``z_pred`` (n, p), ``S`` (n, p, p))."""
     n = z_pred.shape[0]
     if n == 0 or Z.shape[0] == 0:
@@ -304,7 +304,7 @@ def mahalanobis2_matrix(Z, z_pred, S):
     Z = Z.reshape(-1, p) if Z.size or Z.ndim < 2 else Z.reshape(0, p)
     S = np.asarray(S, dtype=float).reshape(-1, p, p)
     Z, z_pred, S = _check_pairs(Z, np.asarray(z_pred, dtype=float).reshape(-1, p), S, "Z")
-    return _mahalanobis2(Z, z_pred, S)
+    return mahalanobis2_unchecked(Z, z_pred, S)
 
 
 def log_likelihood_matrix(Z, z_pred, S):

@@ -43,7 +43,7 @@ from .._validation import (
     check_state_dimension,
 )
 from ..association import gate_threshold, validation_matrix
-from ..gaussian import _innovation, _mahalanobis2
+from ..gaussian import innovation_unchecked, mahalanobis2_unchecked
 from .duplicates import child_pairs, merge_duplicates
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
@@ -284,8 +284,8 @@ class HypothesisFilter:
         by :class:`~.factored.FactoredFilter`)."""
         n, m = len(pred), len(Z)
         if n:
-            z_pred, S, _ = _innovation(pred.means, pred.covs, self.H, self.R)
-            d2, logdet = _mahalanobis2(Z, z_pred, S)
+            z_pred, S, _ = innovation_unchecked(pred.means, pred.covs, self.H, self.R)
+            d2, logdet = mahalanobis2_unchecked(Z, z_pred, S)
             loglik = -0.5 * (d2 + logdet[None, :] + self.H.shape[0] * np.log(2 * np.pi))
             in_view = np.asarray(self.sensor.detection.in_view(z_pred), dtype=bool)
         else:

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_positive
-from ..gaussian import _predict_with
+from ..gaussian import predict_with_unchecked
 from .population_lmb import GaussianBirthTerm
 
 __all__ = ["AdaptiveBirth"]
@@ -86,5 +86,5 @@ class AdaptiveBirth:
         if len(Z) == 0:
             return []
         x0, P0 = self.initial(Z, H, R)
-        x, P = _predict_with(motion, x0, P0, dt)
+        x, P = predict_with_unchecked(motion, x0, P0, dt)
         return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability) for i in range(len(x))]

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._validation import check_covariance, check_finite_array
-from ..gaussian import _predict_with, _update
+from ..gaussian import predict_with_unchecked, update_unchecked
 
 __all__ = ["TrackStore", "update_pairs"]
 
@@ -59,7 +59,7 @@ class TrackStore:
         """Every track predicted once (batched (E)KF prediction through ``motion``)."""
         if len(self) == 0:
             return self
-        x, P = _predict_with(motion, self.means, self.covs, dt)
+        x, P = predict_with_unchecked(motion, self.means, self.covs, dt)
         return TrackStore(x, P, self.labels)
 
 
@@ -86,6 +86,6 @@ def update_pairs(predicted: TrackStore, Z, H, R, sources, returns):
     covs = predicted.covs[sources].copy()
     hit = returns >= 0
     if np.any(hit):
-        x, P = _update(means[hit], covs[hit], np.asarray(Z)[returns[hit]], H, R)
+        x, P = update_unchecked(means[hit], covs[hit], np.asarray(Z)[returns[hit]], H, R)
         means[hit], covs[hit] = x, P
     return means, covs

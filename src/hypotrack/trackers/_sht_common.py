@@ -20,7 +20,7 @@ from .._validation import (
     check_probability,
 )
 from ..association import gate_threshold, validation_matrix
-from ..gaussian import _innovation, _mahalanobis2, _predict_with, symmetrize
+from ..gaussian import innovation_unchecked, mahalanobis2_unchecked, predict_with_unchecked, symmetrize
 from ..models.motion import ConstantVelocity, OrnsteinUhlenbeck
 
 __all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks"]
@@ -156,7 +156,7 @@ def predict_tracks(motion, x, P, dt):
     x = np.asarray(x, dtype=float)
     if len(x) == 0 or dt == 0:
         return x, np.asarray(P, dtype=float)
-    return _predict_with(motion, x, np.asarray(P, dtype=float), dt)
+    return predict_with_unchecked(motion, x, np.asarray(P, dtype=float), dt)
 
 
 def gate_tracks(x, P, Z, model: ScanModel, *, gate: float | None = None) -> GatedTracks:
@@ -177,10 +177,10 @@ def gate_tracks(x, P, Z, model: ScanModel, *, gate: float | None = None) -> Gate
     P = np.asarray(P, dtype=float).reshape(-1, model.ndim_state, model.ndim_state)
     n, p = len(x), model.dim
     if n:
-        z_pred, S, K = _innovation(x, P, model.H, model.R)
+        z_pred, S, K = innovation_unchecked(x, P, model.H, model.R)
     else:
         z_pred, S, K = np.zeros((0, p)), np.zeros((0, p, p)), np.zeros((0, model.ndim_state, p))
-    d2, logdet = _mahalanobis2(Z, z_pred, S)
+    d2, logdet = mahalanobis2_unchecked(Z, z_pred, S)
     valid = validation_matrix(d2, model.gate if gate is None else gate)
     return GatedTracks(x, P, z_pred, S, K, Z, d2, logdet, valid)
 

@@ -57,7 +57,7 @@ def _check_scan(Z, n_sensors: int) -> np.ndarray:
     return Z
 
 
-def _lower_upper(x: np.ndarray):
+def lower_upper(x: np.ndarray):
     """Boolean mask of the lower track per run and the (lower, upper) predicted positions."""
     lower_is_0 = x[:, 0] <= x[:, 1]
     x_l = np.where(lower_is_0, x[:, 0], x[:, 1])
@@ -195,7 +195,7 @@ class GNNFilter(_EquivalentMeasurementFilter):
 
     def _update(self, Z: np.ndarray) -> None:
         Zs = np.sort(Z, axis=-1)
-        lower_is_0, _, _ = _lower_upper(self.x_pred)
+        lower_is_0, _, _ = lower_upper(self.x_pred)
         self._kalman(Zs[:, :, 0].mean(axis=1), Zs[:, :, 1].mean(axis=1), lower_is_0)
 
 
@@ -279,7 +279,7 @@ class ECMHTFilter(_EquivalentMeasurementFilter):
         Zs = np.sort(Z, axis=-1)
         order = np.argsort(self.rng.random(Zs.shape[:2]), axis=1)
         Zs = np.take_along_axis(Zs, order[:, :, None], axis=1)
-        lower_is_0, x_l, x_u = _lower_upper(self.x_pred)
+        lower_is_0, x_l, x_u = lower_upper(self.x_pred)
         S1 = self.P_pred[:, 0] + self.R
         n_swaps = ecmht_swap_count(Zs[:, :, 0], Zs[:, :, 1], x_l, x_u, S1)
         z_l, z_u = swap_merge(Zs[:, :, 0], Zs[:, :, 1], n_swaps)

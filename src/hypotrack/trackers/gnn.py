@@ -37,7 +37,7 @@ from scipy.optimize import linear_sum_assignment
 
 from ..association import association_score_matrix
 from ..association.clustering import component_labels
-from ..gaussian import _joseph_covariance
+from ..gaussian import joseph_covariance_unchecked
 from ._sht_common import GatedTracks, ScanModel
 
 _JOINT_LIMIT = 128
@@ -217,6 +217,6 @@ def gnn_update(gated: GatedTracks, a, model: ScanModel):
         K = gated.K[tracks]
         nu = gated.Z[rows] - gated.z_pred[tracks]
         x[tracks] = gated.x[tracks] + np.einsum("ndp,np->nd", K, nu)
-        P[tracks] = _joseph_covariance(gated.P[tracks], K, model.H, model.R)
+        P[tracks] = joseph_covariance_unchecked(gated.P[tracks], K, model.H, model.R)
         detected[tracks] = True
     return x, P, detected

@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..association.marginals import jpda_marginals
-from ..gaussian import _joseph_covariance, symmetrize
+from ..gaussian import joseph_covariance_unchecked, symmetrize
 from ._sht_common import GatedTracks, ScanModel
 
 __all__ = ["jpda_log_weights", "pdaf_probabilities", "jpda_probabilities", "pda_update"]
@@ -133,6 +133,6 @@ def pda_update(gated: GatedTracks, beta, model: ScanModel):
     ).reshape(n, p, p)
     spread = second - nu_bar[:, :, None] * nu_bar[:, None, :]
     x_upd = x + np.einsum("ndp,np->nd", K, nu_bar)
-    P_c = _joseph_covariance(P, K, model.H, model.R)
+    P_c = joseph_covariance_unchecked(P, K, model.H, model.R)
     P_upd = b0[:, None, None] * P + (1 - b0)[:, None, None] * P_c + K @ spread @ np.swapaxes(K, -1, -2)
     return x_upd, symmetrize(P_upd)

@@ -152,7 +152,7 @@ def test_per_row_intervals_equal_one_call_per_interval():
 def test_factored_per_row_prediction_equals_one_ekf_step_per_track():
     """The factored engine's batched prediction with an interval per track (lazy singletons) is the
     EKF prediction of each track over its own interval (Φ P Φᵀ + Q(dt)); a zero interval leaves it."""
-    from hypotrack.gaussian import _predict_with
+    from hypotrack.gaussian import predict_with_unchecked
     from hypotrack.hypotheses.factored import _predict_each
 
     m = TwoBodyOrbit3D(q=1e-7)
@@ -162,7 +162,7 @@ def test_factored_per_row_prediction_equals_one_ekf_step_per_track():
     dt = np.array([10.0, 600.0, 0.0])
     x, C = _predict_each(m, X, P, dt)
     for k in range(2):
-        xk, Ck = _predict_with(m, X[k:k + 1], P[k:k + 1], dt[k])
+        xk, Ck = predict_with_unchecked(m, X[k:k + 1], P[k:k + 1], dt[k])
         np.testing.assert_allclose(x[k], xk[0], rtol=0, atol=1e-9)
         np.testing.assert_allclose(C[k], Ck[0], rtol=1e-12, atol=1e-15)
     np.testing.assert_array_equal(x[2], X[2])

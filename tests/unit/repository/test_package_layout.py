@@ -194,3 +194,71 @@ def test_no_module_named_after_another_experiment(package):
         for rule in RULES - {package}:
             assert not module.stem.startswith(rule + "_") and module.stem != rule, \
                 f"experiments/{package}/{module.name} is named after the {rule} experiment"
+
+
+# ---------------------------------------------------------------- objects keep their own state
+MAX_MODULE_LINES = 600
+
+
+def _package(module: str) -> str:
+    """The subpackage a module belongs to (``hypotrack.hypotheses.factored.engine`` -> ``hypotrack.hypotheses``);
+    a top-level module is its own package."""
+    return ".".join(module.split(".")[:2])
+
+
+def _src_files():
+    return {module_name(p): p for p in PKG.rglob("*.py")}
+
+
+def test_no_module_over_600_lines():
+    long = sorted((len(p.read_text().splitlines()), name) for name, p in _src_files().items()
+                  if len(p.read_text().splitlines()) > MAX_MODULE_LINES)
+    assert long == [], f"modules over {MAX_MODULE_LINES} lines: {long}"
+
+
+def object_state_edits(tree: ast.AST) -> list:
+    """``object.__new__`` calls and ``__dict__`` updates or assignments: objects cloned or filled behind their
+    constructors' backs."""
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute) and node.attr == "__new__" and ast.unparse(node.value) == "object":
+            found.append(ast.unparse(node))
+        if isinstance(node, ast.Attribute) and node.attr == "__dict__":
+            found.append(ast.unparse(node))
+    return found
+
+
+def private_imports_across_packages(name: str, tree: ast.AST, files: dict) -> list:
+    """``from <another package> import _name``: an underscore name of another subpackage used here."""
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            target = resolve(node, name, files[name].name == "__init__.py")
+            if not target.startswith("hypotrack") or _package(target) == _package(name):
+                continue
+            found += [f"{target}.{a.name}" for a in node.names if a.name.startswith("_") and not a.name.startswith("__")
+                      and f"{target}.{a.name}" not in files]  # a private module (hypotrack._validation) is shared
+    return found
+
+
+def test_no_object_cloned_or_filled_behind_its_constructor():
+    files = _src_files()
+    bad = {name: object_state_edits(ast.parse(p.read_text())) for name, p in files.items()}
+    assert {k: v for k, v in bad.items() if v} == {}
+
+
+def test_no_private_name_imported_from_another_package():
+    """Private attribute access on other objects is ruff's SLF001 (pyproject.toml, CI's ruff check);
+    importing another package's underscore name is checked here."""
+    files = _src_files()
+    bad = {name: private_imports_across_packages(name, ast.parse(p.read_text()), files) for name, p in files.items()}
+    assert {k: v for k, v in bad.items() if v} == {}
+
+
+def test_the_state_checks_see_what_they_look_for():
+    files = {"hypotrack.a.x": Path("x.py"), "hypotrack.b.y": Path("y.py")}
+    assert sorted(object_state_edits(ast.parse("g = object.__new__(C)\ng.__dict__.update(f.__dict__)"))) == [
+        "f.__dict__", "g.__dict__", "object.__new__"]
+    assert private_imports_across_packages("hypotrack.a.x", ast.parse("from ..b.y import _k, ok"), files) == [
+        "hypotrack.b.y._k"]
+    assert private_imports_across_packages("hypotrack.a.x", ast.parse("from .z import _k"), files) == []

@@ -19,6 +19,7 @@ def test_readme_example_runs_and_tracks_both_targets():
     nums = [float(x) for x in re.findall(r"-?\d+\.\d", " ".join(lines[1:])[4:])]
     # two tracks near the truths (-15, 0) and (15, 0) after five scans, within a few sigma of R = I
     assert abs(nums[0] + 15) < 3 and abs(nums[2] - 15) < 3
+    assert lines[-1] == "[1 2]"  # estimates() keeps the labels given to initialise
 
 
 def test_readme_quick_start_matches_ci():

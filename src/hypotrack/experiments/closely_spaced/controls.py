@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...trackers.ecmht import ECMHTFilter, GNNFilter, IdealFilter, _lower_upper, ecmht_swap_count, swap_merge
+from ...trackers.ecmht import ECMHTFilter, GNNFilter, IdealFilter, lower_upper, ecmht_swap_count, swap_merge
 
 __all__ = ["PredictionOnlyFilter", "SwappedLabelGNNFilter", "IndependentOrderECMHTFilter", "RandomHypothesisGNNFilter",
            "NonExclusiveNNFilter", "CONTROLS", "MHT_CONTROLS", "controlled_method",
@@ -63,7 +63,7 @@ class SwappedLabelGNNFilter(GNNFilter):
 
     def _update(self, Z: np.ndarray) -> None:
         Zs = np.sort(Z, axis=-1)
-        lower_is_0, _, _ = _lower_upper(self.x_pred)
+        lower_is_0, _, _ = lower_upper(self.x_pred)
         self._kalman(Zs[:, :, 1].mean(axis=1), Zs[:, :, 0].mean(axis=1), lower_is_0)
 
 
@@ -78,7 +78,7 @@ class IndependentOrderECMHTFilter(ECMHTFilter):
         merge_order = np.argsort(self.rng.random(Zs.shape[:2]), axis=1)
         scored = np.take_along_axis(Zs, score_order[:, :, None], axis=1)
         merged = np.take_along_axis(Zs, merge_order[:, :, None], axis=1)
-        lower_is_0, x_l, x_u = _lower_upper(self.x_pred)
+        lower_is_0, x_l, x_u = lower_upper(self.x_pred)
         S1 = self.P_pred[:, 0] + self.R
         n_swaps = ecmht_swap_count(scored[:, :, 0], scored[:, :, 1], x_l, x_u, S1)
         z_l, z_u = swap_merge(merged[:, :, 0], merged[:, :, 1], n_swaps)
@@ -111,7 +111,7 @@ class RandomHypothesisGNNFilter(GNNFilter):
     def _update(self, Z: np.ndarray) -> None:
         Zs = np.sort(Z, axis=-1)
         swap = self.rng.random(Zs.shape[:2]) < 0.5
-        lower_is_0, _, _ = _lower_upper(self.x_pred)
+        lower_is_0, _, _ = lower_upper(self.x_pred)
         z_l = np.where(swap, Zs[:, :, 1], Zs[:, :, 0]).mean(axis=1)
         z_u = np.where(swap, Zs[:, :, 0], Zs[:, :, 1]).mean(axis=1)
         self._kalman(z_l, z_u, lower_is_0)

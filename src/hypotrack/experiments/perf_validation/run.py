@@ -58,10 +58,10 @@ def _kernel_calls(n: int, m: int, rng):
     zp = x @ H.T
     Z = rng.normal(size=(m, 2))
     return [
-        ("predict", lambda: g.predict(x, P, F, Q), lambda: g._predict(x, P, F, Q)),
-        ("innovation", lambda: g.innovation(x, P, H, R), lambda: g._innovation(x, P, H, R)),
-        ("update", lambda: g.update(x, P, z, H, R), lambda: g._update(x, P, z, H, R)),
-        ("mahalanobis2_matrix", lambda: g.mahalanobis2_matrix(Z, zp, S), lambda: g._mahalanobis2(Z, zp, S)),
+        ("predict", lambda: g.predict(x, P, F, Q), lambda: g.predict_unchecked(x, P, F, Q)),
+        ("innovation", lambda: g.innovation(x, P, H, R), lambda: g.innovation_unchecked(x, P, H, R)),
+        ("update", lambda: g.update(x, P, z, H, R), lambda: g.update_unchecked(x, P, z, H, R)),
+        ("mahalanobis2_matrix", lambda: g.mahalanobis2_matrix(Z, zp, S), lambda: g.mahalanobis2_unchecked(Z, zp, S)),
     ]
 
 

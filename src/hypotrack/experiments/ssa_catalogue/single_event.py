@@ -63,7 +63,7 @@ import numpy as np
 import pandas as pd
 
 from ..._validation import check_int, check_probability
-from ...hypotheses.factored import _SPLITS, FactoredFilter, cardinality_total_variation
+from ...hypotheses.factored import SPLITS, FactoredFilter, cardinality_total_variation
 from ...reporting.ledger import Claim
 from ..ssa.scenario import catalogue_mask
 from ..ssa.trackers import TrackerSettings, make_tracker, tracker_seed
@@ -111,8 +111,8 @@ class SingleEventSettings:
     def __post_init__(self):
         check_int(self.n_steps, "n_steps", minimum=1)
         check_probability(self.gate_probability, "gate_probability", low_open=True, high_open=True)
-        if self.split not in _SPLITS:
-            raise ValueError(f"split must be one of {_SPLITS}, got {self.split!r}")
+        if self.split not in SPLITS:
+            raise ValueError(f"split must be one of {SPLITS}, got {self.split!r}")
         if self.n_scans is not None:
             check_int(self.n_scans, "n_scans", minimum=2)
 

@@ -105,7 +105,7 @@ model :class:`AdaptiveBirth` lives beside the populations (:mod:`..population_ad
 from ..population_adaptive import AdaptiveBirth
 from .engine import FactoredFilter, FactoredState
 from .lane import predict_each as _predict_each  # noqa: F401 (the name callers used before the split)
-from .options import SPLITS as _SPLITS  # noqa: F401 (the name callers used before the split)
+from .options import SPLITS  # noqa: F401
 from .options import FactoredOptions
 from .summary import FactoredPosterior, cardinality_total_variation
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...gaussian import _predict_with, symmetrize
+from ...gaussian import predict_with_unchecked, symmetrize
 from ..population_events import BinomialPopulation
 from ..population_lmb import LabeledMultiBernoulliPopulation
 from ..state import FilterState
@@ -38,7 +38,7 @@ def predict_each(motion, x, P, dt):
     ``transition_each``/``Q_each`` where it has them (one batch), else one batch per distinct
     interval (a zero interval leaves a track as it is)."""
     if len(dt) and np.all(dt == dt[0]):
-        return _predict_with(motion, x, P, float(dt[0])) if dt[0] != 0 else (x.copy(), P.copy())
+        return predict_with_unchecked(motion, x, P, float(dt[0])) if dt[0] != 0 else (x.copy(), P.copy())
     if hasattr(motion, "transition_each"):  # one batch for every interval (a zero one is the identity)
         xo, F = motion.transition_each(x, dt)
         return xo, symmetrize(F @ P @ np.swapaxes(F, -1, -2) + motion.Q_each(dt))
@@ -46,7 +46,7 @@ def predict_each(motion, x, P, dt):
     for u in np.unique(dt):
         if u != 0:
             sel = dt == u
-            xo[sel], Po[sel] = _predict_with(motion, x[sel], P[sel], float(u))
+            xo[sel], Po[sel] = predict_with_unchecked(motion, x[sel], P[sel], float(u))
     return xo, Po
 
 

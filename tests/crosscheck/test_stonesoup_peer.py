@@ -14,14 +14,8 @@ pytest.importorskip("stonesoup")
 from stonesoup.models.transition.linear import CombinedLinearGaussianTransitionModel, ConstantVelocity as CV  # noqa: E402
 from stonesoup.predictor.kalman import KalmanPredictor  # noqa: E402
 
-from hypotrack.experiments.perf_sht.run import (  # noqa: E402
-    HypotrackStepper,
-    formation,
-    max_abs_difference,
-    prior_covariance,
-    run_side_by_side,
-    scan_model,
-)
+from hypotrack.experiments.perf_sht.run import HypotrackStepper, formation, prior_covariance, scan_model  # noqa: E402
+from hypotrack.experiments.stepping import max_abs_difference, run_side_by_side  # noqa: E402
 from hypotrack.interop.stonesoup.peer import StoneSoupPeer  # noqa: E402
 
 CFG = dict(spacing=8.0, speed=10.0, n_scans=6, dt=1.0, q_truth=0.5, sigma=5.0, p_D=0.9, margin=100.0, q=0.5,

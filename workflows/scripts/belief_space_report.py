@@ -4,7 +4,7 @@ import matplotlib
 matplotlib.use("Agg")
 import pandas as pd
 
-from hypotrack.experiments.belief_space.run import plot_eq43, plot_equivalence, plot_ratio
+from hypotrack.experiments.belief_space.figures import plot_eq43, plot_equivalence, plot_ratio
 from hypotrack.experiments.belief_space.claims import checks_table, claims_from_checks
 from hypotrack.experiments.belief_space.oracle import oracle_claims
 from hypotrack.reporting.ledger import write_claims

@@ -9,12 +9,8 @@ from hypotrack.reporting import figure_style  # noqa: E402
 import numpy as np  # noqa: E402
 import pandas as pd  # noqa: E402
 
-from hypotrack.experiments.cardinality.run import (  # noqa: E402
-    cardinality_run,
-    low_clutter_control,
-    plot_realisation,
-    realisation_tables,
-)
+from hypotrack.experiments.cardinality.figures import plot_realisation  # noqa: E402
+from hypotrack.experiments.cardinality.run import cardinality_run, low_clutter_control, realisation_tables  # noqa: E402
 from hypotrack.experiments.seeds import experiment_seeds  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402
 

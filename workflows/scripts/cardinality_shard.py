@@ -1,7 +1,6 @@
 """Cardinality Monte Carlo, one shard: per-run cardinality errors and Tetris optimality gaps."""
 from hypotrack.experiments.cardinality.run import cardinality_monte_carlo, monte_carlo_table
-from hypotrack.experiments.swaps.run import shard_runs
-from hypotrack.experiments.seeds import experiment_seeds
+from hypotrack.experiments.seeds import experiment_seeds, shard_runs
 from hypotrack.scenarios.tables import write_table
 from hypotrack.reporting.joblog import prefix_output
 

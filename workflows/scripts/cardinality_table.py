@@ -1,7 +1,8 @@
 """Cardinality Monte Carlo table, Tetris optimality table and the reproduction claims."""
 import pandas as pd
 
-from hypotrack.experiments.cardinality.run import cardinality_claims, summarise_cardinality
+from hypotrack.experiments.cardinality.claims import cardinality_claims
+from hypotrack.experiments.cardinality.run import summarise_cardinality
 from hypotrack.reporting.ledger import write_claims
 from hypotrack.scenarios.tables import write_table
 from hypotrack.reporting.joblog import prefix_output

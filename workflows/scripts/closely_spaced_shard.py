@@ -1,7 +1,6 @@
 """Table 6.1, one Monte Carlo shard: per-run and per-scan MOSPA of every filter."""
 from hypotrack.experiments.closely_spaced.run import closely_spaced_monte_carlo, shard_tables
-from hypotrack.experiments.swaps.run import shard_runs
-from hypotrack.experiments.seeds import experiment_seeds
+from hypotrack.experiments.seeds import experiment_seeds, shard_runs
 from hypotrack.scenarios.tables import write_table
 from hypotrack.reporting.joblog import prefix_output
 

@@ -3,7 +3,7 @@ and the reproduction claims."""
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time.run import generation_time_claims, generation_time_timing_claims
+from hypotrack.experiments.generation_time.claims import generation_time_claims, generation_time_timing_claims
 from hypotrack.experiments.generation_time.figures import OUTCOME_COLUMNS, plot_generation_time
 from hypotrack.reporting.ledger import write_claims
 from hypotrack.reporting.joblog import prefix_output

@@ -1,6 +1,6 @@
 """GLMB benchmark: record the association problems of one seeded run (input of the sampler head-to-head)."""
 from hypotrack.reporting.joblog import prefix_output
-from hypotrack.experiments.samplers.recorded import record_problems, save_problems
+from hypotrack.experiments.glmb_benchmark.recorded import record_problems, save_problems
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.scenarios.tables import write_table
 

@@ -1,7 +1,6 @@
 """GLMB benchmark, one Monte Carlo shard: per-scan metrics of every named tracker (with run times)."""
-from hypotrack.experiments.swaps.run import shard_runs
 from hypotrack.experiments.glmb_benchmark.run import benchmark_shard
-from hypotrack.experiments.seeds import experiment_seeds
+from hypotrack.experiments.seeds import experiment_seeds, shard_runs
 from hypotrack.scenarios.tables import write_table
 from hypotrack.reporting.joblog import prefix_output
 

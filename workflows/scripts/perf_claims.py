@@ -2,8 +2,8 @@
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time.run import throughput_claims
-from hypotrack.experiments.perf_sht.run import perf_sht_claims
+from hypotrack.experiments.generation_time.claims import throughput_claims
+from hypotrack.experiments.perf_sht.claims import perf_sht_claims
 from hypotrack.reporting.ledger import write_claims
 from hypotrack.reporting.joblog import prefix_output
 

@@ -3,7 +3,7 @@
 Stone Soup is a benchmark/test-only dependency; its side of the benchmark is
 :class:`hypotrack.interop.stonesoup.peer.StoneSoupPeer` (the ``step``/``record`` surface of
 :class:`hypotrack.experiments.perf_sht.run.HypotrackStepper`), built here with Stone Soup's own
-constant-velocity model; everything else is in :mod:`hypotrack.experiments.perf_sht.run`. Stone
+constant-velocity model; everything else is in :mod:`hypotrack.experiments.perf_sht`. Stone
 Soup's state order is [x, vx, y, vy].
 """
 import math
@@ -13,19 +13,18 @@ import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
 from hypotrack.trackers._sht_common import gate_tracks, predict_tracks
+from hypotrack.experiments.perf_sht.figures import plot_benchmark
 from hypotrack.experiments.perf_sht.run import (
     BASELINE,
     HypotrackStepper,
     NumpyGNNStepper,
     formation,
     largest_within,
-    max_abs_difference,
-    plot_benchmark,
     prior_covariance,
-    run_side_by_side,
     scan_model,
     speedup_table,
 )
+from hypotrack.experiments.stepping import max_abs_difference, run_side_by_side
 from hypotrack.interop.stonesoup.peer import StoneSoupPeer
 from hypotrack.models import ConstantVelocity
 from hypotrack.reporting.joblog import prefix_output

@@ -1,6 +1,6 @@
 """Sampler head-to-head: run every sampler on the same problems; tables, figure, ledger rows."""
+from hypotrack.experiments.glmb_benchmark.recorded import load_problems
 from hypotrack.experiments.samplers.run import samplers_sweep, summarise
-from hypotrack.experiments.samplers.recorded import load_problems
 from hypotrack.experiments.samplers.summary import compute_claims, plot_mass, sampler_claims, sampler_macros, time_to_mass
 from hypotrack.experiments.seeds import experiment_seeds
 from hypotrack.reporting.ledger import write_claims, write_macros

@@ -3,7 +3,7 @@
 import pandas as pd
 
 from hypotrack.reporting.joblog import prefix_output
-from hypotrack.experiments.sht.run import lecture_macros, sht_claims
+from hypotrack.experiments.sht.claims import lecture_macros, sht_claims
 from hypotrack.reporting.ledger import write_claims, write_macros
 
 prefix_output(snakemake)  # noqa: F821  every line this job prints names the job

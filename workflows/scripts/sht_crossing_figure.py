@@ -2,7 +2,8 @@
 import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.sht.run import crossing_example, plot_crossing, summarise_crossing
+from hypotrack.experiments.sht.figures import plot_crossing
+from hypotrack.experiments.sht.run import crossing_example, summarise_crossing
 from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job

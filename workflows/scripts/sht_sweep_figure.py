@@ -2,7 +2,8 @@
 import pandas as pd
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.sht.run import plot_sweep, summarise_sweep
+from hypotrack.experiments.sht.figures import plot_sweep
+from hypotrack.experiments.sht.run import summarise_sweep
 from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job

@@ -10,8 +10,8 @@ the same linear TEME position measurement, gate, p_D and clutter density.
 """
 import pandas as pd
 
-from hypotrack.experiments.perf_sht.run import run_side_by_side
 from hypotrack.experiments.ssa_catalogue.run import CatalogueSHTStepper, peer_rows, peer_scenario
+from hypotrack.experiments.stepping import run_side_by_side
 from hypotrack.interop.stonesoup.peer import StoneSoupPeer
 from hypotrack.interop.stonesoup.transition import orbit_transition_model
 from hypotrack.reporting.joblog import prefix_output

@@ -6,7 +6,9 @@ matplotlib.use("Agg")
 import pandas as pd  # noqa: E402
 
 from hypotrack.reporting.joblog import claims_line, prefix_output  # noqa: E402
-from hypotrack.experiments.ssa_seeds.run import distribution_table, plot_distributions, ssa_seeds_claims  # noqa: E402
+from hypotrack.experiments.ssa_seeds.claims import ssa_seeds_claims  # noqa: E402
+from hypotrack.experiments.ssa_seeds.figures import plot_distributions  # noqa: E402
+from hypotrack.experiments.ssa_seeds.run import distribution_table  # noqa: E402
 from hypotrack.reporting import figure_style  # noqa: E402
 from hypotrack.reporting.ledger import write_claims  # noqa: E402
 from hypotrack.scenarios.tables import write_table  # noqa: E402

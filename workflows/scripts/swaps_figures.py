@@ -2,7 +2,9 @@
 
 import pandas as pd
 
-from hypotrack.experiments.swaps.run import plot_swap_figures, summarise_swaps, swap_claims
+from hypotrack.experiments.swaps.claims import swap_claims
+from hypotrack.experiments.swaps.figures import plot_swap_figures
+from hypotrack.experiments.swaps.run import summarise_swaps
 from hypotrack.reporting.ledger import write_claims
 from hypotrack.scenarios.tables import write_table
 from hypotrack.reporting.joblog import prefix_output

@@ -2,8 +2,8 @@
 import numpy as np
 
 from hypotrack.scenarios.tables import write_table
-from hypotrack.experiments.seeds import experiment_seeds
-from hypotrack.experiments.swaps.run import shard_runs, swap_shard
+from hypotrack.experiments.seeds import experiment_seeds, shard_runs
+from hypotrack.experiments.swaps.run import swap_shard
 from hypotrack.reporting.joblog import prefix_output
 
 prefix_output(snakemake)  # every line this job prints names the job

@@ -20,10 +20,16 @@ closely_spaced    document 003 §6, Table 6.1: the four filters on two closely s
 sht               lecture notes 004: GNN and JPDA.
 perf_sht          GNN / JPDA timing against Stone Soup.
 perf_validation   the cost of input validation.
+ssa_catalogue     SSA at catalogue scale: real objects seen by a ground radar, five trackers.
 
-Shared module
--------------
-seeds             seed streams: one master seed, independent children per experiment and shard.
+Shared modules
+--------------
+seeds             seed streams: one master seed, independent children per experiment and shard; shard sizes.
+stepping          timing: wall/CPU clocks, best of repeats, steppers timed side by side in lock-step.
+
+An experiment package imports another only through the shared modules, except the pairs documented
+in ``tests/unit/test_package_layout.py`` (ssa_seeds and ssa_catalogue's single-event study use the
+ssa package, which hosts ssa50 and ssa15).
 
 (The Stone Soup adapter's benchmark, rule ``perf_interop``, lives with the adapter in
 :mod:`hypotrack.interop.benchmark`; the ledger and report in :mod:`hypotrack.reporting`.)

@@ -2,9 +2,10 @@
 
 import pandas as pd
 
-from hypotrack.experiments.generation_time.run import throughput_claims
-from hypotrack.experiments.perf_sht.run import perf_sht_claims
-from hypotrack.experiments.sht.run import lecture_summary, sht_claims
+from hypotrack.experiments.generation_time.claims import throughput_claims
+from hypotrack.experiments.perf_sht.claims import perf_sht_claims
+from hypotrack.experiments.sht.claims import sht_claims
+from hypotrack.experiments.sht.run import lecture_summary
 
 
 def _curves(jpda_lag, gnn_lag):
@@ -61,7 +62,7 @@ def test_perf_claims_report_measured_ranges():
 
 
 def test_swap_claims_follow_the_curves():
-    from hypotrack.experiments.swaps.run import swap_claims
+    from hypotrack.experiments.swaps.claims import swap_claims
 
     swaps = list(range(8))
     rms = [2.6, 2.2, 1.9, 1.7, 1.6, 1.7, 1.9, 2.1]  # minimum at 4 swaps
@@ -83,7 +84,7 @@ def test_swap_claims_follow_the_curves():
 
 
 def test_cardinality_claims_need_a_significant_difference():
-    from hypotrack.experiments.cardinality.run import cardinality_claims
+    from hypotrack.experiments.cardinality.claims import cardinality_claims
 
     methods = ["classical_mht", "cardinality_tracker", "exact_class_map", "constant_prior", "per_scan"]
     errors = pd.DataFrame(dict(method=methods, mean_abs_error=[100.0, 11.7, 11.7, 60.0, 3.9],

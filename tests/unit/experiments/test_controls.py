@@ -68,7 +68,7 @@ CFG = {"p_d": 0.9, "lambda_b": 1.0, "p_chi": 0.01, "control_lambda_fa": 0.1}
 
 
 def test_cardinality_rows_and_their_controls():
-    from hypotrack.experiments.cardinality.run import cardinality_claims
+    from hypotrack.experiments.cardinality.claims import cardinality_claims
 
     fig42 = pd.DataFrame(dict(classical_mht=[0, 0, 0]))
     low_clutter = pd.DataFrame(dict(classical_mht=[90, 101, 97]))
@@ -93,7 +93,7 @@ def test_cardinality_rows_and_their_controls():
 
 
 def test_cardinality_power_test_passes_for_a_good_tracker_and_the_control_can_pass():
-    from hypotrack.experiments.cardinality.run import cardinality_claims
+    from hypotrack.experiments.cardinality.claims import cardinality_claims
 
     good = _errors(tracker=2.0)
     rows = {c.key: c for c in cardinality_claims(good, OPTIMALITY, pd.DataFrame(dict(classical_mht=[0])), CFG,
@@ -154,7 +154,7 @@ def test_reach_rows_are_uninformative_when_one_assignment_finds_the_truth():
 
 
 def test_sweep_rows_carry_their_controls():
-    from hypotrack.experiments.generation_time.run import generation_time_claims, generation_time_timing_claims
+    from hypotrack.experiments.generation_time.claims import generation_time_claims, generation_time_timing_claims
 
     rows = []
     for method in ("homht", "rfisst", "homht_kbest"):
@@ -179,7 +179,8 @@ def test_sweep_rows_carry_their_controls():
 
 # ---------------------------------------------------------------- swaps
 def test_swap_controls():
-    from hypotrack.experiments.swaps.run import summarise_swaps, swap_claims, swap_shard
+    from hypotrack.experiments.swaps.claims import swap_claims
+    from hypotrack.experiments.swaps.run import summarise_swaps, swap_shard
 
     table = swap_shard([0.0, 10.0, 30.0], n_sensors=30, sigma=10.0, n_runs=1500, seed=3)
     curves, rates = summarise_swaps(table)
@@ -208,7 +209,8 @@ def _curves(jpda_lag, gnn_lag, se=0.5):
 
 
 def test_sht_controls():
-    from hypotrack.experiments.sht.run import LECTURE_VALIDATION, lecture_summary, sht_claims
+    from hypotrack.experiments.sht.claims import sht_claims
+    from hypotrack.experiments.sht.run import LECTURE_VALIDATION, lecture_summary
 
     _, clusters = lecture_summary(LECTURE_VALIDATION)
     summary = pd.DataFrame(columns=["method"])

@@ -316,7 +316,7 @@ def test_glmb_and_generation_time_claims_do_not_change_with_the_machine():
     """The claim writers give identical non-timing rows whatever the measured times (two runs of one seed)."""
     from dataclasses import asdict
 
-    from hypotrack.experiments.generation_time.run import generation_time_claims, generation_time_timing_claims
+    from hypotrack.experiments.generation_time.claims import generation_time_claims, generation_time_timing_claims
     from hypotrack.experiments.glmb_benchmark.summary import benchmark_claims
     from hypotrack.reporting.ledger import timing_in_text
 

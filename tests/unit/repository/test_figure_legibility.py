@@ -232,7 +232,8 @@ def test_sampler_mass_figure(monkeypatch):
 
 
 def test_seed_distributions_figure_says_na_for_births_of_a_case_without_births():
-    from hypotrack.experiments.ssa_seeds.run import METRICS, plot_distributions
+    from hypotrack.experiments.ssa_seeds.figures import plot_distributions
+    from hypotrack.experiments.ssa_seeds.run import METRICS
 
     rows = []
     for case, trackers, births in (("ssa50", ["rfisst_chain", "rfisst", "glmb"], 5),
@@ -264,7 +265,7 @@ def test_scenario_figure_lists_births_in_its_legend():
 
 
 def test_cardinality_figure_tells_tetris_from_count_dp():
-    from hypotrack.experiments.cardinality.run import plot_realisation
+    from hypotrack.experiments.cardinality.figures import plot_realisation
 
     k = np.arange(50)
     counts = pd.DataFrame(dict(scan=k, r=k % 5, n_true=np.full(50, 3), cardinality_tracker=np.full(50, 2),
@@ -283,7 +284,7 @@ def test_cardinality_figure_tells_tetris_from_count_dp():
 
 
 def test_belief_space_figures(monkeypatch):
-    from hypotrack.experiments.belief_space import run as br
+    from hypotrack.experiments.belief_space import figures as br
 
     seen = _save_and_check(monkeypatch, "belief_space")
     alpha = np.logspace(-6, -2, 8)
@@ -314,8 +315,9 @@ def test_belief_space_figures(monkeypatch):
 def test_coraluppi_and_benchmark_figures(monkeypatch):
     from hypotrack.experiments.closely_spaced import figures as cf
     from hypotrack.experiments.glmb_benchmark import summary as gs
+    from hypotrack.experiments.perf_sht import figures as pf
     from hypotrack.experiments.perf_sht import run as ps
-    from hypotrack.experiments.swaps import run as sw
+    from hypotrack.experiments.swaps import figures as sw
 
     seen = _save_and_check(monkeypatch, "coraluppi")
     swaps = np.arange(11)
@@ -349,7 +351,7 @@ def test_coraluppi_and_benchmark_figures(monkeypatch):
     ratios = pd.DataFrame([dict(algorithm=a, peer=p, clutter_rate=10.0, n_targets=n, speedup=3.0 * n,
                                 goal=10.0 if a == "gnn" else 100.0)
                            for a in ("gnn", "jpda") for p in ("Stone Soup", "baseline") for n in (2, 4, 8, 16)])
-    ps.plot_benchmark(timings, ratios, "x.pdf", "x.png")
+    pf.plot_benchmark(timings, ratios, "x.pdf", "x.png")
     fig, _ = seen.pop()
     ax = fig.axes[-1 - sum(not a.get_visible() for a in fig.axes)]
     assert all(t.get_text() == "" or "goal" not in t.get_text() for t in ax.texts)  # goals named in the legend
@@ -367,6 +369,7 @@ def test_legend_below_drops_columns_until_it_fits():
 
 
 def test_sht_figures(monkeypatch):
+    from hypotrack.experiments.sht import figures as sf
     from hypotrack.experiments.sht import run as sr
 
     seen = _save_and_check(monkeypatch, "sht")
@@ -381,13 +384,13 @@ def test_sht_figures(monkeypatch):
     curves = pd.concat([pd.DataFrame(dict(method=m, time=t, separation=np.abs(t - 30), separation_se=1.0,
                                           truth_separation=np.abs(t - 30), mospa=5.0, mospa_se=1.0, mospa_targets=4.0,
                                           mospa_targets_se=1.0, n_runs=6)) for m in sr.METHODS], ignore_index=True)
-    sr.plot_crossing(pd.DataFrame(rows), curves, cfg, "x.pdf", "x.png")
+    sf.plot_crossing(pd.DataFrame(rows), curves, cfg, "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "sht/crossing_coalescence")
     table = pd.DataFrame([dict(method=m, clutter_rate=r, mospa=5.0 + r, mospa_se=1.0, mospa_targets=4.0,
                                mospa_targets_se=1.0, mean_tracks=2 + r / 10, track_loss=0.1, track_loss_se=0.05, n_runs=4)
                           for m in sr.METHODS for r in (0.0, 10.0, 40.0)])
-    sr.plot_sweep(table, cfg, "x.pdf", "x.png")
+    sf.plot_sweep(table, cfg, "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "sht/clutter_sweep")
 

@@ -2,7 +2,9 @@
 
 The experiments mirror ``workflows/rules/<experiment>.smk`` (a reader looking for where a figure or
 verdict is made finds its package by the rule's name), and the import graph of ``hypotrack`` is a
-directed acyclic graph, so every module can be read (and tested) after the modules it uses.
+directed acyclic graph, so every module can be read (and tested) after the modules it uses. An
+experiment package uses another only through the shared modules of ``experiments/`` (seeds and
+shards, timing and steppers) or by one of the documented pairs of :data:`CROSS_IMPORTS`.
 """
 
 from __future__ import annotations
@@ -18,10 +20,18 @@ ROOT = Path(__file__).resolve().parents[3]
 PKG = ROOT / "src" / "hypotrack"
 EXPERIMENTS = PKG / "experiments"
 RULES = {p.stem for p in (ROOT / "workflows" / "rules").glob("*.smk")}
-SHARED_MODULES = {"__init__", "seeds"}  # the one shared helper module of the experiments
+SHARED_MODULES = {"__init__", "seeds", "stepping"}  # the shared modules of the experiments (seeds; timing, steppers)
 # Rules whose logic lives in another experiment's package or outside experiments/.
 HOSTED = {"ssa15": "ssa", "ssa50": "ssa", "perf_hypotheses": "generation_time", "perf_interop": None,
           "theory": None, "paper": None}
+#: The only imports from one experiment package (or one module of it) into another, with the reason; every
+#: other experiment-to-experiment import goes through SHARED_MODULES. ssa hosts ssa50 and ssa15 (HOSTED).
+CROSS_IMPORTS = {
+    ("ssa_seeds", "ssa"): "the ssa50 and ssa15 verdicts over scenario seeds: ssa's scenario, trackers, evaluation "
+                          "and claim ids, so a verdict over seeds is the single run's verdict repeated",
+    ("ssa_catalogue.single_event", "ssa"): "document 000's single-event population measured on ssa50 itself: "
+                                           "ssa50's R-FISST (ssa.trackers) and known catalogue (ssa.scenario)",
+}
 
 
 def module_name(path: Path) -> str:
@@ -108,6 +118,63 @@ def test_reporting_never_imports_the_experiments():
     upward = sorted((a, b) for a, b in import_graph()
                     if a.startswith("hypotrack.reporting") and b.startswith("hypotrack.experiments"))
     assert upward == [], f"reporting modules importing experiments: {upward}"
+
+
+def experiment_package(module: str) -> str | None:
+    """``"ssa"`` for ``hypotrack.experiments.ssa.run``; None for a shared module or outside the experiments."""
+    parts = module.split(".")
+    if parts[:2] != ["hypotrack", "experiments"] or len(parts) < 3 or parts[2] in SHARED_MODULES:
+        return None
+    return parts[2]
+
+
+def cross_experiment_imports(edges) -> list[tuple[str, str]]:
+    """The edges from one experiment package into another that :data:`CROSS_IMPORTS` does not allow."""
+    bad = []
+    for a, b in sorted(edges):
+        pa, pb = experiment_package(a), experiment_package(b)
+        if pa is None or pb is None or pa == pb:
+            continue
+        within = ".".join(a.split(".")[2:4])  # package.module of the importer
+        if (pa, pb) not in CROSS_IMPORTS and (within, pb) not in CROSS_IMPORTS:
+            bad.append((a, b))
+    return bad
+
+
+def test_experiments_use_each_other_only_through_the_shared_modules():
+    bad = cross_experiment_imports(import_graph())
+    assert bad == [], ("imports from one experiment package into another (put the shared piece in a shared "
+                       f"module of experiments/, a scenario in hypotrack.scenarios): {bad}")
+
+
+def test_every_documented_cross_import_is_used():
+    """An allowed pair that no module uses any more is dropped from the list (it only ever shrinks)."""
+    used = set()
+    for a, b in import_graph():
+        pa, pb = experiment_package(a), experiment_package(b)
+        if pa is not None and pb is not None and pa != pb:
+            used |= {(pa, pb), (".".join(a.split(".")[2:4]), pb)}
+    assert set(CROSS_IMPORTS) <= used, f"allowed but unused: {set(CROSS_IMPORTS) - used}"
+
+
+def test_the_cross_import_check_sees_a_forbidden_import():
+    edges = {("hypotrack.experiments.samplers.recorded", "hypotrack.experiments.glmb_benchmark.run"),
+             ("hypotrack.experiments.samplers.run", "hypotrack.experiments.stepping"),
+             ("hypotrack.experiments.ssa_seeds.run", "hypotrack.experiments.ssa"),
+             ("hypotrack.experiments.ssa_catalogue.single_event", "hypotrack.experiments.ssa.trackers"),
+             ("hypotrack.experiments.ssa_catalogue.run", "hypotrack.experiments.ssa.trackers"),
+             ("hypotrack.experiments.perf_sht.run", "hypotrack.trackers.tracker")}
+    assert cross_experiment_imports(edges) == [
+        ("hypotrack.experiments.samplers.recorded", "hypotrack.experiments.glmb_benchmark.run"),
+        ("hypotrack.experiments.ssa_catalogue.run", "hypotrack.experiments.ssa.trackers")]
+
+
+def test_shared_modules_import_no_experiment_package():
+    """The shared modules sit below every experiment: they never import one."""
+    up = sorted((a, b) for a, b in import_graph()
+                if a.startswith("hypotrack.experiments.") and a.split(".")[2] in SHARED_MODULES
+                and experiment_package(b) is not None)
+    assert up == [], f"shared modules importing an experiment package: {up}"
 
 
 def test_one_package_per_experiment():

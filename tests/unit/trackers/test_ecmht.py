@@ -28,7 +28,8 @@ from hypotrack.trackers.ecmht import (
     swap_merge,
 )
 from hypotrack.experiments.closely_spaced.run import TABLE_6_1, closely_spaced_monte_carlo, summarise_closely_spaced
-from hypotrack.experiments.swaps.run import experiment_seeds, summarise_swaps, swap_shard
+from hypotrack.experiments.seeds import experiment_seeds
+from hypotrack.experiments.swaps.run import summarise_swaps, swap_shard
 
 MODEL = OrnsteinUhlenbeck(0.01, 0.005)
 H = np.eye(1)

@@ -2,7 +2,7 @@
 
 Each row says what its verdict rests on: rows comparing the engine with the formula it implements
 are *identities of the implementation* (never a reproduction on their own); the independent
-evidence for the equivalences is in :mod:`.belief_space_oracle`.
+evidence for the equivalences is in :mod:`.oracle`.
 """
 
 from __future__ import annotations

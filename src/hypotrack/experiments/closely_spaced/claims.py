@@ -43,7 +43,7 @@ def _model(cfg) -> dict:
 
 
 def conventions_table(cfg) -> pd.DataFrame:
-    """:func:`~.closely_spaced_oracle.ideal_conventions_table` for the config's scenario."""
+    """:func:`~.oracle.ideal_conventions_table` for the config's scenario."""
     return ideal_conventions_table(**_model(cfg), initial_variances=cfg["closed_form_initial_variances"],
                                    transient_scans=cfg["transient_scans"], published=TABLE_6_1["ideal"],
                                    rounding=PUBLISHED_ROUNDING)

@@ -8,9 +8,9 @@
   (:func:`hypotrack.reporting.verdict.monte_carlo_verdict`).
 * :func:`closely_spaced_realisation` — one realisation's tracks (Figs 6.1–6.2).
 
-The ideal filter's MOSPA has a closed form (:mod:`.closely_spaced_oracle`); the ledger rows and
-figures built from these tables are in :mod:`.closely_spaced_claims` and
-:mod:`.closely_spaced_figures`.
+The ideal filter's MOSPA has a closed form (:mod:`.oracle`); the ledger rows and
+figures built from these tables are in :mod:`.claims` and
+:mod:`.figures`.
 """
 
 from __future__ import annotations

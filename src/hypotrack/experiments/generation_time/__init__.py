@@ -5,4 +5,5 @@ Modules
 run         time per method and problem size; throughput and memory benchmarks
 difficulty  the difficulty sweep: whether each method generates the true association
 figures     Fig. 15, the difficulty grid and the throughput figure
+claims      the Fig. 15 ledger rows (and its timing rows apart), the throughput and memory rows
 """

@@ -31,7 +31,6 @@ so (``over_budget``).
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 from scipy.special import logsumexp
@@ -42,6 +41,7 @@ from ...association.mcmc import neighbour_completion
 from ...hypotheses.generators import MCMCGenerator, MurtyGenerator, top_k
 from ...hypotheses.problems import DIFFICULTIES, synthetic_problem, truth_rank
 from ...reporting.verdict import with_control
+from ..stepping import best_time
 
 __all__ = ["difficulty_params", "DIFFICULTY_METHODS", "OUTCOME_COLUMNS", "TIMING_COLUMNS", "exact_reference", "difficulty_problem",
            "difficulty_point", "difficulty_sweep", "difficulty_summary", "murty_benchmark", "reach",
@@ -170,12 +170,8 @@ def _completion_within_budget(problem, chain_events, chain_lw, gen, budget):
 def _timed(gen, problem, seed, keep=None, repeats=1, cpu=False):
     """``(events, log_weights, seconds)``: fastest of ``repeats`` runs, wall clock (or this
     process's CPU time with ``cpu``, which other jobs on a shared machine do not inflate)."""
-    clock = time.process_time if cpu else time.perf_counter
-    best = np.inf
-    for _ in range(repeats):
-        t0 = clock()
-        events, lw = gen.generate(problem, np.random.default_rng(seed), keep=keep)
-        best = min(best, clock() - t0)
+    (events, lw), best = best_time(lambda: gen.generate(problem, np.random.default_rng(seed), keep=keep), repeats,
+                                   cpu=cpu)
     return events, lw, best
 
 

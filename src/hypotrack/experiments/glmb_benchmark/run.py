@@ -14,7 +14,7 @@ Trackers (named in the config, built by :mod:`hypotrack.registry`): ``glmb`` (Gi
 completion) and ``fisst_kbest`` (FISST weights with Poisson clutter, Murty's k best: document 001's
 FISST = HOMHT); R-FISST and ``fisst_kbest`` run with the same labeled multi-Bernoulli birth terms
 expressed as their own population models (see :func:`make_problem`); ``gmphd`` is Stone Soup's GM-PHD filter with the same models,
-the peer baseline (:mod:`.glmb_benchmark_gmphd`); ``blind`` is the ``glmb`` tracker fed empty scans
+the peer baseline (:mod:`.gmphd`); ``blind`` is the ``glmb`` tracker fed empty scans
 (the negative control). Estimates by two rules (:mod:`.reference`): the heaviest hypothesis's means,
 and the demo's MAP cardinality then the heaviest hypothesis of that cardinality (the GM-PHD's: its
 components with weight > 0.5, for both). Metrics: OSPA (``c = 100 m``, ``p = 1``) on
@@ -164,7 +164,7 @@ def make_tracker(kind: str, model: BenchmarkModel, options: dict, seed):
     :data:`LOCAL_OPTIONS` removed) on :func:`make_problem`. The benchmark adds:
 
     ``gmphd``: Stone Soup's GM-PHD filter, the peer implementation
-    (:mod:`.glmb_benchmark_gmphd`; deterministic, ``seed`` unused).
+    (:mod:`.gmphd`; deterministic, ``seed`` unused).
     ``glmb`` with ``sample_allocation: sqrt_weight``: the demo's truncation
     (:class:`.reference.SqrtAllocationFilter`: ``total_samples`` Gibbs samples per scan shared
     ∝ √w over the parents, ``max_hypotheses`` kept; ``merge_duplicates`` adds identical children's

@@ -3,6 +3,6 @@
 Modules
 -------
 run       the sweep over budgets and difficulties on synthetic problems
-recorded  association problems recorded from the GLMB benchmark's scans
+recorded  the samplers on association problems recorded from the GLMB benchmark's scans
 summary   mass captured per budget and wall time: figure, ledger rows, macros
 """

@@ -15,7 +15,7 @@ one). Per budget ``B`` (proposals):
 Measured: posterior mass captured by the distinct children found (exact: the exhaustive total),
 whether the MAP child is found, distinct children per second, wall time. One more difficulty,
 ``recorded``, holds association problems recorded from the GLMB benchmark's scans
-(:mod:`.samplers_recorded`), where all four samplers run on the δ-GLMB's own object-indexed problem.
+(:mod:`.recorded`), where all four samplers run on the δ-GLMB's own object-indexed problem.
 """
 
 from __future__ import annotations
@@ -107,7 +107,7 @@ def run_problem(sp, budgets, rng) -> list:
 
 def samplers_sweep(cfg, seed_seq, recorded=None) -> pd.DataFrame:
     """Every difficulty × problem × budget × sampler; one seed stream per difficulty. ``recorded``
-    (problems recorded from the GLMB benchmark, :mod:`.samplers_recorded`) adds the difficulty
+    (problems recorded from the GLMB benchmark, :mod:`.recorded`) adds the difficulty
     ``recorded`` with ``cfg["recorded"]``'s ``max_events`` and ``reference_k``."""
     warm_up()
     parts = []

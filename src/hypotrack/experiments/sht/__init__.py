@@ -2,5 +2,7 @@
 
 Modules
 -------
-run  the lecture's example, crossing-target and sweep Monte Carlo shards, ledger rows
+run      the lecture's example, crossing-target and sweep Monte Carlo shards
+figures  coalescence on crossing targets and the clutter sweep
+claims   the ledger rows and the worked example's macros
 """

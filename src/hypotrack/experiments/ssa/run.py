@@ -20,6 +20,7 @@ from ..._validation import check_finite_array, check_int
 from ...association import count_children
 from ...scenarios.ssa import SSAScenario
 from ...scenarios.tables import state_columns, write_table
+from ..stepping import Clocks
 from .scenario import scenario_from_files, truth_arrays
 from .trackers import TrackerSettings, make_tracker, tracker_seed
 
@@ -148,9 +149,9 @@ def run_tracker(tracker, scenario: SSAScenario, *, snapshots: Sequence[int] = ()
     seconds, cpu_seconds = np.zeros(K), np.zeros(K)
     start = time.perf_counter()
     for k, (t, Z) in enumerate(scans):
-        t0, c0 = time.perf_counter(), time.process_time()
-        post = tracker.step(Z, t) if k else tracker.posterior(n_top=1)
-        seconds[k], cpu_seconds[k] = time.perf_counter() - t0, time.process_time() - c0
+        with Clocks() as clocks:
+            post = tracker.step(Z, t) if k else tracker.posterior(n_top=1)
+        seconds[k], cpu_seconds[k] = clocks.wall, clocks.cpu
         w = post.weights
         stats = tracker.last_stats if k else {}
         top = post.map_estimate

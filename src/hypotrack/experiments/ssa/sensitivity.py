@@ -26,7 +26,6 @@ writes the ledger row and macros, :func:`plot_sensitivity` the figure.
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Mapping
 
 import numpy as np
@@ -37,6 +36,7 @@ from ...reporting.ledger import Claim
 from ...reporting.verdict import monte_carlo_verdict
 from ...scenarios.ssa import params_from_config, simulate_ssa
 from ..seeds import experiment_seeds
+from ..stepping import Clocks
 from .controls import blind_run
 from .scenario import catalogue_mask
 from .trackers import TrackerSettings, make_tracker
@@ -95,11 +95,10 @@ def run_setting(config: Mapping, setting: int, progress: Callable[[str], None] |
     for i in range(check_int(own["n_seeds"], "n_seeds", minimum=1)):
         scenario = _scenario(config, lam, p_d, i)
         rng = np.random.default_rng(experiment_seeds(config["seed"], f"ssa50_sensitivity/{setting}/{i}", 1)[0])
-        c0, t0 = time.process_time(), time.perf_counter()
-        run = run_tracker(make_tracker(scenario, settings, rng), scenario, name=f"λ = {lam:g}, p_D = {p_d:g}, seed {i}",
-                          progress=progress, n_progress=2)
-        timing.append({"setting": setting, "seed_index": i, "seconds": time.perf_counter() - t0,
-                       "cpu_seconds": time.process_time() - c0})
+        with Clocks() as clocks:
+            run = run_tracker(make_tracker(scenario, settings, rng), scenario,
+                              name=f"λ = {lam:g}, p_D = {p_d:g}, seed {i}", progress=progress, n_progress=2)
+        timing.append({"setting": setting, "seed_index": i, "seconds": clocks.wall, "cpu_seconds": clocks.cpu})
         n_true = int(catalogue_mask(scenario)[-1].sum())  # known objects and every birth seen by the end
         for name, r in ((own["tracker"], run), ("blind", blind_run(scenario))):
             last = int(r.summary["scan"].max())

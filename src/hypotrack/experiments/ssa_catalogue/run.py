@@ -52,7 +52,8 @@ from ...scenarios.catalogue import (
 )
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
-from ...trackers import ScanModel, SingleHypothesisTracker
+from ...trackers import ScanModel
+from ..stepping import SHTStepper, max_abs_difference
 
 __all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "TRACKERS", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
@@ -440,29 +441,17 @@ def peer_scenario(cfg, n: int, seed: int, scenario=None) -> PeerScenario:
     return PeerScenario(means, covs, np.array(times), returns, model, make_motion(cfg))
 
 
-class CatalogueSHTStepper:
+class CatalogueSHTStepper(SHTStepper):
     """hypotrack's GNN or JPDA on the known objects of a :class:`PeerScenario`, for the side-by-side
-    peer timing (:func:`hypotrack.experiments.perf_sht.run.run_side_by_side`).
+    peer timing (:func:`hypotrack.experiments.stepping.run_side_by_side`).
 
-    As the peer runs them: no initiation, no deletion, GNN on Stone Soup's unsquared-Mahalanobis
-    criterion (missed distance the square root of the gate), so both solve the same problem."""
+    As the peer runs them (:class:`~hypotrack.experiments.stepping.SHTStepper`): no initiation, no
+    deletion, GNN on Stone Soup's unsquared-Mahalanobis criterion (missed distance the square root
+    of the gate), so both solve the same problem."""
 
     def __init__(self, scenario: PeerScenario, algorithm: str):
-        if algorithm not in ("gnn", "jpda"):
-            raise ValueError(f"algorithm must be 'gnn' or 'jpda', got {algorithm!r}")
-        self.tracker = SingleHypothesisTracker(scenario.motion, scenario.model, association=algorithm,
-                                               gnn_score="mahalanobis", max_misses=10**9)
-        self.tracker.initialise(scenario.initial_states, scenario.initial_covs, time=scenario.times[0])
-        self.scans = scenario.scan_list()
-
-    def step(self, k):
-        t, Z = self.scans[k]
-        self.tracker.step(Z, t)
-
-    def record(self, run):
-        tr = self.tracker
-        run.outputs.append(np.array(tr.last_association, copy=True))
-        run.states.append((tr.x.copy(), tr.P.copy()))
+        super().__init__(scenario.motion, scenario.model, algorithm, scenario.initial_states, scenario.initial_covs,
+                         scenario.times[0], scenario.scan_list())
 
 
 #: Largest output/state difference from the peer counted as the same association (rounding only).
@@ -470,13 +459,11 @@ PEER_AGREEMENT = 1e-9
 
 
 def peer_rows(runs: dict, algorithm: str, n: int, n_tracks: int) -> pd.DataFrame:
-    """Rows of the peer timing table from :func:`~hypotrack.experiments.perf_sht.run.run_side_by_side`
+    """Rows of the peer timing table from :func:`~hypotrack.experiments.stepping.run_side_by_side`
     runs (``"hypotrack"`` and each peer): median ms per scan, the peer's time over hypotrack's,
     the largest output (GNN: the track of each return; JPDA: the association probabilities) and
     state differences from hypotrack, the timed scans whose outputs agree within
     :data:`PEER_AGREEMENT`."""
-    from ..perf_sht.run import max_abs_difference
-
     ref = runs["hypotrack"]
     rows = []
     for name, run in runs.items():

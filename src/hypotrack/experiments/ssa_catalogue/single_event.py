@@ -56,7 +56,6 @@ groups. :func:`pair_summary` reduces it per pair, :func:`single_event_claims` an
 
 from __future__ import annotations
 
-import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
@@ -68,6 +67,7 @@ from ...hypotheses.factored import SPLITS, FactoredFilter, cardinality_total_var
 from ...reporting.ledger import Claim
 from ..ssa.scenario import catalogue_mask
 from ..ssa.trackers import TrackerSettings, make_tracker, tracker_seed
+from ..stepping import Clocks
 
 __all__ = ["PAIRS", "RUNS", "SingleEventSettings", "against_floor", "compare_runs", "pair_summary", "single_event_claims",
            "single_event_comparison", "single_event_filters", "single_event_macros"]
@@ -178,9 +178,9 @@ def compare_runs(filters: Mapping, scans: Sequence, n_true: Sequence[int], *,
         t, Z = scans[k]
         post = {}
         for name in RUNS:
-            c0 = time.process_time()
-            post[name] = filters[name].step(Z, t)
-            cpu[name] += time.process_time() - c0
+            with Clocks() as clocks:
+                post[name] = filters[name].step(Z, t)
+            cpu[name] += clocks.cpu
         n = int(n_true[k])
         row = {"scan": k, "time": t, "n_returns": len(Z), "n_true": n}
         for name, p in post.items():

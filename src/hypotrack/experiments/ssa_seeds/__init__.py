@@ -2,5 +2,7 @@
 
 Modules
 -------
-run  one scenario seed per shard; the over-seed table and its ledger rows
+run      one scenario seed per shard; the over-seed table
+figures  every seed's value and the quartiles per case and tracker
+claims   each SSA verdict over seeds, with the blind tracker as its control
 """

@@ -2,5 +2,7 @@
 
 Modules
 -------
-run  GNNF vs MHT vs ECMHT on the static pair; swap rates over Monte Carlo runs
+run      GNNF vs MHT vs ECMHT on the static pair; swap rates over Monte Carlo runs
+figures  Figs 5.1–5.3
+claims   the ledger rows of Figs 5.1–5.3, each with its negative control
 """

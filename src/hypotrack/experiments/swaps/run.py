@@ -7,9 +7,10 @@ Snakemake scripts only read a config section, call one function per shard and wr
   measurement and the average single-hypothesis / hypothesis-class log-probability (Eq. 5.22)
   against the number of random swaps, for two static targets seen by N sensors, and the swap
   rate ``i*/N`` minimising that RMS (or maximising the class probability) against distance.
-* :func:`shard_runs` — how many Monte Carlo runs each shard of an experiment takes.
+* :func:`swap_curve` — one distance's curve of the summary.
 
-Table 6.1 and Figs 6.1–6.2 (the closely spaced targets) live in :mod:`.closely_spaced`.
+The ledger rows are stated in :mod:`.claims`, the figures drawn in :mod:`.figures`. Table 6.1 and
+Figs 6.1–6.2 (the closely spaced targets) live in :mod:`hypotrack.experiments.closely_spaced`.
 """
 
 from __future__ import annotations
@@ -18,18 +19,13 @@ import numpy as np
 import pandas as pd
 from scipy.special import gammaln
 
-from ..seeds import experiment_seeds  # noqa: F401  (re-exported: callers seed swap shards from here)
 from ..._validation import check_finite_array, check_int, check_positive
-from ...reporting.ledger import Claim
-from ...reporting.verdict import with_control
 from ...scenarios.closely_spaced import static_pair_scans
 
 __all__ = [
     "swap_shard",
     "summarise_swaps",
-    "shard_runs",
-    "swap_claims",
-    "plot_swap_figures",
+    "swap_curve",
 ]
 
 
@@ -148,109 +144,6 @@ def summarise_swaps(shards: pd.DataFrame):
     return curves, pd.DataFrame(rows)
 
 
-def shard_runs(n_runs: int, n_shards: int, shard: int) -> int:
-    """Number of Monte Carlo runs of shard ``shard`` when ``n_runs`` are split over ``n_shards``."""
-    n_runs = check_int(n_runs, "n_runs", minimum=1)
-    n_shards = check_int(n_shards, "n_shards", minimum=1, maximum=n_runs)
-    shard = check_int(shard, "shard", minimum=0, maximum=n_shards - 1)
-    return n_runs // n_shards + (1 if shard < n_runs % n_shards else 0)
-
-
-# ---------------------------------------------------------------- swaps: ledger and figures
-def _swap_curve(curves: pd.DataFrame, distance: float) -> pd.DataFrame:
+def swap_curve(curves: pd.DataFrame, distance: float) -> pd.DataFrame:
+    """The rows of :func:`summarise_swaps`'s curves at ``distance``, by number of swaps (Figs 5.1–5.2)."""
     return curves[np.isclose(curves["distance"], distance)].sort_values("swaps")
-
-
-def swap_claims(curves: pd.DataFrame, rates: pd.DataFrame, *, distance: float, n_sensors: int) -> list:
-    """Ledger rows of Figs 5.1–5.3: the RMS minimum near 4 swaps (3–5), the class-posterior peak
-    within 3 swaps of it, the optimal swap rate 0.5 (± 1/N) at zero distance and 0 for the
-    farthest distance simulated.
-
-    Negative controls (each must fail its row's check): the RMS curve with the returns labelled by
-    their true target instead of sorted (``curves['rms_labelled']``: no sorting bias for swaps to
-    undo); the single-hypothesis posterior (Eq. 5.22 without the class count ``ln C(N, i)``); the
-    GNNF paradigm that never swaps (rate 0) at zero distance; coincident targets (the smallest
-    distance) under the far-distance check."""
-    c = _swap_curve(curves, distance)
-    swaps = c["swaps"].to_numpy()
-    i_min = int(swaps[np.argmin(c["rms"].to_numpy())])
-    i_cls = int(swaps[np.argmax(c["log_prob_class"].to_numpy())])
-    i_single = int(swaps[np.argmax(c["log_prob_single"].to_numpy())])
-    r = rates.set_index("distance").sort_index()
-    near, far = r["rms_optimal_rate"].iloc[0], r.index.max()
-    ev = "published number"
-    rows = []
-    claim = Claim("swaps", "Fig 5.1 RMS minimum at about 4 swaps", "003 Sec. 5, Fig 5.1", "about 4", str(i_min),
-                  "3-5 swaps", "reproduced" if 3 <= i_min <= 5 else "not reproduced",
-                  f"RMS {c['rms'].iloc[0]:.3g} m with no swaps, {c['rms'].min():.3g} m at the minimum", ev,
-                  key="rms_minimum")
-    if "rms_labelled" in c:
-        i_lab = int(swaps[np.argmin(c["rms_labelled"].to_numpy())])
-        claim = with_control(claim, "returns labelled by their true target instead of sorted, the same swaps",
-                             f"minimum at {i_lab} swaps", 3 <= i_lab <= 5)
-    rows.append(claim)
-    rows.append(with_control(
-        Claim("swaps", "Fig 5.2 class posterior peak consistent with Fig 5.1", "003 Sec. 5, Fig 5.2",
-              "consistent with about 4", str(i_cls), "within 3 of the RMS minimum",
-              "reproduced" if abs(i_cls - i_min) <= 3 else "not reproduced",
-              "the single-hypothesis curve peaks at 0 swaps (the MAP hypothesis has none)", ev, key="class_peak"),
-        "the single-hypothesis posterior (Eq. 5.22 without the class count ln C(N, i))",
-        f"peak at {i_single} swaps", abs(i_single - i_min) <= 3))
-    rows.append(with_control(
-        Claim("swaps", "Fig 5.3 optimal swap rate at zero distance", "003 Sec. 5, Fig 5.3", "0.5", f"{near:.3g}",
-              f"+/- 1/{n_sensors}", "reproduced" if abs(near - 0.5) <= 1 / n_sensors + 1e-12 else "not reproduced",
-              "", ev, key="rate_zero_distance"),
-        "the GNNF paradigm (sorted returns, never swapped)", "rate 0", abs(0 - 0.5) <= 1 / n_sensors + 1e-12))
-    closest = r.index.min()
-    rows.append(with_control(
-        Claim("swaps", "Fig 5.3 optimal swap rate for distant targets", "003 Sec. 5, Fig 5.3", "0",
-              f"{r.loc[far, 'rms_optimal_rate']:.3g} at {far:g} m", "exact",
-              "reproduced" if r.loc[far, "rms_optimal_rate"] == 0 else "not reproduced",
-              f"first zero at {r.index[r['rms_optimal_rate'] == 0].min():g} m", ev, key="rate_far"),
-        f"the same criterion on targets {closest:g} m apart", f"rate {r.loc[closest, 'rms_optimal_rate']:.3g}",
-        bool(r.loc[closest, "rms_optimal_rate"] == 0)))
-    return rows
-
-
-def plot_swap_figures(curves: pd.DataFrame, rates: pd.DataFrame, *, distance: float, n_sensors: int,
-                      sigma: float, paths: dict) -> None:
-    """Document 003 Figs 5.1, 5.2 and 5.3; ``paths`` maps ``fig51/fig52/fig53`` to ``(pdf, png)``.
-
-    Each is drawn at the 0.6 line width the report places it at, its legend below the axes."""
-    from ...reporting import figure_style
-
-    c = _swap_curve(curves, distance)
-    n = int(c["n_runs"].iloc[0])
-    setting = f"{distance:g} m apart, {n_sensors} sensors, σ = {sigma:g} m, {n} runs"
-
-    def figure(key, draw, xlabel, ylabel, title):
-        fig, ax = figure_style.subplots(width=0.6, height=3.3)
-        draw(ax)
-        ax.set_xlabel(xlabel)
-        ax.set_ylabel(ylabel)
-        ax.set_title(figure_style.wrap(title, fig, 8.5))
-        figure_style.legend_below(fig, ncol=1)
-        figure_style.save(fig, *paths[key], width=0.6)
-
-    i_min = int(c["swaps"].to_numpy()[np.argmin(c["rms"].to_numpy())])
-
-    def fig51(ax):
-        ax.plot(c["swaps"], c["rms"], "o-", ms=3)
-        ax.axvline(i_min, color="gray", ls=":", label=f"minimum at {i_min} swaps")
-
-    def fig52(ax):
-        ax.plot(c["swaps"], c["log_prob_single"], "o-", ms=3, label="unique hypothesis")
-        ax.plot(c["swaps"], c["log_prob_class"], "s-", ms=3, label="hypothesis class (Eq. 5.22)")
-
-    def fig53(ax):
-        ax.plot(rates["distance"], rates["rms_optimal_rate"], "o-", ms=3, label="minimum RMS error (Fig 5.1 criterion)")
-        ax.plot(rates["distance"], rates["class_optimal_rate"], "s--", ms=3, label="maximum class posterior (Eq. 5.22)")
-        ax.set_ylim(-0.02, 0.55)
-
-    figure("fig51", fig51, "number of random measurement swaps i", "RMS error of the equivalent measurement (m)",
-           f"Fig 5.1: equivalent-measurement error vs swaps\n({setting})")
-    figure("fig52", fig52, "number of swaps i", "average log posterior probability",
-           f"Fig 5.2: single-hypothesis vs class posterior\n({setting})")
-    figure("fig53", fig53, "distance between targets (m)", "optimal swap rate i*/N",
-           f"Fig 5.3: optimal swap rate vs target separation\n({n_sensors} sensors, σ = {sigma:g} m, "
-           f"{n} runs per distance)")

@@ -1,9 +1,10 @@
 """Stone Soup's own GNN and JPDA trackers run scan by scan on hypotrack's scans: the peer side of
-the side-by-side timings (:func:`hypotrack.experiments.perf_sht.run.run_side_by_side`).
+the side-by-side timings (:func:`hypotrack.experiments.stepping.run_side_by_side`).
 
 :class:`StoneSoupPeer` has the ``step(k)`` / ``record(run)`` surface of hypotrack's steppers
-(:class:`hypotrack.experiments.perf_sht.run.HypotrackStepper`,
-:class:`hypotrack.experiments.ssa_catalogue.run.CatalogueSHTStepper`): per scan Stone Soup's
+(:class:`hypotrack.experiments.stepping.SHTStepper`, as
+:class:`hypotrack.experiments.perf_sht.run.HypotrackStepper` and
+:class:`hypotrack.experiments.ssa_catalogue.run.CatalogueSHTStepper` build it): per scan Stone Soup's
 associator predicts, gates and associates, and its updater updates every track (a missed GNN
 track keeps its prediction). No initiation and no deletion, as on hypotrack's side, so both solve
 the same problem. Detections are built before timing: data ingest is not part of a scan.

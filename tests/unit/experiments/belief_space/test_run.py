@@ -12,6 +12,7 @@ from scipy import integrate
 from scipy.stats import multivariate_normal
 
 from hypotrack.config import ConfigError, validate_config
+from hypotrack.experiments.belief_space import claims as bc
 from hypotrack.experiments.belief_space import run as bs
 from hypotrack.hypotheses.population_events import birth_prior_gaussian
 from hypotrack.models import ConstantVelocity
@@ -113,14 +114,14 @@ def test_equivalence_is_reproducible(equivalence):
 def test_checks_and_claims(ratio, equivalence, tmp_path):
     offsets = bs.eq43_offsets_table(EQ43)
     noise = bs.eq43_noise_table(EQ43)
-    checks = bs.checks_table(ratio, offsets, noise, equivalence, {"eq43": EQ43, "ratio": RATIO})
+    checks = bc.checks_table(ratio, offsets, noise, equivalence, {"eq43": EQ43, "ratio": RATIO})
     assert checks["engine_matches_formula"].all()
     holds = dict(zip(checks["check"], checks["claim_holds"]))
     assert holds["Eq. 43 bound, uniform pixel births"]
     assert not holds["Eq. 43 bound with the engine's Gaussian undetected-birth pdf"]
     assert holds["FISST (Eq. 18) = HOMHT (Eq. 30) for a fixed number of targets"]
     path = tmp_path / "claims.csv"
-    write_claims(bs.claims_from_checks(checks), path)
+    write_claims(bc.claims_from_checks(checks), path)
     status = dict(zip(*read_claims([path])[["item", "status"]].to_numpy().T))
     assert status["undetected-birth weight ratio in the engine"] == "consistency check"  # engine vs its own formula: never a reproduction
     assert status["Eq. 43 bound, Gaussian undetected-birth pdf (engine)"] == "not reproduced"

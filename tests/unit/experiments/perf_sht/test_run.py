@@ -6,6 +6,8 @@ import pytest
 import yaml
 from pathlib import Path
 
+from hypotrack.experiments import stepping
+from hypotrack.experiments.perf_sht import claims as pc
 from hypotrack.experiments.perf_sht import run as ps
 
 ROOT = Path(__file__).resolve().parents[4]
@@ -15,11 +17,11 @@ def test_numpy_baseline_associates_and_updates_as_hypotrack():
     cfg_all = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())["perf_sht"]
     cfg = {**cfg_all["scenario"], **cfg_all["tracker"], "n_scans": 8}
     sc = ps.formation(12, 20.0, cfg, 4)
-    runs = ps.run_side_by_side({"hypotrack": ps.HypotrackStepper(sc, "gnn", cfg),
+    runs = stepping.run_side_by_side({"hypotrack": ps.HypotrackStepper(sc, "gnn", cfg),
                                 ps.BASELINE: ps.NumpyGNNStepper(sc, cfg)}, len(sc.times))
     assert len(runs[ps.BASELINE].outputs) == 6  # scans 2..7 timed, scan 1 the warm-up
     assert sum((o >= 0).sum() for o in runs["hypotrack"].outputs) > 30  # the formation is tracked
-    d_out, d_state = ps.max_abs_difference(runs["hypotrack"], runs[ps.BASELINE])
+    d_out, d_state = stepping.max_abs_difference(runs["hypotrack"], runs[ps.BASELINE])
     assert d_out == 0.0 and d_state < 1e-9
 
 
@@ -41,6 +43,6 @@ def test_peer_goal_holds_only_at_its_formation_sizes():
     assert t["goal"].isna().tolist() == [True, False, False, True]
     assert t.loc[12, "goal_met"] and t.loc[24, "goal_met"] and t.loc[4, "goal_met"] is None
     largest = pd.DataFrame(dict(algorithm=["jpda"], implementation=["E"], largest_cluster_tracks=[8]))
-    claim = ps.perf_sht_claims(t.reset_index(), largest)[0]
+    claim = pc.perf_sht_claims(t.reset_index(), largest)[0]
     assert (claim.reproduced, claim.tolerance) == ("60x to 250x", "12-24 targets") and claim.note.startswith("target met")
     assert ps.speedup_table(timings, {"E": 40})["goal"].notna().all()  # no range: the goal holds at every size

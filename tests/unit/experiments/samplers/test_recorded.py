@@ -5,13 +5,8 @@ import pandas as pd
 import pytest
 
 from hypotrack.experiments.samplers.run import summarise, timed_run
-from hypotrack.experiments.samplers.recorded import (
-    load_problems,
-    n_children,
-    record_problems,
-    run_recorded_problem,
-    save_problems,
-)
+from hypotrack.experiments.glmb_benchmark.recorded import load_problems, n_children, record_problems, save_problems
+from hypotrack.experiments.samplers.recorded import run_recorded_problem
 from hypotrack.experiments.samplers.summary import compute_claims, sampler_claims, time_to_mass
 from hypotrack.hypotheses import ExhaustiveGenerator
 

@@ -347,7 +347,7 @@ def test_parallel_claims_and_macros_on_a_fabricated_table():
 def test_peer_rows_and_claims_on_fabricated_runs():
     """Median 2 ms against 20 ms → 10×; the peer's GNN output differs at one of three scans (a
     return given to track 1 instead of 0): 2 of 3 scans the same, largest difference 1."""
-    from hypotrack.experiments.perf_sht.run import BenchmarkRun
+    from hypotrack.experiments.stepping import BenchmarkRun
     from hypotrack.experiments.ssa_catalogue.run import peer_rows
     from hypotrack.experiments.ssa_catalogue.summary import peer_claims, peer_macros
 

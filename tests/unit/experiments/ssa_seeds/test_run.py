@@ -7,6 +7,7 @@ import pandas as pd
 import pytest
 import yaml
 
+from hypotrack.experiments.ssa_seeds import claims as sc
 from hypotrack.experiments.ssa_seeds import run as ss
 
 ROOT = Path(__file__).resolve().parents[4]
@@ -122,7 +123,7 @@ def test_distribution_table_quantiles_by_hand():
 
 
 def test_claims_apply_the_monte_carlo_rule_over_seeds():
-    claims = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([0.99, 1.0, 0.98, 1.0], [1.0, 1.0, 0.9, 1.0]))}
+    claims = {c.key: c for c in sc.ssa_seeds_claims(_per_seed([0.99, 1.0, 0.98, 1.0], [1.0, 1.0, 0.9, 1.0]))}
     p = claims["ssa50_chain_PEnd"]  # mean 0.9925, se 0.0048: interval +/- 5.51 * 0.0048 reaches below 0.95
     assert (p.status, p.n, p.evidence) == ("inconclusive", "4", "published number")
     assert float(p.z) == pytest.approx((0.9925 - 1) / (np.std([0.99, 1.0, 0.98, 1.0], ddof=1) / 2), abs=0.01)
@@ -133,7 +134,7 @@ def test_claims_apply_the_monte_carlo_rule_over_seeds():
     # ten seeds: the rule decides
     p_end = [0.99, 1.0, 0.98, 1.0, 0.99, 1.0, 0.98, 1.0, 0.99, 1.0]  # mean 0.993, se 0.0026: z = -2.69
     agree = [1.0, 1.0, 0.9, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]  # mean 0.99, se 0.01: z = -1
-    ten = {c.key: c for c in ss.ssa_seeds_claims(_per_seed(p_end, agree))}
+    ten = {c.key: c for c in sc.ssa_seeds_claims(_per_seed(p_end, agree))}
     assert (ten["ssa50_chain_PEnd"].status, ten["ssa50_chain_PEnd"].n) == ("reproduced", "10")
     ag = ten["ssa15_chain_Agreement"]
     # 0.99 +/- 4.094 * 0.01 straddles 1 - 0.01: |z| = 1 no longer reproduces; the note says what would decide
@@ -142,9 +143,9 @@ def test_claims_apply_the_monte_carlo_rule_over_seeds():
     # the single runs' rows of the same claims are illustrations with the same claim id (one verdict per claim)
     assert ag.claim == "000 ssa15, chain: same MAP hypothesis"
     assert ten["ssa50_chain_PEnd"].claim == "000 ssa50, chain: P(N = true number) at the end"
-    bad = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([0.5, 0.52, 0.48] * 4, [1.0] * 12))}["ssa50_chain_PEnd"]
+    bad = {c.key: c for c in sc.ssa_seeds_claims(_per_seed([0.5, 0.52, 0.48] * 4, [1.0] * 12))}["ssa50_chain_PEnd"]
     assert bad.status == "not reproduced"
-    one = {c.key: c for c in ss.ssa_seeds_claims(_per_seed([1.0], [1.0]))}["ssa50_chain_PEnd"]
+    one = {c.key: c for c in sc.ssa_seeds_claims(_per_seed([1.0], [1.0]))}["ssa50_chain_PEnd"]
     assert one.status == "inconclusive" and "too few" in one.note
 
 
@@ -160,7 +161,7 @@ def _with_blind(per_seed, p_end=0.0, agreement=0.0):
 def test_over_seed_rows_name_the_blind_control_and_are_demoted_when_it_passes():
     p_end = [0.99, 1.0, 0.98, 1.0, 0.99, 1.0, 0.98, 1.0, 0.99, 1.0]
     agree = [1.0] * 10
-    claims = {c.key: c for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}
+    claims = {c.key: c for c in sc.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}
     assert not any(k.startswith(("ssa50_blind", "ssa15_blind")) for k in claims)  # the control has no rows
     p = claims["ssa50_chain_PEnd"]
     # the blind tracker keeps 45 objects: P(N = 50) = 0 on every seed, which the same rule rejects
@@ -170,7 +171,7 @@ def test_over_seed_rows_name_the_blind_control_and_are_demoted_when_it_passes():
     assert claims["ssa50_chain_Births"].control.endswith("no births): 0 of 50 births -> fails")
     assert claims["ssa15_chain_Agreement"].status == "reproduced"
     # a control that also passes (here: a "blind" agreeing with HOMHT at every scan) demotes the row
-    demoted = {c.key: c for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree), p_end=1.0,
+    demoted = {c.key: c for c in sc.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree), p_end=1.0,
                                                                   agreement=1.0))}
     assert demoted["ssa15_chain_Agreement"].status == "uninformative"
     assert demoted["ssa15_chain_Agreement"].control.endswith("-> also passes")
@@ -195,7 +196,7 @@ def test_the_pair_with_births_and_deaths_on_both_sides_is_one_row_per_tracker():
     p_end = [0.99, 1.0, 0.98, 1.0, 0.99, 1.0, 0.98, 1.0, 0.99, 1.0]
     agree = [1.0, 0.9, 1.0, 1.0, 0.8, 1.0, 1.0, 1.0, 1.0, 1.0]  # against the fixed-number HOMHT
     births = [1.0] * 9 + [0.995]  # against HOMHT with births and deaths: mean 0.9995, se 0.0005
-    claims = ss.ssa_seeds_claims(_with_births_pair(_per_seed(p_end, agree), births))
+    claims = sc.ssa_seeds_claims(_with_births_pair(_per_seed(p_end, agree), births))
     by_key = {c.key: c for c in claims}
     assert len(by_key) == len(claims)  # one row per claim
     c = by_key["ssa15_chain_AgreementBirths"]
@@ -212,14 +213,14 @@ def test_the_pair_with_births_and_deaths_on_both_sides_is_one_row_per_tracker():
     assert (unlike.published, unlike.tolerance, unlike.z, unlike.evidence) == ("--", "--", "", "measurement")
     assert "unlike population models" in unlike.note and unlike.note.endswith("against HOMHT with births and deaths)")
     # without the births reference (a tracker with a fixed number, or an old table) the same numbers get a verdict
-    assert {c.key: c for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}[
+    assert {c.key: c for c in sc.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}[
         "ssa15_chain_Agreement"].status == "inconclusive"
     # the births reference is not compared with anything; the fixed-number HOMHT has no row either
     assert not [k for k in by_key if k.startswith(("ssa15_homht", "ssa15_blind"))]
     # a control that also agrees demotes the row
-    demoted = {c.key: c for c in ss.ssa_seeds_claims(_with_births_pair(_per_seed(p_end, agree), births,
+    demoted = {c.key: c for c in sc.ssa_seeds_claims(_with_births_pair(_per_seed(p_end, agree), births,
                                                                         blind_births=1.0))}
     assert demoted["ssa15_chain_AgreementBirths"].status == "uninformative"
     # a table from before the pair existed gives the same rows as before
-    old = {c.key for c in ss.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}
+    old = {c.key for c in sc.ssa_seeds_claims(_with_blind(_per_seed(p_end, agree)))}
     assert old == set(by_key) - {"ssa15_chain_AgreementBirths"}

@@ -238,3 +238,14 @@ def check_labels(labels, n: int, *, held=None, name: str = "labels") -> np.ndarr
     if held is not None and len(held) and np.isin(a, held).any():
         raise ValueError(f"{name} {sorted(set(a[np.isin(a, held)].tolist()))} are already held by the tracker")
     return a
+
+
+def check_time(value, name: str = "time") -> float:
+    """A scan or state time as a finite float: ``TypeError`` for a non-number, ``ValueError`` for NaN or inf."""
+    try:
+        t = float(value)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a scalar number, got {value!r}") from None
+    if not np.isfinite(t):
+        raise ValueError(f"{name} must be finite, got {t}")
+    return t

@@ -410,25 +410,6 @@ class HypothesisFilter:
         return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
 
 
-    @staticmethod
-    def _candidates(events, tw, kind, keep, keys_rng, mass):
-        """Children from an (E, K) matrix of log-weights (−inf = no such child), with their keys.
-
-        Column ``c`` of ``tw`` is the child's argument (birth region, dead object); association
-        children come as a single column with argument −1.
-        """
-        finite = np.isfinite(tw)
-        rows, cols = np.nonzero(finite)
-        vals = tw[rows, cols]
-        if mass is not None and len(vals):
-            mass.append(np.logaddexp.reduce(vals))  # diagnostics only; ufunc, no per-call overhead
-        keys = _gumbel_keys(vals, keys_rng)
-        if keep is not None and len(vals) > keep:
-            sel = top_k(keys, keep)
-            rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
-        arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
-        return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
-
     def expand(self, Z, dt=None) -> ChildSet:
         """All children of the current hypotheses for scan ``Z``, unnormalised, nothing kept.
 

@@ -29,6 +29,7 @@ from .._validation import (
     check_measurements,
     check_positive,
     check_state_dimension,
+    check_time,
 )
 from ..protocol import TrackEstimates
 from ._sht_common import ScanModel, _gate_scan, _ScanPredictor
@@ -138,12 +139,7 @@ class SingleHypothesisTracker:
         if len(P) != len(x):
             raise ValueError(f"covs must hold one covariance per track: {len(x)} means, {len(P)} covariances")
         P = check_covariance(P, "covs", dim=d, batched=True) if len(P) else P
-        try:
-            time = float(time)
-        except (TypeError, ValueError):
-            raise TypeError(f"time must be a number, got {time!r}") from None
-        if not np.isfinite(time):
-            raise ValueError(f"time must be finite, got {time}")
+        time = check_time(time)
         if self.time is not None and time != self.time:
             raise ValueError(f"time: initialise() must be called before the first scan or at the current time "
                              f"{self.time}, got {time}")
@@ -175,12 +171,7 @@ class SingleHypothesisTracker:
         if time is None:
             raise TypeError("time is required: step(Z, time) with the scan's time (the single-hypothesis "
                             "trackers have no default scan interval)")
-        try:
-            time = float(time)
-        except (TypeError, ValueError):
-            raise TypeError(f"time must be a scalar number, got {time!r}") from None
-        if not np.isfinite(time):
-            raise ValueError(f"time must be finite, got {time}")
+        time = check_time(time)
         Z = check_measurements(Z, "Z", self.model.dim)
         dt = 0.0 if self.time is None else time - self.time
         if dt < 0:

@@ -18,7 +18,13 @@ A tracker is started from known objects and then fed one scan at a time, each wi
   hypotheses.
 
 The experiments, the Stone Soup adapter and :mod:`hypotrack.registry` use only this surface, so a
-tracker registered as a preset reaches every one of them.
+tracker registered as a preset reaches every one of them. Who implements it: the hypothesis engine
+(:class:`~hypotrack.hypotheses.HypothesisFilter` and every preset), the factored engine
+(:class:`~hypotrack.hypotheses.factored.FactoredFilter`) and the single-hypothesis trackers
+(:class:`~hypotrack.trackers.SingleHypothesisTracker`: GNN, JPDA, PDAF). Document 003's filters
+(:mod:`hypotrack.trackers.ecmht`: the ideal filter, MHT, ECMHT, PDAF on two closely spaced targets;
+:mod:`hypotrack.trackers.cardinality`) do not: they step a batch of Monte Carlo runs of synchronous
+multi-sensor scans at once and hold unlabelled positions (or only counts), a different shape of problem.
 """
 
 from __future__ import annotations

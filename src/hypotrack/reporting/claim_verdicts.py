@@ -250,24 +250,32 @@ def claim_verdict(evidence: pd.DataFrame) -> tuple[str, str]:
         return "not run", "no row of the ledger tests it"
     decided = evidence[(evidence["role"] == "independent") & evidence["status"].isin(VERDICT_ROW_STATUSES)]
     if decided.empty:
-        kinds = ", ".join(sorted(set(evidence["status"])))
-        return "consistency only", f"no independent check ({kinds})"
+        return "consistency only", "no independent row: " + ", ".join(
+            f"{r['row']} {r['status']}" for r in evidence.to_dict("records"))
     positive = decided[decided["status"].isin(("reproduced", "qualitative"))]
     negative = decided[decided["status"] == "not reproduced"]
+
+    def named(rows):
+        return ", ".join(rows["row"])
+
     both = sorted(set(positive["reading"]) & set(negative["reading"]))
     if both:
-        return "contested", f"reproduced and not reproduced under the same reading ({'; '.join(both)})"
+        return "contested", (f"under the same reading ({'; '.join(both)}) {named(positive)} reproduced, "
+                             f"{named(negative)} not")
     if len(positive) and len(negative):
-        return "reproduced in part", (f"reproduced under {'; '.join(sorted(set(positive['reading'])))}, not under "
-                                      f"{'; '.join(sorted(set(negative['reading'])))}")
+        return "reproduced in part", (f"reproduced under {'; '.join(sorted(set(positive['reading'])))} "
+                                      f"({named(positive)}), not under {'; '.join(sorted(set(negative['reading'])))} "
+                                      f"({named(negative)})")
     if len(positive):
         verdict = "qualitative" if (positive["status"] == "qualitative").all() else "reproduced"
-        return verdict, f"{len(positive)} of {len(decided)} independent checks positive, none negative"
+        return verdict, f"{len(positive)} of {len(decided)} independent rows positive ({named(positive)}), none negative"
     if len(negative):
-        return "not reproduced", f"{len(negative)} of {len(decided)} independent checks negative, none positive"
+        return "not reproduced", (f"{len(negative)} of {len(decided)} independent rows not reproduced "
+                                  f"({named(negative)}), none positive")
     for status in ("inconclusive", "uninformative"):
         if (decided["status"] == status).any():
-            return status, f"every independent check is inconclusive or uninformative ({len(decided)})"
+            return status, ("no independent row decides it: "
+                            + ", ".join(f"{r['row']} {r['status']}" for r in decided.to_dict("records")))
     raise AssertionError("unreachable: decided rows carry a verdict status")
 
 

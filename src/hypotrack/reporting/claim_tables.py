@@ -27,7 +27,8 @@ def headline_text(counts: dict, bold: str = "**") -> str:
     :func:`~.claim_verdicts.headline`); ``bold`` is the Markdown emphasis ('' for plain text)."""
     parts = [f"{bold}{counts[v]} {v}{bold}" for v in _shown(counts)]
     extra = (f"{counts['extension_rows']} extension rows in {counts['extension_groups']} groups"
-             + (f" and {counts['timing_rows']} timing rows" if counts.get("timing_rows") else ""))
+             + (f" and {counts['timing_rows']} timing row{'s' if counts['timing_rows'] > 1 else ''}"
+                if counts.get("timing_rows") else ""))
     return (f"{counts['claims']} claims of the five documents: " + ", ".join(parts)
             + f"; beyond them, {extra} (never counted among the documents' verdicts); "
             f"{counts['ledger_rows']} ledger rows in all.")

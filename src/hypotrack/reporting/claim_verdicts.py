@@ -31,7 +31,7 @@ Rows are grouped by the *reading* of the document they measure under (the claims
 default "as stated"); a *positive* row is *reproduced* or *qualitative*, a *negative* one *not reproduced*.
 
 1. no evidence row in the ledger: ``not run``;
-2. no independent row with a verdict: ``consistency only`` (calibrations, identities, own closed forms:
+2. no independent row with a verdict: ``uninformative`` when a vacuous row is among them, else ``consistency only`` (calibrations, identities, own closed forms:
    never a reproduction);
 3. a reading with both a positive and a negative row: ``contested`` (the evidence contradicts itself);
 4. positive rows under one reading, negative under another: ``reproduced in part`` (the claim holds
@@ -249,6 +249,8 @@ def claim_verdict(evidence: pd.DataFrame) -> tuple[str, str]:
     if evidence.empty:
         return "not run", "no row of the ledger tests it"
     decided = evidence[(evidence["role"] == "independent") & evidence["status"].isin(VERDICT_ROW_STATUSES)]
+    if decided.empty and (evidence["role"] == "vacuous").any():
+        return "uninformative", "no case decides it: " + ", ".join(evidence.loc[evidence["role"] == "vacuous", "row"])
     if decided.empty:
         return "consistency only", "no independent row: " + ", ".join(
             f"{r['row']} {r['status']}" for r in evidence.to_dict("records"))

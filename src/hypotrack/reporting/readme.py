@@ -1,7 +1,9 @@
 """The README's results, generated from the committed record of the default run (``paper/record/``).
 
 The README quotes no result by hand: the text between :data:`BEGIN` and :data:`END` is
-:func:`readme_block` of the record's ledger, and a test fails when it differs. The record is updated
+:func:`readme_block` of the record's ledger (counted per *claim* of the documents, not per row:
+:mod:`hypotrack.reporting.claim_verdicts` and its claims file; the full ledger is linked, not copied),
+and a test fails when it differs. The record is updated
 only by an explicit step, :mod:`hypotrack.reporting.record`, which copies a default run's ledger and
 run-time table there and then calls this module::
 

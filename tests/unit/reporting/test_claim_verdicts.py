@@ -212,3 +212,12 @@ def test_the_sensitivity_table_and_the_papers_claims_table_from_the_record(recor
     used = set(re.findall(r"\\htval\{(\w+)\}", tex))
     assert used <= set(macros) and len(macros) == len(set(macros))
     assert not re.search(r"(?<![\\\w{])\d+ (?:reproduced|claims)", tex)  # counts only through macros
+
+
+def test_the_papers_claim_counts_are_generated_macros(record):
+    ledger, timing, spec, verdicts = record
+    macros = claim_count_macros(verdicts, headline(verdicts, ledger, spec, timing))
+    sections = ROOT / "paper" / "sections"
+    used = {m for p in sections.rglob("*.tex") for m in re.findall(r"\\htval\{(htClaims?\w*)\}", p.read_text())}
+    assert {"htClaimsTotal", "htClaimsReproduced", "htClaimsNotReproduced"} <= used <= set(macros)
+    assert r"\input{generated/claims_summary.tex}" in (ROOT / "paper" / "ms.tex").read_text()

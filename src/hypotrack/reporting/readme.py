@@ -101,6 +101,11 @@ def readme_block(claims: pd.DataFrame | None, timing: pd.DataFrame | None = None
     for r in bad.to_dict("records"):
         note = f" {r['note'][:1].upper()}{r['note'][1:]}." if r["note"] else ""
         lines.append(f"* **{r['document']}, {r['where']}: {r['words']}** ({r['verdict']}): {r['reason']}.{note}")
+    noted = verdicts[~verdicts["verdict"].isin(FAILING_CLAIMS) & (verdicts["note"] != "")]
+    if not noted.empty:
+        lines += ["", "Caveats on claims that hold:", ""]
+        lines += [f"* **{r['document']}, {r['where']}: {r['words']}** ({r['verdict']}): {r['reason']}. "
+                  f"{r['note'][:1].upper()}{r['note'][1:]}." for r in noted.to_dict("records")]
     mismatches = monte_carlo_mismatches(claims if timing is None else pd.concat([claims, timing]), spec)
     if not mismatches.empty:
         lines += ["", "Rows whose recorded status the Monte Carlo rule corrects (the claims table uses the corrected one):", ""]

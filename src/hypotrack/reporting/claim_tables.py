@@ -83,10 +83,10 @@ def sensitivity_tex(table: pd.DataFrame) -> str:
 def claims_summary_tex(verdicts: pd.DataFrame, counts: dict) -> str:
     """The report's first-page table: the headline (counts as ``\\htval`` macros of :func:`claim_count_macros`,
     so the report types no number) and one row per claim, grouped by document, with its verdict."""
-    parts = [rf"\textbf{{\htval{{{macro_name('claims', v)}}} {latex_escape(v)}}}" for v in _shown(counts)]
+    parts = [rf"\textbf{{\htval{{{macro_name('document claims', v)}}} {latex_escape(v)}}}" for v in _shown(counts)]
     lines = [r"\paragraph{Claims, not rows.} The ledger's rows test "
-             rf"\htval{{{macro_name('claims', 'total')}}} distinct claims of the five documents: "
-             + ", ".join(parts) + r". Beyond them, \htval{" + macro_name("claims", "extension rows")
+             rf"\htval{{{macro_name('document claims', 'total')}}} distinct claims of the five documents: "
+             + ", ".join(parts) + r". Beyond them, \htval{" + macro_name("document claims", "extension rows")
              + r"} extension rows (never counted among the documents' verdicts). A claim is \emph{reproduced} only "
              r"when an independent check reproduces it, with a negative control that fails, and none fails it; "
              r"calibrations, identities of the implementation and comparisons with the project's own closed form "
@@ -103,7 +103,7 @@ def claims_summary_tex(verdicts: pd.DataFrame, counts: dict) -> str:
         lines.append(rf"\multicolumn{{4}}{{@{{}}l}}{{\textbf{{{latex_escape(document)}}}}}\tabularnewline")
         for r in group.to_dict("records"):
             lines.append(rf"{latex_text(r['words'])} & {latex_text(r['where'])} & {latex_escape(r['verdict'])} & "
-                         rf"\htval{{{macro_name('claim rows', r['id'])}}}\tabularnewline")
+                         rf"\htval{{{macro_name('document claim rows', r['id'])}}}\tabularnewline")
     lines += [r"\end{longtable}\endgroup", r"\begin{description}\setlength{\itemsep}{0pt}"]
     lines += [rf"\item[{latex_escape(v)}] {latex_text(CLAIM_VERDICT_MEANING[v])}." for v in _shown(counts)]
     lines.append(r"\end{description}")
@@ -111,11 +111,12 @@ def claims_summary_tex(verdicts: pd.DataFrame, counts: dict) -> str:
 
 
 def claim_count_macros(verdicts: pd.DataFrame, counts: dict) -> dict:
-    """Macros for :func:`claims_summary_tex`: ``\\htClaimsTotal``, one per verdict (``\\htClaimsReproduced``,
-    ...), ``\\htClaimsExtensionRows`` and, per claim, its evidence-row count ``\\htClaimRows<id>``."""
-    out = {macro_name("claims", "total"): counts["claims"],
-           macro_name("claims", "extension rows"): counts["extension_rows"]}
-    out.update({macro_name("claims", v): counts[v] for v in CLAIM_VERDICTS})
-    out.update({macro_name("claim rows", r["id"]): f"{r['rows']} ({r['independent']})"
+    """Macros for :func:`claims_summary_tex`: ``\\htDocumentClaimsTotal``, one per verdict
+    (``\\htDocumentClaimsReproduced``, ...), ``\\htDocumentClaimsExtensionRows`` and, per claim, its evidence-row
+    count ``\\htDocumentClaimRows<id>`` (the ledger's row counts are ``\\htClaims<Status>``: rows, not claims)."""
+    out = {macro_name("document claims", "total"): counts["claims"],
+           macro_name("document claims", "extension rows"): counts["extension_rows"]}
+    out.update({macro_name("document claims", v): counts[v] for v in CLAIM_VERDICTS})
+    out.update({macro_name("document claim rows", r["id"]): f"{r['rows']} ({r['independent']})"
                 for r in verdicts.to_dict("records")})
     return out

@@ -12,33 +12,41 @@ track factors are the JPDA weights ``w_i(a_i)`` of :func:`~hypotrack.association
 (the clutter density is already divided out of ``w_i(j)``). The joint is then exactly the JPDA
 event distribution, ``p(a) ∝ Π_i w_i(a_i)`` over feasible events.
 
-The SPA messages on this graph collapse to one number per gated pair (Williams & Lau 2014, Sec. III,
-the simplified message equations; also Meyer et al. 2018, Eqs. 30–31):
+The SPA messages on this graph collapse to one number per gated pair (Williams & Lau 2014, the
+simplified message-passing equations of their algorithm; Meyer et al. 2018 write the same pair):
 
     μ_{i→j} = w_i(j) / ( w_i(0) + Σ_{j' ≠ j} w_i(j') ν_{j'→i} ),           (track i to return j)
     ν_{j→i} = 1 / ( 1 + Σ_{i' ≠ i} μ_{i'→j} ),                              (return j to track i)
 
-started from ``ν = 1`` and iterated to a fixed point, which is unique and reached from any start
-(Williams & Lau 2014, Sec. IV: the iteration is a contraction when every ``w_i(0) > 0``, i.e.
-``P_D P_G < 1``). The approximate marginals are the track-side beliefs
+started from ``ν = 1`` and iterated to a fixed point, which Williams & Lau prove is unique and
+reached from any start when every missed weight ``w_i(0) > 0`` (``P_D P_G < 1``), which is why this
+module requires it. The approximate marginals are the track-side beliefs
 
     β_i(0) ∝ w_i(0),    β_i(j) ∝ w_i(j) ν_{j→i},    Σ_c β_i(c) = 1,
 
 and at the fixed point they agree with the return-side beliefs ``P(b_j = i) ∝ μ_{i→j}``, so each
 return's total ``Σ_i β_i(j) ≤ 1`` (up to the convergence tolerance). On a graph without cycles
 (a tree or forest: one return shared by two tracks, a chain) the SPA is exact; on a loopy graph it
-is an approximation whose error Williams & Lau found small (Sec. V); the tests measure it.
+is an approximation whose error Williams & Lau found small in tracking problems; the tests measure
+it (``tests/unit/association/test_lbp.py``: up to 0.08 on 3 × 3 fully gated problems with N(0, 1)
+log weights, 0.05 on a 200-track line, 0.17 on the worst of the JPDA test scenes).
 
 Each iteration costs ``O(number of gated pairs)``: the leave-one-out sums are formed from prefix
 and suffix sums over each track's (and each return's) gated pairs, never by subtracting a term
 from the total, so nothing cancels. All messages are kept as logarithms, so weights of any range
 (log-likelihood ratios in the hundreds) neither overflow nor underflow.
 
+In the JPDA filter: ``jpda_probabilities(gated, model, marginals="lbp")`` of
+:mod:`hypotrack.trackers.jpda` uses these marginals for the targets that share returns (the
+default, ``"exact"``, stays the exact recursion); :func:`lbp_benchmark` tabulates the cost per pass.
+
 References
 ----------
 J. Williams & R. Lau, "Approximate evaluation of marginal association probabilities with belief
 propagation", IEEE Trans. Aerospace and Electronic Systems 50(4), 2014.
 F. Meyer et al., "Message passing algorithms for scalable multitarget tracking", Proc. IEEE 106(2), 2018.
+The papers' texts were not at hand when this was written: the equations are stated in full above
+rather than by number.
 """
 
 from __future__ import annotations
@@ -106,6 +114,13 @@ def lbp_marginals(log_weights, *, tol: float = DEFAULT_TOL, max_iter: int = DEFA
         On a wrong shape, NaN or ``+inf`` weights, a ``-inf`` (zero) missed weight, ``tol <= 0``
         or ``max_iter < 1``.
 
+    Notes
+    -----
+    Cost: ``O(n m)`` once, to find the gated pairs in the dense input and to write the beliefs
+    back, then ``O(gated pairs)`` per pass. Measured with :func:`lbp_benchmark` (shared 2-core
+    machine, tracks on a line with ~4 returns per gate): 0.9–1.8e-7 s per pass per gated pair,
+    flat from 807 to 12,821 pairs; 36–41 passes to ``tol = 1e-10``.
+
     Examples
     --------
     One track, two returns: LBP is the PDAF softmax ``β = w / Σ w`` (no message is ever needed).
@@ -138,17 +153,9 @@ def lbp_marginals(log_weights, *, tol: float = DEFAULT_TOL, max_iter: int = DEFA
     n, m1 = lw.shape
     if n == 0:
         return LbpMarginals(np.zeros((0, m1)), 0, 0.0)
-    # Gated pairs, by track (CSR rows) and, through a permutation, by return (CSC columns).
-    t_idx, j_idx = np.nonzero(np.isfinite(lw[:, 1:]))
-    row_ptr = np.zeros(n + 1, np.int64)
-    np.cumsum(np.bincount(t_idx, minlength=n), out=row_ptr[1:])
-    by_col = np.argsort(j_idx, kind="stable").astype(np.int64)
-    col_ptr = np.zeros(m1, np.int64)
-    np.cumsum(np.bincount(j_idx, minlength=m1 - 1), out=col_ptr[1:])
-    lw_e = lw[t_idx, 1 + j_idx]
-    log_nu, iterations, change = _iterate(
-        np.ascontiguousarray(lw[:, 0]), lw_e, row_ptr, by_col, col_ptr, tol, max_iter
-    )
+    t_idx, j_idx, graph = _gated_pairs(lw)
+    log_nu, iterations, change = _iterate(*graph, tol, max_iter)
+    lw_e = graph[1]
     # Beliefs: β_i(0) ∝ w_i(0), β_i(j) ∝ w_i(j) ν_{j→i}, normalised per row in log space.
     logb = np.full((n, m1), -np.inf)
     logb[:, 0] = lw[:, 0]
@@ -157,6 +164,20 @@ def lbp_marginals(log_weights, *, tol: float = DEFAULT_TOL, max_iter: int = DEFA
     beta = np.exp(logb)
     beta /= beta.sum(axis=1, keepdims=True)
     return LbpMarginals(beta, int(iterations), float(change))
+
+
+def _gated_pairs(lw):
+    """The gated pairs (track, return) in track order, and the kernel's graph: missed log weights,
+    pair log weights, track pointers (CSR rows), the pairs in return order and return pointers."""
+    n, m1 = lw.shape
+    t_idx, j_idx = np.nonzero(np.isfinite(lw[:, 1:]))
+    row_ptr = np.zeros(n + 1, np.int64)
+    np.cumsum(np.bincount(t_idx, minlength=n), out=row_ptr[1:])
+    by_col = np.argsort(j_idx, kind="stable").astype(np.int64)
+    col_ptr = np.zeros(m1, np.int64)
+    np.cumsum(np.bincount(j_idx, minlength=m1 - 1), out=col_ptr[1:])
+    graph = (np.ascontiguousarray(lw[:, 0]), lw[t_idx, 1 + j_idx], row_ptr, by_col, col_ptr)
+    return t_idx, j_idx, graph
 
 
 @njit(cache=True)
@@ -224,14 +245,18 @@ def _iterate(lw0, lw_e, row_ptr, by_col, col_ptr, tol, max_iter):
     return log_nu, it, change
 
 
-def lbp_benchmark(sizes=((50, 75), (100, 150), (200, 300)), *, gated_per_track: float = 4.0, seed=0,
-                  repeats: int = 3):
+def lbp_benchmark(sizes=((200, 300), (800, 1200), (3200, 4800)), *, gated_per_track: float = 4.0, seed=0,
+                  repeats: int = 3, passes: int = 50):
     """Time per LBP pass on random sparse problems of a few sizes (a benchmark table, not a test).
 
     Tracks and returns are scattered on a line of length ``n``; a track gates the returns within
-    a distance chosen so that it gates ``gated_per_track`` returns on average, with Gaussian
-    log-likelihood ratios. The cost of a pass should grow linearly with the number of gated pairs,
-    so ``seconds_per_pass_per_pair`` should stay roughly constant across sizes.
+    a distance chosen so that it gates ``gated_per_track`` returns on average
+    (:func:`random_line_problem`). A call of :func:`lbp_marginals` has two costs: turning the dense
+    ``(n, m + 1)`` input into lists of gated pairs and the beliefs back into a matrix (``O(n m)``,
+    once), and the passes (``O(gated pairs)`` each). Both are reported: the whole converged call
+    (``seconds``) and the message passes alone, timed on ``passes`` passes of the compiled kernel
+    (``seconds_per_pass``), which should grow linearly with the gated pairs, so
+    ``seconds_per_pass_per_pair`` should stay roughly constant across sizes (up to cache effects).
 
     Parameters
     ----------
@@ -241,32 +266,40 @@ def lbp_benchmark(sizes=((50, 75), (100, 150), (200, 300)), *, gated_per_track: 
         Mean number of returns in a track's gate (> 0).
     seed : int or numpy Generator
     repeats : int
-        Timed calls per size (≥ 1); the fastest is reported.
+        Timed calls per measurement (≥ 1); the fastest is kept.
+    passes : int
+        Passes timed for the per-pass cost (≥ 1).
 
     Returns
     -------
     pandas.DataFrame
-        One row per size: ``n``, ``m``, ``gated_pairs``, ``iterations``, ``change``,
-        ``seconds``, ``seconds_per_pass``, ``seconds_per_pass_per_pair``.
+        One row per size: ``n``, ``m``, ``gated_pairs``, ``iterations`` and ``change`` of a converged
+        call (default ``tol``), its wall time ``seconds``, ``seconds_per_pass`` and
+        ``seconds_per_pass_per_pair``.
     """
     import pandas as pd
 
     gated_per_track = check_positive(gated_per_track, "gated_per_track")
     repeats = check_int(repeats, "repeats", minimum=1)
+    passes = check_int(passes, "passes", minimum=1)
     rng = np.random.default_rng(seed)
     lbp_marginals(np.log([[1.0, 1.0], [1.0, 1.0]]))  # compile outside the timing
     rows = []
     for n, m in sizes:
         lw = random_line_problem(rng, n, m, gated_per_track=gated_per_track)
-        best, res = np.inf, None
+        seconds, per_pass, res = np.inf, np.inf, None
+        graph = _gated_pairs(lw)[2]
         for _ in range(repeats):
             t0 = _time.perf_counter()
             res = lbp_marginals(lw)
-            best = min(best, _time.perf_counter() - t0)
-        pairs = int(np.isfinite(lw[:, 1:]).sum())
+            seconds = min(seconds, _time.perf_counter() - t0)
+            t0 = _time.perf_counter()
+            _, done, _ = _iterate(*graph, 1e-300, passes)  # tol so small that every pass runs
+            per_pass = min(per_pass, (_time.perf_counter() - t0) / done)
+        pairs = int(graph[1].size)
         rows.append(dict(n=n, m=m, gated_pairs=pairs, iterations=res.iterations, change=res.change,
-                         seconds=best, seconds_per_pass=best / res.iterations,
-                         seconds_per_pass_per_pair=best / res.iterations / max(pairs, 1)))
+                         seconds=seconds, seconds_per_pass=per_pass,
+                         seconds_per_pass_per_pair=per_pass / max(pairs, 1)))
     return pd.DataFrame(rows)
 
 

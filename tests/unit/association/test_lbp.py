@@ -234,12 +234,19 @@ def test_large_sparse_problem_converges_close_to_exact():
 
 def test_benchmark_table():
     """The benchmark's table has its columns and a consistent count of pairs (timings are not tested)."""
-    df = lbp_benchmark(((20, 30), (40, 60)), repeats=1)
+    df = lbp_benchmark(((20, 30), (40, 60)), repeats=1, passes=3, seed=5)
     assert isinstance(df, pd.DataFrame)
     assert list(df.columns) == ["n", "m", "gated_pairs", "iterations", "change", "seconds",
                                 "seconds_per_pass", "seconds_per_pass_per_pair"]
-    assert (df.gated_pairs > 0).all() and (df.seconds_per_pass > 0).all()
-    np.testing.assert_allclose(df.seconds_per_pass, df.seconds / df.iterations)
+    rng = np.random.default_rng(5)
+    for row, (n, m) in zip(df.itertuples(), ((20, 30), (40, 60))):
+        lw = random_line_problem(rng, n, m)  # the benchmark's problems, drawn in the same order
+        assert row.gated_pairs == np.isfinite(lw[:, 1:]).sum()
+        assert row.iterations == lbp_marginals(lw).iterations and row.change < 1e-10
+    assert (df.seconds_per_pass > 0).all() and (df.seconds > 0).all()
+    np.testing.assert_allclose(df.seconds_per_pass_per_pair, df.seconds_per_pass / df.gated_pairs)
+    with pytest.raises(ValueError, match=r"passes must be an integer in \[1, inf\]"):
+        lbp_benchmark(((5, 5),), passes=0)
 
 
 def test_result_unpacks():

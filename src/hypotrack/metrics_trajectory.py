@@ -43,7 +43,9 @@ with unit row sums over the first ``n_X`` rows, unit column sums over the first 
 ``∅``). For a 0/1 ``W`` this is the objective above (a full switch changes two entries by 1, a
 start or end one), so the LP value lower-bounds the assignment metric and equals it when the LP
 optimum is integral; the paper proves the LP value is itself a metric. The absolute values are
-linearised with one auxiliary variable per pair and step. ``integral=True`` adds integrality
+linearised with one auxiliary variable per pair and step. A pair that is never both present and
+closer than ``c`` is fixed at ``W = 0``, which leaves the optimum unchanged (see ``_solve``) and
+shrinks the program to the pairs that can ever be matched. ``integral=True`` adds integrality
 constraints (a MILP, NP-hard in general) and returns the assignment metric itself.
 
 Decomposition (the paper's Sec. IV, costs of the LP optimum)
@@ -182,6 +184,12 @@ def trajectory_gospa(X, Y, *, c: float, p: float = 1.0, gamma: float | None = No
         On a wrong shape, mismatched ``T`` or ``d``, a partly-NaN state, ``inf``, ``c <= 0``,
         ``p`` outside ``[1, inf)``, ``gamma <= 0``; ``RuntimeError`` if HiGHS fails.
 
+    Notes
+    -----
+    Size: ``T (n_X + 1)(n_Y + 1)`` assignment variables and one switch variable per step and pair
+    that can ever be matched. Measured (shared 2-core machine, noisy 2-D estimates of trajectories
+    on a 20 × 20 square, c = 3): 10 × 10 trajectories over 100 steps in 0.13 s, 20 × 20 in 1.0 s.
+
     Examples
     --------
     One true trajectory over 3 steps, estimated 1 off at the first two and absent at the last:
@@ -226,21 +234,37 @@ def trajectory_gospa(X, Y, *, c: float, p: float = 1.0, gamma: float | None = No
     D = trajectory_cost_matrices(X, Y, c, p)
     if X.shape[1] == 0:
         return TrajectoryGospaResult(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, D, True)
-    W = _solve(D, gamma**p, integral)
+    ex, ey = _exists(X), _exists(Y)
+    close = ex[:, :, None] & ey[:, None, :] & (D[:, :-1, :-1] < c**p)
+    W = _solve(D, gamma**p, integral, close.any(axis=0))
     return _decompose(X, Y, D, W, c, p, gamma)
 
 
-def _solve(D: np.ndarray, gamma_p: float, integral: bool) -> np.ndarray:
-    """The LP (or MILP) over W^k and the switch auxiliaries e^k ≥ |W^k − W^{k+1}|."""
+def _exists(X: np.ndarray) -> np.ndarray:
+    """(T, n) bool: trajectory i has a state at step k."""
+    return ~np.isnan(X[..., 0]).T if X.shape[0] else np.zeros((X.shape[1], 0), bool)
+
+
+def _solve(D: np.ndarray, gamma_p: float, integral: bool, active: np.ndarray) -> np.ndarray:
+    """The LP (or MILP) over W^k and the switch auxiliaries e^k ≥ |W^k − W^{k+1}|.
+
+    ``active[i, j]``: estimate i and truth j are both present and closer than c at some step. An
+    inactive pair is fixed at W = 0 without loss: at every step assigning it costs at least what
+    leaving both unassigned costs (c^p for two far states, c^p/2 for one, 0 for none), and moving
+    its weight to the "unassigned" entries can only remove switch terms — so the optimum, LP or
+    integer, is unchanged, and only active pairs need switch auxiliaries.
+    """
     T, r, s = D.shape  # r = nx + 1, s = ny + 1
     nx, ny = r - 1, s - 1
+    pi, pj = np.nonzero(active)
     n_w = T * r * s
-    n_e = (T - 1) * nx * ny
+    n_e = (T - 1) * pi.size
     w_index = np.arange(n_w).reshape(T, r, s)
     cost = np.concatenate([D.ravel(), np.full(n_e, gamma_p / 2)])
     bounds = np.zeros((n_w + n_e, 2))
     bounds[:, 1] = 1.0
     bounds[w_index[:, nx, ny], 1] = 0.0  # W[∅, ∅] = 0
+    bounds[w_index[:, :nx, :ny][:, ~active], 1] = 0.0
     bounds[n_w:, 1] = np.inf
     # Equalities: unit row sums over the n_X estimate rows, unit column sums over the n_Y truth columns.
     rows_eq, cols_eq = [], []
@@ -263,8 +287,8 @@ def _solve(D: np.ndarray, gamma_p: float, integral: bool) -> np.ndarray:
     if n_e:
         # W^k − W^{k+1} − e ≤ 0 and W^{k+1} − W^k − e ≤ 0.
         e = n_w + np.arange(n_e)
-        a = w_index[:-1, :nx, :ny].ravel()
-        b = w_index[1:, :nx, :ny].ravel()
+        a = w_index[:-1, pi, pj].ravel()
+        b = w_index[1:, pi, pj].ravel()
         q = np.arange(n_e)
         ri = np.concatenate([q, q, q, n_e + q, n_e + q, n_e + q])
         ci = np.concatenate([a, b, e, b, a, e])
@@ -282,8 +306,7 @@ def _decompose(X, Y, D, W, c, p, gamma) -> TrajectoryGospaResult:
     T, r, s = W.shape
     nx, ny = r - 1, s - 1
     half = c**p / 2
-    ex = ~np.isnan(X[..., 0]).T if nx else np.zeros((T, 0), bool)  # (T, nx)
-    ey = ~np.isnan(Y[..., 0]).T if ny else np.zeros((T, 0), bool)
+    ex, ey = _exists(X), _exists(Y)  # (T, nx), (T, ny)
     Wp = W[:, :nx, :ny]
     both = ex[:, :, None] & ey[:, None, :]
     close = both & (D[:, :nx, :ny] < c**p)

@@ -228,3 +228,24 @@ def test_bad_inputs_are_named(X, Y, kwargs, exc, match):
     kw = {"c": 1.0} | kwargs
     with pytest.raises(exc, match=match):
         trajectory_gospa(X, Y, **kw)
+
+
+def test_fixing_never_close_pairs_leaves_the_optimum_unchanged():
+    """The program leaves out pairs never both present and closer than c; with every pair kept the
+    LP and MILP optima are the same."""
+    from hypotrack import metrics_trajectory as mt
+
+    rng = np.random.default_rng(21)
+    pruned_somewhere = 0
+    for _ in range(20):
+        X, Y = random_trajectories(rng, 3, 5, spread=6.0), random_trajectories(rng, 3, 5, spread=6.0)
+        c, p, gamma = 1.5, 1.0, float(rng.uniform(0.3, 2.0))
+        D = trajectory_cost_matrices(X, Y, c, p)
+        for integral in (False, True):
+            r = trajectory_gospa(X, Y, c=c, p=p, gamma=gamma, integral=integral)
+            W = mt._solve(D, gamma**p, integral, np.ones((3, 3), bool))
+            full = (D * W).sum() + gamma**p / 2 * np.abs(np.diff(W[:, :3, :3], axis=0)).sum()
+            assert r.value**p == pytest.approx(full, abs=1e-7)
+        ex, ey = ~np.isnan(X[..., 0]).T, ~np.isnan(Y[..., 0]).T
+        pruned_somewhere += int(not (ex[:, :, None] & ey[:, None, :] & (D[:, :3, :3] < c**p)).any(axis=0).all())
+    assert pruned_somewhere > 10

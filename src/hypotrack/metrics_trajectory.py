@@ -13,7 +13,8 @@ trajectory ``i``'s state at step ``k``, all-NaN where the trajectory does not ex
 (before its birth, after its death, or in a gap). ``X`` holds the estimates, ``Y`` the truth, as
 in :func:`hypotrack.metrics.gospa`. A row that exists at no step is no trajectory: it never lowers
 the value (assigning it costs what leaving the other side unassigned costs, and may add switches),
-so it changes nothing.
+so it changes nothing. :func:`trajectories_from_estimates` builds the array from a tracker's
+per-scan estimates (one trajectory per track label).
 
 The metric (the paper's Sec. III, the assignment-sequence definition; α = 2)
 ---------------------------------------------------------------------------
@@ -42,7 +43,10 @@ with unit row sums over the first ``n_X`` rows, unit column sums over the first 
 ``D^k[i, j] = d(x_i^k, y_j^k)^p`` (the base metric above, with the unassigned row and column as
 ``∅``). For a 0/1 ``W`` this is the objective above (a full switch changes two entries by 1, a
 start or end one), so the LP value lower-bounds the assignment metric and equals it when the LP
-optimum is integral; the paper proves the LP value is itself a metric. The absolute values are
+optimum is integral; the paper proves the LP value is itself a metric. In random tests (2–4
+trajectories a side, 2–6 steps) the optimum was integral in all but 8 of 3000 cases and strictly
+below the assignment metric in one (36.0 against 36.5, kept in the tests); ``integral`` in the
+result says which case a call met. The absolute values are
 linearised with one auxiliary variable per pair and step. A pair that is never both present and
 closer than ``c`` is fixed at ``W = 0``, which leaves the optimum unchanged (see ``_solve``) and
 shrinks the program to the pairs that can ever be matched. ``integral=True`` adds integrality
@@ -74,7 +78,7 @@ from scipy.sparse import coo_array
 
 from ._validation import check_positive
 
-__all__ = ["TrajectoryGospaResult", "trajectory_gospa", "trajectory_cost_matrices"]
+__all__ = ["TrajectoryGospaResult", "trajectory_gospa", "trajectory_cost_matrices", "trajectories_from_estimates"]
 
 
 @dataclass(frozen=True)
@@ -111,7 +115,11 @@ class TrajectoryGospaResult:
 
 
 def _check_trajectories(X, name: str) -> np.ndarray:
-    arr = np.asarray(X, dtype=float)
+    try:
+        arr = np.asarray(X, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise TypeError(f"{name} must be an (n, T, d) array of numbers (NaN where absent), got "
+                        f"{type(X).__name__} that NumPy cannot convert: {exc}") from None
     if arr.size == 0 and arr.ndim < 3:
         return np.zeros((0, 0, 0))
     if arr.ndim != 3:
@@ -126,14 +134,89 @@ def _check_trajectories(X, name: str) -> np.ndarray:
     return arr
 
 
+def trajectories_from_estimates(estimates, components=None) -> tuple[np.ndarray, np.ndarray]:
+    """A tracker's estimates at each time step as trajectories, one per track label.
+
+    Parameters
+    ----------
+    estimates : sequence of TrackEstimates
+        One per time step (e.g. what ``tracker.run(scans)`` returns): objects with ``labels``
+        ``(n_k,)`` and ``x`` ``(n_k, d)``.
+    components : sequence of int, optional
+        State components to keep (e.g. ``[0, 1]`` for the positions of ``[x, y, vx, vy]``);
+        default all.
+
+    Returns
+    -------
+    labels : (n,) int64
+        The distinct labels, sorted; row ``i`` of the array is the track labelled ``labels[i]``.
+    X : (n, T, d') ndarray
+        NaN where a label is absent at a step: the input format of :func:`trajectory_gospa`.
+
+    Examples
+    --------
+    >>> from hypotrack.protocol import TrackEstimates
+    >>> run = [TrackEstimates(0.0, np.array([3]), np.array([[0.0, 1.0]])),
+    ...        TrackEstimates(1.0, np.array([3, 5]), np.array([[0.5, 1.0], [9.0, 0.0]]))]
+    >>> labels, X = trajectories_from_estimates(run, components=[0])
+    >>> labels.tolist(), X[..., 0].tolist()
+    ([3, 5], [[0.0, 0.5], [nan, 9.0]])
+    """
+    steps = list(estimates)
+    labels = [np.asarray(e.labels, dtype=np.int64).ravel() for e in steps]
+    states = []
+    for k, (e, lab) in enumerate(zip(steps, labels)):
+        x = np.asarray(e.x, dtype=float).reshape(len(lab), -1)
+        if len(np.unique(lab)) != len(lab):
+            raise ValueError(f"estimates[{k}] holds a label twice: {lab.tolist()}")
+        states.append(x if components is None else x[:, list(components)])
+    dims = {x.shape[1] for x, lab in zip(states, labels) if len(lab)}
+    if len(dims) > 1:
+        raise ValueError(f"estimates must have states of one dimension, got {sorted(dims)}")
+    d = dims.pop() if dims else (len(components) if components is not None else 0)
+    every = np.unique(np.concatenate(labels)) if labels else np.zeros(0, np.int64)
+    X = np.full((every.size, len(steps), d), np.nan)
+    for k, (x, lab) in enumerate(zip(states, labels)):
+        X[np.searchsorted(every, lab), k] = x
+    return every, X
+
+
 def trajectory_cost_matrices(X, Y, c: float, p: float = 1.0) -> np.ndarray:
     """The per-step cost matrices ``D^k`` ``(T, n_X + 1, n_Y + 1)`` of the trajectory metric.
 
     ``D[k, i, j] = min(‖x_i^k − y_j^k‖, c)^p`` if both exist, ``c^p/2`` if exactly one does, ``0``
     if neither; the last row / column stand for "unassigned" (``∅``), ``D[k, n_X, n_Y] = 0``.
-    Inputs as for :func:`trajectory_gospa` (already validated arrays).
+    Inputs as for :func:`trajectory_gospa`.
     """
-    X, Y = np.asarray(X, float), np.asarray(Y, float)
+    X, Y = _check_pair(X, Y)
+    return _cost_matrices(X, Y, check_positive(c, "c"), _check_order(p))
+
+
+def _check_order(p) -> float:
+    if isinstance(p, bool) or not isinstance(p, (int, float, np.integer, np.floating)):
+        raise TypeError(f"p must be a real number in [1, inf), got {type(p).__name__}")
+    p = float(p)
+    if not 1 <= p < np.inf:
+        raise ValueError(f"p must lie in [1, inf) for the trajectory metric, got {p!r}")
+    return p
+
+
+def _check_pair(X, Y) -> tuple[np.ndarray, np.ndarray]:
+    """Both sets as (n, T, d) arrays with the same T and d; an empty set takes them from the other."""
+    X = _check_trajectories(X, "X")
+    Y = _check_trajectories(Y, "Y")
+    if X.shape[0] == 0 and X.shape[1:] != Y.shape[1:]:
+        X = np.zeros((0,) + Y.shape[1:])
+    if Y.shape[0] == 0 and Y.shape[1:] != X.shape[1:]:
+        Y = np.zeros((0,) + X.shape[1:])
+    if X.shape[1] != Y.shape[1]:
+        raise ValueError(f"X and Y must cover the same time steps T, got {X.shape[1]} and {Y.shape[1]}")
+    if X.shape[2] != Y.shape[2]:
+        raise ValueError(f"X and Y must have states of the same dimension d, got {X.shape[2]} and {Y.shape[2]}")
+    return X, Y
+
+
+def _cost_matrices(X: np.ndarray, Y: np.ndarray, c: float, p: float) -> np.ndarray:
     nx, ny, T = X.shape[0], Y.shape[0], X.shape[1]
     half = c**p / 2
     ex = ~np.isnan(X[..., 0]).T if nx else np.zeros((T, 0), bool)  # (T, nx)
@@ -211,27 +294,13 @@ def trajectory_gospa(X, Y, *, c: float, p: float = 1.0, gamma: float | None = No
     >>> round(r.value ** 2, 9), round(r.switches, 9), round(r.n_switches, 9)
     (18.0, 18.0, 2.0)
     """
-    X = _check_trajectories(X, "X")
-    Y = _check_trajectories(Y, "Y")
+    X, Y = _check_pair(X, Y)
     c = check_positive(c, "c")
-    if isinstance(p, bool) or not isinstance(p, (int, float, np.integer, np.floating)):
-        raise TypeError(f"p must be a real number in [1, inf), got {type(p).__name__}")
-    p = float(p)
-    if not 1 <= p < np.inf:
-        raise ValueError(f"p must lie in [1, inf) for the trajectory metric, got {p!r}")
+    p = _check_order(p)
     gamma = c if gamma is None else check_positive(gamma, "gamma")
     if not isinstance(integral, (bool, np.bool_)):
         raise TypeError(f"integral must be a bool, got {type(integral).__name__}")
-    # An empty set takes T and d from the other one.
-    if X.shape[0] == 0 and X.shape[1:] != Y.shape[1:]:
-        X = np.zeros((0,) + Y.shape[1:])
-    if Y.shape[0] == 0 and Y.shape[1:] != X.shape[1:]:
-        Y = np.zeros((0,) + X.shape[1:])
-    if X.shape[1] != Y.shape[1]:
-        raise ValueError(f"X and Y must cover the same time steps T, got {X.shape[1]} and {Y.shape[1]}")
-    if X.shape[2] != Y.shape[2]:
-        raise ValueError(f"X and Y must have states of the same dimension d, got {X.shape[2]} and {Y.shape[2]}")
-    D = trajectory_cost_matrices(X, Y, c, p)
+    D = _cost_matrices(X, Y, c, p)
     if X.shape[1] == 0:
         return TrajectoryGospaResult(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, D, True)
     ex, ey = _exists(X), _exists(Y)

@@ -9,7 +9,8 @@ the pairwise factor ``ψ_ij(a_i, b_j) = 0`` if exactly one of ``a_i = j``, ``b_j
 two sides must agree; this is what forbids one return to two tracks), ``1`` otherwise. The
 track factors are the JPDA weights ``w_i(a_i)`` of :func:`~hypotrack.association.marginals.jpda_marginals`
 (``w_i(0)`` missed, ``w_i(j)`` return ``j``, zero outside the gate); the return factors are ``1``
-(the clutter density is already divided out of ``w_i(j)``). The joint is then exactly the JPDA
+(the clutter density is already divided out of ``w_i(j)``; a return weight ``u_j`` for "unassigned",
+as in the PMB filter, is the same as dividing it out, see ``log_unassigned``). The joint is then exactly the JPDA
 event distribution, ``p(a) ∝ Π_i w_i(a_i)`` over feasible events.
 
 The SPA messages on this graph collapse to one number per gated pair (Williams & Lau 2014, the
@@ -85,7 +86,8 @@ class LbpMarginals(NamedTuple):
     change: float
 
 
-def lbp_marginals(log_weights, *, tol: float = DEFAULT_TOL, max_iter: int = DEFAULT_MAX_ITER) -> LbpMarginals:
+def lbp_marginals(log_weights, *, log_unassigned=None, tol: float = DEFAULT_TOL,
+                  max_iter: int = DEFAULT_MAX_ITER) -> LbpMarginals:
     """Approximate marginal association probabilities by loopy belief propagation.
 
     Parameters
@@ -97,6 +99,12 @@ def lbp_marginals(log_weights, *, tol: float = DEFAULT_TOL, max_iter: int = DEFA
         being missed (finite: ``P_D P_G < 1``, which the convergence proof needs), column ``1 + j``
         the log weight of track ``i`` having produced return ``j``, ``-inf`` outside the gate.
         A constant added to a row changes nothing.
+    log_unassigned : (m,) array_like, optional
+        Log weight of return ``j`` being associated with no track (clutter or a new object), as in
+        Williams & Lau's and the PMB filter's formulation; default ``0`` for every return (the JPDA
+        convention, where the clutter density is already divided into the track weights). It is
+        the same as subtracting ``log_unassigned[j]`` from column ``1 + j``, which is how it is
+        applied. Finite.
     tol : float, optional
         Stop when no log message ``log ν_{j→i}`` changes by more than ``tol`` in a pass (> 0).
     max_iter : int, optional
@@ -111,8 +119,8 @@ def lbp_marginals(log_weights, *, tol: float = DEFAULT_TOL, max_iter: int = DEFA
     Raises
     ------
     ValueError
-        On a wrong shape, NaN or ``+inf`` weights, a ``-inf`` (zero) missed weight, ``tol <= 0``
-        or ``max_iter < 1``.
+        On a wrong shape, NaN or ``+inf`` weights, a ``-inf`` (zero) missed weight, a
+        ``log_unassigned`` of the wrong length or not finite, ``tol <= 0`` or ``max_iter < 1``.
 
     Notes
     -----
@@ -151,6 +159,14 @@ def lbp_marginals(log_weights, *, tol: float = DEFAULT_TOL, max_iter: int = DEFA
     tol = check_positive(tol, "tol")
     max_iter = check_int(max_iter, "max_iter", minimum=1)
     n, m1 = lw.shape
+    if log_unassigned is not None:
+        lu = np.asarray(log_unassigned, dtype=float)
+        if lu.shape != (m1 - 1,):
+            raise ValueError(f"log_unassigned must have shape (m,) = ({m1 - 1},), got {lu.shape}")
+        if not np.isfinite(lu).all():
+            raise ValueError("log_unassigned must be finite (an unassigned weight in (0, inf))")
+        lw = lw.copy()
+        lw[:, 1:] -= lu  # -inf (gated out) stays -inf
     if n == 0:
         return LbpMarginals(np.zeros((0, m1)), 0, 0.0)
     t_idx, j_idx, graph = _gated_pairs(lw)

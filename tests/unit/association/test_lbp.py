@@ -253,3 +253,36 @@ def test_result_unpacks():
     beta, iterations, change = lbp_marginals(np.zeros((2, 3)))
     assert isinstance(lbp_marginals(np.zeros((2, 3))), LbpMarginals)
     assert beta.shape == (2, 3) and iterations >= 1 and change >= 0
+
+
+def test_unassigned_weights_equal_shifted_track_weights_and_enumeration():
+    """A return left unassigned with weight u_j: events weigh Π_i w_i(a_i) Π_{j unassigned} u_j."""
+    rng = np.random.default_rng(13)
+    for _ in range(30):
+        n, m = int(rng.integers(1, 4)), int(rng.integers(1, 4))
+        lw = rng.normal(size=(n, m + 1))
+        lw[:, 1:][rng.random((n, m)) < 0.3] = -np.inf
+        lu = rng.normal(size=m)
+        r = lbp_marginals(lw, log_unassigned=lu)
+        shifted = lw.copy()
+        shifted[:, 1:] -= lu
+        np.testing.assert_array_equal(r.beta, lbp_marginals(shifted).beta)
+        # Against enumeration with the unassigned weights written out.
+        options = [[c for c in range(m + 1) if np.isfinite(lw[i, c])] for i in range(n)]
+        beta, total = np.zeros((n, m + 1)), 0.0
+        for a in itertools.product(*options):
+            used = [c for c in a if c > 0]
+            if len(used) != len(set(used)):
+                continue
+            w = np.exp(sum(lw[i, c] for i, c in enumerate(a)) + sum(lu[j] for j in range(m) if j + 1 not in used))
+            total += w
+            for i, c in enumerate(a):
+                beta[i, c] += w
+        exact = beta / total
+        np.testing.assert_allclose(jpda_marginals(shifted), exact, atol=1e-12)
+        if n == 1 or m == 1:  # tree-shaped: LBP exact
+            np.testing.assert_allclose(r.beta, exact, atol=1e-12)
+    with pytest.raises(ValueError, match=r"log_unassigned must have shape \(m,\) = \(2,\)"):
+        lbp_marginals(np.zeros((1, 3)), log_unassigned=[0.0])
+    with pytest.raises(ValueError, match="log_unassigned must be finite"):
+        lbp_marginals(np.zeros((1, 3)), log_unassigned=[0.0, -np.inf])

@@ -87,3 +87,17 @@ def test_no_valid_child_raises_and_leaves_the_filter_as_it_was():
         _filter(validity=3)
     with pytest.raises(ValueError, match="one bool per track"):
         _filter(lambda m: np.ones(len(m) + 1, bool)).step(_scan())
+
+
+def test_the_factored_engine_applies_the_same_hook():
+    from hypotrack.hypotheses.factored import FactoredFilter
+
+    Z = _scan()
+    checked, plain = _filter(plausible_orbits), _filter()
+    fac, fac_plain = FactoredFilter.from_filter(_filter(plausible_orbits)), FactoredFilter.from_filter(_filter())
+    for f in (checked, plain, fac, fac_plain):
+        f.step(Z)
+    assert checked.posterior().expected_number == pytest.approx(1.0)  # no newborn survives the test
+    assert fac.posterior().expected_number == pytest.approx(1.0)
+    assert fac_plain.posterior().expected_number == pytest.approx(plain.posterior().expected_number)
+    assert plain.posterior().expected_number > 1.01  # the control holds newborns (r_B (1 - p_D) / (1 - r_B p_D))

@@ -316,10 +316,12 @@ class HypothesisFilter:
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))
         )
+        track_survival = getattr(self.population, "track_survival", None)
         return ScanContext(
             Z=Z, loglik=loglik, allowed=allowed, p_detect=p_detect,
             birth_loglik=birth_loglik, p_detect_birth=self.p_D,
             clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area),
+            p_survive=None if track_survival is None else track_survival(pred),
         )
 
     def predict(self, store: TrackStore, interval: float) -> TrackStore:

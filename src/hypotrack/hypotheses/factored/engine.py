@@ -414,7 +414,8 @@ class FactoredFilter:
         loglik, allowed, p_detect = self._engine.track_scores(pred, Z)
         if not self._options.gate_out_of_view:
             allowed = allowed & (p_detect > 0)[None, :]
-        return Scores(loglik, allowed, p_detect)
+        track_survival = getattr(self._engine.population, "track_survival", None)
+        return Scores(loglik, allowed, p_detect, None if track_survival is None else track_survival(pred))
 
     def _set_birth_terms(self, terms):
         pop = self._engine.population.with_birth_terms(terms, r_birth=self._options.adaptive_birth.r_birth)

@@ -154,6 +154,22 @@ class AdmissibleRegionBirth:
         V = np.sqrt(max(V2, 0.0))
         return V / (rho * max(np.cos(el), 1e-6)), V / rho
 
+    def region(self, z, theta=None):
+        """The gridded admissible region of return ``z`` ``(4,)`` at GMST ``theta`` (default the sensor's):
+        ``(az_rates (N,), el_rates (N,), admissible (N, N) bool)``, the cell centres (rad/s) and which cells
+        are admissible (module docstring, steps 2–3; ``N = n_blocks · cells``, first axis the azimuth rate)."""
+        z = check_finite_array(np.asarray(z, dtype=float), "z", shape=(4,))
+        theta = self.sensor.theta if theta is None else float(theta)
+        a_max, e_max = self.rate_box(z, theta)
+        N = self.n_blocks * self.cells
+        a_edges, e_edges = np.linspace(-a_max, a_max, N + 1), np.linspace(-e_max, e_max, N + 1)
+        A, E = np.meshgrid(a_edges, e_edges, indexing="ij")
+        corner = self._plausible(z, A, E, theta)
+        ac, ec = (a_edges[:-1] + a_edges[1:]) / 2, (e_edges[:-1] + e_edges[1:]) / 2
+        Ac, Ec = np.meshgrid(ac, ec, indexing="ij")
+        ok = self._plausible(z, Ac, Ec, theta) & corner[:-1, :-1] & corner[1:, :-1] & corner[:-1, 1:] & corner[1:, 1:]
+        return ac, ec, ok
+
     def mixture(self, z, theta=None) -> StateMixture:
         """The birth mixture of return ``z`` ``(4,)`` at GMST ``theta`` (default the sensor's current one).
 
@@ -162,18 +178,13 @@ class AdmissibleRegionBirth:
         z = check_finite_array(np.asarray(z, dtype=float), "z", shape=(4,))
         theta = self.sensor.theta if theta is None else float(theta)
         site = self.sensor.radar.site
-        a_max, e_max = self.rate_box(z, theta)
-        N = self.n_blocks * self.cells
-        a_edges, e_edges = np.linspace(-a_max, a_max, N + 1), np.linspace(-e_max, e_max, N + 1)
-        da, de = a_edges[1] - a_edges[0], e_edges[1] - e_edges[0]
-        A, E = np.meshgrid(a_edges, e_edges, indexing="ij")
-        corner = self._plausible(z, A, E, theta)
-        ac, ec = (a_edges[:-1] + a_edges[1:]) / 2, (e_edges[:-1] + e_edges[1:]) / 2
-        Ac, Ec = np.meshgrid(ac, ec, indexing="ij")
-        ok = self._plausible(z, Ac, Ec, theta) & corner[:-1, :-1] & corner[1:, :-1] & corner[:-1, 1:] & corner[1:, 1:]
+        ac, ec, ok = self.region(z, theta)
         if not ok.any():
             raise ValueError(f"no admissible angle rates for return z = {z.tolist()} (no bound orbit with perigee "
                              f">= {self.min_perigee_km} km): check the range-rate and the units (km, rad, km/s)")
+        a_max, e_max = self.rate_box(z, theta)
+        da, de = 2 * a_max / len(ac), 2 * e_max / len(ec)
+        Ac, Ec = np.meshgrid(ac, ec, indexing="ij")
         cell_cov = np.diag([da**2, de**2]) / 12.0
         counts, rate_means, rate_covs = [], [], []
         c = self.cells

@@ -96,6 +96,8 @@ def test_weights_are_proportional_to_area_and_bad_returns_are_refused(returns):
     assert split.area == pytest.approx(one.area)  # the same 40 x 40 grid of cells
     # a component's weight is its share of the admissible area: the weighted rate mean is the region's centroid
     np.testing.assert_allclose(split.weights @ split.rate_means, one.rate_means[0], rtol=1e-9, atol=1e-12)
+    ac, ec, ok = b.region(z, theta)
+    assert ok.shape == (40, 40) and ok.sum() * (ac[1] - ac[0]) * (ec[1] - ec[0]) == pytest.approx(one.area)
     with pytest.raises(ValueError, match="no admissible angle rates"):
         b.mixture(np.r_[z[:3], 15.0], theta)  # range-rate above the escape speed
     with pytest.raises(TypeError, match="RadarTrackerSensor"):

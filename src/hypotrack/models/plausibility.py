@@ -8,7 +8,7 @@ tracked over more than one revolution has
   about 100 km (the Kármán line) the atmosphere brings an object down within the revolution.
 
 With ``a = −μ / (2ε)`` and ``e = sqrt(1 + 2 ε h²/μ²)`` (``h = |r × v|``), the osculating two-body
-elements (Vallado, *Fundamentals of Astrodynamics and Applications*, 4th ed., Algorithm 9, "RV2COE").
+elements (Vallado, *Fundamentals of Astrodynamics and Applications*, 4th ed., algorithm RV2COE).
 The same test marks the states SGP4 returns without an error code but no real object can be in
 (:mod:`hypotrack.scenarios.catalogue.propagation`), builds the admissible region of a radar return
 (:mod:`hypotrack.scenarios.catalogue.admissible`) and, through the engine's ``validity`` hook

@@ -101,3 +101,9 @@ def test_the_factored_engine_applies_the_same_hook():
     assert fac.posterior().expected_number == pytest.approx(1.0)
     assert fac_plain.posterior().expected_number == pytest.approx(plain.posterior().expected_number)
     assert plain.posterior().expected_number > 1.01  # the control holds newborns (r_B (1 - p_D) / (1 - r_B p_D))
+
+
+def test_with_options_carries_or_replaces_the_hook():
+    f = _filter(plausible_orbits)
+    assert f.with_options(merge_duplicates=False).validity is plausible_orbits
+    assert f.with_options(validity=None).validity is None

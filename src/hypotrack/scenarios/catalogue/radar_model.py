@@ -10,7 +10,7 @@ A ground radar (:class:`.GroundRadar`, :data:`.DEFAULT_RADAR`) measures, of an o
 * ``z = h(x) = (ρ, az, el, ρ̇)`` with ``ρ = |d|``, ``az = atan2(e, n)`` (from north towards east),
   ``el = asin(u / ρ)`` and ``ρ̇ = d · (v − ṡ) / ρ``
 
-(Vallado, *Fundamentals of Astrodynamics and Applications*, 4th ed., Sec. 4.4, Algorithm 27 "RAZEL":
+(Vallado, *Fundamentals of Astrodynamics and Applications*, 4th ed., Sec. 4.4, algorithm RAZEL:
 the same range-rate, written there with the Earth-fixed velocity ``R3(θ)(v − ω × r)``; the two agree
 because ``d · (ω × d) = 0``). Its Jacobian ``∂h/∂x`` (4 × 6) is analytic:
 
@@ -31,7 +31,7 @@ measurement is ``σ_ρ̇ ≈ (λ/2) / (T_d sqrt(2 SNR))`` (Blair, Richards & Lon
 of *Principles of Modern Radar*, SciTech 2010, Sec. 18.7: a frequency estimate's precision is its
 resolution ``1/T_d`` over ``sqrt(2 SNR)``); for a UHF space-surveillance array (435 MHz, λ = 0.69 m,
 the band of PAVE PAWS and of the AMISR/PFISR radar used for debris tracking, Nicolls, "Space debris
-measurements using the Advanced Modular Incoherent Scatter Radar", AMOS 2015) with a 10-ms coherent
+measurements using the Advanced Modular Incoherent Scatter Radar", AMOS conference) with a 10-ms coherent
 dwell, ``λ/(2 T_d)`` = 34.5 m/s and at the 8-dB detection threshold (SNR 6.3) σ_ρ̇ = 9.7 m/s; stronger
 returns are measured better (13 dB: 5.5 m/s), so 10 m/s is the conservative end.
 """

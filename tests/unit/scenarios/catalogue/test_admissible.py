@@ -102,3 +102,41 @@ def test_weights_are_proportional_to_area_and_bad_returns_are_refused(returns):
         b.mixture(np.r_[z[:3], 15.0], theta)  # range-rate above the escape speed
     with pytest.raises(TypeError, match="RadarTrackerSensor"):
         AdmissibleRegionBirth(DEFAULT_RADAR)
+
+
+def test_admissible_births_survive_the_engine_validity_hook_and_zero_velocity_births_do_not(returns):
+    """The pieces together: the mixture's components as the δ-GLMB's birth terms (TEME position returns of
+    the ENU radar), the engine pruning implausible hypotheses. A return of a real object gives a newborn
+    that passes the physics test; the zero-velocity birth term's newborn never does."""
+    from hypotrack.hypotheses import (
+        ExhaustiveGenerator,
+        GaussianBirthTerm,
+        GLMBWeights,
+        HypothesisFilter,
+        LabeledMultiBernoulliPopulation,
+    )
+    from hypotrack.models.orbit3d import TwoBodyOrbit3D
+    from hypotrack.scenarios.catalogue import GroundRadar
+    from hypotrack.scenarios.catalogue.tracking import TrackerSensor
+
+    x_true, theta, z = returns[3]
+    enu = TrackerSensor(GroundRadar(measurement="enu", sigma_enu_km=0.5)).at(theta)
+    H, R = enu.measurement.H, enu.measurement.R
+    mix = AdmissibleRegionBirth(RadarTrackerSensor(DEFAULT_RADAR), n_blocks=2).mixture(z, theta)
+    ar_terms = [GaussianBirthTerm(m, c, H, R) for m, c in zip(mix.means, mix.covs)]
+    zero_v = GaussianBirthTerm(np.r_[x_true[:3], 0.0, 0.0, 0.0], np.diag([0.25] * 3 + [64.0] * 3), H, R)
+    Z = x_true[:3][None] + np.array([[0.2, -0.3, 0.1]])  # the return, as a TEME position
+
+    def newborn_existence(terms, r_birth):
+        pop = LabeledMultiBernoulliPopulation(terms, r_birth=r_birth, p_survive=1.0)
+        f = HypothesisFilter(TwoBodyOrbit3D(), enu, GLMBWeights(), ExhaustiveGenerator(), population=pop,
+                             dt=10.0, max_hypotheses=1000, seed=0, validity=plausible_orbits)
+        f.step(Z, dt=0.0)
+        w = np.exp(f.log_weights)
+        assert np.all(plausible_orbits(f.store.means))
+        return sum(wi for wi, t in zip(w, f.track_lists) if len(t)), f.last_stats["n_invalid_pruned"]
+
+    r_ar, _ = newborn_existence(ar_terms, 0.1 * mix.weights)
+    r_zero, pruned = newborn_existence([zero_v], 0.1)
+    assert r_ar > 0.5 and pruned >= 2  # detected newborn kept; the zero-velocity newborns (detected, unseen) pruned
+    assert r_zero == 0.0

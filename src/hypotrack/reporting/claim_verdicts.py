@@ -42,6 +42,16 @@ default "as stated"); a *positive* row is *reproduced* or *qualitative*, a *nega
 7. otherwise the best-supported of the remaining statuses: ``inconclusive`` before ``uninformative``.
 
 Inconclusive and uninformative rows never contradict a positive one: they decide nothing.
+
+One reading per table (:func:`table_readings`)
+----------------------------------------------
+Claims that are entries of one published table (the claims file's ``table``, e.g. document 003's Table 6.1)
+were produced by one procedure, so they are read under one reading of it: a table *reproduces under* a reading
+when every entry with rows under it is positive there (its other entries decided as stated). Each entry is
+then judged on the rows of that reading (and the rows that need none). When no reading reproduces the
+entries together, an entry that is positive under one reading but not under the others is ``inconclusive``
+("no one reading reproduces the table's entries together"): one entry reproducing under one scoring window
+and another under a different, mutually exclusive one is no reproduction of the table.
 """
 
 from __future__ import annotations
@@ -56,7 +66,7 @@ from .claims import _TOL_TEXT
 from .verdict import monte_carlo_verdict, parse_control
 
 __all__ = ["CLAIMS_FILE", "CLAIM_VERDICTS", "CLAIM_VERDICT_MEANING", "DOCUMENTS", "TOLERANCE_SOURCES",
-           "claim_verdict", "claim_verdicts", "evidence_table", "headline", "load_claims_file",
+           "claim_verdict", "claim_verdicts", "evidence_table", "headline", "load_claims_file", "table_readings",
            "monte_carlo_mismatches", "placement_problems", "row_key", "row_tolerance"]
 
 CLAIMS_FILE = Path(__file__).with_name("document_claims.yaml")
@@ -281,6 +291,45 @@ def claim_verdict(evidence: pd.DataFrame) -> tuple[str, str]:
     raise AssertionError("unreachable: decided rows carry a verdict status")
 
 
+def _positive_under(ev: pd.DataFrame, reading: str) -> bool | None:
+    """Whether a claim is positive under ``reading`` (its rows of that reading and those needing none);
+    ``None`` when it has no decided row under that reading."""
+    rows = ev[ev["reading"].isin((reading, "as stated"))]
+    decided = rows[(rows["role"] == "independent") & rows["status"].isin(VERDICT_ROW_STATUSES)
+                   & (rows["reading"] == reading)]
+    if decided.empty:
+        return None
+    return claim_verdict(rows)[0] in ("reproduced", "qualitative")
+
+
+def table_readings(spec: dict, table: pd.DataFrame) -> dict:
+    """Per table (claims sharing ``table`` in the claims file): the reading under which every entry with
+    rows under it is positive, or ``None`` when no reading reproduces the entries together."""
+    out = {}
+    groups = {}
+    for c in spec["claims"]:
+        if c.get("table"):
+            groups.setdefault(c["table"], []).append(c["id"])
+    for name, ids in groups.items():
+        ev = table[table["claim"].isin(ids)]
+        readings = [r for r in dict.fromkeys(ev["reading"]) if r != "as stated"]
+        out[name] = next((r for r in readings
+                          if all(_positive_under(ev[ev["claim"] == i], r) is not False for i in ids)), None)
+    return out
+
+
+def _table_verdict(ev: pd.DataFrame, reading: str | None, table_name: str) -> tuple[str, str]:
+    """A table entry's verdict under the table's one reading (module docstring)."""
+    if reading is not None:
+        verdict, reason = claim_verdict(ev[ev["reading"].isin((reading, "as stated"))])
+        return verdict, f"{reason} (the table's reading: {reading})"
+    verdict, reason = claim_verdict(ev)
+    if verdict in ("reproduced", "qualitative", "reproduced in part") and len(set(ev["reading"]) - {"as stated"}) > 1:
+        return "inconclusive", (f"no one reading reproduces the entries of {table_name} together; this entry: "
+                                f"{reason}")
+    return verdict, reason
+
+
 def claim_verdicts(ledger: pd.DataFrame, spec: dict | None = None, timing: pd.DataFrame | None = None,
                    factors: dict | None = None) -> pd.DataFrame:
     """One row per claim of the claims file: id, document, where, words, verdict, reason, rows (evidence rows
@@ -288,10 +337,14 @@ def claim_verdicts(ledger: pd.DataFrame, spec: dict | None = None, timing: pd.Da
     note."""
     spec = spec or load_claims_file()
     table = evidence_table(ledger, spec, timing, factors)
+    readings = table_readings(spec, table)
     out = []
     for c in spec["claims"]:
         ev = table[table["claim"] == c["id"]]
-        verdict, reason = claim_verdict(ev)
+        if c.get("table") and not ev.empty:
+            verdict, reason = _table_verdict(ev, readings[c["table"]], c["table"])
+        else:
+            verdict, reason = claim_verdict(ev)
         independent = int(((ev["role"] == "independent") & ev["status"].isin(VERDICT_ROW_STATUSES)).sum())
         out.append((c["id"], c["document"], c["where"], c["words"], verdict, reason, len(ev), independent,
                     c["tolerance"]["source"], c["tolerance"].get("reason", ""), c.get("note", "")))

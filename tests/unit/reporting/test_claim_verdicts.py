@@ -225,3 +225,27 @@ def test_the_papers_claim_counts_are_generated_macros(record):
 
     assert not set(macros) & set(claim_macros(pd.concat([ledger, timing])))
     assert r"\input{generated/claims_summary.tex}" in (ROOT / "paper" / "ms.tex").read_text()
+
+
+def test_a_table_reproduces_only_under_one_reading_of_all_its_entries():
+    """Two entries of one table, each reproduced under a different scoring window and inconclusive under the
+    other: no one reading reproduces the table, so neither entry is reproduced; with one common reading
+    that reproduces both, both are reproduced (and judged on that reading's rows only)."""
+    def verdicts(statuses):
+        rows = [_row(f"{e}_{r}", s) for (e, r), s in statuses.items()]
+        spec = _spec(*[(e, [{"row": f"x/{e}_{r}", "reading": r} for (e2, r) in statuses if e2 == e])
+                       for e in ("mht", "ecmht")])
+        for c in spec["claims"]:
+            c["table"] = "T"
+        v = claim_verdicts(pd.DataFrame(rows, columns=CLAIM_COLUMNS), spec).set_index("id")["verdict"]
+        return v["mht"], v["ecmht"]
+
+    crossed = {("mht", "all"): "inconclusive", ("mht", "late"): "reproduced",
+               ("ecmht", "all"): "reproduced", ("ecmht", "late"): "inconclusive"}
+    assert verdicts(crossed) == ("inconclusive", "inconclusive")
+    common = {("mht", "all"): "inconclusive", ("mht", "late"): "reproduced",
+              ("ecmht", "all"): "reproduced", ("ecmht", "late"): "reproduced"}
+    assert verdicts(common) == ("reproduced", "reproduced")
+    failing = {("mht", "all"): "not reproduced", ("mht", "late"): "reproduced",
+               ("ecmht", "all"): "reproduced", ("ecmht", "late"): "reproduced"}
+    assert verdicts(failing) == ("reproduced", "reproduced")  # the late window reproduces the table

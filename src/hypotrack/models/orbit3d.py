@@ -228,13 +228,13 @@ class J2Orbit3D(TwoBodyOrbit3D):
     j2 : float
         Second zonal harmonic ≥ 0 (0 gives two-body motion, by RK4); default :data:`J2_WGS72`.
     radius : float
-        Equatorial radius R (km) > 0 of the J2 term; default :data:`EARTH_RADIUS_WGS72`. :meth:`propagate`
-        refuses (``ValueError``) a state whose position radius is below the polar radius ``R (1 − f)``
-        (:data:`FLATTENING_WGS72`): it lies inside the Earth and has no orbit. :meth:`transition`, the EKF
-        prediction the trackers apply to their own hypotheses every scan, refuses only a result that is not
-        finite (a state at or through the Earth's centre, where the acceleration is singular): an unresolved
-        newborn hypothesis may fall below the surface before the data prune it, and must not stop the run
-        (a tracker prunes such hypotheses with a validity test, :mod:`hypotrack.models.plausibility`).
+        Equatorial radius R (km) > 0 of the J2 term; default :data:`EARTH_RADIUS_WGS72`. A state that
+        propagates to a non-finite one (at or through the Earth's centre, where the acceleration is
+        singular) is refused (``ValueError``) instead of returning NaN. A state below the surface is
+        propagated as the equations say: the trackers predict their own hypotheses with this model every
+        scan, and an unresolved newborn hypothesis may fall below the surface before the data prune it; a
+        tracker removes such hypotheses with a validity test (:mod:`hypotrack.models.plausibility`), the
+        model does not stop the run.
     max_step : float
         Longest RK4 step (s) > 0; default 30.
     """
@@ -249,20 +249,6 @@ class J2Orbit3D(TwoBodyOrbit3D):
         object.__setattr__(self, "j2", check_nonnegative(self.j2, "j2"))
         object.__setattr__(self, "radius", check_positive(self.radius, "radius"))
         object.__setattr__(self, "max_step", check_positive(self.max_step, "max_step"))
-
-    def _above_surface(self, X):
-        """``X`` if every state's position lies outside the Earth (radius at least the polar radius
-        ``radius · (1 − f)``); a state inside it — the centre gives NaN — has no orbit to propagate."""
-        if len(X):
-            r = np.sqrt(np.einsum("ij,ij->i", X[:, :3], X[:, :3]))
-            low = np.flatnonzero(r < self.radius * (1.0 - FLATTENING_WGS72))
-            if len(low):
-                i = int(low[0])
-                raise ValueError(f"x: state {i} has position radius {r[i]:.6g} km, inside the Earth: J2Orbit3D "
-                                 f"propagates states whose radius is at least the polar radius "
-                                 f"{self.radius * (1.0 - FLATTENING_WGS72):.6g} km (radius · (1 − f)); "
-                                 "positions are TEME in km")
-        return X
 
     def _integrate(self, X, dt):
         return _rk4_j2(X, dt, self.mu, 1.5 * self.j2 * self.mu * self.radius**2, self.max_step)
@@ -293,17 +279,19 @@ class J2Orbit3D(TwoBodyOrbit3D):
     def propagate(self, x, dt) -> np.ndarray:
         """Propagate states ``(n, 6)`` (or one ``(6,)``) by ``dt`` seconds (any sign), RK4 with J2."""
         single = np.ndim(x) == 1
-        X = self._above_surface(_states(x, ndim=self.ndim))
+        X = _states(x, ndim=self.ndim)
         dt = _check_dt(dt)
-        out = self._integrate(X, np.full(len(X), dt))
+        with np.errstate(divide="ignore", invalid="ignore"):  # the centre is refused below, not warned about
+            out = self._finite(X, self._integrate(X, np.full(len(X), dt)))
         return out[0] if single else out
 
     def propagate_each(self, x, dt) -> np.ndarray:
         """States ``(n, 6)`` propagated by their own intervals ``dt`` ``(n,)`` (s) in one batch (see the
         class docstring)."""
-        X = self._above_surface(_states(x, ndim=self.ndim))
+        X = _states(x, ndim=self.ndim)
         dt = check_finite_array(np.asarray(dt, dtype=float), "dt", shape=(len(X),))
-        return self._integrate(X, dt)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return self._finite(X, self._integrate(X, dt))
 
     def transition(self, x, dt):
         """Propagated states ``(n, 6)`` and their state-transition matrices ``(n, 6, 6)`` (class

@@ -1,0 +1,162 @@
+"""The fast path: undisturbed singletons stepped in one batch (``fast_path``; package docstring).
+
+At catalogue scale nearly every component a scan touches is one singleton of the lane (one object,
+one hypothesis, one track) with one return in its gate that no other group, singleton or birth term
+gates. The engine's step of such a component (:meth:`~..filter.HypothesisFilter.advance`) makes the
+children "detected with the return" and the alternatives "missed, the return clutter" (and, with
+Reid's births seeded at the returns, "missed, the return a new object"), caps them at ``H∞`` and
+the factored filter then drops the hypotheses below ``min_weight``. Their log-weights relative to
+each other are closed forms in the return's log-likelihood ``ℓ`` and the track's ``p_D``:
+
+=======================  ==================================  =========================================
+weight model             detected                            alternatives (each ``+ log(1 − p_D)``)
+=======================  ==================================  =========================================
+δ-GLMB (``p_S = 1``)     ``log p_D + ℓ − log κ``             missed: ``0``
+Reid (HOMHT)             ``log p_D + ℓ``                     clutter ``log λ_C``; seeded birth ``log λ_B``
+H-FISST / R-FISST        ``log p_D + ℓ`` (count term 0)      clutter ``−log V``
+FISST, Poisson clutter   ``log p_D + ℓ``                     clutter ``log(λV) − log V``
+=======================  ==================================  =========================================
+
+(the parent's weight, the population's no-event probability — 1 for a silent population with no
+birth term in the component — and the constants common to all children cancel). When every
+alternative's normalised weight lies below ``min_weight`` (by a relative margin of ``1e-9``, so
+that rounding cannot decide), the general path keeps exactly one hypothesis: the track's Joseph
+update with the return, weight 1 — a singleton again. The fast path computes the decision for all
+candidates at once, updates the ones it takes in one batch (:func:`~...gaussian.update_unchecked`)
+and puts them back into the lane where the general path would (the plan order); a seeded birth
+child, kept by the cap and then pruned, still uses a label (:attr:`FastRule.n_new`), as there.
+Everything else — several returns, a birth term or another group in the gate, an alternative
+heavy enough to be kept — takes the general path.
+
+The rule holds for the engine itself (not a subclass that overrides its extension points), the four
+weight models above with a silent population (no population, or labeled multi-Bernoulli / binomial
+with ``p_S = 1``: the lane's condition), a cap that keeps every child (``H∞`` ≥ the number of
+children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
+two samplers with certainty only up to the chance that they never leave the alternative
+(``< min_weight^n_sweeps``). With seeded births the generator must make all three children
+(exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...gaussian import update_unchecked
+from ..filter import HypothesisFilter
+from ..generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
+from ..gibbs import GibbsGenerator
+from ..population_events import BinomialPopulation
+from ..population_lmb import LabeledMultiBernoulliPopulation
+from ..tracks import TrackStore
+from ..weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
+from ..weights_glmb import GLMBWeights
+
+__all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components"]
+
+#: relative margin of ``min_weight`` an alternative must stay under (rounding never decides)
+MARGIN = 1e-9
+
+
+@dataclass(frozen=True)
+class FastRule:
+    """The closed form of a lone track's children: detected ``log p_D + ℓ − det_offset``, each
+    alternative ``log(1 − p_D) + alt_offsets[k]``; ``n_new`` labels each such step uses (a seeded
+    birth child); alternatives below ``log_threshold`` (normalised) are dropped."""
+
+    det_offset: float
+    alt_offsets: np.ndarray
+    n_new: int
+    log_threshold: float
+
+    def takes(self, loglik, p_detect) -> np.ndarray:
+        """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected child."""
+        ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik)
+        p = np.where(ok, p_detect, 0.5)
+        det = np.log(p) + np.where(ok, loglik, 0.0) - self.det_offset
+        alt = np.log1p(-p)[:, None] + self.alt_offsets[None, :]
+        total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
+        return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
+
+
+def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
+    """The :class:`FastRule` of ``engine`` (package docstring, "The fast path"), or ``None`` where the
+    fast path cannot reproduce the general one (then every component takes the general path)."""
+    if not lane_on or min_weight <= 0 or type(engine) is not HypothesisFilter:
+        return None
+    pop, w, gen = engine.population, engine.weights, engine.generator
+    if not (pop is None or type(pop) in (LabeledMultiBernoulliPopulation, BinomialPopulation)):
+        return None
+    if type(gen) not in (ExhaustiveGenerator, MurtyGenerator, GibbsGenerator, MCMCGenerator):
+        return None
+    clutter = engine.sensor.clutter
+    rate, volume = float(clutter.rate), float(clutter.region.area)
+    kappa = rate / volume
+    n_new, tw = 0, type(w)
+    if tw is GLMBWeights:
+        if type(pop) is not LabeledMultiBernoulliPopulation:
+            return None
+        k = kappa if w.clutter_intensity is None else w.clutter_intensity
+        det, alt = float(np.log(k)), [0.0]
+    elif type(pop) is LabeledMultiBernoulliPopulation:
+        return None
+    elif tw is ReidWeights:
+        lam_c = kappa if w.clutter_intensity is None else w.clutter_intensity
+        det, alt = 0.0, [float(np.log(lam_c))]
+        if w.seeded_births:
+            alt.append(float(np.log(w.birth_intensity)))
+            n_new = 1
+            if not (type(gen) is ExhaustiveGenerator or (type(gen) is MurtyGenerator and gen.k >= 3)):
+                return None
+    elif tw is HFISSTWeights:
+        det, alt = 0.0, [-float(np.log(volume))]
+    elif tw is FISSTPoissonWeights:
+        lam_v = rate if w.clutter_rate is None else w.clutter_rate
+        det, alt = 0.0, [float(np.log(lam_v) - np.log(volume))]
+    else:
+        return None
+    if not (kappa > 0 and np.all(np.isfinite(alt))) or engine.max_hypotheses < 1 + len(alt):
+        return None
+    return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)))
+
+
+@dataclass(frozen=True, eq=False)
+class FastBatch:
+    """The components the fast path took: ``comps`` (graph components), ``keys`` (their plan
+    order: the lane node, ascending), the updated ``store`` (one track each, in key order) and
+    the labels ``n_new`` each used."""
+
+    comps: np.ndarray
+    keys: np.ndarray
+    store: TrackStore
+    n_new: int
+
+    def __len__(self) -> int:
+        return len(self.keys)
+
+
+def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R) -> FastBatch:
+    """The components of ``graph`` the fast path takes and their updated tracks.
+
+    A candidate component is one lane singleton (node ``G + j``, its track column
+    ``first_lane_col + j`` of ``pred`` and ``scores``) with one return and nothing else;
+    :meth:`FastRule.takes` decides.
+    """
+    G, L, n_comp = graph.G, graph.L, graph.n_comp
+    d = pred.ndim
+    lane_comp = graph.node_lab[G:G + L]
+    if L == 0 or len(graph.ret_lab) == 0:
+        return FastBatch(np.zeros(0, np.int64), np.zeros(0, np.int64), TrackStore(
+            np.zeros((0, d)), np.zeros((0, d, d)), np.zeros(0, np.int64)), rule.n_new)
+    n_nodes = np.bincount(graph.node_lab, minlength=n_comp)
+    n_rets = np.bincount(graph.ret_lab, minlength=n_comp)
+    ret_of = np.full(n_comp, -1, np.int64)
+    ret_of[graph.ret_lab] = np.arange(len(graph.ret_lab))
+    j = np.flatnonzero((n_nodes[lane_comp] == 1) & (n_rets[lane_comp] == 1))
+    rows = ret_of[lane_comp[j]]
+    cols = first_lane_col + j
+    take = rule.takes(scores.loglik[rows, cols], scores.p_detect[cols])
+    j, rows, cols = j[take], rows[take], cols[take]
+    x, P = update_unchecked(pred.means[cols], pred.covs[cols], np.asarray(Z)[rows], H, R)
+    return FastBatch(lane_comp[j], G + j, TrackStore(x, P, pred.labels[cols]), rule.n_new)

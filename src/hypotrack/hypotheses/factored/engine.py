@@ -46,7 +46,8 @@ class FactoredState:
 
 
 _STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
-               n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0)
+               n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0,
+               n_fast_clutter=0)
 
 
 class FactoredFilter:
@@ -345,9 +346,11 @@ class FactoredFilter:
         rule = fast_rule(E, self._lane_on, self._options.min_weight)
         if rule is None:
             return None
-        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z, E.H, E.R)
-        n = len(fast)
-        stats.update(n_fast_path=n, n_touched=stats["n_touched"] + n, n_kalman_updates=stats["n_kalman_updates"] + n)
+        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z, E.H, E.R,
+                               E.weights.seeded_births)
+        n = len(fast.store)
+        stats.update(n_fast_path=n, n_fast_clutter=fast.n_clutter, n_touched=stats["n_touched"] + len(fast),
+                     n_kalman_updates=stats["n_kalman_updates"] + n)
         return fast
 
     def _plan(self, scan, graph, Z, stats, skip=None) -> tuple:
@@ -388,10 +391,10 @@ class FactoredFilter:
                                       self._options, stats))
         new_groups = []
         opts = self._options
-        n_new_fast, counted = (fast.n_new if n_fast else 0), 0
+        counted = 0
         for plan, key, before in zip(plans, keys, fast_before):
-            if n_new_fast:
-                self._next_label += n_new_fast * (before - counted)
+            if n_fast:  # the labels the fast path's components before this plan used
+                self._next_label += int(fast.labels_before(before) - fast.labels_before(counted))
                 counted = before
             if plan[0] == "done":
                 state, parts = plan[1], plan[2]
@@ -399,7 +402,8 @@ class FactoredFilter:
                 state, parts = self._finish(plan, next(results), base, stats)
             new_groups.extend((key, s) for s in split_group(state, parts, opts.split, opts.factor_tol,
                                                            self.scan_index + 1, self.split_records, stats))
-        self._next_label += n_new_fast * (n_fast - counted)
+        if n_fast:
+            self._next_label += int(fast.labels_before(n_fast) - fast.labels_before(counted))
         return new_groups
 
     def _finish(self, plan, result, base, stats):
@@ -428,10 +432,10 @@ class FactoredFilter:
         kept = [(k, s) for k, s in ((k, prune(s, self._options.min_weight)) for k, s in new_groups) if s is not None]
         states = [s for _, s in kept]
         groups_new, lane_new = self._sort_out(states)
-        if fast is not None and len(fast):
+        if fast is not None and len(fast.store):
             # the fast path's singletons between the steps' ones, by plan key (stable: a step's own stay in order)
             step_keys = np.array([k for k, s in kept if is_singleton(s)], dtype=np.int64)
-            order = np.argsort(np.concatenate([step_keys, fast.keys]), kind="stable")
+            order = np.argsort(np.concatenate([step_keys, fast.store_keys]), kind="stable")
             lane_new = take(cat([lane_new, fast.store], self.ndim), order)
         self._lane, n_kept = self._lane.after_scan(scan.cand, graph.quiet_singletons(), tail, now, scan.view, lane_new)
         stats["n_predict_only"] += n_kept + len(scan.asleep)

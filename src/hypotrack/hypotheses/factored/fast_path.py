@@ -26,7 +26,8 @@ candidates at once, updates the ones it takes in one batch (:func:`~...gaussian.
 and puts them back into the lane where the general path would (the plan order); a seeded birth
 child, kept by the cap and then pruned, still uses a label (:attr:`FastRule.n_new`), as there.
 Everything else — several returns, a birth term or another group in the gate, an alternative
-heavy enough to be kept — takes the general path.
+heavy enough to be kept — takes the general path. Returns no group or birth term gates are each a
+component of their own whose step keeps no object (without seeded births): the fast path drops them.
 
 The rule holds for the engine itself (not a subclass that overrides its extension points), the four
 weight models above with a silent population (no population, or labeled multi-Bernoulli / binomial
@@ -123,34 +124,42 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
 
 @dataclass(frozen=True, eq=False)
 class FastBatch:
-    """The components the fast path took: ``comps`` (graph components), ``keys`` (their plan
-    order: the lane node, ascending), the updated ``store`` (one track each, in key order) and
-    the labels ``n_new`` each used."""
+    """The components the fast path took, in plan order: ``comps`` (graph components) and ``keys``
+    (their plan keys: the lone tracks' lane nodes, ascending, then the lone returns'); the lone
+    tracks' updated ``store`` (one track each, plan order) and its ``store_keys``; ``n_new``: the
+    labels each component uses (a seeded birth child), and ``n_clutter``: the lone returns dropped."""
 
     comps: np.ndarray
     keys: np.ndarray
     store: TrackStore
-    n_new: int
+    store_keys: np.ndarray
+    n_new: np.ndarray
+    n_clutter: int
 
     def __len__(self) -> int:
         return len(self.keys)
 
+    def labels_before(self, k) -> np.ndarray:
+        """Labels used by the first ``k`` components (``k`` an int or an array)."""
+        return np.concatenate([[0], np.cumsum(self.n_new)])[k]
 
-def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R) -> FastBatch:
-    """The components of ``graph`` the fast path takes and their updated tracks.
 
-    A candidate component is one lane singleton (node ``G + j``, its track column
+def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R,
+                    seeded: bool) -> FastBatch:
+    """The components of ``graph`` the fast path takes and their results.
+
+    A lone track is a component of one lane singleton (node ``G + j``, its track column
     ``first_lane_col + j`` of ``pred`` and ``scores``) with one return and nothing else;
-    :meth:`FastRule.takes` decides.
+    :meth:`FastRule.takes` decides. A lone return (a component of returns and no node: nothing gates
+    them and, without ``seeded`` births, nothing can start there) is clutter in every child of its
+    general step, which keeps no object: it is dropped. Its plan key is the graph's node count (after
+    every node's), as in :meth:`~.planner.ScanGraph.components`.
     """
     G, L, n_comp = graph.G, graph.L, graph.n_comp
-    d = pred.ndim
-    lane_comp = graph.node_lab[G:G + L]
-    if L == 0 or len(graph.ret_lab) == 0:
-        return FastBatch(np.zeros(0, np.int64), np.zeros(0, np.int64), TrackStore(
-            np.zeros((0, d)), np.zeros((0, d, d)), np.zeros(0, np.int64)), rule.n_new)
     n_nodes = np.bincount(graph.node_lab, minlength=n_comp)
     n_rets = np.bincount(graph.ret_lab, minlength=n_comp)
+    lone = np.zeros(0, np.int64) if seeded else np.flatnonzero((n_nodes == 0) & (n_rets > 0))
+    lane_comp = graph.node_lab[G:G + L]
     ret_of = np.full(n_comp, -1, np.int64)
     ret_of[graph.ret_lab] = np.arange(len(graph.ret_lab))
     j = np.flatnonzero((n_nodes[lane_comp] == 1) & (n_rets[lane_comp] == 1))
@@ -158,5 +167,12 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     cols = first_lane_col + j
     take = rule.takes(scores.loglik[rows, cols], scores.p_detect[cols])
     j, rows, cols = j[take], rows[take], cols[take]
-    x, P = update_unchecked(pred.means[cols], pred.covs[cols], np.asarray(Z)[rows], H, R)
-    return FastBatch(lane_comp[j], G + j, TrackStore(x, P, pred.labels[cols]), rule.n_new)
+    if len(j):
+        x, P = update_unchecked(pred.means[cols], pred.covs[cols], np.asarray(Z)[rows], H, R)
+    else:
+        x, P = np.zeros((0, pred.ndim)), np.zeros((0, pred.ndim, pred.ndim))
+    keys = (G + j).astype(np.int64)
+    return FastBatch(np.concatenate([lane_comp[j], lone]).astype(np.int64),
+                     np.concatenate([keys, np.full(len(lone), len(graph.node_lab), np.int64)]),
+                     TrackStore(x, P, pred.labels[cols]), keys,
+                     np.concatenate([np.full(len(j), rule.n_new), np.zeros(len(lone))]).astype(np.int64), len(lone))

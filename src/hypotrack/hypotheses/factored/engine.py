@@ -15,7 +15,7 @@ from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
 from ..state import check_finite_float, scan_interval
 from ..tracks import TrackStore
-from .fast_path import FastBatch, fast_components, fast_rule
+from .fast_path import FastBatch, birth_existence, fast_components, fast_rule
 from .lane import GroupSet, Lane, cat, is_singleton, predict_each, silent, singleton, take
 from .options import FactoredOptions
 from .planner import (ObjectIds, Scores, interaction_parts, prune, quiet_plan, scan_graph, split_group,
@@ -47,7 +47,7 @@ class FactoredState:
 
 _STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
                n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0,
-               n_fast_clutter=0)
+               n_fast_births=0, n_fast_clutter=0)
 
 
 class FactoredFilter:
@@ -346,11 +346,12 @@ class FactoredFilter:
         rule = fast_rule(E, self._lane_on, self._options.min_weight)
         if rule is None:
             return None
+        r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z, E.H, E.R,
-                               E.weights.seeded_births)
+                               E.weights.seeded_births, r_birth)
         n = len(fast.store)
-        stats.update(n_fast_path=n, n_fast_clutter=fast.n_clutter, n_touched=stats["n_touched"] + len(fast),
-                     n_kalman_updates=stats["n_kalman_updates"] + n)
+        stats.update(n_fast_path=n, n_fast_births=fast.n_births, n_fast_clutter=fast.n_clutter,
+                     n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)
         return fast
 
     def _plan(self, scan, graph, Z, stats, skip=None) -> tuple:

@@ -26,8 +26,15 @@ candidates at once, updates the ones it takes in one batch (:func:`~...gaussian.
 and puts them back into the lane where the general path would (the plan order); a seeded birth
 child, kept by the cap and then pruned, still uses a label (:attr:`FastRule.n_new`), as there.
 Everything else — several returns, a birth term or another group in the gate, an alternative
-heavy enough to be kept — takes the general path. Returns no group or birth term gates are each a
-component of their own whose step keeps no object (without seeded births): the fast path drops them.
+heavy enough to be kept — takes the general path.
+
+Two more kinds of component keep no object after the general step, and the fast path drops them:
+
+* returns no group or birth term gates (without seeded births): clutter in every child;
+* a birth term no return reaches (*lone birth term*), whose children are "not born" (``1 − r_B``)
+  and "born undetected" (``r_B (1 − p_D)``; the binomial population's ``α`` for ``r_B``): when the
+  second's normalised weight is below ``min_weight`` the first, with no object, is all that is
+  kept. The born-undetected child, kept by the cap and then pruned, used a label, as above.
 
 The rule holds for the engine itself (not a subclass that overrides its extension points), the four
 weight models above with a silent population (no population, or labeled multi-Bernoulli / binomial
@@ -70,6 +77,13 @@ class FastRule:
     alt_offsets: np.ndarray
     n_new: int
     log_threshold: float
+    p_detect_birth: float
+
+    def takes_births(self, r_birth) -> np.ndarray:
+        """Whether each lone birth term (its existence ``r_B``) keeps only its "not born" child."""
+        r = np.clip(r_birth, 1e-300, 1 - 1e-16)
+        born = np.log(r) + np.log1p(-self.p_detect_birth)
+        return (r_birth > 0) & (r_birth < 1) & (born - np.logaddexp(born, np.log1p(-r)) < self.log_threshold)
 
     def takes(self, loglik, p_detect) -> np.ndarray:
         """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected child."""
@@ -119,21 +133,33 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         return None
     if not (kappa > 0 and np.all(np.isfinite(alt))) or engine.max_hypotheses < 1 + len(alt):
         return None
-    return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)))
+    return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)), float(engine.p_D))
+
+
+def birth_existence(population) -> np.ndarray | None:
+    """``r_B`` of each birth term of ``population`` (the binomial population's ``α``), or ``None``
+    where a lone birth term's children are not the two of :meth:`FastRule.takes_births`."""
+    if type(population) is LabeledMultiBernoulliPopulation:
+        return np.asarray(population.r_birth, dtype=float)
+    if type(population) is BinomialPopulation and not population.poisson_limit:
+        return np.full(population.n_birth_regions, float(population.alpha))
+    return None
 
 
 @dataclass(frozen=True, eq=False)
 class FastBatch:
     """The components the fast path took, in plan order: ``comps`` (graph components) and ``keys``
-    (their plan keys: the lone tracks' lane nodes, ascending, then the lone returns'); the lone
-    tracks' updated ``store`` (one track each, plan order) and its ``store_keys``; ``n_new``: the
-    labels each component uses (a seeded birth child), and ``n_clutter``: the lone returns dropped."""
+    (their plan keys: the lone tracks' lane nodes, the lone birth terms' nodes, each ascending, then
+    the lone returns'); the lone tracks' updated ``store`` (one track each, plan order) and its
+    ``store_keys``; ``n_new``: the labels each component uses (a seeded birth child, a birth term's
+    born-undetected child); ``n_births`` and ``n_clutter``: the lone birth terms and returns dropped."""
 
     comps: np.ndarray
     keys: np.ndarray
     store: TrackStore
     store_keys: np.ndarray
     n_new: np.ndarray
+    n_births: int
     n_clutter: int
 
     def __len__(self) -> int:
@@ -145,7 +171,7 @@ class FastBatch:
 
 
 def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R,
-                    seeded: bool) -> FastBatch:
+                    seeded: bool, r_birth=None) -> FastBatch:
     """The components of ``graph`` the fast path takes and their results.
 
     A lone track is a component of one lane singleton (node ``G + j``, its track column
@@ -153,7 +179,9 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     :meth:`FastRule.takes` decides. A lone return (a component of returns and no node: nothing gates
     them and, without ``seeded`` births, nothing can start there) is clutter in every child of its
     general step, which keeps no object: it is dropped. Its plan key is the graph's node count (after
-    every node's), as in :meth:`~.planner.ScanGraph.components`.
+    every node's), as in :meth:`~.planner.ScanGraph.components`. A lone birth term (node
+    ``G + L + b``, alone, no return; ``r_birth``: each term's existence, ``None``: none taken) is
+    dropped when :meth:`FastRule.takes_births` says so.
     """
     G, L, n_comp = graph.G, graph.L, graph.n_comp
     n_nodes = np.bincount(graph.node_lab, minlength=n_comp)
@@ -172,7 +200,13 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     else:
         x, P = np.zeros((0, pred.ndim)), np.zeros((0, pred.ndim, pred.ndim))
     keys = (G + j).astype(np.int64)
-    return FastBatch(np.concatenate([lane_comp[j], lone]).astype(np.int64),
-                     np.concatenate([keys, np.full(len(lone), len(graph.node_lab), np.int64)]),
+    b = np.zeros(0, np.int64)
+    if r_birth is not None and graph.B:
+        birth_comp = graph.node_lab[G + L:G + L + graph.B]
+        b = np.flatnonzero((n_nodes[birth_comp] == 1) & (n_rets[birth_comp] == 0))
+        b = b[rule.takes_births(np.asarray(r_birth, dtype=float)[b])]
+    comps = np.concatenate([lane_comp[j], graph.node_lab[G + L + b], lone]).astype(np.int64)
+    return FastBatch(comps, np.concatenate([keys, G + L + b, np.full(len(lone), len(graph.node_lab))]).astype(np.int64),
                      TrackStore(x, P, pred.labels[cols]), keys,
-                     np.concatenate([np.full(len(j), rule.n_new), np.zeros(len(lone))]).astype(np.int64), len(lone))
+                     np.concatenate([np.full(len(j), rule.n_new), np.ones(len(b)), np.zeros(len(lone))]).astype(np.int64),
+                     len(b), len(lone))

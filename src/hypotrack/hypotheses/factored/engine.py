@@ -63,7 +63,7 @@ class FactoredFilter:
         How the filter factors, prunes and parallelises (:class:`~.options.FactoredOptions`: every
         option, its default and its allowed values, stated once). The keywords ``split``,
         ``births``, ``factor_tol``, ``min_weight``, ``adaptive_birth``, ``workers``, ``parallel``,
-        ``measure_transfer``, ``lazy``, ``gate_out_of_view`` override single options (``lazy``
+        ``measure_transfer``, ``lazy``, ``gate_out_of_view``, ``fast_path`` override single options (``lazy``
         is off by default; the SSA catalogue experiment's configuration turns it on).
 
     Attributes
@@ -81,7 +81,9 @@ class FactoredFilter:
         ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
         ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
-        touched group kept under the cap), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        touched group kept under the cap), ``n_fast_path``, ``n_fast_births``, ``n_fast_clutter``
+        (components the fast path took: lone tracks updated, lone birth terms and returns dropped;
+        they count in ``n_touched``, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
         pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
         ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.

@@ -107,6 +107,8 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         return None
     clutter = engine.sensor.clutter
     rate, volume = float(clutter.rate), float(clutter.region.area)
+    if not (rate > 0 and volume > 0):  # (the general path refuses a zero clutter intensity)
+        return None
     kappa = rate / volume
     n_new, tw = 0, type(w)
     if tw is GLMBWeights:
@@ -131,7 +133,7 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         det, alt = 0.0, [float(np.log(lam_v) - np.log(volume))]
     else:
         return None
-    if not (kappa > 0 and np.all(np.isfinite(alt))) or engine.max_hypotheses < 1 + len(alt):
+    if not np.all(np.isfinite(alt)) or engine.max_hypotheses < 1 + len(alt):
         return None
     return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)), float(engine.p_D))
 

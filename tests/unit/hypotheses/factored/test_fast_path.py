@@ -4,8 +4,8 @@ component, and only the components whose general step keeps the detected child a
 import numpy as np
 import pytest
 
-from hypotrack.hypotheses import (BinomialPopulation, GaussianBirthTerm, LabeledMultiBernoulliPopulation, glmb,
-                                  homht_kbest, rfisst)
+from hypotrack.hypotheses import (BinomialPopulation, GaussianBirthTerm, LabeledMultiBernoulliPopulation, fisst_kbest,
+                                  glmb, homht_kbest, rfisst)
 from hypotrack.hypotheses.factored import AdaptiveBirth, FactoredFilter, FactoredOptions
 from hypotrack.models.motion import ConstantVelocity
 from hypotrack.models.population import UniformBirthDensity
@@ -39,6 +39,8 @@ def _factored(kind, fast, min_weight=0.001, **kw):
         f = homht_kbest(MOTION, SENSOR, birth_intensity=0.5 / VIEW.area,
                         birth_density=UniformBirthDensity(VIEW, np.eye(2) * 4.0), **common)
         birth = None
+    elif kind == "fisst_kbest":
+        f = fisst_kbest(MOTION, SENSOR, population=BinomialPopulation([], alpha=0.01, p_survive=1.0), **common)
     else:
         f = rfisst(MOTION, SENSOR, n_steps=200, population=BinomialPopulation([], alpha=0.01, p_survive=1.0), **common)
     return FactoredFilter.from_filter(f, adaptive_birth=birth, min_weight=min_weight, fast_path=fast, **kw)
@@ -57,7 +59,7 @@ def _assert_same(a, b):
     assert a.same_posterior(b)  # bit for bit, lazy lane and groups as held
 
 
-@pytest.mark.parametrize("kind", ["glmb", "homht_kbest", "rfisst"])
+@pytest.mark.parametrize("kind", ["glmb", "homht_kbest", "rfisst", "fisst_kbest"])
 @pytest.mark.parametrize("lazy, min_weight", [(False, 0.001), (True, 0.001), (True, 0.002)])
 def test_fast_path_posterior_is_the_general_one(kind, lazy, min_weight):
     """121 objects in a linear-Gaussian scene (17 unknown, born from the data), clutter, misses, 12 scans:

@@ -153,3 +153,18 @@ def test_the_flag_is_off_by_default_and_a_bad_value_is_refused_naming_it():
     assert spec.options["factored"]["fast_path"] is True
     with pytest.raises(SpecError, match=r"'x\.factored\.fast_path'"):
         TrackerSpec.from_config({"kind": "glmb", "factored": {"fast_path": "on"}}, "x")
+
+
+def test_fast_path_with_a_pool_holds_the_serial_general_posterior():
+    """The fast path's components keep their random streams' places: with two workers (threads) the
+    posterior is still the serial general path's, bit for bit."""
+    scans, _ = observed_scans(TRUTH, MOTION, SENSOR, 6, seed=5)
+    general, fast = _factored("glmb", False), _factored("glmb", True, workers=2, parallel="thread")
+    try:
+        for k, Z in enumerate(scans):
+            general.step(Z, float(k + 1))
+            fast.step(Z, float(k + 1))
+            _assert_same(general, fast)
+            assert fast.last_stats["n_fast_path"] > 0
+    finally:
+        fast.close()

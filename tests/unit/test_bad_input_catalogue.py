@@ -20,6 +20,7 @@ from hypotrack.association import (
     murty_k_best,
     validation_matrix,
 )
+from hypotrack.association.lbp import lbp_marginals
 from hypotrack.association.marginals import jpda_marginals
 from hypotrack.association.mcmc import mcmc_search
 from hypotrack.hypotheses import (
@@ -36,6 +37,7 @@ from hypotrack.hypotheses import (
     rfisst,
 )
 from hypotrack.metrics import gospa, ospa, ospa_series
+from hypotrack.metrics_trajectory import trajectory_gospa
 from hypotrack.models import ConstantVelocity, OrnsteinUhlenbeck
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
 from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
@@ -149,6 +151,11 @@ BAD = [
      "S must be positive definite"),
     ("jpda_marginals NaN", lambda: jpda_marginals(np.array([[np.nan, 0.0]])), "log_weights must not contain NaN"),
     ("jpda_marginals wrong shape", lambda: jpda_marginals(np.zeros(3)), "log_weights must have shape (n, m + 1)"),
+    ("lbp_marginals NaN", lambda: lbp_marginals(np.array([[np.nan, 0.0]])), "log_weights must not contain NaN"),
+    ("lbp_marginals zero missed weight", lambda: lbp_marginals(np.array([[-np.inf, 0.0]])),
+     "log_weights[:, 0] (missed) must be finite"),
+    ("lbp_marginals tol 0", lambda: lbp_marginals(np.zeros((1, 2)), tol=0.0), "tol must be a finite number > 0"),
+    ("lbp_marginals max_iter 0", lambda: lbp_marginals(np.zeros((1, 2)), max_iter=0), "max_iter must be an integer in [1"),
     ("mcmc negative steps", lambda: mcmc_search(np.zeros((1, 2)), 1, 1, np.zeros((2, 1)), n_steps=-1, seed=0),
      "n_steps must be an integer in [0"),
     ("mcmc temperature 0", lambda: mcmc_search(np.zeros((1, 2)), 1, 1, np.zeros((2, 1)), n_steps=1, seed=0,
@@ -225,6 +232,16 @@ BAD = [
     ("ospa dimension mismatch", lambda: ospa(np.zeros((1, 2)), np.zeros((1, 3)), 1.0), "same dimension"),
     ("gospa alpha 3", lambda: gospa(np.zeros((1, 2)), np.zeros((1, 2)), 1.0, alpha=3.0), "alpha must lie in (0, 2]"),
     ("ospa_series lengths", lambda: ospa_series([np.zeros((1, 2))], [], 1.0), "same length"),
+    ("trajectory_gospa 2-D input", lambda: trajectory_gospa(np.zeros((1, 2)), np.zeros((1, 1, 2)), c=1.0),
+     "X must be an (n, T, d) array"),
+    ("trajectory_gospa partly NaN state", lambda: trajectory_gospa(np.array([[[0.0, np.nan]]]), np.zeros((1, 1, 2)), c=1.0),
+     "X[0, 0] is partly NaN"),
+    ("trajectory_gospa T mismatch", lambda: trajectory_gospa(np.zeros((1, 2, 1)), np.zeros((1, 3, 1)), c=1.0),
+     "same time steps T"),
+    ("trajectory_gospa gamma 0", lambda: trajectory_gospa(np.zeros((1, 1, 1)), np.zeros((1, 1, 1)), c=1.0, gamma=0.0),
+     "gamma must be a finite number > 0"),
+    ("trajectory_gospa p = inf", lambda: trajectory_gospa(np.zeros((1, 1, 1)), np.zeros((1, 1, 1)), c=1.0, p=np.inf),
+     "p must lie in [1, inf)"),
 ]
 
 
@@ -278,7 +295,8 @@ def _work_count_and_metrics_empty():
     assert len(tr.estimates()) == 0
     tr.step(0)
     return [tr.estimates(), [ospa(np.zeros((0, 2)), np.zeros((0, 2)), 5.0)],
-            [gospa(np.zeros((0, 2)), np.zeros((1, 2)), 5.0).value]]
+            [gospa(np.zeros((0, 2)), np.zeros((1, 2)), 5.0).value],
+            [trajectory_gospa([], np.zeros((1, 3, 2)), c=5.0).value, trajectory_gospa([], [], c=5.0).value]]
 
 
 def _work_association_empty():
@@ -287,7 +305,9 @@ def _work_association_empty():
     np.testing.assert_array_equal(ev, -np.ones((1, 3)))
     d2, logdet = g.mahalanobis2_matrix(np.zeros((0, 2)), np.zeros((1, 2)), I2[None])
     assert d2.shape == (0, 1)
-    return [ev, logdet]
+    lbp_none, lbp_no_returns = lbp_marginals(np.zeros((0, 3))).beta, lbp_marginals(np.zeros((2, 1))).beta
+    assert lbp_none.shape == (0, 3) and (lbp_no_returns == 1).all()
+    return [ev, logdet, lbp_none, lbp_no_returns]
 
 
 def _work_generators_zero_returns():

@@ -30,7 +30,7 @@ from .generators import ChildGenerator, ExhaustiveGenerator, MCMCGenerator, Murt
 from .gibbs import GibbsGenerator
 from .hypothesis import ChildSet, Hypothesis
 from .population_events import BinomialPopulation, SingleEventPopulation
-from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation
+from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation, UnconfirmedDecay
 from .posterior import HypothesisEstimate, Posterior
 from .presets import fisst_kbest, glmb, glmb_murty, hfisst, homht, homht_kbest, rfisst
 from .scan_context import ScanContext
@@ -60,6 +60,7 @@ __all__ = [
     "SingleEventPopulation",
     "BinomialPopulation",
     "LabeledMultiBernoulliPopulation",
+    "UnconfirmedDecay",
     "GaussianBirthTerm",
     "HypothesisEstimate",
     "Posterior",

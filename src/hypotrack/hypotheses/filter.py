@@ -52,6 +52,7 @@ from ..protocol import TrackEstimates
 from .scan_context import ScanContext
 from .state import FilterState, StepResult, check_finite_float, scan_interval
 from .tracks import TrackStore, update_pairs
+from .validity import valid_top_k
 from .weights import WeightModel
 
 __all__ = ["HypothesisFilter"]
@@ -120,6 +121,10 @@ class HypothesisFilter:
         Merge identical children (the same tracks, from different parents) by adding their weights
         before the cap (:mod:`.duplicates`); on by default. ``False`` keeps every copy (the engine
         before duplicate merging; a comparison only).
+    validity : callable, optional
+        ``validity(means (n, d)) -> bool (n,)``: a child holding a track whose mean fails it gets weight 0
+        before the cap (:mod:`.validity`; e.g. ``hypotrack.models.plausibility.plausible_orbits``).
+        ``None`` (default): every child is valid.
 
     Attributes
     ----------
@@ -131,7 +136,7 @@ class HypothesisFilter:
 
     def __init__(self, motion, sensor, weights: WeightModel, generator: ChildGenerator, *, population=None,
                  dt=1.0, max_hypotheses=100, cap="top", gate_probability=None, seed=None,
-                 means=None, covs=None, labels=None, merge_duplicates=True):
+                 means=None, covs=None, labels=None, merge_duplicates=True, validity=None):
         if not isinstance(weights, WeightModel):
             raise TypeError(f"weights must be a WeightModel, got {type(weights).__name__}")
         if not isinstance(generator, ChildGenerator):
@@ -158,6 +163,9 @@ class HypothesisFilter:
         # that dies give the same child) are one hypothesis: their weights are added before the cap, so
         # the cap keeps H∞ distinct hypotheses instead of copies (13-19 % of the GLMB benchmark's).
         self.merge_duplicates = bool(merge_duplicates)
+        if validity is not None and not callable(validity):
+            raise TypeError(f"validity must be callable (means -> bool per track) or None, got {type(validity).__name__}")
+        self.validity = validity
         self.gate_probability = (
             None if gate_probability is None
             else check_probability(gate_probability, "gate_probability", low_open=True, high_open=True)
@@ -171,14 +179,15 @@ class HypothesisFilter:
         self.initialise(np.zeros((0, self.H.shape[1])) if means is None else means, covs, labels)
 
     _OPTIONS = ("motion", "sensor", "weights", "generator", "population", "dt", "max_hypotheses", "cap",
-                "gate_probability", "seed", "merge_duplicates")
+                "gate_probability", "seed", "merge_duplicates", "validity")
 
     def configuration(self) -> dict:
         """The constructor's keywords that configure this filter (everything but the initial objects
         and ``seed``): ``HypothesisFilter(**f.configuration(), seed=...)`` is a filter configured as ``f``."""
         return dict(motion=self.motion, sensor=self.sensor, weights=self.weights, generator=self.generator,
                     population=self.population, dt=self.dt, max_hypotheses=self.max_hypotheses, cap=self.cap,
-                    gate_probability=self.gate_probability, merge_duplicates=self.merge_duplicates)
+                    gate_probability=self.gate_probability, merge_duplicates=self.merge_duplicates,
+                    validity=self.validity)
 
     def with_options(self, **changes) -> "HypothesisFilter":
         """A filter with this one's configuration, ``changes`` applied, and no hypotheses yet.
@@ -192,7 +201,8 @@ class HypothesisFilter:
         unknown = set(changes) - set(self._OPTIONS)
         if unknown:
             raise ValueError(f"unknown options {sorted(unknown)}; allowed: {', '.join(self._OPTIONS)}")
-        if {"motion", "sensor", "weights", "generator", "dt", "max_hypotheses", "cap", "gate_probability"} & set(changes):
+        if {"motion", "sensor", "weights", "generator", "dt", "max_hypotheses", "cap", "gate_probability",
+                "validity"} & set(changes):
             options = {**self.configuration(), "seed": copy.deepcopy(self.rng), **changes}
             return HypothesisFilter(**options)
         new = copy.copy(self)  # the models are shared, never written: only the options below change
@@ -306,10 +316,12 @@ class HypothesisFilter:
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))
         )
+        track_survival = getattr(self.population, "track_survival", None)
         return ScanContext(
             Z=Z, loglik=loglik, allowed=allowed, p_detect=p_detect,
             birth_loglik=birth_loglik, p_detect_birth=self.p_D,
             clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area),
+            p_survive=None if track_survival is None else track_survival(pred),
         )
 
     def predict(self, store: TrackStore, interval: float) -> TrackStore:
@@ -490,13 +502,22 @@ class HypothesisFilter:
                                                          ctx.n_birth_regions)
         else:
             all_keys, n_dup = np.concatenate(all_keys), 0
-        sel = top_k(all_keys, self.max_hypotheses)
+        n_invalid = 0
+        if self.validity is None:
+            sel = top_k(all_keys, self.max_hypotheses)
+        else:
+            sel, n_invalid = valid_top_k(
+                all_keys, self.max_hypotheses,
+                lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions),
+                lambda src, ret: self.pair_moments(pred, ctx, src, ret), self.validity)
+            if len(sel) == 0:
+                raise RuntimeError("no child hypothesis is valid: every child holds a track that fails validity")
         kept = children.take(sel)
         new, sources, n_updates = self._materialise(state, kept, pred, ctx)
         log_total = logsumexp(masses)
         stats = {
             "n_parents": len(parts), "n_association_children": n_gen, "n_twin_children": n_twins,
-            "n_duplicates_merged": n_dup,
+            "n_duplicates_merged": n_dup, "n_invalid_pruned": n_invalid,
             "n_kept": len(kept), "log_mass_generated": float(log_total),
             "mass_retained": float(np.exp(logsumexp(kept.log_weights) - log_total)),
             "n_kalman_updates": n_updates, "time_generate": t2 - t1, "time_total": _clock.perf_counter() - t0,
@@ -509,7 +530,6 @@ class HypothesisFilter:
         pairs = []
         new_lists = []
         B = ctx.n_birth_regions
-        seeded_src = -1 - B
         for c in range(len(kept)):
             idx = []
             for key in child_pairs(kept, c, state.tracks[kept.parent[c]], B):
@@ -518,24 +538,15 @@ class HypothesisFilter:
                     pairs.append(key)
                 idx.append(pair_index[key])
             new_lists.append(np.asarray(idx, dtype=np.int64))
-        d = pred.ndim
-        means = np.zeros((len(pairs), d))
-        covs = np.zeros((len(pairs), d, d))
         labels = np.zeros(len(pairs), dtype=np.int64)
         src = np.array([s for s, _ in pairs], dtype=np.int64)
         ret = np.array([r for _, r in pairs], dtype=np.int64)
         old = src >= 0
         n_updates = int(np.sum(old & (ret >= 0)))
-        if old.any():
-            means[old], covs[old] = update_pairs(pred, ctx.Z, self.H, self.R, src[old], ret[old])
-            labels[old] = pred.labels[src[old]]
+        means, covs = self.pair_moments(pred, ctx, src, ret)
+        labels[old] = pred.labels[src[old]]
         next_label = state.next_label
         for q in np.flatnonzero(~old):
-            z = ctx.Z[ret[q]] if ret[q] >= 0 else None
-            if src[q] == seeded_src:
-                means[q], covs[q] = self.weights.birth_density.initial_state(z, self.R)
-            else:
-                means[q], covs[q] = self.population.birth_track(int(-1 - src[q]), z, self.R)
             labels[q] = next_label
             next_label += 1
         # (source, return) of each store entry: source >= 0 a predicted track, -1 - r birth term r,
@@ -545,6 +556,25 @@ class HypothesisFilter:
                 for c in range(len(kept))]
         log_w = kept.log_weights - logsumexp(kept.log_weights)
         return FilterState(TrackStore(means, covs, labels), log_w, new_lists, keys, next_label), sources, n_updates
+
+    def pair_moments(self, pred: TrackStore, ctx: ScanContext, src, ret):
+        """Means ``(P, d)`` and covariances of next-store entries given as ``(source, return)`` pairs
+        (:func:`.child_pairs`): a predicted track updated with a return (or missed), a birth term's first
+        update (or prior, born undetected), a seeded birth at its return."""
+        src, ret = np.asarray(src, dtype=np.int64), np.asarray(ret, dtype=np.int64)
+        d = pred.ndim
+        means, covs = np.zeros((len(src), d)), np.zeros((len(src), d, d))
+        old = src >= 0
+        if old.any():
+            means[old], covs[old] = update_pairs(pred, ctx.Z, self.H, self.R, src[old], ret[old])
+        seeded_src = -1 - ctx.n_birth_regions
+        for q in np.flatnonzero(~old):
+            z = ctx.Z[ret[q]] if ret[q] >= 0 else None
+            if src[q] == seeded_src:
+                means[q], covs[q] = self.weights.birth_density.initial_state(z, self.R)
+            else:
+                means[q], covs[q] = self.population.birth_track(int(-1 - src[q]), z, self.R)
+        return means, covs
 
     # ------------------------------------------------------------------ output
     def posterior(self, n_top: int = 10):

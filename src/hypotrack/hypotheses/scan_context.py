@@ -25,6 +25,9 @@ class ScanContext:
     p_detect_birth : float, detection probability of a newly born object.
     clutter_rate : float, expected clutter returns per scan ``λV``.
     clutter_volume : float, ``V`` (clutter density ``g(z) = 1/V``).
+    p_survive : (N,) survival probability of each predicted track, or ``None`` (the population's one
+        ``p_S`` for every track): set when the population's survival depends on the track
+        (:meth:`~.population_lmb.LabeledMultiBernoulliPopulation.track_survival`).
     """
 
     Z: np.ndarray
@@ -35,6 +38,7 @@ class ScanContext:
     p_detect_birth: float
     clutter_rate: float
     clutter_volume: float
+    p_survive: np.ndarray | None = None
 
     @property
     def n_returns(self) -> int:

@@ -3,6 +3,7 @@
 from .motion import ConstantVelocity, OrnsteinUhlenbeck
 from .orbit import TwoBodyOrbit
 from .orbit3d import J2Orbit3D, TwoBodyOrbit3D
+from .plausibility import plausible_orbits
 from .population import (
     BinomialBirth,
     BinomialSurvival,
@@ -26,6 +27,7 @@ __all__ = [
     "TwoBodyOrbit",
     "TwoBodyOrbit3D",
     "J2Orbit3D",
+    "plausible_orbits",
     "LinearPositionSensor",
     "FieldOfView",
     "Box",

@@ -228,9 +228,13 @@ class J2Orbit3D(TwoBodyOrbit3D):
     j2 : float
         Second zonal harmonic ≥ 0 (0 gives two-body motion, by RK4); default :data:`J2_WGS72`.
     radius : float
-        Equatorial radius R (km) > 0 of the J2 term; default :data:`EARTH_RADIUS_WGS72`. A state whose
-        position radius is below the polar radius ``R (1 − f)`` (:data:`FLATTENING_WGS72`) lies inside the
-        Earth and is refused (``ValueError``): the Earth's centre would give NaN.
+        Equatorial radius R (km) > 0 of the J2 term; default :data:`EARTH_RADIUS_WGS72`. :meth:`propagate`
+        refuses (``ValueError``) a state whose position radius is below the polar radius ``R (1 − f)``
+        (:data:`FLATTENING_WGS72`): it lies inside the Earth and has no orbit. :meth:`transition`, the EKF
+        prediction the trackers apply to their own hypotheses every scan, refuses only a result that is not
+        finite (a state at or through the Earth's centre, where the acceleration is singular): an unresolved
+        newborn hypothesis may fall below the surface before the data prune it, and must not stop the run
+        (a tracker prunes such hypotheses with a validity test, :mod:`hypotrack.models.plausibility`).
     max_step : float
         Longest RK4 step (s) > 0; default 30.
     """
@@ -263,6 +267,18 @@ class J2Orbit3D(TwoBodyOrbit3D):
     def _integrate(self, X, dt):
         return _rk4_j2(X, dt, self.mu, 1.5 * self.j2 * self.mu * self.radius**2, self.max_step)
 
+    @staticmethod
+    def _finite(X, out):
+        """``out`` if every propagated row is finite; a row that is not came through the Earth's centre."""
+        bad = np.flatnonzero(~np.all(np.isfinite(out.reshape(len(X), -1)), axis=1)) if len(X) else []
+        if len(bad):
+            i = int(bad[0])
+            r = float(np.linalg.norm(X[i, :3].real))
+            raise ValueError(f"x: state {i} (position radius {r:.6g} km) propagates to a non-finite state: it is "
+                             "at or falls through the Earth's centre, where the two-body + J2 acceleration is "
+                             "singular")
+        return out
+
     def _transition_rows(self, X, dt):
         """Means and Φ of rows ``X`` ``(n, 6)``, intervals ``dt`` ``(n,)``: complex step through the RK4."""
         d, n = self.ndim, len(X)
@@ -292,12 +308,16 @@ class J2Orbit3D(TwoBodyOrbit3D):
     def transition(self, x, dt):
         """Propagated states ``(n, 6)`` and their state-transition matrices ``(n, 6, 6)`` (class
         docstring)."""
-        X = self._above_surface(_states(x, ndim=self.ndim))
+        X = _states(x, ndim=self.ndim)
         dt = _check_dt(dt)
-        return self._transition_rows(X, np.full(len(X), dt))
+        with np.errstate(divide="ignore", invalid="ignore"):  # the centre is refused below, not warned about
+            mean, phi = self._transition_rows(X, np.full(len(X), dt))
+        return self._finite(X, mean), self._finite(X, phi)
 
     def transition_each(self, x, dt):
         """:meth:`transition` with an interval per state, ``dt`` ``(n,)``, in one batch."""
-        X = self._above_surface(_states(x, ndim=self.ndim))
+        X = _states(x, ndim=self.ndim)
         dt = check_finite_array(np.asarray(dt, dtype=float), "dt", shape=(len(X),))
-        return self._transition_rows(X, dt)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            mean, phi = self._transition_rows(X, dt)
+        return self._finite(X, mean), self._finite(X, phi)

@@ -33,11 +33,13 @@ __all__ = ["engine_options"]
 def engine_options(problem, seed, options) -> dict:
     """The :class:`~hypotrack.hypotheses.HypothesisFilter` keywords shared by the engine's presets:
     the problem's scan interval and the family's options (``max_hypotheses``, ``gate_probability``,
-    ``cap``, ``merge_duplicates``) with ``seed``. The known objects are set afterwards
-    (:func:`hypotrack.registry.build` calls ``initialise``)."""
-    return dict(dt=problem.dt, max_hypotheses=options["max_hypotheses"], cap=options["cap"],
-                gate_probability=options["gate_probability"], merge_duplicates=options["merge_duplicates"],
-                seed=seed)
+    ``cap``, ``merge_duplicates``) with ``seed``, and the problem's ``validity`` test when it has one.
+    The known objects are set afterwards (:func:`hypotrack.registry.build` calls ``initialise``)."""
+    out = dict(dt=problem.dt, max_hypotheses=options["max_hypotheses"], cap=options["cap"],
+               gate_probability=options["gate_probability"], merge_duplicates=options["merge_duplicates"], seed=seed)
+    if problem.validity is not None:
+        out["validity"] = problem.validity
+    return out
 
 
 def _hfisst(problem, *, seed, population, max_events, **common):
@@ -89,7 +91,7 @@ def _glmb_murty(problem, *, seed, population, k, **common):
 
 def _single(association):
     def build(problem, *, seed, gate_probability, m_of_n, initial_velocity_std, max_misses, gnn_score,
-              new_target_density, min_clutter_rate):
+              new_target_density, min_clutter_rate, jpda_marginals):
         """GNN/JPDA/PDAF (lecture notes 004) with the problem's models; ``seed`` is unused (deterministic)."""
         s = problem.sensor
         clutter = max(max(s.clutter.rate, min_clutter_rate) / s.clutter.region.area, 1e-300)  # scores need β_FA > 0
@@ -98,7 +100,8 @@ def _single(association):
         initiator = None if m_of_n is None else MOfNInitiator(problem.motion, model, m=m_of_n[0], n=m_of_n[1],
                                                               initial_velocity_std=initial_velocity_std)
         return SingleHypothesisTracker(problem.motion, model, association=association, initiator=initiator,
-                                       max_misses=max_misses, gnn_score=gnn_score, in_view=problem.in_view)
+                                       max_misses=max_misses, gnn_score=gnn_score, in_view=problem.in_view,
+                                       jpda_marginals=jpda_marginals)
 
     build.__name__ = f"_{association}"
     return build

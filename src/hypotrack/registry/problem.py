@@ -88,6 +88,10 @@ class TrackingProblem:
     in_view : callable, optional
         ``in_view(x) -> (n,) bool`` for states ``x``: where the sensor sees (single-hypothesis
         trackers count misses there only).
+    validity : callable, optional
+        ``validity(means) -> (n,) bool``: the physics every hypothesis must satisfy (e.g.
+        :func:`hypotrack.models.plausibility.plausible_orbits`: bound, perigee above 100 km); the
+        engine's presets give a child holding a track that fails it weight 0 before the cap.
     """
 
     motion: object
@@ -99,6 +103,7 @@ class TrackingProblem:
     dt: float = 1.0
     births: object = None
     in_view: object = field(default=None, repr=False)
+    validity: object = field(default=None, repr=False)
 
     def __post_init__(self):
         d = np.asarray(self.sensor.measurement.H).shape[1]
@@ -124,8 +129,9 @@ class TrackingProblem:
         if self.births is not None and not isinstance(self.births, _BIRTHS):
             raise TypeError("births must be None, a SingleEventBirthDeath, a LabeledMultiBernoulliPopulation or "
                             f"MeasurementBirths, got {type(self.births).__name__}")
-        if self.in_view is not None and not callable(self.in_view):
-            raise TypeError(f"in_view must be callable or None, got {type(self.in_view).__name__}")
+        for name in ("in_view", "validity"):
+            if getattr(self, name) is not None and not callable(getattr(self, name)):
+                raise TypeError(f"{name} must be callable or None, got {type(getattr(self, name)).__name__}")
 
     @property
     def ndim(self) -> int:

@@ -1,7 +1,9 @@
 """The README's results, generated from the committed record of the default run (``paper/record/``).
 
 The README quotes no result by hand: the text between :data:`BEGIN` and :data:`END` is
-:func:`readme_block` of the record's ledger, and a test fails when it differs. The record is updated
+:func:`readme_block` of the record's ledger (counted per *claim* of the documents, not per row:
+:mod:`hypotrack.reporting.claim_verdicts` and its claims file; the full ledger is linked, not copied),
+and a test fails when it differs. The record is updated
 only by an explicit step, :mod:`hypotrack.reporting.record`, which copies a default run's ledger and
 run-time table there and then calls this module::
 
@@ -30,10 +32,13 @@ from pathlib import Path
 
 import pandas as pd
 
+from .claim_sensitivity import tolerance_sensitivity
 from .pipeline_time import runtime_sentence
-from .claims import STATUS_MEANING, STATUSES, measured_text
-from .ledger_io import read_claims
-from .renderers import claims_markdown
+from .claim_tables import claims_markdown_table, headline_text, sensitivity_markdown
+from .claim_verdicts import (CLAIM_VERDICT_MEANING, CLAIM_VERDICTS, claim_verdicts, headline, load_claims_file,
+                             monte_carlo_mismatches)
+from .claims import STATUSES
+from .ledger_io import is_timing_table, read_claims
 
 __all__ = ["BEGIN", "END", "RUNTIME_BEGIN", "RUNTIME_END", "check_readme", "readme_block", "replace_block",
            "status_counts"]
@@ -58,30 +63,63 @@ def status_counts(claims: pd.DataFrame) -> dict:
     return {s: int(counts.get(s, 0)) for s in STATUSES}
 
 
-def readme_block(claims: pd.DataFrame | None) -> str:
-    """The generated README text: counts, the ledger table with evidence, and the rows that did not reproduce."""
+LEDGER_LINK = ("The full ledger, one row per check with its evidence, tolerance and negative control, is "
+               "[`paper/record/ledger.csv`](paper/record/ledger.csv) (timing rows: "
+               "[`paper/record/ledger_timing.csv`](paper/record/ledger_timing.csv)) and the report's appendix "
+               "table (`results/paper/hypotrack_report.pdf`, Section *Reproduction ledger*).")
+FAILING_CLAIMS = ("not reproduced", "reproduced in part", "contested", "inconclusive", "uninformative",
+                  "consistency only")
+
+
+def readme_block(claims: pd.DataFrame | None, timing: pd.DataFrame | None = None, spec: dict | None = None) -> str:
+    """The generated README text: the headline per claim, the per-document claims table, the claims that are
+    not (wholly) reproduced with why, the tolerance sensitivity and a link to the full ledger.
+
+    ``claims`` is the ledger, ``timing`` its timing rows (``ledger_timing.csv``), ``spec`` the claims file
+    (:func:`~.claim_verdicts.load_claims_file`)."""
     if claims is None:
         return NO_LEDGER + "\n"
-    counts = status_counts(claims)
-    lines = [f"{len(claims)} ledger rows: " + ", ".join(f"**{n} {s}**" for s, n in counts.items()) + ".", ""]
-    lines += [f"* *{s}*: {STATUS_MEANING[s]}." for s in STATUSES]
+    spec = spec or load_claims_file()
+    verdicts = claim_verdicts(claims, spec, timing)
+    counts = headline(verdicts, claims, spec, timing)
+    rows = status_counts(claims if timing is None else pd.concat([claims, timing], ignore_index=True))
+    lines = [headline_text(counts), ""]
+    lines += [f"* *{v}*: {CLAIM_VERDICT_MEANING[v]}." for v in CLAIM_VERDICTS if v != "not run" or counts[v]]
     lines += ["",
-              "Monte Carlo rows give mean ± standard error over n runs; the verdict is an equivalence test: the "
-              "interval mean ± q·s.e. (q the Student-t quantile of n − 1 degrees of freedom at 99.73 %, 3 for "
-              "many runs; the published number's own Monte Carlo error added where its number of runs is known) "
-              "must lie wholly inside published ± tolerance to reproduce, wholly outside not to; z = "
-              "(mean − published)/s.e. is shown for reference. The evidence column says what a verdict rests on "
-              "(an *identity of the implementation* never counts as a reproduction); the control column, what "
-              "ran as a negative control and whether it fails the same check.",
-              "", claims_markdown(claims).rstrip("\n")]
-    bad = claims[claims["status"].isin(["not reproduced", "inconclusive", "uninformative"])]
-    lines += ["", "### What did not reproduce or has no power, and why", ""]
+              "A claim's verdict follows from its ledger rows by one rule (`hypotrack.reporting.claim_verdicts`): "
+              "only *independent* rows decide (not calibrations, identities of the implementation or comparisons "
+              "with the project's own closed form); a Monte Carlo row's status is the equivalence test's (the "
+              "interval mean ± q·s.e., q the Student-t quantile at 99.73 %, wholly inside published ± tolerance "
+              "to reproduce, wholly outside not to); rows under different readings of a document do not "
+              "contradict each other. The claims and their rows are listed in "
+              "`src/hypotrack/reporting/document_claims.yaml`, with the source of every tolerance.",
+              "", claims_markdown_table(verdicts).rstrip("\n")]
+    bad = verdicts[verdicts["verdict"].isin(FAILING_CLAIMS)]
+    lines += ["", "### Claims not reproduced, in part, or undecided, and why", ""]
     if bad.empty:
-        lines.append("Every row with a published value reproduced.")
+        lines.append("Every claim tested reproduced.")
     for r in bad.to_dict("records"):
-        why = f" {r['note']}" if r["note"] else ""
-        lines.append(f"* **{r['experiment']}: {r['item']}** ({r['source']}; {r['status']}): published "
-                     f"{r['published']}, measured {measured_text(r)}.{why}")
+        note = f" {r['note'][:1].upper()}{r['note'][1:]}." if r["note"] else ""
+        lines.append(f"* **{r['document']}, {r['where']}: {r['words']}** ({r['verdict']}): {r['reason']}.{note}")
+    noted = verdicts[~verdicts["verdict"].isin(FAILING_CLAIMS) & (verdicts["note"] != "")]
+    if not noted.empty:
+        lines += ["", "Caveats on claims that hold:", ""]
+        lines += [f"* **{r['document']}, {r['where']}: {r['words']}** ({r['verdict']}): {r['reason']}. "
+                  f"{r['note'][:1].upper()}{r['note'][1:]}." for r in noted.to_dict("records")]
+    mismatches = monte_carlo_mismatches(claims if timing is None else pd.concat([claims, timing]), spec)
+    if not mismatches.empty:
+        lines += ["", "Rows whose recorded status the Monte Carlo rule corrects (the claims table uses the corrected one):", ""]
+        lines += [f"* `{r['row']}`: recorded *{r['recorded']}*, the rule gives *{r['recomputed']}*"
+                  + (f": {r['why']}." if r["why"] else ".") for r in mismatches.to_dict("records")]
+    sens = tolerance_sensitivity(claims, spec, timing)
+    if not sens.empty:
+        lines += ["", "### How much the verdicts owe to tolerances chosen here", "",
+                  "Claims whose tolerance this project chose, with Monte Carlo evidence: the verdict with every "
+                  "Monte Carlo row's tolerance scaled (* marks a change).", "",
+                  sensitivity_markdown(sens).rstrip("\n")]
+    lines += ["", "### The ledger", "",
+              f"{sum(rows.values())} ledger rows: " + ", ".join(f"{n} {s}" for s, n in rows.items()) + ". "
+              + LEDGER_LINK]
     return "\n".join(lines) + "\n"
 
 
@@ -118,15 +156,15 @@ def generated_readme(text: str, ledger) -> str:
         text = replace_block(text, runtime_text(ledger), RUNTIME_BEGIN, RUNTIME_END, newline="")
     if CATALOGUE_BEGIN in text or CATALOGUE_END in text:
         text = replace_block(text, catalogue_text(ledger), CATALOGUE_BEGIN, CATALOGUE_END)
-    return replace_block(text, readme_block(_load(ledger)))
+    return replace_block(text, readme_block(*_load(ledger)))
 
 
-def _load(ledger) -> pd.DataFrame | None:
+def _load(ledger) -> tuple[pd.DataFrame | None, pd.DataFrame | None]:
     """The ledger and, when present beside it, its timing rows (``ledger_timing.csv``)."""
     if ledger is None or not Path(ledger).exists():
-        return None
+        return None, None
     timing = Path(ledger).with_name(Path(ledger).stem + "_timing.csv")
-    return read_claims([ledger, *([timing] if timing.exists() else [])])
+    return read_claims([ledger]), (read_claims([timing]) if timing.exists() and is_timing_table(timing) else None)
 
 
 def check_readme(readme_path, ledger_path) -> str | None:

@@ -28,7 +28,9 @@ def status_summary_tex(claims: pd.DataFrame) -> str:
     description list defining each status."""
     counts = claims["status"].value_counts()
     parts = [rf"\textbf{{{int(counts.get(s, 0))} {latex_escape(s)}}}" for s in STATUSES]
-    lines = [rf"Of the ledger's {len(claims)} rows, " + ", ".join(parts[:-1]) + f" and {parts[-1]}" + ".",
+    lines = [rf"Of the ledger's {len(claims)} rows, " + ", ".join(parts[:-1]) + f" and {parts[-1]}" + ". These "
+             r"count rows (checks), not claims: several rows often test one claim, and Table~\ref{tab:claims} "
+             r"counts the documents' claims, one verdict each.",
              r"\begin{description}\setlength{\itemsep}{0pt}"]
     lines += [rf"\item[{latex_escape(s)}] {latex_text(STATUS_MEANING[s])}." for s in STATUSES]
     lines.append(r"\end{description}")

@@ -14,7 +14,9 @@ Probabilities factorise over the clusters of the validation matrix (the lecture'
 {T1, T2}, {T3}): a target that shares no return with another is its own PDAF problem with the
 closed form ``β_i = L_i / (1 − P_D P_G + Σ_k L_k)`` (Bar-Shalom, Daum & Huang 2009, Eq. 29–30);
 the others go to the exact recursion of :func:`hypotrack.association.marginals.jpda_marginals`,
-which handles each cluster in turn.
+which handles each cluster in turn — or, with ``marginals="lbp"``, to the loopy belief propagation
+approximation of :func:`hypotrack.association.lbp.lbp_marginals` (Williams & Lau 2014), whose cost per
+pass is linear in the gated pairs however dense the cluster.
 
 The PDA update (Bar-Shalom, Daum & Huang 2009, Eqs. 35–40) with combined innovation
 ``ν = Σ_i β_i ν_i``:
@@ -32,6 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..association.lbp import lbp_marginals
 from ..association.marginals import jpda_marginals
 from ..gaussian import joseph_covariance_unchecked, symmetrize
 from ._sht_common import GatedTracks, ScanModel
@@ -69,7 +72,11 @@ def pdaf_probabilities(log_weights) -> np.ndarray:
     return w / w.sum(axis=1, keepdims=True)
 
 
-def jpda_probabilities(gated: GatedTracks, model: ScanModel, *, log_weights=None) -> np.ndarray:
+_MARGINALS = ("exact", "lbp")
+
+
+def jpda_probabilities(gated: GatedTracks, model: ScanModel, *, log_weights=None, marginals: str = "exact",
+                       lbp_tol: float = 1e-10, lbp_max_iter: int = 1000) -> np.ndarray:
     """JPDA marginal association probabilities ``β`` (n, m + 1) of every target, per cluster.
 
     Parameters
@@ -78,12 +85,21 @@ def jpda_probabilities(gated: GatedTracks, model: ScanModel, *, log_weights=None
     model : ScanModel
     log_weights : (n, m + 1) array_like, optional
         Precomputed :func:`jpda_log_weights`.
+    marginals : {"exact", "lbp"}, optional
+        How the targets that share returns get their marginals: ``"exact"`` (default) by the
+        exact recursion :func:`hypotrack.association.marginals.jpda_marginals`; ``"lbp"`` by loopy
+        belief propagation, :func:`hypotrack.association.lbp.lbp_marginals` (approximate on
+        clusters with cycles, exact on tree-shaped ones; needs ``P_D P_G < 1``).
+    lbp_tol, lbp_max_iter : float, int
+        ``tol`` and ``max_iter`` of :func:`~hypotrack.association.lbp.lbp_marginals` (``"lbp"`` only).
 
     Returns
     -------
     beta : (n, m + 1) ndarray
         ``beta[j, 0] = P(T_j ↔ ∅)``, ``beta[j, 1 + i] = P(T_j ↔ y_i)`` (lecture 004, Eq. (1)).
     """
+    if marginals not in _MARGINALS:
+        raise ValueError(f"marginals must be one of {_MARGINALS}, got {marginals!r}")
     lw = jpda_log_weights(gated, model) if log_weights is None else np.asarray(log_weights, dtype=float)
     valid = gated.valid
     # Targets that share no gated return with another target are single-target PDAF problems.
@@ -98,7 +114,10 @@ def jpda_probabilities(gated: GatedTracks, model: ScanModel, *, log_weights=None
         tracks = np.flatnonzero(shared_track)
         meas = np.flatnonzero(valid[:, tracks].any(axis=1))
         cols = np.concatenate([[0], 1 + meas])
-        beta[np.ix_(tracks, cols)] = jpda_marginals(lw[np.ix_(tracks, cols)])
+        sub = lw[np.ix_(tracks, cols)]
+        beta[np.ix_(tracks, cols)] = (
+            jpda_marginals(sub) if marginals == "exact" else lbp_marginals(sub, tol=lbp_tol, max_iter=lbp_max_iter).beta
+        )
     return beta
 
 

@@ -52,6 +52,11 @@ class SingleHypothesisTracker:
     model : ScanModel
         ``H``, ``R``, ``P_D``, ``P_G`` and the clutter / new-target densities.
     association : {"gnn", "jpda", "pdaf"}
+    jpda_marginals : {"exact", "lbp"}
+        For ``association="jpda"``: the exact marginals (default) or the loopy belief propagation
+        approximation of :func:`hypotrack.association.lbp.lbp_marginals` (Williams & Lau 2014),
+        whose cost per pass is linear in the gated pairs; see
+        :func:`hypotrack.trackers.jpda.jpda_probabilities`.
     initiator : MOfNInitiator or None
         Initiation logic; ``None`` tracks only the targets given to :meth:`initialise`.
     max_misses : int
@@ -85,6 +90,7 @@ class SingleHypothesisTracker:
         model: ScanModel,
         *,
         association: str = "gnn",
+        jpda_marginals: str = "exact",
         initiator: MOfNInitiator | None = None,
         max_misses: int = 3,
         gnn_score: str = "lecture",
@@ -95,6 +101,8 @@ class SingleHypothesisTracker:
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
         if association not in _ASSOCIATIONS:
             raise ValueError(f"association must be one of {_ASSOCIATIONS}, got {association!r}")
+        if jpda_marginals not in ("exact", "lbp"):
+            raise ValueError(f"jpda_marginals must be 'exact' or 'lbp', got {jpda_marginals!r}")
         if gnn_score not in ("lecture", "mahalanobis"):
             raise ValueError(f"gnn_score must be 'lecture' or 'mahalanobis', got {gnn_score!r}")
         if initiator is not None and not isinstance(initiator, MOfNInitiator):
@@ -106,6 +114,7 @@ class SingleHypothesisTracker:
         self._predict = _ScanPredictor(motion)
         self.model = model
         self.association = association
+        self.jpda_marginals = jpda_marginals
         self.initiator = initiator
         self.max_misses = check_int(max_misses, "max_misses", minimum=1)
         self.gnn_score = gnn_score
@@ -195,9 +204,10 @@ class SingleHypothesisTracker:
             unused = association < 0
         else:
             lw = jpda_log_weights(gated, self.model)
-            association = jpda_probabilities(gated, self.model, log_weights=lw) if self.association == "jpda" else (
-                pdaf_probabilities(lw)
-            )
+            if self.association == "jpda":
+                association = jpda_probabilities(gated, self.model, log_weights=lw, marginals=self.jpda_marginals)
+            else:
+                association = pdaf_probabilities(lw)
             x, P = pda_update(gated, association, self.model)
             detected = gated.valid.any(axis=0)
             unused = ~gated.valid.any(axis=1)

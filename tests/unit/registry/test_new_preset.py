@@ -38,8 +38,7 @@ def _chain(problem, *, seed, population, chain_length, **common):
                           **engine_options(problem, seed, common))
 
 
-def _nn(problem, *, seed, gate_probability, max_misses, new_target_density, min_clutter_rate, m_of_n,
-        initial_velocity_std, gnn_score):
+def _nn(problem, *, seed, gate_probability, max_misses, min_clutter_rate, **unused):
     built.append(("test_nn", problem))
     s = problem.sensor
     model = ScanModel(s.measurement.H, s.measurement.R, s.detection.p_D, gate_probability,

@@ -90,3 +90,22 @@ def test_builtin_kinds_and_families():
                        "gnn", "jpda", "pdaf")
     assert kinds("single") == ("gnn", "jpda", "pdaf")
     assert preset("glmb").family == "engine"
+
+
+def test_problem_validity_reaches_every_engine_preset_and_jpda_marginals_the_single_trackers():
+    import numpy as np
+
+    from hypotrack.models import ConstantVelocity
+    from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+    from hypotrack.registry import TrackingProblem, build
+
+    sensor = Sensor(LinearPositionSensor(np.eye(2), ndim_state=4, position_indices=(0, 1)), DetectionModel(0.9),
+                    PoissonClutter(1.0, Box([-50, -50], [50, 50])))
+    slow = lambda means: np.abs(means[:, 2]) < 5.0  # noqa: E731  (a stand-in physics test)
+    problem = TrackingProblem(ConstantVelocity(0.1), sensor, [[0.0, 0, 1, 0]], [np.eye(4)], validity=slow)
+    for kind in ("hfisst", "rfisst", "homht", "homht_kbest", "fisst_kbest"):
+        assert build({"kind": kind}, problem, seed=0).validity is slow, kind
+    assert build({"kind": "jpda", "jpda_marginals": "lbp"}, problem).jpda_marginals == "lbp"
+    assert build({"kind": "hfisst"}, TrackingProblem(ConstantVelocity(0.1), sensor)).validity is None
+    with pytest.raises(TypeError, match="validity must be callable"):
+        TrackingProblem(ConstantVelocity(0.1), sensor, validity=3)

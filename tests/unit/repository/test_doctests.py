@@ -47,13 +47,13 @@ def test_stonesoup_tracker_examples():
 
 def test_the_entry_points_show_examples():
     """The public entry points carry an ``Examples`` section with at least one example that runs."""
-    from hypotrack import metrics
-    from hypotrack.association import counting
+    from hypotrack import metrics, metrics_trajectory
+    from hypotrack.association import counting, lbp
     from hypotrack.hypotheses import presets
     from hypotrack.trackers import gnn
 
     for obj in (presets.rfisst, presets.homht, presets.glmb, gnn.gnn_associate, metrics.ospa, metrics.gospa,
-                counting.count_associations):
+                counting.count_associations, lbp.lbp_marginals, metrics_trajectory.trajectory_gospa):
         assert "Examples\n" in obj.__doc__, obj.__qualname__
         tests = doctest.DocTestFinder().find(obj)
         assert any(t.examples for t in tests), obj.__qualname__

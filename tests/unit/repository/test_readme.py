@@ -35,13 +35,18 @@ LEDGER = README.parent / "paper" / "record" / "ledger.csv"
 
 def _ledger(tmp_path):
     tmp_path.mkdir(parents=True, exist_ok=True)
-    """A small ledger of the real kinds: a Monte Carlo row, a deterministic row, a qualitative row."""
+    """A small ledger of the real kinds, keyed as the claims file names them: a Monte Carlo row, a
+    deterministic row, a qualitative row (each with a control that fails)."""
     from hypotrack.reporting.ledger import Claim, monte_carlo_claim, numeric_claim, write_claims
+    from hypotrack.reporting.verdict import with_control
 
-    rows = [monte_carlo_claim("closely_spaced", "ideal MOSPA", "003 Table 6.1", 0.0363, n=2000, mean=0.0345,
-                              se=0.0002, rel_tol=0.1, key="mospa_ideal", note="the OU set-up is reconstructed"),
-            numeric_claim("theory", "A(10, 5)", "000 Eq. 4", 63591, 63591, abs_tol=0, evidence="brute force"),
-            Claim("sht", "coalescence", "004", "qualitative", "holds", "--", "qualitative", "", "measurement")]
+    rows = [with_control(monte_carlo_claim("closely_spaced", "MHT MOSPA", "003 Table 6.1", 0.1376, n=2000,
+                                           mean=0.1385, se=0.0002, rel_tol=0.1, key="MospaMht",
+                                           note="the OU set-up is reconstructed"), "random hypothesis", "0.2", False),
+            with_control(numeric_claim("theory", "A(10, 5)", "000 Eq. 4", 63591, 63591, abs_tol=0,
+                                       evidence="brute force", key="count_example"), "no false alarms", "30240", False),
+            with_control(Claim("sht", "coalescence", "004", "qualitative", "holds", "--", "qualitative", "",
+                               "measurement", key="coalescence"), "GNN", "no lag", False)]
     path = tmp_path / "ledger.csv"
     write_claims(rows, path)
     return path
@@ -61,28 +66,32 @@ def test_readme_block_is_generated_and_an_edited_ledger_value_fails(tmp_path):
     assert main([str(ledger), str(readme)]) == 0
     assert check_readme(readme, ledger) is None and main(["--check", str(ledger), str(readme)]) == 0
     text = readme.read_text()
-    # 0.0345 +/- 3.004 * 0.0002 lies inside 0.0363 +/- 10 %: the Monte Carlo row reproduces too
-    assert "3 ledger rows: **2 reproduced**, **0 not reproduced**, **0 inconclusive**, **0 uninformative**" in text
-    assert "* *uninformative*: the check passed, but so did its negative control" in text
-    assert "| closely_spaced | ideal MOSPA | 003 Table 6.1 | 0.0363 | 0.0345 ± 0.0002 (n = 2000, z = -9.00) |" in text
-    assert "| brute force | — | **reproduced** |" in text  # no control ran: the control cell says so
-    # one value changed in the ledger (not in the README) -> the check fails and names the line
-    ledger.write_text(ledger.read_text().replace("63591,63591", "63591,63590"))
+    # counted per claim: 0.1385 +/- 3.004 * 0.0002 lies inside 0.1376 +/- 10 %: the Monte Carlo row reproduces
+    assert "3 claims of the five documents: **2 reproduced**, **0 reproduced in part**, **0 contested**, " \
+           "**1 qualitative**, **0 not reproduced**" in text
+    assert "**38 not run**" in text  # the claims file's other claims have no row in this ledger
+    assert "| 003 | MOSPA of the MHT 0.1376 (`003.table6.1.mht`) | Table 6.1 | **reproduced** | 1 (1) | chosen here |" in text
+    assert "3 ledger rows: 2 reproduced, 0 not reproduced" in text and "paper/record/ledger.csv" in text
+    # the tolerance sensitivity: the row's interval 0.1379 to 0.1391 lies within 0.25 x 10 % of 0.1376 too
+    assert "| `003.table6.1.mht` | reproduced | reproduced | reproduced | reproduced | reproduced |" in text
+    # one value changed in the ledger (not in the README) -> the Monte Carlo verdict and the block change
+    ledger.write_text(ledger.read_text().replace(",0.1385,", ",0.2,"))
     msg = check_readme(readme, ledger)
-    assert msg is not None and "63590" in msg and main(["--check", str(ledger), str(readme)]) == 1
+    assert msg is not None and "not reproduced" in msg and main(["--check", str(ledger), str(readme)]) == 1
     # a hand edit of the README block fails the same way
-    ledger.write_text(ledger.read_text().replace("63591,63590", "63591,63591"))
+    ledger.write_text(ledger.read_text().replace(",0.2,", ",0.1385,"))
+    assert check_readme(readme, ledger) is None
     readme.write_text(text.replace("**2 reproduced**", "**3 reproduced**"))
     assert check_readme(readme, ledger) is not None
     assert readme_block(None).startswith("No ledger is recorded yet")
-    # timing rows beside the ledger (ledger_timing.csv) are part of the README's table
+    # timing rows beside the ledger (ledger_timing.csv) are counted as extensions
     from hypotrack.reporting.ledger import Claim, write_claims
 
     write_claims([Claim("perf_sht", "GNN speed-up", "extension", ">= 30x", "62x to 76x", "--", "extension", "",
                         "measurement")], ledger.with_name("ledger_timing.csv"))
-    assert check_readme(readme, ledger) is not None  # the README no longer shows every row
-    assert main([str(ledger), str(readme)]) == 0 and "| perf_sht | GNN speed-up |" in readme.read_text()
-    assert "4 ledger rows" in readme.read_text()
+    assert check_readme(readme, ledger) is not None
+    assert main([str(ledger), str(readme)]) == 0 and "and 1 timing row " in readme.read_text()
+    assert "4 ledger rows in all" in readme.read_text()
 
 
 def _benchmark(root, rule, name, wall, cpu, rss, mtime):

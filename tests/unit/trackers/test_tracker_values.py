@@ -291,3 +291,16 @@ def test_gating_without_tracks_and_with_an_explicit_gate():
     np.testing.assert_array_equal(tight.valid[:, 0], [True, False, False])
     with pytest.raises(ValueError, match=r"^Z must be finite; rows \[1\]"):
         gate_tracks(x, P, [[0.0, 0.0], [np.nan, 1.0]], mdl)
+
+
+def test_jpda_with_lbp_marginals():
+    """``jpda_marginals="lbp"``: on this scene the gating graph (t0–r0–t1, t0–r1, t1–r2) is a tree, so
+    the tracker's β and update equal the exact JPDA's; a bad name is refused."""
+    exact, mdl, Z = two_tracks_three_returns("jpda")
+    approx = SingleHypothesisTracker(MOTION, mdl, association="jpda", jpda_marginals="lbp")
+    approx.initialise(exact.x, exact.P, time=0.0)
+    e, a = exact.step(Z, 1.0), approx.step(Z, 1.0)
+    np.testing.assert_allclose(approx.last_association, exact.last_association, atol=1e-12)
+    np.testing.assert_allclose(a.x, e.x, atol=1e-10)
+    with pytest.raises(ValueError, match="jpda_marginals must be 'exact' or 'lbp'"):
+        SingleHypothesisTracker(MOTION, mdl, association="jpda", jpda_marginals="bp")

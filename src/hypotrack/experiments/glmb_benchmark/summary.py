@@ -272,11 +272,13 @@ def follow_claims(per_scan: pd.DataFrame, checked: dict, control: str, lag: int,
     to its extraction rule. The negative control, the ``control`` tracker (fed empty scans), is scored the
     same way and must fail; ``peer`` (the GM-PHD), when given, is scored too and named in the note.
 
-    A failing row is diagnosed (:func:`follow_diagnosis`, one line in the note); its cause is *too few
-    runs* when the threshold lies within 3 standard errors (across runs) of the measured value, else, for
-    a budget-truncated filter, *project choice* (its truncation); ``truth_rows`` and ``birth_std`` (the
+    The status follows the ledger's Monte Carlo rule on the runs' mean error away from the changes
+    (:func:`~hypotrack.reporting.verdict.monte_carlo_verdict` against 0 ± ``tolerance``, over the runs): an
+    interval that straddles the threshold is *inconclusive* (cause *too few runs*) whichever side the mean
+    falls. A row that does not pass is diagnosed (:func:`follow_diagnosis`, one line in the note); a
+    failing budget-truncated filter's cause is *project choice* (its truncation); ``truth_rows`` and ``birth_std`` (the
     config's truth and birth standard deviation) name the object a lasting under-count misses."""
-    from ...reporting.verdict import with_control
+    from ...reporting.verdict import monte_carlo_verdict, with_control
 
     def passes(out, gap):
         return out <= tolerance and gap < 0.5
@@ -292,22 +294,27 @@ def follow_claims(per_scan: pd.DataFrame, checked: dict, control: str, lag: int,
             p_out, p_gap = follow_score(per_scan, peer, lag)
             note += (f"; {peer} scored the same way: {p_out:.3f} away from the changes, gap {p_gap:.2f} "
                      f"({'passes' if passes(p_out, p_gap) else 'fails'})")
+        # the ledger's Monte Carlo rule on the runs' mean error away from the changes, against 0 ± tolerance:
+        # an interval that straddles the threshold cannot decide (inconclusive, too few runs), whichever side
+        # of it the mean falls
+        d = follow_diagnosis(per_scan, name, lag, rule, truth_rows)
+        decided = (monte_carlo_verdict(d["outside"], d["se"], 0.0, tolerance, d["n_runs"]).status
+                   if d["n_runs"] > 1 and np.isfinite(d["se"]) else None)
+        status = "qualitative" if ok else "not reproduced"
         cause = ""
-        if not ok:
-            d = follow_diagnosis(per_scan, name, lag, rule, truth_rows)
+        if gap < 0.5 and decided == "inconclusive":
+            status, cause = "inconclusive", "too few runs"
+        if status != "qualitative":
             note += "; " + diagnosis_note(d, tolerance, birth_std)
-            # within the run-to-run noise of the threshold: the runs cannot decide; else a budget-truncated
-            # filter's failing is this project's truncation choice (the reference settings' stays open)
-            if gap < 0.5 and abs(d["outside"] - tolerance) <= 3 * d["se"]:
-                cause = "too few runs"
-            elif not name.endswith("reference"):
-                cause = "project choice"
+        if status == "not reproduced" and not name.endswith("reference"):
+            # a budget-truncated filter's failing is this project's truncation choice (the reference settings' stays open)
+            cause = "project choice"
         claim = Claim("glmb_benchmark", f"{name}: the estimated number follows the truth, reaching it within {lag} "
                       "scans of every birth and death", "Vo, Vo & Hoang 2017 Sec. V (cardinality curve, this scenario)",
                       "follows the truth",
                       f"mean |N̂ − N| {out:.3f} away from the changes; largest gap {gap:.2f} at a window's end",
                       f"≤ {tolerance:g} away from the changes; gap < 0.5",
-                      "qualitative" if ok else "not reproduced", note, "measurement", key="Follows" + _camel(name),
+                      status, note, "measurement", key="Follows" + _camel(name),
                       cause=cause)
         claims.append(with_control(claim, f"{control} (the same tracker fed empty scans)",
                                    f"{c_out:.2f} away from the changes, gap {c_gap:.2f}", passes(c_out, c_gap)))

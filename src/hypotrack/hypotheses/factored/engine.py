@@ -57,6 +57,9 @@ class FactoredFilter:
     ----------
     motion, sensor, weights, generator, population, dt, max_hypotheses, cap, gate_probability, seed, merge_duplicates :
         As :class:`~..filter.HypothesisFilter`; ``max_hypotheses`` caps each group (and each merge).
+    validity : callable, optional
+        As :class:`~..filter.HypothesisFilter` (:mod:`..validity`): applied in every group step, so every
+        newborn is tested; a quiet singleton (no return, no event) is only predicted and keeps its one track.
     means, covs, labels : array_like, optional
         Initial objects, one group each.
     options : FactoredOptions, optional
@@ -93,10 +96,10 @@ class FactoredFilter:
 
     def __init__(self, motion, sensor, weights, generator, *, population=None, dt=1.0, max_hypotheses=100,
                  cap="top", gate_probability=None, seed=None, means=None, covs=None, labels=None,
-                 merge_duplicates=True, options: FactoredOptions | None = None, **option_changes):
+                 merge_duplicates=True, validity=None, options: FactoredOptions | None = None, **option_changes):
         engine = HypothesisFilter(motion, sensor, weights, generator, population=population, dt=dt,
                                   max_hypotheses=max_hypotheses, cap=cap, gate_probability=gate_probability,
-                                  seed=seed, merge_duplicates=merge_duplicates)
+                                  seed=seed, merge_duplicates=merge_duplicates, validity=validity)
         self._configure(engine, options, option_changes)
         self.initialise(np.zeros((0, self.ndim)) if means is None else means, covs, labels)
 
@@ -459,7 +462,8 @@ class FactoredFilter:
         loglik, allowed, p_detect = self._engine.track_scores(pred, Z)
         if not self._options.gate_out_of_view:
             allowed = allowed & (p_detect > 0)[None, :]
-        return Scores(loglik, allowed, p_detect)
+        track_survival = getattr(self._engine.population, "track_survival", None)
+        return Scores(loglik, allowed, p_detect, None if track_survival is None else track_survival(pred))
 
     def _set_birth_terms(self, terms):
         pop = self._engine.population.with_birth_terms(terms, r_birth=self._options.adaptive_birth.r_birth)

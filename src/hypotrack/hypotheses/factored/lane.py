@@ -27,10 +27,10 @@ __all__ = ["Lane", "GroupSet", "silent", "predict_each", "singleton", "is_single
 
 def silent(population) -> bool:
     """Whether a group without birth terms can take no population event: no population, or the
-    labeled multi-Bernoulli or binomial population with ``p_S = 1`` (its only child of an empty scan is "every object
+    labeled multi-Bernoulli or binomial population with ``p_S = 1`` and no per-track survival (its only child of an empty scan is "every object
     missed", as with no population)."""
     return population is None or (isinstance(population, (LabeledMultiBernoulliPopulation, BinomialPopulation))
-                                  and population.p_survive == 1.0)
+                                  and population.p_survive == 1.0 and getattr(population, "survival", None) is None)
 
 
 def predict_each(motion, x, P, dt):

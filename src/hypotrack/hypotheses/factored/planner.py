@@ -24,15 +24,18 @@ __all__ = ["Scores", "ScanGraph", "scan_graph", "component_context", "touched_pl
 
 @dataclass(frozen=True)
 class Scores:
-    """A scan's scores of the predicted tracks: ``loglik``, ``allowed`` (m, n), ``p_detect`` (n,)."""
+    """A scan's scores of the predicted tracks: ``loglik``, ``allowed`` (m, n), ``p_detect`` (n,) and
+    ``p_survive`` (n,) or ``None`` (the population's one ``p_S``)."""
 
     loglik: np.ndarray
     allowed: np.ndarray
     p_detect: np.ndarray
+    p_survive: np.ndarray | None = None
 
     def columns(self, cols):
-        """``(loglik (m, c), allowed (m, c), p_detect (c,))`` of tracks ``cols``."""
-        return self.loglik[:, cols], self.allowed[:, cols], self.p_detect[cols]
+        """``(loglik (m, c), allowed (m, c), p_detect (c,), p_survive (c,) or None)`` of tracks ``cols``."""
+        return (self.loglik[:, cols], self.allowed[:, cols], self.p_detect[cols],
+                None if self.p_survive is None else self.p_survive[cols])
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,12 +117,13 @@ def scan_graph(col_node, G: int, L: int, scores: Scores, birth_ll, births: str, 
 
 def component_context(engine, Z, rows, scores, birth_ll, regions) -> ScanContext:
     """The :class:`ScanContext` of returns ``rows`` against a component's track columns ``scores``
-    (``(loglik, allowed, p_detect)``) and its birth terms ``regions`` (document 000 Eq. 8, 18, 30)."""
-    loglik, allowed, p_detect = scores
+    (``(loglik, allowed, p_detect, p_survive)``) and its birth terms ``regions`` (document 000 Eq. 8, 18, 30)."""
+    loglik, allowed, p_detect, p_survive = scores
     clutter = engine.sensor.clutter
     return ScanContext(Z=Z[rows], loglik=loglik[rows], allowed=allowed[rows], p_detect=p_detect,
                        birth_loglik=birth_ll[np.ix_(rows, regions)], p_detect_birth=engine.p_D,
-                       clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area))
+                       clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area),
+                       p_survive=p_survive)
 
 
 def touched_plan(engine, rng, members, regions, rows, groups, bounds, pred, scores, Z, birth_ll, stats):

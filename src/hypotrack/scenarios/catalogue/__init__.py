@@ -9,7 +9,12 @@ Modules, in data-flow order:
 * :mod:`.frames` — UTC → Julian date, GMST, TEME → Earth-fixed, geodetic sites, RAE;
 * :mod:`.sensors` — ground radars (site, field of view, revisit, noise, p_D, Poisson clutter);
 * :mod:`.scenario` — :func:`simulate_catalogue`: truth and scans tables in the project's schema;
-* :mod:`.benchmark` — propagation cost and the two-body model's one-scan prediction error vs SGP4.
+* :mod:`.benchmark` — propagation cost and the two-body model's one-scan prediction error vs SGP4;
+* :mod:`.tracking` — the trackers' linear view of an ENU radar (TEME positions) and one-point births;
+* :mod:`.radar_model` — the documented radar model for trackers: range, azimuth, elevation, range-rate
+  of a TEME state, its analytic Jacobian, noise and the azimuth-wrapped innovation;
+* :mod:`.admissible` — admissible-region birth: the Gaussian mixture of a new object's state given one
+  return (bound orbit, perigee >= 100 km; the test is :func:`hypotrack.models.plausibility.plausible_orbits`).
 
 Example (``import pandas as pd``)::
 
@@ -20,8 +25,10 @@ Example (``import pandas as pd``)::
     sc = simulate_catalogue(objects, n_scans=360, seed=2)   # 1 h of the default radar
 """
 
+from .admissible import AdmissibleRegionBirth, attributable_to_state
 from .frames import gmst, julian_date, teme_to_ef
 from .propagation import Propagation, propagate, reference_epoch
+from .radar_model import RadarTrackerSensor, rae_rate, rae_rate_jacobian
 from .scenario import CatalogueScenario, simulate_catalogue
 from .sensors import DEFAULT_RADAR, DEFAULT_SITE, GroundRadar, GroundSite, RadarFieldOfView
 from .tle import (
@@ -61,4 +68,9 @@ __all__ = [
     "DEFAULT_RADAR",
     "CatalogueScenario",
     "simulate_catalogue",
+    "RadarTrackerSensor",
+    "rae_rate",
+    "rae_rate_jacobian",
+    "AdmissibleRegionBirth",
+    "attributable_to_state",
 ]

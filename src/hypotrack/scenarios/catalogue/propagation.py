@@ -24,6 +24,7 @@ import numpy as np
 import pandas as pd
 
 from ..._validation import check_finite_array
+from ...models.plausibility import orbit_energy, plausible_orbits
 from .frames import julian_date, utc_timestamp
 from .tle import UNIX_EPOCH_JD, check_catalogue, satrec_array
 
@@ -83,19 +84,18 @@ def check_epoch_span(cat: pd.DataFrame, jd, fr) -> None:
 
 
 def sgp4_states(sats, jd, fr, a_mean):
-    """``SatrecArray.sgp4`` plus the plausibility check (module docstring).
+    """``SatrecArray.sgp4`` plus the plausibility check (module docstring): the trackers' own test
+    (:func:`hypotrack.models.plausibility.plausible_orbits`, bound with perigee >= 100 km) and the
+    semi-major-axis bound.
 
     Returns ``(error (N, K) int64, r (N, K, 3), v (N, K, 3))`` with NaN states where ``error != 0``.
     """
     e, r, v = sats.sgp4(np.asarray(jd, dtype=float), np.asarray(fr, dtype=float))
     e = e.astype(np.int64)
     with np.errstate(invalid="ignore", divide="ignore"):
-        rn = np.sqrt(np.sum(r * r, axis=-1))
-        eps = 0.5 * np.sum(v * v, axis=-1) - _MU / rn
-        a = -_MU / (2 * eps)
-        h = np.cross(r, v)
-        ecc = np.sqrt(np.maximum(0.0, 1 + 2 * eps * np.sum(h * h, axis=-1) / _MU**2))
-        ok = (eps < 0) & (a * (1 - ecc) >= _R_EARTH_SGP4 + _MIN_PERIGEE_ALT)
+        X = np.concatenate([r, v], axis=-1)
+        ok = plausible_orbits(X, min_perigee_km=_MIN_PERIGEE_ALT, mu=_MU, earth_radius=_R_EARTH_SGP4)
+        a = -_MU / (2 * orbit_energy(X, _MU))
         ok &= a <= _MAX_A_RATIO * np.asarray(a_mean, dtype=float)[:, None]
     e[(e == 0) & ~ok] = IMPLAUSIBLE
     bad = e != 0

@@ -1,0 +1,70 @@
+"""Physics on every hypothesis: the cap keeps only children whose every track passes a validity test.
+
+A hypothesis holding a track no real object can follow (for the catalogue: an unbound orbit, or a
+perigee inside the atmosphere, :func:`hypotrack.models.plausibility.plausible_orbits`) has probability 0
+under a model that knows the physics; the standard model gives it a positive weight only because its
+motion model (two-body, J2) propagates such states as happily as real ones. The filter's ``validity``
+option (:class:`~.filter.HypothesisFilter`) applies the test before the cap:
+
+1. the children (after duplicate merging) are visited best key first — the key the cap ranks by
+   (log-weight, or the Gumbel-perturbed log-weight of ``cap="sample"``);
+2. each child's tracks are the ``(source, return)`` pairs of the next store (:func:`.child_pairs`); the
+   means of the pairs not seen yet are computed (Kalman update, a birth term's first update or prior)
+   and tested once each, in one call of ``validity(means) -> bool (n,)``;
+3. a child with a failing track has weight 0 (it is skipped); the first ``H∞`` passing children are
+   kept and normalised (:meth:`~.filter.HypothesisFilter.advance`), so the survivors' weights are
+   renormalised over the valid children only.
+
+Only the children visited are tested: about ``H∞`` plus the invalid ones among the best, not the
+whole child set. If no child passes, the step raises (``RuntimeError``; the filter is left as it
+was, :meth:`~.filter.HypothesisFilter.step`). Without the option nothing changes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["valid_top_k"]
+
+
+def valid_top_k(keys, k: int, pairs_of, moments_of, validity):
+    """Indices of the best ``k`` children (by ``keys``, best first) whose every track passes ``validity``.
+
+    Parameters
+    ----------
+    keys : (E,) float
+        Ranking keys of the children; ``−inf`` never kept.
+    k : int
+        ``H∞``.
+    pairs_of : callable ``c -> list of (source, return)``
+        The store pairs of child ``c`` (:func:`.child_pairs`).
+    moments_of : callable ``(sources, returns) -> (means (P, d), covs (P, d, d))``
+        The moments of pairs (:meth:`~.filter.HypothesisFilter.pair_moments`).
+    validity : callable ``means (P, d) -> bool (P,)``
+
+    Returns
+    -------
+    sel : (≤ k,) int64 indices; n_invalid : number of children visited and rejected.
+    """
+    keys = np.asarray(keys, dtype=float)
+    order = np.argsort(-keys, kind="stable")
+    verdict: dict = {}
+    sel, n_invalid = [], 0
+    for c in order:
+        if len(sel) == k or not np.isfinite(keys[c]):
+            break
+        pairs = pairs_of(int(c))
+        new = list(dict.fromkeys(p for p in pairs if p not in verdict))
+        if new:
+            src = np.array([p[0] for p in new], dtype=np.int64)
+            ret = np.array([p[1] for p in new], dtype=np.int64)
+            means, _ = moments_of(src, ret)
+            ok = np.asarray(validity(means), dtype=bool)
+            if ok.shape != (len(new),):
+                raise ValueError(f"validity must return one bool per track, shape ({len(new)},), got {ok.shape}")
+            verdict.update(zip(new, ok.tolist()))
+        if all(verdict[p] for p in pairs):
+            sel.append(int(c))
+        else:
+            n_invalid += 1
+    return np.asarray(sel, dtype=np.int64), n_invalid

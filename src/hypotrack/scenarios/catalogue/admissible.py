@@ -1,0 +1,215 @@
+"""Admissible-region birth: the Gaussian-mixture density of a new object given one radar return.
+
+One return ``z = (ρ, az, el, ρ̇)`` (:mod:`.radar_model`) fixes the position and the range-rate of an
+object but not its angle rates ``(α̇, ε̇) = (d az/dt, d el/dt)``. The **admissible region** is the set of
+angle rates for which the state is a real object's: a bound orbit (``ε < 0``) whose perigee is at least
+100 km up (Tommei, Milani & Rossi, "Orbit determination of space debris: admissible regions", *Celestial
+Mechanics and Dynamical Astronomy* 97, 2007 — the radar case, unknowns the angle rates; Milani, Gronchi,
+Vitturi & Knežević, *CMDA* 90, 2004 for the optical one). DeMars & Jah ("Probabilistic initial orbit
+determination using Gaussian mixture models", *Journal of Guidance, Control, and Dynamics* 36(5), 2013)
+represent the uniform density over that region by a Gaussian mixture and map it to the state space.
+
+Construction (:class:`AdmissibleRegionBirth`)
+--------------------------------------------
+1. **State of an attributable.** ``y = (ρ, az, el, ρ̇, α̇, ε̇)`` gives the local line of sight
+   ``l = ρ û(az, el)`` and its Earth-fixed rate ``l̇ = ρ̇ û + ρ (α̇ ∂û/∂az + ε̇ ∂û/∂el)``, and in TEME
+   ``r = s + Mᵀ l``, ``v = Mᵀ l̇ + ω ẑ × r`` (``M = E R3(θ)``, ``s`` the site; :func:`attributable_to_state`,
+   the inverse of the radar's ``h`` on its first four components).
+2. **Box.** A bound orbit has ``|v| < v_esc(|r|)``; since ``∂û/∂az ⟂ ∂û/∂el ⟂ û`` with norms ``cos el`` and
+   1, ``|ρ α̇ cos el|`` and ``|ρ ε̇|`` are at most ``V = sqrt((v_esc + |ω × r|)² − ρ̇²)``: the rate box.
+3. **Grid.** The box is cut into ``n_blocks × n_blocks`` blocks of ``cells × cells`` cells. A cell is
+   admissible when the orbit of its centre and of its four corners passes
+   :func:`hypotrack.models.plausibility.plausible_orbits` (the return's measured values, noise-free).
+4. **One Gaussian per block** (a cluster of admissible cells that is compact by construction): mean the
+   centroid of its admissible cells' centres, covariance their scatter plus the cell's own
+   ``diag(Δα̇², Δε̇²)/12`` (a uniform cell), times ``spread²``; weight ∝ its number of admissible cells
+   (its area).
+5. **To the state space.** Each component, with the return's noise ``R`` on ``(ρ, az, el, ρ̇)``, is mapped
+   by the linearisation of step 1 (its Jacobian by complex step, exact to rounding): mean ``f(ȳ)``,
+   covariance ``J diag(R, C_rates) Jᵀ``. Velocity is linear in the rates and ``ρ̇`` at a given position,
+   so the map is exact but for the (small) angle and range noise.
+
+Step 3's corner test and ``spread < 1`` keep the mixture's mass inside the region: the share of draws on
+a plausible orbit is measured in the tests (``≥ 99 %``), against ~5 % for the zero-velocity birth
+``N(0, (8 km/s)² I)`` of :class:`.OnePointBirth`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..._validation import check_finite_array, check_int, check_positive
+from ...models.orbit import MU_EARTH
+from ...models.plausibility import MIN_PERIGEE_ALTITUDE, plausible_orbits
+from .frames import EARTH_ROTATION
+from .radar_model import RadarTrackerSensor, site_teme
+from .sensors import GroundSite
+
+__all__ = ["attributable_to_state", "AdmissibleRegionBirth", "StateMixture"]
+
+_H_STEP = 1e-20
+
+
+def _r3(theta):
+    c, s = np.cos(theta), np.sin(theta)
+    return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def attributable_to_state(y, site: GroundSite, theta: float) -> np.ndarray:
+    """TEME states ``(n, 6)`` of attributables ``y`` ``(n, 6)`` = (ρ km, az rad, el rad, ρ̇ km/s, α̇ rad/s,
+    ε̇ rad/s) seen from ``site`` at GMST ``theta`` (module docstring, step 1). Accepts complex input (for the
+    complex-step Jacobian)."""
+    Y = np.atleast_2d(y)
+    rho, az, el, rd, azd, eld = (Y[:, k][:, None] for k in range(6))
+    ce, se, ca, sa = np.cos(el), np.sin(el), np.cos(az), np.sin(az)
+    zero = np.zeros_like(ce)
+    u = np.hstack([ce * sa, ce * ca, se])
+    du_az = np.hstack([ce * ca, -ce * sa, zero])
+    du_el = np.hstack([-se * sa, -se * ca, ce])
+    l = rho * u
+    ldot = rd * u + rho * (azd * du_az + eld * du_el)
+    M = site.enu @ _r3(theta)
+    s, _ = site_teme(site, theta)
+    r = s + l @ M
+    w_x_r = EARTH_ROTATION * np.stack([-r[:, 1], r[:, 0], np.zeros_like(r[:, 0])], axis=1)
+    return np.hstack([r, ldot @ M + w_x_r])
+
+
+def _jacobian(y, site, theta):
+    """``∂x/∂y`` (6, 6) of :func:`attributable_to_state` at one ``y`` by complex step."""
+    Yc = np.repeat(np.asarray(y, dtype=float)[None], 6, axis=0).astype(complex)
+    Yc[np.arange(6), np.arange(6)] += 1j * _H_STEP
+    return (attributable_to_state(Yc, site, theta).imag / _H_STEP).T
+
+
+@dataclass(frozen=True, eq=False)
+class StateMixture:
+    """A Gaussian mixture in the TEME state space: ``weights`` (K,) summing to 1, ``means`` (K, 6),
+    ``covs`` (K, 6, 6); ``rate_means`` (K, 2) and ``rate_covs`` (K, 2, 2) of its components in the angle-rate
+    plane, and ``area`` the admissible region's area there (rad²/s²). A tracker's birth terms are its
+    components (e.g. :class:`hypotrack.hypotheses.GaussianBirthTerm` ``(means[k], covs[k], H, R)`` with
+    existence ``r_B × weights[k]``)."""
+
+    weights: np.ndarray
+    means: np.ndarray
+    covs: np.ndarray
+    rate_means: np.ndarray
+    rate_covs: np.ndarray
+    area: float
+
+    def __len__(self) -> int:
+        return len(self.weights)
+
+    def sample(self, n: int, rng) -> np.ndarray:
+        """``n`` draws ``(n, 6)`` (component by weight, then its Gaussian)."""
+        k = rng.choice(len(self.weights), size=n, p=self.weights)
+        L = np.linalg.cholesky(self.covs)
+        return self.means[k] + np.einsum("nij,nj->ni", L[k], rng.standard_normal((n, 6)))
+
+
+@dataclass(frozen=True, eq=False)
+class AdmissibleRegionBirth:
+    """The admissible-region birth density of a radar return (module docstring for the construction).
+
+    Parameters
+    ----------
+    sensor : RadarTrackerSensor
+        Site, azimuth window and noise ``R`` of the returns.
+    n_blocks : int
+        Blocks per axis of the rate box (at most ``n_blocks²`` components), >= 1; default 8.
+    cells : int
+        Cells per axis of a block, >= 1; default 8.
+    spread : float
+        Scale of each component's rate covariance, > 0; default 0.7 (keeps the mass inside the region).
+    min_perigee_km : float
+        Perigee floor (km) of an admissible orbit; default 100.
+    """
+
+    sensor: RadarTrackerSensor
+    n_blocks: int = 8
+    cells: int = 8
+    spread: float = 0.7
+    min_perigee_km: float = MIN_PERIGEE_ALTITUDE
+
+    def __post_init__(self):
+        if not isinstance(self.sensor, RadarTrackerSensor):
+            raise TypeError(f"sensor must be a RadarTrackerSensor, got {type(self.sensor).__name__}")
+        object.__setattr__(self, "n_blocks", check_int(self.n_blocks, "n_blocks", minimum=1))
+        object.__setattr__(self, "cells", check_int(self.cells, "cells", minimum=1))
+        object.__setattr__(self, "spread", check_positive(self.spread, "spread"))
+
+    def _plausible(self, z, azd, eld, theta):
+        y = np.column_stack([np.broadcast_to(z, (azd.size, 4)), azd.ravel(), eld.ravel()])
+        x = attributable_to_state(y, self.sensor.radar.site, theta)
+        return plausible_orbits(x, min_perigee_km=self.min_perigee_km).reshape(azd.shape)
+
+    def rate_box(self, z, theta) -> tuple[float, float]:
+        """Half-widths ``(α̇_max, ε̇_max)`` (rad/s) of the rate box of return ``z`` (module docstring, step 2)."""
+        rho, _, el, rd = z
+        r = attributable_to_state(np.r_[z, 0.0, 0.0], self.sensor.radar.site, theta)[0, :3]
+        rn = np.linalg.norm(r)
+        V2 = (np.sqrt(2 * MU_EARTH / rn) + EARTH_ROTATION * np.hypot(r[0], r[1])) ** 2 - rd**2
+        V = np.sqrt(max(V2, 0.0))
+        return V / (rho * max(np.cos(el), 1e-6)), V / rho
+
+    def region(self, z, theta=None):
+        """The gridded admissible region of return ``z`` ``(4,)`` at GMST ``theta`` (default the sensor's):
+        ``(az_rates (N,), el_rates (N,), admissible (N, N) bool)``, the cell centres (rad/s) and which cells
+        are admissible (module docstring, steps 2–3; ``N = n_blocks · cells``, first axis the azimuth rate)."""
+        z = check_finite_array(np.asarray(z, dtype=float), "z", shape=(4,))
+        theta = self.sensor.theta if theta is None else float(theta)
+        a_max, e_max = self.rate_box(z, theta)
+        N = self.n_blocks * self.cells
+        a_edges, e_edges = np.linspace(-a_max, a_max, N + 1), np.linspace(-e_max, e_max, N + 1)
+        A, E = np.meshgrid(a_edges, e_edges, indexing="ij")
+        corner = self._plausible(z, A, E, theta)
+        ac, ec = (a_edges[:-1] + a_edges[1:]) / 2, (e_edges[:-1] + e_edges[1:]) / 2
+        Ac, Ec = np.meshgrid(ac, ec, indexing="ij")
+        ok = self._plausible(z, Ac, Ec, theta) & corner[:-1, :-1] & corner[1:, :-1] & corner[:-1, 1:] & corner[1:, 1:]
+        return ac, ec, ok
+
+    def mixture(self, z, theta=None) -> StateMixture:
+        """The birth mixture of return ``z`` ``(4,)`` at GMST ``theta`` (default the sensor's current one).
+
+        Raises ``ValueError`` when no cell is admissible (a return no bound orbit above the floor can give,
+        e.g. a range-rate above the escape speed)."""
+        z = check_finite_array(np.asarray(z, dtype=float), "z", shape=(4,))
+        theta = self.sensor.theta if theta is None else float(theta)
+        site = self.sensor.radar.site
+        ac, ec, ok = self.region(z, theta)
+        if not ok.any():
+            raise ValueError(f"no admissible angle rates for return z = {z.tolist()} (no bound orbit with perigee "
+                             f">= {self.min_perigee_km} km): check the range-rate and the units (km, rad, km/s)")
+        a_max, e_max = self.rate_box(z, theta)
+        da, de = 2 * a_max / len(ac), 2 * e_max / len(ec)
+        Ac, Ec = np.meshgrid(ac, ec, indexing="ij")
+        cell_cov = np.diag([da**2, de**2]) / 12.0
+        counts, rate_means, rate_covs = [], [], []
+        c = self.cells
+        for i in range(self.n_blocks):
+            for j in range(self.n_blocks):
+                blk = ok[i * c:(i + 1) * c, j * c:(j + 1) * c]
+                if not blk.any():
+                    continue
+                pts = np.column_stack([Ac[i * c:(i + 1) * c, j * c:(j + 1) * c][blk],
+                                       Ec[i * c:(i + 1) * c, j * c:(j + 1) * c][blk]])
+                mu = pts.mean(axis=0)
+                d = pts - mu
+                counts.append(len(pts))
+                rate_means.append(mu)
+                rate_covs.append((d.T @ d / len(pts) + cell_cov) * self.spread**2)
+        counts = np.asarray(counts, dtype=float)
+        rate_means, rate_covs = np.asarray(rate_means), np.asarray(rate_covs)
+        means, covs = np.zeros((len(counts), 6)), np.zeros((len(counts), 6, 6))
+        Cy = np.zeros((6, 6))
+        Cy[:4, :4] = self.sensor.R
+        for k in range(len(counts)):
+            y = np.r_[z, rate_means[k]]
+            Cy[4:, 4:] = rate_covs[k]
+            J = _jacobian(y, site, theta)
+            means[k] = attributable_to_state(y, site, theta)[0].real
+            P = J @ Cy @ J.T
+            covs[k] = 0.5 * (P + P.T)
+        return StateMixture(counts / counts.sum(), means, covs, rate_means, rate_covs, float(ok.sum() * da * de))

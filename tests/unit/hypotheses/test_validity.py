@@ -1,0 +1,109 @@
+"""The engine's validity hook: children holding a track that fails the test are pruned before the cap.
+
+Hand-checkable scene: one known object on a circular LEO orbit, one birth term at zero velocity (the
+old one-point birth), one return at the object's predicted position, δ-GLMB with p_S = 1. Of the five
+association maps only two keep the birth term unborn; every other child holds a newborn with (almost)
+zero velocity, which falls: with ``plausible_orbits`` as the validity test exactly those two children
+remain, weighted ``p_D g(z) / κ`` against ``1 − p_D`` and renormalised.
+"""
+
+import numpy as np
+import pytest
+from scipy.stats import multivariate_normal
+
+from hypotrack.hypotheses import (
+    ExhaustiveGenerator,
+    GaussianBirthTerm,
+    GLMBWeights,
+    HypothesisFilter,
+    LabeledMultiBernoulliPopulation,
+)
+from hypotrack.models.orbit3d import TwoBodyOrbit3D
+from hypotrack.models.plausibility import plausible_orbits
+from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+
+P_D, RATE = 0.9, 1.0
+VIEW = Box([-1e4] * 3, [1e4] * 3)
+R = np.eye(3) * 0.25
+SENSOR = Sensor(LinearPositionSensor(R, 6, (0, 1, 2)), DetectionModel(P_D, VIEW), PoissonClutter(RATE, VIEW))
+H = SENSOR.measurement.H
+MOTION = TwoBodyOrbit3D()
+X0 = np.array([[6778.0, 0.0, 0.0, 0.0, 7.668558, 0.0]])  # circular at 400 km
+P0 = np.diag([0.1, 0.1, 0.1, 1e-6, 1e-6, 1e-6])[None]
+BIRTH = GaussianBirthTerm([6700.0, 500.0, 0.0, 0.0, 0.0, 0.0], np.diag([1e4, 1e4, 1e4, 1e-4, 1e-4, 1e-4]), H, R)
+DT = 10.0
+
+
+def _filter(validity=None, r_birth=0.1):
+    pop = LabeledMultiBernoulliPopulation([BIRTH], r_birth=r_birth, p_survive=1.0)
+    return HypothesisFilter(MOTION, SENSOR, GLMBWeights(), ExhaustiveGenerator(), population=pop, dt=DT,
+                            max_hypotheses=100, means=X0, covs=P0, seed=1, validity=validity)
+
+
+def _scan():
+    return MOTION.propagate(X0[0], DT)[:3][None].copy()
+
+
+def test_a_hypothesis_with_an_implausible_newborn_is_pruned_and_the_rest_renormalised():
+    Z = _scan()
+    plain, checked = _filter(), _filter(plausible_orbits)
+    plain.step(Z)
+    checked.step(Z)
+    assert len(plain.log_weights) == 5  # (track on z | missed) x (birth not born | born undetected | on z)
+    assert len(checked.log_weights) == 2 and checked.last_stats["n_invalid_pruned"] == 3
+    # hand value: p_D g(z | predicted track) / kappa against 1 - p_D (the unborn factor 1 - r_B is common)
+    x_pred, F = MOTION.transition(X0, DT)
+    P_pred = F[0] @ P0[0] @ F[0].T + MOTION.Q(DT)
+    g = multivariate_normal(H @ x_pred[0], H @ P_pred @ H.T + R).pdf(Z[0])
+    kappa = RATE / VIEW.area
+    odds = P_D * g / kappa / (1 - P_D)
+    w = np.sort(np.exp(checked.log_weights))
+    np.testing.assert_allclose(w, np.sort([odds / (1 + odds), 1 / (1 + odds)]), rtol=1e-9)
+    # the same two children in the unchecked filter, renormalised, give the same weights
+    n_tracks = np.array([len(t) for t in plain.track_lists])
+    kept = np.exp(plain.log_weights[n_tracks == 1])
+    np.testing.assert_allclose(np.sort(kept / kept.sum()), w, rtol=1e-9)
+    assert np.all(plausible_orbits(checked.store.means))
+
+
+def test_a_validity_that_accepts_everything_changes_nothing():
+    Z = _scan()
+    plain, always = _filter(), _filter(lambda m: np.ones(len(m), bool))
+    plain.step(Z)
+    always.step(Z)
+    np.testing.assert_array_equal(always.log_weights, plain.log_weights)
+    np.testing.assert_array_equal(always.store.means, plain.store.means)
+    assert plain.configuration()["validity"] is None
+
+
+def test_no_valid_child_raises_and_leaves_the_filter_as_it_was():
+    f = _filter(lambda m: np.zeros(len(m), bool))
+    before = f.log_weights.copy(), f.time
+    with pytest.raises(RuntimeError, match="no child hypothesis is valid"):
+        f.step(_scan())
+    np.testing.assert_array_equal(f.log_weights, before[0])
+    assert f.time == before[1]
+    with pytest.raises(TypeError, match="validity must be callable"):
+        _filter(validity=3)
+    with pytest.raises(ValueError, match="one bool per track"):
+        _filter(lambda m: np.ones(len(m) + 1, bool)).step(_scan())
+
+
+def test_the_factored_engine_applies_the_same_hook():
+    from hypotrack.hypotheses.factored import FactoredFilter
+
+    Z = _scan()
+    checked, plain = _filter(plausible_orbits), _filter()
+    fac, fac_plain = FactoredFilter.from_filter(_filter(plausible_orbits)), FactoredFilter.from_filter(_filter())
+    for f in (checked, plain, fac, fac_plain):
+        f.step(Z)
+    assert checked.posterior().expected_number == pytest.approx(1.0)  # no newborn survives the test
+    assert fac.posterior().expected_number == pytest.approx(1.0)
+    assert fac_plain.posterior().expected_number == pytest.approx(plain.posterior().expected_number)
+    assert plain.posterior().expected_number > 1.01  # the control holds newborns (r_B (1 - p_D) / (1 - r_B p_D))
+
+
+def test_with_options_carries_or_replaces_the_hook():
+    f = _filter(plausible_orbits)
+    assert f.with_options(merge_duplicates=False).validity is plausible_orbits
+    assert f.with_options(validity=None).validity is None

@@ -77,8 +77,9 @@ fall below ``min_weight`` is Kalman-updated (Joseph form) in one batch with the 
 back to the lane; returns no gate reaches and birth terms no return reaches, whose steps keep no
 object, are dropped. The decision is taken from the weight models' closed forms with a margin, the
 results go where the general path puts them (plan order), the other steps draw the same random
-streams and the labels the skipped steps would have used are counted: the posterior is the general
-path's, bit for bit (``tests/unit/hypotheses/factored/test_fast_path.py``). ``last_stats`` counts
+streams and the labels the skipped steps would have used are counted; with the engine's
+``validity`` test every child's tracks are tested as the general step tests them. The posterior is
+the general path's, bit for bit (``tests/unit/hypotheses/factored/test_fast_path.py``). ``last_stats`` counts
 ``n_fast_path`` (lone tracks), ``n_fast_births`` and ``n_fast_clutter``.
 
 When the factored posterior equals the unfactored one

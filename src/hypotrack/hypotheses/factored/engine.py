@@ -353,7 +353,7 @@ class FactoredFilter:
             return None
         r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z, E.H, E.R,
-                               E.weights.seeded_births, r_birth)
+                               E.weights.seeded_births, r_birth, E.population)
         n = len(fast.store)
         stats.update(n_fast_path=n, n_fast_births=fast.n_births, n_fast_clutter=fast.n_clutter,
                      n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)

@@ -36,6 +36,12 @@ Two more kinds of component keep no object after the general step, and the fast 
   second's normalised weight is below ``min_weight`` the first, with no object, is all that is
   kept. The born-undetected child, kept by the cap and then pruned, used a label, as above.
 
+With the engine's ``validity`` test (:mod:`..validity`) a child holding a track that fails it has
+weight 0 and is not kept (its label not used): the fast path tests the tracks of every child as the
+general step does — the detected child's update (it must pass, else the general path takes the
+component), the predicted track of the missed and clutter children, a seeded birth's track, a birth
+term's undetected prior — and normalises over the valid children only.
+
 The rule holds for the engine itself (not a subclass that overrides its extension points), the four
 weight models above with a silent population (no population, or labeled multi-Bernoulli / binomial
 with ``p_S = 1``: the lane's condition), a cap that keeps every child (``H∞`` ≥ the number of
@@ -78,19 +84,27 @@ class FastRule:
     n_new: int
     log_threshold: float
     p_detect_birth: float
+    validity: object = None
+    seeded_density: object = None
 
-    def takes_births(self, r_birth) -> np.ndarray:
-        """Whether each lone birth term (its existence ``r_B``) keeps only its "not born" child."""
+    def takes_births(self, r_birth, valid=None) -> np.ndarray:
+        """Whether each lone birth term (its existence ``r_B``; whether its born-undetected track is
+        ``valid``) keeps only its "not born" child."""
         r = np.clip(r_birth, 1e-300, 1 - 1e-16)
         born = np.log(r) + np.log1p(-self.p_detect_birth)
-        return (r_birth > 0) & (r_birth < 1) & (born - np.logaddexp(born, np.log1p(-r)) < self.log_threshold)
+        light = born - np.logaddexp(born, np.log1p(-r)) < self.log_threshold
+        return (r_birth > 0) & (r_birth < 1) & (light if valid is None else light | ~valid)
 
-    def takes(self, loglik, p_detect) -> np.ndarray:
-        """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected child."""
+    def takes(self, loglik, p_detect, valid=None) -> np.ndarray:
+        """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected
+        child; ``valid`` (n, alternatives): whether each alternative child passes the validity test
+        (an invalid one is not kept, nor counted in the normalisation)."""
         ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik)
         p = np.where(ok, p_detect, 0.5)
         det = np.log(p) + np.where(ok, loglik, 0.0) - self.det_offset
         alt = np.log1p(-p)[:, None] + self.alt_offsets[None, :]
+        if valid is not None:
+            alt = np.where(valid, alt, -np.inf)
         total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
         return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
 
@@ -135,7 +149,8 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         return None
     if not np.all(np.isfinite(alt)) or engine.max_hypotheses < 1 + len(alt):
         return None
-    return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)), float(engine.p_D))
+    return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)), float(engine.p_D),
+                    engine.validity, w.birth_density if n_new else None)
 
 
 def birth_existence(population) -> np.ndarray | None:
@@ -173,7 +188,7 @@ class FastBatch:
 
 
 def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R,
-                    seeded: bool, r_birth=None) -> FastBatch:
+                    seeded: bool, r_birth=None, population=None) -> FastBatch:
     """The components of ``graph`` the fast path takes and their results.
 
     A lone track is a component of one lane singleton (node ``G + j``, its track column
@@ -183,7 +198,8 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     general step, which keeps no object: it is dropped. Its plan key is the graph's node count (after
     every node's), as in :meth:`~.planner.ScanGraph.components`. A lone birth term (node
     ``G + L + b``, alone, no return; ``r_birth``: each term's existence, ``None``: none taken) is
-    dropped when :meth:`FastRule.takes_births` says so.
+    dropped when :meth:`FastRule.takes_births` says so (``population``: its born-undetected tracks, for
+    the validity test).
     """
     G, L, n_comp = graph.G, graph.L, graph.n_comp
     n_nodes = np.bincount(graph.node_lab, minlength=n_comp)
@@ -195,20 +211,45 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     j = np.flatnonzero((n_nodes[lane_comp] == 1) & (n_rets[lane_comp] == 1))
     rows = ret_of[lane_comp[j]]
     cols = first_lane_col + j
-    take = rule.takes(scores.loglik[rows, cols], scores.p_detect[cols])
-    j, rows, cols = j[take], rows[take], cols[take]
-    if len(j):
-        x, P = update_unchecked(pred.means[cols], pred.covs[cols], np.asarray(Z)[rows], H, R)
-    else:
-        x, P = np.zeros((0, pred.ndim)), np.zeros((0, pred.ndim, pred.ndim))
+    Z = np.asarray(Z)
+    loglik, p_detect = scores.loglik[rows, cols], scores.p_detect[cols]
+    n_new = np.full(len(j), rule.n_new, np.int64)
+    if rule.validity is None:
+        take = rule.takes(loglik, p_detect)
+        x, P = update_unchecked(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
+    else:  # every child's tracks tested, as the general step tests them
+        x, P = update_unchecked(pred.means[cols], pred.covs[cols], Z[rows], H, R)
+        valid = np.repeat(_valid(rule.validity, pred.means[cols])[:, None], len(rule.alt_offsets), axis=1)
+        if rule.n_new:  # the seeded birth child also holds the newborn track
+            born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
+            valid[:, -1] &= _valid(rule.validity, born)
+            n_new = valid[:, -1].astype(np.int64)
+        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid)
+        x, P = x[take], P[take]
+    j, cols, n_new = j[take], cols[take], n_new[take]
     keys = (G + j).astype(np.int64)
-    b = np.zeros(0, np.int64)
+    b, b_new = np.zeros(0, np.int64), np.zeros(0, np.int64)
     if r_birth is not None and graph.B:
         birth_comp = graph.node_lab[G + L:G + L + graph.B]
         b = np.flatnonzero((n_nodes[birth_comp] == 1) & (n_rets[birth_comp] == 0))
-        b = b[rule.takes_births(np.asarray(r_birth, dtype=float)[b])]
+        valid = None
+        if rule.validity is not None and len(b):
+            prior = np.array([population.birth_track(int(t), None, R)[0] for t in b]).reshape(len(b), -1)
+            valid = _valid(rule.validity, prior)
+        take_b = rule.takes_births(np.asarray(r_birth, dtype=float)[b], valid)
+        b_new = (np.ones(len(b), np.int64) if valid is None else valid.astype(np.int64))[take_b]
+        b = b[take_b]
     comps = np.concatenate([lane_comp[j], graph.node_lab[G + L + b], lone]).astype(np.int64)
     return FastBatch(comps, np.concatenate([keys, G + L + b, np.full(len(lone), len(graph.node_lab))]).astype(np.int64),
                      TrackStore(x, P, pred.labels[cols]), keys,
-                     np.concatenate([np.full(len(j), rule.n_new), np.ones(len(b)), np.zeros(len(lone))]).astype(np.int64),
-                     len(b), len(lone))
+                     np.concatenate([n_new, b_new, np.zeros(len(lone), np.int64)]).astype(np.int64), len(b), len(lone))
+
+
+def _valid(validity, means) -> np.ndarray:
+    """``validity(means)`` as a bool per row (no call for no rows)."""
+    if len(means) == 0:
+        return np.zeros(0, dtype=bool)
+    ok = np.asarray(validity(means), dtype=bool)
+    if ok.shape != (len(means),):
+        raise ValueError(f"validity must return one bool per track, shape ({len(means)},), got {ok.shape}")
+    return ok

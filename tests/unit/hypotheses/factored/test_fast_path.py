@@ -28,9 +28,15 @@ def _prior(seed=1):
     return means, np.repeat(np.diag([1.0, 1.0, 0.1, 0.1])[None], KNOWN.sum(), axis=0)
 
 
-def _factored(kind, fast, min_weight=0.001, **kw):
+def _moving(means):
+    """A validity test: a track must move; a newborn at rest (a seeded birth, a birth term's prior) fails it."""
+    return np.hypot(means[:, 2], means[:, 3]) > 1e-3
+
+
+def _factored(kind, fast, min_weight=0.001, validity=None, **kw):
     means, covs = _prior()
-    common = dict(dt=1.0, max_hypotheses=20, gate_probability=0.999, seed=3, means=means, covs=covs)
+    common = dict(dt=1.0, max_hypotheses=20, gate_probability=0.999, seed=3, means=means, covs=covs,
+                  validity=validity)
     birth = BIRTH
     if kind == "glmb":
         f = glmb(MOTION, SENSOR, population=LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0),
@@ -87,6 +93,26 @@ def test_fast_path_posterior_is_the_general_one(kind, lazy, min_weight):
     assert general.n_objects_held > KNOWN.sum()  # unknown objects were born (births ran beside the fast path)
 
 
+@pytest.mark.parametrize("kind", ["glmb", "homht_kbest"])
+def test_fast_path_with_a_validity_test_is_the_general_path(kind):
+    """With the engine's validity test (here: a track must move) the children holding a newborn at rest
+    are not kept: HOMHT's seeded birth children use no label (and no object is born), a birth term's
+    undetected prior fails and the term is dropped whatever its weight (min_weight 0.001 < r_B (1 − p_D));
+    the posterior is still the general path's."""
+    scans, _ = observed_scans(TRUTH, MOTION, SENSOR, 8, seed=5)
+    general, fast = _factored(kind, False, validity=_moving), _factored(kind, True, validity=_moving)
+    n_births = 0
+    for k, Z in enumerate(scans):
+        general.step(Z, float(k + 1))
+        fast.step(Z, float(k + 1))
+        _assert_same(general, fast)
+        assert fast.last_stats["n_fast_path"] > 0
+        n_births += fast.last_stats["n_fast_births"]
+    assert (n_births > 0) == (kind == "glmb")
+    if kind == "homht_kbest":
+        assert general.next_label == KNOWN.sum()  # no birth child was kept: no label used
+
+
 def test_fast_path_takes_nothing_without_min_weight():
     """With ``min_weight = 0`` the general path keeps every alternative child: nothing is exact to take."""
     scans, _ = observed_scans(TRUTH, MOTION, SENSOR, 3, seed=5)
@@ -107,11 +133,11 @@ _Z = np.array([[-300.2, 0.1], [-150.3, 0.0], [-149.6, 0.2], [0.1, 0.5], [150.1, 
                [-450.0, 450.0]])  # the last: clutter in no gate
 
 
-def _hand(fast, min_weight=1e-4, birth_at=(150.0, 0.0)):
+def _hand(fast, min_weight=1e-4, birth_at=(150.0, 0.0), validity=None):
     term = GaussianBirthTerm(np.array([*birth_at, 0.0, 0.0]), np.diag([4.0, 4.0, 1.0, 1.0]), H_POSITION,
                              SENSOR.measurement.R, gate_probability=0.999)
     f = glmb(MOTION, SENSOR, population=LabeledMultiBernoulliPopulation([term], r_birth=0.01, p_survive=1.0),
-             n_sweeps=50, max_hypotheses=20, gate_probability=0.999, seed=0, means=_X,
+             n_sweeps=50, max_hypotheses=20, gate_probability=0.999, seed=0, means=_X, validity=validity,
              covs=np.repeat(np.diag([0.5, 0.5, 0.01, 0.01])[None], len(_X), axis=0))
     return FactoredFilter.from_filter(f, min_weight=min_weight, fast_path=fast)
 
@@ -133,6 +159,21 @@ def test_only_a_lone_track_with_a_lone_return_takes_the_fast_path():
     S = 0.5 + 0.5  # H P Hᵀ + R on each axis (P diagonal, no velocity coupling at a zero interval)
     np.testing.assert_allclose(a.store.means[0, :2], _X[0, :2] + 0.5 / S * (_Z[0] - _X[0, :2]), rtol=0, atol=1e-12)
     np.testing.assert_allclose(np.diag(a.store.covs[0])[:2], 0.5 - 0.5**2 / S, rtol=0, atol=1e-12)
+
+
+def test_an_invalid_update_sends_the_lone_track_to_the_general_path():
+    """A's update (x ≈ −300.1) fails the validity test, its prediction (x = −300) passes: the general step
+    keeps the missed child alone, so the fast path may not take A."""
+    def validity(means):
+        return ~((means[:, 0] > -300.15) & (means[:, 0] < -300.05))
+
+    general, fast = _hand(False, validity=validity), _hand(True, validity=validity)
+    general.step(_Z, 0.0)
+    fast.step(_Z, 0.0)
+    _assert_same(general, fast)
+    assert fast.last_stats["n_fast_path"] == 0
+    (a,) = [s for s in fast.groups if s.store.labels.tolist() == [0]]
+    np.testing.assert_array_equal(a.store.means[0], _X[0])  # only predicted (a zero interval: as it was)
 
 
 def test_a_heavier_threshold_sends_the_lone_track_to_the_general_path():

@@ -16,6 +16,7 @@ paper 004 (lecture notes), "Gating" and "Validation Matrix".
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 from scipy.stats import chi2
@@ -50,7 +51,13 @@ def gate_threshold(p_gate: float, dim: int) -> float:
     """
     p = check_probability(p_gate, "p_gate", low_open=True)
     d = check_int(dim, "dim", minimum=1)
-    return math.inf if p == 1.0 else float(chi2.ppf(p, d))
+    return math.inf if p == 1.0 else _chi2_quantile(p, d)
+
+
+@lru_cache(maxsize=256)
+def _chi2_quantile(p: float, d: int) -> float:
+    # asked for by every track set, birth term and scan (SciPy's ppf costs ~0.3 ms a call): computed once each
+    return float(chi2.ppf(p, d))
 
 
 def validation_matrix(d2, threshold: float) -> np.ndarray:

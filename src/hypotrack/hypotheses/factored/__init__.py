@@ -68,6 +68,20 @@ catalogue scale these groups accumulate out of view (nothing resolves them there
 be predicted and visited every scan. :attr:`~FactoredFilter.posterior` and
 :attr:`~FactoredFilter.groups` predict the lazy singletons and groups to the current scan (:mod:`.lane`).
 
+The fast path
+-------------
+With ``fast_path=True`` (off by default) the components whose engine step is known in closed form
+are not stepped one by one (:mod:`.fast_path`): a *lone track* — one singleton of the lane with one
+return nothing else gates — whose alternatives (missed, the return clutter or a seeded birth) all
+fall below ``min_weight`` is Kalman-updated (Joseph form) in one batch with the others and goes
+back to the lane; returns no gate reaches and birth terms no return reaches, whose steps keep no
+object, are dropped. The decision is taken from the weight models' closed forms with a margin, the
+results go where the general path puts them (plan order), the other steps draw the same random
+streams and the labels the skipped steps would have used are counted; with the engine's
+``validity`` test every child's tracks are tested as the general step tests them. The posterior is
+the general path's, bit for bit (``tests/unit/hypotheses/factored/test_fast_path.py``). ``last_stats`` counts
+``n_fast_path`` (lone tracks), ``n_fast_births`` and ``n_fast_clutter``.
+
 When the factored posterior equals the unfactored one
 -----------------------------------------------------
 The joint children of a product of groups are the products of the groups' children exactly
@@ -97,7 +111,7 @@ Where each job lives
 --------------------
 :mod:`.options` (:class:`FactoredOptions`, every option stated and checked once), :mod:`.engine`
 (:class:`FactoredFilter`: the scan in named stages), :mod:`.planner` (the graph, the plans, the
-splits), :mod:`.lane` (singletons and lazy prediction), :mod:`.pool` (the engine steps and the
+splits), :mod:`.fast_path` (the lone tracks' batch), :mod:`.lane` (singletons and lazy prediction), :mod:`.pool` (the engine steps and the
 workers that run them), :mod:`.summary` (:class:`FactoredPosterior`); the measurement-driven birth
 model :class:`AdaptiveBirth` lives beside the populations (:mod:`..population_adaptive`).
 """

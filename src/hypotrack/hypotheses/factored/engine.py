@@ -15,6 +15,7 @@ from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
 from ..state import check_finite_float, scan_interval
 from ..tracks import TrackStore
+from .fast_path import FastBatch, birth_existence, fast_components, fast_rule
 from .lane import GroupSet, Lane, cat, is_singleton, predict_each, silent, singleton, take
 from .options import FactoredOptions
 from .planner import (ObjectIds, Scores, interaction_parts, prune, quiet_plan, scan_graph, split_group,
@@ -45,7 +46,8 @@ class FactoredState:
 
 
 _STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
-               n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0)
+               n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0,
+               n_fast_births=0, n_fast_clutter=0)
 
 
 class FactoredFilter:
@@ -64,7 +66,7 @@ class FactoredFilter:
         How the filter factors, prunes and parallelises (:class:`~.options.FactoredOptions`: every
         option, its default and its allowed values, stated once). The keywords ``split``,
         ``births``, ``factor_tol``, ``min_weight``, ``adaptive_birth``, ``workers``, ``parallel``,
-        ``measure_transfer``, ``lazy``, ``gate_out_of_view`` override single options (``lazy``
+        ``measure_transfer``, ``lazy``, ``gate_out_of_view``, ``fast_path`` override single options (``lazy``
         is off by default; the SSA catalogue experiment's configuration turns it on).
 
     Attributes
@@ -82,7 +84,9 @@ class FactoredFilter:
         ``n_merges`` (groups merged away), ``n_splits``, ``n_exact_splits``, ``split_kl`` and
         ``split_l1`` (summed losses of this scan's splits), ``n_duplicates_merged``,
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
-        touched group kept under the cap), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        touched group kept under the cap), ``n_fast_path``, ``n_fast_births``, ``n_fast_clutter``
+        (components the fast path took: lone tracks updated, lone birth terms and returns dropped;
+        they count in ``n_touched``, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
         pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
         ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.
@@ -296,9 +300,10 @@ class FactoredFilter:
         graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
                            E.weights.seeded_births)
         stats = dict(_STATS0, n_predicted=len(scan.pred))
-        plans = self._plan(scan, graph, Z, stats)
-        new_groups = self._run_plans(plans, stats)
-        self._keep(scan, graph, new_groups, now, stats)
+        fast = self._fast(scan, graph, Z, stats)
+        plans, keys = self._plan(scan, graph, Z, stats, None if fast is None else fast.comps)
+        new_groups = self._run_plans(plans, keys, fast, stats)
+        self._keep(scan, graph, new_groups, fast, now, stats)
         self.time = now
         self._objects.keep_held(np.concatenate([s.store.labels for s in self._groups.states] + [self._lane.store.labels]))
         self.scan_index += 1
@@ -336,11 +341,31 @@ class FactoredFilter:
         col_node = np.concatenate([np.repeat(np.arange(G), sizes), G + np.arange(L)]).astype(np.int64)
         return _Scan(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
 
-    def _plan(self, scan, graph, Z, stats) -> list:
+    def _fast(self, scan, graph, Z, stats) -> FastBatch | None:
+        """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane
+        singleton with one return and nothing else, whose general step would keep only the
+        detected child, stepped in one batch; ``None`` when it is off or cannot be exact."""
+        if not self._options.fast_path:
+            return None
+        E = self._engine
+        rule = fast_rule(E, self._lane_on, self._options.min_weight)
+        if rule is None:
+            return None
+        r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
+        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z, E.H, E.R,
+                               E.weights.seeded_births, r_birth, E.population)
+        n = len(fast.store)
+        stats.update(n_fast_path=n, n_fast_births=fast.n_births, n_fast_clutter=fast.n_clutter,
+                     n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)
+        return fast
+
+    def _plan(self, scan, graph, Z, stats, skip=None) -> tuple:
         """Step 2–3: one plan per component, in the order of its first node (deterministic): a quiet
-        group predicts or takes an empty-scan step; a touched component merges its groups and steps."""
-        E, plans, bounds = self._engine, [], scan.bounds
-        for key, c, members, regions, rows in graph.components():
+        group predicts or takes an empty-scan step; a touched component merges its groups and steps.
+        Returns the plans and their keys (first nodes); ``skip``: components the fast path took."""
+        E, plans, keys, bounds = self._engine, [], [], scan.bounds
+        for key, c, members, regions, rows in graph.components(skip):
+            keys.append(key)
             if c is None:
                 cols = np.arange(bounds[key], bounds[key + 1])
                 plans.append(quiet_plan(E, self._lane_on, self._objects, scan.groups[key], take(scan.pred, cols),
@@ -348,26 +373,43 @@ class FactoredFilter:
             else:
                 plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
                                           scan.scores, Z, scan.birth_ll, stats))
-        return plans
+        return plans, np.array(keys, dtype=np.int64)
 
-    def _run_plans(self, plans, stats) -> list:
+    def _run_plans(self, plans, keys, fast, stats) -> list:
         """The engine steps of the components are independent: run them (in a pool when workers > 1),
         each with its own random stream and labels counted from the scan's first free label; then
-        each result in component order, split by its objects' interaction (step 4)."""
+        each result in component order, split by its objects' interaction (step 4). Returns
+        ``(key, state)`` of every resulting group, in plan order.
+
+        The fast path's components keep their places: a random stream is drawn for each (unused)
+        and the labels each uses are counted where its plan would have run, so the other steps
+        draw and number exactly as without it."""
+        n_fast = 0 if fast is None else len(fast)
+        steps = np.array([p[0] != "done" for p in plans], dtype=bool)
         jobs = [p for p in plans if p[0] != "done"]
-        seeds = self.rng.integers(0, 2**63 - 1, size=len(jobs)) if jobs else np.zeros(0, np.int64)
+        # each step's place among the steps and the fast components (both in key order)
+        fast_before = np.searchsorted(fast.keys, keys) if n_fast else np.zeros(len(plans), np.int64)
+        slot = np.cumsum(steps)[steps] - 1 + fast_before[steps]
+        n_draw = len(jobs) + n_fast
+        seeds = self.rng.integers(0, 2**63 - 1, size=n_draw)[slot] if n_draw else np.zeros(0, np.int64)
         base = self._next_label
         results = iter(self._pool.run(self._engine, [(p[1], p[2], p[3], p[4], base, int(s)) for p, s in zip(jobs, seeds)],
                                       self._options, stats))
         new_groups = []
         opts = self._options
-        for plan in plans:
+        counted = 0
+        for plan, key, before in zip(plans, keys, fast_before):
+            if n_fast:  # the labels the fast path's components before this plan used
+                self._next_label += int(fast.labels_before(before) - fast.labels_before(counted))
+                counted = before
             if plan[0] == "done":
                 state, parts = plan[1], plan[2]
             else:
                 state, parts = self._finish(plan, next(results), base, stats)
-            new_groups.extend(split_group(state, parts, opts.split, opts.factor_tol, self.scan_index + 1,
-                                          self.split_records, stats))
+            new_groups.extend((key, s) for s in split_group(state, parts, opts.split, opts.factor_tol,
+                                                           self.scan_index + 1, self.split_records, stats))
+        if n_fast:
+            self._next_label += int(fast.labels_before(n_fast) - fast.labels_before(counted))
         return new_groups
 
     def _finish(self, plan, result, base, stats):
@@ -389,12 +431,18 @@ class FactoredFilter:
         self._objects.register_births(new.store, sources, len(regions))
         return new, interaction_parts(self._objects.of(pred.labels), ctx, sources, len(regions))
 
-    def _keep(self, scan, graph, new_groups, now, stats):
+    def _keep(self, scan, graph, new_groups, fast, now, stats):
         """Step 4's end: singletons back to the lane — the untouched candidates predicted, then those
-        the steps produced, in plan order; the groups left for later first, then the scan's."""
+        the steps (and the fast path) produced, in plan order; the groups left for later first, then the scan's."""
         tail = take(scan.pred, np.arange(scan.bounds[-1], len(scan.pred)))
-        groups_new, lane_new = self._sort_out([s for s in (prune(s, self._options.min_weight) for s in new_groups)
-                                               if s is not None])
+        kept = [(k, s) for k, s in ((k, prune(s, self._options.min_weight)) for k, s in new_groups) if s is not None]
+        states = [s for _, s in kept]
+        groups_new, lane_new = self._sort_out(states)
+        if fast is not None and len(fast.store):
+            # the fast path's singletons between the steps' ones, by plan key (stable: a step's own stay in order)
+            step_keys = np.array([k for k, s in kept if is_singleton(s)], dtype=np.int64)
+            order = np.argsort(np.concatenate([step_keys, fast.store_keys]), kind="stable")
+            lane_new = take(cat([lane_new, fast.store], self.ndim), order)
         self._lane, n_kept = self._lane.after_scan(scan.cand, graph.quiet_singletons(), tail, now, scan.view, lane_new)
         stats["n_predict_only"] += n_kept + len(scan.asleep)
         stats["n_asleep"] = len(scan.asleep)

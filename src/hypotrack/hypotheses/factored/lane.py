@@ -120,19 +120,27 @@ class Lane:
         """``(lane, n_kept)``: the lane after a scan whose candidates ``cand`` were predicted to
         ``pred`` (their order), the ``quiet`` ones (no return, no birth term) kept here, the others
         stepped; then the singletons ``new`` the scan's steps produced, at ``now``."""
+        # one pass over the lane's arrays: the kept singletons (the quiet candidates replaced by their
+        # prediction), then the new ones
         keep = np.ones(len(self), dtype=bool)
         keep[cand] = False
-        times = self.times.copy()
-        times[cand] = now
-        moved = TrackStore(self.store.means.copy(), self.store.covs.copy(), self.store.labels)
-        moved.means[cand], moved.covs[cand] = pred.means, pred.covs
         keep[cand[quiet]] = True
-        view = (moved.means if view is None else view).copy()
-        view[cand] = pred.means
-        lane = Lane(cat([take(moved, np.flatnonzero(keep)), new], self.store.ndim),
-                    np.concatenate([times[keep], np.full(len(new), now)]),
-                    np.concatenate([view[keep], new.means]))
-        return lane, int(keep.sum())
+        idx = np.flatnonzero(keep)
+        n_keep, d = len(idx), self.store.ndim
+        pos = np.cumsum(keep) - 1  # each kept singleton's row in the new lane
+        moved = cand[quiet]
+        means = np.empty((n_keep + len(new), d))
+        covs = np.empty((n_keep + len(new), d, d))
+        np.take(self.store.means, idx, axis=0, out=means[:n_keep])
+        np.take(self.store.covs, idx, axis=0, out=covs[:n_keep])
+        means[pos[moved]], covs[pos[moved]] = pred.means[quiet], pred.covs[quiet]
+        means[n_keep:], covs[n_keep:] = new.means, new.covs
+        times = np.concatenate([self.times[idx], np.full(len(new), now)])
+        times[pos[moved]] = now
+        lane_view = np.concatenate([(self.store.means if view is None else view)[idx], new.means])
+        lane_view[pos[moved]] = pred.means[quiet]
+        labels = np.concatenate([self.store.labels[idx], new.labels])
+        return Lane(TrackStore(means, covs, labels), times, lane_view), n_keep
 
     def same_as(self, other: "Lane") -> bool:
         """Bit-for-bit the same singletons, times and means at the scan."""

@@ -73,6 +73,12 @@ class FactoredOptions:
         posterior is the same; only merges that cannot matter are avoided — at catalogue scale an
         undetected newborn out of view, whose covariance grows by ~80 km a scan, otherwise gates
         every return in view and merges every object there into one group.
+    fast_path : bool
+        Step the components that are one lone track with one return nothing else gates, and whose
+        general step would keep only the detected child (every alternative below ``min_weight``),
+        in one batch instead of one engine step each (:mod:`.fast_path`): the same posterior, the
+        same random streams and labels for the other steps. ``False`` (the default) steps every
+        component through the engine. Takes nothing with ``min_weight = 0``.
 
     Examples
     --------
@@ -94,6 +100,7 @@ class FactoredOptions:
     measure_transfer: bool = False
     lazy: bool = False
     gate_out_of_view: bool = True
+    fast_path: bool = False
 
     def __post_init__(self):
         for name, allowed in (("split", SPLITS), ("births", BIRTHS), ("parallel", PARALLEL)):
@@ -108,13 +115,13 @@ class FactoredOptions:
         workers = check_int(self.workers, "workers", minimum=1)
         if self.adaptive_birth is not None and not isinstance(self.adaptive_birth, AdaptiveBirth):
             raise TypeError(f"adaptive_birth must be an AdaptiveBirth or None, got {type(self.adaptive_birth).__name__}")
-        for name in ("measure_transfer", "lazy", "gate_out_of_view"):
+        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
         object.__setattr__(self, "factor_tol", tol)
         object.__setattr__(self, "min_weight", w)
         object.__setattr__(self, "workers", workers)
-        for name in ("measure_transfer", "lazy", "gate_out_of_view"):
+        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path"):
             object.__setattr__(self, name, bool(getattr(self, name)))
 
     @classmethod

@@ -54,11 +54,11 @@ class ScanGraph:
     touched: np.ndarray
     unexplained: np.ndarray
 
-    def components(self):
+    def components(self, skip=None):
         """``(key, component, members, regions, rows)`` in the order of each component's first node
         (deterministic): a quiet group (component ``None``: only its group index ``key``) or a
         touched component with its groups/singletons ``members`` (node indices, ascending), birth
-        terms ``regions`` and returns ``rows``."""
+        terms ``regions`` and returns ``rows``. ``skip``: touched components left out (the fast path's)."""
         G, L, B, n_comp, node_lab, ret_lab = self.G, self.L, self.B, self.n_comp, self.node_lab, self.ret_lab
         n_nodes = len(node_lab)
         first = np.full(n_comp, n_nodes, dtype=np.int64)
@@ -68,7 +68,11 @@ class ScanGraph:
         order_r = np.argsort(ret_lab, kind="stable")
         starts_r = np.searchsorted(ret_lab[order_r], np.arange(n_comp + 1))
         quiet_groups = np.flatnonzero(~self.touched[node_lab[:G]])
-        keyed = [(int(g), None) for g in quiet_groups] + [(int(first[c]), int(c)) for c in np.flatnonzero(self.touched)]
+        touched = self.touched
+        if skip is not None and len(skip):
+            touched = touched.copy()
+            touched[skip] = False
+        keyed = [(int(g), None) for g in quiet_groups] + [(int(first[c]), int(c)) for c in np.flatnonzero(touched)]
         keyed.sort(key=lambda kc: kc[0])
         for key, c in keyed:
             if c is None:

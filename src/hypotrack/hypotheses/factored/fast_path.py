@@ -1,0 +1,255 @@
+"""The fast path: undisturbed singletons stepped in one batch (``fast_path``; package docstring).
+
+At catalogue scale nearly every component a scan touches is one singleton of the lane (one object,
+one hypothesis, one track) with one return in its gate that no other group, singleton or birth term
+gates. The engine's step of such a component (:meth:`~..filter.HypothesisFilter.advance`) makes the
+children "detected with the return" and the alternatives "missed, the return clutter" (and, with
+Reid's births seeded at the returns, "missed, the return a new object"), caps them at ``H∞`` and
+the factored filter then drops the hypotheses below ``min_weight``. Their log-weights relative to
+each other are closed forms in the return's log-likelihood ``ℓ`` and the track's ``p_D``:
+
+=======================  ==================================  =========================================
+weight model             detected                            alternatives (each ``+ log(1 − p_D)``)
+=======================  ==================================  =========================================
+δ-GLMB (``p_S = 1``)     ``log p_D + ℓ − log κ``             missed: ``0``
+Reid (HOMHT)             ``log p_D + ℓ``                     clutter ``log λ_C``; seeded birth ``log λ_B``
+H-FISST / R-FISST        ``log p_D + ℓ`` (count term 0)      clutter ``−log V``
+FISST, Poisson clutter   ``log p_D + ℓ``                     clutter ``log(λV) − log V``
+=======================  ==================================  =========================================
+
+(the parent's weight, the population's no-event probability — 1 for a silent population with no
+birth term in the component — and the constants common to all children cancel). When every
+alternative's normalised weight lies below ``min_weight`` (by a relative margin of ``1e-9``, so
+that rounding cannot decide), the general path keeps exactly one hypothesis: the track's Joseph
+update with the return, weight 1 — a singleton again. The fast path computes the decision for all
+candidates at once, updates the ones it takes in one batch (:func:`~...gaussian.update_unchecked`)
+and puts them back into the lane where the general path would (the plan order); a seeded birth
+child, kept by the cap and then pruned, still uses a label (:attr:`FastRule.n_new`), as there.
+Everything else — several returns, a birth term or another group in the gate, an alternative
+heavy enough to be kept — takes the general path.
+
+Two more kinds of component keep no object after the general step, and the fast path drops them:
+
+* returns no group or birth term gates (without seeded births): clutter in every child;
+* a birth term no return reaches (*lone birth term*), whose children are "not born" (``1 − r_B``)
+  and "born undetected" (``r_B (1 − p_D)``; the binomial population's ``α`` for ``r_B``): when the
+  second's normalised weight is below ``min_weight`` the first, with no object, is all that is
+  kept. The born-undetected child, kept by the cap and then pruned, used a label, as above.
+
+With the engine's ``validity`` test (:mod:`..validity`) a child holding a track that fails it has
+weight 0 and is not kept (its label not used): the fast path tests the tracks of every child as the
+general step does — the detected child's update (it must pass, else the general path takes the
+component), the predicted track of the missed and clutter children, a seeded birth's track, a birth
+term's undetected prior — and normalises over the valid children only.
+
+The rule holds for the engine itself (not a subclass that overrides its extension points), the four
+weight models above with a silent population (no population, or labeled multi-Bernoulli / binomial
+with ``p_S = 1``: the lane's condition), a cap that keeps every child (``H∞`` ≥ the number of
+children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
+two samplers with certainty only up to the chance that they never leave the alternative
+(``< min_weight^n_sweeps``). With seeded births the generator must make all three children
+(exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...gaussian import update_unchecked
+from ..filter import HypothesisFilter
+from ..generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
+from ..gibbs import GibbsGenerator
+from ..population_events import BinomialPopulation
+from ..population_lmb import LabeledMultiBernoulliPopulation
+from ..tracks import TrackStore
+from ..weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
+from ..weights_glmb import GLMBWeights
+
+__all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components"]
+
+#: relative margin of ``min_weight`` an alternative must stay under (rounding never decides)
+MARGIN = 1e-9
+
+
+@dataclass(frozen=True)
+class FastRule:
+    """The closed form of a lone track's children: detected ``log p_D + ℓ − det_offset``, each
+    alternative ``log(1 − p_D) + alt_offsets[k]``; ``n_new`` labels each such step uses (a seeded
+    birth child); alternatives below ``log_threshold`` (normalised) are dropped."""
+
+    det_offset: float
+    alt_offsets: np.ndarray
+    n_new: int
+    log_threshold: float
+    p_detect_birth: float
+    validity: object = None
+    seeded_density: object = None
+
+    def takes_births(self, r_birth, valid=None) -> np.ndarray:
+        """Whether each lone birth term (its existence ``r_B``; whether its born-undetected track is
+        ``valid``) keeps only its "not born" child."""
+        r = np.clip(r_birth, 1e-300, 1 - 1e-16)
+        born = np.log(r) + np.log1p(-self.p_detect_birth)
+        light = born - np.logaddexp(born, np.log1p(-r)) < self.log_threshold
+        return (r_birth > 0) & (r_birth < 1) & (light if valid is None else light | ~valid)
+
+    def takes(self, loglik, p_detect, valid=None) -> np.ndarray:
+        """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected
+        child; ``valid`` (n, alternatives): whether each alternative child passes the validity test
+        (an invalid one is not kept, nor counted in the normalisation)."""
+        ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik)
+        p = np.where(ok, p_detect, 0.5)
+        det = np.log(p) + np.where(ok, loglik, 0.0) - self.det_offset
+        alt = np.log1p(-p)[:, None] + self.alt_offsets[None, :]
+        if valid is not None:
+            alt = np.where(valid, alt, -np.inf)
+        total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
+        return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
+
+
+def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
+    """The :class:`FastRule` of ``engine`` (package docstring, "The fast path"), or ``None`` where the
+    fast path cannot reproduce the general one (then every component takes the general path)."""
+    if not lane_on or min_weight <= 0 or type(engine) is not HypothesisFilter:
+        return None
+    pop, w, gen = engine.population, engine.weights, engine.generator
+    if not (pop is None or type(pop) in (LabeledMultiBernoulliPopulation, BinomialPopulation)):
+        return None
+    if type(gen) not in (ExhaustiveGenerator, MurtyGenerator, GibbsGenerator, MCMCGenerator):
+        return None
+    clutter = engine.sensor.clutter
+    rate, volume = float(clutter.rate), float(clutter.region.area)
+    if not (rate > 0 and volume > 0):  # (the general path refuses a zero clutter intensity)
+        return None
+    kappa = rate / volume
+    n_new, tw = 0, type(w)
+    if tw is GLMBWeights:
+        if type(pop) is not LabeledMultiBernoulliPopulation:
+            return None
+        k = kappa if w.clutter_intensity is None else w.clutter_intensity
+        det, alt = float(np.log(k)), [0.0]
+    elif type(pop) is LabeledMultiBernoulliPopulation:
+        return None
+    elif tw is ReidWeights:
+        lam_c = kappa if w.clutter_intensity is None else w.clutter_intensity
+        det, alt = 0.0, [float(np.log(lam_c))]
+        if w.seeded_births:
+            alt.append(float(np.log(w.birth_intensity)))
+            n_new = 1
+            if not (type(gen) is ExhaustiveGenerator or (type(gen) is MurtyGenerator and gen.k >= 3)):
+                return None
+    elif tw is HFISSTWeights:
+        det, alt = 0.0, [-float(np.log(volume))]
+    elif tw is FISSTPoissonWeights:
+        lam_v = rate if w.clutter_rate is None else w.clutter_rate
+        det, alt = 0.0, [float(np.log(lam_v) - np.log(volume))]
+    else:
+        return None
+    if not np.all(np.isfinite(alt)) or engine.max_hypotheses < 1 + len(alt):
+        return None
+    return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)), float(engine.p_D),
+                    engine.validity, w.birth_density if n_new else None)
+
+
+def birth_existence(population) -> np.ndarray | None:
+    """``r_B`` of each birth term of ``population`` (the binomial population's ``α``), or ``None``
+    where a lone birth term's children are not the two of :meth:`FastRule.takes_births`."""
+    if type(population) is LabeledMultiBernoulliPopulation:
+        return np.asarray(population.r_birth, dtype=float)
+    if type(population) is BinomialPopulation and not population.poisson_limit:
+        return np.full(population.n_birth_regions, float(population.alpha))
+    return None
+
+
+@dataclass(frozen=True, eq=False)
+class FastBatch:
+    """The components the fast path took, in plan order: ``comps`` (graph components) and ``keys``
+    (their plan keys: the lone tracks' lane nodes, the lone birth terms' nodes, each ascending, then
+    the lone returns'); the lone tracks' updated ``store`` (one track each, plan order) and its
+    ``store_keys``; ``n_new``: the labels each component uses (a seeded birth child, a birth term's
+    born-undetected child); ``n_births`` and ``n_clutter``: the lone birth terms and returns dropped."""
+
+    comps: np.ndarray
+    keys: np.ndarray
+    store: TrackStore
+    store_keys: np.ndarray
+    n_new: np.ndarray
+    n_births: int
+    n_clutter: int
+
+    def __len__(self) -> int:
+        return len(self.keys)
+
+    def labels_before(self, k) -> np.ndarray:
+        """Labels used by the first ``k`` components (``k`` an int or an array)."""
+        return np.concatenate([[0], np.cumsum(self.n_new)])[k]
+
+
+def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R,
+                    seeded: bool, r_birth=None, population=None) -> FastBatch:
+    """The components of ``graph`` the fast path takes and their results.
+
+    A lone track is a component of one lane singleton (node ``G + j``, its track column
+    ``first_lane_col + j`` of ``pred`` and ``scores``) with one return and nothing else;
+    :meth:`FastRule.takes` decides. A lone return (a component of returns and no node: nothing gates
+    them and, without ``seeded`` births, nothing can start there) is clutter in every child of its
+    general step, which keeps no object: it is dropped. Its plan key is the graph's node count (after
+    every node's), as in :meth:`~.planner.ScanGraph.components`. A lone birth term (node
+    ``G + L + b``, alone, no return; ``r_birth``: each term's existence, ``None``: none taken) is
+    dropped when :meth:`FastRule.takes_births` says so (``population``: its born-undetected tracks, for
+    the validity test).
+    """
+    G, L, n_comp = graph.G, graph.L, graph.n_comp
+    n_nodes = np.bincount(graph.node_lab, minlength=n_comp)
+    n_rets = np.bincount(graph.ret_lab, minlength=n_comp)
+    lone = np.zeros(0, np.int64) if seeded else np.flatnonzero((n_nodes == 0) & (n_rets > 0))
+    lane_comp = graph.node_lab[G:G + L]
+    ret_of = np.full(n_comp, -1, np.int64)
+    ret_of[graph.ret_lab] = np.arange(len(graph.ret_lab))
+    j = np.flatnonzero((n_nodes[lane_comp] == 1) & (n_rets[lane_comp] == 1))
+    rows = ret_of[lane_comp[j]]
+    cols = first_lane_col + j
+    Z = np.asarray(Z)
+    loglik, p_detect = scores.loglik[rows, cols], scores.p_detect[cols]
+    n_new = np.full(len(j), rule.n_new, np.int64)
+    if rule.validity is None:
+        take = rule.takes(loglik, p_detect)
+        x, P = update_unchecked(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
+    else:  # every child's tracks tested, as the general step tests them
+        x, P = update_unchecked(pred.means[cols], pred.covs[cols], Z[rows], H, R)
+        valid = np.repeat(_valid(rule.validity, pred.means[cols])[:, None], len(rule.alt_offsets), axis=1)
+        if rule.n_new:  # the seeded birth child also holds the newborn track
+            born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
+            valid[:, -1] &= _valid(rule.validity, born)
+            n_new = valid[:, -1].astype(np.int64)
+        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid)
+        x, P = x[take], P[take]
+    j, cols, n_new = j[take], cols[take], n_new[take]
+    keys = (G + j).astype(np.int64)
+    b, b_new = np.zeros(0, np.int64), np.zeros(0, np.int64)
+    if r_birth is not None and graph.B:
+        birth_comp = graph.node_lab[G + L:G + L + graph.B]
+        b = np.flatnonzero((n_nodes[birth_comp] == 1) & (n_rets[birth_comp] == 0))
+        valid = None
+        if rule.validity is not None and len(b):
+            prior = np.array([population.birth_track(int(t), None, R)[0] for t in b]).reshape(len(b), -1)
+            valid = _valid(rule.validity, prior)
+        take_b = rule.takes_births(np.asarray(r_birth, dtype=float)[b], valid)
+        b_new = (np.ones(len(b), np.int64) if valid is None else valid.astype(np.int64))[take_b]
+        b = b[take_b]
+    comps = np.concatenate([lane_comp[j], graph.node_lab[G + L + b], lone]).astype(np.int64)
+    return FastBatch(comps, np.concatenate([keys, G + L + b, np.full(len(lone), len(graph.node_lab))]).astype(np.int64),
+                     TrackStore(x, P, pred.labels[cols]), keys,
+                     np.concatenate([n_new, b_new, np.zeros(len(lone), np.int64)]).astype(np.int64), len(b), len(lone))
+
+
+def _valid(validity, means) -> np.ndarray:
+    """``validity(means)`` as a bool per row (no call for no rows)."""
+    if len(means) == 0:
+        return np.zeros(0, dtype=bool)
+    ok = np.asarray(validity(means), dtype=bool)
+    if ok.shape != (len(means),):
+        raise ValueError(f"validity must return one bool per track, shape ({len(means)},), got {ok.shape}")
+    return ok

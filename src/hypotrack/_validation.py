@@ -240,8 +240,20 @@ def check_labels(labels, n: int, *, held=None, name: str = "labels") -> np.ndarr
     return a
 
 
+def check_finite_float(value, name: str) -> float:
+    """``value`` as a finite float (``ValueError`` naming ``name`` otherwise, a non-number included)."""
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite number, got {value!r}") from None
+    if not np.isfinite(v):
+        raise ValueError(f"{name} must be a finite number, got {value!r}")
+    return v
+
+
 def check_time(value, name: str = "time") -> float:
-    """A scan or state time as a finite float: ``TypeError`` for a non-number, ``ValueError`` for NaN or inf."""
+    """A scan or state time as a finite float: ``TypeError`` for a non-number, ``ValueError`` for NaN or inf
+    (the single-hypothesis trackers' convention; the engine's is :func:`check_finite_float`)."""
     try:
         t = float(value)
     except (TypeError, ValueError):

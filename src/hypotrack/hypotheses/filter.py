@@ -35,6 +35,7 @@ from .._logspace import logsumexp
 from .._validation import (
     check_covariance,
     check_finite_array,
+    check_finite_float,
     check_int,
     check_measurements,
     check_positive,
@@ -50,7 +51,7 @@ from .hypothesis import ChildSet, Hypothesis
 from .posterior import summarise
 from ..protocol import TrackEstimates
 from .scan_context import ScanContext
-from .state import FilterState, StepResult, check_finite_float, scan_interval
+from .state import FilterState, StepResult, scan_interval
 from .tracks import TrackStore, update_pairs
 from .validity import valid_top_k
 from .weights import WeightModel

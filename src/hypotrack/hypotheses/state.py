@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .._validation import check_finite_float
 from .tracks import TrackStore
 
 __all__ = ["FilterState", "StepResult", "scan_interval"]
@@ -149,14 +150,3 @@ def scan_interval(now: float, time=None, dt=None, default: float = 1.0) -> tuple
     if d < 0:
         raise ValueError(f"dt must be a finite number >= 0, got {dt!r}")
     return d, now + d
-
-
-def check_finite_float(value, name: str) -> float:
-    """``value`` as a finite float (``ValueError`` naming ``name`` otherwise)."""
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a finite number, got {value!r}") from None
-    if not np.isfinite(v):
-        raise ValueError(f"{name} must be a finite number, got {value!r}")
-    return v

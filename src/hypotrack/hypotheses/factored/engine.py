@@ -13,7 +13,8 @@ from ...protocol import TrackEstimates
 from ..factored_groups import factorise, product
 from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
-from ..state import check_finite_float, scan_interval
+from ..._validation import check_finite_float
+from ..state import scan_interval
 from ..tracks import TrackStore
 from .fast_path import FastBatch, birth_existence, fast_components, fast_rule
 from .lane import GroupSet, Lane, cat, is_singleton, predict_each, silent, singleton, take

@@ -38,12 +38,10 @@ from ...models.sensors import Box, DetectionModel, LinearPositionSensor, Poisson
 from ...registry import TrackingProblem, build
 from .reference import EXTRACTIONS, AllocatedGibbsGenerator, BlindTracker, SqrtAllocationFilter, extract
 
-__all__ = ["LOCAL_KINDS", "LOCAL_OPTIONS", "PEER_KINDS", "make_problem", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
+__all__ = ["LOCAL_OPTIONS", "PEER_KINDS", "make_problem", "DiscreteWhiteNoiseAcceleration", "BenchmarkModel", "benchmark_model", "truth_states",
            "simulate_scans", "make_tracker", "TRUTH_CONVENTIONS", "ALLOCATIONS", "SUFFIX", "implementation_labels", "legend_labels", "run_tracker", "ospa_parts",
            "missed_objects"]
 
-#: Kinds the benchmark adds to the registry's: the Stone Soup peer and the negative control.
-LOCAL_KINDS = ("gmphd", "blind")
 ALLOCATIONS = ("per_parent", "sqrt_weight")
 PEER_KINDS = {"gmphd": "Stone Soup GM-PHD, peer implementation"}
 

@@ -55,12 +55,11 @@ from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
 from ...trackers import ScanModel
 from ..stepping import SHTStepper, max_abs_difference
 
-__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "TRACKERS", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
            "CatalogueSHTStepper", "peer_rows"]
 
-#: The trackers of the committed configurations (names of ``ssa_catalogue.trackers``); the factored ones.
-TRACKERS = ("glmb", "homht_kbest", "rfisst", "gnn", "jpda")
+#: The factored trackers of the committed configurations (names of ``ssa_catalogue.trackers``), for the summaries.
 FACTORED = ("glmb", "homht_kbest", "rfisst")
 
 

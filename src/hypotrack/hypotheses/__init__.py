@@ -13,7 +13,8 @@ the recursion tractable by searching children with MCMC instead of enumerating t
 (plus the population model: :class:`SingleEventPopulation`, :class:`BinomialPopulation`,
 :class:`LabeledMultiBernoulliPopulation`), and the trackers are presets: :func:`hfisst`,
 :func:`rfisst`, :func:`homht`, :func:`homht_kbest`, and the δ-GLMB filter :func:`glmb`,
-:func:`glmb_murty`.
+:func:`glmb_murty`; the PMBM and PMB filters (:mod:`.pmbm`: :func:`pmbm_murty`, :func:`pmbm_gibbs`,
+:func:`pmb_lbp`) reuse the association problem and the generators with a state of their own.
 
 The engine's state is a :class:`FilterState` apart from its configuration:
 :meth:`HypothesisFilter.advance` maps a state and a scan to the next (:mod:`.state`).
@@ -31,8 +32,10 @@ from .gibbs import GibbsGenerator
 from .hypothesis import ChildSet, Hypothesis
 from .population_events import BinomialPopulation, SingleEventPopulation
 from .population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation, UnconfirmedDecay
+from .pmbm import GlobalHypothesis, PMBMFilter, PMBMPosterior
+from .pmbm_poisson import PoissonIntensity
 from .posterior import HypothesisEstimate, Posterior
-from .presets import fisst_kbest, glmb, glmb_murty, hfisst, homht, homht_kbest, rfisst
+from .presets import fisst_kbest, glmb, glmb_murty, hfisst, homht, homht_kbest, pmb_lbp, pmbm_gibbs, pmbm_murty, rfisst
 from .scan_context import ScanContext
 from .state import FilterState, StepResult
 from .tracks import TrackStore
@@ -79,4 +82,11 @@ __all__ = [
     "fisst_kbest",
     "glmb",
     "glmb_murty",
+    "PMBMFilter",
+    "PMBMPosterior",
+    "GlobalHypothesis",
+    "PoissonIntensity",
+    "pmbm_murty",
+    "pmbm_gibbs",
+    "pmb_lbp",
 ]

@@ -10,7 +10,15 @@ preset          weight model                       child generator
 ``fisst_kbest`` FISST, Poisson clutter (001 Eq. 18)   Murty k-best
 ``glmb``        δ-GLMB joint prediction–update      Gibbs sampler (Vo, Vo & Hoang 2017)
 ``glmb_murty``  δ-GLMB joint prediction–update      Murty ranked assignment (Vo & Vo 2014)
+``pmbm_murty``  PMBM (García-Fernández et al. 2018) Murty k-best per global hypothesis
+``pmbm_gibbs``  PMBM                                Gibbs sampler
+``pmb_lbp``     PMB (Williams 2015)                 none: LBP association marginals
 =============== ================================= =================================
+
+The PMBM presets run :class:`~.pmbm.PMBMFilter` (:mod:`.pmbm`): its hypotheses are Bernoullis with an
+existence probability, which the engine's track store does not hold, so it has its own state and step; the
+association problem of a global hypothesis is the δ-GLMB preset's object-indexed
+:class:`~.AssociationProblem`, and the child generators are the engine's.
 
 The HOMHT presets take Reid's births seeded at returns (``birth_intensity``) or a population model
 (``population``: document 000 Eq. 30 or document 001's binomial), never both (:class:`~.weights.ReidWeights`).
@@ -26,16 +34,20 @@ Every preset takes the motion model, the sensor and keyword options of
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..models.population import SingleEventBirthDeath
 from .filter import HypothesisFilter
 from .generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from .gibbs import GibbsGenerator
+from .pmbm import PMBMFilter
 from .population_events import SingleEventPopulation
 from .population_lmb import LabeledMultiBernoulliPopulation
 from .weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
 from .weights_glmb import GLMBWeights
 
-__all__ = ["hfisst", "rfisst", "homht", "homht_kbest", "fisst_kbest", "glmb", "glmb_murty"]
+__all__ = ["hfisst", "rfisst", "homht", "homht_kbest", "fisst_kbest", "glmb", "glmb_murty", "pmbm_murty",
+           "pmbm_gibbs", "pmb_lbp", "pmbm_births"]
 
 
 def _population(population):
@@ -229,3 +241,47 @@ def glmb_murty(motion, sensor, *, population, k=None, **options) -> HypothesisFi
     (Murty on the ``P × (m + 2P)`` matrix; ``k`` defaults to ``max_hypotheses``)."""
     k = options.get("max_hypotheses", 100) if k is None else k
     return _filter(motion, sensor, GLMBWeights(), MurtyGenerator(k=k), _labeled(population), **options)
+
+
+def pmbm_births(population, birth="poisson") -> dict:
+    """The :class:`~.pmbm.PMBMFilter` keywords of a labeled multi-Bernoulli birth model: ``p_survive`` and
+    the Gaussian birth terms, each term's ``r_B`` the weight of a Poisson birth component (``birth="poisson"``,
+    the Poisson process with the same expected number of births per term) or the existence of a Bernoulli
+    birth (``birth="bernoulli"``, the δ-GLMB's births). ``None``: no births, ``p_S = 1``."""
+    if population is None:
+        return {"birth": birth}
+    if not isinstance(population, LabeledMultiBernoulliPopulation):
+        raise ValueError(f"population must be a LabeledMultiBernoulliPopulation, got {type(population).__name__}")
+    if population.survival is not None:
+        raise ValueError("population.survival: the PMBM presets take one p_S for every object (p_survive)")
+    terms = population.birth_densities
+    if not all(hasattr(t, "prior") for t in terms):
+        raise ValueError("the PMBM presets need Gaussian birth terms (a prior() -> (mean, cov) each)")
+    priors = [t.prior() for t in terms]
+    d = len(priors[0][0]) if priors else None
+    return {"birth": birth, "p_survive": population.p_survive, "birth_weights": np.asarray(population.r_birth),
+            "birth_means": np.array([p[0] for p in priors]).reshape(len(priors), -1) if priors else None,
+            "birth_covs": np.array([p[1] for p in priors]).reshape(len(priors), d, d) if priors else None}
+
+
+def pmbm_murty(motion, sensor, *, population=None, birth="poisson", k=None, **options) -> PMBMFilter:
+    """PMBM filter (García-Fernández et al. 2018) with Murty's ``k`` best children of each global hypothesis
+    (``k`` defaults to ``max_hypotheses``: then the kept hypotheses are the exact best ``max_hypotheses``).
+    ``population``: births and survival (:func:`pmbm_births`); ``options``: :class:`~.pmbm.PMBMFilter`'s."""
+    k = options.get("max_hypotheses", 100) if k is None else k
+    return PMBMFilter(motion, sensor, MurtyGenerator(k=k), **pmbm_births(population, birth), **options)
+
+
+def pmbm_gibbs(motion, sensor, *, population=None, birth="poisson", n_sweeps=1000, **options) -> PMBMFilter:
+    """PMBM filter with the children of each global hypothesis found by ``n_sweeps`` Gibbs sweeps
+    (:class:`~.gibbs.GibbsGenerator`: distinct samples, exact weights)."""
+    return PMBMFilter(motion, sensor, GibbsGenerator(n_sweeps=n_sweeps), **pmbm_births(population, birth), **options)
+
+
+def pmb_lbp(motion, sensor, *, population=None, birth="poisson", marginals="lbp", **options) -> PMBMFilter:
+    """PMB filter (Williams 2015): the PMBM update collapsed to one multi-Bernoulli by the association
+    marginals — loopy belief propagation (``marginals="lbp"``) or ``"exact"`` (every association)."""
+    if marginals not in ("lbp", "exact"):
+        raise ValueError(f"marginals must be 'lbp' or 'exact', got {marginals!r}")
+    return PMBMFilter(motion, sensor, ExhaustiveGenerator(), collapse=marginals, **pmbm_births(population, birth),
+                      **options)

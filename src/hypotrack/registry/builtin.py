@@ -13,6 +13,9 @@ kind            tracker
 ``gnn``         :class:`hypotrack.trackers.SingleHypothesisTracker` — global nearest neighbour
 ``jpda``        the same with joint probabilistic data association
 ``pdaf``        the same with each track's PDA on its own
+``pmbm_murty``  :func:`hypotrack.hypotheses.pmbm_murty` — PMBM, Murty's k best per global hypothesis
+``pmbm_gibbs``  :func:`hypotrack.hypotheses.pmbm_gibbs` — PMBM, Gibbs sampling
+``pmb_lbp``     :func:`hypotrack.hypotheses.pmb_lbp` — PMB, LBP association marginals (Williams 2015)
 =============== ====================================================================================
 
 Their options and defaults are in ``presets.yaml``. A builder takes the problem's birth model in
@@ -27,7 +30,7 @@ from ..hypotheses import presets
 from ..trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
 from .spec import BUILTIN, register
 
-__all__ = ["engine_options"]
+__all__ = ["engine_options", "pmbm_options"]
 
 
 def engine_options(problem, seed, options) -> dict:
@@ -107,9 +110,39 @@ def _single(association):
     return build
 
 
+def pmbm_options(problem, seed, options) -> dict:
+    """The :class:`~hypotrack.hypotheses.PMBMFilter` keywords of the ``poisson_mb`` family: the problem's scan
+    interval and birth model (:func:`hypotrack.hypotheses.presets.pmbm_births`: a labeled multi-Bernoulli
+    birth model's terms as Poisson birth components of weight ``r_B``, or as Bernoulli births), the family's
+    options and ``seed``. Measurement-driven births have no Gaussian terms to give a Poisson intensity: refused."""
+    from ..hypotheses.presets import pmbm_births
+    from .problem import MeasurementBirths
+
+    if isinstance(problem.births, MeasurementBirths):
+        raise ValueError("births: the PMBM presets take Gaussian birth terms (a LabeledMultiBernoulliPopulation or a "
+                         "SingleEventBirthDeath with Gaussian regions), not measurement-driven births")
+    population = None if problem.births is None else problem.labeled_population()
+    out = dict(options)
+    out.update(pmbm_births(population, out.pop("birth")), dt=problem.dt, seed=seed)
+    return out
+
+
+def _pmbm_murty(problem, *, seed, k, **common):
+    return presets.pmbm_murty(problem.motion, problem.sensor, k=k, **pmbm_options(problem, seed, common))
+
+
+def _pmbm_gibbs(problem, *, seed, n_sweeps, **common):
+    return presets.pmbm_gibbs(problem.motion, problem.sensor, n_sweeps=n_sweeps, **pmbm_options(problem, seed, common))
+
+
+def _pmb_lbp(problem, *, seed, **common):
+    return presets.pmb_lbp(problem.motion, problem.sensor, **pmbm_options(problem, seed, common))
+
+
 _BUILDERS = {"hfisst": _hfisst, "rfisst": _rfisst, "homht": _homht, "homht_kbest": _homht_kbest,
              "fisst_kbest": _fisst_kbest, "glmb": _glmb, "glmb_murty": _glmb_murty,
-             "gnn": _single("gnn"), "jpda": _single("jpda"), "pdaf": _single("pdaf")}
+             "gnn": _single("gnn"), "jpda": _single("jpda"), "pdaf": _single("pdaf"),
+             "pmbm_murty": _pmbm_murty, "pmbm_gibbs": _pmbm_gibbs, "pmb_lbp": _pmb_lbp}
 
 for _kind, _entry in BUILTIN["kinds"].items():
     register(_kind, _BUILDERS[_kind], family=_entry["family"], description=_entry.get("description", ""),

@@ -108,7 +108,7 @@ def test_every_scan_the_expanded_pmbm_is_the_glmb_posterior(runs):
 
 
 def test_cardinality_and_expected_number_agree(runs):
-    for g, p, _, _, post, _ in runs:
+    for g, _, _, _, post, _ in runs:
         card = cardinality(g)
         np.testing.assert_allclose(post.cardinality[:len(card)], card, rtol=0, atol=TOL)
         assert abs(post.expected_number - np.arange(len(card)) @ card) < TOL

@@ -153,7 +153,7 @@ def oracle(Z1, Z2):
     out = {}
     for key, g in groups.items():
         bern = []
-        for name, entries in g["tracks"].items():
+        for entries in g["tracks"].values():
             alive = [(w, mu, P) for w, a, mu, P in entries if a]
             wa = sum(w for w, _, _ in alive)
             if wa == 0:

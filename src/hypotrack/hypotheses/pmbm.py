@@ -243,10 +243,13 @@ class PMBMFilter:
         self.scan_index = 0
 
     # ------------------------------------------------------------------ recursion
+    _STATE = ("r", "means", "covs", "track_of", "assign", "log_w", "labels", "undetected", "next_label", "time",
+              "scan_index", "last_stats")
+
     def step(self, Z, time=None, *, dt=None):
         """Predict to ``time`` (or by ``dt``, or the default interval) and update with returns ``Z`` (m, p).
         All-or-nothing: on an error the filter is as before. Returns :meth:`posterior`."""
-        saved = (dict(self.__dict__), self.rng.bit_generator.state)
+        saved = ({name: getattr(self, name) for name in self._STATE}, self.rng.bit_generator.state)
         try:
             t0 = _clock.perf_counter()
             interval, now = scan_interval(self.time, time, dt, self.dt)
@@ -256,7 +259,8 @@ class PMBMFilter:
             self.time, self.scan_index = now, self.scan_index + 1
             self.last_stats["time_total"] = _clock.perf_counter() - t0
         except BaseException:
-            self.__dict__.update(saved[0])
+            for name, value in saved[0].items():
+                setattr(self, name, value)  # a step replaces these arrays, never writes into them
             self.rng.bit_generator.state = saved[1]
             raise
         return self.posterior()
@@ -313,7 +317,6 @@ class PMBMFilter:
             count_term=np.zeros((m + 1, 1)), constant=float(self.log_w[a] + np.sum(log_rho)))
 
     def _update(self, Z):
-        m = len(Z)
         log_miss, r_miss, log_det, (undetected, log_e, log_rho, new_means, new_covs) = self.single_target_hypotheses(Z)
         parents, events, lw = [], [], []
         n_gen = 0

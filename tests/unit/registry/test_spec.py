@@ -87,7 +87,7 @@ def test_register_refuses_clashes_and_bad_schemas():
 
 def test_builtin_kinds_and_families():
     assert kinds() == ("hfisst", "rfisst", "homht", "homht_kbest", "fisst_kbest", "glmb", "glmb_murty",
-                       "gnn", "jpda", "pdaf")
+                       "gnn", "jpda", "pdaf", "pmbm_murty", "pmbm_gibbs", "pmb_lbp")
     assert kinds("single") == ("gnn", "jpda", "pdaf")
     assert preset("glmb").family == "engine"
 

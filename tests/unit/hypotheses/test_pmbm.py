@@ -1,0 +1,233 @@
+"""The PMBM and PMB filters: a hand-computed scan, the PMB collapse against the PMBM's marginals and LBP against
+exact marginals, bad input, empty scans, the registry kinds."""
+
+import numpy as np
+import pytest
+
+from hypotrack.hypotheses import ExhaustiveGenerator, GaussianBirthTerm, LabeledMultiBernoulliPopulation, PoissonIntensity
+from hypotrack.hypotheses.pmbm import PMBMFilter, poisson_binomial
+from hypotrack.models import ConstantVelocity
+from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
+from hypotrack.protocol import HypothesisTracker
+from hypotrack.registry import MeasurementBirths, SpecError, TrackerSpec, TrackingProblem, build, kinds
+from hypotrack.registry.spec import FAMILIES
+
+VIEW = Box([-50.0, -50.0], [50.0, 50.0])
+
+
+def sensor(p_D=0.8, rate=1.0, R=1.0):
+    return Sensor(LinearPositionSensor(R * np.eye(2), 4), DetectionModel(p_D, VIEW), PoissonClutter(rate, VIEW))
+
+
+def pmbm(collapse=None, p_D=0.8, **kw):
+    opts = dict(max_hypotheses=1000, hypothesis_threshold=0.0, existence_threshold=0.0, poisson_threshold=0.0)
+    opts.update(kw)
+    return PMBMFilter(ConstantVelocity(0.1), sensor(p_D), ExhaustiveGenerator(), collapse=collapse, **opts)
+
+
+# ------------------------------------------------------------------------------------ hand-computed
+def test_one_bernoulli_one_return_by_hand():
+    """A known object (r = 1, N(0, diag(2, 2, 1, 1))), a Poisson birth 0.2 N((3, 0, 0, 0), diag(4, 4, 1, 1)),
+    p_S = 0.9, p_D = 0.8, κ = 1/10⁴, R = I, one return z = (1, 0) at the priors' epoch (no motion)."""
+    f = pmbm(p_survive=0.9, birth_means=[[3.0, 0, 0, 0]], birth_covs=[np.diag([4.0, 4, 1, 1])], birth_weights=[0.2])
+    f.initialise([[0.0, 0, 0, 0]], [np.diag([2.0, 2, 1, 1])], labels=[5])
+    f.step(np.array([[1.0, 0.0]]), 0.0)
+    r, pd, kappa = 0.9, 0.8, 1e-4
+    n_track = np.exp(-0.5 * 1.0 / 3.0) / (2 * np.pi * 3.0)  # N(z; (0, 0), 3 I)
+    n_birth = np.exp(-0.5 * 4.0 / 5.0) / (2 * np.pi * 5.0)  # N(z; (3, 0), 5 I)
+    detected = r * pd * n_track  # the track takes z; the new track does not exist
+    e = 0.2 * pd * n_birth
+    missed = (1 - r * pd) * (kappa + e)  # the track missed; z starts the new track
+    w_det = detected / (detected + missed)
+    hyps = f.global_hypotheses()
+    assert len(hyps) == 2
+    a, b = sorted(hyps, key=lambda h: len(h.existence))
+    assert abs(a.weight - w_det) < 1e-12 and abs(b.weight - (1 - w_det)) < 1e-12
+    # detected: r = 1, mean 0 + 2/3 (1 - 0), covariance 2 − 4/3
+    assert a.labels.tolist() == [5] and a.existence.tolist() == [1.0]
+    np.testing.assert_allclose(a.means[0], [2 / 3, 0, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(np.diag(a.covs[0]), [2 / 3, 2 / 3, 1, 1], atol=1e-12)
+    # missed: r = 0.9 · 0.2 / 0.28, the prior moments; the new track r = e / (κ + e), mean 3 + 4/5 (1 − 3)
+    np.testing.assert_allclose(b.existence, [0.9 * 0.2 / 0.28, e / (kappa + e)], atol=1e-12)
+    np.testing.assert_allclose(b.means[1], [3 - 1.6, 0, 0, 0], atol=1e-12)
+    np.testing.assert_allclose(np.diag(b.covs[1]), [0.8, 0.8, 1, 1], atol=1e-12)
+    assert b.labels.tolist() == [5, 6]
+    # undetected: the birth thinned by 1 − p_D
+    np.testing.assert_allclose(np.exp(f.undetected.log_w), [0.2 * 0.2], atol=1e-15)
+    post = f.posterior()
+    card = w_det * np.array([0, 1, 0]) + (1 - w_det) * poisson_binomial(b.existence)
+    np.testing.assert_allclose(post.cardinality, card, atol=1e-12)
+    # estimator 1: the detected hypothesis is the heavier here, its one Bernoulli reported
+    assert w_det > 0.5 and f.estimates().labels.tolist() == [5]
+
+
+# ------------------------------------------------------------------------------------ PMB
+Z3 = np.array([[-1.0, 0.3], [2.0, -0.2], [5.0, 0.4]])
+
+
+def two_tracks_three_returns(collapse, gate=None, step=True):
+    f = pmbm(collapse, gate_probability=gate, birth_means=[[0.0, 5, 0, 0]], birth_covs=[np.diag([30.0, 30, 1, 1])],
+             birth_weights=[0.5])
+    f.initialise([[0.0, 0, 0, 0], [4.0, 0, 0, 0]], [np.eye(4), np.eye(4)])
+    if step:
+        f.step(Z3, 0.0)  # the priors' epoch: no motion, p_S = 1
+    return f
+
+
+def marginals(f):
+    """Per label: (Σ_a W_a r(a), mean, covariance of the existence-weighted mixture)."""
+    acc = {}
+    for h in f.global_hypotheses():
+        for lab, r, m, P in zip(h.labels, h.existence, h.means, h.covs):
+            acc.setdefault(int(lab), []).append((h.weight * r, m, P))
+    out = {}
+    for lab, items in acc.items():
+        w = sum(x[0] for x in items)
+        mean = sum(x[0] * x[1] for x in items) / w
+        cov = sum(x[0] * (x[2] + np.outer(x[1] - mean, x[1] - mean)) for x in items) / w
+        out[lab] = (w, mean, cov)
+    return out
+
+
+def test_pmb_with_exact_marginals_is_the_pmbm_marginalised():
+    """Williams 2015: each Bernoulli of the PMB is its track's existence-weighted mixture over the PMBM's global
+    hypotheses, and every return's new track has r = P(unassigned) e / (κ + e)."""
+    full, pmb = marginals(two_tracks_three_returns(None)), two_tracks_three_returns("exact")
+    (h,) = pmb.global_hypotheses()
+    assert sorted(full) == sorted(h.labels.tolist()) == [0, 1, 2, 3, 4]
+    for lab, r, m, P in zip(h.labels, h.existence, h.means, h.covs):
+        np.testing.assert_allclose([r], [full[int(lab)][0]], atol=1e-12, rtol=0)
+        np.testing.assert_allclose(m, full[int(lab)][1], atol=1e-10, rtol=0)
+        np.testing.assert_allclose(P, full[int(lab)][2], atol=1e-10, rtol=0)
+
+
+def test_lbp_is_exact_on_a_tree_and_close_on_a_loopy_graph():
+    """Gated (P_G = 0.9), the tracks and returns form a chain (track 0 – return 0, 1; track 1 – return 1, 2): belief
+    propagation is exact on it. Ungated every track sees every return: cycles, and LBP is an approximation."""
+    for gate, exact in ((0.9, True), (None, False)):
+        a, b = two_tracks_three_returns("lbp", gate), two_tracks_three_returns("exact", gate)
+        (ha,), (hb,) = a.global_hypotheses(), b.global_hypotheses()
+        assert ha.labels.tolist() == hb.labels.tolist()
+        diff = np.max(np.abs(ha.existence - hb.existence))
+        if exact:
+            assert diff < 1e-9
+            np.testing.assert_allclose(ha.means, hb.means, atol=1e-8, rtol=0)
+        else:
+            assert 1e-6 < diff < 0.02  # measured: 2.8e-4
+
+
+def test_the_gated_problem_is_a_chain_and_the_ungated_one_has_cycles():
+    for gate, pattern in ((0.9, [[True, True, False], [False, True, True]]), (None, [[True] * 3] * 2)):
+        f = two_tracks_three_returns(None, gate, step=False)
+        _, _, log_det, _ = f.single_target_hypotheses(Z3)
+        assert np.isfinite(log_det).tolist() == pattern
+
+
+# ------------------------------------------------------------------------------------ empty, bad input
+def test_no_objects_no_births_and_empty_scans():
+    f = pmbm()
+    for t in range(3):
+        post = f.step(np.zeros((0, 2)), float(t + 1))
+    assert post.cardinality.tolist() == [1.0] and post.undetected_mean == 0.0
+    assert len(f.estimates()) == 0
+    f.step(np.array([[1.0, 2.0]]), 4.0)  # a return with nothing to explain it but clutter
+    assert [len(h.existence) for h in f.global_hypotheses()] == [0]
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(birth_weights=[-0.1], birth_means=[[0.0, 0, 0, 0]], birth_covs=[np.eye(4)]), "Poisson weights"),
+    (dict(birth_weights=[np.inf], birth_means=[[0.0, 0, 0, 0]], birth_covs=[np.eye(4)]), "Poisson weights"),
+    (dict(birth="bernoulli", birth_weights=[1.0], birth_means=[[0.0, 0, 0, 0]], birth_covs=[np.eye(4)]), "r_B"),
+    (dict(birth_weights=[0.1], birth_means=[[0.0, 0, 0, 0]], birth_covs=[-np.eye(4)]), "covs"),
+    (dict(p_survive=0.0), "p_survive"),
+    (dict(p_survive=1.5), "p_survive"),
+    (dict(max_hypotheses=0), "max_hypotheses"),
+    (dict(hypothesis_threshold=1.0), "hypothesis_threshold"),
+    (dict(existence_threshold=-0.1), "existence_threshold"),
+    (dict(gate_probability=1.0), "gate_probability"),
+    (dict(estimator="mean"), "estimator"),
+    (dict(collapse="gibbs"), "collapse"),
+    (dict(birth="uniform"), "birth"),
+])
+def test_bad_options_name_the_parameter(kw, match):
+    with pytest.raises(ValueError, match=match):
+        pmbm(**kw)
+
+
+def test_detection_probability_must_lie_in_the_open_unit_interval():
+    with pytest.raises(ValueError, match="p_D"):
+        pmbm(p_D=1.0)  # a missed object of r = 1 would have weight 0: the miss option must be possible
+    with pytest.raises(ValueError, match="p_D"):
+        DetectionModel(1.2)
+
+
+def test_poisson_intensity_refuses_negative_weights():
+    with pytest.raises(ValueError, match="Poisson weights must be finite numbers >= 0"):
+        PoissonIntensity.from_weights([0.3, -1e-3], np.zeros((2, 4)), np.stack([np.eye(4)] * 2))
+
+
+def test_a_failed_step_leaves_the_filter_as_it_was():
+    f = pmbm(birth_means=[[0.0, 5, 0, 0]], birth_covs=[np.eye(4)], birth_weights=[0.5])
+    f.initialise([[0.0, 0, 0, 0]], [np.eye(4)])
+    f.step(np.array([[0.1, 0.0]]), 1.0)
+    before = (f.log_w.copy(), f.r.copy(), f.time, len(f.undetected))
+    with pytest.raises(ValueError, match="Z"):
+        f.step(np.zeros((2, 3)), 2.0)
+    with pytest.raises(ValueError):
+        f.step(np.zeros((0, 2)), 0.5)  # backwards in time
+    assert np.array_equal(f.log_w, before[0]) and np.array_equal(f.r, before[1])
+    assert (f.time, len(f.undetected)) == before[2:]
+
+
+# ------------------------------------------------------------------------------------ registry
+def problem(births="lmb"):
+    s = sensor(0.9, 2.0)
+    terms = [GaussianBirthTerm([x, y, 0, 0], np.diag([25.0, 25, 4, 4]), s.measurement.H, s.measurement.R)
+             for x, y in ((-30, -30), (30, 30))]
+    b = LabeledMultiBernoulliPopulation(terms, r_birth=0.05, p_survive=0.98) if births == "lmb" else births
+    return TrackingProblem(ConstantVelocity(0.1), s, means=[[0, 0, 1, 0], [10, 0, -1, 0]],
+                           covs=np.stack([np.eye(4)] * 2), labels=[7, 9], births=b)
+
+
+@pytest.mark.parametrize("kind", ["pmbm_murty", "pmbm_gibbs", "pmb_lbp"])
+def test_registry_kinds_build_and_track(kind):
+    tr = build({"kind": kind, "max_hypotheses": 20}, problem(), seed=4)
+    assert isinstance(tr, HypothesisTracker) and tr.birth == "poisson" and len(tr.birth_intensity) == 2
+    for t in range(1, 4):
+        tr.step(np.array([[t * 1.0, 0.1], [10 - t * 1.0, -0.1], [30.0, 31.0]]), float(t))
+    est = tr.estimates()
+    assert est.time == 3.0 and {7, 9} <= set(est.labels.tolist())
+    assert len(tr.posterior().log_weights) <= 20
+    # the birth near (30, 30) was detected three times: a track of existence near 1 at the return
+    near = np.hypot(est.x[:, 0] - 30, est.x[:, 1] - 31) < 1.5
+    assert near.sum() == 1
+
+
+def test_registry_defaults_are_the_python_defaults():
+    import inspect
+
+    from hypotrack.hypotheses import presets
+    opts = TrackerSpec.from_config({"kind": "pmbm_murty"}).options
+    sig = inspect.signature(PMBMFilter).parameters
+    for name in FAMILIES["poisson_mb"]:
+        if name != "birth":
+            assert opts[name] == sig[name].default, name
+    assert opts["birth"] == inspect.signature(presets.pmbm_murty).parameters["birth"].default
+    assert opts["k"] == inspect.signature(presets.pmbm_murty).parameters["k"].default
+    assert TrackerSpec.from_config({"kind": "pmbm_gibbs"}).options["n_sweeps"] == \
+        inspect.signature(presets.pmbm_gibbs).parameters["n_sweeps"].default
+    assert set(kinds("poisson_mb")) == {"pmbm_murty", "pmbm_gibbs", "pmb_lbp"}
+
+
+def test_registry_refuses_what_the_pmbm_cannot_take():
+    with pytest.raises(SpecError, match="'x.factored'"):
+        TrackerSpec.from_config({"kind": "pmbm_murty", "factored": {}}, "x")
+    with pytest.raises(SpecError, match="'x.estimator'"):
+        TrackerSpec.from_config({"kind": "pmb_lbp", "estimator": "mean"}, "x")
+    from hypotrack.hypotheses.factored import AdaptiveBirth
+    try:
+        births = MeasurementBirths(AdaptiveBirth.__new__(AdaptiveBirth), r_birth=0.1)
+    except TypeError:
+        pytest.skip("AdaptiveBirth cannot be made bare")
+    with pytest.raises(ValueError, match="measurement-driven births"):
+        build({"kind": "pmbm_murty"}, problem(births))

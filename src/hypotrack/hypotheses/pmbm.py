@@ -34,7 +34,8 @@ One ``step(Z)``:
    ``log(r p_D N(z_j; ·)) − log ρ_j``, constant ``log W_a + Σ_j log ρ_j`` — the form of
    :class:`~.AssociationProblem` the δ-GLMB preset uses (:mod:`.weights_glmb`), so the engine's child
    generators serve unchanged: Murty's k best (:class:`~.MurtyGenerator`, exact top ``k`` per
-   parent; the ``H`` best children overall are among the ``H`` best of each parent) or the Gibbs
+   parent; the ``H`` best children overall are among the ``H`` best of each parent; or, ``allocation=
+   "proportional"``, ``ceil(H W_a)`` children of parent ``a`` as the 2018 paper's implementation) or the Gibbs
    sampler (:class:`~.GibbsGenerator`, distinct samples with exact weights).
 4. **Pruning** (Sec. IV): the ``max_hypotheses`` heaviest children, those of normalised weight
    below ``hypothesis_threshold`` dropped; local hypotheses with ``r < existence_threshold`` removed
@@ -83,11 +84,12 @@ from .generators import ChildGenerator, ExhaustiveGenerator, top_k
 from .pmbm_poisson import PoissonIntensity, gaussian_loglik, moment_match
 from .state import scan_interval
 
-__all__ = ["PMBMFilter", "PMBMPosterior", "GlobalHypothesis", "ESTIMATORS", "COLLAPSES", "BIRTHS"]
+__all__ = ["PMBMFilter", "PMBMPosterior", "GlobalHypothesis", "ESTIMATORS", "COLLAPSES", "BIRTHS", "ALLOCATIONS"]
 
 ESTIMATORS = ("best_hypothesis", "joint_map")
 COLLAPSES = (None, "lbp", "exact")
 BIRTHS = ("poisson", "bernoulli")
+ALLOCATIONS = ("exact", "proportional")
 
 
 @dataclass(frozen=True, eq=False)
@@ -166,6 +168,10 @@ class PMBMFilter:
     estimator : {"best_hypothesis", "joint_map"}
     existence_estimate : float
         ``"best_hypothesis"`` reports Bernoullis with ``r`` above it, in [0, 1).
+    allocation : {"exact", "proportional"}
+        Children asked of each global hypothesis ``a``: ``max_hypotheses`` (the kept ones are then the exact best
+        of a k-best generator), or ``ceil(max_hypotheses W_a)`` (the 2018 paper's implementation: cheaper, the
+        light hypotheses get few children).
     dt : float
         Default scan interval.
     seed : int or numpy.random.Generator
@@ -175,7 +181,7 @@ class PMBMFilter:
     def __init__(self, motion, sensor, generator: ChildGenerator, *, p_survive=1.0, birth_means=None,
                  birth_covs=None, birth_weights=None, birth="poisson", collapse=None, max_hypotheses=100,
                  hypothesis_threshold=1e-4, existence_threshold=1e-5, poisson_threshold=1e-5, gate_probability=None,
-                 estimator="best_hypothesis", existence_estimate=0.5, dt=1.0, seed=None):
+                 estimator="best_hypothesis", existence_estimate=0.5, allocation="exact", dt=1.0, seed=None):
         if not isinstance(generator, ChildGenerator):
             raise TypeError(f"generator must be a ChildGenerator, got {type(generator).__name__}")
         if getattr(sensor, "clutter", None) is None:
@@ -195,7 +201,9 @@ class PMBMFilter:
             raise ValueError(f"collapse must be one of {COLLAPSES}, got {collapse!r}")
         if estimator not in ESTIMATORS:
             raise ValueError(f"estimator must be one of {ESTIMATORS}, got {estimator!r}")
-        self.birth, self.collapse, self.estimator = birth, collapse, estimator
+        if allocation not in ALLOCATIONS:
+            raise ValueError(f"allocation must be one of {ALLOCATIONS}, got {allocation!r}")
+        self.birth, self.collapse, self.estimator, self.allocation = birth, collapse, estimator, allocation
         n_b = 0 if birth_weights is None else len(np.atleast_1d(birth_weights))
         if birth == "bernoulli":
             for r in np.atleast_1d(birth_weights) if n_b else ():
@@ -328,7 +336,9 @@ class PMBMFilter:
             if len(rows) == 0:
                 ev, w = np.zeros((1, 0), np.int32), np.array([problem.constant])
             else:
-                ev, w = self.generator.generate(problem, self.rng, keep=self.max_hypotheses)
+                keep = self.max_hypotheses if self.allocation == "exact" else \
+                    int(np.ceil(self.max_hypotheses * np.exp(self.log_w[a])))
+                ev, w = self.generator.generate(problem, self.rng, keep=keep)
             n_gen += len(w)
             full = np.full((len(w), self.assign.shape[1]), -2, np.int64)  # -2: track absent; -1 missed; j
             present = np.flatnonzero(self.assign[a] >= 0)

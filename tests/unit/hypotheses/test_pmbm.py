@@ -4,7 +4,13 @@ exact marginals, bad input, empty scans, the registry kinds."""
 import numpy as np
 import pytest
 
-from hypotrack.hypotheses import ExhaustiveGenerator, GaussianBirthTerm, LabeledMultiBernoulliPopulation, PoissonIntensity
+from hypotrack.hypotheses import (
+    ExhaustiveGenerator,
+    GaussianBirthTerm,
+    LabeledMultiBernoulliPopulation,
+    MurtyGenerator,
+    PoissonIntensity,
+)
 from hypotrack.hypotheses.pmbm import PMBMFilter, poisson_binomial
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
@@ -19,10 +25,11 @@ def sensor(p_D=0.8, rate=1.0, R=1.0):
     return Sensor(LinearPositionSensor(R * np.eye(2), 4), DetectionModel(p_D, VIEW), PoissonClutter(rate, VIEW))
 
 
-def pmbm(collapse=None, p_D=0.8, **kw):
+def pmbm(collapse=None, p_D=0.8, generator=None, **kw):
     opts = dict(max_hypotheses=1000, hypothesis_threshold=0.0, existence_threshold=0.0, poisson_threshold=0.0)
     opts.update(kw)
-    return PMBMFilter(ConstantVelocity(0.1), sensor(p_D), ExhaustiveGenerator(), collapse=collapse, **opts)
+    return PMBMFilter(ConstantVelocity(0.1), sensor(p_D), generator or ExhaustiveGenerator(), collapse=collapse,
+                      **opts)
 
 
 # ------------------------------------------------------------------------------------ hand-computed
@@ -65,9 +72,9 @@ def test_one_bernoulli_one_return_by_hand():
 Z3 = np.array([[-1.0, 0.3], [2.0, -0.2], [5.0, 0.4]])
 
 
-def two_tracks_three_returns(collapse, gate=None, step=True):
+def two_tracks_three_returns(collapse, gate=None, step=True, **kw):
     f = pmbm(collapse, gate_probability=gate, birth_means=[[0.0, 5, 0, 0]], birth_covs=[np.diag([30.0, 30, 1, 1])],
-             birth_weights=[0.5])
+             birth_weights=[0.5], **kw)
     f.initialise([[0.0, 0, 0, 0], [4.0, 0, 0, 0]], [np.eye(4), np.eye(4)])
     if step:
         f.step(Z3, 0.0)  # the priors' epoch: no motion, p_S = 1
@@ -123,6 +130,18 @@ def test_the_gated_problem_is_a_chain_and_the_ungated_one_has_cycles():
         assert np.isfinite(log_det).tolist() == pattern
 
 
+def test_proportional_allocation_asks_each_hypothesis_for_its_share():
+    """``ceil(H W_a)`` children of global hypothesis ``a`` (the 2018 paper's implementation) instead of ``H``."""
+    runs = {}
+    for allocation in ("exact", "proportional"):
+        f = two_tracks_three_returns(None, max_hypotheses=10, allocation=allocation, generator=MurtyGenerator(k=10))
+        weights = np.exp(f.log_w)
+        f.step(Z3 + 0.5, 1.0)
+        runs[allocation] = (f.last_stats["n_children"], int(np.sum(np.ceil(10 * weights))), len(weights))
+    (n_exact, _, n_parents), (n_prop, bound, _) = runs["exact"], runs["proportional"]
+    assert n_exact == 10 * n_parents and n_prop <= bound < n_exact
+
+
 # ------------------------------------------------------------------------------------ empty, bad input
 def test_no_objects_no_births_and_empty_scans():
     f = pmbm()
@@ -148,6 +167,7 @@ def test_no_objects_no_births_and_empty_scans():
     (dict(estimator="mean"), "estimator"),
     (dict(collapse="gibbs"), "collapse"),
     (dict(birth="uniform"), "birth"),
+    (dict(allocation="sqrt"), "allocation"),
 ])
 def test_bad_options_name_the_parameter(kw, match):
     with pytest.raises(ValueError, match=match):
@@ -214,6 +234,7 @@ def test_registry_defaults_are_the_python_defaults():
             assert opts[name] == sig[name].default, name
     assert opts["birth"] == inspect.signature(presets.pmbm_murty).parameters["birth"].default
     assert opts["k"] == inspect.signature(presets.pmbm_murty).parameters["k"].default
+    assert opts["allocation"] == sig["allocation"].default
     assert TrackerSpec.from_config({"kind": "pmbm_gibbs"}).options["n_sweeps"] == \
         inspect.signature(presets.pmbm_gibbs).parameters["n_sweeps"].default
     assert set(kinds("poisson_mb")) == {"pmbm_murty", "pmbm_gibbs", "pmb_lbp"}

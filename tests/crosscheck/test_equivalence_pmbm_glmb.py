@@ -78,7 +78,7 @@ def cardinality(components):
 
 def make_pmbm(generator=None, **kw):
     opts = dict(max_hypotheses=10**7, hypothesis_threshold=0.0, existence_threshold=0.0, poisson_threshold=0.0,
-                estimator="joint_map")
+                estimator="joint_map", allocation="exact")
     opts.update(kw)
     f = PMBMFilter(MOTION, SENSOR, generator or ExhaustiveGenerator(), **pmbm_births(POP, "bernoulli"), **opts)
     f.initialise(X0, P0)

@@ -172,6 +172,7 @@ def sensor():
 
 def make(generator=None, **kw):
     opts = dict(p_survive=P_S, birth_means=MB[None], birth_covs=PB[None], birth_weights=[W_B], max_hypotheses=10**6,
+                allocation="exact",
                 hypothesis_threshold=0.0, existence_threshold=0.0, poisson_threshold=0.0)
     opts.update(kw)
     f = PMBMFilter(ConstantVelocity(Q_PSD), sensor(), generator or ExhaustiveGenerator(), **opts)
@@ -242,7 +243,7 @@ def test_murty_and_gibbs_global_hypotheses_are_explanation_groups():
         kw = dict(n_sweeps=2000) if gen is pmbm_gibbs else {}
         f = gen(ConstantVelocity(Q_PSD), sensor(), p_survive=P_S, birth_means=MB[None], birth_covs=PB[None],
                 birth_weights=[W_B], max_hypotheses=10**4, hypothesis_threshold=0.0, existence_threshold=0.0,
-                poisson_threshold=0.0, seed=3, **kw)
+                poisson_threshold=0.0, allocation="exact", seed=3, **kw)
         f.initialise(M0[None], P0[None])
         f.step(Z1, 1.0)
         f.step(Z2, 2.0)
@@ -258,7 +259,8 @@ def test_oracle_detects_a_wrong_clutter_intensity():
     f = PMBMFilter(ConstantVelocity(Q_PSD), Sensor(LinearPositionSensor(R, 4), DetectionModel(P_D, VIEW),
                                                    PoissonClutter(RATE * 1.01, VIEW)), ExhaustiveGenerator(),
                    p_survive=P_S, birth_means=MB[None], birth_covs=PB[None], birth_weights=[W_B],
-                   max_hypotheses=10**6, hypothesis_threshold=0.0, existence_threshold=0.0, poisson_threshold=0.0)
+                   max_hypotheses=10**6, hypothesis_threshold=0.0, existence_threshold=0.0, poisson_threshold=0.0,
+                   allocation="exact")
     f.initialise(M0[None], P0[None])
     f.step(Z1, 1.0)
     f.step(Z2, 2.0)

@@ -33,10 +33,12 @@ One ``step(Z)``:
    possible as ``r p_D < 1``) and the measurements as exclusive columns: score
    ``log(r p_D N(z_j; ·)) − log ρ_j``, constant ``log W_a + Σ_j log ρ_j`` — the form of
    :class:`~.AssociationProblem` the δ-GLMB preset uses (:mod:`.weights_glmb`), so the engine's child
-   generators serve unchanged: Murty's k best (:class:`~.MurtyGenerator`, exact top ``k`` per
-   parent; the ``H`` best children overall are among the ``H`` best of each parent; or, ``allocation=
-   "proportional"``, ``ceil(H W_a)`` children of parent ``a`` as the 2018 paper's implementation) or the Gibbs
-   sampler (:class:`~.GibbsGenerator`, distinct samples with exact weights).
+   generators serve unchanged: Murty's k best (:class:`~.MurtyGenerator`) or the Gibbs sampler
+   (:class:`~.GibbsGenerator`, distinct samples with exact weights), asked for ``ceil(H W_a)`` children of
+   parent ``a`` (``allocation="proportional"``, as the 2018 paper's implementation) or for ``H``
+   (``"exact"``: the ``H`` best children overall are among the ``H`` best of each parent, so Murty keeps
+   the exact best). The generator sees only the coupled part of the problem: rows no return can take
+   (gated out) are missed, returns no row can take start their new track, in every child.
 4. **Pruning** (Sec. IV): the ``max_hypotheses`` heaviest children, those of normalised weight
    below ``hypothesis_threshold`` dropped; local hypotheses with ``r < existence_threshold`` removed
    from the global hypotheses (identical global hypotheses then merged, weights added); tracks absent
@@ -168,10 +170,10 @@ class PMBMFilter:
     estimator : {"best_hypothesis", "joint_map"}
     existence_estimate : float
         ``"best_hypothesis"`` reports Bernoullis with ``r`` above it, in [0, 1).
-    allocation : {"exact", "proportional"}
-        Children asked of each global hypothesis ``a``: ``max_hypotheses`` (the kept ones are then the exact best
-        of a k-best generator), or ``ceil(max_hypotheses W_a)`` (the 2018 paper's implementation: cheaper, the
-        light hypotheses get few children).
+    allocation : {"proportional", "exact"}
+        Children asked of each global hypothesis ``a``: ``ceil(max_hypotheses W_a)`` (the default, as the 2018
+        paper's implementation: light hypotheses get few children), or ``max_hypotheses`` (the kept ones are then
+        the exact best of a k-best generator; about ten times the cost on a four-object scene).
     dt : float
         Default scan interval.
     seed : int or numpy.random.Generator
@@ -181,7 +183,8 @@ class PMBMFilter:
     def __init__(self, motion, sensor, generator: ChildGenerator, *, p_survive=1.0, birth_means=None,
                  birth_covs=None, birth_weights=None, birth="poisson", collapse=None, max_hypotheses=100,
                  hypothesis_threshold=1e-4, existence_threshold=1e-5, poisson_threshold=1e-5, gate_probability=None,
-                 estimator="best_hypothesis", existence_estimate=0.5, allocation="exact", dt=1.0, seed=None):
+                 estimator="best_hypothesis", existence_estimate=0.5, allocation="proportional", dt=1.0,
+                 seed=None):
         if not isinstance(generator, ChildGenerator):
             raise TypeError(f"generator must be a ChildGenerator, got {type(generator).__name__}")
         if getattr(sensor, "clutter", None) is None:
@@ -324,6 +327,27 @@ class PMBMFilter:
             target_scores=log_det[rows] - log_rho[None, :], option_scores=log_miss[rows][:, None], n_objects=m,
             count_term=np.zeros((m + 1, 1)), constant=float(self.log_w[a] + np.sum(log_rho)))
 
+    def _generate(self, problem: AssociationProblem, keep: int):
+        """The generator's children of ``problem``, run on its coupled part only: a row no return can be
+        assigned to (gated out) is missed in every child, a return no row can take starts its new track in
+        every child; their scores enter the constant (the 2018 paper's implementation trims its cost
+        matrix the same way). Returns events over all rows and exact log-weights."""
+        T = problem.target_scores
+        rows = np.flatnonzero(np.isfinite(T).any(axis=1))
+        cols = np.flatnonzero(np.isfinite(T[rows]).any(axis=0))
+        n = problem.n_returns
+        if len(rows) == 0:
+            return np.full((1, n), -1, np.int32), np.array([problem.constant + problem.option_scores[:, 0].sum()])
+        fixed = np.setdiff1d(np.arange(n), rows)
+        sub = AssociationProblem(target_scores=T[np.ix_(rows, cols)], option_scores=problem.option_scores[rows],
+                                 n_objects=len(cols), count_term=np.zeros((len(cols) + 1, 1)),
+                                 constant=problem.constant + problem.option_scores[fixed, 0].sum())
+        ev, w = self.generator.generate(sub, self.rng, keep=keep)
+        full = np.full((len(w), n), -1, np.int64)
+        ev = np.asarray(ev, dtype=np.int64)
+        full[:, rows] = np.where(ev >= 0, cols[np.maximum(ev, 0)], ev)
+        return full, np.asarray(w, dtype=float)
+
     def _update(self, Z):
         log_miss, r_miss, log_det, (undetected, log_e, log_rho, new_means, new_covs) = self.single_target_hypotheses(Z)
         parents, events, lw = [], [], []
@@ -333,12 +357,9 @@ class PMBMFilter:
             if self.collapse is not None:
                 self._collapse(Z, rows, problem, r_miss, log_e, log_rho, new_means, new_covs, undetected)
                 return
-            if len(rows) == 0:
-                ev, w = np.zeros((1, 0), np.int32), np.array([problem.constant])
-            else:
-                keep = self.max_hypotheses if self.allocation == "exact" else \
-                    int(np.ceil(self.max_hypotheses * np.exp(self.log_w[a])))
-                ev, w = self.generator.generate(problem, self.rng, keep=keep)
+            keep = self.max_hypotheses if self.allocation == "exact" else \
+                int(np.ceil(self.max_hypotheses * np.exp(self.log_w[a])))
+            ev, w = self._generate(problem, keep)
             n_gen += len(w)
             full = np.full((len(w), self.assign.shape[1]), -2, np.int64)  # -2: track absent; -1 missed; j
             present = np.flatnonzero(self.assign[a] >= 0)

@@ -26,7 +26,8 @@ def sensor(p_D=0.8, rate=1.0, R=1.0):
 
 
 def pmbm(collapse=None, p_D=0.8, generator=None, **kw):
-    opts = dict(max_hypotheses=1000, hypothesis_threshold=0.0, existence_threshold=0.0, poisson_threshold=0.0)
+    opts = dict(max_hypotheses=1000, hypothesis_threshold=0.0, existence_threshold=0.0, poisson_threshold=0.0,
+                allocation="exact")
     opts.update(kw)
     return PMBMFilter(ConstantVelocity(0.1), sensor(p_D), generator or ExhaustiveGenerator(), collapse=collapse,
                       **opts)
@@ -128,6 +129,20 @@ def test_the_gated_problem_is_a_chain_and_the_ungated_one_has_cycles():
         f = two_tracks_three_returns(None, gate, step=False)
         _, _, log_det, _ = f.single_target_hypotheses(Z3)
         assert np.isfinite(log_det).tolist() == pattern
+
+
+def test_the_trimmed_problem_gives_every_child_of_the_full_one():
+    """Gated rows (always missed) and returns only their new track can take are left out of the generator's
+    problem and put back: the children and their weights are those of the full problem."""
+    f = two_tracks_three_returns(None, gate=0.9, step=False)
+    f.initialise([[0.0, 0, 0, 0], [4.0, 0, 0, 0], [40.0, 40, 0, 0]], [np.eye(4)] * 3)  # the third sees nothing
+    log_miss, _, log_det, (_, _, log_rho, _, _) = f.single_target_hypotheses(np.vstack([Z3, [[-40.0, -40]]]))
+    _, problem = f.association_problem(0, log_miss, log_det, log_rho)
+    ev_full, lw_full = ExhaustiveGenerator().generate(problem)
+    ev, lw = f._generate(problem, None)
+    key = lambda e, w: sorted(zip(map(tuple, np.asarray(e).tolist()), np.round(w, 12)))
+    # track 0: miss, z0 or z1; track 1: miss, z1 or z2; not both on z1: 3 × 3 − 1
+    assert key(ev, lw) == key(ev_full, lw_full) and len(lw) == 8
 
 
 def test_proportional_allocation_asks_each_hypothesis_for_its_share():

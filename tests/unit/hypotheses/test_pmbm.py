@@ -267,3 +267,4 @@ def test_registry_refuses_what_the_pmbm_cannot_take():
         pytest.skip("AdaptiveBirth cannot be made bare")
     with pytest.raises(ValueError, match="measurement-driven births"):
         build({"kind": "pmbm_murty"}, problem(births))
+

@@ -40,6 +40,9 @@ def check_tracker_inputs(algorithm, detection_probability, clutter_rate, initial
     """The adapter's own parameters checked with their own names and ranges (the hypotrack trackers
     behind it would name theirs: ``p_D``, ``rate``, ``covs``)."""
     p = _real(detection_probability, "detection_probability")
+    if preset(algorithm).family == "poisson_mb":
+        raise ValueError(f"algorithm {algorithm!r}: the Stone Soup adapter runs the engine's and the single-hypothesis "
+                         "trackers; the Poisson multi-Bernoulli filters are not adapted to it")
     single = preset(algorithm).family == "single"
     if single:
         if not 0.0 < p <= 1.0:

@@ -30,7 +30,7 @@ def _tracker(algorithm="gnn", **kw):
                 measurement_model=LinearGaussian(4, (0, 2), np.eye(2)), algorithm=algorithm,
                 detection_probability=0.9, clutter_rate=2.0, clutter_region=REGION,
                 initial_states=[GaussianState([[0.0], [1.0], [0.0], [0.0]], np.eye(4), timestamp=T0)],
-                options=OPTIONS[algorithm])
+                options=OPTIONS.get(algorithm, {}))
     args.update(kw)
     return HypotrackTracker(**args)
 
@@ -97,6 +97,7 @@ def test_arrays_and_float_times_are_refused_with_the_adapter_names(algorithm):
     ("hfisst", {"initial_states": [GaussianState([[0.0], [1.0]], np.eye(2))]}, ValueError,
      r"initial_states\[0\]\.state_vector must hold 4 finite components"),
     ("gnn", {"initial_states": [np.zeros(4)]}, TypeError, r"initial_states\[0\] must be a GaussianState"),
+    ("pmbm_murty", {}, ValueError, r"algorithm 'pmbm_murty': .* not adapted"),
 ])
 def test_range_errors_name_the_adapter_parameters(algorithm, kw, err, message):
     """They named p_D, rate and covs, the hypotrack tracker's parameters behind the adapter."""

@@ -165,6 +165,17 @@ def oracle(Z1, Z2):
     return out
 
 
+def test_the_oracle_uses_no_filter_code():
+    """The oracle's functions read numpy, itertools, the scene's constants and each other only."""
+    import inspect
+
+    allowed = {"np", "itertools", "F", "Q", "H", "R", "M0", "P0", "MB", "PB", "P_D", "P_S", "W_B", "KAPPA", "chain",
+               "det_prob", "known_object_options", "poisson_track_options"}
+    for fn in (chain, det_prob, known_object_options, poisson_track_options, oracle):
+        used = set(inspect.getclosurevars(fn).globals)
+        assert used <= allowed, (fn.__name__, used - allowed)
+
+
 # ---------------------------------------------------------------------------------------------- filter
 def sensor():
     return Sensor(LinearPositionSensor(R, 4), DetectionModel(P_D, VIEW), PoissonClutter(RATE, VIEW))

@@ -84,6 +84,7 @@ from ..protocol import TrackEstimates
 from .association_problem import AssociationProblem
 from .generators import ChildGenerator, ExhaustiveGenerator, top_k
 from .pmbm_poisson import PoissonIntensity, gaussian_loglik, moment_match
+from .posterior import HypothesisEstimate
 from .state import scan_interval
 
 __all__ = ["PMBMFilter", "PMBMPosterior", "GlobalHypothesis", "ESTIMATORS", "COLLAPSES", "BIRTHS", "ALLOCATIONS"]
@@ -133,6 +134,14 @@ class PMBMPosterior:
     @property
     def weights(self) -> np.ndarray:
         return np.exp(self.log_weights)
+
+    @property
+    def map_estimate(self) -> HypothesisEstimate:
+        """The heaviest global hypothesis's Bernoullis with ``r > 0.5`` (the 2018 paper's estimator 1), in the
+        form of the engine's :class:`~.posterior.HypothesisEstimate`."""
+        h = self.top[0]
+        on = h.existence > 0.5
+        return HypothesisEstimate(h.weight, h.log_weight, h.labels[on], h.means[on], h.covs[on])
 
 
 def poisson_binomial(r) -> np.ndarray:

@@ -66,7 +66,8 @@ def test_one_bernoulli_one_return_by_hand():
     card = w_det * np.array([0, 1, 0]) + (1 - w_det) * poisson_binomial(b.existence)
     np.testing.assert_allclose(post.cardinality, card, atol=1e-12)
     # estimator 1: the detected hypothesis is the heavier here, its one Bernoulli reported
-    assert w_det > 0.5 and f.estimates().labels.tolist() == [5]
+    assert w_det > 0.5 and f.estimates().labels.tolist() == [5] and post.map_estimate.labels.tolist() == [5]
+    assert post.map_estimate.weight == a.weight
 
 
 # ------------------------------------------------------------------------------------ PMB

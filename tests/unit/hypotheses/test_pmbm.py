@@ -269,3 +269,34 @@ def test_registry_refuses_what_the_pmbm_cannot_take():
     with pytest.raises(ValueError, match="measurement-driven births"):
         build({"kind": "pmbm_murty"}, problem(births))
 
+
+
+def test_a_step_failing_in_the_generator_is_undone_and_the_retry_equals_a_run_that_never_failed():
+    from hypotrack.hypotheses import GibbsGenerator
+
+    class Failing(GibbsGenerator):
+        def generate(self, problem, rng=None, keep=None):
+            rng.integers(10)  # draws, then fails: the draw must be undone too
+            raise RuntimeError("budget exhausted")
+
+    def run(fail):
+        f = PMBMFilter(ConstantVelocity(0.1), sensor(), GibbsGenerator(n_sweeps=50), birth_means=[[0.0, 5, 0, 0]],
+                       birth_covs=[np.diag([30.0, 30, 1, 1])], birth_weights=[0.5], seed=11)
+        f.initialise([[0.0, 0, 0, 0], [4.0, 0, 0, 0]], [np.eye(4), np.eye(4)])
+        f.step(Z3, 1.0)
+        if fail:
+            good, f.generator = f.generator, Failing(n_sweeps=50)
+            with pytest.raises(RuntimeError, match="budget"):
+                f.step(Z3 + 1.0, 2.0)
+            f.generator = good
+        f.step(Z3 + 1.0, 2.0)
+        return f
+
+    a, b = run(False), run(True)
+    assert a.rng.bit_generator.state == b.rng.bit_generator.state
+    for name in PMBMFilter._STATE:
+        if name != "last_stats":
+            va, vb = getattr(a, name), getattr(b, name)
+            if isinstance(va, PoissonIntensity):
+                va, vb = va.log_w, vb.log_w
+            assert np.array_equal(va, vb), name

@@ -179,6 +179,10 @@ class PMBMFilter:
     estimator : {"best_hypothesis", "joint_map"}
     existence_estimate : float
         ``"best_hypothesis"`` reports Bernoullis with ``r`` above it, in [0, 1).
+    undetected_prior : float
+        Expected number of objects not yet detected at :meth:`initialise`'s time, ≥ 0: a Poisson prior spread as
+        the birth terms (in proportion to their weights), e.g. Williams 2015's scenario (3 objects at the start,
+        0.005 born per scan, one birth density). 0: none.
     allocation : {"proportional", "exact"}
         Children asked of each global hypothesis ``a``: ``ceil(max_hypotheses W_a)`` (the default, as the 2018
         paper's implementation: light hypotheses get few children), or ``max_hypotheses`` (the kept ones are then
@@ -192,8 +196,8 @@ class PMBMFilter:
     def __init__(self, motion, sensor, generator: ChildGenerator, *, p_survive=1.0, birth_means=None,
                  birth_covs=None, birth_weights=None, birth="poisson", collapse=None, max_hypotheses=100,
                  hypothesis_threshold=1e-4, existence_threshold=1e-5, poisson_threshold=1e-5, gate_probability=None,
-                 estimator="best_hypothesis", existence_estimate=0.5, allocation="proportional", dt=1.0,
-                 seed=None):
+                 estimator="best_hypothesis", existence_estimate=0.5, allocation="proportional", undetected_prior=0.0,
+                 dt=1.0, seed=None):
         if not isinstance(generator, ChildGenerator):
             raise TypeError(f"generator must be a ChildGenerator, got {type(generator).__name__}")
         if getattr(sensor, "clutter", None) is None:
@@ -233,6 +237,9 @@ class PMBMFilter:
         self.poisson_threshold, self.existence_estimate = float(poisson_threshold), float(existence_estimate)
         self.gate_probability = (None if gate_probability is None else
                                  check_probability(gate_probability, "gate_probability", low_open=True, high_open=True))
+        self.undetected_prior = check_nonnegative(undetected_prior, "undetected_prior")
+        if self.undetected_prior > 0 and not len(self.birth_intensity):
+            raise ValueError("undetected_prior > 0 needs birth terms: the undetected objects are spread as the births")
         self.dt = check_positive(dt, "dt")
         self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))
         self.last_stats = {}
@@ -241,8 +248,8 @@ class PMBMFilter:
     # ------------------------------------------------------------------ state
     def initialise(self, means, covs=None, labels=None, *, time: float = 0.0, undetected=None):
         """Known objects as Bernoullis with ``r = 1`` in one global hypothesis of weight 1 (``n = 0``
-        allowed), valid at ``time``; ``undetected``: an initial Poisson part (:class:`PoissonIntensity`,
-        default empty)."""
+        allowed), valid at ``time``; ``undetected``: an initial Poisson part (:class:`PoissonIntensity`;
+        default: ``undetected_prior`` expected objects spread as the birth terms, none when it is 0)."""
         d = self.H.shape[1]
         means = np.asarray(means, dtype=float)
         means = np.zeros((0, d)) if means.size == 0 else check_finite_array(np.atleast_2d(means), "means",
@@ -257,7 +264,11 @@ class PMBMFilter:
         self.log_w = np.zeros(1)
         if undetected is not None and not isinstance(undetected, PoissonIntensity):
             raise TypeError(f"undetected must be a PoissonIntensity, got {type(undetected).__name__}")
-        self.undetected = PoissonIntensity.empty(d) if undetected is None else undetected
+        if undetected is None:
+            b = self.birth_intensity
+            undetected = PoissonIntensity.empty(d) if self.undetected_prior == 0 else PoissonIntensity(
+                b.log_w - logsumexp(b.log_w) + np.log(self.undetected_prior), b.means, b.covs)
+        self.undetected = undetected
         self.next_label = int(self.labels.max()) + 1 if n else 0
         self.time = check_finite_float(time, "time")
         self.scan_index = 0

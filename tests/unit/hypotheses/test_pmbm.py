@@ -158,6 +158,19 @@ def test_proportional_allocation_asks_each_hypothesis_for_its_share():
     assert n_exact == 10 * n_parents and n_prop <= bound < n_exact
 
 
+def test_undetected_prior_is_spread_as_the_births_and_thinned():
+    """Williams 2015's scenario starts with 3 expected undetected objects: after an empty scan they are
+    3 p_S (1 − p_D), plus the births (1 − p_D) — split over the birth terms as their weights 0.1 : 0.3."""
+    f = pmbm(p_survive=0.9, undetected_prior=3.0, birth_means=[[0.0, 0, 0, 0], [10.0, 0, 0, 0]],
+             birth_covs=[np.eye(4)] * 2, birth_weights=[0.1, 0.3])
+    assert f.posterior().undetected_mean == pytest.approx(3.0, abs=1e-12)
+    np.testing.assert_allclose(np.exp(f.undetected.log_w), [0.75, 2.25], atol=1e-12)
+    post = f.step(np.zeros((0, 2)), 1.0)
+    assert post.undetected_mean == pytest.approx(3 * 0.9 * 0.2 + 0.4 * 0.2, abs=1e-12)
+    with pytest.raises(ValueError, match="undetected_prior"):
+        pmbm(undetected_prior=1.0)
+
+
 # ------------------------------------------------------------------------------------ empty, bad input
 def test_no_objects_no_births_and_empty_scans():
     f = pmbm()
@@ -184,6 +197,7 @@ def test_no_objects_no_births_and_empty_scans():
     (dict(collapse="gibbs"), "collapse"),
     (dict(birth="uniform"), "birth"),
     (dict(allocation="sqrt"), "allocation"),
+    (dict(undetected_prior=-1.0), "undetected_prior"),
 ])
 def test_bad_options_name_the_parameter(kw, match):
     with pytest.raises(ValueError, match=match):

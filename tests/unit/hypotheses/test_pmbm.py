@@ -276,12 +276,13 @@ def test_registry_refuses_what_the_pmbm_cannot_take():
     with pytest.raises(SpecError, match="'x.estimator'"):
         TrackerSpec.from_config({"kind": "pmb_lbp", "estimator": "mean"}, "x")
     from hypotrack.hypotheses.factored import AdaptiveBirth
-    try:
-        births = MeasurementBirths(AdaptiveBirth.__new__(AdaptiveBirth), r_birth=0.1)
-    except TypeError:
-        pytest.skip("AdaptiveBirth cannot be made bare")
     with pytest.raises(ValueError, match="measurement-driven births"):
-        build({"kind": "pmbm_murty"}, problem(births))
+        build({"kind": "pmbm_murty"}, problem(MeasurementBirths(AdaptiveBirth(), r_birth=0.1)))
+    from hypotrack.models.population import SingleEventBirthDeath
+    from hypotrack.models.sensors import FieldOfView
+    uniform = SingleEventBirthDeath(0.01, 0.02, 2, fov=FieldOfView(0, 90, 1, 15))  # uniform birth regions
+    with pytest.raises(ValueError, match="Gaussian birth terms"):
+        build({"kind": "pmb_lbp"}, problem(uniform))
 
 
 

@@ -14,6 +14,10 @@ grouped by what the PMBM can tell apart (a return the PMBM starts a track with i
 object), with equal weights; each Bernoulli's existence, mean and covariance the posterior probability
 that its object is alive at scan 2 and the mean and covariance of its state then; the Poisson part the
 never-detected births.
+
+The PMBM keeps a new track's density as one Gaussian (the moment match of its Poisson components' updates,
+the 2018 paper's Sec. IV); that is exact in mean and covariance when the track is compared at the scan it
+starts, and when it starts from a one-component Poisson part (scan 1 here) — so the scenes have two scans.
 """
 
 import itertools

@@ -60,7 +60,7 @@ of its single-target hypotheses, and measurement ``j``'s new track ``r = P(j una
 from __future__ import annotations
 
 import time as _clock
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -83,6 +83,7 @@ from ..gaussian import predict_with_unchecked, update_unchecked
 from ..protocol import TrackEstimates
 from .association_problem import AssociationProblem
 from .generators import ChildGenerator, ExhaustiveGenerator, top_k
+from .gibbs import GibbsGenerator
 from .pmbm_poisson import PoissonIntensity, gaussian_loglik, moment_match
 from .posterior import HypothesisEstimate
 from .state import scan_interval
@@ -185,8 +186,9 @@ class PMBMFilter:
         0.005 born per scan, one birth density). 0: none.
     allocation : {"proportional", "exact"}
         Children asked of each global hypothesis ``a``: ``ceil(max_hypotheses W_a)`` (the default, as the 2018
-        paper's implementation: light hypotheses get few children), or ``max_hypotheses`` (the kept ones are then
-        the exact best of a k-best generator; about ten times the cost on a four-object scene).
+        paper's implementation: light hypotheses get few children; a Gibbs generator also runs
+        ``ceil(n_sweeps W_a)`` sweeps), or ``max_hypotheses`` (the kept ones are then the exact best of a k-best
+        generator; about ten times the cost on a four-object scene).
     dt : float
         Default scan interval.
     seed : int or numpy.random.Generator
@@ -347,8 +349,9 @@ class PMBMFilter:
             target_scores=log_det[rows] - log_rho[None, :], option_scores=log_miss[rows][:, None], n_objects=m,
             count_term=np.zeros((m + 1, 1)), constant=float(self.log_w[a] + np.sum(log_rho)))
 
-    def _generate(self, problem: AssociationProblem, keep: int):
-        """The generator's children of ``problem``, run on its coupled part only: a row no return can be
+    def _generate(self, problem: AssociationProblem, share: float = 1.0):
+        """The generator's best ``ceil(share max_hypotheses)`` children of ``problem`` (a sampler's sweeps scaled
+        by ``share`` too), run on its coupled part only: a row no return can be
         assigned to (gated out) is missed in every child, a return no row can take starts its new track in
         every child; their scores enter the constant (the 2018 paper's implementation trims its cost
         matrix the same way). Returns events over all rows and exact log-weights."""
@@ -362,7 +365,10 @@ class PMBMFilter:
         sub = AssociationProblem(target_scores=T[np.ix_(rows, cols)], option_scores=problem.option_scores[rows],
                                  n_objects=len(cols), count_term=np.zeros((len(cols) + 1, 1)),
                                  constant=problem.constant + problem.option_scores[fixed, 0].sum())
-        ev, w = self.generator.generate(sub, self.rng, keep=keep)
+        generator = self.generator
+        if share < 1.0 and isinstance(generator, GibbsGenerator):
+            generator = replace(generator, n_sweeps=int(np.ceil(generator.n_sweeps * share)))
+        ev, w = generator.generate(sub, self.rng, keep=int(np.ceil(self.max_hypotheses * share)))
         full = np.full((len(w), n), -1, np.int64)
         ev = np.asarray(ev, dtype=np.int64)
         full[:, rows] = np.where(ev >= 0, cols[np.maximum(ev, 0)], ev)
@@ -377,9 +383,8 @@ class PMBMFilter:
             if self.collapse is not None:
                 self._collapse(Z, rows, problem, r_miss, log_e, log_rho, new_means, new_covs, undetected)
                 return
-            keep = self.max_hypotheses if self.allocation == "exact" else \
-                int(np.ceil(self.max_hypotheses * np.exp(self.log_w[a])))
-            ev, w = self._generate(problem, keep)
+            share = 1.0 if self.allocation == "exact" else float(np.exp(self.log_w[a]))
+            ev, w = self._generate(problem, share)
             n_gen += len(w)
             full = np.full((len(w), self.assign.shape[1]), -2, np.int64)  # -2: track absent; -1 missed; j
             present = np.flatnonzero(self.assign[a] >= 0)

@@ -7,6 +7,7 @@ import pytest
 from hypotrack.hypotheses import (
     ExhaustiveGenerator,
     GaussianBirthTerm,
+    GibbsGenerator,
     LabeledMultiBernoulliPopulation,
     MurtyGenerator,
     PoissonIntensity,
@@ -140,7 +141,7 @@ def test_the_trimmed_problem_gives_every_child_of_the_full_one():
     log_miss, _, log_det, (_, _, log_rho, _, _) = f.single_target_hypotheses(np.vstack([Z3, [[-40.0, -40]]]))
     _, problem = f.association_problem(0, log_miss, log_det, log_rho)
     ev_full, lw_full = ExhaustiveGenerator().generate(problem)
-    ev, lw = f._generate(problem, None)
+    ev, lw = f._generate(problem)
     key = lambda e, w: sorted(zip(map(tuple, np.asarray(e).tolist()), np.round(w, 12)))
     # track 0: miss, z0 or z1; track 1: miss, z1 or z2; not both on z1: 3 × 3 − 1
     assert key(ev, lw) == key(ev_full, lw_full) and len(lw) == 8
@@ -156,6 +157,11 @@ def test_proportional_allocation_asks_each_hypothesis_for_its_share():
         runs[allocation] = (f.last_stats["n_children"], int(np.sum(np.ceil(10 * weights))), len(weights))
     (n_exact, _, n_parents), (n_prop, bound, _) = runs["exact"], runs["proportional"]
     assert n_exact == 10 * n_parents and n_prop <= bound < n_exact
+    # Gibbs: ceil(n_sweeps W_a) sweeps; one sweep finds at most one child besides the all-missed start
+    f = two_tracks_three_returns(None, gate=0.9, step=False, generator=GibbsGenerator(n_sweeps=100), seed=2)
+    log_miss, _, log_det, (_, _, log_rho, _, _) = f.single_target_hypotheses(Z3)
+    _, problem = f.association_problem(0, log_miss, log_det, log_rho)
+    assert len(f._generate(problem, 1.0)[1]) >= 4 and len(f._generate(problem, 0.01)[1]) <= 2
 
 
 def test_undetected_prior_is_spread_as_the_births_and_thinned():
@@ -287,8 +293,6 @@ def test_registry_refuses_what_the_pmbm_cannot_take():
 
 
 def test_a_step_failing_in_the_generator_is_undone_and_the_retry_equals_a_run_that_never_failed():
-    from hypotrack.hypotheses import GibbsGenerator
-
     class Failing(GibbsGenerator):
         def generate(self, problem, rng=None, keep=None):
             rng.integers(10)  # draws, then fails: the draw must be undone too

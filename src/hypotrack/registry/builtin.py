@@ -127,9 +127,8 @@ def pmbm_options(problem, seed, options) -> dict:
     return out
 
 
-def _pmbm_murty(problem, *, seed, k, allocation, **common):
-    return presets.pmbm_murty(problem.motion, problem.sensor, k=k, allocation=allocation,
-                              **pmbm_options(problem, seed, common))
+def _pmbm_murty(problem, *, seed, k, **common):
+    return presets.pmbm_murty(problem.motion, problem.sensor, k=k, **pmbm_options(problem, seed, common))
 
 
 def _pmbm_gibbs(problem, *, seed, n_sweeps, **common):

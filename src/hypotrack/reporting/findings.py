@@ -1,0 +1,75 @@
+r"""Numbers the report's findings and discussion quote that no experiment writes as a macro.
+
+Every number in the report comes from ``results/``; a few the findings section needs are spreads over
+the rows of a results table rather than a single value, so they are computed here from the tables the
+experiments already wrote and become macros like any other (``\htFindings...``):
+
+* :func:`seed_spread_macros`: over the scenario seeds of ``ssa_seeds/per_seed.csv``, the least and
+  the largest probability the larger SSA run ends with the true number of objects, per R-FISST
+  variant (document 000's Fig. 11 claims 1 at the end);
+* :func:`cause_count_macros`: how many failing ledger rows (not reproduced, inconclusive,
+  uninformative) each cause of :data:`~.claims.CAUSES` explains, as text with its noun
+  (:func:`rows_text`), so the discussion by cause quotes its counts from the ledger.
+
+A table that is absent (a run without that experiment) gives no macro; the report then fails on the
+missing macro by name, never on a silent default.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pandas as pd
+
+from .claims import CAUSES, format_value
+from .macros import macro_name
+
+__all__ = ["cause_count_macros", "findings_macros", "rows_text", "seed_spread_macros"]
+
+#: The trackers of the larger SSA run whose spread over seeds the findings quote (macro word -> tracker).
+SEED_TRACKERS = {"Chain": "rfisst_chain", "Completion": "rfisst"}
+
+
+def seed_spread_macros(per_seed: pd.DataFrame, case: str = "ssa50") -> dict:
+    """``\\htFindingsSeeds<Tracker>PEnd{Min,Max}`` and ``\\htFindingsSeedsN``: the range over seeds of
+    ``p_n_end`` (posterior probability of the true number at the last scan) for ``case``."""
+    rows = per_seed[per_seed["case"] == case]
+    if rows.empty:
+        raise ValueError(f"per_seed table has no rows for case {case!r}")
+    values = {"htFindingsSeedsN": str(rows["seed_index"].nunique())}
+    for word, tracker in SEED_TRACKERS.items():
+        p = pd.to_numeric(rows.loc[rows["tracker"] == tracker, "p_n_end"], errors="raise")
+        if p.empty:
+            raise ValueError(f"per_seed table has no {tracker!r} rows for case {case!r}")
+        values[macro_name("findings", "seeds", word, "p end min")] = format_value(float(p.min()), 2)
+        values[macro_name("findings", "seeds", word, "p end max")] = format_value(float(p.max()), 2)
+    return values
+
+
+def cause_count_macros(ledger: pd.DataFrame) -> dict:
+    """``\\htFindingsCause<Cause>`` for every cause (zero included) and ``\\htFindingsCauseOpen`` for
+    failing rows with no diagnosed cause, counted as :func:`.sections.gap_cause` assigns them."""
+    from .sections import FAILING, gap_cause
+
+    bad = ledger[ledger["status"].isin(FAILING)].to_dict("records")
+    counts = {cause: 0 for cause in CAUSES}
+    counts[""] = 0
+    for row in bad:
+        counts[gap_cause(row)] = counts.get(gap_cause(row), 0) + 1
+    values = {macro_name("findings", "cause", cause or "open"): rows_text(n) for cause, n in counts.items()}
+    values["htFindingsFailingRows"] = rows_text(len(bad))
+    return values
+
+
+def rows_text(n: int) -> str:
+    """``"no rows"``, ``"one row"``, ``"3 rows"``: a count with its noun, never "1 rows"."""
+    return {0: "no rows", 1: "one row"}.get(n, f"{n} rows")
+
+
+def findings_macros(results_dir, ledger: pd.DataFrame) -> dict:
+    """All of the above from a results directory (tables that exist) and the non-timing ledger."""
+    values = cause_count_macros(ledger)
+    per_seed = Path(results_dir) / "ssa_seeds" / "per_seed.csv"
+    if per_seed.exists():
+        values.update(seed_spread_macros(pd.read_csv(per_seed)))
+    return values

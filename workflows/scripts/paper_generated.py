@@ -40,7 +40,7 @@ Path(snakemake.output.status_summary).write_text(status_summary_tex(claims))
 Path(snakemake.output.gaps).write_text(gaps_tex(claims))
 Path(snakemake.output.claims_summary).write_text(claims_summary_tex(verdicts, counts))
 Path(snakemake.output.claims_sensitivity).write_text(
-    sensitivity_tex(write_sensitivity(ledger, snakemake.output.sensitivity_csv, spec, timing)))
+    sensitivity_tex(write_sensitivity(ledger, snakemake.output.sensitivity_csv, spec, timing), verdicts))
 # Rows from timing claims files (*timing*claims.csv: speed-ups, throughput, run times) go to their own ledger so
 # that ledger.csv is byte-identical for the same config and seed.
 ledger.to_csv(snakemake.output.ledger, index=False)

@@ -11,18 +11,26 @@ from hypotrack.reporting.sections import FAILING, gap_cause, gap_label, gaps_tex
 
 @pytest.mark.parametrize("plain, tex", [
     ("P[Bin(M, p_D) <= m]", r"P[Bin(M, \ensuremath{p_{D}}) \ensuremath{\le} m]"),
-    ("1 - p_D**3", r"1 - \ensuremath{p_{D}}\ensuremath{^{3}}"),
-    ("(1 - 3.9e-22) (1 - p_D)", r"(1 - \ensuremath{3.9\times10^{-22}}) (1 - \ensuremath{p_{D}})"),
+    ("1 - p_D**3", r"1 \ensuremath{-} \ensuremath{p_{D}}\ensuremath{^{3}}"),
+    ("(1 - 3.9e-22) (1 - p_D)", r"(1 \ensuremath{-} \ensuremath{3.9\times10^{-22}}) (1 \ensuremath{-} \ensuremath{p_{D}})"),
     ("target >= 1e+06", r"target \ensuremath{\ge} \ensuremath{10^{6}}"),
     ("0.37 +/- 0.11 m", r"0.37 \ensuremath{\pm} 0.11 m"),
     ("H_inf = 100", r"\ensuremath{H_{\infty}} = 100"),
     ("λ_b/p_χ", r"\ensuremath{\lambda_{b}}/\ensuremath{p_{\chi}}"),
-    ("mean |N̂ − N|", r"mean |\ensuremath{\hat{N}} - N|"),
+    ("mean |N̂ − N|", r"mean |\ensuremath{\hat{N}} \ensuremath{-} N|"),
     ("10⁶ runs, x₀", r"10\ensuremath{^{6}} runs, x\ensuremath{_{0}}"),
     ("45 -> 46", r"45 \ensuremath{\to} 46"),
-    ("the constant e^(-lambda V)", r"the constant e\ensuremath{^{-\lambda  V}}"),
-    ("normalising e^(-λV)", r"normalising e\ensuremath{^{-\lambda V}}"),
-    ("alpha*(1 - p_D), 2^k", r"\ensuremath{\alpha}*(1 - \ensuremath{p_{D}}), 2\ensuremath{^{k}}"),
+    ("the constant e^(-lambda V)", r"the constant e\ensuremath{^{-{\lambda} V}}"),
+    ("normalising e^(-λV)", r"normalising e\ensuremath{^{-{\lambda}V}}"),
+    ("alpha*(1 - p_D), 2^k", r"\ensuremath{\alpha}*(1 \ensuremath{-} \ensuremath{p_{D}}), 2\ensuremath{^{k}}"),
+    # the ledger notes' ASCII forms: hats, bars, exp(), sqrt, infinity, and a hyphen used as a minus sign
+    ("mean |n-hat - n|", r"mean |\ensuremath{\hat{n}} \ensuremath{-} n|"),
+    ("binomial limit exp(-lambdaV) vs 1", r"binomial limit \ensuremath{e^{-{\lambda V}}} vs 1"),
+    ("exp(-V*lambda)", r"\ensuremath{e^{-V {\lambda}}}"),
+    ("1/Vbar, limit M -> oo", r"1/\ensuremath{\bar{V}}, limit M \ensuremath{\to} \ensuremath{\infty}"),
+    ("2 sqrt(2)", r"2 \ensuremath{\surd}(2)"),
+    ("z = -1.37, -49 %", r"z = \ensuremath{-}1.37, \ensuremath{-}49 \%"),
+    ("well-known x-1", "well-known x-1"),
     # code names, percentages and hashes stay text
     ("rfisst_chain at 50 % (c_in_view)", r"rfisst\_chain at 50 \% (c\_in\_view)"),
     ("commit 95e7490", "commit 95e7490"),
@@ -33,7 +41,8 @@ def test_latex_text_typesets_plain_mathematics(plain, tex):
 
 
 def test_ascii_math_pattern_finds_what_latex_text_removes():
-    for plain in ("p_D <= 1", "1e+06", "x**2", "+/- 3"):
+    for plain in ("p_D <= 1", "1e+06", "x**2", "+/- 3", "n-hat", "Vbar", "exp(-lambdaV)", "sqrt(2)", "M -> oo",
+                  "lambdaV"):
         from hypotrack.reporting.latex_text import latex_escape
         assert ASCII_MATH.search(latex_escape(plain)), plain
 

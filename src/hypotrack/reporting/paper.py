@@ -246,7 +246,7 @@ _TEXT_RULES = (
     ("an unresolved template or value", re.compile(r"\{[a-z_]+\}|\bnan\b|\bNone\b|\?\?")),
     ("a citation shown by its key", re.compile(r"\[[a-z]{2,4}, n\.d\.\]")),
     ("a reference without a date or title", re.compile(r"\bn\.d\.|\[untitled", re.I)),
-    ("a count with the wrong number", re.compile(r"(?<![\d.,])1 (?:runs|rows|objects|scans|seeds|claims|problems|births|"
+    ("a count with the wrong number", re.compile(r"(?<![\d.,])1 (?:[a-z]+ )?(?:runs|rows|objects|scans|seeds|claims|problems|births|"
                                                    r"cells|settings|steps|hypotheses|tracks|sizes|times)\b"
                                                    r"|\babout 1 \w+s\b")),
     ("a value missing from a template", re.compile(r"\b(?:at|scan|of|by|to)\s+[–-]\s+(?:moving|m/s|at|of|and)\b")),

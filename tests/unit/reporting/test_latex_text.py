@@ -100,7 +100,7 @@ def test_cause_is_checked():
 def test_ledger_table_is_captioned_numbered_and_unhyphenated():
     tex = claims_table_tex(_frame([_claim("A", "not reproduced", cause="document", note="1 - p_D**3 for M <= m")]))
     assert r"\caption{" in tex and r"\label{tab:ledger}" in tex and r"\endfirsthead" in tex
-    assert r"\hyphenpenalty=10000" in tex
+    assert r"\hyphenpenalty=10000\textcolor" in tex  # the verdict cell only
     assert not ASCII_MATH.search(tex)
 
 
@@ -113,6 +113,20 @@ def test_ledger_table_is_captioned_numbered_and_unhyphenated():
     ("as shown in [lec, n.d.] and", "citation"),
     ("the R-FISST reach (seed 000 Fig 15)", "seed 000"),
     ("value {name} left", "template"),
+    # ASCII notation copied from the ledger's notes, and templates that neither pluralise nor guard a value
+    ("mean |n-hat - n| 11.7", "ASCII mathematics from a note"),
+    ("binomial limit exp(-lambdaV) vs 1", "ASCII mathematics from a note"),
+    ("the limit M -> oo of", "ASCII mathematics from a note"),
+    ("peak density <= 1/Vbar, or", "ASCII mathematics from a note"),
+    ("erf(2 sqrt(2 (Q + R)))", "ASCII mathematics from a note"),
+    ("the literal p\\_D in text", "ASCII mathematics from a note"),
+    ("z = -1.37 against", "minus sign"),
+    ("OSPA minus glmb: -0.78 m", "minus sign"),
+    ("as shown [Faber et al., n.d.] and", "without a date"),
+    ("[untitled in the source text] a randomized", "without a date"),
+    ("1 distinct objects came into view", "wrong number"),
+    ("at about 1 runs per", "wrong number"),
+    ("born at scan – moving at – m/s", "value missing"),
 ])
 def test_text_problems_catch_garbled_phrases(garbled, rule):
     found = text_problems("Some text. " + garbled + " More text.")
@@ -122,5 +136,6 @@ def test_text_problems_catch_garbled_phrases(garbled, rule):
 def test_clean_text_has_no_problems():
     text = ("The R-FISST reach on document 000's problem is 10^52; a streamed run peaks at 8.3 MiB. "
             "Crossover with enumeration: A = 10^5.1 (document: near 10^4–10^5). rfisst and HOMHT agree at "
-            "every scan; p D ≤ 1 [Lecture notes, n.d.].")
+            "every scan; p D ≤ 1 [Orguner, 2010]; z = −1.37 over 1 run, about 1 run, 2 runs; the well-known "
+            "x-ray; the object born at scan 20 moving at 12 m/s.")
     assert text_problems(text) == []

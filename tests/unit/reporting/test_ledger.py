@@ -279,7 +279,8 @@ def test_ledger_table_keeps_verdicts_whole_and_cells_breakable():
     tex = claims_table_tex(pd.DataFrame([asdict(r) for r in rows]))
     assert r"\textcolor{BrickRed}{\textbf{not reproduced}}" in tex  # ragged right: breaks at the space only
     assert tex.count(r">{\raggedright\arraybackslash}p{") == 7
-    assert r"0.2 \ensuremath{\pm} 0.01 (n = 100, z = -65.18)" in tex  # Monte Carlo rows: mean ± s.e., n and z
+    assert r"0.2 \ensuremath{\pm} 0.01 (n = 100, z = \ensuremath{-}65.18)" in tex  # mean ± s.e., n and z (a minus sign)
+    assert r"\hyphenpenalty=10000\textcolor" in tex  # a verdict is never hyphenated, other cells may be
     assert r"GNNWith\allowbreak{}2DAssignment" in claims_table_tex(pd.DataFrame([asdict(
         numeric_claim("perf_sht", "GNNWith2DAssignment", "extension", 1, 1, abs_tol=0))]))
 

@@ -11,6 +11,10 @@ experiments already wrote and become macros like any other (``\htFindings...``):
   uninformative) each cause of :data:`~.claims.CAUSES` explains, as text with its noun
   (:func:`rows_text`), so the discussion by cause quotes its counts from the ledger.
 
+* :func:`effect_macros`: how large the paired effect of keeping a random joint hypothesis in document
+  003's MHT is, relative to the MHT's MOSPA, and the words that describe it, chosen by the numbers
+  (:func:`effect_words`), never a fixed adjective.
+
 A table that is absent (a run without that experiment) gives no macro; the report then fails on the
 missing macro by name, never on a silent default.
 """
@@ -24,7 +28,13 @@ import pandas as pd
 from .claims import CAUSES, format_value
 from .macros import macro_name
 
-__all__ = ["cause_count_macros", "findings_macros", "rows_text", "seed_spread_macros"]
+__all__ = ["EFFECT_SMALL_PERCENT", "EFFECT_Z", "cause_count_macros", "effect_macros", "effect_words", "findings_macros",
+           "rows_text", "seed_spread_macros"]
+
+#: A paired difference is real when it lies at least this many of its standard errors from zero ...
+EFFECT_Z = 3.0
+#: ... and small when it is below this percentage of the quantity it changes.
+EFFECT_SMALL_PERCENT = 10.0
 
 #: The trackers of the larger SSA run whose spread over seeds the findings quote (macro word -> tracker).
 SEED_TRACKERS = {"Chain": "rfisst_chain", "Completion": "rfisst"}
@@ -61,6 +71,28 @@ def cause_count_macros(ledger: pd.DataFrame) -> dict:
     return values
 
 
+def effect_words(z: float, percent: float) -> str:
+    """Words for a paired difference of ``z`` standard errors that is ``percent`` % of the baseline:
+    "a real but small effect", "a real effect of this size" or "no effect the runs can tell from noise"."""
+    if abs(z) < EFFECT_Z:
+        return "no effect the runs can tell from noise"
+    return "a real but small effect" if abs(percent) < EFFECT_SMALL_PERCENT else "a real effect of this size"
+
+
+def effect_macros(power_macros: pd.DataFrame, claims: pd.DataFrame) -> dict:
+    """``\\htFindingsRandomEffectPercent`` and ``...Words``: the MHT's paired MOSPA increase when it keeps a
+    random joint hypothesis (``PowerRandomEveryDiff``, ``...DiffZ`` of ``mht_power_macros.csv``) as a
+    percentage of the MHT's mean MOSPA (row ``MospaMht`` of ``closely_spaced/claims.csv``)."""
+    value = dict(zip(power_macros["name"], power_macros["value"]))
+    diff, z = float(value["PowerRandomEveryDiff"]), float(value["PowerRandomEveryDiffZ"])
+    mht = claims.loc[claims["key"] == "MospaMht", "mean"]
+    if mht.empty:
+        raise ValueError("closely_spaced claims have no MospaMht row")
+    percent = 100 * diff / float(mht.iloc[0])
+    return {"htFindingsRandomEffectPercent": format_value(percent, 2),
+            "htFindingsRandomEffectWords": effect_words(z, percent)}
+
+
 def rows_text(n: int) -> str:
     """``"no rows"``, ``"one row"``, ``"3 rows"``: a count with its noun, never "1 rows"."""
     return {0: "no rows", 1: "one row"}.get(n, f"{n} rows")
@@ -72,4 +104,9 @@ def findings_macros(results_dir, ledger: pd.DataFrame) -> dict:
     per_seed = Path(results_dir) / "ssa_seeds" / "per_seed.csv"
     if per_seed.exists():
         values.update(seed_spread_macros(pd.read_csv(per_seed)))
+    power = Path(results_dir) / "closely_spaced" / "mht_power_macros.csv"
+    if power.exists():
+        values.update(effect_macros(pd.read_csv(power, dtype=str, keep_default_na=False),
+                                    pd.read_csv(Path(results_dir) / "closely_spaced" / "claims.csv", dtype=str,
+                                                keep_default_na=False)))
     return values

@@ -21,7 +21,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-__all__ = ["MAX_PAGES_BEFORE_APPENDIX", "OVERFULL_LIMIT_PT", "bare_numbers", "build_pdf", "latex_log_problems",
+__all__ = ["MAX_PAGES_BEFORE_APPENDIX", "OVERFULL_LIMIT_PT", "bare_document_figures", "bare_numbers", "build_pdf", "latex_log_problems",
            "layout_problems", "overfull_boxes", "overfull_hboxes", "pages_before_appendix", "pdf_text_problems",
            "scan_sections", "text_problems"]
 
@@ -30,7 +30,7 @@ _DOC_REF = re.compile(
     r"Chapter|\\S|§)(?:~|\s)*"
     r"(?:[0-9IVX]+(?:[.\-][0-9A-Z]+)*(?:\s*(?:--|–|,|and|or|~)\s*)?)+")
 _DOC_ID = re.compile(r"(?<![\d.])00[0-4](?![\d.])")
-_ARG_COMMANDS = ("htval", "ref", "eqref", "label", "cite", "citep", "citet", "citealp", "input", "include",
+_ARG_COMMANDS = ("htval", "htn", "htifvalue", "ref", "eqref", "label", "cite", "citep", "citet", "citealp", "input", "include",
                  "texttt", "url", "includegraphics", "stated", "begin", "end", "hspace", "vspace")
 _DISPLAY = re.compile(r"\\begin\{(equation|align|gather|multline|eqnarray)\*?\}.*?\\end\{\1\*?\}", re.S)
 _INLINE_MATH = re.compile(r"\$[^$]*\$")
@@ -92,6 +92,21 @@ def bare_numbers(tex: str) -> list[tuple[int, str]]:
         for m in _NUMBER.finditer(line):
             hits.append((no, lines[no - 1].strip()[:160] if no <= len(lines) else m.group(0)))
     return hits
+
+
+_DOC_FIGURE = re.compile(r"Figs?\.(?:~|\s)*\d")
+_NAMED_BEFORE = re.compile(r"00[0-4](?:'s|,)?(?:~|\s)+(?:\\emph\{)?$")
+
+
+def bare_document_figures(tex: str) -> list[tuple[int, str]]:
+    """``(line, context)`` of every figure of a document cited without its document: "Fig.~15" must read
+    "document 000's Fig.~15" (or "000, Fig.~15"), because a bare figure number names the report's own
+    figures (which the report cites by ``\\ref``, never by a typed number)."""
+    found = []
+    for m in _DOC_FIGURE.finditer(tex):
+        if not _NAMED_BEFORE.search(tex[max(0, m.start() - 30):m.start()]):
+            found.append((tex.count("\n", 0, m.start()) + 1, tex[max(0, m.start() - 40):m.end() + 10].replace("\n", " ")))
+    return found
 
 
 def scan_sections(sections_dir) -> dict[str, list[tuple[int, str]]]:

@@ -135,3 +135,15 @@ def test_pages_before_appendix_reads_the_label_page():
            "Overfull \\vbox (30.0pt too high) has occurred while \\output is active\n")
     assert overfull_hboxes(log) == ["overfull line by 1.1731 pt in paragraph at lines 8--8"]
     assert layout_problems([], 30, []) == [] and "31 pages" in layout_problems([], 31, [])[0]
+
+
+def test_the_documents_figures_are_named_with_their_document():
+    """A typed figure number is a document's figure, so it carries its document ("document 000's Fig.~15");
+    the report's own figures are cited by \\ref. Checked on every section and on a case that must fail."""
+    from hypotrack.reporting.paper import bare_document_figures
+
+    for path in sorted((PAPER / "sections").rglob("*.tex")):
+        assert bare_document_figures(path.read_text()) == [], path.name
+    assert bare_document_figures("as document 000's Fig.~15 and (cf. 000, Figs.~8--11) show, Fig.~\\ref{fig:a}") == []
+    hits = bare_document_figures("line one\n\\paragraph{Swaps (Figs.~5.1--5.3).} and its Fig. 4.2 claim")
+    assert [line for line, _ in hits] == [2, 2]

@@ -15,6 +15,9 @@ experiments already wrote and become macros like any other (``\htFindings...``):
   003's MHT is, relative to the MHT's MOSPA, and the words that describe it, chosen by the numbers
   (:func:`effect_words`), never a fixed adjective.
 
+* :func:`interop_macros`: what the Stone Soup adapter adds to each algorithm's time per scan
+  (``perf/stonesoup_adapter_timing.csv``), as a percentage of the algorithm's own API.
+
 A table that is absent (a run without that experiment) gives no macro; the report then fails on the
 missing macro by name, never on a silent default.
 """
@@ -29,7 +32,7 @@ from .claims import CAUSES, format_value
 from .macros import macro_name
 
 __all__ = ["EFFECT_SMALL_PERCENT", "EFFECT_Z", "cause_count_macros", "effect_macros", "effect_words", "findings_macros",
-           "rows_text", "seed_spread_macros"]
+           "interop_macros", "percent_text", "rows_text", "seed_spread_macros"]
 
 #: A paired difference is real when it lies at least this many of its standard errors from zero ...
 EFFECT_Z = 3.0
@@ -89,8 +92,24 @@ def effect_macros(power_macros: pd.DataFrame, claims: pd.DataFrame) -> dict:
     if mht.empty:
         raise ValueError("closely_spaced claims have no MospaMht row")
     percent = 100 * diff / float(mht.iloc[0])
-    return {"htFindingsRandomEffectPercent": format_value(percent, 2),
+    return {"htFindingsRandomEffectPercent": percent_text(percent),
             "htFindingsRandomEffectWords": effect_words(z, percent)}
+
+
+def interop_macros(timing: pd.DataFrame) -> dict:
+    """``\\htFindingsInteropOverhead<Algorithm>``: the adapter's extra time per scan in % of the algorithm's own
+    API (column ``overhead`` = adapter / own - 1) and ``...OwnMs<Algorithm>``, the own API's ms per scan."""
+    values = {}
+    for r in timing.to_dict("records"):
+        values[macro_name("findings", "interop overhead", r["algorithm"])] = percent_text(100 * float(r["overhead"]))
+        values[macro_name("findings", "interop own ms", r["algorithm"])] = format_value(float(r["own_api_ms_per_scan"]), 2)
+    values["htFindingsInteropTargets"] = format_value(int(timing["n_targets"].iloc[0]), 2)
+    return values
+
+
+def percent_text(x: float) -> str:
+    """A percentage as text: whole numbers from 10 on (240, not 2.4e+02), two significant digits below."""
+    return str(int(round(x))) if abs(x) >= 10 else format_value(x, 2)
 
 
 def rows_text(n: int) -> str:
@@ -104,6 +123,9 @@ def findings_macros(results_dir, ledger: pd.DataFrame) -> dict:
     per_seed = Path(results_dir) / "ssa_seeds" / "per_seed.csv"
     if per_seed.exists():
         values.update(seed_spread_macros(pd.read_csv(per_seed)))
+    interop = Path(results_dir) / "perf" / "stonesoup_adapter_timing.csv"
+    if interop.exists():
+        values.update(interop_macros(pd.read_csv(interop)))
     power = Path(results_dir) / "closely_spaced" / "mht_power_macros.csv"
     if power.exists():
         values.update(effect_macros(pd.read_csv(power, dtype=str, keep_default_na=False),

@@ -147,3 +147,25 @@ def test_the_documents_figures_are_named_with_their_document():
     assert bare_document_figures("as document 000's Fig.~15 and (cf. 000, Figs.~8--11) show, Fig.~\\ref{fig:a}") == []
     hits = bare_document_figures("line one\n\\paragraph{Swaps (Figs.~5.1--5.3).} and its Fig. 4.2 claim")
     assert [line for line, _ in hits] == [2, 2]
+
+
+def test_counts_pluralise_and_a_missing_value_drops_its_sentence(tmp_path):
+    """\\htn prints "1 run" / "3 runs" / "1 child" / "2 children"; \\htifvalue drops text around a "--" value."""
+    import subprocess
+
+    import pytest
+
+    from hypotrack.reporting.paper import build_pdf
+
+    if shutil.which("latexmk") is None or shutil.which("pdftotext") is None:
+        pytest.skip("latexmk or pdftotext not installed")
+    src, gen = _mini_paper(tmp_path, "A \\htn{htOne}{run}, B \\htn{htThree}{run}, C \\htn[children]{htOne}{child}, "
+                                     "D \\htn[children]{htThree}{child}. \\htifvalue{htNone}{Born at scan \\htval{htNone}.}"
+                                     "\\htifvalue{htThree}{Seen in \\htval{htThree} scans.}")
+    (gen / "generated" / "macros.tex").write_text("\\newcommand{\\htOne}{1}\n\\newcommand{\\htThree}{3}\n"
+                                                  "\\newcommand{\\htNone}{--}\n")
+    build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "ok.log")
+    text = " ".join(subprocess.run(["pdftotext", str(gen / "out.pdf"), "-"], capture_output=True, text=True,
+                                   check=True).stdout.split())
+    assert "A 1 run, B 3 runs, C 1 child, D 3 children." in text
+    assert "Born at" not in text and "Seen in 3 scans." in text

@@ -18,6 +18,9 @@ experiments already wrote and become macros like any other (``\htFindings...``):
 * :func:`interop_macros`: what the Stone Soup adapter adds to each algorithm's time per scan
   (``perf/stonesoup_adapter_timing.csv``), as a percentage of the algorithm's own API.
 
+* :func:`brute_jpda_macros`: the largest formation Stone Soup's brute-force JPDA was run on in
+  ``perf/sht_timings.csv`` (larger ones are skipped with a note) and its slowest median time per scan there.
+
 A table that is absent (a run without that experiment) gives no macro; the report then fails on the
 missing macro by name, never on a silent default.
 """
@@ -31,8 +34,8 @@ import pandas as pd
 from .claims import CAUSES, format_value
 from .macros import macro_name
 
-__all__ = ["EFFECT_SMALL_PERCENT", "EFFECT_Z", "cause_count_macros", "effect_macros", "effect_words", "findings_macros",
-           "interop_macros", "percent_text", "rows_text", "seed_spread_macros"]
+__all__ = ["EFFECT_SMALL_PERCENT", "EFFECT_Z", "cause_count_macros", "effect_macros", "effect_words", "brute_jpda_macros",
+           "findings_macros", "interop_macros", "percent_text", "rows_text", "seed_spread_macros"]
 
 #: A paired difference is real when it lies at least this many of its standard errors from zero ...
 EFFECT_Z = 3.0
@@ -107,6 +110,17 @@ def interop_macros(timing: pd.DataFrame) -> dict:
     return values
 
 
+def brute_jpda_macros(timings: pd.DataFrame) -> dict:
+    """``\\htFindingsBruteJpdaTargets`` (most targets timed) and ``...Ms`` (slowest median ms per scan there, over
+    clutter rates) for Stone Soup's ``JPDA`` (implementation name), from the rows that were run."""
+    run = timings[(timings["implementation"] == "JPDA") & timings["median_ms"].notna()]
+    if run.empty:
+        raise ValueError("sht_timings has no timed row of Stone Soup's JPDA")
+    largest = int(run["n_targets"].max())
+    ms = float(run.loc[run["n_targets"] == largest, "median_ms"].max())
+    return {"htFindingsBruteJpdaTargets": str(largest), "htFindingsBruteJpdaMs": format_value(ms, 2)}
+
+
 def percent_text(x: float) -> str:
     """A percentage as text: whole numbers from 10 on (240, not 2.4e+02), two significant digits below."""
     return str(int(round(x))) if abs(x) >= 10 else format_value(x, 2)
@@ -126,6 +140,9 @@ def findings_macros(results_dir, ledger: pd.DataFrame) -> dict:
     interop = Path(results_dir) / "perf" / "stonesoup_adapter_timing.csv"
     if interop.exists():
         values.update(interop_macros(pd.read_csv(interop)))
+    sht = Path(results_dir) / "perf" / "sht_timings.csv"
+    if sht.exists():
+        values.update(brute_jpda_macros(pd.read_csv(sht)))
     power = Path(results_dir) / "closely_spaced" / "mht_power_macros.csv"
     if power.exists():
         values.update(effect_macros(pd.read_csv(power, dtype=str, keep_default_na=False),

@@ -3,7 +3,7 @@
 import pandas as pd
 import pytest
 
-from hypotrack.reporting.findings import (cause_count_macros, effect_macros, effect_words, interop_macros,
+from hypotrack.reporting.findings import (brute_jpda_macros, cause_count_macros, effect_macros, effect_words, interop_macros,
                                           percent_text, rows_text, seed_spread_macros)
 
 
@@ -52,3 +52,9 @@ def test_interop_overhead_in_percent_of_the_own_api():
     assert m["htFindingsInteropOverheadGnn"] == "243" and m["htFindingsInteropOverheadHomht"] == "10"
     assert m["htFindingsInteropOwnMsGnn"] == "0.097" and m["htFindingsInteropTargets"] == "10"
     assert [percent_text(x) for x in (243.149, 9.87, -0.44)] == ["243", "9.9", "-0.44"]
+
+
+def test_brute_force_jpda_reach_is_the_largest_formation_it_was_run_on():
+    timings = pd.DataFrame({"implementation": ["JPDA", "JPDA", "JPDA", "JPDA", "hypotrack"],
+                            "n_targets": [4, 12, 12, 16, 24], "median_ms": [1.0, 8000.0, 9500.0, None, 0.3]})
+    assert brute_jpda_macros(timings) == {"htFindingsBruteJpdaTargets": "12", "htFindingsBruteJpdaMs": "9500"}

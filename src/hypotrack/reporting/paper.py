@@ -13,7 +13,12 @@ Two rules keep the report honest:
   measurement; use it sparingly).
 * **The build fails loudly.** :func:`latex_log_problems` reads the LaTeX log and reports undefined
   control sequences (a missing generated macro, named), undefined references and citations, floats
-  too large for their page, and missing generated values.
+  too large for their page, and missing generated values; :func:`layout_problems` adds every line
+  overfull by more than :data:`OVERFULL_LIMIT_PT`, more than :data:`MAX_PAGES_BEFORE_APPENDIX` pages
+  before the appendix (:func:`pages_before_appendix`, from the ``.aux``) and every garbled phrase of the
+  PDF's text (:func:`text_problems`: ASCII mathematics, a hyphen for a minus sign, an undated reference,
+  "1 runs", an empty template value). :func:`bare_document_figures` keeps every figure of a document
+  named with its document ("document 000's Fig.~15"; a test checks the sections).
 """
 
 from __future__ import annotations
@@ -21,8 +26,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-__all__ = ["MAX_PAGES_BEFORE_APPENDIX", "OVERFULL_LIMIT_PT", "bare_document_figures", "bare_numbers", "build_pdf", "latex_log_problems",
-           "layout_problems", "overfull_boxes", "overfull_hboxes", "pages_before_appendix", "pdf_text_problems",
+__all__ = ["MAX_PAGES_BEFORE_APPENDIX", "OVERFULL_LIMIT_PT", "bare_document_figures", "bare_numbers", "build_pdf",
+           "latex_log_problems", "layout_problems", "overfull_boxes", "overfull_hboxes", "pages_before_appendix", "pdf_text_problems",
            "scan_sections", "text_problems"]
 
 _DOC_REF = re.compile(

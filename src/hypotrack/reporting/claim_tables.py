@@ -70,8 +70,8 @@ def sensitivity_tex(table: pd.DataFrame, verdicts: pd.DataFrame | None = None) -
     factors = sorted(set(table["factor"]))
     named = {} if verdicts is None else {r["id"]: f"document {r['document']}, {r['where']}: {r['words']}"
                                          for r in verdicts.to_dict("records")}
-    cols = "".join(r">{\raggedright\arraybackslash}p{0.1\linewidth}" for _ in factors)
-    out = [r"\begin{tabular}{@{}>{\raggedright\arraybackslash}p{0.33\linewidth}" + cols + r"@{}}\toprule",
+    cols = "".join(r">{\raggedright\arraybackslash}p{0.11\linewidth}" for _ in factors)
+    out = [r"\begin{tabular}{@{}>{\raggedright\arraybackslash}p{0.3\linewidth}" + cols + r"@{}}\toprule",
            "claim & " + " & ".join(rf"$\times${f:g}" for f in factors) + r"\\\midrule"]
     for claim, g in table.groupby("claim", sort=False):
         by = g.set_index("factor")

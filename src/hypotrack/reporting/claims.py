@@ -219,7 +219,7 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
     if v.status == "inconclusive":
         decide = ("no number of runs decides it (the published number's own error is too large)"
                   if v.runs_to_decide is None or math.isinf(v.runs_to_decide) else
-                  f"about {int(v.runs_to_decide):,} runs would decide it")
+                  f"about {int(v.runs_to_decide):,} runs would decide it")  # at least 2 (verdict.py)
         note = f"{note}; interval {v.low:.4g} to {v.high:.4g}: {decide}" if note else \
             f"interval {v.low:.4g} to {v.high:.4g}: {decide}"
     return Claim(experiment, item, source, format_value(float(published), digits), format_value(float(mean), digits), tol_text,

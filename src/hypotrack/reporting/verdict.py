@@ -96,14 +96,33 @@ def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: flo
 
 
 def _runs_to_decide(gap: float, tolerance: float, sd: float | None, published_runs: int | None) -> float | None:
-    """Runs n' at which a 3-s.e. interval around the same mean would clear the tolerance's edge."""
+    """The fewest runs n' (at least 2) at which the rule's own interval around the same mean,
+    q(n')·sqrt(sd²/n' + sd²/published_runs) with q the t quantile of n' − 1 d.o.f. (:func:`interval_quantile`),
+    would clear the tolerance's edge; inf when no number of runs can (the published number's own error too
+    large, or the mean on the edge)."""
     if sd is None:
         return None
     margin = abs(tolerance - gap)  # room inside the tolerance, or distance beyond it
-    room = (margin / 3.0) ** 2 - (sd ** 2 / published_runs if published_runs else 0.0)
+    published_var = sd ** 2 / published_runs if published_runs else 0.0
+    room = (margin / 3.0) ** 2 - published_var  # q >= 3 for every n': a lower bound on n'
     if margin == 0 or room <= 0:
         return math.inf
-    return float(math.ceil(sd ** 2 / room))
+
+    def decides(k: int) -> bool:
+        return interval_quantile(k) ** 2 * (sd ** 2 / k + published_var) <= margin ** 2
+
+    lo = max(2, math.ceil(sd ** 2 / room))
+    if decides(lo):
+        return float(lo)
+    hi = 2 * lo
+    while not decides(hi):  # q(n') falls to 3 and sd²/n' to 0, so some n' decides when room > 0 ...
+        if hi > 10 ** 15:  # ... unless that n' is beyond any run count worth stating
+            return math.inf
+        hi *= 2
+    while hi - lo > 1:  # decides() is monotone in n': bisect for the fewest
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if decides(mid) else (mid, hi)
+    return float(hi)
 
 
 def control_text(what: str, value: str, passes: bool) -> str:

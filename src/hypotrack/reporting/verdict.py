@@ -95,6 +95,9 @@ def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: flo
     return Verdict(z, "inconclusive", low, high, _runs_to_decide(abs(diff), tolerance, sd, published_runs))
 
 
+_MAX_RUNS = 10 ** 15
+
+
 def _runs_to_decide(gap: float, tolerance: float, sd: float | None, published_runs: int | None) -> float | None:
     """The fewest runs n' (at least 2) at which the rule's own interval around the same mean,
     q(n')·sqrt(sd²/n' + sd²/published_runs) with q the t quantile of n' − 1 d.o.f. (:func:`interval_quantile`),
@@ -112,12 +115,14 @@ def _runs_to_decide(gap: float, tolerance: float, sd: float | None, published_ru
         return interval_quantile(k) ** 2 * (sd ** 2 / k + published_var) <= margin ** 2
 
     lo = max(2, math.ceil(sd ** 2 / room))
+    if lo > _MAX_RUNS:  # q is 3 to many digits there (and the t quantile takes no such integer): the bound is n'
+        return float(lo)
     if decides(lo):
         return float(lo)
     hi = 2 * lo
     while not decides(hi):  # q(n') falls to 3 and sd²/n' to 0, so some n' decides when room > 0 ...
-        if hi > 10 ** 15:  # ... unless that n' is beyond any run count worth stating
-            return math.inf
+        if hi > _MAX_RUNS:  # ... and beyond this size q is 3 to many digits: the lower bound is the answer
+            return float(hi)
         hi *= 2
     while hi - lo > 1:  # decides() is monotone in n': bisect for the fewest
         mid = (lo + hi) // 2

@@ -150,7 +150,7 @@ def latex_text(text) -> str:
     r"""Plain text -> LaTeX: special characters escaped, plain-text mathematics in math mode (module docstring).
 
     >>> latex_text("P[Bin(M, p_D) <= m] = 1 - p_D**3, 1e+06 runs, ±3 %")
-    'P[Bin(M, \\ensuremath{p_{D}}) \\ensuremath{\\le} m] = 1 - \\ensuremath{p_{D}}\\ensuremath{^{3}}, \\ensuremath{10^{6}} runs, \\ensuremath{\\pm}3 \\%'
+    'P[Bin(M, \\ensuremath{p_{D}}) \\ensuremath{\\le} m] = 1 \\ensuremath{-} \\ensuremath{p_{D}}\\ensuremath{^{3}}, \\ensuremath{10^{6}} runs, \\ensuremath{\\pm}3 \\%'
     """
     text = str(text)
     out, pos = [], 0

@@ -21,12 +21,16 @@ experiments already wrote and become macros like any other (``\htFindings...``):
 * :func:`brute_jpda_macros`: the largest formation Stone Soup's brute-force JPDA was run on in
   ``perf/sht_timings.csv`` (larger ones are skipped with a note) and its slowest median time per scan there.
 
+* :func:`paired_difference_macros`: each tracker's paired OSPA difference from the $\\delta$-GLMB filter on
+  its benchmark (the ``OSPA minus glmb`` of the benchmark rows' notes), with its standard error and z.
+
 A table that is absent (a run without that experiment) gives no macro; the report then fails on the
 missing macro by name, never on a silent default.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import pandas as pd
@@ -35,7 +39,7 @@ from .claims import CAUSES, format_value
 from .macros import macro_name
 
 __all__ = ["EFFECT_SMALL_PERCENT", "EFFECT_Z", "cause_count_macros", "effect_macros", "effect_words", "brute_jpda_macros",
-           "findings_macros", "interop_macros", "percent_text", "rows_text", "seed_spread_macros"]
+           "findings_macros", "interop_macros", "paired_difference_macros", "percent_text", "rows_text", "seed_spread_macros"]
 
 #: A paired difference is real when it lies at least this many of its standard errors from zero ...
 EFFECT_Z = 3.0
@@ -121,6 +125,24 @@ def brute_jpda_macros(timings: pd.DataFrame) -> dict:
     return {"htFindingsBruteJpdaTargets": str(largest), "htFindingsBruteJpdaMs": format_value(ms, 2)}
 
 
+_PAIRED = re.compile(r"OSPA minus glmb: ([+-]?\d+(?:\.\d+)?) \+/- (\d+(?:\.\d+)?) m")
+
+
+def paired_difference_macros(claims: pd.DataFrame) -> dict:
+    """``\\htFindingsGlmbDiff<Key>``, ``...Se<Key>``, ``...Z<Key>`` for every benchmark row whose note gives its
+    paired OSPA difference from the GLMB filter ("OSPA minus glmb: +0.65 +/- 0.27 m"); z = difference / s.e."""
+    values = {}
+    for r in claims.to_dict("records"):
+        m = _PAIRED.search(r.get("note", "") or "")
+        if not m or not r.get("key"):
+            continue
+        diff, se = float(m.group(1)), float(m.group(2))
+        values[macro_name("findings", "glmb diff", r["key"])] = m.group(1)
+        values[macro_name("findings", "glmb diff se", r["key"])] = m.group(2)
+        values[macro_name("findings", "glmb diff z", r["key"])] = f"{diff / se:.1f}" if se > 0 else "--"
+    return values
+
+
 def percent_text(x: float) -> str:
     """A percentage as text: whole numbers from 10 on (240, not 2.4e+02), two significant digits below."""
     return str(int(round(x))) if abs(x) >= 10 else format_value(x, 2)
@@ -143,6 +165,9 @@ def findings_macros(results_dir, ledger: pd.DataFrame) -> dict:
     sht = Path(results_dir) / "perf" / "sht_timings.csv"
     if sht.exists():
         values.update(brute_jpda_macros(pd.read_csv(sht)))
+    glmb = Path(results_dir) / "glmb_benchmark" / "claims.csv"
+    if glmb.exists():
+        values.update(paired_difference_macros(pd.read_csv(glmb, dtype=str, keep_default_na=False)))
     power = Path(results_dir) / "closely_spaced" / "mht_power_macros.csv"
     if power.exists():
         values.update(effect_macros(pd.read_csv(power, dtype=str, keep_default_na=False),

@@ -4,7 +4,7 @@ import pandas as pd
 import pytest
 
 from hypotrack.reporting.findings import (brute_jpda_macros, cause_count_macros, effect_macros, effect_words, interop_macros,
-                                          percent_text, rows_text, seed_spread_macros)
+                                          paired_difference_macros, percent_text, rows_text, seed_spread_macros)
 
 
 def test_seed_spread_is_the_range_over_seeds_of_the_larger_case_only():
@@ -58,3 +58,15 @@ def test_brute_force_jpda_reach_is_the_largest_formation_it_was_run_on():
     timings = pd.DataFrame({"implementation": ["JPDA", "JPDA", "JPDA", "JPDA", "hypotrack"],
                             "n_targets": [4, 12, 12, 16, 24], "median_ms": [1.0, 8000.0, 9500.0, None, 0.3]})
     assert brute_jpda_macros(timings) == {"htFindingsBruteJpdaTargets": "12", "htFindingsBruteJpdaMs": "9500"}
+
+
+def test_paired_differences_from_the_glmb_are_read_from_the_benchmark_notes():
+    claims = pd.DataFrame({"key": ["OspaRfisstCompletion", "OspaGlmbReference", "OspaGlmb", ""],
+                           "note": ["mean OSPA 13.16 +/- 0.22 m; OSPA minus glmb: +0.65 +/- 0.27 m",
+                                    "OSPA minus glmb: -0.78 +/- 0.26 m", "mean OSPA 12.51 +/- 0.2 m",
+                                    "OSPA minus glmb: +1 +/- 1 m"]})  # no key: no macro name, left out
+    m = paired_difference_macros(claims)
+    assert m == {"htFindingsGlmbDiffOspaRfisstCompletion": "+0.65", "htFindingsGlmbDiffSeOspaRfisstCompletion": "0.27",
+                 "htFindingsGlmbDiffZOspaRfisstCompletion": "2.4",  # 0.65 / 0.27 = 2.41
+                 "htFindingsGlmbDiffOspaGlmbReference": "-0.78", "htFindingsGlmbDiffSeOspaGlmbReference": "0.26",
+                 "htFindingsGlmbDiffZOspaGlmbReference": "-3.0"}

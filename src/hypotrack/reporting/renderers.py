@@ -31,7 +31,8 @@ def _cell_tex(text) -> str:
 STATUS_COLOURS = {"reproduced": ("ForestGreen", "#e6f4ea"), "not reproduced": ("BrickRed", "#fce8e6"),
                   "inconclusive": ("Gray", "#eeeeee"), "uninformative": ("BurntOrange", "#fdebd0"),
                   "qualitative": ("NavyBlue", "#e8eefa"), "extension": ("Gray", "#ffffff"),
-                  "illustration": ("Gray", "#ffffff"), "consistency check": ("Gray", "#f4f4f4")}
+                  "illustration": ("Gray", "#ffffff"), "consistency check": ("Gray", "#f4f4f4"),
+                  "calibration": ("Gray", "#f4f4f4")}
 
 
 def claims_html(claims: pd.DataFrame) -> str:

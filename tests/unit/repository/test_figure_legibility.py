@@ -84,6 +84,90 @@ def test_control_legend_inside_axes_and_clipped_title_are_found():
         fs.save(fig, "/nonexistent/never_written.pdf")
 
 
+def test_control_tiny_subscript_is_measured_per_glyph():
+    # 8 pt text at full width: P is 8 pt (passes 7 pt), D is 0.7 × 8 = 5.6 pt, x_2 inside a
+    # superscript is 0.49 × 8 = 3.92 pt: the check reports the smallest glyph
+    fig, ax = fs.subplots(height=3.0)
+    ax.set_xlabel("probability of detection $P_D$", fontsize=8)
+    assert fs.text_sizes(ax.xaxis.label) == (8.0, pytest.approx(5.6))
+    assert any("5.6 pt" in p and "sub- or superscript" in p for p in fs.legibility_problems(fig)), \
+        fs.legibility_problems(fig)
+    ax.set_xlabel("$a^{x_2}$", fontsize=8)
+    assert fs.text_sizes(ax.xaxis.label)[1] == pytest.approx(3.92)
+    # placed at half width, 8.6 pt text with a script prints its script at 8.6 × 0.7 × 0.5 = 3.0 pt
+    ax.set_xlabel("$P_D$", fontsize=8.6)
+    assert any("3.0 pt" in p for p in fs.legibility_problems(fig, 0.5)), fs.legibility_problems(fig, 0.5)
+    # plain text is one size, and 8.58 pt with a script passes at full width (8.58 × 0.7 = 6.006)
+    ax.set_xlabel("plain words", fontsize=8)
+    assert fs.text_sizes(ax.xaxis.label) == (8.0, 8.0)
+    ax.set_xlabel("$P_D$", fontsize=8.58)
+    assert fs.legibility_problems(fig) == []
+    plt.close(fig)
+
+
+def test_control_log_axis_exponents_are_enlarged_by_save(tmp_path):
+    # a log axis labels its ticks $10^{k}$: the exponent at 7.5 × 0.7 = 5.25 pt fails ...
+    fig, ax = fs.subplots(height=3.0)
+    ax.semilogy([1, 2, 3], [1e-3, 1.0, 1e3])
+    problems = fs.legibility_problems(fig)
+    assert any("5.2 pt" in p and "10^{" in p for p in problems), problems
+    # ... and is raised to 6 / 0.7 = 8.58 pt, so save writes the figure
+    fs.enlarge_scripts(fig)
+    assert ax.yaxis.get_major_ticks()[0].label1.get_fontsize() == pytest.approx(8.58)
+    assert fs.legibility_problems(fig) == []
+    fs.save(fig, tmp_path / "log.pdf")
+    assert (tmp_path / "log.pdf").stat().st_size > 0
+
+
+def test_control_series_of_the_same_look_are_found():
+    fig, (a1, a2) = fs.subplots(1, 2, height=3.0)
+    a1.plot([0, 1, 2], [0, 1, 4], "o-", color="tab:blue", label="tracker A")
+    a1.plot([0, 1, 2], [1, 2, 3], "o-", color="tab:blue", label="tracker B")
+    problems = fs.legibility_problems(fig)
+    assert any("'tracker A' and 'tracker B'" in p and "same colour" in p for p in problems), problems
+    # a different marker (or line style, or colour) tells them apart
+    a1.lines[1].set_marker("s")
+    assert fs.series_problems(fig) == []
+    # two panels whose series share a style are fine until one legend lists both with different labels
+    a2.plot([0, 1, 2], [5, 5, 5], "o-", color="tab:blue", label="tracker C")
+    assert fs.series_problems(fig) == []
+    fs.legend_below(fig)
+    problems = fs.legibility_problems(fig)
+    assert any("legend entries 'tracker A' and 'tracker C'" in p for p in problems), problems
+    plt.close(fig)
+
+
+def test_control_coincident_series_need_a_note():
+    fig, ax = fs.subplots(height=3.0)
+    x = np.arange(20.0)
+    ax.plot(x, x**2, color="tab:blue", lw=2, label="chain")
+    ax.plot(x, x**2, color="tab:red", ls="--", label="completion")
+    problems = fs.legibility_problems(fig)
+    assert len(problems) == 1 and "'completion' lies exactly on 'chain'" in problems[0], problems
+    # a series on a subset of another's points is hidden at every point too
+    ax.lines[1].set_data(x[5:12], x[5:12] ** 2)
+    assert any("lies exactly on" in p for p in fs.series_problems(fig))
+    # one point off the other line: not coincident
+    ax.lines[1].set_data(x[5:12], x[5:12] ** 2 + (x[5:12] == 8))
+    assert fs.series_problems(fig) == []
+    # identical data said in the legend passes
+    ax.lines[1].set_data(x, x**2)
+    ax.lines[1].set_label("completion (coincides with chain)")
+    assert fs.legibility_problems(fig) == []
+    plt.close(fig)
+
+
+def test_text_only_legend_rows_are_not_series():
+    fig, ax = fs.subplots(height=3.0)
+    ax.plot([0, 1], [0, 1], label="data")
+    fs.legend_below(fig)
+    handles = [plt.Line2D([], [], ls="none", label=f"note {i}") for i in range(3)]
+    fig.legends[0].remove()
+    fs.legend_below(fig, [ax.lines[0], *handles], ["data"] + [h.get_label() for h in handles])
+    assert fs.legibility_problems(fig) == []
+    plt.close(fig)
+
+
 def test_subplots_rejects_sizes_latex_would_shrink():
     with pytest.raises(ValueError, match="height must be"):
         fs.subplots(height=9.0)
@@ -103,8 +187,10 @@ def test_pow10_and_wrap():
 
 
 def check(fig, name):
-    """Legible at the width the report places ``name`` at (its ``\\htfigure`` line)."""
+    """Legible at the width the report places ``name`` at (its ``\\htfigure`` line), after the
+    script enlargement :func:`figure_style.save` applies before it writes a figure."""
     width = placed_widths()[name]
+    fs.enlarge_scripts(fig, width)
     problems = fs.legibility_problems(fig, width)
     plt.close(fig)
     assert problems == [], problems

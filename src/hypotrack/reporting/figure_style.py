@@ -30,7 +30,7 @@ MAX_HEIGHT_IN = 0.7 * TEXT_HEIGHT_IN  #: \htfigure caps the height at 0.7\texthe
 MIN_FONT_PT = 7.0  #: the smallest text a referee reads on a printed page
 MIN_SCRIPT_PT = 6.0  #: the smallest mathtext sub- or superscript (glyph size) on a printed page
 #: words in a legend label that tell the reader a series is drawn exactly over another
-COINCIDENCE_NOTES = ("coincides with", "coincide", "identical to", "drawn under", "hidden under")
+COINCIDENCE_NOTES = ("coincides with", "coincide", "identical to", "drawn on", "hidden under")
 
 RC = {
     "font.size": 8.0,
@@ -188,50 +188,96 @@ def _noted(label) -> bool:
     return any(note in str(label).lower() for note in COINCIDENCE_NOTES)
 
 
-def _display_points(line) -> set:
-    """The line's finite points in display pixels, rounded to 0.05 px (points drawn on one spot)."""
+COINCIDENCE_PT = 0.25  #: two series closer than this on the printed page (a quarter of a line width) coincide
+
+
+def _display_points(line) -> dict:
+    """The line's finite points in display pixels: x rounded to 0.01 px -> the y values at that x."""
     xy = np.column_stack([np.asarray(line.get_xdata(), dtype=float), np.asarray(line.get_ydata(), dtype=float)])
     xy = xy[np.all(np.isfinite(xy), axis=1)] if len(xy) else xy
     if not len(xy):
-        return set()
+        return {}
     with np.errstate(all="ignore"):
         px = line.get_transform().transform(xy)
     px = px[np.all(np.isfinite(px), axis=1)]
-    return set(map(tuple, np.round(px / 0.05).astype(np.int64)))
+    out = {}
+    for x, y in zip(np.round(px[:, 0] / 0.01).astype(np.int64), px[:, 1]):
+        out.setdefault(int(x), []).append(float(y))
+    return out
 
 
-def series_problems(fig) -> list[str]:
+def _lies_on(a: dict, b: dict, tol: float) -> bool:
+    """Every point of ``a`` is within ``tol`` pixels (vertically, at the same x) of a point of ``b``."""
+    if not a or len(a) > len(b) or not a.keys() <= b.keys():
+        return False
+    return all(min(abs(y - yb) for yb in b[x]) <= tol for x, ys in a.items() for y in ys)
+
+
+def _legend_names(fig, lines) -> dict:
+    """Names of unlabelled lines drawn into a legend by handle: the text of the one legend entry
+    with the same look (a legend built from handles and names leaves the lines' labels empty)."""
+    from matplotlib.legend import Legend
+    from matplotlib.lines import Line2D
+
+    entries = [(h, t.get_text()) for leg in fig.findobj(Legend)
+               for h, t in zip(leg.legend_handles, leg.get_texts()) if isinstance(h, Line2D)]
+    names = {}
+    for line in lines:
+        if _labelled(line.get_label()):
+            continue
+        found = {text for h, text in entries if _line_style(h) == _line_style(line)
+                 and abs(h.get_linewidth() - line.get_linewidth()) < 1e-6}
+        if len(found) == 1:
+            names[line] = found.pop()
+    return names
+
+
+def series_problems(fig, width: float = 1.0) -> list[str]:
     """Series of ``fig`` a reader cannot tell apart (empty: none). Call after a draw.
 
     * two labelled lines of one axes with the same look (:func:`_same_look`);
     * two entries of one legend whose line handles have the same look but different labels;
-    * a labelled line every point of which lies on another labelled line of its axes (identical
-      data: it is drawn exactly over the other or hidden behind it), unless one of the two labels
-      says so (contains one of ``COINCIDENCE_NOTES``).
+    * a named line (labelled, or drawn in a legend by handle) every point of which lies on another
+      line of its axes, within ``COINCIDENCE_PT`` on the printed page (identical data: it is drawn
+      exactly over the other or hidden behind it), unless one of the two names says so (contains
+      one of ``COINCIDENCE_NOTES``). Markers alone on the vertices of a line without markers are
+      not hidden (they mark points of it).
     """
     from matplotlib.legend import Legend
     from matplotlib.lines import Line2D
 
     problems = []
+    scale = placed_scale(fig, width)
     for ax in fig.axes:
-        lines = [ln for ln in ax.get_lines() if ln.get_visible() and _labelled(ln.get_label())
-                 and len(np.atleast_1d(ln.get_xdata()))]
+        lines = [ln for ln in ax.get_lines() if ln.get_visible() and len(np.atleast_1d(ln.get_xdata()))
+                 and _line_style(ln)[1:3] != ("None", "None")]
+        names = {ln: str(ln.get_label()) for ln in lines if _labelled(ln.get_label())}
+        names.update(_legend_names(fig, lines))
         where = repr((ax.get_title() or "untitled")[:50])
-        points = [_display_points(ln) for ln in lines]
-        for i, a in enumerate(lines):
-            for j in range(i + 1, len(lines)):
-                b = lines[j]
+        labelled = [ln for ln in lines if _labelled(ln.get_label())]
+        for i, a in enumerate(labelled):
+            for b in labelled[i + 1:]:
                 if a.get_label() != b.get_label() and _same_look(a, b):
                     problems.append(f"series {a.get_label()[:40]!r} and {b.get_label()[:40]!r} of the axes {where} "
                                     "have the same colour, marker and line style")
+        points = [_display_points(ln) for ln in lines]
+        tol = COINCIDENCE_PT / scale * fig.dpi / 72.0
+        for i, a in enumerate(lines):
             for j, b in enumerate(lines):
-                if j == i or not points[i] or not points[i] <= points[j] or _noted(a.get_label()) \
-                        or _noted(b.get_label()):
+                if j == i or (a not in names and b not in names):
+                    continue  # e.g. one run's unlabelled lines among many
+                if _noted(names.get(a, "")) or _noted(names.get(b, "")) or names.get(a) == names.get(b):
                     continue
-                if points[i] == points[j] and j > i:
+                if _line_style(a)[1] == "None" and _line_style(b)[2] == "None":
+                    continue  # markers on the vertices of a line without markers mark points of it
+                if not _lies_on(points[i], points[j], tol):
+                    continue
+                if j > i and _lies_on(points[j], points[i], tol):
                     continue  # an identical pair is reported once: the later drawn lies on the earlier
-                problems.append(f"series {a.get_label()[:40]!r} lies exactly on {b.get_label()[:40]!r} in the axes "
-                                f"{where} with no legend note (e.g. 'coincides with ...')")
+                name_a = repr(names[a][:40]) if a in names else "an unlabelled line"
+                name_b = repr(names[b][:40]) if b in names else "an unlabelled line"
+                problems.append(f"series {name_a} lies exactly on {name_b} in the axes {where} with no legend note "
+                                "(e.g. 'coincides with ...')")
     for leg in fig.findobj(Legend):
         entries = [(h, t.get_text()) for h, t in zip(leg.legend_handles, leg.get_texts())
                    if isinstance(h, Line2D) and h.get_visible()]
@@ -294,7 +340,7 @@ def legibility_problems(fig, width: float = 1.0) -> list[str]:
                 problems.append(f"a legend ({lb.width:.0f}×{lb.height:.0f} px) covers the data area of the axes "
                                 f"{title[:50]!r}")
                 break
-    return problems + series_problems(fig)
+    return problems + series_problems(fig, width)
 
 
 def enlarge_scripts(fig, width: float = 1.0) -> None:

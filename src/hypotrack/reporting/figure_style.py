@@ -164,7 +164,11 @@ def _line_style(line) -> tuple:
     marker = line.get_marker()
     marker = "None" if marker in (None, "", " ", "none", "None") else str(marker)
     ls = line.get_linestyle()
-    ls = "None" if ls in (None, "", " ", "none", "None") else ls
+    if ls in (None, "", " ", "none", "None"):
+        ls = "None"
+    else:  # matplotlib reports every custom dash tuple as "--": compare the dash pattern itself
+        offset, dashes = getattr(line, "_unscaled_dash_pattern", (0, None))
+        ls = (ls, tuple(np.round(dashes, 3)) if dashes is not None else None)
     colour = to_rgba(line.get_color(), line.get_alpha())
     fill = "n/a" if marker == "None" else str(line.get_markerfacecolor())
     return (tuple(round(c, 3) for c in colour), ls, marker, fill)

@@ -86,13 +86,17 @@ def plot_throughput(table: pd.DataFrame, pdf, png):
     _save(fig, pdf, png)
 
 
-# drawn in this order: the wide exact line underneath, the dashed completion over it, the chain on top
+# drawn in this order: the wide translucent exact line underneath, the completion's large hollow
+# diamonds over it, the chain's small filled squares on top: where the three coincide (all find
+# the MAP child, say) every one of them stays visible, and the legend says so
 _DIFF_STYLE = {
-    "murty": dict(color="tab:orange", marker="^", lw=3.0, ls="-", alpha=0.55,
-                  label="exact best k (Murty per detection count)"),
-    "chain_completion": dict(color="tab:purple", marker="D", lw=1.4, ls="--", alpha=1.0,
-                             label="R-FISST: chain + neighbour completion (omitted where over its budget)"),
-    "chain": dict(color="tab:green", marker="s", lw=1.2, ls="-", alpha=1.0, label="R-FISST: the paper's chain alone"),
+    "murty": dict(color="tab:orange", marker="^", ms=3.5, mfc=None, lw=3.0, ls="-", alpha=0.55,
+                  label="exact best k (Murty per detection count), wide band under the others"),
+    "chain_completion": dict(color="tab:purple", marker="D", ms=6.5, mfc="none", lw=1.2, ls="--", alpha=1.0,
+                             label="R-FISST: chain + neighbour completion (omitted where over its budget); "
+                                   "hollow diamonds, visible where it coincides with the others"),
+    "chain": dict(color="tab:green", marker="s", ms=3.0, mfc=None, lw=1.0, ls="-", alpha=1.0,
+                  label="R-FISST: the paper's chain alone, small squares on top where the series coincide"),
 }
 
 
@@ -122,8 +126,8 @@ def plot_difficulty(summary: pd.DataFrame, pdf, png, *, labels: dict, mcmc_steps
         for method, style in _DIFF_STYLE.items():
             m = sd[sd["method"] == method]
             label = style["label"] + (f" ({mcmc_steps:,} steps)" if method != "murty" else f" (k = {keep})")
-            ax.plot(m["log10_hypotheses"], m[col], color=style["color"], marker=style["marker"], ms=3.5,
-                    lw=style["lw"], ls=style["ls"], alpha=style["alpha"], label=label)
+            ax.plot(m["log10_hypotheses"], m[col], color=style["color"], marker=style["marker"], ms=style["ms"],
+                    mfc=style["mfc"], mew=1.0, lw=style["lw"], ls=style["ls"], alpha=style["alpha"], label=label)
         ax.axvline(np.log10(exhaustive_max_events), color="grey", ls=":", lw=1)
         ax.set_ylim(-0.05, 1.05)
         ax.grid(True, alpha=0.3)

@@ -22,7 +22,7 @@ import numpy as np
 
 __all__ = ["TEXT_WIDTH_IN", "MAX_HEIGHT_IN", "MIN_FONT_PT", "RC", "use", "subplots", "legend_below",
            "legend_right", "legibility_problems", "MIN_SCRIPT_PT", "COINCIDENCE_NOTES",
-           "text_sizes", "series_problems", "enlarge_scripts", "placed_scale", "save", "wrap", "categorical_styles", "pow10"]
+           "text_sizes", "series_problems", "enlarge_scripts", "coincident_lines", "placed_scale", "save", "wrap", "categorical_styles", "pow10"]
 
 TEXT_WIDTH_IN = (210.0 - 2 * 22.0) / 25.4  #: \linewidth of paper/ms.tex: A4 (210 mm) less two 22 mm margins
 TEXT_HEIGHT_IN = (297.0 - 2 * 22.0) / 25.4  #: \textheight of paper/ms.tex
@@ -169,9 +169,13 @@ def _line_style(line) -> tuple:
     else:  # matplotlib reports every custom dash tuple as "--": compare the dash pattern itself
         offset, dashes = getattr(line, "_unscaled_dash_pattern", (0, None))
         ls = (ls, tuple(np.round(dashes, 3)) if dashes is not None else None)
-    colour = to_rgba(line.get_color(), line.get_alpha())
-    fill = "n/a" if marker == "None" else str(line.get_markerfacecolor())
-    return (tuple(round(c, 3) for c in colour), ls, marker, fill)
+    def rgba(c):
+        return "none" if str(c).lower() == "none" else tuple(round(v, 3) for v in to_rgba(c, line.get_alpha()))
+
+    colour = rgba(line.get_color()) if ls != "None" else "n/a"  # a line's colour, when it draws one
+    edge, fill = ("n/a", "n/a") if marker == "None" else (rgba(line.get_markeredgecolor()),
+                                                           rgba(line.get_markerfacecolor()))
+    return (colour, ls, marker, edge, fill)
 
 
 def _same_look(a, b) -> bool:
@@ -236,6 +240,33 @@ def _legend_names(fig, lines) -> dict:
     return names
 
 
+def coincident_lines(ax, lines=None, scale: float = 1.0) -> list[tuple]:
+    """Pairs ``(a, b)`` of lines of ``ax`` where every point of ``a`` lies within ``COINCIDENCE_PT``
+    (printed, at ``scale``) of ``b`` at the same x: ``a`` is drawn exactly over ``b`` or hidden
+    behind it. An identical pair is given once, the later drawn first. Markers alone on the
+    vertices of a line without markers, and hollow markers alone, are not counted (they mark
+    points of what is under them). Figure code calls this (after setting the axes' limits) to
+    note coinciding series in its legend."""
+    if lines is None:
+        lines = [ln for ln in ax.get_lines() if ln.get_visible() and len(np.atleast_1d(ln.get_xdata()))
+                 and _line_style(ln)[1:3] != ("None", "None")]
+    points = [_display_points(ln) for ln in lines]
+    tol = COINCIDENCE_PT / scale * ax.figure.dpi / 72.0
+    pairs = []
+    for i, a in enumerate(lines):
+        for j, b in enumerate(lines):
+            if j == i:
+                continue
+            if _line_style(a)[1] == "None" and (_line_style(b)[2] == "None" or _line_style(a)[4] == "none"):
+                continue
+            if not _lies_on(points[i], points[j], tol):
+                continue
+            if j > i and _lies_on(points[j], points[i], tol):
+                continue  # an identical pair is reported once: the later drawn lies on the earlier
+            pairs.append((a, b))
+    return pairs
+
+
 def series_problems(fig, width: float = 1.0) -> list[str]:
     """Series of ``fig`` a reader cannot tell apart (empty: none). Call after a draw.
 
@@ -244,8 +275,8 @@ def series_problems(fig, width: float = 1.0) -> list[str]:
     * a named line (labelled, or drawn in a legend by handle) every point of which lies on another
       line of its axes, within ``COINCIDENCE_PT`` on the printed page (identical data: it is drawn
       exactly over the other or hidden behind it), unless one of the two names says so (contains
-      one of ``COINCIDENCE_NOTES``). Markers alone on the vertices of a line without markers are
-      not hidden (they mark points of it).
+      one of ``COINCIDENCE_NOTES``). Markers alone on the vertices of a line without markers, and
+      hollow markers alone, hide nothing (they mark points of what is under them).
     """
     from matplotlib.legend import Legend
     from matplotlib.lines import Line2D
@@ -257,31 +288,23 @@ def series_problems(fig, width: float = 1.0) -> list[str]:
                  and _line_style(ln)[1:3] != ("None", "None")]
         names = {ln: str(ln.get_label()) for ln in lines if _labelled(ln.get_label())}
         names.update(_legend_names(fig, lines))
-        where = repr((ax.get_title() or "untitled")[:50])
+        names = {ln: name.replace("\n", " ") for ln, name in names.items()}
+        where = repr((ax.get_title() or "untitled").replace("\n", " ")[:50])
         labelled = [ln for ln in lines if _labelled(ln.get_label())]
         for i, a in enumerate(labelled):
             for b in labelled[i + 1:]:
                 if a.get_label() != b.get_label() and _same_look(a, b):
                     problems.append(f"series {a.get_label()[:40]!r} and {b.get_label()[:40]!r} of the axes {where} "
                                     "have the same colour, marker and line style")
-        points = [_display_points(ln) for ln in lines]
-        tol = COINCIDENCE_PT / scale * fig.dpi / 72.0
-        for i, a in enumerate(lines):
-            for j, b in enumerate(lines):
-                if j == i or (a not in names and b not in names):
-                    continue  # e.g. one run's unlabelled lines among many
-                if _noted(names.get(a, "")) or _noted(names.get(b, "")) or names.get(a) == names.get(b):
-                    continue
-                if _line_style(a)[1] == "None" and _line_style(b)[2] == "None":
-                    continue  # markers on the vertices of a line without markers mark points of it
-                if not _lies_on(points[i], points[j], tol):
-                    continue
-                if j > i and _lies_on(points[j], points[i], tol):
-                    continue  # an identical pair is reported once: the later drawn lies on the earlier
-                name_a = repr(names[a][:40]) if a in names else "an unlabelled line"
-                name_b = repr(names[b][:40]) if b in names else "an unlabelled line"
-                problems.append(f"series {name_a} lies exactly on {name_b} in the axes {where} with no legend note "
-                                "(e.g. 'coincides with ...')")
+        for a, b in coincident_lines(ax, lines, scale):
+            if (a not in names and b not in names) or names.get(a) == names.get(b):
+                continue  # e.g. one run's unlabelled lines among many
+            if _noted(names.get(a, "")) or _noted(names.get(b, "")):
+                continue
+            name_a = repr(names[a][:40]) if a in names else "an unlabelled line"
+            name_b = repr(names[b][:40]) if b in names else "an unlabelled line"
+            problems.append(f"series {name_a} lies exactly on {name_b} in the axes {where} with no legend note "
+                            "(e.g. 'coincides with ...')")
     for leg in fig.findobj(Legend):
         entries = [(h, t.get_text()) for h, t in zip(leg.legend_handles, leg.get_texts())
                    if isinstance(h, Line2D) and h.get_visible()]

@@ -30,7 +30,7 @@ MAX_HEIGHT_IN = 0.7 * TEXT_HEIGHT_IN  #: \htfigure caps the height at 0.7\texthe
 MIN_FONT_PT = 7.0  #: the smallest text a referee reads on a printed page
 MIN_SCRIPT_PT = 6.0  #: the smallest mathtext sub- or superscript (glyph size) on a printed page
 #: words in a legend label that tell the reader a series is drawn exactly over another
-COINCIDENCE_NOTES = ("coincides with", "coincide", "identical to", "drawn on", "hidden under")
+COINCIDENCE_NOTES = ("coincides with", "coincide", "identical to", "drawn on", "drawn under", "hidden under")
 
 RC = {
     "font.size": 8.0,
@@ -240,6 +240,15 @@ def _legend_names(fig, lines) -> dict:
     return names
 
 
+def _series_lines(ax) -> list:
+    """The lines of ``ax`` that draw something, less error-bar caps (they mark a series' spread)."""
+    from matplotlib.container import ErrorbarContainer
+
+    caps = {id(cap) for c in ax.containers if isinstance(c, ErrorbarContainer) for cap in c.lines[1]}
+    return [ln for ln in ax.get_lines() if ln.get_visible() and len(np.atleast_1d(ln.get_xdata()))
+            and _line_style(ln)[1:3] != ("None", "None") and id(ln) not in caps]
+
+
 def coincident_lines(ax, lines=None, scale: float = 1.0) -> list[tuple]:
     """Pairs ``(a, b)`` of lines of ``ax`` where every point of ``a`` lies within ``COINCIDENCE_PT``
     (printed, at ``scale``) of ``b`` at the same x: ``a`` is drawn exactly over ``b`` or hidden
@@ -248,8 +257,7 @@ def coincident_lines(ax, lines=None, scale: float = 1.0) -> list[tuple]:
     points of what is under them). Figure code calls this (after setting the axes' limits) to
     note coinciding series in its legend."""
     if lines is None:
-        lines = [ln for ln in ax.get_lines() if ln.get_visible() and len(np.atleast_1d(ln.get_xdata()))
-                 and _line_style(ln)[1:3] != ("None", "None")]
+        lines = _series_lines(ax)
     points = [_display_points(ln) for ln in lines]
     tol = COINCIDENCE_PT / scale * ax.figure.dpi / 72.0
     pairs = []
@@ -284,8 +292,7 @@ def series_problems(fig, width: float = 1.0) -> list[str]:
     problems = []
     scale = placed_scale(fig, width)
     for ax in fig.axes:
-        lines = [ln for ln in ax.get_lines() if ln.get_visible() and len(np.atleast_1d(ln.get_xdata()))
-                 and _line_style(ln)[1:3] != ("None", "None")]
+        lines = _series_lines(ax)
         names = {ln: str(ln.get_label()) for ln in lines if _labelled(ln.get_label())}
         names.update(_legend_names(fig, lines))
         names = {ln: name.replace("\n", " ") for ln, name in names.items()}

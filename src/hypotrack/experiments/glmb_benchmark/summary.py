@@ -70,7 +70,7 @@ def plot_benchmark(curve: pd.DataFrame, pdf, png, labels: dict | None = None):
     first = True
     for name, g in curve.groupby("tracker", sort=False):
         if first:  # underneath, as a wide grey band, so the trackers that follow it stay visible
-            ax.step(g.scan, g.n_true, where="mid", color="0.55", lw=3.0, zorder=1, label="truth (grey band)")
+            ax.step(g.scan, g.n_true, where="mid", color="0.55", lw=3.0, zorder=1, label="truth (grey band, drawn under the trackers)")
             first = False
         line, = ax.plot(g.scan, g.n_est_mean, label=labels[name], zorder=3, **styles[name])
         ax.fill_between(g.scan, g.n_est_mean - g.n_est_std, g.n_est_mean + g.n_est_std, color=line.get_color(),

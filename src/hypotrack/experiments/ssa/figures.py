@@ -330,7 +330,9 @@ def _agreement_panel(ax, agreements, times, labels):
         ax.text(0.005, y + 0.3, f"{labels[a]} vs {labels[b]}: same in {100 * ag.mean():.1f} % of {len(ag)} scans",
                 transform=ax.get_yaxis_transform(), va="bottom", ha="left", fontsize=7.5)
     ax.set_yticks([])
+    ax.set_ylabel("same MAP\nhypothesis?")
     ax.set_ylim(-0.3, n + 0.05)
+    ax.set_title("Same MAP hypothesis (green) or not (red), per scan")
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
 

@@ -47,7 +47,7 @@ def plot_mospa_vs_scan(curves: pd.DataFrame, table: pd.DataFrame, cfg, pdf, png)
     axes = axes.ravel()
     extra_styles = iter([(":", "tab:purple"), ("-.", "tab:brown"), ("--", "tab:olive"), (":", "tab:cyan")] * 3)
     ideal = curves[curves["method"] == "ideal"]
-    for i, ax in enumerate(axes[1:], start=1):
+    for ax in axes[1:]:
         if len(ideal):
             ax.plot(ideal["time"], ideal["mospa"], "-", color="0.75", lw=2.5, zorder=1,
                     label="ideal (Monte Carlo), for reference")

@@ -2,6 +2,9 @@
 # writes {results}/paper/generated/ (macros, ledger table, figure copies) and the ledger, and, when
 # LaTeX is installed, compiles paper/ms.tex (sources stay in the tree; latexmk's build directory is
 # {results}/paper/build) into {results}/paper/hypotrack_report.pdf. No rule writes outside results.
+# The PDF rule fails (naming each cause) on a missing macro or figure, an undefined reference, a line
+# overfull by more than 1 pt, more than 30 pages before the appendix, or garbled text in the PDF
+# (hypotrack.reporting.paper.build_pdf).
 import shutil
 
 

@@ -10,6 +10,7 @@ import sys
 from hypotrack.reporting.claim_sensitivity import write_sensitivity
 from hypotrack.reporting.claim_tables import claim_count_macros, claims_summary_tex, sensitivity_tex
 from hypotrack.reporting.claim_verdicts import claim_verdicts, headline, load_claims_file, placement_problems
+from hypotrack.reporting.findings import findings_macros
 from hypotrack.reporting.sections import gaps_tex, status_summary_tex
 from hypotrack.reporting.ledger import (LiteralText, build_paper_inputs, config_macros, hard_problems, is_timing_table,
                                        ledger_problems, read_claims, timing_in_text)
@@ -30,7 +31,8 @@ claims = build_paper_inputs(
     out_dir=Path(snakemake.output.macros).parent,
     results_dir=snakemake.params.results,
     extra_macros={"htCommit": LiteralText(commit or "unknown"),  # a hash such as 95e7490 is not a number
-                  **config_macros(dict(snakemake.params.config)), **claim_count_macros(verdicts, counts)},
+                  **config_macros(dict(snakemake.params.config)), **claim_count_macros(verdicts, counts),
+                  **findings_macros(snakemake.params.results, ledger)},
     macros_paths=snakemake.input.macros,
 )
 # The report's generated text: status counts with every status defined, and every row that did not reproduce.
@@ -38,7 +40,7 @@ Path(snakemake.output.status_summary).write_text(status_summary_tex(claims))
 Path(snakemake.output.gaps).write_text(gaps_tex(claims))
 Path(snakemake.output.claims_summary).write_text(claims_summary_tex(verdicts, counts))
 Path(snakemake.output.claims_sensitivity).write_text(
-    sensitivity_tex(write_sensitivity(ledger, snakemake.output.sensitivity_csv, spec, timing)))
+    sensitivity_tex(write_sensitivity(ledger, snakemake.output.sensitivity_csv, spec, timing), verdicts))
 # Rows from timing claims files (*timing*claims.csv: speed-ups, throughput, run times) go to their own ledger so
 # that ledger.csv is byte-identical for the same config and seed.
 ledger.to_csv(snakemake.output.ledger, index=False)

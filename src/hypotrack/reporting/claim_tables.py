@@ -63,16 +63,22 @@ def sensitivity_markdown(table: pd.DataFrame) -> str:
     return "\n".join(rows) + "\n"
 
 
-def sensitivity_tex(table: pd.DataFrame) -> str:
-    """:func:`sensitivity_markdown` as a LaTeX tabular (a changed verdict in italics)."""
+def sensitivity_tex(table: pd.DataFrame, verdicts: pd.DataFrame | None = None) -> str:
+    """:func:`sensitivity_markdown` as a LaTeX tabular (a changed verdict in italics). With ``verdicts``
+    (:func:`~.claim_verdicts.claim_verdicts`) a claim is named by its document, place and words, as a
+    reader knows it, instead of its identifier."""
     factors = sorted(set(table["factor"]))
-    out = [r"\begin{tabular}{@{}l" + "l" * len(factors) + r"@{}}\toprule",
+    named = {} if verdicts is None else {r["id"]: f"document {r['document']}, {r['where']}: {r['words']}"
+                                         for r in verdicts.to_dict("records")}
+    cols = "".join(r">{\raggedright\arraybackslash}p{0.11\linewidth}" for _ in factors)
+    out = [r"\begin{tabular}{@{}>{\raggedright\arraybackslash}p{0.3\linewidth}" + cols + r"@{}}\toprule",
            "claim & " + " & ".join(rf"$\times${f:g}" for f in factors) + r"\\\midrule"]
     for claim, g in table.groupby("claim", sort=False):
         by = g.set_index("factor")
         cells = [(rf"\emph{{{latex_escape(by.loc[f, 'verdict'])}}}" if by.loc[f, "changed"]
                   else latex_escape(by.loc[f, "verdict"])) for f in factors]
-        out.append(rf"\texttt{{{latex_escape(claim)}}} & " + " & ".join(cells) + r"\\")
+        name = latex_text(named[claim]) if claim in named else rf"\texttt{{{latex_escape(claim)}}}"
+        out.append(name + " & " + " & ".join(cells) + r"\\")
     changed = table.groupby("factor")["changed"].sum()
     out.append(r"\midrule claims whose verdict changes & " + " & ".join(str(int(changed[f])) for f in factors)
                + r"\\\bottomrule")
@@ -100,7 +106,7 @@ def claims_summary_tex(verdicts: pd.DataFrame, counts: dict) -> str:
              r"\toprule claim & where & verdict & rows\tabularnewline\midrule\endhead",
              r"\bottomrule\endfoot"]
     for document, group in verdicts.groupby("document", sort=True):
-        lines.append(rf"\multicolumn{{4}}{{@{{}}l}}{{\textbf{{{latex_escape(document)}}}}}\tabularnewline")
+        lines.append(rf"\multicolumn{{4}}{{@{{}}l}}{{\textbf{{document {latex_escape(document)}}}}}\tabularnewline")
         for r in group.to_dict("records"):
             lines.append(rf"{latex_text(r['words'])} & {latex_text(r['where'])} & {latex_escape(r['verdict'])} & "
                          rf"\htval{{{macro_name('document claim rows', r['id'])}}}\tabularnewline")

@@ -21,6 +21,8 @@ Status vocabulary
                        beyond the problem it was made on;
 ``illustration``       one realisation shown for a claim whose verdict is taken over many (the row
                        names the verdict row in its note); it carries no verdict of its own;
+``calibration``        the check passes, but the reading it rests on (an unstated convention) was chosen
+                       because it gives the published number (evidence ``calibration``): never a reproduction;
 ``consistency check``  the implementation agrees with the formula it implements: evidence of type
                        *identity of the implementation*, which never counts as a reproduction (the
                        reproduction, if any, is a separate row with independent evidence).
@@ -81,7 +83,7 @@ OPTIONAL_COLUMNS = ("key", "control", "claim", "cause")
 #: A claim key or macro name: letters, digits and underscores, starting with a letter.
 KEY_PATTERN = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
 STATUSES = ("reproduced", "not reproduced", "inconclusive", "uninformative", "qualitative", "extension", "illustration",
-            "consistency check")
+            "consistency check", "calibration")
 EVIDENCE = ("published number", "independent oracle", "brute force", "peer implementation",
             "identity of the implementation", "measurement", "calibration")
 #: One sentence per status (the README and the report define every status with these).
@@ -95,6 +97,8 @@ STATUS_MEANING = {
     "extension": "a result beyond the documents, or a document's claim tested beyond its own problem",
     "illustration": "one realisation of a claim whose verdict is taken over many runs (no verdict of its own)",
     "consistency check": "the code agrees with the formula it implements (shares the code path: never a reproduction)",
+    "calibration": "a reading of an unstated convention chosen because it gives the published number: it pins the "
+                   "reading, not the method (never a reproduction)",
 }
 #: Why a row did not reproduce (its ``cause``; the report's Section on the gaps groups rows by it).
 CAUSES = {
@@ -159,6 +163,11 @@ def format_value(value, digits: int) -> str:
     return f"{value:.{digits}g}"
 
 
+def _calibrated(status: str, evidence: str) -> str:
+    """A passing check on a calibrated reading is a *calibration*, never a reproduction."""
+    return "calibration" if evidence == "calibration" and status == "reproduced" else status
+
+
 def numeric_claim(experiment, item, source, published, reproduced, *, rel_tol=None, abs_tol=None,
                   digits=4, note="", evidence="published number", key="") -> Claim:
     """A claim decided by a relative or absolute tolerance on a published number.
@@ -175,7 +184,7 @@ def numeric_claim(experiment, item, source, published, reproduced, *, rel_tol=No
     if not math.isfinite(reproduced):
         ok = False
     return Claim(experiment, item, source, format_value(published, digits), format_value(reproduced, digits), tol,
-                 "reproduced" if ok else "not reproduced", note, evidence, key=key)
+                 _calibrated("reproduced" if ok else "not reproduced", evidence), note, evidence, key=key)
 
 
 def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=None, mean=None, se=None,
@@ -219,11 +228,11 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
     if v.status == "inconclusive":
         decide = ("no number of runs decides it (the published number's own error is too large)"
                   if v.runs_to_decide is None or math.isinf(v.runs_to_decide) else
-                  f"about {int(v.runs_to_decide):,} runs would decide it")
+                  f"about {int(v.runs_to_decide):,} runs would decide it")  # at least 2 (verdict.py)
         note = f"{note}; interval {v.low:.4g} to {v.high:.4g}: {decide}" if note else \
             f"interval {v.low:.4g} to {v.high:.4g}: {decide}"
     return Claim(experiment, item, source, format_value(float(published), digits), format_value(float(mean), digits), tol_text,
-                 v.status, note, evidence, str(int(n)), f"{float(mean):.6g}", f"{float(se):.3g}",
+                 _calibrated(v.status, evidence), note, evidence, str(int(n)), f"{float(mean):.6g}", f"{float(se):.3g}",
                  f"{v.z:.2f}" if math.isfinite(v.z) else ("inf" if v.z > 0 else "-inf"), key, claim=claim)
 
 
@@ -269,6 +278,8 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
         name = f"{r['experiment']}: {r['item']!r}"
         if r.get("evidence", "") not in EVIDENCE:
             problems.append(f"{name} names no evidence")
+        if r.get("evidence") == "calibration" and r["status"] == "reproduced":
+            problems.append(f"{name} is 'reproduced' on a calibration (status must be 'calibration')")
         if r.get("evidence") == "identity of the implementation" and r["status"] == "reproduced":
             problems.append(f"{name} is 'reproduced' on an identity of the implementation only "
                             "(status must be 'consistency check')")
@@ -305,6 +316,7 @@ def ledger_problems(claims: pd.DataFrame) -> list[str]:
         tol = float(m["rel"]) / 100 * abs(published) if m["rel"] else float(m["abs"])
         status = monte_carlo_verdict(float(r["mean"]), float(r["se"]), published, tol, int(r["n"]),
                                      int(m["runs"]) if m["runs"] else None).status
+        status = _calibrated(status, r.get("evidence", ""))
         if status in NEEDS_CONTROL and control is not None and control[2]:
             status = "uninformative"
         if status != r["status"]:

@@ -15,6 +15,11 @@ plain text            LaTeX
 ``p_D**3``, ``p_D³``  ``p_{D}^{3}``
 Greek, ``≤ ≥ × · √ ∞ ≈``  their math symbols
 ``N̂``, ``x̄``          ``\hat{N}``, ``\bar{x}``
+``n-hat``, ``Vbar``     ``\hat{n}``, ``\bar{V}``
+``exp(-lambdaV)``     ``e^{-\lambda V}`` (``lambdaV`` alone: ``\lambda V``)
+``sqrt``, ``oo``        ``\surd``, ``\infty``
+``-3``, ``a - b``, ``−``  a minus sign (a hyphen before a digit or between spaces)
+``1e4-1e5``            ``10^{4}--10^{5}`` (a range)
 ====================  ==========================================
 
 Every other character is escaped by :func:`latex_escape`. A code name
@@ -54,7 +59,14 @@ _SUBSCRIPT_WORDS = {"inf": r"\infty", "chi": r"\chi", "fa": r"\mathrm{fa}", "max
 
 _GREEK_CHARS = "".join(_GREEK)
 _TOKEN = re.compile(
-    r"(?P<sci>(?<![\w.])[+-]?\d+(?:\.\d+)?e[+-]?\d{1,3}(?![\w.]))"
+    r"(?P<exp>(?<![\w\\])exp\((?P<expbody>[^()]{1,40})\))"
+    r"|(?P<hat>(?<![\w\\])(?P<hatletter>[A-Za-z])-hat(?!\w))"
+    r"|(?P<bar>(?<![\w\\])(?P<barletter>[A-Za-z])bar(?!\w))"
+    r"|(?P<lambdav>(?<![\w\\])lambda(?P<lvletter>[A-Z])(?!\w))"
+    r"|(?P<named>(?<![\w\\])(?:sqrt|oo)(?![\w]))"
+    r"|(?P<range>(?<=\d)-(?=\d+(?:\.\d+)?e[+-]?\d))"
+    r"|(?P<minus>(?:(?<=^)|(?<=[\s(\[=,;:/]))-(?=\d|\.\d|\[|\()|(?<=\s)-(?=\s))"
+    r"|(?P<sci>(?<![\w.])[+-]?\d+(?:\.\d+)?e[+-]?\d{1,3}(?![\w.]))"
     r"|(?P<op>\+/-|<=|>=|!=|->)"
     r"|(?P<pow>\*\*(?P<powexp>-?\d+|[A-Za-z]))"
     r"|(?P<caret>\^(?:\((?P<cexp>[^()]{1,30})\)|(?P<cword>-?\w+)))"
@@ -70,10 +82,10 @@ _TOKEN = re.compile(
 
 #: Plain-text mathematics that must not survive in generated LaTeX (a test reads every generated file).
 ASCII_MATH = re.compile(r"<=|>=|!=|\*\*\w|(?<![\w.])\d+(?:\.\d+)?e[+-]?\d{1,3}(?![\w.])|(?<![\w\\])[A-Za-z]\\_[A-Za-z0-9]{1,3}(?![\w\\])"
-                        r"|\+/-")
+                        r"|\+/-|(?<![\w\\])(?:[A-Za-z]-hat|[A-Za-z]bar|exp\(|sqrt|lambda[A-Z]|oo)(?!\w)")
 
 
-_KINDS = ("sci", "op", "pow", "caret", "greekword", "sub", "accent", "super", "subs", "symbol", "text")
+_KINDS = ("range", "exp", "hat", "bar", "lambdav", "named", "minus", "sci", "op", "pow", "caret", "greekword", "sub", "accent", "super", "subs", "symbol", "text")
 
 
 def _math(body: str) -> str:
@@ -90,6 +102,21 @@ def _sci(text: str) -> str:
 def _convert(m: re.Match) -> str:
     kind = next(k for k in _KINDS if m.group(k) is not None)
     s = m.group(0)
+    if kind == "range":  # 1e4-1e5: a range of powers of ten, an en dash
+        return "--"
+    if kind == "exp":  # exp(-lambdaV), exp(-V*lambda): the exponent as a power of e, itself converted
+        body = latex_text(m.group("expbody").replace("*", " ")).replace(r"\ensuremath", "")
+        return _math(f"e^{{{body}}}")
+    if kind == "hat":
+        return _math(rf"\hat{{{m.group('hatletter')}}}")
+    if kind == "bar":
+        return _math(rf"\bar{{{m.group('barletter')}}}")
+    if kind == "lambdav":
+        return _math(rf"\lambda {m.group('lvletter')}")
+    if kind == "named":
+        return _math({"sqrt": r"\surd", "oo": r"\infty"}[s])
+    if kind == "minus":
+        return _math("-")
     if kind == "sci":
         return _sci(s)
     if kind == "op":
@@ -98,8 +125,7 @@ def _convert(m: re.Match) -> str:
         return _math(f"^{{{m.group('powexp')}}}")
     if kind == "caret":
         body = m.group("cexp") if m.group("cexp") is not None else m.group("cword")
-        body = re.sub(r"\b(alpha|beta|gamma|delta|lambda|sigma|chi|mu|pi|rho|tau|eta)\b", r"\\\1 ", body)
-        body = "".join(_SYMBOLS[c] + " " if c in _SYMBOLS and _SYMBOLS[c].startswith("\\") else c for c in body)
+        body = latex_text(body).replace(r"\ensuremath", "")  # the exponent's own notation, already in math
         return _math(f"^{{{body.strip()}}}")
     if kind == "greekword":
         return _math("\\" + s)
@@ -114,6 +140,8 @@ def _convert(m: re.Match) -> str:
     if kind == "subs":
         return _math("_{" + "".join(_SUB[c] for c in s) + "}")
     if kind == "symbol":
+        if s == "−":  # U+2212 is a minus sign, never a hyphen
+            return _math("-")
         return _math(_SYMBOLS[s]) if _SYMBOLS[s].startswith("\\") else _SYMBOLS[s]
     return _TEXT_SYMBOLS[s]
 
@@ -122,7 +150,7 @@ def latex_text(text) -> str:
     r"""Plain text -> LaTeX: special characters escaped, plain-text mathematics in math mode (module docstring).
 
     >>> latex_text("P[Bin(M, p_D) <= m] = 1 - p_D**3, 1e+06 runs, ±3 %")
-    'P[Bin(M, \\ensuremath{p_{D}}) \\ensuremath{\\le} m] = 1 - \\ensuremath{p_{D}}\\ensuremath{^{3}}, \\ensuremath{10^{6}} runs, \\ensuremath{\\pm}3 \\%'
+    'P[Bin(M, \\ensuremath{p_{D}}) \\ensuremath{\\le} m] = 1 \\ensuremath{-} \\ensuremath{p_{D}}\\ensuremath{^{3}}, \\ensuremath{10^{6}} runs, \\ensuremath{\\pm}3 \\%'
     """
     text = str(text)
     out, pos = [], 0

@@ -13,7 +13,12 @@ Two rules keep the report honest:
   measurement; use it sparingly).
 * **The build fails loudly.** :func:`latex_log_problems` reads the LaTeX log and reports undefined
   control sequences (a missing generated macro, named), undefined references and citations, floats
-  too large for their page, and missing generated values.
+  too large for their page, and missing generated values; :func:`layout_problems` adds every line
+  overfull by more than :data:`OVERFULL_LIMIT_PT`, more than :data:`MAX_PAGES_BEFORE_APPENDIX` pages
+  before the appendix (:func:`pages_before_appendix`, from the ``.aux``) and every garbled phrase of the
+  PDF's text (:func:`text_problems`: ASCII mathematics, a hyphen for a minus sign, an undated reference,
+  "1 runs", an empty template value). :func:`bare_document_figures` keeps every figure of a document
+  named with its document ("document 000's Fig.~15"; a test checks the sections).
 """
 
 from __future__ import annotations
@@ -21,15 +26,16 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-__all__ = ["bare_numbers", "build_pdf", "latex_log_problems", "overfull_boxes", "pdf_text_problems", "scan_sections",
-           "text_problems"]
+__all__ = ["MAX_PAGES_BEFORE_APPENDIX", "OVERFULL_LIMIT_PT", "bare_document_figures", "bare_numbers", "build_pdf",
+           "latex_log_problems", "layout_problems", "overfull_boxes", "overfull_hboxes", "pages_before_appendix", "pdf_text_problems",
+           "scan_sections", "text_problems"]
 
 _DOC_REF = re.compile(
     r"(?:Eqs?\.|Figs?\.|Tables?|Secs?\.|Sections?|Prop\.|Propositions?|Algorithms?|Appendix|Lemma|Theorem|"
     r"Chapter|\\S|§)(?:~|\s)*"
     r"(?:[0-9IVX]+(?:[.\-][0-9A-Z]+)*(?:\s*(?:--|–|,|and|or|~)\s*)?)+")
 _DOC_ID = re.compile(r"(?<![\d.])00[0-4](?![\d.])")
-_ARG_COMMANDS = ("htval", "ref", "eqref", "label", "cite", "citep", "citet", "citealp", "input", "include",
+_ARG_COMMANDS = ("htval", "htn", "htifvalue", "ref", "eqref", "label", "cite", "citep", "citet", "citealp", "input", "include",
                  "texttt", "url", "includegraphics", "stated", "begin", "end", "hspace", "vspace")
 _DISPLAY = re.compile(r"\\begin\{(equation|align|gather|multline|eqnarray)\*?\}.*?\\end\{\1\*?\}", re.S)
 _INLINE_MATH = re.compile(r"\$[^$]*\$")
@@ -91,6 +97,21 @@ def bare_numbers(tex: str) -> list[tuple[int, str]]:
         for m in _NUMBER.finditer(line):
             hits.append((no, lines[no - 1].strip()[:160] if no <= len(lines) else m.group(0)))
     return hits
+
+
+_DOC_FIGURE = re.compile(r"Figs?\.(?:~|\s)*\d")
+_NAMED_BEFORE = re.compile(r"00[0-4](?:'s|,)?(?:~|\s)+(?:\\emph\{)?$")
+
+
+def bare_document_figures(tex: str) -> list[tuple[int, str]]:
+    """``(line, context)`` of every figure of a document cited without its document: "Fig.~15" must read
+    "document 000's Fig.~15" (or "000, Fig.~15"), because a bare figure number names the report's own
+    figures (which the report cites by ``\\ref``, never by a typed number)."""
+    found = []
+    for m in _DOC_FIGURE.finditer(tex):
+        if not _NAMED_BEFORE.search(tex[max(0, m.start() - 30):m.start()]):
+            found.append((tex.count("\n", 0, m.start()) + 1, tex[max(0, m.start() - 40):m.end() + 10].replace("\n", " ")))
+    return found
 
 
 def scan_sections(sections_dir) -> dict[str, list[tuple[int, str]]]:
@@ -168,12 +189,63 @@ def build_pdf(source_dir, inputs_dir, build_dir, pdf, log) -> list[str]:
     if problems or run.returncode != 0:
         raise RuntimeError(f"paper build failed ({build_dir / 'ms.log'}): "
                            + ("; ".join(problems) if problems else f"latexmk exited with {run.returncode}"))
+    # Layout and text rules, each failing the build with its list: no line overfull by more than
+    # OVERFULL_LIMIT_PT, the paper before its appendix at most MAX_PAGES_BEFORE_APPENDIX pages, and no
+    # garbled phrase, ASCII mathematics or unresolved value in the PDF's text (text_problems).
+    wide = overfull_hboxes(tex_log)
+    aux = build_dir / "ms.aux"
+    pages = pages_before_appendix(aux.read_text(errors="replace")) if aux.exists() else None
+    garbled = pdf_text_problems(build_dir / "ms.pdf", inputs_dir / "generated" / "figures")
+    with open(log, "a") as out:
+        out.write(f"hypotrack: {len(wide)} lines overfull by more than {OVERFULL_LIMIT_PT:g} pt; {pages} pages before "
+                  f"the appendix; {len(garbled)} garbled phrases in the PDF's text\n"
+                  + "".join(f"  {g}\n" for g in [*wide, *garbled]))
+    layout = layout_problems(wide, pages, garbled)
+    if layout:
+        raise RuntimeError(f"paper build failed ({build_dir / 'ms.log'}): " + "; ".join(layout))
     Path(pdf).parent.mkdir(parents=True, exist_ok=True)
     shutil.copyfile(build_dir / "ms.pdf", pdf)
-    garbled = pdf_text_problems(pdf)
-    with open(log, "a") as out:
-        out.write(f"hypotrack: {len(garbled)} garbled phrases in the PDF's text\n" + "".join(f"  {g}\n" for g in garbled))
     return overfull
+
+
+#: A line may stick out of its box by at most this much (TeX's own \hfuzz is 0.1 pt; 1 pt is invisible in print).
+OVERFULL_LIMIT_PT = 1.0
+#: The paper, abstract to references, may take at most this many pages before its appendix.
+MAX_PAGES_BEFORE_APPENDIX = 30
+#: The label ms.tex sets just after \appendix (on a new page).
+APPENDIX_LABEL = "ht:appendix-start"
+
+
+def overfull_hboxes(log: str, limit_pt: float = OVERFULL_LIMIT_PT) -> list[str]:
+    """The ``Overfull \\hbox`` lines of a LaTeX log wider than ``limit_pt``, each with its source lines."""
+    found = []
+    for m in re.finditer(r"^Overfull \\hbox \(([\d.]+)pt too wide\) (.*)$", log, re.M):
+        if float(m.group(1)) > limit_pt:
+            found.append(f"overfull line by {m.group(1)} pt {m.group(2)}")
+    return found
+
+
+def pages_before_appendix(aux: str, label: str = APPENDIX_LABEL) -> int:
+    """Pages before the appendix: one less than the page of ``label`` in the ``.aux`` (the appendix starts
+    on a new page). A missing label is an error naming it (ms.tex must set it after ``\\appendix``)."""
+    m = re.search(r"\\newlabel\{" + re.escape(label) + r"\}\{\{[^}]*\}\{(\d+)\}", aux)
+    if not m:
+        raise ValueError(f"label {label!r} not in the .aux: set \\label{{{label}}} right after \\appendix in ms.tex")
+    return int(m.group(1)) - 1
+
+
+def layout_problems(wide, pages, garbled, max_pages: int = MAX_PAGES_BEFORE_APPENDIX) -> list[str]:
+    """The build's layout and text failures as sentences (empty when the paper passes)."""
+    problems = []
+    if wide:
+        problems.append(f"{len(wide)} lines overfull by more than {OVERFULL_LIMIT_PT:g} pt: " + "; ".join(wide))
+    if pages is None:
+        problems.append(f"no .aux to measure the pages before the appendix (label {APPENDIX_LABEL})")
+    elif pages > max_pages:
+        problems.append(f"{pages} pages before the appendix, more than {max_pages}")
+    if garbled:
+        problems.append(f"{len(garbled)} garbled phrases in the PDF's text: " + "; ".join(garbled))
+    return problems
 
 
 # Function words only: a table's cells and a figure's tick labels sit side by side in the PDF's text, so
@@ -188,20 +260,46 @@ _TEXT_RULES = (
     ("'at ... at'", _AT_X_AT),
     ("ASCII mathematics", re.compile(r"<=|>=|!=|\*\*\w|\+/-|(?<![\w.])\d+(?:\.\d+)?e[+-]\d{1,3}(?![\w.])"
                                      r"|(?<![\w])[A-Za-z]_[A-Za-z]{1,3}\b")),
+    ("ASCII mathematics from a note", re.compile(r"(?<![\w\\])(?:[A-Za-z]-hat|[A-Za-z]bar|exp\(|sqrt|lambda\w*|oo)(?!\w)"
+                                               r"|->|(?<![\w.])p\\_[A-Za-z]")),
+    ("a hyphen used as a minus sign", re.compile(r"(?:^|(?<=[\s(\[=,;:]))-(?=\d|\.\d)|(?<=\s)-(?=\s)")),
     ("an unresolved template or value", re.compile(r"\{[a-z_]+\}|\bnan\b|\bNone\b|\?\?")),
     ("a citation shown by its key", re.compile(r"\[[a-z]{2,4}, n\.d\.\]")),
+    ("a reference without a date or title", re.compile(r"\bn\.d\.|\[untitled", re.I)),
+    ("a count with the wrong number", re.compile(r"(?<![\d.,])1 (?:[a-z]+ )?(?:runs|rows|objects|scans|seeds|claims|problems|births|"
+                                                   r"cells|settings|steps|hypotheses|tracks|sizes|times)\b"
+                                                   r"|\babout 1 \w+s\b")),
+    ("a value missing from a template", re.compile(r"\b(?:at|scan|of|by|to)\s+[–-]\s+(?:moving|m/s|at|of|and)\b")),
     ("'seed 000' where a document is meant", re.compile(r"\bseeds? 00[0-4]\b")),
 )
 
 
-def pdf_text_problems(pdf) -> list[str]:
-    """:func:`text_problems` of a PDF's text (``pdftotext``, poppler); [] when pdftotext is absent."""
-    import shutil
+def _pdftotext(pdf) -> str:
     import subprocess
+
+    # -layout keeps a table's cells on their row, apart: cells side by side are then cut at the wide gaps
+    # between them (text_problems), so two cells never read as one phrase ("away from | from the").
+    out = subprocess.run(["pdftotext", "-layout", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    return "\n".join(" ".join(ln.split()) if not re.search(r"\S {3,}\S", ln)
+                     else "¦ " + " ¦ ".join(" ".join(c.split()) for c in re.split(r" {3,}", ln.strip())) + " ¦"
+                     for ln in out.splitlines())
+
+
+def pdf_text_problems(pdf, figures_dir=None) -> list[str]:
+    """:func:`text_problems` of a PDF's text (``pdftotext``, poppler); [] when pdftotext is absent.
+
+    The figures' own text (tick labels, legends: every line ``pdftotext`` finds in a PDF under
+    ``figures_dir``) is removed first: the figures are checked where they are drawn, and their labels set
+    side by side would read as garbled prose."""
+    import shutil
 
     if shutil.which("pdftotext") is None:
         return []
-    text = subprocess.run(["pdftotext", str(pdf), "-"], capture_output=True, text=True, check=True).stdout
+    text = _pdftotext(pdf)
+    if figures_dir is not None and Path(figures_dir).is_dir():
+        drawn = {ln.strip() for fig in sorted(Path(figures_dir).rglob("*.pdf")) for ln in _pdftotext(fig).splitlines()}
+        drawn.discard("")
+        text = "\n".join(ln for ln in text.splitlines() if ln.strip() not in drawn)
     return text_problems(text)
 
 
@@ -209,8 +307,10 @@ def text_problems(text: str) -> list[str]:
     """Garbled phrases in the report's text as a reader sees it (``pdftotext`` of the PDF), each
     naming the rule and quoting the context: a repeated word ("at at"), a word echoed across a
     generated value ("peaks at peak"), "at crossover at", ASCII mathematics (``<=``, ``p_D``,
-    ``1e+06``), an unresolved template (``{name}``, ``nan``, ``??``), a citation shown by its key,
-    and "document 000" where the document is meant."""
+    ``1e+06``, ``n-hat``, ``exp(-lambdaV)``, ``M -> oo``, ``Vbar``, ``sqrt``), a hyphen used as a minus sign,
+    an unresolved template (``{name}``, ``nan``, ``??``), a citation shown by its key or without a date or
+    title, a count of one with a plural noun ("1 runs", "about 1 runs"), a template whose value is missing
+    ("born at scan – moving at"), and "document 000" where the document is meant."""
     flat = re.sub(r"-\n(?=[a-z])", "", text)  # undo end-of-line hyphenation
     flat = re.sub(r"\s+", " ", flat)
     found = []

@@ -17,21 +17,22 @@ __all__ = ["LEDGER_CAPTION", "STATUS_COLOURS", "claims_html", "claims_markdown",
 
 def _cell_tex(text) -> str:
     """A table cell: escaped with its mathematics typeset (:func:`.latex_text.latex_text`), and long tokens
-    given break points after ``_``, ``)``, ``:`` and at camel-case joins (so no cell overflows its column;
-    the table forbids hyphenation)."""
+    given break points after ``_``, ``)``, ``:`` and at camel-case joins, and a leading zero-width glue so
+    that TeX may hyphenate its first word too (so no cell overflows its column)."""
     out = []
     for token in latex_text(text).split(" "):
         if len(token) > 12:
             token = re.sub(r"(?<=[a-z])(?=[A-Z0-9])|(?<=\\_)|(?<=[):;/])|(?=[(])", r"\\allowbreak{}", token)
         out.append(token)
-    return " ".join(out)
+    return r"\hspace{0pt}" + " ".join(out)
 
 
 # one colour per status, shared by the LaTeX ledger and the HTML ledger of the Snakemake report
 STATUS_COLOURS = {"reproduced": ("ForestGreen", "#e6f4ea"), "not reproduced": ("BrickRed", "#fce8e6"),
                   "inconclusive": ("Gray", "#eeeeee"), "uninformative": ("BurntOrange", "#fdebd0"),
                   "qualitative": ("NavyBlue", "#e8eefa"), "extension": ("Gray", "#ffffff"),
-                  "illustration": ("Gray", "#ffffff"), "consistency check": ("Gray", "#f4f4f4")}
+                  "illustration": ("Gray", "#ffffff"), "consistency check": ("Gray", "#f4f4f4"),
+                  "calibration": ("Gray", "#f4f4f4")}
 
 
 def claims_html(claims: pd.DataFrame) -> str:
@@ -66,11 +67,13 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
     """
     colour = {status: latex for status, (latex, _html) in STATUS_COLOURS.items()}
     widths = {"item": 0.22, "source": 0.09, "published": 0.09, "reproduced": 0.15, "tolerance": 0.10,
-              "evidence": 0.12, "status": 0.12}
+              "evidence": 0.11, "status": 0.13}
     spec = "".join(rf">{{\raggedright\arraybackslash}}p{{{w}\linewidth}}" for w in widths.values())
     ncol = len(widths)
     header = r"\toprule " + " & ".join(widths) + r"\tabularnewline\midrule"
-    out = [r"\begingroup\setlength{\tabcolsep}{3pt}\footnotesize\hyphenpenalty=10000\exhyphenpenalty=10000",
+    # Words in the narrow cells may hyphenate (a long word otherwise sticks out of its column); a status
+    # never does: each is one box, and its column is as wide as the longest ("uninformative", bold).
+    out = [r"\begingroup\setlength{\tabcolsep}{3pt}\footnotesize",
            rf"\begin{{longtable}}{{@{{}}{spec}@{{}}}}",
            rf"\caption{{{LEDGER_CAPTION}}}\label{{tab:ledger}}\tabularnewline",
            header + r"\endfirsthead",
@@ -79,7 +82,7 @@ def claims_table_tex(claims: pd.DataFrame) -> str:
     for experiment, group in claims.groupby("experiment", sort=False):
         out.append(rf"\multicolumn{{{ncol}}}{{@{{}}l}}{{\textbf{{\texttt{{{latex_escape(experiment)}}}}}}}\tabularnewline")
         for r in group.to_dict("records"):
-            status = rf"\textcolor{{{colour[r['status']]}}}{{\textbf{{{r['status']}}}}}"
+            status = rf"\hyphenpenalty=10000\textcolor{{{colour[r['status']]}}}{{\textbf{{{r['status']}}}}}"
             cells = [_cell_tex(r["item"]), _cell_tex(r["source"]), _cell_tex(r["published"]),
                      _cell_tex(measured_text(r)), _cell_tex(r["tolerance"]), _cell_tex(r.get("evidence", "") or "--"),
                      status]

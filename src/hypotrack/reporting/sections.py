@@ -5,8 +5,9 @@ section on what did not reproduce, one paragraph per row (so no failing row goes
 ledger's rows; every status is defined by :data:`~.claims.STATUS_MEANING`); :func:`gaps_tex` writes
 ``generated/gaps_rows.tex``: for every row that is *not reproduced*, *inconclusive* or
 *uninformative*, its measured value against the published one, the tolerance, the evidence, the
-control and the experiment's note on the cause. The report's hand-written discussion of the larger
-gaps (``paper/sections/gaps.tex``) precedes it and cites rows by their macros.
+control and the experiment's note on the cause, in the ledger's appendix. The report's hand-written
+discussion (``paper/sections/discussion.tex``) takes the causes one by one and quotes their row counts
+(:func:`.findings.cause_count_macros`).
 """
 
 from __future__ import annotations

@@ -95,15 +95,39 @@ def monte_carlo_verdict(mean: float, se: float, published: float, tolerance: flo
     return Verdict(z, "inconclusive", low, high, _runs_to_decide(abs(diff), tolerance, sd, published_runs))
 
 
+_MAX_RUNS = 10 ** 15
+
+
 def _runs_to_decide(gap: float, tolerance: float, sd: float | None, published_runs: int | None) -> float | None:
-    """Runs n' at which a 3-s.e. interval around the same mean would clear the tolerance's edge."""
+    """The fewest runs n' (at least 2) at which the rule's own interval around the same mean,
+    q(n')·sqrt(sd²/n' + sd²/published_runs) with q the t quantile of n' − 1 d.o.f. (:func:`interval_quantile`),
+    would clear the tolerance's edge; inf when no number of runs can (the published number's own error too
+    large, or the mean on the edge)."""
     if sd is None:
         return None
     margin = abs(tolerance - gap)  # room inside the tolerance, or distance beyond it
-    room = (margin / 3.0) ** 2 - (sd ** 2 / published_runs if published_runs else 0.0)
+    published_var = sd ** 2 / published_runs if published_runs else 0.0
+    room = (margin / 3.0) ** 2 - published_var  # q >= 3 for every n': a lower bound on n'
     if margin == 0 or room <= 0:
         return math.inf
-    return float(math.ceil(sd ** 2 / room))
+
+    def decides(k: int) -> bool:
+        return interval_quantile(k) ** 2 * (sd ** 2 / k + published_var) <= margin ** 2
+
+    lo = max(2, math.ceil(sd ** 2 / room))
+    if lo > _MAX_RUNS:  # q is 3 to many digits there (and the t quantile takes no such integer): the bound is n'
+        return float(lo)
+    if decides(lo):
+        return float(lo)
+    hi = 2 * lo
+    while not decides(hi):  # q(n') falls to 3 and sd²/n' to 0, so some n' decides when room > 0 ...
+        if hi > _MAX_RUNS:  # ... and beyond this size q is 3 to many digits: the lower bound is the answer
+            return float(hi)
+        hi *= 2
+    while hi - lo > 1:  # decides() is monotone in n': bisect for the fewest
+        mid = (lo + hi) // 2
+        lo, hi = (lo, mid) if decides(mid) else (mid, hi)
+    return float(hi)
 
 
 def control_text(what: str, value: str, passes: bool) -> str:

@@ -218,7 +218,7 @@ def test_the_papers_claim_counts_are_generated_macros(record):
     ledger, timing, spec, verdicts = record
     macros = claim_count_macros(verdicts, headline(verdicts, ledger, spec, timing))
     sections = ROOT / "paper" / "sections"
-    used = {m for p in sections.rglob("*.tex") for m in re.findall(r"\\htval\{(htDocumentClaims?\w*)\}", p.read_text())}
+    used = {m for p in sections.rglob("*.tex") for m in re.findall(r"\\ht(?:val|n)\{(htDocumentClaims?\w*)\}", p.read_text())}
     assert {"htDocumentClaimsTotal", "htDocumentClaimsReproduced", "htDocumentClaimsNotReproduced"} <= used <= set(macros)
     # distinct from the ledger's row counts (htClaims<Status>): the paper's build refuses a macro defined twice
     from hypotrack.reporting.macros import claim_macros

@@ -24,3 +24,24 @@ def test_measured_text_of_a_plain_and_a_monte_carlo_row():
 def test_key_pattern():
     assert KEY_PATTERN.fullmatch("Mass1Sigma") and KEY_PATTERN.fullmatch("a_1")
     assert not KEY_PATTERN.fullmatch("1a") and not KEY_PATTERN.fullmatch("a-b")
+
+
+def test_a_passing_check_on_a_calibrated_reading_is_a_calibration_never_a_reproduction():
+    import pandas as pd
+    from dataclasses import asdict
+
+    from hypotrack.reporting.claims import ledger_problems, monte_carlo_claim, numeric_claim
+
+    # 0.0363 within ±0.0001 of 0.0363: reproduced on a published number, a calibration on a calibrated reading
+    assert numeric_claim("e", "i", "s", 0.0363, 0.03634, abs_tol=1e-4).status == "reproduced"
+    assert numeric_claim("e", "i", "s", 0.0363, 0.03634, abs_tol=1e-4, evidence="calibration").status == "calibration"
+    # a calibrated reading that misses stays a failure
+    assert numeric_claim("e", "i", "s", 0.0363, 0.05, abs_tol=1e-4, evidence="calibration").status == "not reproduced"
+    # Monte Carlo: mean 0.0364 ± 0.0002 (n = 100) inside 0.0363 ± 10 %
+    mc = monte_carlo_claim("e", "i", "s", 0.0363, n=100, mean=0.0364, se=0.0002, rel_tol=0.1, evidence="calibration")
+    assert mc.status == "calibration"
+    rows = pd.DataFrame([asdict(mc)])
+    assert ledger_problems(rows) == []
+    # the same row hand-marked "reproduced" is caught, twice: the calibration rule and the recomputed status
+    bad = ledger_problems(rows.assign(status="reproduced"))
+    assert any("on a calibration" in p for p in bad) and any("Monte Carlo rule gives 'calibration'" in p for p in bad)

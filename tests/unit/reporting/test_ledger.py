@@ -68,10 +68,16 @@ def test_monte_carlo_rule_hand_computed():
     assert interval_quantile(None) == 3.0 and interval_quantile(10**6) == pytest.approx(3.0, abs=1e-4)
     # ssa15 MAP agreement over 10 seeds, 0.899 +/- 0.067 against 1 +/- 0.01: the interval 0.899 +/- 0.274
     # straddles 0.99 -> inconclusive (|z| = 1.5 would have said "reproduced"); to clear 1 - 0.01 by
-    # 0.091 takes n = (3 * 0.067 * sqrt(10) / 0.091)^2 = 48.8 -> 49 runs
+    # 0.091 with sd = 0.067 * sqrt(10) = 0.2119 takes q(n) * 0.2119 / sqrt(n) <= 0.091, q the rule's own t quantile:
+    # n = 54 gives q = 3.2163 and 0.09076, n = 53 gives 0.09170 (3 instead of q would say 48.8 -> 49)
     v = monte_carlo_verdict(0.899, 0.067, 1.0, 0.01, n=10)
-    assert v.status == "inconclusive" and v.runs_to_decide == 49
+    assert v.status == "inconclusive" and v.runs_to_decide == 54
+    assert interval_quantile(54) * 0.067 * 10 ** 0.5 / 54 ** 0.5 <= 0.091 < interval_quantile(53) * 0.067 * 10 ** 0.5 / 53 ** 0.5
     assert (v.low, v.high) == pytest.approx((0.899 - 4.0942 * 0.067, 0.899 + 4.0942 * 0.067), abs=1e-4)
+    # never fewer than two runs (one run has no interval): a margin three times the spread still needs n = 5,
+    # where q(5) = 6.62 and 6.62 / sqrt(5) = 2.96 <= 3 (n = 4: 9.22 / 2 = 4.61 > 3)
+    v = monte_carlo_verdict(0.5, 0.5, 0.0, 3.5, n=4)  # sd = 1, margin = 3.5 - 0.5 = 3
+    assert v.status == "inconclusive" and v.runs_to_decide == 5
     # ssa50 E[N] 50.064 +/- 0.008 against 50 +/- 0.1: interval 50.039 to 50.089 inside -> reproduced
     # (z = 8, which the old rule called a systematic offset)
     v = monte_carlo_verdict(50.064, 0.008, 50.0, 0.1, n=100)
@@ -279,7 +285,8 @@ def test_ledger_table_keeps_verdicts_whole_and_cells_breakable():
     tex = claims_table_tex(pd.DataFrame([asdict(r) for r in rows]))
     assert r"\textcolor{BrickRed}{\textbf{not reproduced}}" in tex  # ragged right: breaks at the space only
     assert tex.count(r">{\raggedright\arraybackslash}p{") == 7
-    assert r"0.2 \ensuremath{\pm} 0.01 (n = 100, z = -65.18)" in tex  # Monte Carlo rows: mean ± s.e., n and z
+    assert r"0.2 \ensuremath{\pm} 0.01 (n = 100, z = \ensuremath{-}65.18)" in tex  # mean ± s.e., n and z (a minus sign)
+    assert r"\hyphenpenalty=10000\textcolor" in tex  # a verdict is never hyphenated, other cells may be
     assert r"GNNWith\allowbreak{}2DAssignment" in claims_table_tex(pd.DataFrame([asdict(
         numeric_claim("perf_sht", "GNNWith2DAssignment", "extension", 1, 1, abs_tol=0))]))
 

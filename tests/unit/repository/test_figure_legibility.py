@@ -84,6 +84,90 @@ def test_control_legend_inside_axes_and_clipped_title_are_found():
         fs.save(fig, "/nonexistent/never_written.pdf")
 
 
+def test_control_tiny_subscript_is_measured_per_glyph():
+    # 8 pt text at full width: P is 8 pt (passes 7 pt), D is 0.7 × 8 = 5.6 pt, x_2 inside a
+    # superscript is 0.49 × 8 = 3.92 pt: the check reports the smallest glyph
+    fig, ax = fs.subplots(height=3.0)
+    ax.set_xlabel("probability of detection $P_D$", fontsize=8)
+    assert fs.text_sizes(ax.xaxis.label) == (8.0, pytest.approx(5.6))
+    assert any("5.6 pt" in p and "sub- or superscript" in p for p in fs.legibility_problems(fig)), \
+        fs.legibility_problems(fig)
+    ax.set_xlabel("$a^{x_2}$", fontsize=8)
+    assert fs.text_sizes(ax.xaxis.label)[1] == pytest.approx(3.92)
+    # placed at half width, 8.6 pt text with a script prints its script at 8.6 × 0.7 × 0.5 = 3.0 pt
+    ax.set_xlabel("$P_D$", fontsize=8.6)
+    assert any("3.0 pt" in p for p in fs.legibility_problems(fig, 0.5)), fs.legibility_problems(fig, 0.5)
+    # plain text is one size, and 8.58 pt with a script passes at full width (8.58 × 0.7 = 6.006)
+    ax.set_xlabel("plain words", fontsize=8)
+    assert fs.text_sizes(ax.xaxis.label) == (8.0, 8.0)
+    ax.set_xlabel("$P_D$", fontsize=8.58)
+    assert fs.legibility_problems(fig) == []
+    plt.close(fig)
+
+
+def test_control_log_axis_exponents_are_enlarged_by_save(tmp_path):
+    # a log axis labels its ticks $10^{k}$: the exponent at 7.5 × 0.7 = 5.25 pt fails ...
+    fig, ax = fs.subplots(height=3.0)
+    ax.semilogy([1, 2, 3], [1e-3, 1.0, 1e3])
+    problems = fs.legibility_problems(fig)
+    assert any("5.2 pt" in p and "10^{" in p for p in problems), problems
+    # ... and is raised to 6 / 0.7 = 8.58 pt, so save writes the figure
+    fs.enlarge_scripts(fig)
+    assert ax.yaxis.get_major_ticks()[0].label1.get_fontsize() == pytest.approx(8.58)
+    assert fs.legibility_problems(fig) == []
+    fs.save(fig, tmp_path / "log.pdf")
+    assert (tmp_path / "log.pdf").stat().st_size > 0
+
+
+def test_control_series_of_the_same_look_are_found():
+    fig, (a1, a2) = fs.subplots(1, 2, height=3.0)
+    a1.plot([0, 1, 2], [0, 1, 4], "o-", color="tab:blue", label="tracker A")
+    a1.plot([0, 1, 2], [1, 2, 3], "o-", color="tab:blue", label="tracker B")
+    problems = fs.legibility_problems(fig)
+    assert any("'tracker A' and 'tracker B'" in p and "same colour" in p for p in problems), problems
+    # a different marker (or line style, or colour) tells them apart
+    a1.lines[1].set_marker("s")
+    assert fs.series_problems(fig) == []
+    # two panels whose series share a style are fine until one legend lists both with different labels
+    a2.plot([0, 1, 2], [5, 5, 5], "o-", color="tab:blue", label="tracker C")
+    assert fs.series_problems(fig) == []
+    fs.legend_below(fig)
+    problems = fs.legibility_problems(fig)
+    assert any("legend entries 'tracker A' and 'tracker C'" in p for p in problems), problems
+    plt.close(fig)
+
+
+def test_control_coincident_series_need_a_note():
+    fig, ax = fs.subplots(height=3.0)
+    x = np.arange(20.0)
+    ax.plot(x, x**2, color="tab:blue", lw=2, label="chain")
+    ax.plot(x, x**2, color="tab:red", ls="--", label="completion")
+    problems = fs.legibility_problems(fig)
+    assert len(problems) == 1 and "'completion' lies exactly on 'chain'" in problems[0], problems
+    # a series on a subset of another's points is hidden at every point too
+    ax.lines[1].set_data(x[5:12], x[5:12] ** 2)
+    assert any("lies exactly on" in p for p in fs.series_problems(fig))
+    # one point off the other line: not coincident
+    ax.lines[1].set_data(x[5:12], x[5:12] ** 2 + (x[5:12] == 8))
+    assert fs.series_problems(fig) == []
+    # identical data said in the legend passes
+    ax.lines[1].set_data(x, x**2)
+    ax.lines[1].set_label("completion (coincides with chain)")
+    assert fs.legibility_problems(fig) == []
+    plt.close(fig)
+
+
+def test_text_only_legend_rows_are_not_series():
+    fig, ax = fs.subplots(height=3.0)
+    ax.plot([0, 1], [0, 1], label="data")
+    fs.legend_below(fig)
+    handles = [plt.Line2D([], [], ls="none", label=f"note {i}") for i in range(3)]
+    fig.legends[0].remove()
+    fs.legend_below(fig, [ax.lines[0], *handles], ["data"] + [h.get_label() for h in handles])
+    assert fs.legibility_problems(fig) == []
+    plt.close(fig)
+
+
 def test_subplots_rejects_sizes_latex_would_shrink():
     with pytest.raises(ValueError, match="height must be"):
         fs.subplots(height=9.0)
@@ -103,8 +187,10 @@ def test_pow10_and_wrap():
 
 
 def check(fig, name):
-    """Legible at the width the report places ``name`` at (its ``\\htfigure`` line)."""
+    """Legible at the width the report places ``name`` at (its ``\\htfigure`` line), after the
+    script enlargement :func:`figure_style.save` applies before it writes a figure."""
     width = placed_widths()[name]
+    fs.enlarge_scripts(fig, width)
     problems = fs.legibility_problems(fig, width)
     plt.close(fig)
     assert problems == [], problems
@@ -189,7 +275,8 @@ def test_generation_time_figures(monkeypatch):
     for method in ("homht", "rfisst", "homht_kbest"):
         for n in range(2, 30, 2):
             rows.append(dict(method=method, n_objects=n, n_returns=n, log10_hypotheses=4.0 * n,
-                             seconds=1e-3 * n if method != "homht" or n < 10 else np.nan,
+                             seconds=(1e-3 * n * {"homht": 1.0, "rfisst": 0.3, "homht_kbest": 3.0}[method]
+                                      if method != "homht" or n < 10 else np.nan),
                              truth_found=not (method == "rfisst" and n > 24)))
     gf.plot_generation_time(pd.DataFrame(rows), "x.pdf", "x.png", budget=1e7, mcmc_steps=10000, keep=100)
     fig, width = seen.pop()
@@ -287,20 +374,22 @@ def test_belief_space_figures(monkeypatch):
     from hypotrack.experiments.belief_space import figures as br
 
     seen = _save_and_check(monkeypatch, "belief_space")
-    alpha = np.logspace(-6, -2, 8)
+    alpha = np.logspace(-4, -1, 8)  # up to 0.1, where the birth models part
     ratio = pd.concat([pd.DataFrame(dict(p_D=p, alpha=alpha, eq39=(1 - p) * alpha, engine_poisson_limit=(1 - p) * alpha,
                                          engine_binomial=(1 - p) * alpha / (1 - alpha), exact_binomial=(1 - p) * alpha
-                                         / (1 - alpha), single_event=(1 - p) * alpha, engine_single_event=(1 - p) * alpha))
+                                         / (1 - alpha), single_event=(1 - p) * alpha / (1 - 3 * alpha),
+                                         engine_single_event=(1 - p) * alpha / (1 - 3 * alpha)))
                        for p in (0.5, 0.9)], ignore_index=True)
-    br.plot_ratio(ratio, ["x.pdf", "x.png"], dict(n_pixels=100))
+    br.plot_ratio(ratio, ["x.pdf", "x.png"], dict(n_pixels=3))
     fig, _ = seen.pop()
     check(fig, "belief_space/undetected_birth_ratio")
     off = np.linspace(-0.5, 0.5, 11)
     offsets = pd.DataFrame(dict(offset_pixels=off, uniform_formula=1 - off**2, gaussian_formula=1 - off**2 / 2,
                                 engine=1 - off**2 / 2))
     x = np.logspace(-3, 1, 9)
-    noise = pd.DataFrame(dict(spread_over_pixel_area=x, uniform_formula=1 / (1 + x), variance_matched_analytic=1 / (1 + x),
-                              gaussian_formula=1 / (1 + x), engine=1 / (1 + x)))
+    noise = pd.DataFrame(dict(spread_over_pixel_area=x, uniform_formula=np.minimum(1.0, 1 / x),
+                              variance_matched_analytic=1.8 / (1 + x), gaussian_formula=1.8 / (1 + 1.1 * x),
+                              engine=1.8 / (1 + 1.1 * x)))
     br.plot_eq43(offsets, noise, ["x.pdf", "x.png"], dict(pixel_size=10.0, measurement_std=1.0))
     fig, _ = seen.pop()
     check(fig, "belief_space/eq43_bound")
@@ -332,25 +421,30 @@ def test_coraluppi_and_benchmark_figures(monkeypatch):
         assert width == 0.6
         check(fig, name)
     t = np.arange(50.0)
-    table = pd.DataFrame(dict(time=t, **{f"{m}_{j}": np.sin(t / 10) + j for m in ("truth", "MHT", "PDAF", "ECMHT")
+    offsets = {"truth": 0.0, "MHT": 0.3, "PDAF": 0.6, "ECMHT": 0.15}  # the trackers' tracks apart from the truth
+    table = pd.DataFrame(dict(time=t, **{f"{m}_{j}": np.sin(t / 10) + j + (1 - 2 * j) * o for m, o in offsets.items()
                                          for j in range(2)}))
     cf.plot_realisation(table, dict(n_sensors=5, pdaf_variant="joint"),
                         {"fig61": ("a.pdf", "a.png"), "fig62": ("b.pdf", "b.png")})
     for name in ("closely_spaced/fig_6_2", "closely_spaced/fig_6_1"):
         fig, _ = seen.pop()
         check(fig, name)
-    curve = pd.concat([pd.DataFrame(dict(tracker=tr, scan=np.arange(30), ospa=50.0, ospa_loc=20.0, ospa_card=30.0,
-                                         n_est_mean=5.0, n_est_std=0.5, n_true=5))
-                       for tr in ("glmb_gibbs", "glmb_murty", "rfisst", "homht_kbest")], ignore_index=True)
+    curve = pd.concat([pd.DataFrame(dict(tracker=tr, scan=np.arange(30), ospa=50.0 + i, ospa_loc=20.0 + i,
+                                         ospa_card=30.0 + i, n_est_mean=5.0 - 0.2 * i, n_est_std=0.5, n_true=5))
+                       for i, tr in enumerate(("glmb_gibbs", "glmb_murty", "rfisst", "homht_kbest"))],
+                      ignore_index=True)
     gs.plot_benchmark(curve, "x.pdf", "x.png", {"glmb_gibbs": "δ-GLMB, Gibbs sampler (joint prediction-update)"})
     fig, _ = seen.pop()
     check(fig, "glmb_benchmark/ospa_cardinality")
-    timings = pd.DataFrame([dict(algorithm=a, clutter_rate=r, implementation=i, n_targets=n, median_ms=0.1 * n)
+    timings = pd.DataFrame([dict(algorithm=a, clutter_rate=r, implementation=i, n_targets=n, median_ms=0.1 * n * f)
                             for a, rs in (("gnn", [10.0]), ("jpda", [1.0, 10.0, 50.0])) for r in rs
-                            for i in ("hypotrack", "stonesoup", ps.BASELINE) for n in (2, 4, 8, 16)])
-    ratios = pd.DataFrame([dict(algorithm=a, peer=p, clutter_rate=10.0, n_targets=n, speedup=3.0 * n,
+                            for i, f in (("hypotrack", 1.0), ("stonesoup", 30.0), (ps.BASELINE, 2.0))
+                            for n in (2, 4, 8, 16)])
+    ratios = pd.DataFrame([dict(algorithm=a, peer=p, clutter_rate=10.0, n_targets=n, speedup=f * n,
                                 goal=10.0 if a == "gnn" else 100.0)
-                           for a in ("gnn", "jpda") for p in ("Stone Soup", "baseline") for n in (2, 4, 8, 16)])
+                           for a, p, f in (("gnn", "Stone Soup", 3.0), ("gnn", "baseline", 0.5),
+                                           ("jpda", "Stone Soup", 30.0), ("jpda", "baseline", 1.5))
+                           for n in (2, 4, 8, 16)])
     pf.plot_benchmark(timings, ratios, "x.pdf", "x.png")
     fig, _ = seen.pop()
     ax = fig.axes[-1 - sum(not a.get_visible() for a in fig.axes)]
@@ -379,17 +473,20 @@ def test_sht_figures(monkeypatch):
     rows = [dict(kind="truth", id=j, x=xx, y=(1 - 2 * j) * 0.09 * xx, method="") for j in range(2) for xx in x]
     rows += [dict(kind="track", id=j, x=xx, y=(1 - 2 * j) * 0.09 * xx + 2, method=m) for m in sr.METHODS
              for j in range(3) for xx in x]
-    rows += [dict(kind=k, id=-1, x=xx, y=20.0, method="") for k in ("clutter", "target_return") for xx in x]
+    rows += [dict(kind=k, id=-1, x=xx, y=y, method="") for k, y in (("clutter", 20.0), ("target_return", 10.0))
+             for xx in x]
     t = np.arange(60.0)
-    curves = pd.concat([pd.DataFrame(dict(method=m, time=t, separation=np.abs(t - 30), separation_se=1.0,
-                                          truth_separation=np.abs(t - 30), mospa=5.0, mospa_se=1.0, mospa_targets=4.0,
-                                          mospa_targets_se=1.0, n_runs=6)) for m in sr.METHODS], ignore_index=True)
+    curves = pd.concat([pd.DataFrame(dict(method=m, time=t, separation=np.abs(t - 30) + 5.0 * (i + 1),
+                                          separation_se=1.0, truth_separation=np.abs(t - 30), mospa=5.0 + i,
+                                          mospa_se=1.0, mospa_targets=4.0 - i, mospa_targets_se=1.0, n_runs=6))
+                        for i, m in enumerate(sr.METHODS)], ignore_index=True)
     sf.plot_crossing(pd.DataFrame(rows), curves, cfg, "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "sht/crossing_coalescence")
-    table = pd.DataFrame([dict(method=m, clutter_rate=r, mospa=5.0 + r, mospa_se=1.0, mospa_targets=4.0,
-                               mospa_targets_se=1.0, mean_tracks=2 + r / 10, track_loss=0.1, track_loss_se=0.05, n_runs=4)
-                          for m in sr.METHODS for r in (0.0, 10.0, 40.0)])
+    table = pd.DataFrame([dict(method=m, clutter_rate=r, mospa=5.0 + r + i, mospa_se=1.0, mospa_targets=4.0 + i,
+                               mospa_targets_se=1.0, mean_tracks=2 + r / 10 + i, track_loss=0.1 + 0.1 * i,
+                               track_loss_se=0.05, n_runs=4)
+                          for i, m in enumerate(sr.METHODS) for r in (0.0, 10.0, 40.0)])
     sf.plot_sweep(table, cfg, "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "sht/clutter_sweep")
@@ -424,7 +521,8 @@ def test_closely_spaced_sensitivity_figures(monkeypatch):
     from hypotrack.experiments.closely_spaced import sensitivity as cs
 
     seen = _save_and_check(monkeypatch, "closely_spaced")
-    rows = [dict(method=m, initial_variance=v, skip=k, window=f"from scan {k + 2}", estimate=e, mean=0.05 + 0.01 * k,
+    rows = [dict(method=m, initial_variance=v, skip=k, window=f"from scan {k + 2}", estimate=e,
+                 mean=0.05 + 0.01 * k + 0.004 * np.log10(v) + (0.002 if e == "X(k|k)" else 0.0),
                  se=0.001, n=100, published=p, verdict=verdict)
             for m, p in (("ideal", 0.0363), ("MHT", 0.1376), ("ECMHT", 0.0586))
             for v in (0.01, 0.1, 1.0, 10.0) for k in (0, 10, 50, 90)
@@ -454,8 +552,8 @@ def test_ssa_catalogue_figures(monkeypatch):
     sf.plot_cost(timing, "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "ssa_catalogue/cost")
-    per_scan = pd.DataFrame([dict(tracker=t, n_objects=1000, scan=k, n_groups=5 + k % 3, largest_group=2 + k % 4)
-                             for t in names[:3] for k in range(60)])
+    per_scan = pd.DataFrame([dict(tracker=t, n_objects=1000, scan=k, n_groups=5 + k % 3 + i, largest_group=2 + k % 4 + i)
+                             for i, t in enumerate(names[:3]) for k in range(60)])
     sf.plot_groups(per_scan, "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "ssa_catalogue/groups")

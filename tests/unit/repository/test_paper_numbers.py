@@ -18,10 +18,10 @@ def test_paper_sections_have_no_bare_numbers():
 def test_a_bare_number_added_to_a_copy_of_a_section_fails_the_scan(tmp_path):
     copy = tmp_path / "sections"
     shutil.copytree(PAPER / "sections", copy)
-    target = copy / "gaps.tex"
+    target = copy / "discussion.tex"
     target.write_text(target.read_text() + "\nThe MHT's MOSPA is 6.7~\\% above the published value.\n")
     found = scan_sections(copy)
-    assert list(found) == ["gaps.tex"] and any("6.7" in text for _, text in found["gaps.tex"])
+    assert list(found) == ["discussion.tex"] and any("6.7" in text for _, text in found["discussion.tex"])
 
 
 def test_allowed_contexts_and_caught_numbers():
@@ -62,15 +62,16 @@ def test_latex_log_problems_name_their_cause():
     assert latex_log_problems("Output written on ms.pdf (12 pages).") == []
 
 
-def _mini_paper(tmp_path, body):
-    """A source tree with the report's own \\htval definition, and generated inputs elsewhere."""
+def _mini_paper(tmp_path, body, appendix="\n\\clearpage\\appendix\\label{ht:appendix-start}An appendix."):
+    """A source tree with the report's own \\htval definition, and generated inputs elsewhere; ``appendix``
+    ends the body (the build measures the pages before the appendix from its label)."""
     src, gen = tmp_path / "src", tmp_path / "results" / "paper"
     src.mkdir(parents=True)
     (gen / "generated").mkdir(parents=True)
     (gen / "generated" / "macros.tex").write_text("\\newcommand{\\htSwapsRmsMinimumRep}{4}\n")
     preamble = (PAPER / "ms.tex").read_text().split("\\title{")[0]  # the report's preamble, macros included
     (src / "ms.tex").write_text(preamble.replace("\\usepackage{natbib}", "") + "\\begin{document}\n" + body
-                                + "\n\\end{document}\n")
+                                + appendix + "\n\\end{document}\n")
     return src, gen
 
 
@@ -94,3 +95,77 @@ def test_paper_build_fails_naming_a_missing_macro_and_writes_nothing_in_the_sour
     src, gen = _mini_paper(tmp_path / "ref", "See Section~\\ref{sec:nowhere}.")
     with pytest.raises(RuntimeError, match="undefined reference sec:nowhere"):
         build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "ref.log")
+
+
+def test_paper_layout_rules_fail_the_build_naming_the_cause(tmp_path):
+    """An overfull line over 1 pt, more than 30 pages before the appendix, a missing appendix label and ASCII
+    mathematics in the text each fail the build; a paper within the rules builds."""
+    import pytest
+
+    from hypotrack.reporting.paper import MAX_PAGES_BEFORE_APPENDIX, build_pdf
+
+    if shutil.which("latexmk") is None:
+        pytest.skip("latexmk not installed")
+    ok = "Minimum at \\htval{htSwapsRmsMinimumRep} swaps." + "\\newpage x" * (MAX_PAGES_BEFORE_APPENDIX - 1)
+    src, gen = _mini_paper(tmp_path / "ok", ok)
+    build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "ok.log")
+    assert (gen / "out.pdf").exists()
+    src, gen = _mini_paper(tmp_path / "long", ok + "\\newpage x")
+    with pytest.raises(RuntimeError, match=f"{MAX_PAGES_BEFORE_APPENDIX + 1} pages before the appendix"):
+        build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "long.log")
+    assert not (gen / "out.pdf").exists()
+    src, gen = _mini_paper(tmp_path / "wide", "\\noindent\\hbox to \\linewidth{\\hskip 1.2\\linewidth}")
+    with pytest.raises(RuntimeError, match=r"1 lines overfull by more than 1 pt: overfull line by \d"):
+        build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "wide.log")
+    src, gen = _mini_paper(tmp_path / "nolabel", "Text.", appendix="")
+    with pytest.raises(ValueError, match="ht:appendix-start"):
+        build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "nolabel.log")
+    src, gen = _mini_paper(tmp_path / "ascii", "The mean error is n-hat minus n, and z = -1.37.")
+    with pytest.raises(RuntimeError, match="garbled phrases"):
+        build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "ascii.log")
+
+
+def test_pages_before_appendix_reads_the_label_page():
+    from hypotrack.reporting.paper import layout_problems, overfull_hboxes, pages_before_appendix
+
+    aux = "\\newlabel{sec:x}{{1}{3}}\n\\newlabel{ht:appendix-start}{{7}{20}{Conclusions}{section*.57}{}}\n"
+    assert pages_before_appendix(aux) == 19
+    log = ("Overfull \\hbox (0.99303pt too wide) in paragraph at lines 1--2\n"
+           "Overfull \\hbox (1.1731pt too wide) in paragraph at lines 8--8\n"
+           "Overfull \\vbox (30.0pt too high) has occurred while \\output is active\n")
+    assert overfull_hboxes(log) == ["overfull line by 1.1731 pt in paragraph at lines 8--8"]
+    assert layout_problems([], 30, []) == [] and "31 pages" in layout_problems([], 31, [])[0]
+
+
+def test_the_documents_figures_are_named_with_their_document():
+    """A typed figure number is a document's figure, so it carries its document ("document 000's Fig.~15");
+    the report's own figures are cited by \\ref. Checked on every section and on a case that must fail."""
+    from hypotrack.reporting.paper import bare_document_figures
+
+    for path in sorted((PAPER / "sections").rglob("*.tex")):
+        assert bare_document_figures(path.read_text()) == [], path.name
+    assert bare_document_figures("as document 000's Fig.~15 and (cf. 000, Figs.~8--11) show, Fig.~\\ref{fig:a}") == []
+    hits = bare_document_figures("line one\n\\paragraph{Swaps (Figs.~5.1--5.3).} and its Fig. 4.2 claim")
+    assert [line for line, _ in hits] == [2, 2]
+
+
+def test_counts_pluralise_and_a_missing_value_drops_its_sentence(tmp_path):
+    """\\htn prints "1 run" / "3 runs" / "1 child" / "2 children"; \\htifvalue drops text around a "--" value."""
+    import subprocess
+
+    import pytest
+
+    from hypotrack.reporting.paper import build_pdf
+
+    if shutil.which("latexmk") is None or shutil.which("pdftotext") is None:
+        pytest.skip("latexmk or pdftotext not installed")
+    src, gen = _mini_paper(tmp_path, "A \\htn{htOne}{run}, B \\htn{htThree}{run}, C \\htn[children]{htOne}{child}, "
+                                     "D \\htn[children]{htThree}{child}. \\htifvalue{htNone}{Born at scan \\htval{htNone}.}"
+                                     "\\htifvalue{htThree}{Seen in \\htval{htThree} scans.}")
+    (gen / "generated" / "macros.tex").write_text("\\newcommand{\\htOne}{1}\n\\newcommand{\\htThree}{3}\n"
+                                                  "\\newcommand{\\htNone}{--}\n")
+    build_pdf(src, gen, gen / "build", gen / "out.pdf", tmp_path / "ok.log")
+    text = " ".join(subprocess.run(["pdftotext", str(gen / "out.pdf"), "-"], capture_output=True, text=True,
+                                   check=True).stdout.split())
+    assert "A 1 run, B 3 runs, C 1 child, D 3 children." in text
+    assert "Born at" not in text and "Seen in 3 scans." in text

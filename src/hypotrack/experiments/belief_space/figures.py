@@ -32,7 +32,8 @@ def plot_ratio(ratio: pd.DataFrame, paths, cfg) -> None:
     ax.plot([], [], "ko", mfc="none", label="engine, Poisson-limit birth")
     ax.plot([], [], "kx", label="engine, exact binomial birth")
     ax.set_xlabel("birth probability per pixel α (probability)")
-    ax.set_ylabel("weight ratio $w_v / w_{v'}$ (dimensionless)")
+    # in words: the symbols' nested scripts (v' under w) would print under 6 pt
+    ax.set_ylabel("weight ratio, undetected birth\nover its twin (dimensionless)")
     ax.set_title("Undetected birth vs its twin (document 001 Eq. 39)")
     figure_style.legend_right(ax)
     d = ratio.sort_values("alpha")
@@ -63,7 +64,7 @@ def plot_eq43(offsets: pd.DataFrame, noise: pd.DataFrame, paths, cfg) -> None:
     ax.plot(offsets["offset_pixels"], offsets["engine"], "C3o", ms=4, mfc="none", label="engine weights")
     ax.axhline(1, color="grey", lw=0.8, ls="--", label="Eq. 43 bound")
     ax.set_xlabel("offset of z* from the pixel centre (pixel widths)")
-    ax.set_ylabel("$\\omega^\\gamma / \\omega^{\\gamma'}$ / $(1-p_D)$ (dimensionless)")
+    ax.set_ylabel("weight ratio (birth over twin)\n/ $(1-p_D)$ (dimensionless)")  # no nested scripts
     ax.set_title(f"Eq. 43 across a {L:g} m pixel, $\\sigma_R$ = {cfg['measurement_std']:g} m")
     figure_style.legend_right(ax)
     x = noise["spread_over_pixel_area"]

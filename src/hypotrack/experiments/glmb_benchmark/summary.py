@@ -53,22 +53,28 @@ def plot_benchmark(curve: pd.DataFrame, pdf, png, labels: dict | None = None):
     fig, axes = figure_style.subplots(2, 2, height=5.2, sharex=True)
     panels = [("ospa", "OSPA (m)"), ("ospa_loc", "OSPA localisation part (m)"),
               ("ospa_card", "OSPA cardinality part (m)")]
-    styles = dict(zip(curve.tracker.unique(), ["-", "--", "-.", ":", (0, (5, 1)), (0, (1, 3))] * 3))
-    labels = {name: (labels or {}).get(name, name) for name in curve.tracker.unique()}
+    names = list(curve.tracker.unique())
+    # trackers close to each other overlap for long stretches: besides colour and dash each carries a
+    # marker every 10 scans, offset per tracker, so a line drawn under another still shows its markers
+    dashes = ["-", "--", "-.", ":", (0, (5, 1)), (0, (1, 3))]
+    markers = ["o", "s", "^", "D", "v", "P", "X", "*"]
+    styles = {name: dict(ls=dashes[i % len(dashes)], marker=markers[i % len(markers)], ms=3.5,
+                         markevery=(i % 10, 10), lw=1.2, alpha=0.9) for i, name in enumerate(names)}
+    labels = {name: (labels or {}).get(name, name) for name in names}
     for ax, (col, label) in zip(axes.flat, panels):
         for name, g in curve.groupby("tracker", sort=False):
-            ax.plot(g.scan, g[col], label=labels[name], lw=1.4, ls=styles[name])
+            ax.plot(g.scan, g[col], label=labels[name], **styles[name])
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
     ax = axes.flat[3]
     first = True
     for name, g in curve.groupby("tracker", sort=False):
-        line, = ax.plot(g.scan, g.n_est_mean, lw=1.4, ls=styles[name], label=labels[name])
-        ax.fill_between(g.scan, g.n_est_mean - g.n_est_std, g.n_est_mean + g.n_est_std, color=line.get_color(),
-                        alpha=0.15)
-        if first:
-            ax.step(g.scan, g.n_true, where="mid", color="k", lw=1.5, label="truth")
+        if first:  # underneath, as a wide grey band, so the trackers that follow it stay visible
+            ax.step(g.scan, g.n_true, where="mid", color="0.55", lw=3.0, zorder=1, label="truth (grey band, drawn under the trackers)")
             first = False
+        line, = ax.plot(g.scan, g.n_est_mean, label=labels[name], zorder=3, **styles[name])
+        ax.fill_between(g.scan, g.n_est_mean - g.n_est_std, g.n_est_mean + g.n_est_std, color=line.get_color(),
+                        alpha=0.12, lw=0)
     ax.set_ylabel("number of objects (mean ± std)")
     ax.grid(alpha=0.3)
     for ax in axes[1]:

@@ -12,7 +12,7 @@ __all__ = ["plot_benchmark"]
 _STYLE = {
     "hypotrack": dict(color="tab:red", marker="o"),
     "GNNWith2DAssignment": dict(color="tab:blue", marker="s"),
-    "JPDAwithEHM2": dict(color="tab:blue", marker="s"),
+    "JPDAwithEHM2": dict(color="midnightblue", marker="D", ls="-."),  # not GNNWith2DAssignment's style
     "JPDA": dict(color="tab:green", marker="^"),
     "numpy_scipy_gnn": dict(color="0.3", marker="x", ls="--"),
 }

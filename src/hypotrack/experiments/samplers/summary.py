@@ -36,7 +36,8 @@ def plot_mass(det: pd.DataFrame, timing: pd.DataFrame, pdf, png):
         for j, (name, g) in enumerate(det[det.difficulty == d].groupby("sampler", sort=False)):
             miss = 1.0 - g.mass_mean.clip(upper=1.0)
             st = styles[j % len(styles)]
-            ax_b.plot(g.budget, np.maximum(miss, 1e-16), ms=3, label=_LABELS.get(name, name), **st)
+            label = _LABELS.get(name, name)
+            ax_b.plot(g.budget, np.maximum(miss, 1e-16), ms=3, label=label, **st)
             tt = [t.loc[(d, name, b), "time_mean_s"] for b in g.budget]
             ax_t.plot(tt, np.maximum(miss, 1e-16), ms=3, label=_LABELS.get(name, name), **st)
         ax_b.set_title(_title(d, det))
@@ -51,7 +52,18 @@ def plot_mass(det: pd.DataFrame, timing: pd.DataFrame, pdf, png):
             ax.grid(alpha=0.3, which="major")
             if i % n_cols == 0:
                 ax.set_ylabel("mass missed")
+    # a sampler drawn exactly over another (both near 1 on a 16-decade axis, say) is named in the legend
+    notes = {}
+    fig.canvas.draw()
+    for ax in axes.flat:
+        for a, b in figure_style.coincident_lines(ax):
+            where = ax.get_title().replace("\n", " ") or "the panel below"
+            notes.setdefault(a.get_label(), []).append(f"{b.get_label()} ({where})")
+            a.set_label(f"{a.get_label()} (coincides with {b.get_label()} here)")
     handles, labels = axes[0, 0].get_legend_handles_labels()
+    labels = [lab.split(" (coincides with")[0] for lab in labels]
+    labels = [lab + ("; coincides with " + "; ".join(notes[lab]) if lab in notes else "") for lab in labels]
+    labels = [figure_style.wrap(lab, fig, 7.5, 0.3) for lab in labels]  # the legend fits the free slot
     if spare:
         for k in range(len(diffs), n_cols * pair_rows):
             for ax in (axes[2 * (k // n_cols), k % n_cols], axes[2 * (k // n_cols) + 1, k % n_cols]):

@@ -15,6 +15,9 @@ def _save(fig, pdf, png, width: float = 1.0):
     figure_style.save(fig, pdf, png, width=width)
 
 
+_TRUTH_DASHES = ("--", (0, (1, 1.5)), "-.", (0, (5, 1, 1, 1, 1, 1)))
+
+
 def _band(ax, x, y, se, color, **kw):
     ax.plot(x, y, color=color, **kw)
     ax.fill_between(x, y - 2 * se, y + 2 * se, color=color, alpha=0.15)
@@ -41,9 +44,9 @@ def plot_crossing(example, curves, cfg, pdf, png):
         ax.plot(cl["x"], cl["y"], ".", color="0.75", ms=3, label="clutter returns")
         ax.plot(tr["x"], tr["y"], "x", color="0.35", ms=4, label="target returns")
         for tid, g in example[example["kind"] == "truth"].groupby("id"):
-            ax.plot(g["x"], g["y"], "k--", lw=1, label="true paths" if tid == 0 else None)
-            inside = g[g["x"] >= -half].iloc[0]
-            ax.annotate(f"target {tid}", (inside["x"], inside["y"]), textcoords="offset points", xytext=(4, 6))
+            # each target's path its own dash, named in the legend (no label drawn over the returns)
+            ax.plot(g["x"], g["y"], color="k", ls=_TRUTH_DASHES[int(tid) % len(_TRUTH_DASHES)], lw=1,
+                    label=f"true path of target {tid}")
         tracks = example[(example["kind"] == "track") & (example["method"] == method)]
         for tid, g in tracks.groupby("id"):
             if tid < n_t:

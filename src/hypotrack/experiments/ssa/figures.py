@@ -250,11 +250,41 @@ def _ospa_panels(axes, metrics, ospa_settings, trackers, labels):
         ax.grid(alpha=0.3)
     # one legend for both panels (same line per tracker), beside the first and running down beside the second
     handles, names = [], []
-    for tr, line in zip(trackers, axes[0].lines):
+    for i, (tr, line) in enumerate(zip(trackers, axes[0].lines)):
         g = metrics[metrics["tracker"] == tr] if tr else metrics
         handles.append(line)
-        names.append(f"{labels[tr]}\nmean {g[cols[0][0]].mean():.3g} km in view, {g[cols[1][0]].mean():.3g} km all")
+        name = f"{labels[tr]}\nmean {g[cols[0][0]].mean():.3g} km in view, {g[cols[1][0]].mean():.3g} km all"
+        same = _coincides_with(metrics, tr, trackers[:i], [c for c, _, _ in cols], [ax.get_ylim() for ax in axes])
+        if same is not None:
+            other, largest = same
+            name += (f"\ncoincides with {labels[other]} (" + ("identical" if largest == 0 else
+                                                              f"differences ≤ {largest:.2g} km") + ")")
+        names.append(name)
     return handles, names
+
+
+def _coincides_with(metrics, tracker, earlier, columns, limits):
+    """The first of ``earlier`` trackers whose curves ``tracker``'s lie on in every panel (the same
+    scans without a value, and differences under 1 % of each panel's height: drawn over it),
+    with the largest difference (km); ``None`` if there is none."""
+    if not tracker:
+        return None
+    mine = metrics[metrics["tracker"] == tracker].set_index("scan")
+    for other in earlier:
+        theirs = metrics[metrics["tracker"] == other].set_index("scan").reindex(mine.index)
+        largest = 0.0
+        for col, (lo, hi) in zip(columns, limits):
+            a, b = mine[col].to_numpy(dtype=float), theirs[col].to_numpy(dtype=float)
+            if (np.isnan(a) != np.isnan(b)).any():
+                break
+            d = np.abs(a - b)
+            d = float(d[~np.isnan(d)].max(initial=0.0))
+            if d > 0.01 * (hi - lo):
+                break
+            largest = max(largest, d)
+        else:
+            return other, largest
+    return None
 
 
 def plot_ospa(metrics: pd.DataFrame, ospa_settings: OSPASettings, *, title: str, labels: Mapping):
@@ -271,50 +301,67 @@ def plot_ospa(metrics: pd.DataFrame, ospa_settings: OSPASettings, *, title: str,
     return fig
 
 
-def _agreement_panel(ax, agreement, times, label_a, label_b):
-    ag = agreement["agree"].to_numpy(dtype=bool)
-    same = agreement["same_objects"].to_numpy(dtype=bool)
-    diff = agreement["max_difference_km"].to_numpy(dtype=float)
-    floor = 1e-15
-    ax.semilogy(times[same], np.maximum(diff[same], floor), ".", ms=3, color="#1a9641",
-                label="largest difference of\nthe two estimates of\nan object (0 drawn at " + figure_style.pow10(np.log10(floor)) + ")")
-    ax.axhline(AGREEMENT_TOLERANCE_KM, color="black", ls=":", lw=1.0,
-               label=f"agreement tolerance\n({AGREEMENT_TOLERANCE_KM * 1e3:g} m)")
-    for t in times[~ag]:
-        ax.axvline(t, color="#d7191c", alpha=0.4, lw=1.0)
-    if (~same).any():
-        ax.plot(times[~same], np.full((~same).sum(), 1e3), "x", color="#d7191c",
-                label="different objects (e.g. a\nbirth in one MAP hypothesis)")
-    ax.plot([], [], color="#d7191c", alpha=0.4, label="scan where the MAP\nhypotheses differ")
-    ax.set_ylim(floor / 30, 1e6)
-    ax.set_ylabel("km")
-    ax.set_title(textwrap.fill(f"{label_a} vs {label_b}: same MAP hypothesis in {100 * ag.mean():.1f} % of "
-                               f"{len(ag)} scans", 55))
-    ax.grid(alpha=0.3)
-    return ax.get_legend_handles_labels()
+def _runs(mask):
+    """(start, stop) index pairs of the maximal runs of True in ``mask``."""
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)))
+
+
+def _agreement_panel(ax, agreements, times, labels):
+    """One row per compared pair: the scans where the two MAP hypotheses agree (green) or not (red).
+
+    Agreement is a yes/no per scan (same objects and every object's two estimates within the
+    agreement tolerance), so it is drawn as that: a strip per pair, not a difference on a log axis.
+    """
+    dt = float(np.median(np.diff(times))) if len(times) > 1 else 1.0
+    edges = np.concatenate([times, [times[-1] + dt]]) if len(times) else np.zeros(1)
+    n = len(agreements)
+    for row, ((a, b), agreement) in enumerate(agreements.items()):
+        y = n - 1 - row
+        ag = agreement["agree"].to_numpy(dtype=bool)
+        same = agreement["same_objects"].to_numpy(dtype=bool)
+        for value, colour, lw in ((True, "#a6d96a", 0.0), (False, "#d7191c", 2.0)):
+            # a differing scan is 1/720 of the axis: its edge line keeps it at least 2 pt wide
+            spans = [(edges[i], edges[j] - edges[i]) for i, j in _runs(ag == value)]
+            ax.broken_barh(spans, (y - 0.2, 0.4), facecolors=colour, edgecolor=colour, lw=lw)
+        if (~same).any():
+            ax.plot(times[~same], np.full((~same).sum(), y + 0.2), "v", color="black", ms=4.5)  # on the strip's top
+        # the pair's name in the white band above its strip, never over it
+        ax.text(0.005, y + 0.3, f"{labels[a]} vs {labels[b]}: same in {100 * ag.mean():.1f} % of {len(ag)} scans",
+                transform=ax.get_yaxis_transform(), va="bottom", ha="left", fontsize=7.5)
+    ax.set_yticks([])
+    ax.set_ylabel("same MAP\nhypothesis?")
+    ax.set_ylim(-0.3, n + 0.05)
+    ax.set_title("Same MAP hypothesis (green) or not (red), per scan")
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    tol = f"{AGREEMENT_TOLERANCE_KM * 1e3:g} m"
+    return ([Patch(color="#a6d96a"), Patch(color="#d7191c"),
+             Line2D([], [], ls="none", marker="v", color="black", ms=4.5)],
+            [f"same MAP hypothesis: same objects, every object's two estimates within {tol}",
+             "MAP hypotheses differ (a red bar at least one scan wide)",
+             "different objects (e.g. a birth in one MAP hypothesis), marked above the red bar"])
 
 
 def plot_comparison(agreements: Mapping, metrics: pd.DataFrame, ospa_settings: OSPASettings, *,
                     labels: Mapping, title: str):
-    """ssa15: per-scan agreement of pairs of MAP hypotheses and the OSPA of every tracker.
+    """ssa15: per-scan agreement (yes/no) of pairs of MAP hypotheses and the OSPA of every tracker.
 
     ``agreements`` maps ``(tracker_a, tracker_b)`` to :func:`map_agreement` tables; ``labels``
     maps each tracker (values of ``metrics["tracker"]``) to its legend name. All panels share
     one legend, below them.
     """
     n = len(agreements)
-    fig, axes = figure_style.subplots(n + 2, 1, height=min(1.15 * n + 3.6, figure_style.MAX_HEIGHT_IN),
-                                      sharex=True, gridspec_kw={"height_ratios": [1.0] * n + [1.6, 1.6]})
+    fig, axes = figure_style.subplots(3, 1, height=min(0.4 * n + 4.9, figure_style.MAX_HEIGHT_IN),
+                                      sharex=True, gridspec_kw={"height_ratios": [0.38 * n + 0.2, 1.6, 1.6]})
     first = next(iter(labels))
     times = metrics.loc[metrics["tracker"] == first, "time"].to_numpy() / 3600
-    merged = {}
-    for ax, ((a, b), agreement) in zip(axes[:n], agreements.items()):
-        for h, lab in zip(*_agreement_panel(ax, agreement, times, labels[a], labels[b])):
-            merged.setdefault(lab, h)
-    handles, names = _ospa_panels(axes[n:], metrics, ospa_settings, list(labels), labels)
+    strip_handles, strip_names = _agreement_panel(axes[0], agreements, times, labels)
+    handles, names = _ospa_panels(axes[1:], metrics, ospa_settings, list(labels), labels)
     # one legend for every panel, below them all, so the panels keep the page's width
-    figure_style.legend_below(fig, [*merged.values(), *handles],
-                              [lab.replace("\n", " ") for lab in [*merged, *names]], ncol=2)
+    figure_style.legend_below(fig, [*strip_handles, *handles],
+                              [lab.replace("\n", " ") for lab in [*strip_names, *names]], ncol=2)
     axes[-1].set_xlabel("time (h)")
     fig.suptitle(figure_style.wrap(title, fig))
     return fig

@@ -18,6 +18,17 @@ from ...scenarios.tables import CLUTTER, validate_truth
 __all__ = ["plot_scenario"]
 
 
+_BIRTH_COLOURS = ("#ffd21f", "#2ca02c", "#9467bd", "#17becf", "#e377c2", "#8c564b", "#bcbd22", "#7f7f7f",
+                  "#1f77b4", "#d62728")
+_BIRTH_MARKERS = ("*", "P", "X", "D", "p")
+
+
+def _birth_style(n: int) -> dict:
+    """The n-th birth's marker: colour and shape, so every birth is told apart in the legend."""
+    return dict(color=_BIRTH_COLOURS[n % len(_BIRTH_COLOURS)],
+                marker=_BIRTH_MARKERS[(n // len(_BIRTH_COLOURS)) % len(_BIRTH_MARKERS)])
+
+
 def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
     from matplotlib.patches import Circle, Wedge
 
@@ -73,30 +84,13 @@ def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
         zorder=4,
         label=f"returns from objects ({len(det)})",
     )
-    order = sorted(births, key=lambda b: np.hypot(b[1]["state_0"], b[1]["state_1"]))
-    for n, (tid, first) in enumerate(order):
-        xy = first["state_0"] * u, first["state_1"] * u
-        ax.plot(
-            *xy,
-            marker="*",
-            ms=15 if zoom else 10,
-            color="#ffd21f",
-            mec="black",
-            zorder=5,
-            label="birth: first entry into FOV" if n == 0 else None,
-        )
-        if zoom:
-            # Births enter along the same FOV edge: fan the labels out below it.
-            ax.annotate(
-                f"id {tid}",
-                xy,
-                xytext=(10 * (n - len(order) / 2), -10 - 8 * n),
-                textcoords="offset points",
-                ha="center",
-                fontsize=7.5,
-                zorder=6,
-                arrowprops=dict(arrowstyle="-", color="0.3", lw=0.6),
-            )
+    for n, (tid, first) in enumerate(births):
+        # each birth its own star colour (named in the legend), so no id label sits on the orbits
+        # later births smaller and on top: two births entering at one spot show as a ring around a star
+        style = _birth_style(n)
+        size = (14 if zoom else 10) * max(1.0 - 0.12 * n, 0.4) * (1.0 if style["marker"] == "*" else 0.7)
+        ax.plot(first["state_0"] * u, first["state_1"] * u, ls="none", mec="black", mew=0.8, zorder=5 + 0.01 * n,
+                ms=size, label=f"birth id {tid}", **style)
     ax.set_aspect("equal")
     ax.set_xlabel("x (10³ km, Earth-centred inertial)")
     ax.set_ylabel("y (10³ km)")
@@ -107,7 +101,7 @@ def _draw_scenario(ax, truth, scans, fov, known, births, *, zoom):
         ys = np.concatenate([fov.r_min * np.sin(th), fov.r_max * np.sin(th)]) * u
         pad = 0.04 * fov.r_max * u
         ax.set_xlim(xs.min() - pad, xs.max() + pad)
-        ax.set_ylim(ys.min() - 0.3 * (ys.max() - ys.min()), ys.max() + pad)  # room below the edge for birth labels
+        ax.set_ylim(ys.min() - pad, ys.max() + pad)
     else:
         lim = max(fov.r_max, np.abs(truth[["state_0", "state_1"]].to_numpy()).max(initial=0.0)) * u * 1.05
         ax.set_xlim(-lim, lim)
@@ -118,7 +112,8 @@ def plot_scenario(truth: pd.DataFrame, scans: pd.DataFrame, fov: FieldOfView, kn
     """Draw an SSA scenario: Earth, FOV wedge, true paths, returns by origin, births.
 
     Left panel: the whole orbits; right panel: the FOV enlarged, where the returns are. The
-    legend (with the time each birth enters the FOV) sits below both panels. Drawn only from the
+    legend (each birth's marker and the time it enters the FOV) sits below both panels; no text
+    is drawn over the data. Drawn only from the
     saved tables (and the FOV), so the figure can be restyled without regenerating the scenario.
     Axes in 10³ km. Returns the matplotlib figure, at the report's line width.
     """
@@ -136,10 +131,14 @@ def plot_scenario(truth: pd.DataFrame, scans: pd.DataFrame, fov: FieldOfView, kn
     _draw_scenario(ax_fov, truth, scans, fov, known, births, zoom=True)
     ax_all.set_title("whole orbits")
     ax_fov.set_title("field of view (enlarged)")
-    handles, labels = ax_all.get_legend_handles_labels()
-    for tid, first in births:
-        handles.append(Line2D([], [], ls="none"))
-        labels.append(f"birth id {tid}: in view from t = {first['time'] / 60:.0f} min")
+    handles, labels = [], []
+    for h, lab in zip(*ax_all.get_legend_handles_labels()):
+        if not lab.startswith("birth id "):
+            handles.append(h)
+            labels.append(lab)
+    for n, (tid, first) in enumerate(births):
+        handles.append(Line2D([], [], ls="none", mec="black", ms=9, **_birth_style(n)))
+        labels.append(f"birth id {tid}: first in view at t = {first['time'] / 60:.0f} min")
     figure_style.legend_below(fig, handles, labels, ncol=2)
     n_obj = truth["target"].nunique()
     n_scans = int(truth["scan"].max()) + 1 if len(truth) else 0

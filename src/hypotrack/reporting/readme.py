@@ -107,7 +107,7 @@ def readme_block(claims: pd.DataFrame | None, timing: pd.DataFrame | None = None
         lines += ["", "Rows whose recorded status the Monte Carlo rule corrects (the table uses the corrected one):", ""]
         lines += [f"* `{r['row']}`: recorded *{r['recorded']}*, the rule gives *{r['recomputed']}*"
                   + (f": {r['why']}." if r["why"] else ".") for r in mismatches.to_dict("records")]
-    lines += ["", f"{sum(rows.values())} ledger rows: " + ", ".join(f"{n} {s}" for s, n in rows.items()) + ". "
+    lines += ["", f"{sum(rows.values())} ledger rows: " + ", ".join(f"{n} {s}" for s, n in rows.items() if n) + ". "
               + LEDGER_LINK]
     return "\n".join(lines) + "\n"
 

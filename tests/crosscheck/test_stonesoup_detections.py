@@ -48,6 +48,8 @@ OPTIONS = {
              "birth_states": [GaussianState([[0.0], [0.0], [0.0], [0.0]], np.diag([900.0, 1.0, 900.0, 1.0]))],
              "birth_probability": 0.01},
     "glmb_murty": {"max_hypotheses": 10, "survival_probability": 0.99},
+    "pmbm_murty": {"max_hypotheses": 10, "gate_probability": 0.999, "survival_probability": 0.99},
+    "pmbm_gibbs": {"max_hypotheses": 10, "n_sweeps": 100, "seed": 3, "gate_probability": 0.999},
 }
 
 

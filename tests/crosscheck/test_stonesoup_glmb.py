@@ -1,4 +1,4 @@
-"""The δ-GLMB presets in a Stone Soup pipeline: objects born from the labeled population.
+"""The δ-GLMB and PMBM presets in a Stone Soup pipeline: objects born from the labeled population.
 
 No object is known at the start. Two labeled-Bernoulli birth terms are given as Stone Soup
 ``GaussianState``\\s through ``options`` (``birth_states``, ``birth_probability``,
@@ -94,6 +94,9 @@ def _kalman_oracle(b, path, scans):
 @pytest.mark.parametrize(("algorithm", "options"), [
     ("glmb", {"n_sweeps": 200, "seed": 5}),
     ("glmb_murty", {}),
+    # the PMBM with Bernoulli births is the δ-GLMB (tests/crosscheck/test_equivalence_pmbm_glmb.py): the same tracks
+    ("pmbm_murty", {"birth": "bernoulli", "estimator": "joint_map"}),
+    ("pmbm_gibbs", {"birth": "bernoulli", "estimator": "joint_map", "n_sweeps": 200, "seed": 5}),
 ])
 def test_glmb_births_from_the_labeled_population_are_tracked(algorithm, options):
     scans, paths = _simulate()
@@ -174,3 +177,36 @@ def test_bad_birth_options_are_named(algorithm, options, message):
     with pytest.raises(ValueError, match=message):
         HypotrackTracker(transition_model=tm, measurement_model=mm, algorithm=algorithm, detection_probability=P_D,
                          clutter_rate=CLUTTER, clutter_region=REGION, options=options)
+
+
+@pytest.mark.parametrize("algorithm", ["pmbm_murty", "pmbm_gibbs"])
+def test_pmbm_with_poisson_births_tracks_both_objects(algorithm):
+    """The PMBM's own birth model (the terms' r_B as Poisson birth weights): a track starts from the
+    Poisson part at an object's first detection, is reported once its existence passes 0.5, and from
+    there on follows Stone Soup's Kalman filter fed the object's own returns."""
+    scans, paths = _simulate()
+    tm, mm = _models()
+    tracker = HypotrackTracker(
+        transition_model=tm, measurement_model=mm, algorithm=algorithm, detection_probability=P_D,
+        clutter_rate=CLUTTER, clutter_region=REGION, detector=scans,
+        options={"birth_states": BIRTHS, "birth_probability": 0.05, "survival_probability": 0.99,
+                 "max_hypotheses": 30, "gate_probability": 0.999, "seed": 5})
+    per_scan = [tracks for _, tracks in tracker]
+    predictor, updater = KalmanPredictor(tm), KalmanUpdater(mm)
+    for b, path in enumerate(paths):
+        last = path[-1].state_vector[[0, 2]].ravel()
+        track = min(per_scan[-1], key=lambda t: np.hypot(*(t.state_vector[[0, 2]].ravel() - last)))
+        assert np.hypot(*(track.state_vector[[0, 2]].ravel() - last)) < 3.0
+        # reported once its existence passes 0.5: at or after its first detection, an update with its own return
+        own = [t for t, dets in scans for d in dets if getattr(d, "groundtruth_path", None) is path]
+        first = track[0]
+        assert first.timestamp >= own[0] and isinstance(first, GaussianStateUpdate)
+        assert all(s.hypothesis.measurement.groundtruth_path is path for s in track if isinstance(s, GaussianStateUpdate))
+        # from its second state on, each is Stone Soup's Kalman prediction/update of the one before
+        for before, state in zip(track, track[1:]):
+            prediction = predictor.predict(before, timestamp=state.timestamp)
+            expected = (updater.update(SingleHypothesis(prediction, state.hypothesis.measurement))
+                        if isinstance(state, GaussianStateUpdate) else prediction)
+            np.testing.assert_allclose(state.state_vector, expected.state_vector, rtol=1e-9, atol=1e-9)
+            np.testing.assert_allclose(state.covar, expected.covar, rtol=1e-9, atol=1e-9)
+    assert len(per_scan[-1]) == 2

@@ -247,6 +247,10 @@ def test_readme_stonesoup_example_runs():
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
         exec(compile(code, "README.md", "exec"), {})
-    ids, n_scans, mean_ospa = re.fullmatch(r"(\[.*\]) (\d+) ([\d.]+)\n", out.getvalue()).groups()
+    first, second = out.getvalue().splitlines()
+    ids, n_scans, mean_ospa = re.fullmatch(r"(\[.*\]) (\d+) ([\d.]+)", first).groups()
     assert ids == "['0', '1']" and n_scans == "20"
     assert float(mean_ospa) < 2.0  # both objects tracked to about the measurement noise (R = I)
+    # the PMBM, knowing nothing, finds both objects from the data: OSPA from scan 5 on about the noise
+    n_tracks, late_ospa = re.fullmatch(r"(\d+) ([\d.]+)", second).groups()
+    assert n_tracks == "2" and float(late_ospa) < 2.0

@@ -39,12 +39,13 @@ OPTIONS = {
     "hfisst": {"max_hypotheses": 10}, "rfisst": {"n_steps": 200, "max_hypotheses": 10, "seed": 1},
     "homht": {"max_hypotheses": 10}, "homht_kbest": {"max_hypotheses": 10},
     "glmb": {"max_hypotheses": 10, "n_sweeps": 50, "seed": 1}, "glmb_murty": {"max_hypotheses": 10},
+    "pmbm_murty": {"max_hypotheses": 10}, "pmbm_gibbs": {"max_hypotheses": 10, "n_sweeps": 50, "seed": 1},
 }
 DAY = datetime.timedelta(days=1)
 
 
 def test_every_algorithm_is_covered():
-    assert set(OPTIONS) == set(ALGORITHMS) and len(ALGORITHMS) == 9
+    assert set(OPTIONS) == set(ALGORITHMS) and len(ALGORITHMS) == 11
 
 
 # ---------------------------------------------------------------- test_base.py

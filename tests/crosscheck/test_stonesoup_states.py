@@ -38,6 +38,7 @@ OPTIONS = {
     "hfisst": {"max_hypotheses": 10}, "rfisst": {"n_steps": 200, "max_hypotheses": 10, "seed": 1},
     "homht": {"max_hypotheses": 10}, "homht_kbest": {"max_hypotheses": 10},
     "glmb": {"max_hypotheses": 10, "n_sweeps": 50, "seed": 1}, "glmb_murty": {"max_hypotheses": 10},
+    "pmbm_murty": {"max_hypotheses": 10}, "pmbm_gibbs": {"max_hypotheses": 10, "n_sweeps": 50, "seed": 1},
 }
 T0 = datetime.datetime(2025, 1, 1)
 SECOND = datetime.timedelta(seconds=1)

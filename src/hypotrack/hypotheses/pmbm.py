@@ -261,6 +261,8 @@ class PMBMFilter:
                                                                      "covs", dim=d, batched=True)
         self.labels = np.arange(n, dtype=np.int64) if labels is None else check_labels(labels, n)
         self.r, self.means, self.covs = np.ones(n), means.copy(), covs.copy()
+        self.last_return = np.full(n, -1, np.int64)
+        self.last_prediction = (means.copy(), covs.copy())
         self.track_of = np.arange(n, dtype=np.int64)  # track of each local hypothesis
         self.assign = np.arange(n, dtype=np.int64)[None, :]  # (H, T): local hypothesis per track, -1 absent
         self.log_w = np.zeros(1)
@@ -277,7 +279,7 @@ class PMBMFilter:
 
     # ------------------------------------------------------------------ recursion
     _STATE = ("r", "means", "covs", "track_of", "assign", "log_w", "labels", "undetected", "next_label", "time",
-              "scan_index", "last_stats")
+              "scan_index", "last_stats", "last_return", "last_prediction")
 
     def step(self, Z, time=None, *, dt=None):
         """Predict to ``time`` (or by ``dt``, or the default interval) and update with returns ``Z`` (m, p).
@@ -416,6 +418,9 @@ class PMBMFilter:
         src = np.array([p[0] for p in pairs], dtype=np.int64).reshape(-1)
         ret = np.array([p[1] for p in pairs], dtype=np.int64).reshape(-1)
         means, covs = self.means[src].copy(), self.covs[src].copy()
+        nan = np.full((m, *means.shape[1:]), np.nan)
+        self.last_prediction = (np.concatenate([means, nan]), np.concatenate([covs, np.full((m, *covs.shape[1:]), np.nan)]))
+        self.last_return = np.concatenate([ret, np.arange(m)])
         r = np.where(ret >= 0, 1.0, r_miss[src])
         hit = ret >= 0
         if hit.any():
@@ -464,6 +469,8 @@ class PMBMFilter:
         track_remap = np.full(len(self.labels), -1, np.int64)
         track_remap[keep_tracks] = np.arange(len(keep_tracks))
         self.r, self.means, self.covs = self.r[used], self.means[used], self.covs[used]
+        self.last_return = self.last_return[used]
+        self.last_prediction = tuple(a[used] for a in self.last_prediction)
         self.track_of = track_remap[self.track_of[used]]
         self.labels = self.labels[keep_tracks]
 
@@ -487,6 +494,10 @@ class PMBMFilter:
                 means[i], covs[i] = self.means[l], self.covs[l]
         r_new = p_unassigned * np.exp(log_e - log_rho)
         T = self.assign.shape[1]
+        # a collapsed Bernoulli mixes its returns: no single return updated it (-1), its prediction is its prior
+        self.last_return = np.concatenate([np.full(n, -1, np.int64), np.arange(m)])
+        self.last_prediction = (np.concatenate([self.means[rows], np.full((m, *self.means.shape[1:]), np.nan)]),
+                                np.concatenate([self.covs[rows], np.full((m, *self.covs.shape[1:]), np.nan)]))
         self.r = np.concatenate([r_out, r_new])
         self.means, self.covs = np.concatenate([means, new_means]), np.concatenate([covs, new_covs])
         self.track_of = np.concatenate([self.track_of[rows], T + np.arange(m)])
@@ -534,14 +545,24 @@ class PMBMFilter:
         return PMBMPosterior(lw, card, float(np.arange(len(card)) @ card), self.undetected.total,
                              tuple(hyps[:n_top]))
 
-    def estimates(self) -> TrackEstimates:
-        """The Bernoullis of the estimator's global hypothesis (module docstring, step 5)."""
-        hyps = self.global_hypotheses()
+    def estimated_local_hypotheses(self) -> np.ndarray:
+        """Indices of the local hypotheses :meth:`estimates` reports, in its order (module docstring, step 5):
+        with :attr:`last_return` (the return that updated each at the last scan: ``j``; -1 none: missed, or a
+        PMB Bernoulli mixing several) and :attr:`last_prediction` (its predicted mean and covariance; NaN for a
+        track the last scan's return ``j`` started from the Poisson part), an adapter can name each estimate's
+        return and prediction."""
+        order = np.argsort(-self.log_w, kind="stable")
         if self.estimator == "best_hypothesis":
-            best, threshold = hyps[0], self.existence_estimate
+            a, threshold = order[0], self.existence_estimate
         else:
             with np.errstate(divide="ignore"):
-                score = [h.log_weight + np.sum(np.log(np.maximum(h.existence, 1 - h.existence))) for h in hyps]
-            best, threshold = hyps[int(np.argmax(score))], 0.5
-        on = best.existence > threshold
-        return TrackEstimates(self.time, best.labels[on], best.means[on], best.covs[on])
+                score = [self.log_w[a] + np.sum(np.log(np.maximum(self.r[loc], 1 - self.r[loc])))
+                         for a in order for loc in [self.assign[a][self.assign[a] >= 0]]]
+            a, threshold = order[int(np.argmax(score))], 0.5
+        loc = self.assign[a][self.assign[a] >= 0]
+        return loc[self.r[loc] > threshold]
+
+    def estimates(self) -> TrackEstimates:
+        """The Bernoullis of the estimator's global hypothesis (module docstring, step 5)."""
+        loc = self.estimated_local_hypotheses()
+        return TrackEstimates(self.time, self.labels[self.track_of[loc]], self.means[loc], self.covs[loc])

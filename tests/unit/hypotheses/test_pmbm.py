@@ -318,4 +318,7 @@ def test_a_step_failing_in_the_generator_is_undone_and_the_retry_equals_a_run_th
             va, vb = getattr(a, name), getattr(b, name)
             if isinstance(va, PoissonIntensity):
                 va, vb = va.log_w, vb.log_w
+            if name == "last_prediction":  # NaN marks tracks started from the Poisson part
+                assert all(np.array_equal(x, y, equal_nan=True) for x, y in zip(va, vb)), name
+                continue
             assert np.array_equal(va, vb), name

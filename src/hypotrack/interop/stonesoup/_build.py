@@ -10,7 +10,7 @@ from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from ...models.sensors import DetectionModel, PoissonClutter, Sensor
 from ...registry import TrackingProblem, build
 from ...trackers import MOfNInitiator, SingleHypothesisTracker
-from ._common import GLMB
+from ._common import LABELED_BIRTHS
 
 __all__ = ["_build", "glmb_population", "scan_settings"]
 
@@ -36,19 +36,22 @@ def _build(algorithm, motion, measurement, p_D, clutter_rate, region, means, cov
 def glmb_population(algorithm, options, perm, H, R):
     """``options`` with the Stone Soup birth options replaced by a labeled multi-Bernoulli population.
 
-    For ``glmb``/``glmb_murty`` a Stone Soup user describes births in Stone Soup's terms:
+    For the δ-GLMB and Poisson multi-Bernoulli kinds (:data:`LABELED_BIRTHS`) a Stone Soup user describes
+    births in Stone Soup's terms:
     ``birth_states`` (``GaussianState``\\s in Stone Soup's state order, one labeled-Bernoulli birth
     term each, observed through the tracker's measurement model), ``birth_probability`` (``r_B``
     per scan, one value or one per term, in (0, 1)) and ``survival_probability`` (``p_S`` per scan,
     in (0, 1], default 1: objects never die). A hypotrack ``population``
     (:class:`~hypotrack.hypotheses.LabeledMultiBernoulliPopulation`, hypotrack's state order) may
-    be given instead. Without either, the population has no birth term and ``p_S = 1``.
+    be given instead. Without either, the population has no birth term and ``p_S = 1``. The PMBM kinds take
+    each term's ``r_B`` as a Poisson birth weight (their default ``birth: poisson``) or as a Bernoulli birth
+    (``birth: bernoulli``), as their registry options say.
     """
     options = dict(options)
     given = [k for k in BIRTH_OPTIONS if k in options]
-    if algorithm not in GLMB:
+    if algorithm not in LABELED_BIRTHS:
         if given:
-            raise ValueError(f"options {given} describe the labeled population of {GLMB}; algorithm "
+            raise ValueError(f"options {given} describe the labeled population of {LABELED_BIRTHS}; algorithm "
                              f"{algorithm!r} does not take them")
         return options
     if "population" in options:
@@ -111,7 +114,7 @@ def scan_settings(tracker, R=None):
         return settings
     if R is not None:
         settings.append((tracker, "R", np.asarray(R, dtype=float)))
-        pop = tracker.population
+        pop = getattr(tracker, "population", None)  # the PMBM filters keep their birth intensity as a prior
         if pop is not None and any(isinstance(b, GaussianBirthTerm) for b in pop.birth_densities):
             terms = tuple(dataclasses.replace(b, R=R) if isinstance(b, GaussianBirthTerm) else b
                           for b in pop.birth_densities)

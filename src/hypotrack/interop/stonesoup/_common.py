@@ -11,13 +11,16 @@ import numpy as np
 from ..._validation import check_covariance
 from ...registry import preset
 
-__all__ = ["SINGLE_HYPOTHESIS", "HYPOTHESIS_FILTERS", "GLMB", "ALGORITHMS", "require_stonesoup",
+__all__ = ["SINGLE_HYPOTHESIS", "HYPOTHESIS_FILTERS", "GLMB", "PMBM", "LABELED_BIRTHS", "ALGORITHMS", "require_stonesoup",
            "check_tracker_inputs", "check_scan_time"]
 
 #: hypotrack's own kinds, which the adapter's tests run (every kind of hypotrack.registry is accepted).
 SINGLE_HYPOTHESIS = ("gnn", "jpda", "pdaf")
 GLMB = ("glmb", "glmb_murty")
-HYPOTHESIS_FILTERS = ("hfisst", "rfisst", "homht", "homht_kbest") + GLMB
+PMBM = ("pmbm_murty", "pmbm_gibbs")
+#: kinds whose births are a labeled multi-Bernoulli population (Stone Soup's ``birth_states`` options)
+LABELED_BIRTHS = GLMB + PMBM
+HYPOTHESIS_FILTERS = ("hfisst", "rfisst", "homht", "homht_kbest") + GLMB + PMBM
 ALGORITHMS = SINGLE_HYPOTHESIS + HYPOTHESIS_FILTERS
 
 
@@ -40,9 +43,9 @@ def check_tracker_inputs(algorithm, detection_probability, clutter_rate, initial
     """The adapter's own parameters checked with their own names and ranges (the hypotrack trackers
     behind it would name theirs: ``p_D``, ``rate``, ``covs``)."""
     p = _real(detection_probability, "detection_probability")
-    if preset(algorithm).family == "poisson_mb":
-        raise ValueError(f"algorithm {algorithm!r}: the Stone Soup adapter runs the engine's and the single-hypothesis "
-                         "trackers; the Poisson multi-Bernoulli filters are not adapted to it")
+    if preset(algorithm).family == "poisson_mb" and algorithm not in PMBM:
+        raise ValueError(f"algorithm {algorithm!r}: a PMB filter's Bernoullis mix several returns each scan, and the "
+                         f"Stone Soup adapter reports single associations; use one of {PMBM}")
     single = preset(algorithm).family == "single"
     if single:
         if not 0.0 < p <= 1.0:
@@ -51,7 +54,7 @@ def check_tracker_inputs(algorithm, detection_probability, clutter_rate, initial
         raise ValueError(f"detection_probability must lie in (0, 1) for the hypothesis filter {algorithm} (its "
                          f"weights hold log(1 - P_D) for every missed object), got {detection_probability!r}")
     rate = _real(clutter_rate, "clutter_rate")
-    if single and not (math.isfinite(rate) and rate > 0.0):
+    if (single or preset(algorithm).family == "poisson_mb") and not (math.isfinite(rate) and rate > 0.0):
         raise ValueError(f"clutter_rate must be a finite number > 0 for {algorithm} (its scores divide by the clutter density), "
                          f"got {clutter_rate!r}")
     if not (math.isfinite(rate) and rate >= 0.0):

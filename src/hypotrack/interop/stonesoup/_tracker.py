@@ -185,7 +185,10 @@ def tracker_class():
             options = glmb_population(self.algorithm, self.options or {}, self._perm, measurement.H, measurement.R)
             self.tracker = _build(self.algorithm, motion, measurement, self.detection_probability,
                                   self.clutter_rate, region, means, covs, options)
-            self._single = preset(self.algorithm).family == "single"
+            family = preset(self.algorithm).family
+            self._single = family == "single"
+            self._stepper = (self._step_single if family == "single" else
+                             self._step_pmbm if family == "poisson_mb" else self._step_filter)
             self._tracks = {}
             self._current = set()
             self._n_scans = 0
@@ -229,8 +232,7 @@ def tracker_class():
             R = None if variant is None else self._frame.variants[variant]
             settings = scan_settings(self.tracker, R)
             with _applied(settings):
-                ids, means, covs, states = (self._step_single if self._single else self._step_filter)(
-                    time, Z, dets, dt)
+                ids, means, covs, states = self._stepper(time, Z, dets, dt)
             self._time = time
             self._n_scans += 1
             if self._epoch is None:
@@ -350,6 +352,23 @@ def tracker_class():
             states += [(True, SingleHypothesis(self._prior(density, time), dets[i])) for i in seeded]
             states += [(False, None)] * len(unseen)
             return best.labels, best.means, best.covs, states
+
+        def _step_pmbm(self, time, Z, dets, dt):
+            """PMBM step; per Bernoulli of the estimator's global hypothesis ``(is_update, hypothesis)``: the
+            return that updated it at this scan with its prediction (none for a track the return started
+            from the Poisson part, whose prior is a mixture), or a prediction when it was missed."""
+            f = self.tracker
+            epoch = self._epoch if self._epoch is not None else time
+            f.step(Z, (time - epoch).total_seconds())
+            loc = f.estimated_local_hypotheses()
+            est = f.estimates()
+            ret = f.last_return[loc]
+            x, P = (a[loc] for a in f.last_prediction)
+            preds = self._predictions(np.nan_to_num(x), np.nan_to_num(P), time)
+            states = [(False, None) if j < 0 else
+                      (True, SingleHypothesis(None if np.isnan(x[k]).any() else preds(k), dets[j]))
+                      for k, j in enumerate(ret.tolist())]
+            return est.labels, est.x, est.P, states
 
         def _prior(self, density, time):
             """A birth density's Gaussian prior as the prediction of the object it gives birth to."""

@@ -97,7 +97,8 @@ def test_arrays_and_float_times_are_refused_with_the_adapter_names(algorithm):
     ("hfisst", {"initial_states": [GaussianState([[0.0], [1.0]], np.eye(2))]}, ValueError,
      r"initial_states\[0\]\.state_vector must hold 4 finite components"),
     ("gnn", {"initial_states": [np.zeros(4)]}, TypeError, r"initial_states\[0\] must be a GaussianState"),
-    ("pmbm_murty", {}, ValueError, r"algorithm 'pmbm_murty': .* not adapted"),
+    ("pmbm_murty", {"clutter_rate": 0.0}, ValueError, r"clutter_rate must be a finite number > 0 for pmbm_murty"),
+    ("pmb_lbp", {}, ValueError, r"algorithm 'pmb_lbp': a PMB filter's Bernoullis mix several returns"),
 ])
 def test_range_errors_name_the_adapter_parameters(algorithm, kw, err, message):
     """They named p_D, rate and covs, the hypotrack tracker's parameters behind the adapter."""

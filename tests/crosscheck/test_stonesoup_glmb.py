@@ -193,7 +193,7 @@ def test_pmbm_with_poisson_births_tracks_both_objects(algorithm):
                  "max_hypotheses": 30, "gate_probability": 0.999, "seed": 5})
     per_scan = [tracks for _, tracks in tracker]
     predictor, updater = KalmanPredictor(tm), KalmanUpdater(mm)
-    for b, path in enumerate(paths):
+    for path in paths:
         last = path[-1].state_vector[[0, 2]].ravel()
         track = min(per_scan[-1], key=lambda t: np.hypot(*(t.state_vector[[0, 2]].ravel() - last)))
         assert np.hypot(*(track.state_vector[[0, 2]].ravel() - last)) < 3.0

@@ -15,7 +15,7 @@ cfg = snakemake.params.cfg  # noqa: F821 (injected by Snakemake)
 inp, out = snakemake.input, snakemake.output  # noqa: F821
 per_scan = pd.concat([pd.read_csv(p) for p in inp.per_scan], ignore_index=True)
 per_run = pd.concat([pd.read_csv(p) for p in inp.per_run], ignore_index=True)
-summary, timing = summary_table(per_scan, per_run)
+summary, timing = summary_table(per_scan, per_run, int(cfg["settled_after"]))
 write_table(summary, out.summary)
 write_table(timing, out.timing)
 curve = curves(per_scan)

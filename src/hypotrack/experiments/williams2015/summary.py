@@ -14,7 +14,7 @@ import pandas as pd
 
 from ...reporting.ledger import Claim
 
-__all__ = ["summary_table", "curves", "trajectory_table", "plot_gospa", "williams_claims", "williams_macros", "camel"]
+__all__ = ["settled", "summary_table", "curves", "trajectory_table", "plot_gospa", "williams_claims", "williams_macros", "camel"]
 
 PARTS = ("gospa_loc", "gospa_missed", "gospa_false")
 
@@ -24,12 +24,20 @@ def _se(x) -> float:
     return float(x.std(ddof=1) / np.sqrt(len(x))) if len(x) > 1 else float("nan")
 
 
-def summary_table(per_scan: pd.DataFrame, per_run: pd.DataFrame):
+def settled(per_scan: pd.DataFrame, settled_after: int) -> pd.DataFrame:
+    """``per_scan`` with column ``gospa_settled``: the GOSPA at steps after ``settled_after``, NaN before
+    (the trackers start with no objects, the reference with its prior: the first steps measure initiation)."""
+    return per_scan.assign(gospa_settled=per_scan.gospa.where(per_scan.scan > settled_after))
+
+
+def summary_table(per_scan: pd.DataFrame, per_run: pd.DataFrame, settled_after: int = 10):
     """One row per tracker: mean GOSPA and its squared parts (mean ± s.e. over runs of each run's
-    mean over scans), the RMS GOSPA over all runs and steps, mean numbers of missed and false objects
-    per scan, the trajectory GOSPA (mean ± s.e. over runs) with its switches. Returns
-    ``(deterministic table, timing table)`` (time per scan, mean ± s.e. over runs)."""
-    cols = ["gospa", *PARTS, "n_missed", "n_false"]
+    mean over scans), the mean GOSPA after step ``settled_after`` (:func:`settled`), the RMS GOSPA over
+    all runs and steps, mean numbers of missed and false objects per scan, the trajectory GOSPA (mean ±
+    s.e. over runs) with its switches. Returns ``(deterministic table, timing table)`` (time per scan,
+    mean ± s.e. over runs)."""
+    cols = ["gospa", *PARTS, "gospa_settled", "n_missed", "n_false"]
+    per_scan = settled(per_scan, settled_after)
     by_run = per_scan.assign(gospa2=per_scan.gospa**2).groupby(["tracker", "run"], sort=False)[[*cols, "gospa2", "time_s"]].mean()
     rows, timing = [], []
     for name, g in by_run.groupby(level="tracker", sort=False):

@@ -74,8 +74,9 @@ def test_summary_means_errors_and_rms():
                              "gospa_loc": [1.0, 9.0, 4.0, 16.0], "gospa_missed": 0.0, "gospa_false": 0.0,
                              "n_missed": 0, "n_false": 0, "n_est": 1, "n_true": 1, "time_s": 0.1})
     per_run = pd.DataFrame({"tracker": "t", "run": [0, 1], "tgospa": [5.0, 7.0], "n_switches": [1.0, 0.0]})
-    s, _ = summary_table(per_scan, per_run)
+    s, _ = summary_table(per_scan, per_run, settled_after=1)
     r = s.iloc[0]
+    assert r.gospa_settled_mean == pytest.approx(3.5)  # step 2 only: 3 and 4
     assert r.gospa_mean == pytest.approx(2.5) and r.gospa_se == pytest.approx(0.5)  # run means 2 and 3
     assert r.rms_gospa == pytest.approx(np.sqrt((1 + 9 + 4 + 16) / 4))
     assert r.tgospa_mean == 6.0 and r.tgospa_se == pytest.approx(1.0)

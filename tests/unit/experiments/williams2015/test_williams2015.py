@@ -129,3 +129,30 @@ def test_truth_from_the_master_seed():
     _, c = truth_for(_cfg(), 4)
     np.testing.assert_array_equal(a, b)
     assert not np.allclose(np.nan_to_num(a), np.nan_to_num(c))
+
+
+def test_reference_comparison_scores_the_reference_like_the_trackers():
+    """A 'reference' whose estimates are the true positions scores 0 at every step; a tracker with every object
+    3 m off in x (no other pairing is cheaper: Σ|x_π(i) − x_i + s|² = Σ|x_π(i) − x_i|² + n s²) scores 3√n
+    (p = 2): 6 at the first two steps, 3√3 after the first object's death; compared on the same runs only
+    (run 5 of the tracker is left out)."""
+    from hypotrack.experiments.williams2015.compare import REFERENCE_NAME, reference_claims, reference_comparison
+
+    cfg = _cfg(n_steps=5)
+    _, X = truth_for(cfg, 11)
+    est = pd.DataFrame([(r, k + 1, *x[:2]) for r in (0, 1) for k in range(5) for x in truth_at(X, k)[0]],
+                       columns=["run", "scan", "x", "y"])
+    times = pd.DataFrame([(r, k, 0.5) for r in (0, 1) for k in range(1, 6)], columns=["run", "scan", "cpu_s"])
+    rows = []
+    for r in (0, 1, 5):
+        off = [truth_at(X, k)[0][:, :2] + [3.0, 0.0] for k in range(5)]
+        df = score_estimates(off, X, 10.0, 2.0).assign(tracker="t", run=r, time_s=0.01)
+        rows.append(df)
+    table, timing = reference_comparison({**cfg, "settled_after": 2}, 11, pd.concat(rows), est, times)
+    ref, t = table.set_index("tracker").loc[REFERENCE_NAME], table.set_index("tracker").loc["t"]
+    assert ref.gospa_mean == 0 and ref.n_runs == 2 and ref.runs == "0 1"
+    assert t.gospa_mean == pytest.approx((2 * 6 + 3 * 3 * np.sqrt(3)) / 5) and t.n_runs == 2
+    assert t.gospa_settled_mean == pytest.approx(3 * np.sqrt(3))
+    assert timing.set_index("tracker").time_per_scan_s.to_dict() == pytest.approx({REFERENCE_NAME: 0.5, "t": 0.01})
+    claim = reference_claims(table)[0]
+    assert claim.key == "GospaPmbmReference" and claim.status == "extension" and claim.evidence == "peer implementation"

@@ -35,3 +35,5 @@ def test_reference_follows_objects_on_clean_scans():
     bad = score_estimates(read_estimates(est, 1, 7), X, 10.0, 2.0)
     assert (good.gospa.iloc[2:] <= 3.0).all() and (good.n_est == good.n_true).iloc[2:].all()
     assert (bad.gospa.iloc[2:] >= 9.0).all()
+    # the Bernoulli tags link the estimates into one trajectory per object: four labels in all on clean scans
+    assert est[est.run == 0].label.nunique() == 4

@@ -7,7 +7,9 @@
 %                                    Tracker Component Library's k-best helpers (added to the path)
 %   scans_file     CSV "run,scan,x,y" (one row per return; scans without returns have none)
 %   runs_file      CSV "run" (the runs to filter, one per line)
-%   out_file       CSV written here: "run,scan,x,y" (one row per estimated object)
+%   out_file       CSV written here: "run,scan,label,x,y" (one row per estimated object; label: the Bernoulli
+%                  component's tag [t_ini; first association] of the reference's trajectory estimator
+%                  PoissonMBMtarget_estimate1_tracks.m, as t_ini * 1e6 + first association)
 %   time_file      CSV written here: "run,scan,cpu_s" (CPU time of the update, estimate, pruning, prediction)
 %   n_steps, side, clutter_rate, p_d, p_s, q, sigma_r, birth_weight, birth_mean, birth_cov, lambda0
 %   (scenario; birth_mean and birth_cov in the reference's [x, vx, y, vy] order)
@@ -29,7 +31,7 @@ if isempty(S)
   S = zeros(0, 4);
 end
 runs = dlmread(runs_file, ',', 1, 0);
-fo = fopen(out_file, 'w'); fprintf(fo, 'run,scan,x,y\n');
+fo = fopen(out_file, 'w'); fprintf(fo, 'run,scan,label,x,y\n');
 ft = fopen(time_file, 'w'); fprintf(ft, 'run,scan,cpu_s\n');
 for r = runs(:)'
   filter_pred.weightPois = lambda0;
@@ -44,12 +46,27 @@ for r = runs(:)'
     t0 = cputime;
     filter_upd = PoissonMBMtarget_update(filter_pred, z, H, R, p_d, k, gating_threshold, intensity_clutter, Nhyp_max);
     X_estimate = PoissonMBMtarget_estimate1(filter_upd, existence_estimation_threshold1);
+    % the tags of the same components, in the same order (estimate1's selection: the heaviest global
+    % hypothesis, existence above the threshold)
+    tags = [];
+    if ~isempty(filter_upd.globHyp)
+      [~, best] = max(filter_upd.globHypWeight);
+      for i = 1:columns(filter_upd.globHyp)
+        h = filter_upd.globHyp(best, i);
+        if h > 0 && filter_upd.tracks{i}.eB(h) > existence_estimation_threshold1
+          tags(end + 1) = filter_upd.tracks{i}.t_ini * 1e6 + filter_upd.tracks{i}.aHis{1}(1);
+        end
+      end
+    end
     filter_upd = PoissonMBMtarget_pruning(filter_upd, T_pruning, T_pruningPois, Nhyp_max, existence_threshold);
     filter_pred = PoissonMBMtarget_pred(filter_upd, F, Q, p_s, birth_weight, birth_mean(:), birth_cov);
     fprintf(ft, '%d,%d,%.6f\n', r, k, cputime - t0);
     X = reshape(X_estimate, 4, []);
+    if numel(tags) ~= columns(X)
+      error('williams2015 reference: %d tags for %d estimates at run %d, step %d', numel(tags), columns(X), r, k);
+    end
     for j = 1:columns(X)
-      fprintf(fo, '%d,%d,%.10g,%.10g\n', r, k, X(1, j), X(3, j));
+      fprintf(fo, '%d,%d,%d,%.10g,%.10g\n', r, k, tags(j), X(1, j), X(3, j));
     end
   end
   fflush(fo); fflush(ft);

@@ -23,7 +23,8 @@ write_table(curve, out.curves)
 write_table(trajectory_table(per_run), out.trajectory)
 plot_gospa(curve, out.fig_pdf, out.fig_png, float(cfg["gospa_c"]), per_scan.run.nunique())
 ref_est, ref_times = pd.read_csv(inp.ref_estimates), pd.read_csv(inp.ref_timing)
-comparison, comparison_timing = reference_comparison(cfg, snakemake.params.seed, per_scan, ref_est, ref_times)  # noqa: F821
+comparison, comparison_timing = reference_comparison(cfg, snakemake.params.seed, per_scan, ref_est, ref_times,  # noqa: F821
+                                                     per_run)
 write_table(comparison, out.comparison)
 write_table(comparison_timing, out.comparison_timing)
 write_claims(williams_claims(summary) + reference_claims(comparison), out.claims)

@@ -12,11 +12,11 @@ import numpy as np
 import pandas as pd
 
 from ...reporting.ledger import Claim
-from .reference import read_estimates
-from .run import score_estimates, truth_for
+from .reference import read_estimates, read_labels
+from .run import score_estimates, trajectory_row, truth_for
 from .summary import settled
 
-__all__ = ["REFERENCE_NAME", "reference_per_scan", "reference_comparison", "reference_claims"]
+__all__ = ["REFERENCE_NAME", "reference_per_scan", "reference_trajectories", "reference_comparison", "reference_claims"]
 
 REFERENCE_NAME = "pmbm_reference"
 _COLS = ["gospa", "gospa_loc", "gospa_missed", "gospa_false", "gospa_settled", "n_missed", "n_false"]
@@ -37,14 +37,33 @@ def reference_per_scan(cfg, seed: int, estimates: pd.DataFrame, times: pd.DataFr
     return pd.concat(parts, ignore_index=True)
 
 
-def reference_comparison(cfg, seed: int, per_scan: pd.DataFrame, estimates: pd.DataFrame, times: pd.DataFrame):
+def reference_trajectories(cfg, seed: int, estimates: pd.DataFrame) -> pd.DataFrame:
+    """Per run: the reference's trajectory GOSPA (its estimates linked by their Bernoulli tags, as its own
+    trajectory estimator links them), as :func:`.run.trajectory_row`."""
+    model, truth = truth_for(cfg, seed)
+    c, p, gamma = float(cfg["gospa_c"]), float(cfg["gospa_p"]), float(cfg["trajectory_gamma"])
+    rows = []
+    for r in sorted(estimates.run.unique()):
+        row = trajectory_row(read_labels(estimates, r, model.n_steps), read_estimates(estimates, r, model.n_steps),
+                             truth, c, p, gamma)
+        rows.append({"run": int(r), "tracker": REFERENCE_NAME, **row})
+    return pd.DataFrame(rows)
+
+
+def reference_comparison(cfg, seed: int, per_scan: pd.DataFrame, estimates: pd.DataFrame, times: pd.DataFrame,
+                         per_run: pd.DataFrame | None = None):
     """One row per tracker (the reference first) on the reference's runs: mean GOSPA and its squared parts
     over those runs and scans, and after step ``settled_after`` (the reference starts from its prior of
-    ``λ₀ = 3`` objects, the trackers from none), with the s.e. over runs. Returns ``(table, timing)`` (time per scan: the
+    ``λ₀ = 3`` objects, the trackers from none), with the s.e. over runs; with ``per_run`` (the trackers'
+    trajectory GOSPA) and the reference's labels, the mean trajectory GOSPA and switches too. Returns ``(table, timing)`` (time per scan: the
     reference's CPU time under Octave, the others' wall time of the step)."""
     ref = reference_per_scan(cfg, seed, estimates, times)
     runs = sorted(ref.run.unique())
     both = settled(pd.concat([ref, per_scan[per_scan.run.isin(runs)]], ignore_index=True), int(cfg["settled_after"]))
+    traj = None
+    if per_run is not None and "label" in estimates:
+        traj = pd.concat([reference_trajectories(cfg, seed, estimates[estimates.run.isin(runs)]),
+                          per_run[per_run.run.isin(runs)]], ignore_index=True)
     rows, timing = [], []
     for name, g in both.groupby("tracker", sort=False):
         by_run = g.groupby("run")[[*_COLS, "time_s"]].mean()
@@ -55,6 +74,10 @@ def reference_comparison(cfg, seed: int, per_scan: pd.DataFrame, estimates: pd.D
         for col in _COLS:
             row[f"{col}_mean"] = by_run[col].mean()
             row[f"{col}_se"] = by_run[col].std(ddof=1) / np.sqrt(n) if n > 1 else np.nan
+        if traj is not None:
+            t = traj[traj.tracker == name]
+            row.update({"tgospa_mean": t.tgospa.mean(), "tgospa_se": t.tgospa.std(ddof=1) / np.sqrt(len(t)) if len(t) > 1
+                        else np.nan, "n_switches_mean": t.n_switches.mean()})
         rows.append(row)
         timing.append({"tracker": name, "n_runs": n, "time_per_scan_s": by_run.time_s.mean(),
                        "clock": "CPU (Octave)" if name == REFERENCE_NAME else "wall (perf_counter)"})
@@ -67,6 +90,8 @@ def reference_claims(comparison: pd.DataFrame) -> list:
     ref = comparison[comparison.tracker == REFERENCE_NAME].iloc[0]
     others = "; ".join(f"{r.tracker} {r.gospa_mean:.2f} ({r.gospa_settled_mean:.2f})" for _, r in comparison.iterrows()
                        if r.tracker != REFERENCE_NAME)
+    if "tgospa_mean" in comparison:
+        others += "; trajectory GOSPA: " + "; ".join(f"{r.tracker} {r.tgospa_mean:.1f}" for _, r in comparison.iterrows())
     se = "" if not np.isfinite(ref.gospa_se) else f"{ref.gospa_se:.3g}"
     return [Claim("williams2015", "the PMBM paper's own filter (García-Fernández et al. 2018 code, GNU Octave): mean "
                   "GOSPA on the Williams-2015 scenario, on the same scans as this project's trackers",

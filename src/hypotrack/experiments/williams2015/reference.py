@@ -25,7 +25,7 @@ import numpy as np
 import pandas as pd
 
 __all__ = ["TCL_FILES", "octave_available", "reference_available", "export_scans", "prepare_reference",
-           "run_reference", "read_estimates", "scenario_prelude", "SCENARIO_KEYS", "scenario_signature",
+           "run_reference", "read_estimates", "read_labels", "scenario_prelude", "SCENARIO_KEYS", "scenario_signature",
            "reference_estimates"]
 
 #: The NRL Tracker Component Library files the reference's k-best assignment needs (paths in its checkout).
@@ -102,7 +102,8 @@ def scenario_prelude(model, lambda0: float) -> dict:
 
 def run_reference(scans_by_run: dict, model, driver, mtt_dir, tcl_dir, lambda0: float = 3.0, timeout: float = 3600.0):
     """Run the reference PMBM filter under Octave on ``{run: scans}``; returns ``(estimates, times)``:
-    ``run,scan,x,y`` per estimated object and ``run,scan,cpu_s`` per scan."""
+    ``run,scan,label,x,y`` per estimated object (``label``: its Bernoulli component's tag) and
+    ``run,scan,cpu_s`` per scan."""
     if not reference_available(mtt_dir, tcl_dir):
         raise RuntimeError("the reference needs GNU Octave and checkouts of Agarciafernandez/MTT (mtt_dir) and the "
                            f"NRL Tracker Component Library (tcl_dir); got mtt_dir={mtt_dir!r}, tcl_dir={tcl_dir!r}")
@@ -125,6 +126,12 @@ def read_estimates(estimates: pd.DataFrame, run: int, n_steps: int) -> list[np.n
     """The positions ``(n_k, 2)`` estimated at each step ``1 .. n_steps`` of one run."""
     e = estimates[estimates.run == run]
     return [e.loc[e.scan == k, ["x", "y"]].to_numpy(dtype=float) for k in range(1, n_steps + 1)]
+
+
+def read_labels(estimates: pd.DataFrame, run: int, n_steps: int) -> list[np.ndarray]:
+    """The labels ``(n_k,)`` of the estimates at each step (the reference's Bernoulli tags; column ``label``)."""
+    e = estimates[estimates.run == run]
+    return [e.loc[e.scan == k, "label"].to_numpy(dtype=np.int64) for k in range(1, n_steps + 1)]
 
 
 #: The config keys that decide the scans a run sees (with the master seed): a record is valid for them only.

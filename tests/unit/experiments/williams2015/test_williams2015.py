@@ -140,17 +140,21 @@ def test_reference_comparison_scores_the_reference_like_the_trackers():
 
     cfg = _cfg(n_steps=5)
     _, X = truth_for(cfg, 11)
-    est = pd.DataFrame([(r, k + 1, *x[:2]) for r in (0, 1) for k in range(5) for x in truth_at(X, k)[0]],
-                       columns=["run", "scan", "x", "y"])
+    est = pd.DataFrame([(r, k + 1, j, *x[:2]) for r in (0, 1) for k in range(5)
+                        for x, j in zip(*truth_at(X, k))], columns=["run", "scan", "label", "x", "y"])
     times = pd.DataFrame([(r, k, 0.5) for r in (0, 1) for k in range(1, 6)], columns=["run", "scan", "cpu_s"])
-    rows = []
+    rows, per_run = [], []
     for r in (0, 1, 5):
         off = [truth_at(X, k)[0][:, :2] + [3.0, 0.0] for k in range(5)]
         df = score_estimates(off, X, 10.0, 2.0).assign(tracker="t", run=r, time_s=0.01)
         rows.append(df)
-    table, timing = reference_comparison({**cfg, "settled_after": 2}, 11, pd.concat(rows), est, times)
+        per_run.append({"run": r, "tracker": "t", "tgospa": 7.0 + r, "n_switches": 1.0})
+    table, timing = reference_comparison({**cfg, "settled_after": 2}, 11, pd.concat(rows), est, times,
+                                         pd.DataFrame(per_run))
     ref, t = table.set_index("tracker").loc[REFERENCE_NAME], table.set_index("tracker").loc["t"]
     assert ref.gospa_mean == 0 and ref.n_runs == 2 and ref.runs == "0 1"
+    # the reference's tracks carry the truth's labels: trajectory GOSPA 0, no switch; the tracker's on runs 0 and 1
+    assert (ref.tgospa_mean, ref.n_switches_mean, t.tgospa_mean) == (0.0, 0.0, 7.5)
     assert t.gospa_mean == pytest.approx((2 * 6 + 3 * 3 * np.sqrt(3)) / 5) and t.n_runs == 2
     assert t.gospa_settled_mean == pytest.approx(3 * np.sqrt(3))
     assert timing.set_index("tracker").time_per_scan_s.to_dict() == pytest.approx({REFERENCE_NAME: 0.5, "t": 0.01})

@@ -166,7 +166,9 @@ def trajectories_from_estimates(estimates, components=None) -> tuple[np.ndarray,
     labels = [np.asarray(e.labels, dtype=np.int64).ravel() for e in steps]
     states = []
     for k, (e, lab) in enumerate(zip(steps, labels)):
-        x = np.asarray(e.x, dtype=float).reshape(len(lab), -1)
+        x = np.asarray(e.x, dtype=float)
+        # an empty step keeps its width ((0, d) cannot be reshaped with -1)
+        x = x.reshape(len(lab), -1) if x.size else x.reshape(len(lab), x.shape[-1] if x.ndim == 2 else 0)
         if len(np.unique(lab)) != len(lab):
             raise ValueError(f"estimates[{k}] holds a label twice: {lab.tolist()}")
         states.append(x if components is None else x[:, list(components)])

@@ -60,7 +60,7 @@ def test_every_section_rejects_an_unknown_key():
 
 
 @pytest.mark.parametrize("section, path", [("cardinality", ()), ("closely_spaced", ()), ("glmb_benchmark", ()),
-                                           ("swaps", ()), ("sht", ()), ("sht", ("sweep",))])
+                                           ("swaps", ()), ("sht", ()), ("sht", ("sweep",)), ("williams2015", ())])
 def test_more_shards_than_runs_is_refused_at_validation(section, path):
     """It passed validation and failed inside the job; every section with both fields is checked."""
     config = _merged("default.yaml")
@@ -86,7 +86,7 @@ def test_every_section_with_runs_and_shards_is_covered():
 
     walk(_merged("default.yaml", "quick.yaml"), ())
     assert sorted(found) == sorted([("cardinality",), ("closely_spaced",), ("glmb_benchmark",), ("swaps",),
-                                    ("sht",), ("sht", "sweep")])
+                                    ("sht",), ("sht", "sweep"), ("williams2015",)])
 
 
 def test_nested_config_strings_are_read_as_the_schema_types():

@@ -283,6 +283,10 @@ def test_trajectories_from_estimates_feed_the_metric():
         trajectories_from_estimates([TrackEstimates(0.0, np.array([1, 1]), np.zeros((2, 2)))])
     labels, X = trajectories_from_estimates([])
     assert labels.size == 0 and X.shape == (0, 0, 0)
+    # a scan with no estimate (a tracker's state array of shape (0, d)) leaves its step absent
+    gap = [run[0], TrackEstimates(1.0, np.zeros(0, np.int64), np.zeros((0, 4))), run[2]]
+    labels, X = trajectories_from_estimates(gap, components=[0, 1])
+    assert labels.tolist() == [1, 4] and np.isnan(X[:, 1]).all() and X[0, 2].tolist() == [2.0, 0.0]
 
 
 def test_cost_matrices_are_validated_and_match_the_base_metric():

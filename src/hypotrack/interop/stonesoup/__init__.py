@@ -48,7 +48,7 @@ from ._build import _build  # noqa: F401
 from ._common import ALGORITHMS, GLMB, HYPOTHESIS_FILTERS, SINGLE_HYPOTHESIS  # noqa: F401
 from ._models import DetectionFrame, _region, translate_models  # noqa: F401
 
-__all__ = ["ALGORITHMS", "HypotrackTracker", "translate_models"]  # noqa: F822 (module __getattr__)
+__all__ = ["ALGORITHMS", "HypotrackTracker", "TrajectoryGOSPAMetric", "translate_models"]  # noqa: F822 (module __getattr__)
 
 _CLASS = None
 
@@ -62,4 +62,8 @@ def __getattr__(name):
 
             _CLASS = tracker_class()
         return _CLASS
+    if name == "TrajectoryGOSPAMetric":  # trajectory GOSPA as a Stone Soup metric generator (.metric)
+        from .metric import metric_class
+
+        return metric_class()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -82,18 +82,38 @@ def plot_gospa(curve: pd.DataFrame, pdf, png, c: float, n_runs: int):
               ("rms_gospa_missed", "missed-object part (m)"), ("rms_gospa_false", "false-object part (m)")]
     styles = dict(zip(curve.tracker.unique(), ["-", "--", "-.", ":", (0, (5, 1)), (0, (1, 3)), (0, (3, 1, 1, 1))] * 3))
     for ax, (col, label) in zip(axes.flat, panels):
-        for name, g in curve.groupby("tracker", sort=False):
-            ax.plot(g.scan, g[col], label=name, lw=1.3, ls=styles[name])
+        lines = {name: ax.plot(g.scan, g[col], label=name, lw=1.3, ls=styles[name])[0]
+                 for name, g in curve.groupby("tracker", sort=False)}
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
+        ax.autoscale_view()
+        # trackers whose curves coincide in this panel (e.g. no false objects at all) are named above it
+        same = figure_style.coincident_lines(ax, list(lines.values()))
+        for a, b in same:
+            a.set_label(f"{a.get_label()} (coincides with {b.get_label().split(' (')[0]} here)")
+        if same:
+            ax.set_title(figure_style.wrap("same curve: " + "; ".join(" = ".join(g) for g in _groups(same)), fig,
+                                           7.0, 0.4), fontsize=7.0)
         ax.axvline((curve.scan.max() + 1) / 2, color="0.5", lw=0.8)
     for ax in axes[1]:
         ax.set_xlabel("time step (T = 1 s)")
-    figure_style.legend_below(fig, *axes.flat[0].get_legend_handles_labels(), ncol=4)
+    handles, _ = axes.flat[0].get_legend_handles_labels()
+    figure_style.legend_below(fig, handles, [h.get_label().split(" (")[0] for h in handles], ncol=4)
     fig.suptitle(figure_style.wrap(
         f"Williams-2015 scenario: GOSPA (c = {c:g} m, p = 2, α = 2) over time, {n_runs} Monte Carlo runs; "
         "parts add up in squares; grey line: the objects meet and one dies", fig))
     figure_style.save(fig, pdf, png, width=1.0)
+
+
+def _groups(pairs) -> list[list[str]]:
+    """The trackers of coinciding line pairs as groups of names (a = b and b = c: one group a = b = c)."""
+    group = {}
+    for a, b in pairs:
+        na, nb = (ln.get_label().split(" (")[0] for ln in (a, b))
+        merged = group.get(na, {na}) | group.get(nb, {nb})
+        for n in merged:
+            group[n] = merged
+    return sorted({tuple(sorted(g)) for g in group.values()})
 
 
 def camel(name: str) -> str:

@@ -2,7 +2,7 @@
 ledger rows and macros from the shards."""
 import pandas as pd
 
-from hypotrack.experiments.williams2015.compare import reference_comparison, reference_claims
+from hypotrack.experiments.williams2015.compare import comparison_macros, reference_comparison, reference_claims
 from hypotrack.experiments.williams2015.summary import (curves, plot_gospa, summary_table, trajectory_table,
                                                         williams_claims, williams_macros)
 from hypotrack.reporting.joblog import prefix_output
@@ -29,5 +29,7 @@ write_table(comparison, out.comparison)
 write_table(comparison_timing, out.comparison_timing)
 write_claims(williams_claims(summary) + reference_claims(comparison), out.claims)
 values, times = williams_macros(summary, timing)
+ref_values, ref_times = comparison_macros(comparison, comparison_timing)
+values, times = {**values, **ref_values}, {**times, **ref_times}
 write_macros("williams2015", values, out.macros)
 write_macros("williams2015", times, out.timing_macros)

@@ -436,6 +436,17 @@ def test_coraluppi_and_benchmark_figures(monkeypatch):
     gs.plot_benchmark(curve, "x.pdf", "x.png", {"glmb_gibbs": "δ-GLMB, Gibbs sampler (joint prediction-update)"})
     fig, _ = seen.pop()
     check(fig, "glmb_benchmark/ospa_cardinality")
+    from hypotrack.experiments.williams2015 import summary as ws
+
+    trackers = ["glmb", "glmb_murty", "homht_kbest", "rfisst", "pmbm_murty", "pmbm_gibbs", "pmb_lbp", "jpda", "gnn"]
+    rows = [dict(tracker=t, scan=k, **{c: v * (1 + 0.1 * i) + 0.01 * k for c, v in
+                                        (("rms_gospa", 3.0), ("rms_gospa_loc", 1.5), ("rms_gospa_missed", 2.0))},
+                 rms_gospa_false=0.0 if t.startswith("pmb") else 1.0 + 0.1 * i)  # the PMBM kinds coincide at 0
+            for i, t in enumerate(trackers) for k in range(1, 82)]
+    ws.plot_gospa(pd.DataFrame(rows), "x.pdf", "x.png", 10.0, 20)
+    fig, _ = seen.pop()
+    assert "same curve: pmb_lbp = pmbm_gibbs = pmbm_murty" in fig.axes[3].get_title().replace("\n", " ")
+    check(fig, "williams2015/gospa_over_time")
     timings = pd.DataFrame([dict(algorithm=a, clutter_rate=r, implementation=i, n_targets=n, median_ms=0.1 * n * f)
                             for a, rs in (("gnn", [10.0]), ("jpda", [1.0, 10.0, 50.0])) for r in rs
                             for i, f in (("hypotrack", 1.0), ("stonesoup", 30.0), (ps.BASELINE, 2.0))

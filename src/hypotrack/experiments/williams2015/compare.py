@@ -99,3 +99,25 @@ def reference_claims(comparison: pd.DataFrame) -> list:
                   "--", "extension", f"runs {ref.runs}; after the first steps: {ref.gospa_settled_mean:.2f}; the same runs "
                   f"(after the first steps): {others}", "peer implementation",
                   n=str(int(ref.n_runs)), mean=f"{ref.gospa_mean:.4g}", se=se, key="GospaPmbmReference")]
+
+
+def comparison_macros(comparison: pd.DataFrame, timing: pd.DataFrame) -> tuple[dict, dict]:
+    """The paper's numbers of the reference comparison: ``(values, times)``. ``values``: the number of runs
+    compared, and per implementation (the reference ``Reference``, every tracker by its CamelCase name) the mean
+    GOSPA on those runs, after the first steps, and its trajectory GOSPA; ``times``: the reference's CPU time
+    per scan and each tracker's time per scan on the same runs as a ratio to it (timing: not byte-reproducible)."""
+    def name(tracker):
+        return "Reference" if tracker == REFERENCE_NAME else "".join(p.capitalize() for p in tracker.split("_"))
+
+    values = {"RefNRuns": int(comparison.n_runs.iloc[0])}
+    for r in comparison.itertuples():
+        values[f"Ref{name(r.tracker)}Gospa"] = f"{r.gospa_mean:.2f}"
+        values[f"Ref{name(r.tracker)}GospaSettled"] = f"{r.gospa_settled_mean:.2f}"
+        if "tgospa_mean" in comparison:
+            values[f"Ref{name(r.tracker)}TrajGospa"] = f"{r.tgospa_mean:.1f}"
+    t = timing.set_index("tracker").time_per_scan_s
+    times = {"RefReferenceMsPerScan": f"{1e3 * t[REFERENCE_NAME]:.0f}"}
+    for tracker, secs in t.items():
+        if tracker != REFERENCE_NAME:
+            times[f"Ref{name(tracker)}SpeedUp"] = f"{t[REFERENCE_NAME] / secs:.0f}"
+    return values, times

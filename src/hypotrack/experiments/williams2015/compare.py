@@ -98,7 +98,9 @@ def reference_claims(comparison: pd.DataFrame) -> list:
                   "extension (García-Fernández et al. 2018 Sec. VI scenario and code)", "--", f"{ref.gospa_mean:.4g}",
                   "--", "extension", f"runs {ref.runs}; after the first steps: {ref.gospa_settled_mean:.2f}; the same runs "
                   f"(after the first steps): {others}", "peer implementation",
-                  n=str(int(ref.n_runs)), mean=f"{ref.gospa_mean:.4g}", se=se, key="GospaPmbmReference")]
+                  # one run has no standard error: the row then gives the value alone
+                  **({"n": str(int(ref.n_runs)), "mean": f"{ref.gospa_mean:.4g}", "se": se} if se else {}),
+                  key="GospaPmbmReference")]
 
 
 def comparison_macros(comparison: pd.DataFrame, timing: pd.DataFrame) -> tuple[dict, dict]:

@@ -18,13 +18,15 @@ rows are compared with.
 
 from __future__ import annotations
 
+import io
 from collections.abc import Callable, Mapping
 
 import pandas as pd
 
 from ..._validation import check_int
-from ...scenarios.ssa import SSAScenario, scenario_from_config
-from ..ssa import BLIND
+from ...scenarios.ssa import SSAScenario, params_from_config, prior_table, scenario_from_config
+from ...scenarios.tables import write_table
+from ..ssa import BLIND, scenario_from_tables
 from .run import CASES, SEED_COLUMNS, run_case, tracker_settings
 
 __all__ = ["CHAIN_COLUMNS", "chain_cases", "chain_scenario", "chain_stream", "run_chain_seed"]
@@ -48,11 +50,20 @@ def chain_cases(config: Mapping) -> dict:
 
 
 def chain_scenario(config: Mapping, case: str) -> SSAScenario:
-    """The report's realisation of ``case``: the one rule ``ssa_scenario`` writes (``ssa`` section and
-    master seed; ``ssa_seeds.n_scans`` does not apply: it would draw another realisation)."""
+    """The report's realisation of ``case`` as the report's trackers see it: drawn as rule ``ssa_scenario``
+    draws it (``ssa`` section and master seed; ``ssa_seeds.n_scans`` does not apply: it would draw another
+    realisation), then passed through the saved tables' number format and read back as the runs of rule
+    ``ssa50_run`` / ``ssa15_run`` read it (:func:`~hypotrack.experiments.ssa.scenario_from_files`), so the
+    returns are the same to the last bit."""
     if case not in CASES:
         raise ValueError(f"case must be one of {CASES}, got {case!r}")
-    return scenario_from_config(config, case)
+    drawn = scenario_from_config(config, case)
+    tables = []
+    for table in (drawn.truth, drawn.scans, prior_table(drawn)):
+        buffer = io.StringIO()
+        write_table(table, buffer)
+        tables.append(pd.read_csv(io.StringIO(buffer.getvalue())))
+    return scenario_from_tables(params_from_config(config["ssa"], case), *tables)
 
 
 def chain_stream(case: str, index: int, tracker: str) -> str:
@@ -63,8 +74,8 @@ def chain_stream(case: str, index: int, tracker: str) -> str:
 def run_chain_seed(config: Mapping, case: str, index: int, progress: Callable[[str], None] | None = print,
                    scenario: SSAScenario | None = None):
     """Chain seed ``index`` of ``case``: every configured tracker of the case on the report's realisation
-    (:func:`chain_scenario`, or ``scenario`` when given: the same tables read back), each from its
-    :func:`chain_stream`.
+    (:func:`chain_scenario`, or ``scenario`` when given: the pipeline passes rule ``ssa_scenario``'s tables
+    read back), each from its :func:`chain_stream`.
 
     Returns ``(rows, timing)`` like :func:`.run.run_seed` with ``chain_index`` for ``seed_index``: rows of
     the R-FISST trackers and the blind tracker only (:data:`CHAIN_COLUMNS`); timing of every tracker run.

@@ -124,9 +124,13 @@ def load_claims_file(path=None) -> dict:
             raise ValueError(f"{c['id']}: document must be one of {DOCUMENTS}, got {c['document']!r}")
         if c.get("tolerance", {}).get("source") not in TOLERANCE_SOURCES:
             raise ValueError(f"{c['id']}: tolerance source must be one of {TOLERANCE_SOURCES}")
+        joints = [e["joint"] for e in map(_entry, c["evidence"]) if e["joint"]]
         for e in map(_entry, c["evidence"]):
             if e["role"] not in ("", *ROLES):
                 raise ValueError(f"{c['id']}: role must be one of {ROLES}, got {e['role']!r}")
+            if e["joint"] and joints.count(e["joint"]) < 2:
+                raise ValueError(f"{c['id']}: joint {e['joint']!r} must name at least two evidence entries, "
+                                 f"names only {e['row']}")
     return spec
 
 

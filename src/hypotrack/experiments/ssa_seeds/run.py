@@ -19,7 +19,8 @@ the distribution over seeds (quantiles, min, max, mean and standard error).
 
 Seeds: realisation ``i`` of case ``c`` uses child ``i`` of ``experiment_seeds(seed, "ssa_seeds/c")``
 and tracker ``t`` on it the stream ``"ssa_seeds/c/i/t"``: a seed's result does not depend on how
-many seeds are run.
+many seeds are run. A scenario seed thus varies the sky and the chain together; :mod:`.chains` varies the
+chain alone, on the report's realisation (streams ``"ssa_seeds/c/chain/j/t"``).
 """
 
 from __future__ import annotations

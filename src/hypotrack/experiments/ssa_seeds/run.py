@@ -211,6 +211,7 @@ def distribution_table(per_seed: pd.DataFrame) -> pd.DataFrame:
                          "mean": float(x.mean()), "se": sd / np.sqrt(len(x)) if len(x) > 1 else np.nan, "sd": sd,
                          "min": float(x.min()), "q10": q[0], "q25": q[1], "median": q[2], "q75": q[3], "q90": q[4],
                          "max": float(x.max())})
-    return pd.DataFrame(rows)
+    return pd.DataFrame(rows, columns=["case", "tracker", "label", "metric", "n", "mean", "se", "sd", "min", "q10",
+                                       "q25", "median", "q75", "q90", "max"])  # (columns even when empty)
 
 

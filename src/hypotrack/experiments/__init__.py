@@ -9,7 +9,7 @@ Packages
 --------
 ssa               document 000 Sec. IV–V: R-FISST on the 50-object birth scenario (rules ssa, ssa50) and
                   R-FISST vs HOMHT on the 15-object scenario (ssa15).
-ssa_seeds         the ssa50 / ssa15 verdicts over scenario seeds.
+ssa_seeds         the ssa50 / ssa15 verdicts over scenario seeds and over chain seeds of the report's realisation.
 generation_time   document 000 Fig. 15 and the engine's throughput (generation_time, perf_hypotheses).
 samplers          the chain vs Gibbs vs Murty on identical association problems.
 belief_space      document 001's numeric claims against the engine and an independent density oracle.

@@ -25,6 +25,15 @@ Each evidence row's role (:func:`evidence_table`)
 
 Only independent rows carry a verdict; rows of the other roles never make a claim reproduced.
 
+Joint rows (the claims file's ``joint``)
+----------------------------------------
+Evidence entries of one claim sharing a ``joint`` name measure one verdict over different sources of
+randomness (e.g. an MCMC verdict over scenario seeds and over chain seeds on one scenario): the verdict
+holds only if it holds over each. A positive member therefore keeps its status only when every decided
+member is positive; it takes *not reproduced* when another member is not reproduced, and otherwise the
+first of *inconclusive*, *uninformative* among the others (an undecided source leaves the verdict
+undecided). Non-positive members keep their own status.
+
 The rule (:func:`claim_verdict`)
 --------------------------------
 Rows are grouped by the *reading* of the document they measure under (the claims file's ``reading``,
@@ -115,17 +124,32 @@ def load_claims_file(path=None) -> dict:
             raise ValueError(f"{c['id']}: document must be one of {DOCUMENTS}, got {c['document']!r}")
         if c.get("tolerance", {}).get("source") not in TOLERANCE_SOURCES:
             raise ValueError(f"{c['id']}: tolerance source must be one of {TOLERANCE_SOURCES}")
+        joints = [e["joint"] for e in map(_entry, c["evidence"]) if e["joint"]]
         for e in map(_entry, c["evidence"]):
             if e["role"] not in ("", *ROLES):
                 raise ValueError(f"{c['id']}: role must be one of {ROLES}, got {e['role']!r}")
+            if e["joint"] and joints.count(e["joint"]) < 2:
+                raise ValueError(f"{c['id']}: joint {e['joint']!r} must name at least two evidence entries, "
+                                 f"names only {e['row']}")
     return spec
 
 
 def _entry(e) -> dict:
-    """An evidence entry as a mapping: row, reading, role ('' = derived from the row)."""
+    """An evidence entry as a mapping: row, reading, role ('' = derived from the row), joint ('' = none)."""
     if isinstance(e, str):
         e = {"row": e}
-    return {"row": e["row"], "reading": e.get("reading", DEFAULT_READING), "role": e.get("role", "")}
+    return {"row": e["row"], "reading": e.get("reading", DEFAULT_READING), "role": e.get("role", ""),
+            "joint": e.get("joint", "")}
+
+
+def _joint_statuses(statuses: list[str], roles: list[str]) -> list[str]:
+    """The statuses of one ``joint`` group of a claim's rows (module docstring, "Joint rows")."""
+    decided = [s for s, r in zip(statuses, roles) if r == "independent" and s in VERDICT_ROW_STATUSES]
+    positive = ("reproduced", "qualitative")
+    if all(s in positive for s in decided):
+        return statuses
+    worst = next(s for s in ("not reproduced", "inconclusive", "uninformative") if s in decided)
+    return [worst if (r == "independent" and s in positive) else s for s, r in zip(statuses, roles)]
 
 
 def placement_problems(ledger: pd.DataFrame, spec: dict | None = None, timing: pd.DataFrame | None = None) -> list[str]:
@@ -244,13 +268,20 @@ def evidence_table(ledger: pd.DataFrame, spec: dict | None = None, timing: pd.Da
     notes = {e["row"]: e for e in spec.get("note_monte_carlo", [])}
     out = []
     for c in spec["claims"]:
+        joints = {}
         for e in map(_entry, c["evidence"]):
             r = rows.get(e["row"])
             if r is None:
                 continue
             role = _role(e, r)
             status = _row_status(role, r, notes.get(e["row"]), (factors or {}).get(c["id"], 1.0))
+            if e["joint"]:
+                joints.setdefault(e["joint"], []).append(len(out))
             out.append((c["id"], c["document"], e["row"], e["reading"], role, r["status"], status))
+        for members in joints.values():
+            statuses = _joint_statuses([out[i][6] for i in members], [out[i][4] for i in members])
+            for i, status in zip(members, statuses):
+                out[i] = (*out[i][:6], status)
     return pd.DataFrame(out, columns=["claim", "document", "row", "reading", "role", "ledger_status", "status"])
 
 

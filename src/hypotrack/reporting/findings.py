@@ -7,6 +7,8 @@ experiments already wrote and become macros like any other (``\htFindings...``):
 * :func:`seed_spread_macros`: over the scenario seeds of ``ssa_seeds/per_seed.csv``, the least and
   the largest probability the larger SSA run ends with the true number of objects, per R-FISST
   variant (document 000's Fig. 11 claims 1 at the end);
+* :func:`chain_spread_macros`: the same range over the chain seeds of ``ssa_seeds/per_chain.csv`` (the
+  report's realisation, a new MCMC stream per chain seed): how far the chain's own randomness alone moves it;
 * :func:`cause_count_macros`: how many failing ledger rows (not reproduced, inconclusive,
   uninformative) each cause of :data:`~.claims.CAUSES` explains, as text with its noun
   (:func:`rows_text`), so the discussion by cause quotes its counts from the ledger.
@@ -39,7 +41,8 @@ from .claims import CAUSES, format_value
 from .macros import macro_name
 
 __all__ = ["EFFECT_SMALL_PERCENT", "EFFECT_Z", "cause_count_macros", "effect_macros", "effect_words", "brute_jpda_macros",
-           "findings_macros", "interop_macros", "paired_difference_macros", "percent_text", "rows_text", "seed_spread_macros"]
+           "chain_spread_macros", "findings_macros", "interop_macros", "paired_difference_macros", "percent_text", "rows_text",
+           "seed_spread_macros"]
 
 #: A paired difference is real when it lies at least this many of its standard errors from zero ...
 EFFECT_Z = 3.0
@@ -63,6 +66,22 @@ def seed_spread_macros(per_seed: pd.DataFrame, case: str = "ssa50") -> dict:
             raise ValueError(f"per_seed table has no {tracker!r} rows for case {case!r}")
         values[macro_name("findings", "seeds", word, "p end min")] = format_value(float(p.min()), 2)
         values[macro_name("findings", "seeds", word, "p end max")] = format_value(float(p.max()), 2)
+    return values
+
+
+def chain_spread_macros(per_chain: pd.DataFrame, case: str = "ssa50") -> dict:
+    """``\\htFindingsChainSeeds<Tracker>PEnd{Min,Max}`` and ``\\htFindingsChainSeedsN``: the range over chain
+    seeds (one realisation, the report's; a new MCMC stream each) of ``p_n_end`` for ``case``."""
+    rows = per_chain[per_chain["case"] == case]
+    if rows.empty:
+        raise ValueError(f"per_chain table has no rows for case {case!r}")
+    values = {"htFindingsChainSeedsN": str(rows["chain_index"].nunique())}
+    for word, tracker in SEED_TRACKERS.items():
+        p = pd.to_numeric(rows.loc[rows["tracker"] == tracker, "p_n_end"], errors="raise")
+        if p.empty:
+            raise ValueError(f"per_chain table has no {tracker!r} rows for case {case!r}")
+        values[macro_name("findings", "chain seeds", word, "p end min")] = format_value(float(p.min()), 2)
+        values[macro_name("findings", "chain seeds", word, "p end max")] = format_value(float(p.max()), 2)
     return values
 
 
@@ -159,6 +178,11 @@ def findings_macros(results_dir, ledger: pd.DataFrame) -> dict:
     per_seed = Path(results_dir) / "ssa_seeds" / "per_seed.csv"
     if per_seed.exists():
         values.update(seed_spread_macros(pd.read_csv(per_seed)))
+    per_chain = Path(results_dir) / "ssa_seeds" / "per_chain.csv"
+    if per_chain.exists() and per_chain.stat().st_size:  # a run without chain seeds writes an empty table
+        chains = pd.read_csv(per_chain)
+        if (chains["case"] == "ssa50").any():
+            values.update(chain_spread_macros(chains))
     interop = Path(results_dir) / "perf" / "stonesoup_adapter_timing.csv"
     if interop.exists():
         values.update(interop_macros(pd.read_csv(interop)))

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pandas as pd
 import pytest
+import yaml
 
 from hypotrack.reporting.claim_sensitivity import FACTORS, sensitivity_summary, tolerance_sensitivity, write_sensitivity
 from hypotrack.reporting.claim_tables import (claim_count_macros, claims_summary_tex, headline_text,
@@ -249,3 +250,33 @@ def test_a_table_reproduces_only_under_one_reading_of_all_its_entries():
     failing = {("mht", "all"): "not reproduced", ("mht", "late"): "reproduced",
                ("ecmht", "all"): "reproduced", ("ecmht", "late"): "reproduced"}
     assert verdicts(failing) == ("reproduced", "reproduced")  # the late window reproduces the table
+
+
+def test_joint_rows_decide_together_a_verdict_over_two_sources_of_randomness(tmp_path):
+    def joint(*rows):
+        return [{"row": f"x/{r}", "joint": "j"} for r in rows]
+
+    # reproduced over one source, not over the other: the claim is not reproduced (not merely contested)
+    rows = [_row("seeds", "reproduced"), _row("chains", "not reproduced")]
+    assert _verdict(rows, joint("seeds", "chains")) == "not reproduced"
+    assert _verdict(rows, ["x/seeds", "x/chains"]) == "contested"
+    # an undecided source leaves the claim undecided: the positive member takes its status
+    rows = [_row("seeds", "reproduced"), _row("chains", "inconclusive")]
+    assert _verdict(rows, joint("seeds", "chains")) == "inconclusive"
+    assert _verdict(rows, ["x/seeds", "x/chains"]) == "reproduced"
+    ev = evidence_table(pd.DataFrame(rows, columns=CLAIM_COLUMNS), _spec(("c", joint("seeds", "chains"))))
+    assert ev[["row", "ledger_status", "status"]].values.tolist() == [["x/seeds", "reproduced", "inconclusive"],
+                                                                      ["x/chains", "inconclusive", "inconclusive"]]
+    # positive over both: reproduced; a row outside the joint keeps its own say
+    rows = [_row("seeds", "reproduced"), _row("chains", "reproduced"), _row("other", "reproduced")]
+    assert _verdict(rows, joint("seeds", "chains")) == "reproduced"
+    rows = [_row("seeds", "reproduced"), _row("chains", "not reproduced"), _row("other", "reproduced")]
+    assert _verdict(rows, [*joint("seeds", "chains"), {"row": "x/other", "reading": "other"}]) == "reproduced in part"
+    # an illustration in the group decides nothing
+    rows = [_row("seeds", "reproduced"), _row("single", "illustration")]
+    assert _verdict(rows, joint("seeds", "single")) == "reproduced"
+    # a joint naming one entry is a mistake of the claims file
+    path = tmp_path / "claims.yaml"
+    path.write_text(yaml.safe_dump(_spec(("c", joint("seeds")))))
+    with pytest.raises(ValueError, match="c: joint 'j' must name at least two evidence entries"):
+        load_claims_file(path)

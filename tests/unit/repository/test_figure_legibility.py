@@ -584,3 +584,24 @@ def test_ssa50_sensitivity_figure():
                                status=("reproduced" if lam == 0 else "inconclusive"))
                           for p in (0.9, 0.95, 0.99) for lam in (0.0, 0.5, 1.0, 2.0)])
     check(sv.plot_sensitivity(table, tolerance=0.05), "ssa50/sensitivity/p_end_grid")
+
+
+def test_seed_distributions_figure_with_chain_seed_rows_is_legible():
+    from hypotrack.experiments.ssa_seeds.figures import CHAIN_COLOR, plot_distributions
+    from hypotrack.experiments.ssa_seeds.run import METRICS
+
+    rows, chains = [], []
+    for case, trackers, births in (("ssa50", ["rfisst_chain", "rfisst"], 5),
+                                   ("ssa15", ["homht", "rfisst_chain", "rfisst", "rfisst_fixed", "homht_births"], 0)):
+        for t in trackers:
+            for s in range(10):
+                row = dict(case=case, tracker=t, label=f"{t} label", births=births,
+                           **{m: (0.0 if births == 0 and "birth" in m else 0.5 + 0.01 * s) for m in METRICS})
+                rows.append({**row, "seed_index": s})
+                if case == "ssa50" and s < 3:
+                    chains.append({**row, "chain_index": s})
+    fig = plot_distributions(pd.DataFrame(rows), title="SSA verdicts over seeds (document 000 Sec. IV-A, V-A)",
+                             per_chain=pd.DataFrame(chains))
+    ticks = [t for t in fig.axes[0].get_yticklabels() if t.get_color() == CHAIN_COLOR]
+    assert [t.get_text() for t in ticks] == ["ssa50: rfisst_chain label, chain seeds", "ssa50: rfisst label, chain seeds"]
+    check(fig, "ssa_seeds/distributions")

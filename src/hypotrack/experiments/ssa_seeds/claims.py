@@ -13,7 +13,11 @@ from ...reporting.verdict import with_control
 from ..ssa import BLIND, BLIND_LABEL
 from ..ssa.claims import OVER_SEEDS, seed_claim_id
 
-__all__ = ["ssa_seeds_claims"]
+__all__ = ["CHAIN_SUFFIX", "chain_seed_claims", "ssa_seeds_claims"]
+
+#: The key suffix of a row over chain seeds: ``<case>_<tracker>_<test>Chains`` beside the scenario-seed row
+#: ``<case>_<tracker>_<test>`` it is judged jointly with (``joint`` in the claims file).
+CHAIN_SUFFIX = "Chains"
 
 
 def _tests(case: str, g: pd.DataFrame, ref_label: str, births_label: str = ""):
@@ -36,13 +40,13 @@ def _tests(case: str, g: pd.DataFrame, ref_label: str, births_label: str = ""):
     return tests
 
 
-def _mc_control(g: pd.DataFrame, col: str, published: float, tol: float) -> tuple[str, bool]:
+def _mc_control(g: pd.DataFrame, col: str, published: float, tol: float, over: str = "seeds") -> tuple[str, bool]:
     """The blind tracker's value of a Monte Carlo test and whether it passes the same rule."""
     x = g[col].to_numpy(dtype=float)
     if len(x) < 2 or not np.isfinite(x).all():
         return "; ".join(f"{v:.4g}" for v in x), False
     c = monte_carlo_claim("control", "control", "control", float(published), x, abs_tol=tol, digits=4)
-    return f"mean {float(c.mean):.4g} over {len(x)} seeds ({c.status})", c.status == "reproduced"
+    return f"mean {float(c.mean):.4g} over {len(x)} {over} ({c.status})", c.status == "reproduced"
 
 
 def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
@@ -56,7 +60,25 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
     are the negative control: each test is run on them too and fills the row's ``control`` column
     (a passing row whose control also passes is *uninformative*).
     """
+    return _claims(per_seed, "scenario seeds", "")
+
+
+def chain_seed_claims(per_chain: pd.DataFrame) -> list:
+    """The R-FISST verdicts of :func:`ssa_seeds_claims` over chain seeds (the table of
+    :func:`.chains.run_chain_seed`: one realisation, the report's, and one MCMC stream per chain seed),
+    with the same published values, tolerances and Monte Carlo rule; keys end in :data:`CHAIN_SUFFIX`
+    and each row decides the same claim as its scenario-seed row (the claims file judges the two
+    jointly: a verdict must hold over both sources of randomness)."""
+    return _claims(per_chain.rename(columns={"chain_index": "seed_index"}), "chain seeds of the report's realisation",
+                   CHAIN_SUFFIX)
+
+
+def _claims(per_seed: pd.DataFrame, over: str, suffix: str) -> list:
+    """The rows of :func:`ssa_seeds_claims` over ``over`` (seeds in ``seed_index``), keys ending in ``suffix``."""
     ex, claims = "ssa_seeds", []
+    unit = over.split()[0]  # "scenario" / "chain": the kind of seed the notes count
+    # the scenario-seed rows keep their words ("seeds"); the chain-seed rows name their kind of seed
+    seeds, where = (f"{unit} seeds", f" (over {unit} seeds)") if suffix else ("seeds", "")
     if "births_reference" not in per_seed:  # a table without the pair with births and deaths
         per_seed = per_seed.assign(births_reference="", map_agreement_births=np.nan)
     # "" reads back as NaN
@@ -69,25 +91,25 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
             continue
         label, n, ref, bref = g["label"].iloc[0], len(g), g["reference"].iloc[0], g["births_reference"].iloc[0]
         ctl = blind.get(case)
-        key = f"{case}_{tracker}_"
+        key, ctl_over = f"{case}_{tracker}_", seeds
         for col, item, source, published, tol, k in _tests(case, g, names[(case, ref)] if ref else "",
                                                            names[(case, bref)] if bref else ""):
             x = g[col].to_numpy(dtype=float)
             if n >= 2 and np.isfinite(x).all():
-                c = monte_carlo_claim(ex, f"{case}, {label}: {item}", source, float(published), x,
-                                      abs_tol=tol, digits=4, key=key + k,
+                c = monte_carlo_claim(ex, f"{case}, {label}: {item}{where}", source, float(published), x,
+                                      abs_tol=tol, digits=4, key=key + k + suffix,
                                       claim=_claim_id(case, tracker, k, names.get((case, bref), "")),
-                                      note=f"over {n} scenario seeds; min {x.min():.4g}, median "
+                                      note=f"over {n} {over}; min {x.min():.4g}, median "
                                            f"{np.median(x):.4g}, max {x.max():.4g}")
             else:
-                c = Claim(ex, f"{case}, {label}: {item}", source, f"{published:.4g}",
+                c = Claim(ex, f"{case}, {label}: {item}{where}", source, f"{published:.4g}",
                           "; ".join(f"{v:.4g}" for v in x), f"+/- {tol:g}", "inconclusive",
-                          f"{n} seed(s): too few for a Monte Carlo verdict", "measurement", key=key + k)
+                          f"{n} {seeds[:-1]}(s): too few for a Monte Carlo verdict", "measurement", key=key + k + suffix)
             if k == "AgreementBirths":
                 c = replace(c, note=f"{c.note}; {names[(case, bref)]}: Reid's factors for the objects and document "
                                     "000 Eq. 30's probabilities for births and deaths (this project's construction)")
             if ctl is not None:
-                c = with_control(c, BLIND_LABEL, *_mc_control(ctl, col, published, tol))
+                c = with_control(c, BLIND_LABEL, *_mc_control(ctl, col, published, tol, ctl_over))
             if k == "Agreement" and bref:
                 # births and deaths against the fixed-number HOMHT: unlike models, so not document 000's
                 # comparison (the like-for-like pairs are the fixed-number R-FISST's row and AgreementBirths)
@@ -101,12 +123,12 @@ def ssa_seeds_claims(per_seed: pd.DataFrame) -> list:
             claims.append(c)
         if g["births"].sum():
             tracked, total = int(g["births_tracked_end"].sum()), int(g["births"].sum())
-            c = Claim(ex, f"{case}, {label}: every birth tracked at the end", "000 Sec. IV-A",
-                      "all", f"{tracked} of {total} births over {n} seeds", "all",
+            c = Claim(ex, f"{case}, {label}: every birth tracked at the end{where}", "000 Sec. IV-A",
+                      "all", f"{tracked} of {total} births over {n} {seeds}", "all",
                       "reproduced" if tracked == total else "not reproduced",
                       f"latency (scans from first in view to a correct MAP track): median "
                       f"{np.nanmedian(g['birth_latency_mean']):.3g}, worst {np.nanmax(g['birth_latency_max']):.3g}",
-                      "published number", key=key + "Births", claim=_claim_id(case, tracker, "Births"))
+                      "published number", key=key + "Births" + suffix, claim=_claim_id(case, tracker, "Births"))
             if ctl is not None:
                 b_tracked, b_total = int(ctl["births_tracked_end"].sum()), int(ctl["births"].sum())
                 c = with_control(c, BLIND_LABEL, f"{b_tracked} of {b_total} births", b_tracked == b_total)

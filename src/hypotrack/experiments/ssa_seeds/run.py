@@ -19,7 +19,8 @@ the distribution over seeds (quantiles, min, max, mean and standard error).
 
 Seeds: realisation ``i`` of case ``c`` uses child ``i`` of ``experiment_seeds(seed, "ssa_seeds/c")``
 and tracker ``t`` on it the stream ``"ssa_seeds/c/i/t"``: a seed's result does not depend on how
-many seeds are run.
+many seeds are run. A scenario seed thus varies the sky and the chain together; :mod:`.chains` varies the
+chain alone, on the report's realisation (streams ``"ssa_seeds/c/chain/j/t"``).
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ from ..stepping import Clocks
 from ..ssa import (BLIND, BLIND_LABEL, OSPASettings, TrackerSettings, birth_recognition, blind_run, evaluate_map,
                    make_tracker, map_agreement, run_tracker)
 
-__all__ = ["CASES", "METRICS", "SEED_COLUMNS", "distribution_table", "run_seed", "seed_scenario",
+__all__ = ["CASES", "METRICS", "SEED_COLUMNS", "distribution_table", "run_case", "run_seed", "seed_scenario",
            "tracker_settings"]
 
 CASES = ("ssa50", "ssa15")
@@ -157,27 +158,39 @@ def run_seed(config: Mapping, index: int, progress: Callable[[str], None] | None
     """
     rows, timing = [], []
     for case in config["ssa_seeds"]["trackers"]:
-        scenario = seed_scenario(config, case, index)
-        settings = tracker_settings(config, case)
-        ref = _reference(config, case, settings)
-        bref = _births_reference(config, case, settings)
-        runs = {}
-        for name in [ref, *[n for n in settings if n != ref]]:  # the reference first: the others compare
-            s = settings[name]
-            rng = np.random.default_rng(experiment_seeds(config["seed"], f"ssa_seeds/{case}/{index}/{name}", 1)[0])
-            with Clocks() as clocks:
-                runs[name] = run_tracker(make_tracker(scenario, s, rng), scenario, name=f"ssa_seeds seed {index} "
-                                         f"{case} {s.label}", progress=progress, n_progress=4)
-            timing.append({"case": case, "seed_index": index, "tracker": name,
-                           "seconds": clocks.wall, "cpu_seconds": clocks.cpu})
-        runs[BLIND] = blind_run(scenario)  # the negative control of every check (no measurement ever used)
-        labels = {**{name: s.label for name, s in settings.items()}, BLIND: BLIND_LABEL}
-        for name, label in labels.items():
-            ref_map = runs[ref].map_estimates if name not in (ref, bref) else None
-            births = bref is not None and name != bref and (name == BLIND or settings[name].population)
-            rows.append(_row(case, index, name, label, scenario, runs[name], config[case], ref_map, ref,
-                             runs[bref].map_estimates if births else None, bref or ""))
+        r, t = run_case(config, case, seed_scenario(config, case, index), index,
+                        lambda name, case=case: f"ssa_seeds/{case}/{index}/{name}", f"seed {index}", progress)
+        rows += r
+        timing += t
     return pd.DataFrame(rows, columns=SEED_COLUMNS), pd.DataFrame(timing)
+
+
+def run_case(config: Mapping, case: str, scenario: SSAScenario, index: int, stream: Callable[[str], str],
+             what: str, progress: Callable[[str], None] | None = print) -> tuple[list, list]:
+    """Every configured tracker of ``case`` and the blind tracker on ``scenario``: the rows and timing
+    records of :func:`run_seed` (``seed_index`` = ``index``); tracker ``name`` draws from the stream
+    ``experiment_seeds(seed, stream(name), 1)[0]``, so the caller says which randomness varies."""
+    rows, timing = [], []
+    settings = tracker_settings(config, case)
+    ref = _reference(config, case, settings)
+    bref = _births_reference(config, case, settings)
+    runs = {}
+    for name in [ref, *[n for n in settings if n != ref]]:  # the reference first: the others compare
+        s = settings[name]
+        rng = np.random.default_rng(experiment_seeds(config["seed"], stream(name), 1)[0])
+        with Clocks() as clocks:
+            runs[name] = run_tracker(make_tracker(scenario, s, rng), scenario, name=f"ssa_seeds {what} "
+                                     f"{case} {s.label}", progress=progress, n_progress=4)
+        timing.append({"case": case, "seed_index": index, "tracker": name,
+                       "seconds": clocks.wall, "cpu_seconds": clocks.cpu})
+    runs[BLIND] = blind_run(scenario)  # the negative control of every check (no measurement ever used)
+    labels = {**{name: s.label for name, s in settings.items()}, BLIND: BLIND_LABEL}
+    for name, label in labels.items():
+        ref_map = runs[ref].map_estimates if name not in (ref, bref) else None
+        births = bref is not None and name != bref and (name == BLIND or settings[name].population)
+        rows.append(_row(case, index, name, label, scenario, runs[name], config[case], ref_map, ref,
+                         runs[bref].map_estimates if births else None, bref or ""))
+    return rows, timing
 
 
 def distribution_table(per_seed: pd.DataFrame) -> pd.DataFrame:
@@ -198,6 +211,7 @@ def distribution_table(per_seed: pd.DataFrame) -> pd.DataFrame:
                          "mean": float(x.mean()), "se": sd / np.sqrt(len(x)) if len(x) > 1 else np.nan, "sd": sd,
                          "min": float(x.min()), "q10": q[0], "q25": q[1], "median": q[2], "q75": q[3], "q90": q[4],
                          "max": float(x.max())})
-    return pd.DataFrame(rows)
+    return pd.DataFrame(rows, columns=["case", "tracker", "label", "metric", "n", "mean", "se", "sd", "min", "q10",
+                                       "q25", "median", "q75", "q90", "max"])  # (columns even when empty)
 
 

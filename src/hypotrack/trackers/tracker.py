@@ -233,7 +233,7 @@ class SingleHypothesisTracker:
         except BaseException:
             self._times.pop()
             raise
-        x, P, detected, gated, association, unused = out[0], out[1], out[2], out[3], out[5], out[4]
+        x, P, detected, gated, association = out[0], out[1], out[2], out[3], out[5]
 
         misses = self.misses[rows] + 1 if rows is not None else self.misses + 1
         misses[detected] = 0

@@ -7,8 +7,10 @@ shifted by seeded offsets uniform in [0, 2π) — the same mean motion (semi-maj
 inclination, argument of perigee, drag term and epoch, hence the same SGP4 theory (Hoots & Roehrich
 1980, Spacetrack Report #3: the secular rates of M, Ω and ω depend on n, e, i alone), only elsewhere
 on the orbit and the orbit turned about the Earth's axis. Row ``k`` of a population of size ``N`` is
-copy ``k // N₀`` of catalogue object ``k mod N₀`` (``N₀`` the catalogue size), so a population is a
-prefix of every larger one.
+copy ``k // N₀`` of catalogue object ``π(k mod N₀)`` (``N₀`` the catalogue size, ``π`` a permutation drawn
+from ``default_rng([seed])``), so a population is a prefix of every larger one and every population —
+a part of a copy included — is the same mix of the catalogue's groups, up to sampling (a seeded simple
+random sample of the catalogue for ``N < N₀``).
 
 Offsets: copy ``c``'s are drawn from ``numpy.random.default_rng([seed, c])`` (ΔM for every catalogue
 object, then ΔΩ), so they depend on the seed and the copy only — not on the population size nor on
@@ -68,7 +70,7 @@ def clone_population(cat: pd.DataFrame, n: int, seed: int) -> pd.DataFrame:
     if n0 == 0:
         raise ValueError("cat must hold at least one object to clone")
     k = np.arange(n)
-    parent, copy = k % n0, k // n0
+    parent, copy = np.random.default_rng([int(seed)]).permutation(n0)[k % n0], k // n0
     dM, dO = np.zeros(n), np.zeros(n)
     for c in np.unique(copy):
         rows = np.flatnonzero(copy == c)
@@ -77,6 +79,7 @@ def clone_population(cat: pd.DataFrame, n: int, seed: int) -> pd.DataFrame:
     out = cat.iloc[parent].reset_index(drop=True)
     clone = copy > 0
     out["norad"] = np.where(clone, CLONE_ID_BASE * copy + parent, out["norad"].to_numpy(np.int64))
+    # a clone keeps its parent's element epoch, drag and shape; only the two angles below move
     out["raan_deg"] = np.mod(out["raan_deg"].to_numpy(float) + np.rad2deg(dO), 360.0)
     out["mean_anomaly_deg"] = np.mod(out["mean_anomaly_deg"].to_numpy(float) + np.rad2deg(dM), 360.0)
     for col in ("line1", "line2"):

@@ -27,9 +27,12 @@ def cat():
 def test_clones_keep_their_parents_shape_and_shift_only_m_and_raan(cat):
     pop = clone_population(cat, 130, seed=3)  # copy 0, two full copies and 10 objects of a third
     assert len(pop) == 130 and pop["copy"].tolist() == [0] * 40 + [1] * 40 + [2] * 40 + [3] * 10
-    np.testing.assert_array_equal(pop["parent"], np.arange(130) % 40)
+    perm = pop["parent"].to_numpy()[:40]
+    assert sorted(perm) == list(range(40)) and perm.tolist() != list(range(40))  # a seeded order of the catalogue
+    np.testing.assert_array_equal(pop["parent"], np.tile(perm, 4)[:130])
     assert pop["norad"].is_unique and (pop["norad"][40:] >= CLONE_ID_BASE).all()
-    pd.testing.assert_frame_equal(pop.iloc[:40][list(cat.columns)], cat)  # copy 0 is the catalogue
+    pd.testing.assert_frame_equal(pop.iloc[:40][list(cat.columns)],
+                                  cat.iloc[perm].reset_index(drop=True))  # copy 0 is the catalogue
     sats = clone_satrecs(pop, cat)
     par = [Satrec.twoline2rv(a, b) for a, b in zip(cat["line1"], cat["line2"])]
     recs = [Satrec.twoline2rv(a, b) if a else None for a, b in zip(pop["line1"], pop["line2"])]
@@ -38,7 +41,7 @@ def test_clones_keep_their_parents_shape_and_shift_only_m_and_raan(cat):
     e, r, v = sats.sgp4(np.array([par[0].jdsatepoch]), np.array([par[0].jdsatepochF]))
     assert r.shape == (130, 1, 3)
     for k in (41, 95, 125):
-        p = par[k % 40]
+        p = par[pop.at[k, 'parent']]
         one = Satrec()
         dM, dO = pop.at[k, "d_mean_anomaly_rad"], pop.at[k, "d_raan_rad"]
         one.sgp4init(WGS72, "i", p.satnum, p.jdsatepoch - 2433281.5 + p.jdsatepochF, p.bstar, p.ndot, p.nddot,
@@ -49,11 +52,11 @@ def test_clones_keep_their_parents_shape_and_shift_only_m_and_raan(cat):
         _, r1, _ = one.sgp4(par[0].jdsatepoch, par[0].jdsatepochF)
         np.testing.assert_array_equal(r[k, 0], r1)
         # same semi-major axis in the table, and the orbit radius within the parent's perigee..apogee band
-        assert pop.at[k, "semi_major_axis_km"] == cat.at[k % 40, "semi_major_axis_km"]
-        assert pop.at[k, "inclination_deg"] == cat.at[k % 40, "inclination_deg"]
-        assert pop.at[k, "eccentricity"] == cat.at[k % 40, "eccentricity"]
+        assert pop.at[k, "semi_major_axis_km"] == cat.at[pop.at[k, 'parent'], "semi_major_axis_km"]
+        assert pop.at[k, "inclination_deg"] == cat.at[pop.at[k, 'parent'], "inclination_deg"]
+        assert pop.at[k, "eccentricity"] == cat.at[pop.at[k, 'parent'], "eccentricity"]
         rad = np.linalg.norm(r[k, 0])
-        lo, hi = (cat.at[k % 40, c] + 6378.135 for c in ("perigee_alt_km", "apogee_alt_km"))
+        lo, hi = (cat.at[pop.at[k, 'parent'], c] + 6378.135 for c in ("perigee_alt_km", "apogee_alt_km"))
         assert lo - 30 < rad < hi + 30
 
 
@@ -79,8 +82,9 @@ def test_chunks_concatenate_to_the_unchunked_truth(cat):
 
 
 def test_copy_zero_simulates_to_simulate_catalogue(cat):
-    a = simulate_catalogue(cat, DEFAULT_RADAR, n_scans=30, seed=11)
     b = simulate_clones(cat, len(cat), DEFAULT_RADAR, n_scans=30, seed=11, clone_seed=3, chunk=13)
+    a = simulate_catalogue(cat.iloc[b.catalogue["parent"]].reset_index(drop=True), DEFAULT_RADAR, n_scans=30,
+                           seed=11, start=reference_epoch(cat))
     pd.testing.assert_frame_equal(a.truth, b.truth)
     pd.testing.assert_frame_equal(a.scans, b.scans)
     np.testing.assert_array_equal(a.n_in_view, b.n_in_view)

@@ -25,8 +25,8 @@ from ...registry.spec import TrackerSpec
 __all__ = ["MODES", "lazy_sht_timing"]
 
 #: The runs of :func:`lazy_sht_timing`: (name, tracker options).
-MODES = (("eager", {"lazy": False}), ("eager_in_view", {"lazy": False, "gate_out_of_view": False}),
-         ("lazy", {"lazy": True}))
+MODES = (("eager", {"lazy": False, "gate_out_of_view": True}),
+         ("eager_in_view", {"lazy": False, "gate_out_of_view": False}), ("lazy", {"lazy": True, "gate_out_of_view": None}))
 
 
 _SAME = 1e-9  # km, km/s: rounding, not another association
@@ -34,10 +34,7 @@ _SAME = 1e-9  # km, km/s: rounding, not another association
 
 def _make(name, cfg, problem, opts):
     spec = tracker_spec(cfg, name)
-    tr = build(TrackerSpec(spec.kind, {**spec.options, "lazy": opts["lazy"]}), problem, seed=0)
-    if "gate_out_of_view" in opts:
-        tr.gate_out_of_view = opts["gate_out_of_view"]
-    return tr
+    return build(TrackerSpec(spec.kind, {**spec.options, **opts}), problem, seed=0)
 
 
 def _in_view(tracker, in_view):

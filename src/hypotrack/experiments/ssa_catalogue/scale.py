@@ -84,8 +84,8 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
     sim_s = timed * cfg["radar"]["revisit_s"]
     return dict(tracker=tracker, n_objects=int(n), n_scans=timed, in_view_per_scan=view / max(timed, 1),
                 returns_per_scan=returns / max(timed, 1), cpu_s=cpu, cpu_s_per_scan=cpu / max(timed, 1),
-                us_per_object_in_view=1e6 * cpu / max(view, 1), us_per_object=1e6 * cpu / max(n * timed, 1),
-                us_per_return=1e6 * cpu / max(returns, 1), real_time_factor=sim_s / max(cpu, 1e-12),
+                us_per_object_in_view=1e6 * cpu / view if view else np.nan, us_per_object=1e6 * cpu / max(n * timed, 1),
+                us_per_return=1e6 * cpu / returns if returns else np.nan, real_time_factor=sim_s / max(cpu, 1e-12),
                 peak_rss_mb=rss, wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0])
 
 

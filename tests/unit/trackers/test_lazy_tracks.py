@@ -132,3 +132,22 @@ def test_lazy_options_are_checked():
         SingleHypothesisTracker(motion, model, lazy=True, gate_out_of_view=True, in_view=lambda x: x[:, 0] < 1)
     with pytest.raises(TypeError, match="lazy must be True or False"):
         SingleHypothesisTracker(motion, model, lazy="yes", in_view=lambda x: x[:, 0] < 1)
+
+
+def test_lazy_with_no_tracks_and_empty_scans():
+    """No tracks, then a return starting one (1-of-1), then an empty scan: the lazy tracker's means and its
+    predicted covariance equal the eager (in-view gating) tracker's."""
+    motion = ConstantVelocity(0.01)
+    model = ScanModel(np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]]), np.eye(2), 0.9, 0.99, 1e-3)
+
+    def run(**kw):
+        tr = SingleHypothesisTracker(motion, model, initiator=MOfNInitiator(motion, model, m=1, n=1),
+                                     in_view=lambda x: x[:, 0] < 10.0, **kw)
+        out = [tr.step(np.zeros((0, 2)), 0.0), tr.step(np.array([[1.0, 1.0]]), 1.0), tr.step(np.zeros((0, 2)), 2.0)]
+        return out, tr.estimates()
+
+    (a0, a1, a2), a = run(lazy=True)
+    (_, _, e2), e = run(gate_out_of_view=False)
+    assert len(a0) == 0 and a1.labels.tolist() == [0] and a2.P is None
+    np.testing.assert_array_equal(a2.x, e2.x)
+    np.testing.assert_array_equal(a.P, e.P)

@@ -119,6 +119,23 @@ if Path(SC_FULL_RECORD).exists():
     SC_TARGETS.append(rules.ssa_catalogue_full_record.output.macros)
 
 
+# Honest timing at scale: each tracker on cloned populations of several sizes (ssa_catalogue.scale), one
+# process per run (its own peak memory), the median of the runs with their spread, slopes of cost against N.
+if config["ssa_catalogue"].get("scale"):
+
+    rule ssa_catalogue_scale:
+        output:
+            runs=f"{SC_DIR}/scale_runs_timing.csv",
+            summary=f"{SC_DIR}/scale_summary_timing.csv",
+        params:
+            cfg=config["ssa_catalogue"],
+            seed=config["seed"],
+        script:
+            "../scripts/ssa_catalogue_scale.py"
+
+    SC_TARGETS.extend(rules.ssa_catalogue_scale.output)
+
+
 rule ssa_catalogue:
     input:
         SC_TARGETS,

@@ -48,7 +48,7 @@ import numpy as np
 
 from .._validation import check_covariance, check_finite_array, check_probability
 from ..association import gate_threshold
-from ..gaussian import innovation, update
+from ..gaussian import innovation_unchecked, update
 from .association_problem import CLUTTER
 from .hypothesis import ChildSet
 from .population_events import _Population
@@ -94,7 +94,8 @@ class GaussianBirthTerm:
     def loglik(self, Z) -> np.ndarray:
         """``log ∫ N(z; H x, R) N(x; mean, cov) dx = log N(z; H mean, H cov Hᵀ + R)`` per return."""
         Z = np.asarray(Z, dtype=float).reshape(-1, self.H.shape[0])
-        z_pred, S, _ = innovation(self.mean, self.cov, self.H, self.R)
+        # the term's moments and model were checked at construction (S = H cov Hᵀ + R is PD: R is)
+        z_pred, S, _ = (a[0] for a in innovation_unchecked(self.mean[None], self.cov[None], self.H, self.R))
         L = np.linalg.cholesky(S)
         r = np.linalg.solve(L, (Z - z_pred).T)
         d2 = np.sum(r * r, axis=0)

@@ -209,6 +209,18 @@ class _ScanPredictor:
             self._FT, self._Q, self._dt = self._F.T, self.motion.Q(dt), dt
         return x @ self._FT, symmetrize(self._F @ P @ self._FT + self._Q)
 
+    def mean(self, x, dt):
+        """The means of :meth:`__call__` alone (no transition matrix, no covariance): ``x Fᵀ`` for a
+        linear model, the model's ``propagate`` otherwise."""
+        if len(x) == 0 or dt == 0:
+            return x
+        if not self.linear:
+            return self.motion.propagate(x, dt)
+        if dt != self._dt:
+            self._F = self.motion.F(dt)
+            self._FT, self._Q, self._dt = self._F.T, self.motion.Q(dt), dt
+        return x @ self._FT
+
 
 def _gate_scan(x, P, Z, model: ScanModel, *, logdet: bool = True) -> GatedTracks:
     """Unchecked :func:`gate_tracks` for a tracker's own step (inputs checked at its boundary).

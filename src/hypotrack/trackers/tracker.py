@@ -34,6 +34,7 @@ from .._validation import (
 from ..protocol import TrackEstimates
 from ._sht_common import ScanModel, _gate_scan, _ScanPredictor
 from .gnn import _associate, gnn_gains, gnn_update, mahalanobis_gains
+from .deferred import ScanTimes, replay
 from .initiation import MOfNInitiator
 from .jpda import jpda_log_weights, jpda_probabilities, pda_update, pdaf_probabilities
 
@@ -72,6 +73,16 @@ class SingleHypothesisTracker:
         whose updated mean is out of view has its miss count reset after each scan, so deletion
         counts misses *in view* only (a catalogue object out of the radar's field of view is not
         missed). ``None``: every track can be missed everywhere (the lecture's rule).
+    gate_out_of_view : bool, optional
+        ``True``: every track is gated against the scan (the lecture's rule); ``False`` (needs
+        ``in_view``): a track whose predicted mean is out of view takes no return (``p_D = 0`` there).
+        Default: ``not lazy``.
+    lazy : bool
+        Defer the prediction of tracks out of view (:mod:`hypotrack.trackers.deferred`; needs
+        ``in_view``, implies ``gate_out_of_view=False``): each scan only the tracks' means are
+        advanced, and a track is predicted — over every scan it missed, scan by scan — when its
+        advanced mean is in view or :meth:`estimates` is called. Same posterior as the eager
+        tracker with ``gate_out_of_view=False``.
 
     The tracker follows :class:`hypotrack.protocol.Tracker`: :meth:`initialise` with known objects
     and their labels, :meth:`step` with each scan's returns and time, :meth:`estimates`.
@@ -79,9 +90,11 @@ class SingleHypothesisTracker:
     Attributes
     ----------
     last_gated : GatedTracks or None
-        Gating of the confirmed tracks at the last scan.
+        Gating of the confirmed tracks at the last scan (with ``gate_out_of_view=False``: of those in view).
     last_association : ndarray or None
         The last scan's association: the event vector (GNN) or ``β`` (JPDA/PDAF).
+    last_predicted : int
+        Tracks predicted at the last scan (all of them unless ``lazy``).
     """
 
     def __init__(
@@ -96,6 +109,8 @@ class SingleHypothesisTracker:
         gnn_score: str = "lecture",
         missed_distance: float | None = None,
         in_view=None,
+        gate_out_of_view: bool | None = None,
+        lazy: bool = False,
     ):
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
@@ -121,6 +136,16 @@ class SingleHypothesisTracker:
         if in_view is not None and not callable(in_view):
             raise TypeError(f"in_view must be a callable of the track states or None, got {type(in_view).__name__}")
         self.in_view = in_view
+        if not isinstance(lazy, bool | np.bool_):
+            raise TypeError(f"lazy must be True or False, got {lazy!r}")
+        gate_out_of_view = not lazy if gate_out_of_view is None else gate_out_of_view
+        if not isinstance(gate_out_of_view, bool | np.bool_):
+            raise TypeError(f"gate_out_of_view must be True, False or None, got {gate_out_of_view!r}")
+        if (lazy or not gate_out_of_view) and in_view is None:
+            raise ValueError("lazy=True and gate_out_of_view=False need in_view (where the sensor sees)")
+        if lazy and gate_out_of_view:
+            raise ValueError("lazy=True needs gate_out_of_view=False (a deferred track takes no return)")
+        self.lazy, self.gate_out_of_view = bool(lazy), bool(gate_out_of_view)
         self.missed_distance = (
             float(np.sqrt(model.gate)) if missed_distance is None else check_positive(missed_distance, "missed_distance")
         )
@@ -129,10 +154,15 @@ class SingleHypothesisTracker:
         self.x = np.zeros((0, d))
         self.P = np.zeros((0, d, d))
         self.misses = np.zeros(0, dtype=np.int64)
+        # lazy: the scan each track's (x, P) is predicted to, the scans' times, every track's mean now
+        self._since = np.zeros(0, dtype=np.int64)
+        self._times = ScanTimes()
+        self._view = np.zeros((0, d))
         self.time: float | None = None
         self._next_id = 0
         self.last_gated = None
         self.last_association = None
+        self.last_predicted = 0
 
     def initialise(self, means, covs, labels=None, *, time: float = 0.0) -> np.ndarray:
         """Add known confirmed tracks (means ``(n, d)``, covariances ``(n, d, d)``) valid at ``time``.
@@ -154,6 +184,8 @@ class SingleHypothesisTracker:
                              f"{self.time}, got {time}")
         if labels is not None:
             labels = check_labels(labels, len(x), held=self.ids)
+        if self.time is None:
+            self._times.append(time)
         self.time = time
         return self._add(x, P, labels)
 
@@ -166,6 +198,8 @@ class SingleHypothesisTracker:
         self.x = np.concatenate([self.x, x])
         self.P = np.concatenate([self.P, P])
         self.misses = np.concatenate([self.misses, np.zeros(len(x), dtype=np.int64)])
+        self._since = np.concatenate([self._since, np.full(len(x), self._times.now, dtype=np.int64)])
+        self._view = np.concatenate([self._view, x])
         return labels
 
     def step(self, Z, time=None) -> TrackEstimates:
@@ -191,8 +225,72 @@ class SingleHypothesisTracker:
         # be retried.
         # Inputs are checked here and at construction/initialise; the per-scan work below runs on
         # the tracker's own states, in a few batched numpy calls whatever the number of tracks.
-        x, P = self._predict(self.x, self.P, dt)
-        gated = _gate_scan(x, P, Z, self.model, logdet=self.association != "gnn" or self.gnn_score == "lecture")
+        self._times.append(time)
+        try:
+            rows, x, P, view = self._predicted(dt)
+            out = self._scan(Z, x, P)
+            new_x, new_P = self.initiator.step(time, Z[out[4]]) if self.initiator is not None else (None, None)
+        except BaseException:
+            self._times.pop()
+            raise
+        x, P, detected, gated, association = out[0], out[1], out[2], out[3], out[5]
+
+        misses = self.misses[rows] + 1 if rows is not None else self.misses + 1
+        misses[detected] = 0
+        if self.in_view is not None and len(x):
+            # deletion counts misses in view only: a track out of view is not missed
+            misses[~np.asarray(self.in_view(x), dtype=bool)] = 0
+
+        # commit (the initiator's own step above was the last thing that may fail)
+        self.time = time
+        self.last_gated, self.last_association = gated, association
+        self.last_predicted = len(x)
+        now = self._times.now
+        if rows is None:
+            self.x, self.P, self.misses = x, P, misses
+            self._since = np.full(len(x), now, dtype=np.int64)
+            self._view = x
+        else:
+            # lazy: the tracks predicted this scan take their posterior; the others keep their moments
+            # at their own scan, are not missed (out of view), and only their mean moves
+            self.x[rows], self.P[rows], self._since[rows] = x, P, now
+            view[rows] = x
+            self._view = view
+            self.misses = np.zeros(len(view), dtype=np.int64)
+            self.misses[rows] = misses
+        keep = self.misses < self.max_misses
+        if not keep.all():
+            self.ids, self.x, self.P, self.misses = self.ids[keep], self.x[keep], self.P[keep], self.misses[keep]
+            self._since, self._view = self._since[keep], self._view[keep]
+        if new_x is not None:
+            self._add(new_x, new_P)
+        if len(self._since):
+            self._times.trim(int(self._since.min()))
+        return self.estimates(covariances=not self.lazy)
+
+    def _predicted(self, dt):
+        """``(rows, x, P, view)``: the tracks predicted to this scan (``rows`` their indices, ``None`` for
+        all) and, with ``lazy``, every track's mean advanced to it (``view``, a new array)."""
+        if not self.lazy:
+            x, P = self._predict(self.x, self.P, dt)
+            return None, x, P, None
+        view = self._predict.mean(self._view, dt)
+        view = view.copy() if view is self._view else view
+        rows = np.flatnonzero(np.asarray(self.in_view(view), dtype=bool)) if len(view) else np.zeros(0, np.int64)
+        x, P = replay(self._predict, self.x[rows], self.P[rows], self._since[rows], self._times)
+        return rows, x, P, view
+
+    def _scan(self, Z, x, P):
+        """Gate, associate and update predicted tracks ``x, P``: ``(x, P, detected, gated, unused returns,
+        association)``. With ``gate_out_of_view=False`` only the tracks whose predicted mean is in view
+        are gated (``gated`` and the association are over those, in order)."""
+        g = None
+        if not self.gate_out_of_view and len(x):
+            inside = np.asarray(self.in_view(x), dtype=bool)
+            if not inside.all():
+                g = np.flatnonzero(inside)
+        xg, Pg = (x, P) if g is None else (x[g], P[g])
+        gated = _gate_scan(xg, Pg, Z, self.model, logdet=self.association != "gnn" or self.gnn_score == "lecture")
         if self.association == "gnn":
             gain = (
                 gnn_gains(gated, self.model)
@@ -200,7 +298,7 @@ class SingleHypothesisTracker:
                 else mahalanobis_gains(gated, self.missed_distance)
             )
             association = _associate(gain)
-            x, P, detected = gnn_update(gated, association, self.model)
+            xg, Pg, det = gnn_update(gated, association, self.model)
             unused = association < 0
         else:
             lw = jpda_log_weights(gated, self.model)
@@ -208,33 +306,35 @@ class SingleHypothesisTracker:
                 association = jpda_probabilities(gated, self.model, log_weights=lw, marginals=self.jpda_marginals)
             else:
                 association = pdaf_probabilities(lw)
-            x, P = pda_update(gated, association, self.model)
-            detected = gated.valid.any(axis=0)
+            xg, Pg = pda_update(gated, association, self.model)
+            det = gated.valid.any(axis=0)
             unused = ~gated.valid.any(axis=1)
-        misses = self.misses + 1
-        misses[detected] = 0
-        keep = misses < self.max_misses
-        if self.in_view is not None and len(x):
-            # deletion counts misses in view only: a track out of view is not missed
-            misses[~np.asarray(self.in_view(x), dtype=bool)] = 0
-        # The initiator's own step is transactional: it is the last thing that may fail.
-        new_x, new_P = self.initiator.step(time, Z[unused]) if self.initiator is not None else (None, None)
+        if g is None:
+            return xg, Pg, det, gated, unused, association
+        x, P = x.copy(), P.copy()
+        x[g], P[g] = xg, Pg
+        detected = np.zeros(len(x), dtype=bool)
+        detected[g] = det
+        return x, P, detected, gated, unused, association
 
-        self.time = time
-        self.last_gated, self.last_association = gated, association
-        if keep.all():
-            self.x, self.P, self.misses = x, P, misses
-        else:
-            self.ids, self.x, self.P, self.misses = self.ids[keep], x[keep], P[keep], misses[keep]
-        if new_x is not None:
-            self._add(new_x, new_P)
-        return self.estimates()
+    def estimates(self, *, covariances: bool = True) -> TrackEstimates:
+        """The confirmed tracks now (copies).
 
-    def estimates(self) -> TrackEstimates:
-        """The confirmed tracks now (copies)."""
-        return TrackEstimates(
-            -np.inf if self.time is None else self.time, self.ids.copy(), self.x.copy(), self.P.copy()
-        )
+        With ``lazy``, the deferred tracks are first predicted to now (scan by scan, as the eager
+        tracker would have: :mod:`hypotrack.trackers.deferred`); ``covariances=False`` skips that and
+        gives the means alone (a deferred track's mean advanced a scan at a time, without its
+        covariance; ``P`` is then ``None``).
+        """
+        t = -np.inf if self.time is None else self.time
+        if not covariances:
+            return TrackEstimates(t, self.ids.copy(), self._view.copy(), None)
+        if self.lazy and len(self._since) and self._since.min() < self._times.now:
+            late = np.flatnonzero(self._since < self._times.now)
+            self.x[late], self.P[late] = replay(self._predict, self.x[late], self.P[late], self._since[late],
+                                                self._times)
+            self._since[late] = self._times.now
+            self._view[late] = self.x[late]
+        return TrackEstimates(t, self.ids.copy(), self.x.copy(), self.P.copy())
 
     def run(self, scans) -> list[TrackEstimates]:
         """:meth:`step` over a sequence of scans; the estimates after each."""

@@ -52,7 +52,7 @@ from ...scenarios.catalogue import (
 )
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
-from ...trackers import ScanModel
+from ...trackers import ScanModel, SingleHypothesisTracker
 from ..stepping import SHTStepper, max_abs_difference
 
 __all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
@@ -172,8 +172,9 @@ def make_tracker(name: str, cfg, problem: TrackingProblem, seed: int, **factored
 
 def _estimates(tracker, in_view):
     """(labels, TEME positions) of the tracker's estimates inside the field of view (the factored
-    trackers' MAP means: their lazy lane's covariances are not predicted to the scan)."""
-    e = tracker.estimates()
+    trackers' MAP means: their lazy lane's covariances are not predicted to the scan; GNN/JPDA's means
+    alone, so that a lazy one does not predict its deferred tracks)."""
+    e = tracker.estimates(covariances=False) if isinstance(tracker, SingleHypothesisTracker) else tracker.estimates()
     if len(e) == 0:
         return np.zeros(0, np.int64), np.zeros((0, 3))
     inv = in_view(e.x)
@@ -246,7 +247,7 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
 def _n_tracks(tracker):
     if isinstance(tracker, FactoredFilter):
         return tracker.n_objects_held
-    return len(tracker.estimates())
+    return len(tracker.ids)
 
 
 #: Scans out of view after which an object's next scan in view is a *re-entry* (a new pass): 30 scans of

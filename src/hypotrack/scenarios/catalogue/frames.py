@@ -36,6 +36,7 @@ import pandas as pd
 from ..._validation import check_finite_array
 
 __all__ = [
+    "local_to_rae",
     "WGS84_A",
     "WGS84_F",
     "EARTH_ROTATION",
@@ -162,7 +163,12 @@ def ef_to_rae(r_ef, site_ef, enu, az_center=0.0) -> np.ndarray:
     centred on ``az_center`` sees no wrap inside it).
     """
     d = np.asarray(r_ef, dtype=float) - site_ef
-    loc = d @ enu.T
+    return local_to_rae(d @ enu.T, az_center)
+
+
+def local_to_rae(loc, az_center=0.0) -> np.ndarray:
+    """Local east, north, up ``(..., 3)`` (km) → range, azimuth, elevation (:func:`ef_to_rae`'s second half;
+    every row on its own)."""
     rng = np.sqrt(np.sum(loc * loc, axis=-1))
     az = wrap_angle(np.arctan2(loc[..., 0], loc[..., 1]), az_center)
     el = np.arcsin(np.clip(loc[..., 2] / np.where(rng > 0, rng, 1.0), -1.0, 1.0))

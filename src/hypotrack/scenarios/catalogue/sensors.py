@@ -32,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..._validation import check_finite_array, check_nonnegative, check_positive, check_probability
-from .frames import ef_to_rae, enu_matrix, geodetic_to_ef, rae_to_enu, wrap_angle
+from .frames import ef_to_rae, enu_matrix, geodetic_to_ef, local_to_rae, rae_to_enu, wrap_angle
 
 __all__ = ["GroundSite", "RadarFieldOfView", "GroundRadar", "DEFAULT_SITE", "DEFAULT_RADAR", "MEASUREMENTS"]
 
@@ -254,7 +254,16 @@ class GroundRadar:
     def in_view(self, r_ef) -> np.ndarray:
         """Mask ``(...)`` of the Earth-fixed positions ``(..., 3)`` inside the field of view (NaN: no)."""
         r_ef = np.asarray(r_ef, dtype=float)
-        return self.fov.contains(self.rae(r_ef)).reshape(r_ef.shape[:-1])
+        loc = (r_ef - self.site.ef) @ self.site.enu.T  # as ef_to_rae
+        f = self.fov
+        # Only points below the maximum range (and above the horizon when the field of view is) can be
+        # inside: their angles alone are computed, each row as ef_to_rae would (the same decisions).
+        near = np.sum(loc * loc, axis=-1) <= (f.r_max_km * (1 + 1e-9)) ** 2
+        if f.el_min_deg > 0:
+            near &= loc[..., 2] > 0
+        out = np.zeros(r_ef.shape[:-1], dtype=bool)
+        out[near] = f.contains(local_to_rae(loc[near], f.az_center))
+        return out
 
     def observe_rae(self, rae, rng):
         """One scan, given the true (range, az, el) ``(n, 3)`` of the objects inside the field of view.

@@ -1,0 +1,102 @@
+"""GNN and JPDA with lazy prediction measured on the catalogue's scans: :func:`lazy_sht_timing`.
+
+With ``lazy`` (:mod:`hypotrack.trackers.deferred`) a track out of the radar's view is not predicted
+each scan; it is predicted over the scans it missed, scan by scan, when it may be seen again. Its
+posterior is the eager tracker's with ``gate_out_of_view=False`` (a track whose predicted mean is out
+of view takes no return, ``p_D = 0`` there). Three runs per tracker on the same scans, stepped in
+lockstep (scan ``k`` of each in turn, the order rotated each scan, so a change of the machine's load
+hits all alike): ``eager`` (every track gated, the lecture's rule), ``eager_in_view`` (only tracks in
+view gated) and ``lazy``; the in-view estimates compared at every scan and every track's mean and
+covariance at the last.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pandas as pd
+
+from ...scenarios.catalogue.tracking import TrackerSensor
+from .run import _initial_tracks, build_scenario, make_motion, make_problem, tracker_spec
+from ...registry import build
+from ...registry.spec import TrackerSpec
+
+__all__ = ["MODES", "lazy_sht_timing"]
+
+#: The runs of :func:`lazy_sht_timing`: (name, tracker options).
+MODES = (("eager", {"lazy": False, "gate_out_of_view": True}),
+         ("eager_in_view", {"lazy": False, "gate_out_of_view": False}), ("lazy", {"lazy": True, "gate_out_of_view": None}))
+
+
+_SAME = 1e-9  # km, km/s: rounding, not another association
+
+
+def _make(name, cfg, problem, opts):
+    spec = tracker_spec(cfg, name)
+    return build(TrackerSpec(spec.kind, {**spec.options, **opts}), problem, seed=0)
+
+
+def _in_view(tracker, in_view):
+    e = tracker.estimates(covariances=False)
+    inv = in_view(e.x) if len(e) else np.zeros(0, bool)
+    return e.labels[inv], e.x[inv]
+
+
+def lazy_sht_timing(cfg, n: int, seed: int, trackers=("gnn", "jpda"), *, n_scans: int | None = None,
+                    warm_scans: int = 2, scenario=None) -> pd.DataFrame:
+    """CPU per scan and per object in view of GNN/JPDA eager, eager gating in view only, and lazy.
+
+    Returns one row per (tracker, mode): scans timed, objects in view per scan, CPU s per scan, µs per
+    object in view per scan, tracks predicted per scan, the speed-up over ``eager``, and against
+    ``eager_in_view``: ``same_in_view`` (the same labels of the estimates in view at every scan),
+    ``max_in_view_diff`` (the largest difference of their means, km or km/s), ``max_x_diff``/``max_P_diff`` (km, km² or (km/s)²: every track's mean and covariance after
+    the last scan, the lazy tracker's deferred ones predicted to it) and ``scans_differ_from_eager``
+    (scans at which the in-view estimates of ``eager_in_view`` differ from the every-track-gated tracker's:
+    other labels, or means more than 1e-9 apart).
+    """
+    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
+    tsensor = TrackerSensor(sc.sensors[0])
+    motion = make_motion(cfg)
+    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    problem = make_problem(cfg, tsensor, motion, means, covs, labels)
+    in_view_count = sc.truth[sc.truth["in_view"]].groupby("scan").size()
+    scans = sc.scan_list(0)
+    n_scans = len(scans) if n_scans is None else min(int(n_scans), len(scans))
+    rows = []
+    for name in trackers:
+        runs = [_make(name, cfg, problem, opts) for _, opts in MODES]
+        cpu, pred = np.zeros(len(runs)), np.zeros(len(runs))
+        view, done, same, diff_view, differ = 0, 0, True, 0.0, 0
+        for k in range(n_scans):
+            t_k, Z = scans[k]
+            tsensor.at(sc.theta[k])
+            Zt = tsensor.returns(Z)
+            used = np.zeros(len(runs))
+            for i in np.roll(np.arange(len(runs)), -k):
+                c0 = time.process_time()
+                runs[i].step(Zt, float(t_k))
+                used[i] = time.process_time() - c0
+            est = [_in_view(r, problem.in_view) for r in runs]
+            same &= np.array_equal(est[1][0], est[2][0])
+            if same:
+                diff_view = max(diff_view, float(np.abs(est[1][1] - est[2][1]).max(initial=0.0)))
+            differ += not (np.array_equal(est[0][0], est[1][0])
+                           and float(np.abs(est[0][1] - est[1][1]).max(initial=0.0)) <= _SAME)
+            if k >= warm_scans:
+                cpu += used
+                pred += [r.last_predicted for r in runs]
+                view += int(in_view_count.get(k, 0))
+                done += 1
+        a, b = runs[1].estimates(), runs[2].estimates()
+        ok = np.array_equal(a.labels, b.labels)
+        dx = float(np.abs(a.x - b.x).max(initial=0.0)) if ok else np.inf
+        dP = float(np.abs(a.P - b.P).max(initial=0.0)) if ok else np.inf
+        K = max(done, 1)
+        for i, (mode, _) in enumerate(MODES):
+            rows.append(dict(tracker=name, n_objects=int(n), mode=mode, n_scans=done, in_view_per_scan=view / K,
+                             cpu_s_per_scan=cpu[i] / K, us_per_object_in_view=1e6 * cpu[i] / max(view, 1),
+                             predicted_per_scan=pred[i] / K, speedup=cpu[0] / max(cpu[i], 1e-12),
+                             same_in_view=bool(same), max_in_view_diff=diff_view if same else np.inf, max_x_diff=dx, max_P_diff=dP,
+                             scans_differ_from_eager=int(differ)))
+    return pd.DataFrame(rows)

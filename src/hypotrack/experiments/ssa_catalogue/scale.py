@@ -1,0 +1,144 @@
+"""Honest timing at scale: CPU, real-time factor and peak memory per tracker and population size.
+
+Populations (config ``ssa_catalogue.scale``): the catalogue cloned to ``N`` objects
+(:func:`hypotrack.scenarios.catalogue.clones.simulate_clones`: every ``N`` the same mix of the
+catalogue's groups, so a slope of cost against ``N`` compares like with like), the radar, motion model
+and trackers of the ``ssa_catalogue`` section, the known objects and the unknown share of the debris as
+in :func:`~.run.build_scenario`.
+
+One **run** (:func:`measure_run`) is one tracker over ``n_scans`` scans of one population, in a fresh
+Python process (:func:`run_isolated`), so that its peak resident memory (``ru_maxrss``, over the
+whole run: simulation included) is its own. Per run: CPU seconds of the tracker's steps
+(``time.process_time``; the first scan, at the priors' epoch, stepped untimed), and from them µs per
+object in view per scan, per catalogued object per scan and per return; the **real-time factor**
+(simulated seconds per CPU second: above 1 the tracker keeps up with the radar on one core); the
+load average of the machine before and after. :func:`scale_summary`: per (tracker, N) the median of the
+runs with its spread (min, max), and per tracker the log-log slope of CPU per scan against ``N``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+
+import numpy as np
+import pandas as pd
+
+from ...scenarios.catalogue import load_catalogue
+from ...scenarios.catalogue.clones import simulate_clones
+from ...scenarios.catalogue.tracking import TrackerSensor
+from .run import _initial_tracks, make_motion, make_problem, make_radar, make_tracker
+
+__all__ = ["FIGURES", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
+
+#: The per-run figures :func:`scale_summary` takes the median and spread of.
+FIGURES = ("cpu_s_per_scan", "us_per_object_in_view", "us_per_object", "us_per_return", "real_time_factor",
+           "peak_rss_mb")
+
+
+def clone_scenario(cfg, n: int, seed: int, *, n_scans: int, chunk: int):
+    """``(objects, unknown NORAD numbers, scenario, init seed)`` of a cloned population of ``n`` objects
+    (the tuple :func:`~.run.build_scenario` returns): a seeded ``unknown_share`` of its debris unknown."""
+    ss = np.random.SeedSequence([int(seed), int(n), 1])
+    pop_seed, sim_seed, init_seed = (int(s.generate_state(1)[0]) for s in ss.spawn(3))
+    sc = simulate_clones(load_catalogue(), n, make_radar(cfg), n_scans=n_scans, seed=sim_seed, clone_seed=pop_seed,
+                         chunk=chunk)
+    pop = sc.catalogue
+    debris = (pop["group"] != "active").to_numpy()
+    unk = debris & (np.random.default_rng(pop_seed).random(len(pop)) < cfg["unknown_share"])
+    return pop, np.sort(pop["norad"].to_numpy(np.int64)[unk]), sc, init_seed
+
+
+def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
+    """One run (module docstring) in this process; ``cfg`` the ``ssa_catalogue`` section."""
+    s = cfg["scale"]
+    load0 = os.getloadavg()[0]
+    wall0 = time.perf_counter()
+    objects, unknown, sc, init_seed = clone_scenario(cfg, n, seed, n_scans=s["n_scans"], chunk=s["chunk"])
+    tsensor = TrackerSensor(sc.sensors[0])
+    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
+    factored = s.get("factored") or {}
+    kw = factored if cfg["trackers"][tracker].get("factored") is not None else {}
+    tr = make_tracker(tracker, cfg, problem, int(seed), **kw)
+    in_view = sc.truth.groupby("scan").size()
+    cpu, view, returns, timed = 0.0, 0, 0, 0
+    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
+        tsensor.at(sc.theta[k])
+        Zt = tsensor.returns(Z)
+        c0 = time.process_time()
+        tr.step(Zt, float(t_k))
+        c = time.process_time() - c0
+        if k >= 1:  # scan 0 is at the priors' epoch (an update without prediction, first compiled calls)
+            cpu += c
+            view += int(in_view.get(k, 0))
+            returns += len(Z)
+            timed += 1
+    if hasattr(tr, "close"):
+        tr.close()
+    rss = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # KiB on Linux
+    sim_s = timed * cfg["radar"]["revisit_s"]
+    return dict(tracker=tracker, n_objects=int(n), n_scans=timed, in_view_per_scan=view / max(timed, 1),
+                returns_per_scan=returns / max(timed, 1), cpu_s=cpu, cpu_s_per_scan=cpu / max(timed, 1),
+                us_per_object_in_view=1e6 * cpu / view if view else np.nan, us_per_object=1e6 * cpu / max(n * timed, 1),
+                us_per_return=1e6 * cpu / returns if returns else np.nan, real_time_factor=sim_s / max(cpu, 1e-12),
+                peak_rss_mb=rss, wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0])
+
+
+def _child():
+    """Entry of :func:`run_isolated`'s process: a JSON request on stdin, the run's JSON on stdout."""
+    req = json.load(sys.stdin)
+    print(json.dumps(measure_run(req["cfg"], req["tracker"], req["n"], req["seed"])))
+
+
+def run_isolated(cfg, tracker: str, n: int, seed: int) -> dict:
+    """:func:`measure_run` in a fresh Python process (its own peak memory); a failed run raises
+    ``RuntimeError`` with the process's error output."""
+    code = "from hypotrack.experiments.ssa_catalogue.scale import _child; _child()"
+    res = subprocess.run([sys.executable, "-c", code], input=json.dumps(dict(cfg=cfg, tracker=tracker, n=int(n),
+                                                                             seed=int(seed))),
+                         capture_output=True, text=True)
+    if res.returncode != 0:
+        raise RuntimeError(f"scale run {tracker} at N = {n} failed:\n{res.stderr[-3000:]}")
+    return json.loads(res.stdout.strip().splitlines()[-1])
+
+
+def scale_runs(cfg, seed: int, *, log=print) -> pd.DataFrame:
+    """Every run of ``cfg["scale"]``: for each repetition, each size and each tracker (repetitions
+    outermost, so that a change of the machine's load spreads over all); one row per run."""
+    s = cfg["scale"]
+    rows = []
+    for rep in range(s["runs"]):
+        for n in s["sizes"]:
+            for name in s["trackers"]:
+                r = run_isolated(cfg, name, n, seed)
+                r["run"] = rep
+                rows.append(r)
+                log(f"{name} N={n} run {rep}: {r['us_per_object_in_view']:.1f} µs/object in view, RTF "
+                    f"{r['real_time_factor']:.1f}, peak {r['peak_rss_mb']:.0f} MB, load {r['load_before']:.2f}")
+    return pd.DataFrame(rows)
+
+
+def scale_summary(runs: pd.DataFrame) -> pd.DataFrame:
+    """Per (tracker, N): runs, objects in view and returns per scan, and for each of :data:`FIGURES` the
+    median, min and max over the runs; the mean load average; per tracker ``slope_cpu_vs_n``, the
+    least-squares slope of log median CPU per scan against log N (NaN with one size)."""
+    out = []
+    for (name, n), g in runs.groupby(["tracker", "n_objects"], sort=False):
+        r = dict(tracker=name, n_objects=int(n), runs=len(g), n_scans=int(g["n_scans"].iloc[0]),
+                 in_view_per_scan=g["in_view_per_scan"].iloc[0], returns_per_scan=g["returns_per_scan"].iloc[0])
+        for f in FIGURES:
+            r[f"{f}_median"], r[f"{f}_min"], r[f"{f}_max"] = g[f].median(), g[f].min(), g[f].max()
+        r["load_mean"] = float(np.mean(np.r_[g["load_before"], g["load_after"]]))
+        out.append(r)
+    table = pd.DataFrame(out)
+    slopes = {}
+    for name, g in table.groupby("tracker", sort=False):
+        if g["n_objects"].nunique() > 1:
+            slopes[name] = float(np.polyfit(np.log(g["n_objects"]), np.log(g["cpu_s_per_scan_median"]), 1)[0])
+    table["slope_cpu_vs_n"] = table["tracker"].map(slopes).astype(float)
+    return table

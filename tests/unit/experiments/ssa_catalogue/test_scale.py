@@ -1,0 +1,67 @@
+"""Timing at scale (hypotrack.experiments.ssa_catalogue.scale): a run's figures are consistent with its CPU
+seconds and counts, an isolated run reports its own peak memory, and the summary's medians, spreads and
+log-log slopes are those of the runs (a synthetic cost N^0.8 gives slope 0.8); plus lazy GNN/JPDA on the
+catalogue's own scans: the eager posterior (gating in view) to rounding."""
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from hypotrack.experiments.ssa_catalogue.lazy_sht import lazy_sht_timing
+from hypotrack.experiments.ssa_catalogue.scale import measure_run, run_isolated, scale_summary
+
+
+@pytest.fixture(scope="module")
+def cfg():
+    with open("workflows/config/default.yaml") as fh:
+        c = yaml.safe_load(fh)["ssa_catalogue"]
+    c["scale"] = dict(sizes=[60], n_scans=4, runs=1, trackers=["gnn"], factored={"fast_path": True}, chunk=25)
+    return c
+
+
+def test_a_run_reports_consistent_figures(cfg):
+    r = measure_run(cfg, "gnn", 1500, 3)
+    assert r["n_scans"] == 3 and r["n_objects"] == 1500 and r["cpu_s"] > 0 and r["in_view_per_scan"] > 5
+    np.testing.assert_allclose(r["cpu_s_per_scan"] * 3, r["cpu_s"])
+    np.testing.assert_allclose(r["us_per_object"], 1e6 * r["cpu_s"] / (1500 * 3))
+    np.testing.assert_allclose(r["us_per_object_in_view"] * r["in_view_per_scan"] * 3, 1e6 * r["cpu_s"])
+    np.testing.assert_allclose(r["us_per_return"] * r["returns_per_scan"] * 3, 1e6 * r["cpu_s"])
+    np.testing.assert_allclose(r["real_time_factor"], 30.0 / r["cpu_s"])  # 3 scans of 10 s simulated
+    assert r["peak_rss_mb"] > 50  # numpy, pandas and the scenario are resident
+
+
+def test_isolated_runs_are_deterministic_but_for_the_clock(cfg):
+    a, b = run_isolated(cfg, "gnn", 60, 3), run_isolated(cfg, "gnn", 60, 3)
+    for k in ("n_scans", "in_view_per_scan", "returns_per_scan"):
+        assert a[k] == b[k]
+    assert a["peak_rss_mb"] > 50
+
+
+def test_summary_medians_spreads_and_slopes():
+    rows = []
+    for n in (1000, 10000, 100000):
+        for run, f in enumerate((0.9, 1.0, 1.3)):
+            cpu = 1e-3 * n**0.8 * f
+            rows.append(dict(tracker="a", n_objects=n, n_scans=10, in_view_per_scan=n / 100, returns_per_scan=n / 110,
+                             cpu_s_per_scan=cpu, us_per_object_in_view=1e6 * cpu / (n / 100),
+                             us_per_object=1e6 * cpu / n, us_per_return=1e6 * cpu / (n / 110),
+                             real_time_factor=10 / cpu, peak_rss_mb=100 + run, load_before=1.0, load_after=3.0,
+                             run=run))
+    t = scale_summary(pd.DataFrame(rows))
+    assert len(t) == 3 and (t["runs"] == 3).all()
+    np.testing.assert_allclose(t["cpu_s_per_scan_median"], 1e-3 * np.array([1e3, 1e4, 1e5]) ** 0.8)
+    np.testing.assert_allclose(t["cpu_s_per_scan_max"] / t["cpu_s_per_scan_min"], 1.3 / 0.9)
+    np.testing.assert_allclose(t["slope_cpu_vs_n"], 0.8)
+    assert (t["peak_rss_mb_median"] == 101).all() and (t["load_mean"] == 2.0).all()
+
+
+def test_lazy_gnn_jpda_on_the_catalogue_scans_hold_the_eager_posterior(cfg):
+    c = dict(cfg, n_scans=40)
+    df = lazy_sht_timing(c, 300, 2, n_scans=40).set_index(["tracker", "mode"])
+    for name in ("gnn", "jpda"):
+        lazy = df.loc[(name, "lazy")]
+        assert lazy["same_in_view"] and lazy["max_in_view_diff"] <= 1e-10
+        assert lazy["max_x_diff"] <= 1e-10 and lazy["max_P_diff"] <= 1e-10
+        # out-of-view tracks were really deferred: far fewer predicted per scan than held
+        assert lazy["predicted_per_scan"] < 0.2 * df.loc[(name, "eager_in_view")]["predicted_per_scan"]

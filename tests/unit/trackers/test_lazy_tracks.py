@@ -1,0 +1,153 @@
+"""GNN and JPDA with ``lazy=True`` (hypotrack.trackers.deferred): tracks out of view are not predicted each
+scan, yet the posterior is the eager tracker's (``gate_out_of_view=False``) — checked on an orbital scene
+(the J2 EKF of the catalogue experiment) whose objects leave the field of view and come back, with
+clutter, missed detections, track births (M-of-N) and deletions after misses in view."""
+
+import numpy as np
+import pytest
+
+from hypotrack.models import ConstantVelocity
+from hypotrack.models.orbit3d import J2Orbit3D
+from hypotrack.trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
+
+H3 = np.hstack([np.eye(3), np.zeros((3, 3))])
+SIGMA = 0.5  # km
+DT = 30.0
+
+
+def in_view(x):
+    """A slab of space the objects cross once an orbit (x > 4,000 km, |z| < 3,000 km)."""
+    return (x[:, 0] > 4000.0) & (np.abs(x[:, 2]) < 3000.0)
+
+
+def orbit_scene(n_objects=12, n_scans=260, seed=5):
+    """Circular LEO orbits (radius 6,900–7,300 km, inclinations 20–80°, seeded phases): truth by the J2
+    model itself, returns with p_D = 0.9 in view, σ = 0.5 km, Poisson clutter (mean 2) in the slab."""
+    rng = np.random.default_rng(seed)
+    motion = J2Orbit3D(q=1e-9)
+    r = rng.uniform(6900, 7300, n_objects)
+    inc = np.radians(rng.uniform(20, 80, n_objects))
+    raan, u = rng.uniform(0, 2 * np.pi, (2, n_objects))
+    v = np.sqrt(398600.8 / r)
+    pos = np.stack([np.cos(raan) * np.cos(u) - np.sin(raan) * np.sin(u) * np.cos(inc),
+                    np.sin(raan) * np.cos(u) + np.cos(raan) * np.sin(u) * np.cos(inc), np.sin(u) * np.sin(inc)], 1)
+    vel = np.stack([-np.cos(raan) * np.sin(u) - np.sin(raan) * np.cos(u) * np.cos(inc),
+                    -np.sin(raan) * np.sin(u) + np.cos(raan) * np.cos(u) * np.cos(inc), np.cos(u) * np.sin(inc)], 1)
+    X = np.hstack([pos * r[:, None], vel * v[:, None]])
+    scans, truth = [], []
+    for k in range(n_scans):
+        if k:
+            X = motion.propagate(X, DT)
+        seen = in_view(X) & (rng.random(n_objects) < 0.9)
+        Z = X[seen, :3] + SIGMA * rng.standard_normal((int(seen.sum()), 3))
+        clutter = np.column_stack([rng.uniform(4000, 7500, 10), rng.uniform(-7500, 7500, 10),
+                                   rng.uniform(-3000, 3000, 10)])[: rng.poisson(2.0)]
+        scans.append((k * DT, rng.permutation(np.vstack([Z, clutter]))))
+        truth.append(X.copy())
+    return motion, scans, np.array(truth)
+
+
+def make(motion, association, **kw):
+    model = ScanModel(H3, SIGMA**2 * np.eye(3), 0.9, 0.999, 2.0 / (3500 * 15000 * 6000), 1e-12)
+    init = MOfNInitiator(motion, model, m=2, n=3, initial_velocity_std=8.0)
+    return SingleHypothesisTracker(motion, model, association=association, initiator=init, max_misses=3,
+                                   in_view=in_view, **kw)
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return orbit_scene()
+
+
+@pytest.mark.parametrize("association", ["gnn", "jpda"])
+def test_lazy_gives_the_eager_posterior_through_passes_out_of_view(scene, association):
+    motion, scans, truth = scene
+    eager = make(motion, association, gate_out_of_view=False)
+    lazy = make(motion, association, lazy=True)
+    # 10 of the 12 objects known (the other two must be born from the data), 1 km / 1 m/s off
+    rng = np.random.default_rng(1)
+    known = np.arange(10)
+    X0 = truth[0, known] + np.r_[np.ones(3), 1e-3 * np.ones(3)] * rng.standard_normal((10, 6))
+    P0 = np.broadcast_to(np.diag([1.0, 1.0, 1.0, 1e-6, 1e-6, 1e-6]), (10, 6, 6))
+    for tr in (eager, lazy):
+        tr.initialise(X0, P0, known + 100, time=0.0)
+    deferred, reentered, compared = 0, 0, 0
+    asleep_since = {}
+    for k, (t, Z) in enumerate(scans):
+        e = eager.step(Z, t)
+        lazy.step(Z, t)
+        deferred += len(e) - lazy.last_predicted
+        m = lazy.estimates(covariances=False)
+        np.testing.assert_array_equal(m.labels, e.labels)  # same tracks born and deleted
+        assert m.P is None
+        np.testing.assert_allclose(m.x, e.x, rtol=1e-12, atol=0)  # means advanced alone
+        view = in_view(e.x)
+        for lab, v in zip(e.labels.tolist(), view.tolist()):
+            if not v:
+                asleep_since.setdefault(lab, k)
+            elif lab in asleep_since:
+                reentered += k - asleep_since.pop(lab) >= 20  # back in view after ≥ 20 scans asleep
+        if k in (60, 150, len(scans) - 1):  # the deferred tracks predicted scan by scan to now
+            full = lazy.estimates()
+            np.testing.assert_array_equal(full.labels, e.labels)
+            np.testing.assert_allclose(full.x, e.x, rtol=1e-12, atol=0)
+            np.testing.assert_allclose(full.P, e.P, rtol=1e-10, atol=1e-10 * np.abs(e.P).max())
+            compared += 1
+    assert compared == 3
+    assert deferred > 5 * len(scans)  # most tracks out of view most of the time: not predicted
+    assert reentered >= 5  # and tracks came back into view after long gaps
+    born = set(e.labels.tolist()) - set((known + 100).tolist())
+    assert born  # tracks born from the data (the two unknown objects, clutter)
+
+
+def test_eager_gating_out_of_view_differs_and_lazy_follows_the_in_view_rule():
+    """A track just outside the view (x = 10.2, view x < 10) and a return at x = 9.8 in its gate: the
+    lecture's eager tracker (every track gated) updates it; with p_D = 0 out of view (gate_out_of_view=False
+    and lazy) it takes no return, the return starts a track instead, and both agree exactly."""
+    motion = ConstantVelocity(0.01)
+    H = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
+    model = ScanModel(H, 0.04 * np.eye(2), 0.9, 0.99, 1e-3)
+
+    def run(**kw):
+        tr = SingleHypothesisTracker(motion, model, initiator=MOfNInitiator(motion, model, m=1, n=1),
+                                     in_view=lambda x: x[:, 0] < 10.0, **kw)
+        tr.initialise([[10.2, 0.0, 0.0, 0.0]], [np.diag([0.25, 0.25, 0.01, 0.01])], [5], time=0.0)
+        tr.step(np.array([[9.8, 0.0]]), 1.0)
+        return tr.estimates()
+
+    every, in_view_only, lazy = run(), run(gate_out_of_view=False), run(lazy=True)
+    assert every.labels.tolist() == [5] and every.x[0, 0] < 10.2 - 0.1  # pulled toward the return
+    assert in_view_only.labels.tolist() == [5, 6] and in_view_only.x[0, 0] == 10.2  # not updated, a new track
+    np.testing.assert_array_equal(lazy.labels, in_view_only.labels)
+    np.testing.assert_array_equal(lazy.x, in_view_only.x)
+    np.testing.assert_array_equal(lazy.P, in_view_only.P)
+
+
+def test_lazy_options_are_checked():
+    motion = ConstantVelocity(0.01)
+    model = ScanModel(np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]]), np.eye(2), 0.9, 0.99, 1e-3)
+    with pytest.raises(ValueError, match="need in_view"):
+        SingleHypothesisTracker(motion, model, lazy=True)
+    with pytest.raises(ValueError, match="lazy=True needs gate_out_of_view=False"):
+        SingleHypothesisTracker(motion, model, lazy=True, gate_out_of_view=True, in_view=lambda x: x[:, 0] < 1)
+    with pytest.raises(TypeError, match="lazy must be True or False"):
+        SingleHypothesisTracker(motion, model, lazy="yes", in_view=lambda x: x[:, 0] < 1)
+
+
+def test_lazy_with_no_tracks_and_empty_scans():
+    """No tracks, then a return starting one (1-of-1), then an empty scan: the lazy tracker's means and its
+    predicted covariance equal the eager (in-view gating) tracker's."""
+    motion = ConstantVelocity(0.01)
+    model = ScanModel(np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]]), np.eye(2), 0.9, 0.99, 1e-3)
+
+    def run(**kw):
+        tr = SingleHypothesisTracker(motion, model, initiator=MOfNInitiator(motion, model, m=1, n=1),
+                                     in_view=lambda x: x[:, 0] < 10.0, **kw)
+        out = [tr.step(np.zeros((0, 2)), 0.0), tr.step(np.array([[1.0, 1.0]]), 1.0), tr.step(np.zeros((0, 2)), 2.0)]
+        return out, tr.estimates()
+
+    (a0, a1, a2), a = run(lazy=True)
+    (_, _, e2), e = run(gate_out_of_view=False)
+    assert len(a0) == 0 and a1.labels.tolist() == [0] and a2.P is None
+    np.testing.assert_array_equal(a2.x, e2.x)
+    np.testing.assert_array_equal(a.P, e.P)

@@ -92,13 +92,16 @@ def _claims(per_seed: pd.DataFrame, over: str, suffix: str) -> list:
         label, n, ref, bref = g["label"].iloc[0], len(g), g["reference"].iloc[0], g["births_reference"].iloc[0]
         ctl = blind.get(case)
         key, ctl_over = f"{case}_{tracker}_", seeds
+        # the chain-seed rows decide their own half of the claim (joined with the scenario seeds' in the claims
+        # file): one verdict per row's claim id
+        over_what = " (over chain seeds)" if suffix else ""
         for col, item, source, published, tol, k in _tests(case, g, names[(case, ref)] if ref else "",
                                                            names[(case, bref)] if bref else ""):
             x = g[col].to_numpy(dtype=float)
             if n >= 2 and np.isfinite(x).all():
                 c = monte_carlo_claim(ex, f"{case}, {label}: {item}{where}", source, float(published), x,
                                       abs_tol=tol, digits=4, key=key + k + suffix,
-                                      claim=_claim_id(case, tracker, k, names.get((case, bref), "")),
+                                      claim=_claim_id(case, tracker, k, names.get((case, bref), "")) + over_what,
                                       note=f"over {n} {over}; min {x.min():.4g}, median "
                                            f"{np.median(x):.4g}, max {x.max():.4g}")
             else:
@@ -128,7 +131,7 @@ def _claims(per_seed: pd.DataFrame, over: str, suffix: str) -> list:
                       "reproduced" if tracked == total else "not reproduced",
                       f"latency (scans from first in view to a correct MAP track): median "
                       f"{np.nanmedian(g['birth_latency_mean']):.3g}, worst {np.nanmax(g['birth_latency_max']):.3g}",
-                      "published number", key=key + "Births" + suffix, claim=_claim_id(case, tracker, "Births"))
+                      "published number", key=key + "Births" + suffix, claim=_claim_id(case, tracker, "Births") + over_what)
             if ctl is not None:
                 b_tracked, b_total = int(ctl["births_tracked_end"].sum()), int(ctl["births"].sum())
                 c = with_control(c, BLIND_LABEL, f"{b_tracked} of {b_total} births", b_tracked == b_total)

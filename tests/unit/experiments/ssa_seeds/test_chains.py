@@ -147,8 +147,10 @@ def test_chain_seed_rows_mirror_the_scenario_seed_rows():
     assert sorted(chains) == sorted(k + sc.CHAIN_SUFFIX for k in seeds)
     for key, row in seeds.items():
         c = chains[key + sc.CHAIN_SUFFIX]
-        # the same claim, published value and tolerance; its own numbers
-        assert (c.claim, c.published, c.tolerance, c.source) == (row.claim, row.published, row.tolerance, row.source)
+        # the same claim (its chain-seed half: one verdict per claim id in the ledger), published value and
+        # tolerance; its own numbers
+        assert (c.claim, c.published, c.tolerance, c.source) == (row.claim + " (over chain seeds)", row.published,
+                                                                 row.tolerance, row.source)
         assert c.item.endswith("(over chain seeds)") and c.claim
     p = chains["ssa50_rfisst_chain_PEndChains"]
     assert (p.status, p.n, float(p.mean)) == ("not reproduced", "3", pytest.approx(0.5))

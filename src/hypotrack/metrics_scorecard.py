@@ -88,9 +88,9 @@ def label_owners(targets, labels) -> dict:
 
 
 def return_tallies(origin, correlated, owners: dict) -> dict:
-    """Counts over the returns of real objects (``origin >= 0``): ``n_returns``, ``correct`` (correlated to a
-    track its origin owns), ``cross_tags`` (to a track owned by another object, or by none) and
-    ``uncorrelated`` (``correlated == −1``)."""
+    """Counts over the returns of real objects (``origin >= 0``): ``n_returns``; ``correct`` (correlated to a
+    track its origin owns); ``cross_tags`` (to a track another object owns); ``orphan`` (to a track no object
+    owns: a false or duplicate track); ``uncorrelated`` (``correlated == −1``). They add up to ``n_returns``."""
     o = np.asarray(origin, dtype=np.int64).reshape(-1)
     c = np.asarray(correlated, dtype=np.int64).reshape(-1)
     if len(o) != len(c):
@@ -99,8 +99,8 @@ def return_tallies(origin, correlated, owners: dict) -> dict:
     o, c = o[real], c[real]
     own = np.array([owners.get(int(x), -1) for x in c], dtype=np.int64) if len(c) else np.zeros(0, np.int64)
     unc = c < 0
-    correct = ~unc & (own == o)
-    return dict(n_returns=int(len(o)), correct=int(correct.sum()), cross_tags=int((~unc & ~correct).sum()),
+    return dict(n_returns=int(len(o)), correct=int((~unc & (own == o)).sum()),
+                cross_tags=int((~unc & (own >= 0) & (own != o)).sum()), orphan=int((~unc & (own < 0)).sum()),
                 uncorrelated=int(unc.sum()))
 
 

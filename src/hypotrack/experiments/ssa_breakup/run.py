@@ -62,9 +62,10 @@ def build_breakup(cfg, seed: int):
     return sc.catalogue, unknown, sc, init_seed
 
 
-def build_control(cfg_catalogue, control, seed: int):
-    """The sparse-catalogue control: ``ssa_catalogue``'s scenario at ``control.n_objects``, ``control.n_scans``."""
-    c = {**cfg_catalogue, "n_scans": int(control["n_scans"])}
+def build_control(cfg_catalogue, control, seed: int, unknown_share: float = 0.0):
+    """The sparse-catalogue control: ``ssa_catalogue``'s scenario at ``control.n_objects``, ``control.n_scans``, with
+    ``unknown_share`` of its debris unknown (the breakup's share, so that both scenarios ask the same)."""
+    c = {**cfg_catalogue, "n_scans": int(control["n_scans"]), "unknown_share": float(unknown_share)}
     return build_scenario(c, int(control["n_objects"]), int(seed))
 
 
@@ -72,7 +73,7 @@ def build(scenario: str, cfg, cfg_catalogue, seed: int):
     """The scenario tuple of ``scenario`` (one of :data:`SCENARIOS`)."""
     if scenario not in SCENARIOS:
         raise ValueError(f"scenario must be one of {SCENARIOS}, got {scenario!r}")
-    return build_breakup(cfg, seed) if scenario == "breakup" else build_control(cfg_catalogue, cfg["control"], seed)
+    return build_breakup(cfg, seed) if scenario == "breakup" else build_control(cfg_catalogue, cfg["control"], seed, cfg["unknown_share"])
 
 
 def pass_ends(truth: pd.DataFrame, gap_s: float = PASS_GAP_S) -> pd.DataFrame:

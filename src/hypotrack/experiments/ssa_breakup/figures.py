@@ -29,7 +29,7 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
     from ...reporting import figure_style
 
     plt.rcParams.update(_STYLE)
-    fig, (a, b) = plt.subplots(1, 2, figsize=(6.5, 2.8))
+    fig, (a, b) = plt.subplots(1, 2, figsize=(6.5, 3.4))
     for scen, d in distances.items():
         d = np.sort(np.asarray(d, float))
         if len(d):
@@ -39,7 +39,7 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
     a.set_xscale("log")
     a.set_xlabel("distance to the nearest other object in view (km)")
     a.set_ylabel("share of (scan, object) pairs")
-    a.legend(loc="upper left", frameon=False)
+    a.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False)
     names = [t for t in TRACKER_NAMES if t in set(summary["tracker"])]
     scens = [s for s in SCENARIO_NAMES if s in set(summary["scenario"])]
     x = np.arange(len(names))
@@ -51,6 +51,6 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
               label=SCENARIO_NAMES.get(scen, scen))
     b.set_xticks(x, [TRACKER_NAMES[t] for t in names], rotation=20)
     b.set_ylabel("cross-tags per 10$^4$ object returns")
-    b.legend(loc="upper left", frameon=False)
+    b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=2)
     fig.tight_layout()
     figure_style.save(fig, pdf, png, width=1.0)  # refuses text under 7 pt; closes the figure

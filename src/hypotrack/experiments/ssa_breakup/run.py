@@ -128,7 +128,8 @@ def _held_moments(tracker, labels) -> dict:
 class ScoredRun:
     """What one tracker run records (module docstring). Tables: ``per_scan``; ``returns`` (scan, origin,
     correlated label); ``assign`` (scan, target, label, −1 none); ``ends`` (target, pass_no, time, label, mean ``x``,
-    covariance ``P`` and their time ``t_x`` of its track at the pass's last scan; ``pass_no = −1``: the last scan of the run)."""
+    covariance ``P`` and their time ``t_x`` of its track at the pass's last scan; ``pass_no = −1``: the last scan of the run, for every object with a
+    track — its last assigned one, or a known object's own initial label if it was never assigned)."""
 
     tracker: str
     per_scan: pd.DataFrame
@@ -170,6 +171,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
         ends_at.setdefault(r.last_scan, []).append((r.target, r.pass_no))
     rows, ret_rows, assign, ends = [], [], [], []
     last_label: dict = {}
+    known = set(int(x) for x in labels)  # a known object's initial track carries its own id as label
     for k, scan in enumerate(scans):
         t_k, Z, origin = scan
         tsensor.at(sc.theta[k])
@@ -204,15 +206,15 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
                          false=pur["false"], duplicate=pur["duplicate"], unphysical_map=bad_map,
                          unphysical_hypotheses=bad_hyp))
         final = k == len(scans) - 1
-        need = [(t, p) for t, p in ends_at.get(k, []) if t in last_label]
-        if final:
-            need += [(t, -1) for t in last_label]
+        need = [(t, p, last_label[t]) for t, p in ends_at.get(k, []) if t in last_label]
+        if final:  # every catalogued object: its last assigned track, else (a known object) its own label
+            need += [(int(t), -1, last_label.get(int(t), int(t))) for t in objects["norad"]
+                     if int(t) in last_label or int(t) in known]
         if need:
-            held = _held_moments(tracker, [last_label[t] for t, _ in need])
-            for t, p in need:
-                if last_label[t] in held:
-                    x, P, t_x = held[last_label[t]]
-                    ends.append(dict(target=int(t), pass_no=int(p), time=float(t_k), label=last_label[t], x=x, P=P,
-                                     t_x=t_x))
+            held = _held_moments(tracker, [lb for _, _, lb in need])
+            for t, p, lb in need:
+                if lb in held:
+                    x, P, t_x = held[lb]
+                    ends.append(dict(target=int(t), pass_no=int(p), time=float(t_k), label=lb, x=x, P=P, t_x=t_x))
     return ScoredRun(name, pd.DataFrame(rows), pd.concat(ret_rows, ignore_index=True) if ret_rows else pd.DataFrame(),
                      pd.concat(assign, ignore_index=True) if assign else pd.DataFrame(), ends)

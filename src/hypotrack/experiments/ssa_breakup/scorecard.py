@@ -48,16 +48,23 @@ def reacquisitions(run, truth: pd.DataFrame, motion, sigma_km: float, gate_proba
     tv = truth[truth["in_view"]]
     by_scan = {k: g for k, g in tv.groupby("scan")}
     g2 = chi2.ppf(gate_probability, 3)
+    ev = [(e, nxt[(e["target"], e["pass_no"] + 1)]) for e in run.ends
+          if e["pass_no"] >= 0 and (e["target"], e["pass_no"] + 1) in nxt]
     rows = []
-    for e in run.ends:
-        if e["pass_no"] < 0 or (e["target"], e["pass_no"] + 1) not in nxt:
-            continue
-        p = nxt[(e["target"], e["pass_no"] + 1)]
+    if not ev:
+        return pd.DataFrame(rows, columns=["target", "pass_no", "t_end", "gap_s", "err_r", "err_i", "err_c", "d2",
+                                           "within", "nn_in_gate"])
+    X0 = np.array([e["x"] for e, _ in ev])
+    P0 = np.array([e["P"] for e, _ in ev])
+    dt = np.array([p.t_first - e["t_x"] for e, p in ev])
+    Xp, Phi = motion.transition_each(X0, dt)  # one batch: each row by its own interval (the EKF of predict)
+    Pp = Phi @ P0 @ np.swapaxes(Phi, 1, 2) + motion.Q_each(np.abs(dt))
+    Pp = 0.5 * (Pp + np.swapaxes(Pp, 1, 2))
+    for (e, p), x, P in zip(ev, Xp, Pp):
         g = by_scan[p.first_scan]
         ids = g["target"].to_numpy(np.int64)
         pos = g[["state_0", "state_1", "state_2"]].to_numpy()
         xt = g[ids == e["target"]][[f"state_{i}" for i in range(6)]].to_numpy()[0]
-        x, P = predict(motion, e["x"], e["P"], p.t_first - e["t_x"])
         ric = ric_error(xt[None], x[None])[0]
         d2 = mahalanobis2((x[:3] - xt[:3])[None], P[None, :3, :3])[0]
         others = pos[ids != e["target"]]

@@ -97,3 +97,16 @@ def test_small_run_end_to_end(small_cfg):
     rows, dist = density(cfg, cat)
     assert rows["scenario"].tolist() == ["breakup", "catalogue"]
     assert rows.iloc[0]["nn_median_km"] < rows.iloc[1]["nn_median_km"]  # the cloud is denser than the catalogue
+
+
+def test_batched_prediction_is_predict_row_by_row():
+    motion = J2Orbit3D(q=1e-9)
+    X = np.array([[7000.0, 0, 0, 0, 7.5, 0.1], [0, 7100.0, 0, -7.4, 0, 0.5]])
+    P = np.broadcast_to(np.diag([0.25, 0.25, 0.25, 1e-6, 1e-6, 1e-6]), (2, 6, 6))
+    dt = np.array([600.0, 1800.0])
+    Xp, Phi = motion.transition_each(X, dt)
+    Pp = Phi @ P @ np.swapaxes(Phi, 1, 2) + motion.Q_each(dt)
+    for i in range(2):
+        x1, P1 = predict(motion, X[i], P[i], dt[i])
+        assert Xp[i] == pytest.approx(x1)
+        assert Pp[i] == pytest.approx(P1, rel=1e-9, abs=1e-15)

@@ -49,6 +49,10 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
         b.bar(x + (i - (len(scens) - 1) / 2) * w, g["cross_tags_per_1e4"], w,
               yerr=g["cross_tags_per_1e4_se"].fillna(0.0), color=_COLOURS.get(scen, "k"), capsize=2,
               label=SCENARIO_NAMES.get(scen, scen))
+        for xi, v in zip(x + (i - (len(scens) - 1) / 2) * w, g["cross_tags_per_1e4"]):
+            if v == 0:  # a bar of height zero is invisible: say so
+                b.annotate("0", (xi, 0), xytext=(0, 2), textcoords="offset points", ha="center", va="bottom",
+                           color=_COLOURS.get(scen, "k"))
     b.set_xticks(x, [TRACKER_NAMES[t] for t in names], rotation=20)
     b.set_ylabel("cross-tags per 10$^4$ object returns")
     b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=2)

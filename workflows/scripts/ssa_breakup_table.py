@@ -23,5 +23,5 @@ density = density_table(pd.read_csv(snakemake.input.density).to_dict("records"))
 dist = pd.read_csv(snakemake.input.distances)  # noqa: F821
 plot_breakup({s: g["nn_km"].to_numpy() for s, g in dist.groupby("scenario", sort=False)}, smallest_gate_km(cfg),
              summary, out.fig_pdf, out.fig_png)
-write_claims(breakup_claims(summary, ratios, density), out.claims)
+write_claims(breakup_claims(summary, ratios, density, cfg["reference_tracker"]), out.claims)
 write_macros(EXPERIMENT, breakup_macros(summary, ratios, density), out.macros)

@@ -110,3 +110,22 @@ def test_batched_prediction_is_predict_row_by_row():
         x1, P1 = predict(motion, X[i], P[i], dt[i])
         assert Xp[i] == pytest.approx(x1)
         assert Pp[i] == pytest.approx(P1, rel=1e-9, abs=1e-15)
+
+
+def test_every_claim_row_is_placed_in_the_extension_group():
+    from hypotrack.experiments.ssa_breakup.summary import breakup_claims
+
+    doc = yaml.safe_load((CONFIG.parents[3] / "src" / "hypotrack" / "reporting" / "document_claims.yaml").read_text())
+    placed = {r for g in doc["extensions"] if g["id"] == "extension.breakup" for r in g["rows"]}
+    names = ["glmb", "homht_kbest", "rfisst", "gnn", "jpda"]
+    cards = pd.DataFrame([dict(scenario=s, tracker=t, seed=k, cross_tags_per_1e4=float(k), completeness=0.5,
+                               duplicate_per_1000=1.0, false_per_1000=1.0, nn_in_gate_share=0.5, reacquisitions=3.0)
+                          for s in ("breakup", "catalogue") for t in names for k in (1, 2)])
+    acc, _ = scorecard_summary(cards)
+    dens = density_table([dict(scenario=s, seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0, share_in_gate=0.5,
+                               share_in_5_gates=1.0) for s in ("breakup", "catalogue")])
+    rows = breakup_claims(acc, cross_tag_ratios(cards), dens)
+    keys = {f"ssa_breakup/{c.key}" for c in rows}
+    assert len(keys) == len(rows) == 10 + 4 + 2 + 2
+    assert keys == placed
+    assert {c.status for c in rows} == {"extension"}

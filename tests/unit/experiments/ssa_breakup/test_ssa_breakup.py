@@ -115,7 +115,7 @@ def test_batched_prediction_is_predict_row_by_row():
 def test_every_claim_row_is_placed_in_the_extension_group():
     from hypotrack.experiments.ssa_breakup.summary import breakup_claims
 
-    doc = yaml.safe_load((CONFIG.parents[3] / "src" / "hypotrack" / "reporting" / "document_claims.yaml").read_text())
+    doc = yaml.safe_load((CONFIG.parents[2] / "src" / "hypotrack" / "reporting" / "document_claims.yaml").read_text())
     placed = {r for g in doc["extensions"] if g["id"] == "extension.breakup" for r in g["rows"]}
     names = ["glmb", "homht_kbest", "rfisst", "gnn", "jpda"]
     cards = pd.DataFrame([dict(scenario=s, tracker=t, seed=k, cross_tags_per_1e4=float(k), completeness=0.5,

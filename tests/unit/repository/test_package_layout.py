@@ -31,6 +31,9 @@ CROSS_IMPORTS = {
                           "and claim ids, so a verdict over seeds is the single run's verdict repeated",
     ("ssa_catalogue.single_event", "ssa"): "document 000's single-event population measured on ssa50 itself: "
                                            "ssa50's R-FISST (ssa.trackers) and known catalogue (ssa.scenario)",
+    ("ssa_breakup", "ssa_catalogue"): "the breakup cloud tracked as the catalogue is: the catalogue experiment's "
+                                      "radar, motion model, tracking problem and trackers, and its scenario as the "
+                                      "sparse control",
 }
 
 

@@ -14,7 +14,9 @@ Modules, in data-flow order:
 * :mod:`.radar_model` — the documented radar model for trackers: range, azimuth, elevation, range-rate
   of a TEME state, its analytic Jacobian, noise and the azimuth-wrapped innovation;
 * :mod:`.admissible` — admissible-region birth: the Gaussian mixture of a new object's state given one
-  return (bound orbit, perigee >= 100 km; the test is :func:`hypotrack.models.plausibility.plausible_orbits`).
+  return (bound orbit, perigee >= 100 km; the test is :func:`hypotrack.models.plausibility.plausible_orbits`);
+* :mod:`.sbm` — the NASA standard breakup model (fragment sizes, area-to-mass ratios, ejection speeds);
+* :mod:`.breakup` — a fresh breakup cloud of a bundled parent orbit (two-body + J2 truth) seen by a radar.
 
 Example (``import pandas as pd``)::
 

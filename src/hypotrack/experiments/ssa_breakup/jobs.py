@@ -1,0 +1,59 @@
+"""The pipeline jobs of the ``ssa_breakup`` experiment as library calls (the Snakemake scripts only read and write).
+
+* :func:`score_tracker` — one tracker on every (scenario, seed): the scorecard rows (:mod:`.scorecard`);
+* :func:`density` — per (scenario, seed) the nearest-neighbour density rows and distances (:mod:`.summary`).
+
+Seeds: ``seeds`` of the section; scenario ``s`` of seed ``k`` is built from ``k`` alone (:func:`.run.build`), so
+every tracker job sees the same scans, and each tracker draws (Gibbs, MCMC) from the same ``k``.
+"""
+
+from __future__ import annotations
+
+import pandas as pd
+
+from ...scenarios.catalogue.breakup import gate_radius_km
+from ..ssa_catalogue.run import make_motion
+from .run import build, run_scored
+from .scorecard import scorecard_row
+from .summary import density_rows
+
+__all__ = ["score_tracker", "density", "smallest_gate_km"]
+
+
+def _section(cfg, scenario: str, cfg_catalogue):
+    """The section a scenario's trackers read: this experiment's (the control uses its own radar and metrics
+    but this experiment's trackers, model and initial errors, so both scenarios differ only in the scene)."""
+    if scenario == "breakup":
+        return cfg
+    return {**cfg, "radar": cfg_catalogue["radar"]}
+
+
+def smallest_gate_km(cfg) -> float:
+    """The smallest gate of the section's radar and gate probability (:func:`gate_radius_km`)."""
+    return gate_radius_km(cfg["radar"]["sigma_km"], cfg["model"]["gate_probability"])
+
+
+def score_tracker(name: str, cfg, cfg_catalogue) -> pd.DataFrame:
+    """Scorecard rows of tracker ``name`` on every scenario of ``cfg['scenarios']`` and seed of ``cfg['seeds']``."""
+    rows = []
+    for scen in cfg["scenarios"]:
+        sec = _section(cfg, scen, cfg_catalogue)
+        for seed in cfg["seeds"]:
+            scenario = build(scen, cfg, cfg_catalogue, int(seed))
+            run = run_scored(name, sec, scenario, int(seed))
+            rows.append(dict(scenario=scen, seed=int(seed), **scorecard_row(run, scenario, sec, make_motion(sec))))
+    return pd.DataFrame(rows)
+
+
+def density(cfg, cfg_catalogue) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """``(rows, distances)``: density rows per (scenario, seed) and the long table of distances (scenario, seed,
+    km) — each scenario's smallest gate from its own radar."""
+    rows, dist = [], []
+    for scen in cfg["scenarios"]:
+        sec = _section(cfg, scen, cfg_catalogue)
+        for seed in cfg["seeds"]:
+            _, _, sc, _ = build(scen, cfg, cfg_catalogue, int(seed))
+            r, nn = density_rows(sc.truth, scen, int(seed), smallest_gate_km(sec))
+            rows.append(r)
+            dist.append(pd.DataFrame(dict(scenario=scen, seed=int(seed), nn_km=nn)))
+    return pd.DataFrame(rows), pd.concat(dist, ignore_index=True)

@@ -1,0 +1,220 @@
+"""A fresh breakup cloud tracked by the catalogue's five trackers, scored as an operator would.
+
+Scenarios (config section ``ssa_breakup``)
+------------------------------------------
+* **breakup** — :func:`hypotrack.scenarios.catalogue.breakup.simulate_breakup`: a bundled parent orbit
+  fragmented by the NASA standard breakup model (``event`` block), seen by a radar
+  (``radar`` block: the catalogue experiment's radar model at another site) over ``window``;
+* **catalogue** (the control) — the sparse catalogue of the ``ssa_catalogue`` experiment
+  (:func:`hypotrack.experiments.ssa_catalogue.run.build_scenario`) at ``control.n_objects`` and
+  ``control.n_scans``, where the trackers tie.
+
+Every tracker is the ``ssa_catalogue`` experiment's (:func:`~hypotrack.experiments.ssa_catalogue.run.make_problem`,
+:func:`~hypotrack.experiments.ssa_catalogue.run.make_tracker`, the ``model``/``trackers`` blocks of this
+section) on the same scans. Known objects start at their true state at scan 0's epoch plus a seeded Gaussian
+error with that covariance (``init_position_std_km``, ``init_velocity_std_km_s``: a cloud catalogued from
+its first observations); a seeded ``unknown_share`` of them must be born from the data.
+
+:func:`run_scored` steps one tracker and records, per scan, what the scorecard needs
+(:mod:`.scorecard`): the returns with their origin and the track each correlates to, the assignment of
+estimates to the truths in view, purity counts, GOSPA's parts, the CPU seconds of the step, the MAP tracks
+that fail the plausibility test (:func:`hypotrack.models.plausibility.plausible_orbits`), and each object's
+track (mean, covariance) at the end of each of its passes and at the last scan.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import pandas as pd
+from scipy.optimize import linear_sum_assignment
+
+from ...hypotheses.factored import FactoredFilter
+from ...metrics import gospa
+from ...metrics_scorecard import correlate_returns, purity_counts
+from ...models.plausibility import plausible_orbits
+from ...scenarios.catalogue.breakup import BreakupEvent, simulate_breakup
+from ...scenarios.catalogue.tracking import TrackerSensor
+from ..ssa_catalogue.run import build_scenario, make_motion, make_problem, make_radar, make_tracker
+
+__all__ = ["SCENARIOS", "build_breakup", "build_control", "build", "pass_ends", "ScoredRun", "run_scored",
+           "PASS_GAP_S"]
+
+SCENARIOS = ("breakup", "catalogue")
+#: An object's scans in view more than this apart (s) belong to different passes (5 min: longer than any flicker
+#: at the edge of the field of view, shorter than the gap between two passes of a LEO object).
+PASS_GAP_S = 300.0
+
+
+def build_breakup(cfg, seed: int):
+    """``(objects, unknown ids, BreakupScenario, init seed)`` of the ``ssa_breakup`` section ``cfg``."""
+    sim_seed, pop_seed, init_seed = (int(s.generate_state(1)[0]) for s in np.random.SeedSequence(int(seed)).spawn(3))
+    ev = cfg["event"]
+    event = BreakupEvent(parent_norad=int(ev["parent_norad"]), kind=ev["kind"], parent_kind=ev["parent_kind"],
+                         lc_min_m=float(ev["lc_min_m"]), scaling=float(ev.get("scaling", 1.0)),
+                         mass_kg=ev.get("mass_kg"), event_offset_s=float(ev.get("event_offset_s", 0.0)))
+    w = cfg["window"]
+    sc = simulate_breakup(event, make_radar(cfg), obs_start_s=w["obs_start_s"], obs_end_s=w["obs_end_s"], seed=sim_seed)
+    ids = sc.catalogue["norad"].to_numpy(np.int64)
+    unknown = np.sort(ids[np.random.default_rng(pop_seed).random(len(ids)) < cfg["unknown_share"]])
+    return sc.catalogue, unknown, sc, init_seed
+
+
+def build_control(cfg_catalogue, control, seed: int, unknown_share: float = 0.0):
+    """The sparse-catalogue control: ``ssa_catalogue``'s scenario at ``control.n_objects``, ``control.n_scans``, with
+    ``unknown_share`` of its debris unknown (the breakup's share, so that both scenarios ask the same)."""
+    c = {**cfg_catalogue, "n_scans": int(control["n_scans"]), "unknown_share": float(unknown_share)}
+    return build_scenario(c, int(control["n_objects"]), int(seed))
+
+
+def build(scenario: str, cfg, cfg_catalogue, seed: int):
+    """The scenario tuple of ``scenario`` (one of :data:`SCENARIOS`)."""
+    if scenario not in SCENARIOS:
+        raise ValueError(f"scenario must be one of {SCENARIOS}, got {scenario!r}")
+    return build_breakup(cfg, seed) if scenario == "breakup" else build_control(cfg_catalogue, cfg["control"], seed, cfg["unknown_share"])
+
+
+def pass_ends(truth: pd.DataFrame, gap_s: float = PASS_GAP_S) -> pd.DataFrame:
+    """One row per (object, pass) from a truth table's in-view rows: ``target``, ``pass_no``, ``first_scan``,
+    ``last_scan``, ``t_first``, ``t_last`` (a new pass starts after more than ``gap_s`` out of view)."""
+    tv = truth[truth["in_view"]].sort_values(["target", "scan"])
+    rows = []
+    for tid, g in tv.groupby("target", sort=True):
+        s, t = g["scan"].to_numpy(), g["time"].to_numpy(float)
+        cut = np.flatnonzero(np.diff(t) > gap_s)
+        starts, ends = np.r_[0, cut + 1], np.r_[cut, len(t) - 1]
+        rows.extend(dict(target=int(tid), pass_no=p, first_scan=int(s[a]), last_scan=int(s[b]),
+                         t_first=float(t[a]), t_last=float(t[b])) for p, (a, b) in enumerate(zip(starts, ends)))
+    return pd.DataFrame(rows, columns=["target", "pass_no", "first_scan", "last_scan", "t_first", "t_last"])
+
+
+def _initial(sc, unknown, cfg, init_seed):
+    """Known objects: true state at ``t = 0`` plus a seeded Gaussian error, with its covariance."""
+    X, valid = sc.states(np.array([0.0]))
+    X, valid = X[:, 0], valid[:, 0]
+    ids = sc.catalogue["norad"].to_numpy(np.int64)
+    known = valid & ~np.isin(ids, unknown)
+    s = np.r_[np.full(3, cfg["init_position_std_km"]), np.full(3, cfg["init_velocity_std_km_s"])]
+    err = np.random.default_rng(init_seed).standard_normal((int(known.sum()), 6)) * s
+    return X[known] + err, np.broadcast_to(np.diag(s**2), (int(known.sum()), 6, 6)).copy(), ids[known]
+
+
+def _held_moments(tracker, labels) -> dict:
+    """``{label: (mean, covariance, time)}`` of the MAP tracks ``labels`` as the tracker holds them: GNN/JPDA at
+    the scan; a factored filter's lane singletons and groups' MAP tracks at the time each was last predicted
+    to (lazy ones are not predicted here: the scorecard predicts them with the same model)."""
+    want = set(int(x) for x in labels)
+    if not isinstance(tracker, FactoredFilter):
+        e = tracker.estimates()
+        return {int(a): (x.copy(), p.copy(), float(e.time)) for a, x, p in zip(e.labels, e.x, e.P) if int(a) in want}
+    st = tracker.state()
+    out = {}
+    lane = st.lane
+    for i, a in enumerate(lane.store.labels):
+        if int(a) in want:
+            out[int(a)] = (lane.store.means[i].copy(), lane.store.covs[i].copy(), float(lane.times[i]))
+    for g, tg in zip(st.groups.states, st.groups.times):
+        idx = g.tracks[int(np.argmax(g.log_w))]
+        for i in idx:
+            a = int(g.store.labels[i])
+            if a in want:
+                out[a] = (g.store.means[i].copy(), g.store.covs[i].copy(), float(tg))
+    return out
+
+
+@dataclass
+class ScoredRun:
+    """What one tracker run records (module docstring). Tables: ``per_scan``; ``returns`` (scan, origin,
+    correlated label); ``assign`` (scan, target, label, −1 none); ``ends`` (target, pass_no, time, label, mean ``x``,
+    covariance ``P`` and their time ``t_x`` of its track at the pass's last scan; ``pass_no = −1``: the last scan of the run, for every object with a
+    track — its last assigned one, or a known object's own initial label if it was never assigned)."""
+
+    tracker: str
+    per_scan: pd.DataFrame
+    returns: pd.DataFrame
+    assign: pd.DataFrame
+    ends: list = field(default_factory=list)
+
+
+def _unphysical(tracker, X) -> tuple[int, float]:
+    """MAP tracks failing the plausibility test (an orbit's energy and perigee do not change as it is predicted,
+    so the test needs no prediction); hypotheses holding one — a factored filter's over its groups'
+    hypotheses and lane singletons (one hypothesis each), a single-hypothesis tracker's 1 if any."""
+    bad_map = int((~plausible_orbits(X)).sum()) if len(X) else 0
+    if not isinstance(tracker, FactoredFilter):
+        return bad_map, float(bad_map > 0)
+    st = tracker.state()
+    n = int((~plausible_orbits(st.lane.store.means)).sum()) if len(st.lane) else 0
+    for g in st.groups.states:
+        ok = plausible_orbits(g.store.means) if len(g.store.means) else np.ones(0, bool)
+        n += sum(int(len(t) > 0 and not ok[t].all()) for t in g.tracks)
+    return bad_map, float(n)
+
+
+def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = True) -> ScoredRun:
+    """Step tracker ``name`` over the scans of ``scenario`` (a :func:`build` tuple) and record the scorecard's
+    inputs (module docstring). ``cfg``: the section holding ``model``, ``trackers``, ``metrics``, the initial
+    errors and ``radar``."""
+    objects, unknown, sc, init_seed = scenario
+    tsensor = TrackerSensor(sc.sensors[0])
+    means, covs, labels = _initial(sc, unknown, cfg, init_seed)
+    problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
+    tracker = make_tracker(name, cfg, problem, int(seed))
+    c, gate = cfg["metrics"]["cutoff_km"], cfg["metrics"]["correlation_gate_km"]
+    scans = sc.scan_list(0, with_origin=True)
+    truth = sc.truth[sc.truth["in_view"]]
+    by_scan = {k: g for k, g in truth.groupby("scan")}
+    ends_at: dict = {}
+    for r in pass_ends(sc.truth).itertuples(index=False):
+        ends_at.setdefault(r.last_scan, []).append((r.target, r.pass_no))
+    rows, ret_rows, assign, ends = [], [], [], []
+    last_label: dict = {}
+    known = set(int(x) for x in labels)  # a known object's initial track carries its own id as label
+    for k, scan in enumerate(scans):
+        t_k, Z, origin = scan
+        tsensor.at(sc.theta[k])
+        Zt = tsensor.returns(Z)
+        t0 = time.process_time()
+        tracker.step(Zt, float(t_k))
+        cpu = time.process_time() - t0
+        e = tracker.estimates()
+        lab_all, X_all = np.asarray(e.labels, np.int64), np.asarray(e.x)
+        inv = problem.in_view(X_all) if len(X_all) else np.zeros(0, bool)
+        lab, EX = lab_all[inv], X_all[inv, :3]
+        g = by_scan.get(k)
+        TX = g[["state_0", "state_1", "state_2"]].to_numpy() if g is not None else np.zeros((0, 3))
+        tid = g["target"].to_numpy(np.int64) if g is not None else np.zeros(0, np.int64)
+        cor = correlate_returns(Zt, lab, EX, gate)
+        ret_rows.append(pd.DataFrame(dict(scan=k, origin=np.asarray(origin, np.int64), label=cor)))
+        lab_of = np.full(len(TX), -1, np.int64)
+        if len(TX) and len(EX):
+            D = np.linalg.norm(TX[:, None] - EX[None], axis=-1)
+            r, q = linear_sum_assignment(np.minimum(D, c))
+            ok = D[r, q] < c
+            lab_of[r[ok]] = lab[q[ok]]
+        assign.append(pd.DataFrame(dict(scan=k, target=tid, label=lab_of)))
+        for t, x in zip(tid, lab_of):
+            if x >= 0:
+                last_label[int(t)] = int(x)
+        gr = gospa(EX, TX, c=c, p=1.0)
+        pur = purity_counts(TX, EX, c)
+        bad_map, bad_hyp = _unphysical(tracker, X_all) if count_hypotheses else (0, float("nan"))
+        rows.append(dict(tracker=name, scan=k, time=float(t_k), cpu_s=cpu, n_returns=len(Z), n_in_view=len(TX),
+                         n_estimates=len(EX), gospa_loc=gr.localisation, gospa_missed=gr.missed, gospa_false=gr.false,
+                         false=pur["false"], duplicate=pur["duplicate"], unphysical_map=bad_map,
+                         unphysical_hypotheses=bad_hyp))
+        final = k == len(scans) - 1
+        need = [(t, p, last_label[t]) for t, p in ends_at.get(k, []) if t in last_label]
+        if final:  # every catalogued object: its last assigned track, else (a known object) its own label
+            need += [(int(t), -1, last_label.get(int(t), int(t))) for t in objects["norad"]
+                     if int(t) in last_label or int(t) in known]
+        if need:
+            held = _held_moments(tracker, [lb for _, _, lb in need])
+            for t, p, lb in need:
+                if lb in held:
+                    x, P, t_x = held[lb]
+                    ends.append(dict(target=int(t), pass_no=int(p), time=float(t_k), label=lb, x=x, P=P, t_x=t_x))
+    return ScoredRun(name, pd.DataFrame(rows), pd.concat(ret_rows, ignore_index=True) if ret_rows else pd.DataFrame(),
+                     pd.concat(assign, ignore_index=True) if assign else pd.DataFrame(), ends)

@@ -1,0 +1,139 @@
+"""Tables, ledger rows and macros of the ``ssa_breakup`` experiment.
+
+* :func:`scorecard_summary` — the scorecard (:mod:`.scorecard`) per (scenario, tracker): mean and standard
+  error over the seeds of every column;
+* :func:`cross_tag_ratios` — per scenario, the cross-tags per 10⁴ returns of each factored tracker over GNN's,
+  per seed, then mean ± standard error over the seeds (a seed where GNN has none gives no ratio), against
+  the goal ``ratio ≤ goal`` (default ½);
+* :func:`density_table` — per (scenario, seed): the nearest-neighbour distances of the objects in view (median)
+  and the share inside the smallest gate (:func:`hypotrack.scenarios.catalogue.breakup.gate_radius_km`);
+* :func:`breakup_claims`, :func:`breakup_macros` — ledger rows (status *extension*) and macros.
+
+Timing (CPU seconds) is kept apart in ``summary_timing.csv`` (machine-dependent).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ...metrics_scorecard import mean_se
+from ...reporting.ledger import Claim
+from ...scenarios.catalogue.breakup import nearest_neighbour_km
+
+__all__ = ["EXPERIMENT", "TRACKER_NAMES", "SCENARIO_NAMES", "TIMING_COLUMNS", "scorecard_summary", "cross_tag_ratios",
+           "density_rows", "density_table", "breakup_claims", "breakup_macros"]
+
+EXPERIMENT = "ssa_breakup"
+SOURCE = "extension (a fresh breakup cloud)"
+TRACKER_NAMES = {"glmb": "δ-GLMB", "homht_kbest": "HOMHT k-best", "rfisst": "R-FISST", "gnn": "GNN", "jpda": "JPDA"}
+SCENARIO_NAMES = {"breakup": "breakup cloud", "catalogue": "sparse catalogue"}
+TIMING_COLUMNS = ("cpu_s",)
+_KEYS = ("scenario", "tracker")
+
+
+def scorecard_summary(cards: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """``(accuracy, timing)``: per (scenario, tracker) the number of seeds and, per numeric column,
+    ``<col>`` (mean) and ``<col>_se`` (standard error over seeds); timing holds :data:`TIMING_COLUMNS`."""
+    num = [c for c in cards.columns if c not in (*_KEYS, "seed") and pd.api.types.is_numeric_dtype(cards[c])]
+    rows = []
+    for (scen, name), g in cards.groupby(list(_KEYS), sort=False):
+        r = dict(scenario=scen, tracker=name, n_seeds=int(g["seed"].nunique()))
+        for c in num:
+            r[c], r[f"{c}_se"] = mean_se(g[c])
+        rows.append(r)
+    out = pd.DataFrame(rows)
+    tcols = [c for c in out.columns if c.split("_se")[0] in TIMING_COLUMNS]
+    return out.drop(columns=tcols), out[[*_KEYS, "n_seeds", *tcols]]
+
+
+def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glmb", "homht_kbest"),
+                     goal: float = 0.5) -> pd.DataFrame:
+    """Per (scenario, tracker): cross-tags per 10⁴ returns over ``reference``'s, mean ± s.e. over the seeds
+    with a nonzero reference (``n_ratio`` of them), and whether the mean meets ``ratio ≤ goal``."""
+    rows = []
+    for scen, g in cards.groupby("scenario", sort=False):
+        ref = g[g["tracker"] == reference].set_index("seed")["cross_tags_per_1e4"]
+        for name in trackers:
+            own = g[g["tracker"] == name].set_index("seed")["cross_tags_per_1e4"]
+            seeds = own.index.intersection(ref.index[ref > 0])
+            ratio = (own.loc[seeds] / ref.loc[seeds]).to_numpy(float)
+            m, se = mean_se(ratio)
+            rows.append(dict(scenario=scen, tracker=name, reference=reference, n_ratio=len(seeds), ratio=m, ratio_se=se,
+                             goal=goal, meets_goal=bool(np.isfinite(m) and m <= goal)))
+    return pd.DataFrame(rows, columns=["scenario", "tracker", "reference", "n_ratio", "ratio", "ratio_se", "goal",
+                                       "meets_goal"])
+
+
+def density_rows(truth: pd.DataFrame, scenario: str, seed: int, gate_km: float) -> tuple[dict, np.ndarray]:
+    """One density row of a scenario's truth (median nearest-neighbour distance of the objects in view, share
+    inside ``gate_km`` and inside 5 ``gate_km``) and the finite distances (for the figure)."""
+    nn = nearest_neighbour_km(truth)
+    nn = nn[np.isfinite(nn)]
+    return (dict(scenario=scenario, seed=int(seed), n_pairs=len(nn), nn_median_km=float(np.median(nn)) if len(nn)
+                 else float("nan"), gate_km=gate_km, share_in_gate=float(np.mean(nn <= gate_km)) if len(nn) else
+                 float("nan"), share_in_5_gates=float(np.mean(nn <= 5 * gate_km)) if len(nn) else float("nan")), nn)
+
+
+def density_table(rows) -> pd.DataFrame:
+    """Density rows per seed, then a mean ± s.e. row per scenario (``seed = -1``)."""
+    df = pd.DataFrame(rows)
+    out = [df]
+    for scen, g in df.groupby("scenario", sort=False):
+        r = dict(scenario=scen, seed=-1, n_pairs=int(g["n_pairs"].sum()), gate_km=float(g["gate_km"].iloc[0]))
+        for c in ("nn_median_km", "share_in_gate", "share_in_5_gates"):
+            r[c], r[f"{c}_se"] = mean_se(g[c])
+        out.append(pd.DataFrame([r]))
+    return pd.concat(out, ignore_index=True)
+
+
+def _f(x, d=3):
+    return "--" if not np.isfinite(x) else f"{x:.{d}g}"
+
+
+def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame, reference: str = "gnn") -> list:
+    """Ledger rows (status *extension*): per scenario, each tracker's cross-tags per 10⁴ returns; the ratios to
+    GNN against the goal; the share of ``reference``'s re-acquisitions with another object inside the gate; the
+    share of nearest-neighbour distances inside the smallest gate."""
+    out = []
+    for r in summary.itertuples(index=False):
+        out.append(Claim(EXPERIMENT, f"cross-tags per 10^4 returns, {TRACKER_NAMES[r.tracker]}, "
+                         f"{SCENARIO_NAMES[r.scenario]}", SOURCE, "--",
+                         f"{_f(r.cross_tags_per_1e4)} ± {_f(r.cross_tags_per_1e4_se, 2)}", "--", "extension",
+                         f"mean ± s.e. over {int(r.n_seeds)} seeds; completeness {_f(r.completeness)}, duplicates "
+                         f"{_f(r.duplicate_per_1000)} and false {_f(r.false_per_1000)} per 1,000 estimates",
+                         "measurement", key=f"crosstags_{r.scenario}_{r.tracker}"))
+    for r in ratios.itertuples(index=False):
+        out.append(Claim(EXPERIMENT, f"cross-tags of {TRACKER_NAMES[r.tracker]} over GNN's, "
+                         f"{SCENARIO_NAMES[r.scenario]}", SOURCE, f"goal ≤ {r.goal:g}",
+                         f"{_f(r.ratio)} ± {_f(r.ratio_se, 2)}", "--", "extension",
+                         f"per-seed ratios over {int(r.n_ratio)} seeds with GNN cross-tags; "
+                         f"{'meets' if r.meets_goal else 'misses'} the goal", "measurement",
+                         key=f"ratio_{r.scenario}_{r.tracker}"))
+    for r in summary[summary["tracker"] == reference].itertuples(index=False):
+        out.append(Claim(EXPERIMENT, f"re-acquisitions with another object inside the track's gate, "
+                         f"{TRACKER_NAMES[r.tracker]}, {SCENARIO_NAMES[r.scenario]}", SOURCE, "--",
+                         f"{_f(r.nn_in_gate_share)} ± {_f(r.nn_in_gate_share_se, 2)}", "--", "extension",
+                         f"the nearest other object in view inside the 99.9 % gate of the track predicted to the "
+                         f"object's next pass; {_f(r.reacquisitions)} re-acquisitions per seed, {int(r.n_seeds)} seeds",
+                         "measurement", key=f"reacq_gate_{r.scenario}"))
+    for r in density[density["seed"] < 0].itertuples(index=False):
+        out.append(Claim(EXPERIMENT, f"nearest-neighbour distances inside the smallest gate, "
+                         f"{SCENARIO_NAMES[r.scenario]}", SOURCE, "--", f"{_f(r.share_in_gate)}", "--", "extension",
+                         f"gate {r.gate_km:.2f} km; median distance {_f(r.nn_median_km)} km; "
+                         f"{int(r.n_pairs)} (scan, object in view) pairs", "measurement",
+                         key=f"nn_in_gate_{r.scenario}"))
+    return out
+
+
+def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame) -> dict:
+    """Macros: cross-tags per 10⁴ returns per (scenario, tracker), the ratios and the density shares."""
+    vals = {}
+    for r in summary.itertuples(index=False):
+        vals[f"crosstags_{r.scenario}_{r.tracker}"] = r.cross_tags_per_1e4
+    for r in ratios.itertuples(index=False):
+        vals[f"ratio_{r.scenario}_{r.tracker}"] = r.ratio
+    for r in density[density["seed"] < 0].itertuples(index=False):
+        vals[f"nn_share_{r.scenario}"] = r.share_in_gate
+        vals[f"nn_median_{r.scenario}"] = r.nn_median_km
+    return vals

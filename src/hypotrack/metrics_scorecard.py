@@ -1,0 +1,188 @@
+"""The operator's scorecard of a space-surveillance tracker: the pieces, each on plain arrays.
+
+A catalogue operator asks of a tracker (Vallado & Griesbach-style catalogue-maintenance measures):
+
+* **return correlation** — each return from a real object is *correlated* to the track nearest to it after
+  the scan (:func:`correlate_returns`: the track whose posterior position lies within ``gate_km`` of the
+  return, nearest first; none: *uncorrelated*). Each track label is *owned* by the true object it was
+  assigned to most often over the run (:func:`label_owners`, the track-purity convention); a return
+  correlated to a track owned by another object is a **cross-tag** (:func:`return_tallies`). Clutter
+  returns are left out of these counts. Rates are per 10⁴ object returns (:func:`per`).
+* **purity** — per scan, the estimates in view optimally assigned to the truths in view with cut-off
+  ``c`` (as GOSPA); an unassigned estimate within ``c`` of some truth is a **duplicate** (a second track on
+  an object already held), any other unassigned one is **false** (:func:`purity_counts`). Per 1,000
+  estimates.
+* **accuracy at re-acquisition** — the error of a track predicted across an object's gap out of view, in
+  the radial / in-track / cross-track frame of the true state (:func:`ric_error`: R along ``r``, C along
+  ``r × v``, I = C × R), and the **covariance realism** — the share of squared Mahalanobis distances
+  ``e^T P^-1 e`` (3-D position) inside the 95 % bound ``χ²₃(0.95) = 7.815`` (:func:`mahalanobis2`,
+  :func:`chi2_share`; a realistic covariance puts 95 % inside).
+* **completeness** — the share of catalogued objects whose predicted position at their next pass is within
+  5 km of the truth (the caller predicts; :func:`within`).
+* **GOSPA per object in view** — the sums over scans of GOSPA's localisation, missed and false parts
+  (p = 1) divided by the number of (scan, object in view) pairs (:func:`gospa_parts_per_object`).
+
+Counts are exact integers; averages over runs come with the standard error ``s / sqrt(n)`` (:func:`mean_se`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+from scipy.stats import chi2
+
+from ._validation import check_positive, check_probability
+
+__all__ = ["correlate_returns", "label_owners", "return_tallies", "purity_counts", "ric_frame", "ric_error",
+           "mahalanobis2", "chi2_share", "within", "per", "mean_se", "gospa_parts_per_object", "CHI2_95_3D"]
+
+CHI2_95_3D = float(chi2.ppf(0.95, 3))
+"""The 95 % bound of a 3-D squared Mahalanobis distance (7.8147)."""
+
+
+def _pos(a, name):
+    a = np.asarray(a, dtype=float).reshape(-1, 3) if np.size(a) else np.zeros((0, 3))
+    if not np.all(np.isfinite(a)):
+        raise ValueError(f"{name} must be finite positions (n, 3)")
+    return a
+
+
+def correlate_returns(returns, est_labels, est_pos, gate_km: float) -> np.ndarray:
+    """The label of the estimate nearest to each return within ``gate_km`` (Euclidean), −1 when none.
+
+    ``returns`` (m, 3), ``est_labels`` (n,), ``est_pos`` (n, 3). Several returns may correlate to one track.
+    """
+    g = check_positive(gate_km, "gate_km")
+    Z, E = _pos(returns, "returns"), _pos(est_pos, "est_pos")
+    lab = np.asarray(est_labels, dtype=np.int64).reshape(-1)
+    if len(lab) != len(E):
+        raise ValueError(f"est_labels must have one label per estimate ({len(E)}), got {len(lab)}")
+    out = np.full(len(Z), -1, np.int64)
+    if len(Z) == 0 or len(E) == 0:
+        return out
+    D = np.linalg.norm(Z[:, None] - E[None], axis=-1)
+    j = np.argmin(D, axis=1)
+    ok = D[np.arange(len(Z)), j] <= g
+    out[ok] = lab[j[ok]]
+    return out
+
+
+def label_owners(targets, labels) -> dict:
+    """``{label: target}``: the target each label was assigned to most often (ties: the smallest target id),
+    from parallel arrays of (target, label) assignments; labels < 0 (unassigned) are ignored."""
+    t = np.asarray(targets, dtype=np.int64).reshape(-1)
+    lab = np.asarray(labels, dtype=np.int64).reshape(-1)
+    if len(t) != len(lab):
+        raise ValueError(f"targets and labels must have the same length, got {len(t)} and {len(lab)}")
+    keep = lab >= 0
+    t, lab = t[keep], lab[keep]
+    owners = {}
+    if len(t) == 0:
+        return owners
+    pairs, counts = np.unique(np.stack([lab, t], axis=1), axis=0, return_counts=True)
+    # sort by label, then count descending, then target ascending: the first row per label wins
+    order = np.lexsort((pairs[:, 1], -counts, pairs[:, 0]))
+    for i in order:
+        owners.setdefault(int(pairs[i, 0]), int(pairs[i, 1]))
+    return owners
+
+
+def return_tallies(origin, correlated, owners: dict) -> dict:
+    """Counts over the returns of real objects (``origin >= 0``): ``n_returns``; ``correct`` (correlated to a
+    track its origin owns); ``cross_tags`` (to a track another object owns); ``orphan`` (to a track no object
+    owns: a false or duplicate track); ``uncorrelated`` (``correlated == −1``). They add up to ``n_returns``."""
+    o = np.asarray(origin, dtype=np.int64).reshape(-1)
+    c = np.asarray(correlated, dtype=np.int64).reshape(-1)
+    if len(o) != len(c):
+        raise ValueError(f"origin and correlated must have the same length, got {len(o)} and {len(c)}")
+    real = o >= 0
+    o, c = o[real], c[real]
+    own = np.array([owners.get(int(x), -1) for x in c], dtype=np.int64) if len(c) else np.zeros(0, np.int64)
+    unc = c < 0
+    return dict(n_returns=int(len(o)), correct=int((~unc & (own == o)).sum()),
+                cross_tags=int((~unc & (own >= 0) & (own != o)).sum()), orphan=int((~unc & (own < 0)).sum()),
+                uncorrelated=int(unc.sum()))
+
+
+def purity_counts(truth_pos, est_pos, cutoff_km: float) -> dict:
+    """``n_estimates``, ``false`` and ``duplicate`` estimates of one scan (module docstring): the optimal
+    assignment minimises ``Σ min(d, c)`` and keeps the pairs closer than ``c``."""
+    c = check_positive(cutoff_km, "cutoff_km")
+    T, E = _pos(truth_pos, "truth_pos"), _pos(est_pos, "est_pos")
+    n = len(E)
+    if n == 0:
+        return dict(n_estimates=0, false=0, duplicate=0)
+    if len(T) == 0:
+        return dict(n_estimates=n, false=n, duplicate=0)
+    D = np.linalg.norm(E[:, None] - T[None], axis=-1)
+    r, k = linear_sum_assignment(np.minimum(D, c))
+    assigned = np.zeros(n, bool)
+    assigned[r[D[r, k] < c]] = True
+    near = D.min(axis=1) < c
+    return dict(n_estimates=n, false=int((~assigned & ~near).sum()), duplicate=int((~assigned & near).sum()))
+
+
+def ric_frame(x_true) -> np.ndarray:
+    """Rows R, I, C ``(n, 3, 3)`` of the radial / in-track / cross-track frame of TEME states ``(n, 6)``."""
+    X = np.asarray(x_true, dtype=float).reshape(-1, 6)
+    R = X[:, :3] / np.linalg.norm(X[:, :3], axis=1, keepdims=True)
+    C = np.cross(X[:, :3], X[:, 3:])
+    C /= np.linalg.norm(C, axis=1, keepdims=True)
+    return np.stack([R, np.cross(C, R), C], axis=1)
+
+
+def ric_error(x_true, x_est) -> np.ndarray:
+    """Position error ``x_est − x_true`` ``(n, 3)`` in the RIC frame of the true states."""
+    X = np.asarray(x_true, dtype=float).reshape(-1, 6)
+    E = np.asarray(x_est, dtype=float).reshape(len(X), -1)[:, :3]
+    return np.einsum("nij,nj->ni", ric_frame(X), E - X[:, :3])
+
+
+def mahalanobis2(err, P) -> np.ndarray:
+    """``e_i^T P_i^-1 e_i`` of errors ``(n, d)`` and covariances ``(n, d, d)`` (Cholesky solve)."""
+    e = np.asarray(err, dtype=float)
+    P = np.asarray(P, dtype=float)
+    if e.ndim != 2 or P.shape != e.shape + e.shape[-1:]:
+        raise ValueError(f"err (n, d) and P (n, d, d) must match, got {e.shape} and {P.shape}")
+    if len(e) == 0:
+        return np.zeros(0)
+    L = np.linalg.cholesky(0.5 * (P + np.swapaxes(P, 1, 2)))
+    y = np.linalg.solve(L, e[..., None])[..., 0]
+    return np.sum(y * y, axis=1)
+
+
+def chi2_share(d2, prob: float = 0.95, dim: int = 3) -> float:
+    """Share of squared Mahalanobis distances ``d2`` inside ``χ²_dim(prob)`` (NaN for none)."""
+    d2 = np.asarray(d2, dtype=float).reshape(-1)
+    if len(d2) == 0:
+        return float("nan")
+    return float(np.mean(d2 <= chi2.ppf(check_probability(prob, "prob"), dim)))
+
+
+def within(pred_pos, true_pos, radius_km: float = 5.0) -> np.ndarray:
+    """Mask of predictions within ``radius_km`` of the truth (rows of ``(n, 3)``)."""
+    r = check_positive(radius_km, "radius_km")
+    return np.linalg.norm(_pos(pred_pos, "pred_pos") - _pos(true_pos, "true_pos"), axis=1) <= r
+
+
+def per(count, total, scale: float) -> float:
+    """``scale · count / total`` (NaN when ``total`` is 0): rates per 10⁴ returns, per 1,000 estimates."""
+    return float(scale * count / total) if total else float("nan")
+
+
+def mean_se(values) -> tuple[float, float]:
+    """Mean and standard error ``s / sqrt(n)`` (sample s, ddof 1) of the finite values (NaN s.e. for n < 2)."""
+    v = np.asarray(values, dtype=float).reshape(-1)
+    v = v[np.isfinite(v)]
+    if len(v) == 0:
+        return float("nan"), float("nan")
+    return float(v.mean()), float(v.std(ddof=1) / np.sqrt(len(v))) if len(v) > 1 else float("nan")
+
+
+def gospa_parts_per_object(localisation, missed, false, n_in_view) -> dict:
+    """GOSPA (p = 1) and its parts per (scan, object in view): sums over scans over ``Σ n_in_view``."""
+    n = float(np.sum(n_in_view))
+    parts = dict(localisation=float(np.sum(localisation)), missed=float(np.sum(missed)), false=float(np.sum(false)))
+    out = {f"gospa_{k}_per_object_km": (v / n if n else float("nan")) for k, v in parts.items()}
+    out["gospa_per_object_km"] = sum(parts.values()) / n if n else float("nan")
+    return out

@@ -1,0 +1,131 @@
+"""The ssa_breakup experiment: pass segmentation, ratios and summaries by hand, and a small end-to-end run."""
+
+import copy
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from hypotrack.experiments.ssa_breakup.jobs import density, score_tracker
+from hypotrack.experiments.ssa_breakup.run import pass_ends
+from hypotrack.experiments.ssa_breakup.scorecard import predict
+from hypotrack.experiments.ssa_breakup.summary import cross_tag_ratios, density_table, scorecard_summary
+from hypotrack.models.orbit3d import J2Orbit3D
+from hypotrack.scenarios.tables import truth_table
+
+from pathlib import Path
+
+CONFIG = Path(__file__).resolve().parents[4] / "workflows" / "config" / "default.yaml"
+
+
+def test_pass_ends_by_hand():
+    # object 7 in view at 0, 10, 20 s then 700, 710 s (a gap of 680 s > 300 s: two passes); object 8 at 10 s
+    t = [0.0, 10.0, 20.0, 700.0, 710.0, 10.0]
+    s = [0, 1, 2, 70, 71, 1]
+    tab = truth_table(s, t, [7, 7, 7, 7, 7, 8], np.ones((6, 6)), [True] * 6)
+    p = pass_ends(tab)
+    assert p[["target", "pass_no", "first_scan", "last_scan"]].to_numpy().tolist() == [
+        [7, 0, 0, 2], [7, 1, 70, 71], [8, 0, 1, 1]]
+    assert p["t_first"].tolist() == [0.0, 700.0, 10.0]
+
+
+def test_ratios_and_summary_by_hand():
+    cards = pd.DataFrame(dict(
+        scenario=["breakup"] * 6 + ["catalogue"] * 2,
+        tracker=["gnn", "glmb", "homht_kbest"] * 2 + ["gnn", "glmb"],
+        seed=[1, 1, 1, 2, 2, 2, 1, 1],
+        cross_tags_per_1e4=[100.0, 40.0, 300.0, 200.0, 120.0, 200.0, 0.0, 0.0],
+        cpu_s=[1.0, 2, 3, 1, 2, 3, 1, 1]))
+    r = cross_tag_ratios(cards, "gnn", ("glmb", "homht_kbest"), goal=0.5).set_index(["scenario", "tracker"])
+    # glmb: ratios 0.4 and 0.6 -> mean 0.5, s.e. 0.1414 / sqrt(2) = 0.1; homht: 3.0 and 1.0 -> 2.0 +- 1.0
+    assert r.loc[("breakup", "glmb"), ["ratio", "ratio_se"]].tolist() == pytest.approx([0.5, 0.1])
+    assert bool(r.loc[("breakup", "glmb"), "meets_goal"])
+    assert r.loc[("breakup", "homht_kbest"), ["ratio", "ratio_se"]].tolist() == pytest.approx([2.0, 1.0])
+    assert not r.loc[("breakup", "homht_kbest"), "meets_goal"]
+    # the catalogue control: GNN has no cross-tags, so no ratio
+    assert r.loc[("catalogue", "glmb"), "n_ratio"] == 0 and np.isnan(r.loc[("catalogue", "glmb"), "ratio"])
+    acc, timing = scorecard_summary(cards)
+    row = acc.set_index(["scenario", "tracker"]).loc[("breakup", "homht_kbest")]
+    assert (row["cross_tags_per_1e4"], row["cross_tags_per_1e4_se"], row["n_seeds"]) == pytest.approx((250.0, 50.0, 2))
+    assert "cpu_s" not in acc and "cpu_s" in timing
+
+
+def test_density_table_mean_rows():
+    rows = [dict(scenario="breakup", seed=1, n_pairs=10, nn_median_km=2.0, gate_km=2.0, share_in_gate=0.4,
+                 share_in_5_gates=0.9),
+            dict(scenario="breakup", seed=2, n_pairs=20, nn_median_km=4.0, gate_km=2.0, share_in_gate=0.2,
+                 share_in_5_gates=0.7)]
+    d = density_table(rows)
+    m = d[d["seed"] < 0].iloc[0]
+    assert (m["n_pairs"], m["share_in_gate"], m["share_in_gate_se"]) == pytest.approx((30, 0.3, 0.1))
+
+
+def test_predict_is_the_ekf():
+    motion = J2Orbit3D(q=1e-9)
+    x = np.array([7000.0, 0, 0, 0, 7.5, 0.1])
+    P = np.diag([0.25, 0.25, 0.25, 1e-6, 1e-6, 1e-6])
+    xp, Pp = predict(motion, x, P, 600.0)
+    m, Phi = motion.transition(x[None], 600.0)
+    assert xp == pytest.approx(m[0])
+    assert Pp == pytest.approx(Phi[0] @ P @ Phi[0].T + motion.Q(600.0))
+    assert np.allclose(Pp, Pp.T) and np.all(np.linalg.eigvalsh(Pp) > 0)
+
+
+@pytest.fixture(scope="module")
+def small_cfg():
+    full = yaml.safe_load(CONFIG.read_text())
+    cfg = copy.deepcopy(full["ssa_breakup"])
+    cfg.update(seeds=[5], scenarios=["breakup", "catalogue"], control={"n_objects": 300, "n_scans": 30})
+    cfg["event"]["lc_min_m"] = 0.2  # 78 fragments
+    cfg["window"] = {"obs_start_s": 7200.0, "obs_end_s": 8400.0}  # the cloud's first pass over the site
+    return cfg, full["ssa_catalogue"]
+
+
+def test_small_run_end_to_end(small_cfg):
+    cfg, cat = small_cfg
+    cards = score_tracker("gnn", cfg, cat)
+    assert cards["scenario"].tolist() == ["breakup", "catalogue"]
+    b = cards.iloc[0]
+    assert 70 <= b["n_objects"] <= 78  # 6 x 0.2^-1.6 = 78 drawn, those re-entering within the revolution removed
+    assert b["object_returns"] > 100
+    parts = b[["correct_per_1e4", "cross_tags_per_1e4", "orphan_per_1e4", "uncorrelated_per_1e4"]].sum()
+    assert parts == pytest.approx(1e4)
+    assert 0.0 <= b["completeness"] <= 1.0
+    again = score_tracker("gnn", cfg, cat)
+    pd.testing.assert_frame_equal(cards.drop(columns="cpu_s"), again.drop(columns="cpu_s"))
+    rows, dist = density(cfg, cat)
+    assert rows["scenario"].tolist() == ["breakup", "catalogue"]
+    assert rows.iloc[0]["nn_median_km"] < rows.iloc[1]["nn_median_km"]  # the cloud is denser than the catalogue
+
+
+def test_batched_prediction_is_predict_row_by_row():
+    motion = J2Orbit3D(q=1e-9)
+    X = np.array([[7000.0, 0, 0, 0, 7.5, 0.1], [0, 7100.0, 0, -7.4, 0, 0.5]])
+    P = np.broadcast_to(np.diag([0.25, 0.25, 0.25, 1e-6, 1e-6, 1e-6]), (2, 6, 6))
+    dt = np.array([600.0, 1800.0])
+    Xp, Phi = motion.transition_each(X, dt)
+    Pp = Phi @ P @ np.swapaxes(Phi, 1, 2) + motion.Q_each(dt)
+    for i in range(2):
+        x1, P1 = predict(motion, X[i], P[i], dt[i])
+        assert Xp[i] == pytest.approx(x1)
+        assert Pp[i] == pytest.approx(P1, rel=1e-9, abs=1e-15)
+
+
+def test_every_claim_row_is_placed_in_the_extension_group():
+    from hypotrack.experiments.ssa_breakup.summary import breakup_claims
+
+    doc = yaml.safe_load((CONFIG.parents[2] / "src" / "hypotrack" / "reporting" / "document_claims.yaml").read_text())
+    placed = {r for g in doc["extensions"] if g["id"] == "extension.breakup" for r in g["rows"]}
+    names = ["glmb", "homht_kbest", "rfisst", "gnn", "jpda"]
+    cards = pd.DataFrame([dict(scenario=s, tracker=t, seed=k, cross_tags_per_1e4=float(k), completeness=0.5,
+                               duplicate_per_1000=1.0, false_per_1000=1.0, nn_in_gate_share=0.5, reacquisitions=3.0)
+                          for s in ("breakup", "catalogue") for t in names for k in (1, 2)])
+    acc, _ = scorecard_summary(cards)
+    dens = density_table([dict(scenario=s, seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0, share_in_gate=0.5,
+                               share_in_5_gates=1.0) for s in ("breakup", "catalogue")])
+    rows = breakup_claims(acc, cross_tag_ratios(cards), dens)
+    keys = {f"ssa_breakup/{c.key}" for c in rows}
+    assert len(keys) == len(rows) == 10 + 4 + 2 + 2
+    assert keys == placed
+    assert {c.status for c in rows} == {"extension"}

@@ -1,0 +1,27 @@
+"""ssa_breakup: scorecard per tracker and seed, mean ± s.e., cross-tag ratios, figure, ledger rows and macros."""
+import pandas as pd
+
+from hypotrack.experiments.ssa_breakup.figures import plot_breakup
+from hypotrack.experiments.ssa_breakup.jobs import smallest_gate_km
+from hypotrack.experiments.ssa_breakup.summary import (EXPERIMENT, TIMING_COLUMNS, breakup_claims, breakup_macros,
+                                                        cross_tag_ratios, density_table, scorecard_summary)
+from hypotrack.reporting.joblog import prefix_output
+from hypotrack.reporting.ledger import write_claims, write_macros
+from hypotrack.scenarios.tables import write_table
+
+prefix_output(snakemake)  # noqa: F821 (every line this job prints names the job)
+
+cfg, out = snakemake.params.cfg, snakemake.output  # noqa: F821 (injected by Snakemake)
+cards = pd.concat([pd.read_csv(p) for p in snakemake.input.cards], ignore_index=True)  # noqa: F821
+write_table(cards.drop(columns=list(TIMING_COLUMNS)), out.scorecard)
+summary, timing = scorecard_summary(cards)
+write_table(summary, out.summary)
+write_table(timing, out.timing)
+ratios = cross_tag_ratios(cards, cfg["reference_tracker"], goal=cfg["ratio_goal"])
+write_table(ratios, out.ratios)
+density = density_table(pd.read_csv(snakemake.input.density).to_dict("records"))  # noqa: F821
+dist = pd.read_csv(snakemake.input.distances)  # noqa: F821
+plot_breakup({s: g["nn_km"].to_numpy() for s, g in dist.groupby("scenario", sort=False)}, smallest_gate_km(cfg),
+             summary, out.fig_pdf, out.fig_png)
+write_claims(breakup_claims(summary, ratios, density, cfg["reference_tracker"]), out.claims)
+write_macros(EXPERIMENT, breakup_macros(summary, ratios, density), out.macros)

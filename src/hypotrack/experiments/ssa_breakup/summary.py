@@ -127,12 +127,20 @@ def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
 
 
 def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame) -> dict:
-    """Macros: cross-tags per 10⁴ returns per (scenario, tracker), the ratios and the density shares."""
+    """Macros: per (scenario, tracker) cross-tags per 10⁴ returns (and s.e.), duplicates per 1,000 estimates,
+    completeness and covariance realism; the ratios with their s.e.; the density shares; the seeds and objects."""
     vals = {}
     for r in summary.itertuples(index=False):
         vals[f"crosstags_{r.scenario}_{r.tracker}"] = r.cross_tags_per_1e4
+        vals[f"crosstags_se_{r.scenario}_{r.tracker}"] = r.cross_tags_per_1e4_se
+        vals[f"duplicates_{r.scenario}_{r.tracker}"] = r.duplicate_per_1000
+        vals[f"completeness_{r.scenario}_{r.tracker}"] = r.completeness
+        vals[f"realism_{r.scenario}_{r.tracker}"] = r.realism_95
+        vals[f"n_seeds_{r.scenario}"] = int(r.n_seeds)
+        vals[f"n_objects_{r.scenario}"] = int(round(r.n_objects))
     for r in ratios.itertuples(index=False):
         vals[f"ratio_{r.scenario}_{r.tracker}"] = r.ratio
+        vals[f"ratio_se_{r.scenario}_{r.tracker}"] = r.ratio_se
     for r in density[density["seed"] < 0].itertuples(index=False):
         vals[f"nn_share_{r.scenario}"] = r.share_in_gate
         vals[f"nn_median_{r.scenario}"] = r.nn_median_km

@@ -190,3 +190,20 @@ def test_readme_report_command_takes_the_runs_config():
     commands = re.findall(r"^snakemake --report [^\n]*", text, re.M)
     assert commands and all("--configfile" in c for c in commands)
     assert "they must match" in " ".join(text.split())
+
+
+def test_a_record_assembled_from_several_invocations_states_cpu_time_and_no_wall_clock(tmp_path):
+    import pandas as pd
+
+    from hypotrack.reporting.pipeline_time import WHOLE_RUN, assembled_run_record, runtime_sentence
+
+    # jobs of one config written by two invocations (mtimes 500 and 2000): every job counts
+    _benchmark(tmp_path, "ssa50_run", "rfisst", 600.0, 590.5, 300.0, 500)
+    _benchmark(tmp_path, "sht_shard", "0", 30.0, 20.0, 100.0, 2000)
+    _benchmark(tmp_path, "theory_claims", "job", 5.0, 4.0, 50.0, 2000)
+    record = pd.read_csv(assembled_run_record(tmp_path, cores=2))
+    whole = record.iloc[0]
+    assert whole["rule"] == WHOLE_RUN and whole["jobs"] == 3 and whole["cpu_s"] == 614.5 and pd.isna(whole["wall_s"])
+    # 614.5 CPU-s = 10.2 CPU-minutes: on 2 cores at least 5 minutes
+    assert runtime_sentence(record) == ("not measured as one run (10 CPU-minutes over 3 jobs; largest, in CPU-minutes: "
+                                        "ssa50_run 10, sht_shard 0, theory_claims 0; at least 5 minutes on 2 cores)")

@@ -209,6 +209,8 @@ def monte_carlo_status(row, factor: float = 1.0, numbers: dict | None = None) ->
         v = monte_carlo_verdict(float(row["mean"]), float(row["se"]), float(row["published"]), factor * tol[0],
                                 int(row["n"]), tol[1])
     status = v.status
+    if status == "reproduced" and row.get("evidence") == "calibration":
+        return "calibration"  # a calibrated reading that passes is a calibration (claims.py), never a reproduction
     if status == "reproduced" and _control_passes(row):
         status = "uninformative"
     return status

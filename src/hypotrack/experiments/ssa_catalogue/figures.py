@@ -59,15 +59,29 @@ def plot_groups(per_scan: pd.DataFrame, pdf, png):
     n = per_scan["n_objects"].max()
     d = per_scan[(per_scan["n_objects"] == n) & per_scan["n_groups"].notna()]
     fig, axes = _fs().subplots(1, 2, height=2.8, sharex=True)
+    pairs = []
     for name, g in d.groupby("tracker", sort=False):
-        axes[0].plot(g["scan"], g["n_groups"], lw=1.0, label=TRACKER_NAMES.get(name, name))
-        axes[1].step(g["scan"], g["largest_group"], where="mid", lw=1.0)
+        label = TRACKER_NAMES.get(name, name)
+        pairs.append((axes[0].plot(g["scan"], g["n_groups"], lw=1.0, label=label)[0],
+                      axes[1].step(g["scan"], g["largest_group"], where="mid", lw=1.0, label=label)[0]))
     axes[0].set_ylabel("groups")
     axes[1].set_ylabel("largest group (objects)")
     for ax in axes:
         ax.set_xlabel("scan (10 s)")
         ax.grid(alpha=0.3)
-    _fs().legend_below(fig, *axes[0].get_legend_handles_labels(), ncol=3, frameon=False)
+    # trackers whose curves coincide (e.g. the same groups on a short run) are said so in the legend, per panel
+    notes = {}
+    for ax, panel in zip(axes, ("left", "right")):
+        ax.autoscale_view()
+        for a, b in _fs().coincident_lines(ax):
+            notes.setdefault(a.get_label(), {}).setdefault(b.get_label().split(",")[0], []).append(panel)
+    for left, right in pairs:
+        name = left.get_label()
+        if name in notes:
+            said = "; ".join(f"{other} ({' and '.join(p)})" for other, p in notes[name].items())
+            for line in (left, right):
+                line.set_label(_fs().wrap(f"{name}, coincides with {said}", fig, fraction=0.8))
+    _fs().legend_below(fig, *axes[0].get_legend_handles_labels(), ncol=1 if notes else 3, frameon=False)
     _save(fig, pdf, png)
 
 

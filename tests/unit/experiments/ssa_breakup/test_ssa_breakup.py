@@ -127,5 +127,6 @@ def test_every_claim_row_is_placed_in_the_extension_group():
     rows = breakup_claims(acc, cross_tag_ratios(cards), dens)
     keys = {f"ssa_breakup/{c.key}" for c in rows}
     assert len(keys) == len(rows) == 10 + 4 + 2 + 2
-    assert keys == placed
+    # R-FISST runs in full.yaml (and the quick wiring) only: its rows are reported unplaced there
+    assert keys - {k for k in keys if "_rfisst" in k} == placed
     assert {c.status for c in rows} == {"extension"}

@@ -605,3 +605,16 @@ def test_seed_distributions_figure_with_chain_seed_rows_is_legible():
     ticks = [t for t in fig.axes[0].get_yticklabels() if t.get_color() == CHAIN_COLOR]
     assert [t.get_text() for t in ticks] == ["ssa50: rfisst_chain label, chain seeds", "ssa50: rfisst label, chain seeds"]
     check(fig, "ssa_seeds/distributions")
+
+
+def test_a_legend_below_built_from_the_axes_notes_coinciding_series():
+    # b drawn exactly over a: without the note the check refuses the figure, with legend_below it says so
+    fig, ax = fs.subplots(height=3.0)
+    ax.plot([1, 2, 3], [1, 2, 3], label="a")
+    ax.plot([1, 2, 3], [1, 2, 3], label="b")
+    ax.plot([1, 2, 3], [3, 2, 1], label="c")
+    assert any("lies exactly on" in p for p in fs.legibility_problems(fig, 1.0))
+    fs.legend_below(fig)
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["a", "b (coincides with a)", "c"]
+    assert fs.legibility_problems(fig, 1.0) == []
+    plt.close(fig)

@@ -79,15 +79,20 @@ def note_coincident(fig) -> int:
     """Append "(coincides with <other>)" to the label of every labelled line drawn exactly over another labelled
     line of its axes (:func:`coincident_lines`, at the axes' current limits), so a legend built afterwards says
     which series hides which (e.g. two implementations timed alike on a small run). Returns the notes added."""
-    added = 0
+    notes = {}  # label -> the labels it is drawn over, in any axes: every line of that label gets one note
     for ax in fig.axes:
         ax.autoscale_view()
         for a, b in coincident_lines(ax):
             la, lb = str(a.get_label()), str(b.get_label())
             if _labelled(la) and _labelled(lb) and not _noted(la) and la != lb:
-                a.set_label(f"{la} (coincides with {lb.split(' (coincides')[0]})")
-                added += 1
-    return added
+                notes.setdefault(la, []).append(lb) if lb not in notes.get(la, []) else None
+    where = " in a panel" if len(fig.axes) > 1 else ""
+    for ax in fig.axes:
+        for line in ax.get_lines():
+            label = str(line.get_label())
+            if label in notes:
+                line.set_label(f"{label} (coincides with {', '.join(notes[label])}{where})")
+    return sum(len(v) for v in notes.values())
 
 
 def legend_below(fig, handles=None, labels=None, *, ncol: int = 2, **kwargs):

@@ -618,3 +618,15 @@ def test_a_legend_below_built_from_the_axes_notes_coinciding_series():
     assert [t.get_text() for t in fig.legends[0].get_texts()] == ["a", "b (coincides with a)", "c"]
     assert fs.legibility_problems(fig, 1.0) == []
     plt.close(fig)
+
+
+def test_a_series_coinciding_in_one_panel_is_noted_in_every_panel():
+    # the same two implementations in two panels: they coincide in the first only; one legend entry each
+    fig, axes = fs.subplots(1, 2, height=3.0)
+    for ax, offset in zip(axes, (0.0, 1.0)):
+        ax.plot([1, 2, 3], [1, 2, 3], label="peer A", color="tab:blue")
+        ax.plot([1, 2, 3], [1 + offset, 2 + offset, 3 + offset], label="peer B", color="tab:orange")
+    fs.legend_below(fig)
+    assert [t.get_text() for t in fig.legends[0].get_texts()] == ["peer A", "peer B (coincides with peer A in a panel)"]
+    assert fs.legibility_problems(fig, 1.0) == []
+    plt.close(fig)

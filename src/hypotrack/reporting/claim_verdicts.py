@@ -71,7 +71,7 @@ from pathlib import Path
 import pandas as pd
 import yaml
 
-from .claims import _TOL_TEXT
+from .claims import _TOL_TEXT, _calibrated
 from .verdict import monte_carlo_verdict, parse_control
 
 __all__ = ["CLAIMS_FILE", "CLAIM_VERDICTS", "CLAIM_VERDICT_MEANING", "DOCUMENTS", "TOLERANCE_SOURCES",
@@ -208,9 +208,7 @@ def monte_carlo_status(row, factor: float = 1.0, numbers: dict | None = None) ->
             return None
         v = monte_carlo_verdict(float(row["mean"]), float(row["se"]), float(row["published"]), factor * tol[0],
                                 int(row["n"]), tol[1])
-    status = v.status
-    if status == "reproduced" and row.get("evidence") == "calibration":
-        return "calibration"  # a calibrated reading that passes is a calibration (claims.py), never a reproduction
+    status = _calibrated(v.status, row.get("evidence", ""))  # a calibrated reading that passes: never a reproduction
     if status == "reproduced" and _control_passes(row):
         status = "uninformative"
     return status

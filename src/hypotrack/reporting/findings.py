@@ -53,36 +53,32 @@ EFFECT_SMALL_PERCENT = 10.0
 SEED_TRACKERS = {"Chain": "rfisst_chain", "Completion": "rfisst"}
 
 
-def seed_spread_macros(per_seed: pd.DataFrame, case: str = "ssa50") -> dict:
-    """``\\htFindingsSeeds<Tracker>PEnd{Min,Max}`` and ``\\htFindingsSeedsN``: the range over seeds of
-    ``p_n_end`` (posterior probability of the true number at the last scan) for ``case``."""
-    rows = per_seed[per_seed["case"] == case]
+def _spread_macros(table: pd.DataFrame, case: str, index: str, kind: str) -> dict:
+    """The range over the seeds of column ``index`` of ``p_n_end`` per tracker of ``case``, and the number of seeds:
+    macros ``\\htFindings<Kind><Tracker>PEnd{Min,Max}`` and ``\\htFindings<Kind>N`` (``kind``: "seeds", "chain seeds")."""
+    rows = table[table["case"] == case]
     if rows.empty:
-        raise ValueError(f"per_seed table has no rows for case {case!r}")
-    values = {"htFindingsSeedsN": str(rows["seed_index"].nunique())}
+        raise ValueError(f"the {kind} table has no rows for case {case!r}")
+    values = {macro_name("findings", kind, "n"): str(rows[index].nunique())}
     for word, tracker in SEED_TRACKERS.items():
         p = pd.to_numeric(rows.loc[rows["tracker"] == tracker, "p_n_end"], errors="raise")
         if p.empty:
-            raise ValueError(f"per_seed table has no {tracker!r} rows for case {case!r}")
-        values[macro_name("findings", "seeds", word, "p end min")] = format_value(float(p.min()), 2)
-        values[macro_name("findings", "seeds", word, "p end max")] = format_value(float(p.max()), 2)
+            raise ValueError(f"the {kind} table has no {tracker!r} rows for case {case!r}")
+        values[macro_name("findings", kind, word, "p end min")] = format_value(float(p.min()), 2)
+        values[macro_name("findings", kind, word, "p end max")] = format_value(float(p.max()), 2)
     return values
+
+
+def seed_spread_macros(per_seed: pd.DataFrame, case: str = "ssa50") -> dict:
+    """``\\htFindingsSeeds<Tracker>PEnd{Min,Max}`` and ``\\htFindingsSeedsN``: the range over seeds of
+    ``p_n_end`` (posterior probability of the true number at the last scan) for ``case``."""
+    return _spread_macros(per_seed, case, "seed_index", "seeds")
 
 
 def chain_spread_macros(per_chain: pd.DataFrame, case: str = "ssa50") -> dict:
     """``\\htFindingsChainSeeds<Tracker>PEnd{Min,Max}`` and ``\\htFindingsChainSeedsN``: the range over chain
     seeds (one realisation, the report's; a new MCMC stream each) of ``p_n_end`` for ``case``."""
-    rows = per_chain[per_chain["case"] == case]
-    if rows.empty:
-        raise ValueError(f"per_chain table has no rows for case {case!r}")
-    values = {"htFindingsChainSeedsN": str(rows["chain_index"].nunique())}
-    for word, tracker in SEED_TRACKERS.items():
-        p = pd.to_numeric(rows.loc[rows["tracker"] == tracker, "p_n_end"], errors="raise")
-        if p.empty:
-            raise ValueError(f"per_chain table has no {tracker!r} rows for case {case!r}")
-        values[macro_name("findings", "chain seeds", word, "p end min")] = format_value(float(p.min()), 2)
-        values[macro_name("findings", "chain seeds", word, "p end max")] = format_value(float(p.max()), 2)
-    return values
+    return _spread_macros(per_chain, case, "chain_index", "chain seeds")
 
 
 def cause_count_macros(ledger: pd.DataFrame) -> dict:

@@ -37,7 +37,7 @@ from ...metrics_scorecard import correlate_returns, purity_counts
 from ...models.plausibility import plausible_orbits
 from ...scenarios.catalogue.breakup import BreakupEvent, simulate_breakup
 from ...scenarios.catalogue.tracking import TrackerSensor
-from ..ssa_catalogue.run import build_scenario, make_motion, make_problem, make_radar, make_tracker
+from ..ssa_catalogue.run import build_scenario, initial_tracks, make_motion, make_problem, make_radar, make_tracker
 
 __all__ = ["SCENARIOS", "build_breakup", "build_control", "build", "pass_ends", "ScoredRun", "run_scored",
            "PASS_GAP_S"]
@@ -88,17 +88,6 @@ def pass_ends(truth: pd.DataFrame, gap_s: float = PASS_GAP_S) -> pd.DataFrame:
         rows.extend(dict(target=int(tid), pass_no=p, first_scan=int(s[a]), last_scan=int(s[b]),
                          t_first=float(t[a]), t_last=float(t[b])) for p, (a, b) in enumerate(zip(starts, ends)))
     return pd.DataFrame(rows, columns=["target", "pass_no", "first_scan", "last_scan", "t_first", "t_last"])
-
-
-def _initial(sc, unknown, cfg, init_seed):
-    """Known objects: true state at ``t = 0`` plus a seeded Gaussian error, with its covariance."""
-    X, valid = sc.states(np.array([0.0]))
-    X, valid = X[:, 0], valid[:, 0]
-    ids = sc.catalogue["norad"].to_numpy(np.int64)
-    known = valid & ~np.isin(ids, unknown)
-    s = np.r_[np.full(3, cfg["init_position_std_km"]), np.full(3, cfg["init_velocity_std_km_s"])]
-    err = np.random.default_rng(init_seed).standard_normal((int(known.sum()), 6)) * s
-    return X[known] + err, np.broadcast_to(np.diag(s**2), (int(known.sum()), 6, 6)).copy(), ids[known]
 
 
 def _held_moments(tracker, labels) -> dict:
@@ -159,7 +148,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
     errors and ``radar``."""
     objects, unknown, sc, init_seed = scenario
     tsensor = TrackerSensor(sc.sensors[0])
-    means, covs, labels = _initial(sc, unknown, cfg, init_seed)
+    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
     tracker = make_tracker(name, cfg, problem, int(seed))
     c, gate = cfg["metrics"]["cutoff_km"], cfg["metrics"]["correlation_gate_km"]

@@ -18,7 +18,7 @@ import numpy as np
 import pandas as pd
 
 from ...scenarios.catalogue.tracking import TrackerSensor
-from .run import _initial_tracks, build_scenario, make_motion, make_problem, tracker_spec
+from .run import initial_tracks, build_scenario, make_motion, make_problem, tracker_spec
 from ...registry import build
 from ...registry.spec import TrackerSpec
 
@@ -58,7 +58,7 @@ def lazy_sht_timing(cfg, n: int, seed: int, trackers=("gnn", "jpda"), *, n_scans
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     tsensor = TrackerSensor(sc.sensors[0])
     motion = make_motion(cfg)
-    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, motion, means, covs, labels)
     in_view_count = sc.truth[sc.truth["in_view"]].groupby("scan").size()
     scans = sc.scan_list(0)

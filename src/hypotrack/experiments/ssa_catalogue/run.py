@@ -55,7 +55,7 @@ from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
 from ...trackers import ScanModel, SingleHypothesisTracker
 from ..stepping import SHTStepper, max_abs_difference
 
-__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
            "CatalogueSHTStepper", "peer_rows"]
 
@@ -125,7 +125,7 @@ def build_scenario(cfg, n: int, seed: int):
     return objects, unknown, sc, init_seed
 
 
-def _initial_tracks(sc, unknown, cfg, init_seed):
+def initial_tracks(sc, unknown, cfg, init_seed):
     """Known objects: SGP4 state at scan 0 plus a seeded error, with its covariance."""
     X, valid = sc.states(np.array([0.0]))
     X, valid = X[:, 0], valid[:, 0]
@@ -204,7 +204,7 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
     radar = sc.sensors[0]
     tsensor = TrackerSensor(radar)
     motion = make_motion(cfg)
-    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     scans = sc.scan_list(0)
     truth = sc.truth[sc.truth["in_view"]]
     by_scan = {k: g for k, g in truth.groupby("scan")}
@@ -355,7 +355,7 @@ def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, s
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     tsensor = TrackerSensor(sc.sensors[0])
     motion = make_motion(cfg)
-    means, covs, labels = _initial_tracks(sc, unknown, cfg, init_seed)
+    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, motion, means, covs, labels)
     confs = [("serial", 1)] + [(p, int(workers)) for p in pools]
     filters = [make_tracker(name, cfg, problem, int(seed), workers=w, measure_transfer=pool == "bytes",
@@ -430,7 +430,7 @@ def peer_scenario(cfg, n: int, seed: int, scenario=None) -> PeerScenario:
     """:class:`PeerScenario` of size ``n`` (known objects only; the radar's returns in TEME)."""
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     tsensor = TrackerSensor(sc.sensors[0])
-    means, covs, _ = _initial_tracks(sc, unknown, cfg, init_seed)
+    means, covs, _ = initial_tracks(sc, unknown, cfg, init_seed)
     times, returns = [], []
     for k, (t_k, Z) in enumerate(sc.scan_list(0)):
         tsensor.at(sc.theta[k])

@@ -99,7 +99,9 @@ def _single(association):
         s = problem.sensor
         clutter = max(max(s.clutter.rate, min_clutter_rate) / s.clutter.region.area, 1e-300)  # scores need β_FA > 0
         beta_nt = problem.seeded_intensity() if new_target_density is None else new_target_density
-        model = ScanModel(s.measurement.H, s.measurement.R, s.detection.p_D, gate_probability, clutter, beta_nt)
+        m = s.measurement  # a nonlinear one (the radar's, in the sensor frame) has no H: the EKF's Jacobians
+        model = ScanModel(getattr(m, "H", None), m.R, s.detection.p_D, gate_probability, clutter, beta_nt,
+                          measurement=None if getattr(m, "linear", True) else m)
         initiator = None if m_of_n is None else MOfNInitiator(problem.motion, model, m=m_of_n[0], n=m_of_n[1],
                                                               initial_velocity_std=initial_velocity_std)
         return SingleHypothesisTracker(problem.motion, model, association=association, initiator=initiator,

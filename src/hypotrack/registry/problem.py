@@ -106,7 +106,8 @@ class TrackingProblem:
     validity: object = field(default=None, repr=False)
 
     def __post_init__(self):
-        d = np.asarray(self.sensor.measurement.H).shape[1]
+        m = self.sensor.measurement  # a nonlinear measurement model (no H) gives its state dimension
+        d = m.ndim_state if getattr(m, "linear", True) is False else np.asarray(m.H).shape[1]
         means = np.zeros((0, d)) if self.means is None else np.asarray(self.means, dtype=float)
         means = check_finite_array(means.reshape(-1, d) if means.size == 0 else means, "means", shape=(None, d))
         n = len(means)

@@ -122,9 +122,11 @@ class SingleHypothesisTracker:
             raise ValueError(f"gnn_score must be 'lecture' or 'mahalanobis', got {gnn_score!r}")
         if initiator is not None and not isinstance(initiator, MOfNInitiator):
             raise TypeError(f"initiator must be an MOfNInitiator or None, got {type(initiator).__name__}")
-        check_state_dimension(motion, model.ndim_state, f"the scan model (H of shape {model.H.shape})")
-        if initiator is not None and initiator.model.H.shape != model.H.shape:
-            raise ValueError(f"initiator's scan model has H of shape {initiator.model.H.shape}, the tracker's {model.H.shape}")
+        shape = (model.dim, model.ndim_state)
+        check_state_dimension(motion, model.ndim_state, f"the scan model (H of shape {shape})")
+        if initiator is not None and (initiator.model.dim, initiator.model.ndim_state) != shape:
+            raise ValueError(f"initiator's scan model has H of shape {(initiator.model.dim, initiator.model.ndim_state)}, "
+                             f"the tracker's {shape}")
         self.motion = motion
         self._predict = _ScanPredictor(motion)
         self.model = model

@@ -152,7 +152,7 @@ class FactoredFilter:
         self._engine = engine  # the template of every group's step: models, population, settings; no hypotheses
         self._pool = WorkerPool()
         self.rng = engine.rng
-        self.ndim = engine.H.shape[1]
+        self.ndim = engine.state_dim
         # singletons are exactly their Gaussian when a quiet group takes no population event
         self._lane_on = silent(engine.population)
 
@@ -296,7 +296,7 @@ class FactoredFilter:
         t0 = _clock.perf_counter()
         E = self._engine
         interval, now = scan_interval(self.time, time, dt, E.dt)
-        Z = check_measurements(Z, "Z", E.H.shape[0])
+        Z = check_measurements(Z, "Z", E.meas_dim)
         scan = self._predict_and_score(Z, interval, now)
         graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
                            E.weights.seeded_births)
@@ -317,7 +317,7 @@ class FactoredFilter:
         ab = self._options.adaptive_birth
         if ab is not None:
             # the next scan's birth terms: one at each return no group or birth term explained
-            terms = ab.terms(Z[graph.unexplained], E.H, E.R, E.motion, interval)
+            terms = ab.terms(Z[graph.unexplained], E.H, E.R, E.motion, interval, measurement=E.measurement)
             self._set_birth_terms(terms)
             stats["n_adaptive_terms"] = len(terms)
         self.last_stats = stats
@@ -353,8 +353,8 @@ class FactoredFilter:
         if rule is None:
             return None
         r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
-        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z, E.H, E.R,
-                               E.weights.seeded_births, r_birth, E.population)
+        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z,
+                               E.H if E.H is not None else E.measurement, E.R, E.weights.seeded_births, r_birth, E.population)
         n = len(fast.store)
         stats.update(n_fast_path=n, n_fast_births=fast.n_births, n_fast_clutter=fast.n_clutter,
                      n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)
@@ -454,7 +454,7 @@ class FactoredFilter:
         and whether each is in the field of view."""
         E = self._engine
         view = means if interval == 0 else E.motion.propagate(means, interval)
-        return view, E.sensor.detection.in_view(view @ E.H.T)
+        return view, E.sensor.detection.in_view(view @ E.H.T if E.H is not None else E.measurement.view_points(view))
 
     def _scores(self, pred, Z) -> Scores:
         """Every return against every predicted track (the engine's
@@ -467,7 +467,10 @@ class FactoredFilter:
         return Scores(loglik, allowed, p_detect, None if track_survival is None else track_survival(pred))
 
     def _set_birth_terms(self, terms):
-        pop = self._engine.population.with_birth_terms(terms, r_birth=self._options.adaptive_birth.r_birth)
+        r_birth = self._options.adaptive_birth.r_birth
+        if any(getattr(t, "weight", 1.0) != 1.0 for t in terms):  # an admissible-region mixture's components
+            r_birth = r_birth * np.array([t.weight for t in terms])
+        pop = self._engine.population.with_birth_terms(terms, r_birth=r_birth)
         self._engine.set_population(pop)
 
     # ------------------------------------------------------------------ pool

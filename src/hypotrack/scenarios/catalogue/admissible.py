@@ -47,7 +47,7 @@ from .frames import EARTH_ROTATION
 from .radar_model import RadarTrackerSensor, site_teme
 from .sensors import GroundSite
 
-__all__ = ["attributable_to_state", "AdmissibleRegionBirth", "StateMixture"]
+__all__ = ["attributable_to_state", "attributable_jacobian", "AdmissibleRegionBirth", "StateMixture"]
 
 _H_STEP = 1e-20
 
@@ -77,7 +77,7 @@ def attributable_to_state(y, site: GroundSite, theta: float) -> np.ndarray:
     return np.hstack([r, ldot @ M + w_x_r])
 
 
-def _jacobian(y, site, theta):
+def attributable_jacobian(y, site, theta):
     """``∂x/∂y`` (6, 6) of :func:`attributable_to_state` at one ``y`` by complex step."""
     Yc = np.repeat(np.asarray(y, dtype=float)[None], 6, axis=0).astype(complex)
     Yc[np.arange(6), np.arange(6)] += 1j * _H_STEP
@@ -208,8 +208,18 @@ class AdmissibleRegionBirth:
         for k in range(len(counts)):
             y = np.r_[z, rate_means[k]]
             Cy[4:, 4:] = rate_covs[k]
-            J = _jacobian(y, site, theta)
+            J = attributable_jacobian(y, site, theta)
             means[k] = attributable_to_state(y, site, theta)[0].real
             P = J @ Cy @ J.T
             covs[k] = 0.5 * (P + P.T)
         return StateMixture(counts / counts.sum(), means, covs, rate_means, rate_covs, float(ok.sum() * da * de))
+
+    def components(self, z):
+        """``(weights (K,), means (K, 6), covs (K, 6, 6))`` of :meth:`mixture` at the sensor's current GMST, and
+        ``K = 0`` for a return no admissible orbit can give (a clutter return's range-rate above escape speed):
+        the adaptive birth's per-return mixture (:class:`hypotrack.hypotheses.factored.AdaptiveBirth`)."""
+        try:
+            m = self.mixture(z)
+        except ValueError:
+            return np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6))
+        return m.weights, m.means, m.covs

@@ -41,10 +41,10 @@ from ..._validation import check_int
 from ..tables import scans_table, scans_to_list, truth_table, truth_to_list
 from .frames import gmst, teme_to_ef, utc_timestamp
 from .propagation import check_epoch_span, propagate, reference_epoch, sgp4_states, time_grid_jd
-from .sensors import DEFAULT_RADAR, GroundRadar
+from .sensors import DEFAULT_RADAR, GroundRadar, GroundSite
 from .tle import check_catalogue, satrec_array
 
-__all__ = ["CatalogueScenario", "simulate_catalogue", "TRUTH_ROWS"]
+__all__ = ["CatalogueScenario", "simulate_catalogue", "TRUTH_ROWS", "range_rate_ef"]
 
 TRUTH_ROWS = ("in_view", "all")
 _CHUNK_OBJECT_EPOCHS = 2_000_000  # propagate this many (object, epoch) pairs at a time (~100 MB)
@@ -91,6 +91,14 @@ class CatalogueScenario:
         the ``(N, K')`` validity mask."""
         p = propagate(self.catalogue, times, self.start)
         return np.concatenate([p.r, p.v], axis=-1), p.valid
+
+
+def range_rate_ef(r_ef, v_ef, site: GroundSite) -> np.ndarray:
+    """Range-rate (km/s) ``d · v_ef / |d|`` of Earth-fixed positions and velocities ``(..., 3)`` seen from the
+    (Earth-fixed, so still) ``site``, ``d = r_ef − s_ef``: the fourth component of a ``"rae_rate"`` return
+    (Vallado, *Fundamentals of Astrodynamics and Applications*, 4th ed., Sec. 4.4, algorithm RAZEL)."""
+    d = np.asarray(r_ef, dtype=float) - site.ef
+    return np.sum(d * np.asarray(v_ef, dtype=float), axis=-1) / np.linalg.norm(d, axis=-1)
 
 
 def _check_sensors(sensors) -> tuple:
@@ -168,12 +176,14 @@ def simulate_catalogue(
         e, r, v = sgp4_states(sats, jd[ks], fr[ks], a_mean)
         bad = e != 0
         decayed |= bad.any(axis=1)
-        r_ef, _ = teme_to_ef(r, v, theta[ks])
+        r_ef, v_ef = teme_to_ef(r, v, theta[ks])
         seen_any = np.zeros(bad.shape, bool)
         rae = []
         for s, sen in enumerate(sensors):
             rae_s = sen.rae(r_ef)
             vis = sen.fov.contains(rae_s.reshape(-1, 3)).reshape(bad.shape)
+            if sen.measurement == "rae_rate":
+                rae_s = np.concatenate([rae_s, range_rate_ef(r_ef, v_ef, sen.site)[..., None]], axis=-1)
             n_in_view[ks, s] = vis.sum(axis=0)
             seen_any |= vis
             rae.append((rae_s, vis))
@@ -208,7 +218,7 @@ def simulate_catalogue(
         np.concatenate([np.full(len(p[2]), p[1]) for p in scan_parts]),
         np.vstack([p[2] for p in scan_parts]),
         np.concatenate([p[3] for p in scan_parts]),
-        p=3,
+        p=4 if sensors[0].measurement == "rae_rate" else 3,
     )
     return CatalogueScenario(
         catalogue=cat.reset_index(drop=True),

@@ -36,7 +36,7 @@ from .frames import ef_to_rae, enu_matrix, geodetic_to_ef, local_to_rae, rae_to_
 
 __all__ = ["GroundSite", "RadarFieldOfView", "GroundRadar", "DEFAULT_SITE", "DEFAULT_RADAR", "MEASUREMENTS"]
 
-MEASUREMENTS = ("rae", "enu")
+MEASUREMENTS = ("rae", "enu", "rae_rate")
 
 
 def _in_range(value, name, lo, hi, *, lo_open=False, hi_open=False):
@@ -201,11 +201,18 @@ class GroundRadar:
         Detection probability inside the field of view, in (0, 1].
     clutter_rate : float
         Expected false returns per scan, >= 0.
-    measurement : {"rae", "enu"}
-        What a return is: (range km, azimuth rad, elevation rad) or local (east, north, up) km.
+    measurement : {"rae", "enu", "rae_rate"}
+        What a return is: (range km, azimuth rad, elevation rad), local (east, north, up) km, or
+        (range, azimuth, elevation, range-rate km/s) — the documented radar of
+        :mod:`.radar_model` (range-rate from the Doppler shift; its σ derived there).
     sigma_enu_km : float
         Standard deviation of each ENU component (``measurement="enu"`` only), > 0.
     name : str
+    sigma_range_rate_km_s : float
+        Standard deviation of the range-rate (``measurement="rae_rate"`` only), > 0; default 0.01 (10 m/s,
+        :data:`.radar_model.SIGMA_RANGE_RATE_KM_S`).
+    range_rate_span_km_s : float
+        Clutter range-rates are uniform over ``[−span, span]`` (``"rae_rate"`` only), > 0; default 8.
     """
 
     site: GroundSite = DEFAULT_SITE
@@ -219,6 +226,8 @@ class GroundRadar:
     measurement: str = "rae"
     sigma_enu_km: float = 1.0
     name: str = "UHF phased-array face"
+    sigma_range_rate_km_s: float = 0.01
+    range_rate_span_km_s: float = 8.0
 
     def __post_init__(self):
         if not isinstance(self.site, GroundSite):
@@ -226,7 +235,8 @@ class GroundRadar:
         if not isinstance(self.fov, RadarFieldOfView):
             raise TypeError(f"fov must be a RadarFieldOfView, got {type(self.fov).__name__}")
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
-        for name in ("revisit_s", "sigma_range_km", "sigma_az_deg", "sigma_el_deg", "sigma_enu_km"):
+        for name in ("revisit_s", "sigma_range_km", "sigma_az_deg", "sigma_el_deg", "sigma_enu_km",
+                     "sigma_range_rate_km_s", "range_rate_span_km_s"):
             set_(name, check_positive(getattr(self, name), name))
         set_("p_D", check_probability(self.p_D, "p_D", low_open=True))
         set_("clutter_rate", check_nonnegative(self.clutter_rate, "clutter_rate"))
@@ -239,12 +249,16 @@ class GroundRadar:
         if self.measurement == "enu":
             return np.eye(3) * self.sigma_enu_km**2
         s = np.array([self.sigma_range_km, np.deg2rad(self.sigma_az_deg), np.deg2rad(self.sigma_el_deg)])
+        if self.measurement == "rae_rate":
+            s = np.r_[s, self.sigma_range_rate_km_s]
         return np.diag(s**2)
 
     @property
     def clutter_density(self) -> float:
         """``g(z) = 1/V`` of one clutter return (per km·rad² for RAE, per km³ for ENU)."""
         v = self.fov.physical_volume if self.measurement == "enu" else self.fov.measurement_volume
+        if self.measurement == "rae_rate":
+            v *= 2 * self.range_rate_span_km_s
         return 1.0 / v
 
     def rae(self, r_ef) -> np.ndarray:
@@ -275,7 +289,10 @@ class GroundRadar:
         -------
         Z : (m, 3) returns; origin : (m,) row of ``rae`` that produced each, or −1 (clutter).
         """
-        rae = _rows3(rae, "rae")
+        if self.measurement == "rae_rate":  # (range, az, el, range-rate) rows
+            rae = np.asarray(rae, dtype=float).reshape(-1, 4)
+        else:
+            rae = _rows3(rae, "rae")
         det = rng.uniform(size=len(rae)) < self.p_D
         true = rae[det]
         if self.measurement == "enu":
@@ -285,6 +302,8 @@ class GroundRadar:
             Z_t[:, 1] = wrap_angle(Z_t[:, 1], self.fov.az_center)
         k = int(rng.poisson(self.clutter_rate))
         Z_c = self.fov.sample_enu(k, rng) if self.measurement == "enu" else self.fov.sample_rae(k, rng)
+        if self.measurement == "rae_rate":
+            Z_c = np.column_stack([Z_c, rng.uniform(-self.range_rate_span_km_s, self.range_rate_span_km_s, k)])
         Z = np.vstack([Z_t, Z_c])
         origin = np.concatenate([np.flatnonzero(det), np.full(k, -1)]).astype(np.int64)
         order = rng.permutation(len(Z))

@@ -36,8 +36,8 @@ from ...metrics import gospa
 from ...metrics_scorecard import correlate_returns, purity_counts
 from ...models.plausibility import plausible_orbits
 from ...scenarios.catalogue.breakup import BreakupEvent, simulate_breakup
-from ...scenarios.catalogue.tracking import TrackerSensor
-from ..ssa_catalogue.run import build_scenario, initial_tracks, make_motion, make_problem, make_radar, make_tracker
+from ..ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem, make_radar, make_tracker,
+                                 return_positions, tracker_sensor)
 
 __all__ = ["SCENARIOS", "build_breakup", "build_control", "build", "pass_ends", "ScoredRun", "run_scored",
            "PASS_GAP_S"]
@@ -147,7 +147,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
     inputs (module docstring). ``cfg``: the section holding ``model``, ``trackers``, ``metrics``, the initial
     errors and ``radar``."""
     objects, unknown, sc, init_seed = scenario
-    tsensor = TrackerSensor(sc.sensors[0])
+    tsensor = tracker_sensor(sc.sensors[0])
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
     tracker = make_tracker(name, cfg, problem, int(seed))
@@ -175,7 +175,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
         g = by_scan.get(k)
         TX = g[["state_0", "state_1", "state_2"]].to_numpy() if g is not None else np.zeros((0, 3))
         tid = g["target"].to_numpy(np.int64) if g is not None else np.zeros(0, np.int64)
-        cor = correlate_returns(Zt, lab, EX, gate)
+        cor = correlate_returns(return_positions(tsensor, Zt), lab, EX, gate)
         ret_rows.append(pd.DataFrame(dict(scan=k, origin=np.asarray(origin, np.int64), label=cor)))
         lab_of = np.full(len(TX), -1, np.int64)
         if len(TX) and len(EX):

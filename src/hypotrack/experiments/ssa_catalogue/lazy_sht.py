@@ -17,8 +17,7 @@ import time
 import numpy as np
 import pandas as pd
 
-from ...scenarios.catalogue.tracking import TrackerSensor
-from .run import initial_tracks, build_scenario, make_motion, make_problem, tracker_spec
+from .run import initial_tracks, build_scenario, make_motion, make_problem, tracker_sensor, tracker_spec
 from ...registry import build
 from ...registry.spec import TrackerSpec
 
@@ -56,7 +55,7 @@ def lazy_sht_timing(cfg, n: int, seed: int, trackers=("gnn", "jpda"), *, n_scans
     other labels, or means more than 1e-9 apart).
     """
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
-    tsensor = TrackerSensor(sc.sensors[0])
+    tsensor = tracker_sensor(sc.sensors[0])
     motion = make_motion(cfg)
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, motion, means, covs, labels)

@@ -290,7 +290,11 @@ class GroundRadar:
         Z : (m, 3) returns; origin : (m,) row of ``rae`` that produced each, or −1 (clutter).
         """
         if self.measurement == "rae_rate":  # (range, az, el, range-rate) rows
-            rae = np.asarray(rae, dtype=float).reshape(-1, 4)
+            rae = np.asarray(rae, dtype=float)
+            if not (rae.ndim == 2 and rae.shape[1] == 4 or rae.size == 0):
+                raise ValueError(f"rae must have shape (n, 4) (range, azimuth, elevation, range-rate) for a "
+                                 f"'rae_rate' radar, got {rae.shape}")
+            rae = rae.reshape(-1, 4)
         else:
             rae = _rows3(rae, "rae")
         det = rng.uniform(size=len(rae)) < self.p_D

@@ -137,10 +137,12 @@ class RadarMeasurement(ExtendedMeasurement):
 
     wrapped = (1,)
     ndim_state = 6
+    hessian_steps = (1e-2,) * 3 + (1e-3,) * 3  # km, km/s: the Jacobian is linear in v, smooth over 10 m in r
 
-    def __init__(self, sensor: "RadarTrackerSensor"):
+    def __init__(self, sensor: "RadarTrackerSensor", second_order: bool = True):
         self.sensor = sensor
         self.R = sensor.R
+        self.second_order = bool(second_order)
 
     def h(self, means) -> np.ndarray:
         return self.sensor.h(means)

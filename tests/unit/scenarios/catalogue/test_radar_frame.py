@@ -6,12 +6,15 @@ import dataclasses
 import numpy as np
 import pytest
 
+from hypotrack.gaussian import predict_with
+from hypotrack.models.orbit3d import TwoBodyOrbit3D
+
 from hypotrack.models.plausibility import plausible_orbits
-from hypotrack.scenarios.catalogue import GroundRadar, RadarFieldOfView, load_catalogue, propagate, select_groups
+from hypotrack.scenarios.catalogue import GroundRadar, RadarFieldOfView, load_catalogue, select_groups
 from hypotrack.scenarios.catalogue.admissible import AdmissibleRegionBirth
 from hypotrack.scenarios.catalogue.frames import rae_to_enu
-from hypotrack.scenarios.catalogue.propagation import reference_epoch
-from hypotrack.scenarios.catalogue.radar_model import RadarOnePointBirth, RadarTrackerSensor, rae_rate, site_teme
+from hypotrack.scenarios.catalogue.radar_model import (RadarMeasurement, RadarOnePointBirth, RadarTrackerSensor, rae_rate,
+                                                       rae_rate_jacobian, site_teme)
 from hypotrack.scenarios.catalogue.scenario import simulate_catalogue
 
 THETA = 1.3
@@ -75,7 +78,8 @@ def test_sensor_frame_ekf_update_equals_stone_soups(az, dz):
     z[1] = np.mod(z[1] + np.pi, 2 * np.pi) - np.pi  # reported in [−π, π)
     if az > 3:
         assert z[1] < -3 < 3 < sensor.h(x)[0, 1]  # return and prediction on either side of the wrap
-    xu, Pu = sensor.measurement.update(x[None], P[None], z[None])
+    first = RadarMeasurement(sensor, second_order=False)  # Stone Soup's EKF is first order
+    xu, Pu = first.update(x[None], P[None], z[None])
     xs, Ps = _stone_soup_update(x, P, z, M, sensor)
     np.testing.assert_allclose(xu[0], xs, rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(Pu[0], Ps, rtol=1e-8, atol=1e-9 * np.abs(P).max())
@@ -85,8 +89,8 @@ def test_sensor_frame_ekf_update_equals_stone_soups(az, dz):
     np.testing.assert_allclose(xu, x2, rtol=1e-12, atol=1e-9)
     np.testing.assert_allclose(Pu, P2, rtol=1e-10, atol=1e-12)
     # distance of the wrapped residual: what the gates use
-    zp, S, _, _ = sensor.measurement.innovation(x[None], P[None])
-    d2, _ = sensor.measurement.mahalanobis2(z[None], zp, S)
+    zp, S, _, _ = first.innovation(x[None], P[None])
+    d2, _ = first.mahalanobis2(z[None], zp, S)
     nu = z - zp[0]
     nu[1] = np.mod(nu[1] + np.pi, 2 * np.pi) - np.pi
     assert d2[0, 0] == pytest.approx(nu @ np.linalg.solve(S[0], nu), rel=1e-9)
@@ -105,7 +109,7 @@ def test_simulated_range_rate_returns_are_the_model_plus_its_noise(catalogue_sca
     assert [c for c in sc.scans.columns if c.startswith("z_")] == ["z_0", "z_1", "z_2", "z_3"]
     sensor = RadarTrackerSensor(radar)
     res, clutter = [], []
-    for k, (t, Z, origin) in enumerate(sc.scan_list(0, with_origin=True)):
+    for k, (_t, Z, origin) in enumerate(sc.scan_list(0, with_origin=True)):
         tr = sc.truth[sc.truth["scan"] == k].set_index("target")
         for z, o in zip(Z, origin):
             if o < 0:
@@ -181,3 +185,36 @@ def test_one_point_birth_in_the_sensor_frame_carries_the_range_rate():
     w, V = np.linalg.eigh(Pv)
     assert w[0] == pytest.approx(sensor.R[3, 3], rel=1e-3) and abs(V[:, 0] @ d) == pytest.approx(1.0, abs=1e-3)
     np.testing.assert_allclose(np.sqrt(w[1:]), 8.0, rtol=1e-3)  # across the line of sight: N(0, 8²)
+
+
+def test_second_order_terms_match_the_geometry_and_sampled_moments():
+    """The Hessian of the range is ``(I − d dᵀ/ρ²)/ρ`` (positions) and the range-rate's is bilinear; for a one-point
+    birth's prior (80 km across the line of sight after 10 s) the second-order predicted return and covariance
+    match 200,000 draws' moments, where the first-order range misses by kilometres."""
+    rng = np.random.default_rng(5)
+    sensor, x, _ = _state(1.0, np.deg2rad(20.0), 2000.0, rng)
+    m2, m1 = sensor.measurement, RadarMeasurement(sensor, second_order=False)
+    assert m2.second_order and not m1.second_order
+    Hxx = m2.hessian(x[None])[0]
+    d = x[:3] - site_teme(RADAR.site, THETA)[0]
+    rho = np.linalg.norm(d)
+    np.testing.assert_allclose(Hxx[0, :3, :3], (np.eye(3) - np.outer(d, d) / rho**2) / rho, rtol=0, atol=1e-10)
+    assert np.abs(Hxx[:3, 3:, 3:]).max() == 0 and np.abs(Hxx[3, 3:, 3:]).max() < 1e-12  # linear in v
+    np.testing.assert_allclose(Hxx[3, :3, 3:], (np.eye(3) - np.outer(d, d) / rho**2) / rho, atol=1e-10)
+    # ∂²ρ̇/∂v∂r is ∂(d/ρ)/∂r, the range's Hessian; the Hessian is the Jacobian's derivative (its own check)
+    x_s = x + np.r_[0.5, -0.3, 0.2, 0.0, 0.0, 0.0]
+    np.testing.assert_allclose((rae_rate_jacobian(x_s[None], RADAR.site, THETA)[0] - rae_rate_jacobian(x[None], RADAR.site, THETA)[0])[0, :3],
+                               Hxx[0, :3, :3] @ (x_s - x)[:3], rtol=1e-3)
+    x0, P0 = RadarOnePointBirth(m2, 8.0).initial_state(sensor.h(x)[0])
+    xp, Pp = predict_with(TwoBodyOrbit3D(q=1e-9), x0, P0, 10.0)
+    draws = xp + rng.standard_normal((200_000, 6)) @ np.linalg.cholesky(Pp).T
+    zs = sensor.h(draws)
+    zs[:, 1] = np.mod(zs[:, 1] - sensor.h(xp[None])[0, 1] + np.pi, 2 * np.pi) - np.pi + sensor.h(xp[None])[0, 1]
+    mean, cov = zs.mean(axis=0), np.cov(zs.T)
+    z2, S2, _, _ = m2.innovation(xp[None], Pp[None])
+    z1, S1, _, _ = m1.innovation(xp[None], Pp[None])
+    se = np.sqrt(np.diag(cov) / len(zs))
+    assert abs(z1[0, 0] - mean[0]) > 1.0                      # first order: the range off by over 1 km
+    assert np.all(np.abs(z2[0] - mean) < 5 * se + 1e-3 * np.sqrt(np.diag(cov)))  # second order: the sampled mean
+    np.testing.assert_allclose(np.sqrt(np.diag(S2[0])), np.sqrt(np.diag(cov)), rtol=0.05)
+    assert np.sqrt(S1[0, 0, 0]) < 0.5 * np.sqrt(cov[0, 0])    # first order: range spread under half the true one

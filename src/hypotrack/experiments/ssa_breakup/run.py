@@ -39,7 +39,7 @@ from ...scenarios.catalogue.breakup import BreakupEvent, simulate_breakup
 from ..ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem, make_radar, make_tracker,
                                  return_positions, tracker_sensor)
 
-__all__ = ["SCENARIOS", "build_breakup", "build_control", "build", "pass_ends", "ScoredRun", "run_scored",
+__all__ = ["SCENARIOS", "MEASUREMENT_KEYS", "control_radar", "build_breakup", "build_control", "build", "pass_ends", "ScoredRun", "run_scored",
            "PASS_GAP_S"]
 
 SCENARIOS = ("breakup", "catalogue")
@@ -69,11 +69,26 @@ def build_control(cfg_catalogue, control, seed: int, unknown_share: float = 0.0)
     return build_scenario(c, int(control["n_objects"]), int(seed))
 
 
+#: The radar keys of the measurement model (not of the site, field of view or clutter).
+MEASUREMENT_KEYS = ("measurement", "sigma_range_km", "sigma_angle_deg", "sigma_range_rate_km_s", "range_rate_span_km_s")
+
+
+def control_radar(cfg, cfg_catalogue) -> dict:
+    """The control's radar block: the catalogue experiment's site, field of view and clutter with this section's
+    measurement model (:data:`MEASUREMENT_KEYS`), so that both scenarios are measured alike — by the ENU stand-in,
+    or by the documented radar whose returns the trackers use in the sensor frame."""
+    own = {k: cfg["radar"][k] for k in MEASUREMENT_KEYS if k in cfg["radar"]}
+    return {**cfg_catalogue["radar"], **own}
+
+
 def build(scenario: str, cfg, cfg_catalogue, seed: int):
     """The scenario tuple of ``scenario`` (one of :data:`SCENARIOS`)."""
     if scenario not in SCENARIOS:
         raise ValueError(f"scenario must be one of {SCENARIOS}, got {scenario!r}")
-    return build_breakup(cfg, seed) if scenario == "breakup" else build_control(cfg_catalogue, cfg["control"], seed, cfg["unknown_share"])
+    if scenario == "breakup":
+        return build_breakup(cfg, seed)
+    return build_control({**cfg_catalogue, "radar": control_radar(cfg, cfg_catalogue)}, cfg["control"], seed,
+                         cfg["unknown_share"])
 
 
 def pass_ends(truth: pd.DataFrame, gap_s: float = PASS_GAP_S) -> pd.DataFrame:

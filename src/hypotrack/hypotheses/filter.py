@@ -173,8 +173,7 @@ class HypothesisFilter:
         )
         self.p_D = p_D
         self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))
-        # The measurement model (:mod:`hypotrack.models.measurement`): a linear sensor's H and R as before, or an
-        # extended one (the catalogue radar's range, angles and range-rate, updated in the sensor frame).
+        # a linear sensor's H and R as before, or an extended model (the catalogue radar's, in the sensor frame)
         if getattr(sensor.measurement, "linear", True):
             self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
             self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
@@ -185,7 +184,7 @@ class HypothesisFilter:
             self.measurement = sensor.measurement
             self.H, self.R = None, check_covariance(self.measurement.R, "sensor R")
             self.meas_dim, self.state_dim = self.measurement.dim, self.measurement.ndim_state
-            what = f"the sensor (a {self.meas_dim}-dimensional measurement of a {self.state_dim}-dimensional state)"
+            what = f"the sensor ({self.meas_dim}-dimensional returns of a {self.state_dim}-dimensional state)"
         check_state_dimension(motion, self.state_dim, what)
         self.last_stats = {}
         self.initialise(np.zeros((0, self.state_dim)) if means is None else means, covs, labels)

@@ -47,7 +47,7 @@ from ...models.measurement import ExtendedMeasurement
 from .frames import EARTH_ROTATION, wrap_angle
 from .sensors import GroundRadar, GroundSite
 
-__all__ = ["site_teme", "rae_rate", "rae_rate_jacobian", "RadarTrackerSensor", "RadarMeasurement", "RadarOnePointBirth",
+__all__ = ["site_teme", "rae_rate", "rae_rate_jacobian", "attributable_to_state", "attributable_jacobian", "RadarTrackerSensor", "RadarMeasurement", "RadarOnePointBirth",
            "SIGMA_RANGE_RATE_KM_S"]
 
 SIGMA_RANGE_RATE_KM_S = 0.01
@@ -113,6 +113,36 @@ def rae_rate_jacobian(x, site: GroundSite, theta: float) -> np.ndarray:
     return J
 
 
+_H_STEP = 1e-20
+
+
+def attributable_to_state(y, site: GroundSite, theta: float) -> np.ndarray:
+    """TEME states ``(n, 6)`` of attributables ``y`` ``(n, 6)`` = (ρ km, az rad, el rad, ρ̇ km/s, α̇ rad/s,
+    ε̇ rad/s) seen from ``site`` at GMST ``theta`` (module docstring, step 1). Accepts complex input (for the
+    complex-step Jacobian)."""
+    Y = np.atleast_2d(y)
+    rho, az, el, rd, azd, eld = (Y[:, k][:, None] for k in range(6))
+    ce, se, ca, sa = np.cos(el), np.sin(el), np.cos(az), np.sin(az)
+    zero = np.zeros_like(ce)
+    u = np.hstack([ce * sa, ce * ca, se])
+    du_az = np.hstack([ce * ca, -ce * sa, zero])
+    du_el = np.hstack([-se * sa, -se * ca, ce])
+    l = rho * u
+    ldot = rd * u + rho * (azd * du_az + eld * du_el)
+    M = site.enu @ _r3(theta)
+    s, _ = site_teme(site, theta)
+    r = s + l @ M
+    w_x_r = EARTH_ROTATION * np.stack([-r[:, 1], r[:, 0], np.zeros_like(r[:, 0])], axis=1)
+    return np.hstack([r, ldot @ M + w_x_r])
+
+
+def attributable_jacobian(y, site, theta):
+    """``∂x/∂y`` (6, 6) of :func:`attributable_to_state` at one ``y`` by complex step."""
+    Yc = np.repeat(np.asarray(y, dtype=float)[None], 6, axis=0).astype(complex)
+    Yc[np.arange(6), np.arange(6)] += 1j * _H_STEP
+    return (attributable_to_state(Yc, site, theta).imag / _H_STEP).T
+
+
 class _Detection:
     def __init__(self, owner: "RadarTrackerSensor"):
         self.p_D = owner.radar.p_D
@@ -152,12 +182,10 @@ class RadarMeasurement(ExtendedMeasurement):
 
     def one_point(self, Z, position_std: float = 0.0, velocity_std: float = 8.0):
         """One-point initiation ``(x₀ (m, 6), P₀ (m, 6, 6))`` of returns ``Z`` ``(m, 4)`` in the sensor frame: the
-        state of the attributable ``(ρ, az, el, ρ̇, 0, 0)`` (:func:`.admissible.attributable_to_state`) — the
+        state of the attributable ``(ρ, az, el, ρ̇, 0, 0)`` (:func:`attributable_to_state`) — the
         return's position, its range-rate along the line of sight — with the covariance ``J C Jᵀ`` of
         ``C = diag(R, (v_s/(ρ cos el))², (v_s/ρ)²)`` (``v_s`` = ``velocity_std``: the velocity across the line of
         sight is ``N(0, v_s²)`` per direction) plus ``position_std²`` on each position component."""
-        from .admissible import attributable_jacobian, attributable_to_state  # admissible imports this module
-
         Z = np.atleast_2d(np.asarray(Z, dtype=float))
         site, theta = self.sensor.radar.site, self.sensor.theta
         x0, P0 = np.zeros((len(Z), 6)), np.zeros((len(Z), 6, 6))

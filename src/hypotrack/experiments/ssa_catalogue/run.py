@@ -55,14 +55,14 @@ from ...scenarios.catalogue import (
     select_groups,
     simulate_catalogue,
 )
-from ...scenarios.catalogue.admissible import AdmissibleRegionBirth, attributable_to_state
+from ...scenarios.catalogue.admissible import AdmissibleRegionBirth
 from ...scenarios.catalogue.radar_model import RadarOnePointBirth, RadarTrackerSensor
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
 from ...trackers import ScanModel, SingleHypothesisTracker
 from ..stepping import SHTStepper, max_abs_difference
 
-__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "BIRTHS", "tracker_sensor", "return_positions", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "BIRTHS", "tracker_sensor", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
            "CatalogueSHTStepper", "peer_rows"]
 
@@ -128,18 +128,6 @@ def tracker_sensor(radar: GroundRadar):
     in the sensor frame (its noise is Gaussian with a constant covariance there; a Cartesian conversion would need a
     covariance per return and could not carry the range-rate linearly)."""
     return RadarTrackerSensor(radar) if radar.measurement == "rae_rate" else TrackerSensor(radar)
-
-
-def return_positions(tsensor, Z) -> np.ndarray:
-    """TEME positions ``(m, 3)`` of a scan's returns as the trackers take them (for scoring: which track a return
-    correlates with): the stand-in's returns are positions; a radar return's position is its attributable's."""
-    Z = np.asarray(Z, dtype=float)
-    if not isinstance(tsensor, RadarTrackerSensor):
-        return Z
-    if len(Z) == 0:
-        return np.zeros((0, 3))
-    y = np.column_stack([Z, np.zeros((len(Z), 2))])
-    return attributable_to_state(y, tsensor.radar.site, tsensor.theta)[:, :3]
 
 
 #: The trackers' motion models (``trackers.motion``).

@@ -169,9 +169,38 @@ def test_radar_frame_option_end_to_end(small_cfg):
     assert cards.iloc[1]["cross_tags"] == 0  # the sparse catalogue: no cross-tag
     pd.testing.assert_frame_equal(cards.drop(columns="cpu_s"), score_tracker("gnn", cfg, cat).drop(columns="cpu_s"))
     enu = copy.deepcopy(small_cfg[0])
-    enu["model"]["birth"] = "admissible"
+    enu["radar"]["measurement"], enu["model"]["birth"] = "enu", "admissible"
     with pytest.raises(ValueError, match="admissible needs the documented radar"):
         make_problem(enu, tracker_sensor(make_radar(enu)), make_motion(enu), np.zeros((0, 6)), np.zeros((0, 6, 6)),
                      np.zeros(0, np.int64))
     with pytest.raises(ValueError, match="radar.measurement must be"):
         make_radar({**cfg, "radar": {**cfg["radar"], "measurement": "rae"}})
+
+
+def test_sensor_frame_correlation_by_hand():
+    """Returns correlate with the estimate of smallest ``νᵀ S⁻¹ ν`` within the χ²₄(0.999) = 18.47 gate: a return 1σ
+    from track A in azimuth across the ±π wrap goes to A, one 2σ in range from B to B, one 5σ off both to none."""
+    from hypotrack.experiments.ssa_breakup.run import correlate_in_sensor_frame
+    from hypotrack.models.measurement import ExtendedMeasurement
+
+    class _Identity(ExtendedMeasurement):  # h(x) = x (a 4-state "radar" so that S = P + R is known by hand)
+        wrapped = (1,)
+        ndim_state = 4
+        R = np.diag([1.0, 0.01, 0.01, 1.0])
+
+        def h(self, x):
+            return np.array(x, dtype=float)
+
+        def jacobian(self, x):
+            return np.broadcast_to(np.eye(4), (len(x), 4, 4)).copy()
+
+    m = _Identity()
+    X = np.array([[100.0, np.pi - 0.05, 0.3, 0.0], [200.0, 0.0, 0.3, 0.0]])
+    P = np.repeat(np.diag([3.0, 0.03, 0.03, 3.0])[None], 2, axis=0)  # S = 4 R: σ = 2, 0.2, 0.2, 2
+    Z = np.array([[100.0, -np.pi + 0.15, 0.3, 0.0],   # Δaz = +0.2 across the wrap: d² = 1
+                  [204.0, 0.0, 0.3, 0.0],              # 2σ in range: d² = 4
+                  [150.0, 0.0, 0.3, 0.0]])            # 25σ off both
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z, [7, 9], X, P, 0.999), [7, 9, -1])
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z[:0], [7, 9], X, P, 0.999), np.zeros(0, int))
+    Z2 = np.array([[100.0, np.pi - 0.05, 0.3, 9.0]])  # d² = (9/2)² = 20.25 > 18.47: outside the gate
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z2, [7, 9], X, P, 0.999), [-1])

@@ -107,17 +107,18 @@ def pass_ends(truth: pd.DataFrame, gap_s: float = PASS_GAP_S) -> pd.DataFrame:
     return pd.DataFrame(rows, columns=["target", "pass_no", "first_scan", "last_scan", "t_first", "t_last"])
 
 
-def correlate_in_sensor_frame(measurement, Z, labels, X, P, gate_probability: float) -> np.ndarray:
+def correlate_in_sensor_frame(measurement, Z, labels, X, gate_probability: float) -> np.ndarray:
     """The sensor-frame counterpart of :func:`hypotrack.metrics_scorecard.correlate_returns` (the documented radar):
-    each return's track is the estimate (means ``X``, covariances ``P``) of smallest ``d² = νᵀ S⁻¹ ν`` — ``ν`` the
-    return's (azimuth-wrapped) residual from the estimate's predicted return, ``S`` its innovation covariance
-    (``measurement.innovation``) — within the ``χ²₄(gate_probability)`` gate, −1 when none. The stand-in's
-    Euclidean gate (``√χ²₃(0.999) σ``) is the same 99.9 % gate of its isotropic noise; a Euclidean gate on the
+    each return's track is the estimate (means ``X``) of smallest ``d² = νᵀ R⁻¹ ν`` — ``ν`` the return's
+    (azimuth-wrapped) residual from the estimate's predicted return ``h(x̂)``, ``R`` the radar's noise — within
+    the ``χ²₄(gate_probability)`` gate, −1 when none. As the stand-in's Euclidean gate (``√χ²₃(0.999) σ``), the
+    99.9 % gate of the measurement noise alone (the estimates' own errors are smaller); a Euclidean km gate on the
     radar's returns would drop half of them (their cross-beam error is 1.2–2.6 km at 1,400–3,000 km)."""
     out = np.full(len(Z), -1, np.int64)
     if len(Z) == 0 or len(X) == 0:
         return out
-    z_pred, S, _, _ = measurement.innovation(np.asarray(X, dtype=float), np.asarray(P, dtype=float))
+    z_pred = measurement.h(np.asarray(X, dtype=float))
+    S = np.broadcast_to(measurement.R, (len(z_pred), *measurement.R.shape))
     d2, _ = measurement.mahalanobis2(np.asarray(Z, dtype=float), z_pred, S)
     j = np.argmin(d2, axis=1)
     ok = d2[np.arange(len(Z)), j] <= gate_threshold(gate_probability, measurement.dim)
@@ -211,8 +212,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
         TX = g[["state_0", "state_1", "state_2"]].to_numpy() if g is not None else np.zeros((0, 3))
         tid = g["target"].to_numpy(np.int64) if g is not None else np.zeros(0, np.int64)
         if isinstance(tsensor, RadarTrackerSensor):
-            cor = correlate_in_sensor_frame(tsensor.measurement, Zt, lab, X_all[inv], np.asarray(e.P)[inv],
-                                            cfg["model"]["gate_probability"])
+            cor = correlate_in_sensor_frame(tsensor.measurement, Zt, lab, X_all[inv], cfg["model"]["gate_probability"])
         else:
             cor = correlate_returns(Zt, lab, EX, gate)
         ret_rows.append(pd.DataFrame(dict(scan=k, origin=np.asarray(origin, np.int64), label=cor)))

@@ -178,15 +178,16 @@ def test_radar_frame_option_end_to_end(small_cfg):
 
 
 def test_sensor_frame_correlation_by_hand():
-    """Returns correlate with the estimate of smallest ``νᵀ S⁻¹ ν`` within the χ²₄(0.999) = 18.47 gate: a return 1σ
-    from track A in azimuth across the ±π wrap goes to A, one 2σ in range from B to B, one 5σ off both to none."""
+    """Returns correlate with the estimate of smallest ``νᵀ R⁻¹ ν`` within the χ²₄(0.999) = 18.47 gate: a return 2σ
+    from track A in azimuth across the ±π wrap goes to A, one 4σ in range from B to B (d² = 16), one far off both to
+    none, one 4.5σ off (d² = 20.25) to none."""
     from hypotrack.experiments.ssa_breakup.run import correlate_in_sensor_frame
     from hypotrack.models.measurement import ExtendedMeasurement
 
     class _Identity(ExtendedMeasurement):  # h(x) = x (a 4-state "radar" so that S = P + R is known by hand)
         wrapped = (1,)
         ndim_state = 4
-        R = np.diag([1.0, 0.01, 0.01, 1.0])
+        R = np.diag([1.0, 0.01, 0.01, 1.0])  # σ = 1, 0.1, 0.1, 1
 
         def h(self, x):
             return np.array(x, dtype=float)
@@ -196,11 +197,10 @@ def test_sensor_frame_correlation_by_hand():
 
     m = _Identity()
     X = np.array([[100.0, np.pi - 0.05, 0.3, 0.0], [200.0, 0.0, 0.3, 0.0]])
-    P = np.repeat(np.diag([3.0, 0.03, 0.03, 3.0])[None], 2, axis=0)  # S = 4 R: σ = 2, 0.2, 0.2, 2
-    Z = np.array([[100.0, -np.pi + 0.15, 0.3, 0.0],   # Δaz = +0.2 across the wrap: d² = 1
-                  [204.0, 0.0, 0.3, 0.0],              # 2σ in range: d² = 4
-                  [150.0, 0.0, 0.3, 0.0]])            # 25σ off both
-    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z, [7, 9], X, P, 0.999), [7, 9, -1])
-    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z[:0], [7, 9], X, P, 0.999), np.zeros(0, int))
-    Z2 = np.array([[100.0, np.pi - 0.05, 0.3, 9.0]])  # d² = (9/2)² = 20.25 > 18.47: outside the gate
-    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z2, [7, 9], X, P, 0.999), [-1])
+    Z = np.array([[100.0, -np.pi + 0.15, 0.3, 0.0],   # Δaz = +0.2 across the wrap: d² = 4
+                  [204.0, 0.0, 0.3, 0.0],              # 4σ in range: d² = 16
+                  [150.0, 0.0, 0.3, 0.0]])            # 50σ off both
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z, [7, 9], X, 0.999), [7, 9, -1])
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z[:0], [7, 9], X, 0.999), np.zeros(0, int))
+    Z2 = np.array([[100.0, np.pi - 0.05, 0.3, 4.5]])  # d² = 4.5² = 20.25 > 18.47: outside the gate
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z2, [7, 9], X, 0.999), [-1])

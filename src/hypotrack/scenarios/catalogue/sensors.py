@@ -329,6 +329,11 @@ class GroundRadar:
 
     # --- the tracker's side: measurement function of a TEME state ----------------------------
 
+    def _no_rate(self, what):
+        if self.measurement == "rae_rate":
+            raise ValueError(f"{what} is the position-only model: a 'rae_rate' radar's is radar_model.rae_rate "
+                             "(RadarTrackerSensor.h / .jacobian)")
+
     def _local(self, x_teme, theta):
         """ENU of TEME positions at GMST θ and the (3, 3) matrix d(ENU)/d(r_teme)."""
         c, s = np.cos(theta), np.sin(theta)
@@ -339,6 +344,7 @@ class GroundRadar:
 
     def h(self, x_teme, theta) -> np.ndarray:
         """Noise-free measurement ``(n, 3)`` of TEME states ``(n, >= 3)`` at GMST ``theta`` (rad)."""
+        self._no_rate("h")
         loc, _ = self._local(x_teme, theta)
         if self.measurement == "enu":
             return loc
@@ -353,6 +359,7 @@ class GroundRadar:
         ``∂el/∂l = (−e u, −n u, e² + n²) / (ρ² sqrt(e² + n²))`` with ``l = (e, n, u)``, chained with
         ``∂l/∂r_teme = E R3(θ)``.
         """
+        self._no_rate("h_jacobian")
         X = np.atleast_2d(np.asarray(x_teme, dtype=float))
         loc, M = self._local(X, theta)
         n = len(X)

@@ -33,7 +33,10 @@ tracker of a catalogue run defers alike: a deferred track is predicted once over
 replay costs a pass per deferred scan. For the white-noise-acceleration models ``Q(kΔ) = Σ_j Φ^j Q(Δ) Φ^jᵀ``
 holds exactly (the continuous-time noise integrates over the gap either way), so the two differ by the
 motion model's integration only; for the catalogue's two-body + J2 EKF, by the linearisation along one
-long step instead of ``k`` short ones.
+long step instead of ``k`` short ones. Measured on the whole catalogue (N = 10,855, 720 scans, GNN, one run
+on a loaded machine): 10.9 ms per scan against 18.1 eager with in-view gating, 38.2 eager and 50.9 replayed;
+at N = 1,000 the gap costs more than not deferring (3.6 against 2.5 ms: the catch-up integrates each gap in
+30-s steps) and moves GNN's mean GOSPA from 8.98 to 9.07 km.
 """
 
 from __future__ import annotations

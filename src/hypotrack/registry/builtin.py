@@ -105,7 +105,7 @@ def _single(association):
         return SingleHypothesisTracker(problem.motion, model, association=association, initiator=initiator,
                                        max_misses=max_misses, gnn_score=gnn_score, in_view=problem.in_view,
                                        jpda_marginals=jpda_marginals, lazy=lazy,
-                                       gate_out_of_view=gate_out_of_view)
+                                       gate_out_of_view=gate_out_of_view, validity=problem.validity)
 
     build.__name__ = f"_{association}"
     return build

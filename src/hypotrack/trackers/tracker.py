@@ -83,6 +83,10 @@ class SingleHypothesisTracker:
         advanced, and a track is predicted — over every scan it missed, scan by scan — when its
         advanced mean is in view or :meth:`estimates` is called. Same posterior as the eager
         tracker with ``gate_out_of_view=False``.
+    validity : callable, optional
+        ``validity(x) -> (n,) bool`` of track means (e.g. :func:`hypotrack.models.plausibility.plausible_orbits`):
+        after each scan a track whose mean fails it is deleted, and a track the initiator confirms is not
+        started — the single-hypothesis counterpart of the engine's ``validity``. ``None``: no test.
 
     The tracker follows :class:`hypotrack.protocol.Tracker`: :meth:`initialise` with known objects
     and their labels, :meth:`step` with each scan's returns and time, :meth:`estimates`.
@@ -111,6 +115,7 @@ class SingleHypothesisTracker:
         in_view=None,
         gate_out_of_view: bool | None = None,
         lazy: bool = False,
+        validity=None,
     ):
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
@@ -136,6 +141,9 @@ class SingleHypothesisTracker:
         if in_view is not None and not callable(in_view):
             raise TypeError(f"in_view must be a callable of the track states or None, got {type(in_view).__name__}")
         self.in_view = in_view
+        if validity is not None and not callable(validity):
+            raise TypeError(f"validity must be a callable of the track means or None, got {type(validity).__name__}")
+        self.validity = validity
         if not isinstance(lazy, bool | np.bool_):
             raise TypeError(f"lazy must be True or False, got {lazy!r}")
         gate_out_of_view = not lazy if gate_out_of_view is None else gate_out_of_view
@@ -259,9 +267,14 @@ class SingleHypothesisTracker:
             self.misses = np.zeros(len(view), dtype=np.int64)
             self.misses[rows] = misses
         keep = self.misses < self.max_misses
+        if self.validity is not None and len(keep):
+            keep &= np.asarray(self.validity(self._view), dtype=bool)  # an unphysical track is deleted
         if not keep.all():
             self.ids, self.x, self.P, self.misses = self.ids[keep], self.x[keep], self.P[keep], self.misses[keep]
             self._since, self._view = self._since[keep], self._view[keep]
+        if new_x is not None and self.validity is not None and len(new_x):
+            ok = np.asarray(self.validity(new_x), dtype=bool)
+            new_x, new_P = new_x[ok], new_P[ok]
         if new_x is not None:
             self._add(new_x, new_P)
         if len(self._since):

@@ -54,6 +54,7 @@ from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
 from ...trackers import ScanModel, SingleHypothesisTracker
 from ..stepping import SHTStepper, max_abs_difference
+from .physics import model_survival, model_validity
 
 __all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
@@ -141,15 +142,18 @@ def make_problem(cfg, tsensor: TrackerSensor, motion, means, covs, labels) -> Tr
     """The catalogue as a :class:`~hypotrack.registry.TrackingProblem`: the known objects at scan 0, the radar
     (TEME returns), the EKF, the revisit interval, and births from the returns (``model`` block):
     adaptive birth terms (δ-GLMB, R-FISST), Reid's births seeded at the returns (HOMHT) and GNN/JPDA's
-    ``β_NT``, all from ``homht_births_per_scan`` and the birth spreads; a miss counts in view only."""
+    ``β_NT``, all from ``homht_births_per_scan`` and the birth spreads; a miss counts in view only; the optional
+    death model and plausibility test of :mod:`.physics` (``unconfirmed_decay``, ``plausibility``)."""
     m = cfg["model"]
     adaptive = AdaptiveBirth(position_std=m["birth_position_std_km"], velocity_std=m["birth_velocity_std_km_s"],
                              r_birth=m["r_birth"], gate_probability=m["gate_probability"])
     births = MeasurementBirths(adaptive, r_birth=m["r_birth"],
                                seeded_intensity=m["homht_births_per_scan"] / tsensor.clutter.region.area,
-                               seeded_density=OnePointBirth(m["birth_velocity_std_km_s"], m["birth_position_std_km"]))
+                               seeded_density=OnePointBirth(m["birth_velocity_std_km_s"], m["birth_position_std_km"]),
+                               survival=model_survival(m))
     return TrackingProblem(motion, tsensor, means, covs, labels, time=0.0, dt=cfg["radar"]["revisit_s"],
-                           births=births, in_view=lambda x: tsensor.detection.in_view(x[:, :3]))
+                           births=births, in_view=lambda x: tsensor.detection.in_view(x[:, :3]),
+                           validity=model_validity(m))
 
 
 def tracker_spec(cfg, name: str, **factored) -> TrackerSpec:

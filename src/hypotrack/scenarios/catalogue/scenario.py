@@ -3,7 +3,8 @@
 Truth = SGP4 propagation of the selected catalogue (:mod:`.propagation`) from ``start`` (default the
 catalogue's epoch, :func:`.reference_epoch`) at ``t_k = k Δt``, ``Δt`` the sensors' revisit
 interval. Each scan, each sensor (:class:`.GroundRadar`) detects the objects in its field of view
-with p_D, adds measurement noise and Poisson clutter, and shuffles its returns.
+with p_D (or, given object ``sizes`` and a sensor ``snr`` model, each object with the p_D of its size at
+its range, :mod:`.snr`), adds measurement noise and Poisson clutter, and shuffles its returns.
 
 Tables (schema of :mod:`hypotrack.scenarios.tables`):
 

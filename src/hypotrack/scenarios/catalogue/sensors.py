@@ -17,6 +17,8 @@ below are typical of that class, not any one radar's specification):
   with isotropic Gaussian error σ_enu (km);
 * **detection**: every object inside the field of view is detected with p_D = 0.9, independently;
   nothing outside it is (a detected object's noisy return may fall just outside the field of view);
+  optionally (``snr``, :mod:`.snr`) each object's p_D is instead the Swerling I p_D of its size at its
+  range (radar equation, SNR ∝ RCS/r⁴), given object sizes (:func:`.simulate_catalogue`'s ``sizes``);
 * **clutter**: Poisson, 2 false returns per scan on average, uniform over the field of view in
   measurement space — over the box ``[r_min, r_max] × [az sector] × [el band]`` (density
   ``1/V``, V in km·rad²) for RAE, over the physical volume (V in km³) for ENU.

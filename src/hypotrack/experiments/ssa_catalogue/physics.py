@@ -13,14 +13,23 @@ for tracks never confirmed and the orbit plausibility test.
   unphysical track weight 0, GNN/JPDA delete such a track. Off by default: a one-point birth has a
   zero-mean velocity, i.e. falls straight down, and fails the test; with admissible-region births (whose
   states are bound orbits) it can be on.
+* ``radar.snr: {wavelength_m, ref_diameter_m, ref_range_km, ref_p_D, p_fa}`` (optional; absent: the constant
+  ``radar.p_D``) — SNR detection (:mod:`hypotrack.scenarios.catalogue.snr`): the returns detect each object
+  with the Swerling I p_D of its stated size (:class:`~hypotrack.scenarios.catalogue.snr.SizeModel`, one draw,
+  seed :data:`SIZE_SEED`: sizes are a property of the objects, the same in every run) at its range, and the
+  trackers' ``detection.p_D_of`` is the marginal over the size model with the config's ``debris_share``.
 """
 
 from __future__ import annotations
 
 from ...hypotheses import UnconfirmedDecay
 from ...models.plausibility import plausible_orbits
+from ...scenarios.catalogue.snr import SizeModel, SnrModel, attach_snr_detection
 
-__all__ = ["model_survival", "model_validity"]
+__all__ = ["model_survival", "model_validity", "radar_snr", "object_sizes", "attach_tracker_snr", "SIZE_SEED"]
+
+SIZE_SEED = 0
+"""Seed of the objects' stated sizes (:meth:`SizeModel.sizes`)."""
 
 
 def model_survival(model: dict):
@@ -41,3 +50,23 @@ def model_validity(model: dict):
     if not isinstance(v, bool):
         raise ValueError(f"model.plausibility must be true or false, got {v!r}")
     return plausible_orbits if v else None
+
+
+def radar_snr(radar: dict):
+    """The :class:`SnrModel` of ``radar["snr"]``, or ``None`` (absent or null: constant ``p_D``)."""
+    block = radar.get("snr")
+    return None if block is None else SnrModel(**block)
+
+
+def object_sizes(cfg: dict, objects):
+    """The stated sizes (m) of ``objects`` when ``radar.snr`` is set (the truth's SNR p_D needs them), else ``None``."""
+    return None if radar_snr(cfg["radar"]) is None else SizeModel().sizes(objects, seed=SIZE_SEED)
+
+
+def attach_tracker_snr(cfg: dict, tsensor):
+    """Give the tracker sensor the marginal SNR p_D (:func:`attach_snr_detection`, size model with the config's
+    ``debris_share``) when ``radar.snr`` is set; returns ``tsensor``."""
+    model = radar_snr(cfg["radar"])
+    if model is None:
+        return tsensor
+    return attach_snr_detection(tsensor, model, SizeModel(debris_share=float(cfg["debris_share"])))

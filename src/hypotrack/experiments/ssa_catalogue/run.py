@@ -54,7 +54,7 @@ from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
 from ...trackers import ScanModel, SingleHypothesisTracker
 from ..stepping import SHTStepper, max_abs_difference
-from .physics import model_survival, model_validity
+from .physics import attach_tracker_snr, model_survival, model_validity, object_sizes, radar_snr
 
 __all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
@@ -95,13 +95,13 @@ def select_population(n: int, debris_group: str, debris_share: float, unknown_sh
 
 
 def make_radar(cfg) -> GroundRadar:
-    """The radar of the config's ``radar`` block (ENU returns, isotropic σ)."""
+    """The radar of the config's ``radar`` block (ENU returns, isotropic σ; optional SNR detection, :mod:`.physics`)."""
     r = cfg["radar"]
     site = GroundSite(r["lat_deg"], r["lon_deg"], r["alt_km"], "radar site")
     fov = RadarFieldOfView(r["az_center_deg"], r["az_width_deg"], r["el_min_deg"], r["el_max_deg"],
                            r["r_min_km"], r["r_max_km"])
     return GroundRadar(site, fov, revisit_s=r["revisit_s"], p_D=r["p_D"], clutter_rate=r["clutter_rate"],
-                       measurement="enu", sigma_enu_km=r["sigma_km"])
+                       measurement="enu", sigma_enu_km=r["sigma_km"], snr=radar_snr(r))
 
 
 #: The trackers' motion models (``trackers.motion``).
@@ -122,7 +122,8 @@ def build_scenario(cfg, n: int, seed: int):
     ss = np.random.SeedSequence([int(seed), int(n)])
     pop_seed, sim_seed, init_seed = (int(s.generate_state(1)[0]) for s in ss.spawn(3))
     objects, unknown = select_population(n, cfg["debris_group"], cfg["debris_share"], cfg["unknown_share"], pop_seed)
-    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed)
+    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed,
+                            sizes=object_sizes(cfg, objects))
     return objects, unknown, sc, init_seed
 
 
@@ -206,7 +207,7 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
     """
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     radar = sc.sensors[0]
-    tsensor = TrackerSensor(radar)
+    tsensor = attach_tracker_snr(cfg, TrackerSensor(radar))
     motion = make_motion(cfg)
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     scans = sc.scan_list(0)

@@ -120,3 +120,32 @@ def test_schema_takes_the_options():
         bad[section]["model"]["unconfirmed_decay"] = {"p_tentative": 1.5, "velocity_std_km_s": 1.0}
         with pytest.raises(ConfigError, match="unconfirmed_decay"):
             validate_config(bad, schemas)
+
+
+def test_snr_config_reaches_truth_and_trackers():
+    from hypotrack.experiments.ssa_catalogue.run import build_scenario, run_tracker
+    from hypotrack.scenarios.catalogue.snr import SnrModel
+
+    snr = {"wavelength_m": 0.69, "ref_diameter_m": 0.1, "ref_range_km": 1500.0, "ref_p_D": 0.5, "p_fa": 1e-6}
+    with open(ROOT / "workflows" / "config" / "default.yaml") as fh:
+        config = yaml.safe_load(fh)
+    config["ssa_catalogue"]["radar"]["snr"] = snr
+    validate_config(config, ROOT / "workflows" / "config" / "schema")
+    cfg = copy.deepcopy(config["ssa_catalogue"])
+    cfg["n_scans"] = 30
+    assert make_radar(cfg).snr == SnrModel(**snr) and make_radar(_cfg()).snr is None
+    objects, unknown, sc, init_seed = build_scenario(cfg, 300, 1)
+    plain = build_scenario({**cfg, "radar": _cfg()["radar"]}, 300, 1)[2]
+    assert sc.n_in_view.sum() == plain.n_in_view.sum()  # same truth
+    assert not sc.scans[["z_0", "z_1", "z_2"]].equals(plain.scans[["z_0", "z_1", "z_2"]])  # other detections
+    per_scan, _, _ = run_tracker("glmb", cfg, 300, 1, scenario=(objects, unknown, sc, init_seed))
+    assert len(per_scan) == 30
+    # the trackers' detection: the marginal over the sizes with the config's debris share (0.5 by default)
+    from hypotrack.experiments.ssa_catalogue.physics import attach_tracker_snr
+    from hypotrack.scenarios.catalogue.snr import SizeModel, SnrTrackerDetection
+    from hypotrack.scenarios.catalogue.tracking import TrackerSensor
+
+    det = attach_tracker_snr(cfg, TrackerSensor(make_radar(cfg))).detection
+    ref = SnrTrackerDetection(TrackerSensor(make_radar(cfg)), SnrModel(**snr), SizeModel(debris_share=0.5))
+    assert det.sizes.debris_share == cfg["debris_share"] == 0.5 and np.array_equal(det.table, ref.table)
+    assert not hasattr(attach_tracker_snr(_cfg(), TrackerSensor(make_radar(_cfg()))).detection, "p_D_of")

@@ -34,13 +34,14 @@ from .._validation import (
 from ..protocol import TrackEstimates
 from ._sht_common import ScanModel, _gate_scan, _ScanPredictor, with_track_p_D
 from .gnn import _associate, gnn_gains, gnn_update, mahalanobis_gains
-from .deferred import ScanTimes, replay
+from .deferred import ScanTimes, predict_gap, replay
 from .initiation import MOfNInitiator
 from .jpda import jpda_log_weights, jpda_probabilities, pda_update, pdaf_probabilities
 
 __all__ = ["TrackEstimates", "SingleHypothesisTracker"]
 
 _ASSOCIATIONS = ("gnn", "jpda", "pdaf")
+_LAZY_PREDICTIONS = ("replay", "gap")
 
 
 class SingleHypothesisTracker:
@@ -83,6 +84,11 @@ class SingleHypothesisTracker:
         advanced, and a track is predicted — over every scan it missed, scan by scan — when its
         advanced mean is in view or :meth:`estimates` is called. Same posterior as the eager
         tracker with ``gate_out_of_view=False``.
+    lazy_prediction : {"replay", "gap"}
+        With ``lazy``, how a deferred track is brought to now: ``"replay"`` (default) predicts it scan by
+        scan, the eager posterior exactly; ``"gap"`` predicts it once over its whole gap — the factored
+        engine's lazy lane (:class:`hypotrack.hypotheses.FactoredFilter`), so all trackers of a catalogue
+        run make the same approximation (:func:`hypotrack.trackers.deferred.predict_gap`).
     validity : callable, optional
         ``validity(x) -> (n,) bool`` of track means (e.g. :func:`hypotrack.models.plausibility.plausible_orbits`):
         after each scan a track whose mean fails it is deleted, and a track the initiator confirms is not
@@ -119,6 +125,7 @@ class SingleHypothesisTracker:
         in_view=None,
         gate_out_of_view: bool | None = None,
         lazy: bool = False,
+        lazy_prediction: str = "replay",
         validity=None,
         p_detect=None,
     ):
@@ -162,6 +169,9 @@ class SingleHypothesisTracker:
         if lazy and gate_out_of_view:
             raise ValueError("lazy=True needs gate_out_of_view=False (a deferred track takes no return)")
         self.lazy, self.gate_out_of_view = bool(lazy), bool(gate_out_of_view)
+        if lazy_prediction not in _LAZY_PREDICTIONS:
+            raise ValueError(f"lazy_prediction must be one of {_LAZY_PREDICTIONS}, got {lazy_prediction!r}")
+        self.lazy_prediction = lazy_prediction
         self.missed_distance = (
             float(np.sqrt(model.gate)) if missed_distance is None else check_positive(missed_distance, "missed_distance")
         )
@@ -298,8 +308,14 @@ class SingleHypothesisTracker:
         view = self._predict.mean(self._view, dt)
         view = view.copy() if view is self._view else view
         rows = np.flatnonzero(np.asarray(self.in_view(view), dtype=bool)) if len(view) else np.zeros(0, np.int64)
-        x, P = replay(self._predict, self.x[rows], self.P[rows], self._since[rows], self._times)
+        x, P = self._catch_up(rows)
         return rows, x, P, view
+
+    def _catch_up(self, rows):
+        """The deferred tracks ``rows`` predicted to now (``lazy_prediction``: scan by scan, or over the gap)."""
+        if self.lazy_prediction == "replay":
+            return replay(self._predict, self.x[rows], self.P[rows], self._since[rows], self._times)
+        return predict_gap(self.motion, self.x[rows], self.P[rows], self._since[rows], self._times)
 
     def _scan(self, Z, x, P):
         """Gate, associate and update predicted tracks ``x, P``: ``(x, P, detected, gated, unused returns,
@@ -352,8 +368,7 @@ class SingleHypothesisTracker:
             return TrackEstimates(t, self.ids.copy(), self._view.copy(), None)
         if self.lazy and len(self._since) and self._since.min() < self._times.now:
             late = np.flatnonzero(self._since < self._times.now)
-            self.x[late], self.P[late] = replay(self._predict, self.x[late], self.P[late], self._since[late],
-                                                self._times)
+            self.x[late], self.P[late] = self._catch_up(late)
             self._since[late] = self._times.now
             self._view[late] = self.x[late]
         return TrackEstimates(t, self.ids.copy(), self.x.copy(), self.P.copy())

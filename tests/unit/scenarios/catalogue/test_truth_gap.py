@@ -49,3 +49,32 @@ def test_states_below_the_floor_during_the_run_are_absent():
     bad = {(int(norad[i]), k) for i, k in zip(*np.nonzero(lo))}
     assert not bad & set(zip(origin["origin"].tolist(), origin["scan"].tolist()))
     assert sorted(sc.decayed.tolist()) == LOW
+
+
+def test_a_radar_right_below_sees_the_object_until_it_drops_below_the_floor():
+    """Fengyun-1C 31067 crosses the floor mid-run: a radar right below its raw SGP4 position at that scan
+    (all-sky, p_D = 1, no clutter) returns it at the scan before (the control) and not at that scan."""
+    import pandas as pd
+
+    from hypotrack.scenarios.catalogue import GroundRadar, GroundSite, RadarFieldOfView
+    from hypotrack.scenarios.catalogue.frames import gmst, teme_to_ef
+
+    cat = load_catalogue()
+    start = reference_epoch(cat)
+    one = cat[cat["norad"] == 31067].reset_index(drop=True)
+    jd, fr = time_grid_jd(start, np.arange(K) * 10.0)
+    e, r, v = satrec_array(one).sgp4(jd, fr)
+    rp, _ = perigee_apogee_radius(np.concatenate([r, v], axis=-1))
+    low = (e[0] == 0) & (rp[0] - R_E < 100)
+    k = int(np.argmax(low))
+    assert k > 0 and not low[k - 1] and e[0, k - 1] == 0
+    r_ef, _ = teme_to_ef(r[:, [k]], v[:, [k]], gmst(jd[[k]], fr[[k]]))
+    p = r_ef[0, 0]
+    lat = np.degrees(np.arcsin(p[2] / np.linalg.norm(p)))
+    lon = np.degrees(np.arctan2(p[1], p[0])) % 360.0
+    radar = GroundRadar(GroundSite(lat, lon, 0.0), RadarFieldOfView(180.0, 360.0, 5.0, 90.0, 10.0, 3000.0),
+                        p_D=1.0, clutter_rate=0.0)
+    sc = simulate_catalogue(one, radar, n_scans=2, seed=0, start=start + pd.Timedelta(seconds=10 * (k - 1)),
+                            truth_rows="all")
+    assert sc.truth["scan"].tolist() == [0]
+    assert sc.scans["scan"].tolist() == [0] and sc.scans["origin"].tolist() == [31067]

@@ -45,6 +45,7 @@ from .._validation import (
 )
 from ..association import gate_threshold, validation_matrix
 from ..gaussian import innovation_unchecked, mahalanobis2_unchecked
+from .detection import state_p_detect
 from .duplicates import child_pairs, merge_duplicates
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
@@ -313,6 +314,7 @@ class HypothesisFilter:
         population's birth terms (document 000 Eq. 8, 18, 30)."""
         m = len(Z)
         loglik, allowed, p_detect = self.track_scores(pred, Z)
+        p_detect = state_p_detect(self.sensor.detection, pred.means, p_detect)
         clutter = self.sensor.clutter
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))

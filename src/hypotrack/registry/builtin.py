@@ -105,7 +105,8 @@ def _single(association):
         return SingleHypothesisTracker(problem.motion, model, association=association, initiator=initiator,
                                        max_misses=max_misses, gnn_score=gnn_score, in_view=problem.in_view,
                                        jpda_marginals=jpda_marginals, lazy=lazy, lazy_prediction=lazy_prediction,
-                                       gate_out_of_view=gate_out_of_view)
+                                       gate_out_of_view=gate_out_of_view, validity=problem.validity,
+                                       p_detect=getattr(s.detection, "p_D_of", None))
 
     build.__name__ = f"_{association}"
     return build

@@ -32,7 +32,7 @@ from .._validation import (
     check_time,
 )
 from ..protocol import TrackEstimates
-from ._sht_common import ScanModel, _gate_scan, _ScanPredictor
+from ._sht_common import ScanModel, _gate_scan, _ScanPredictor, with_track_p_D
 from .gnn import _associate, gnn_gains, gnn_update, mahalanobis_gains
 from .deferred import ScanTimes, predict_gap, replay
 from .initiation import MOfNInitiator
@@ -89,6 +89,14 @@ class SingleHypothesisTracker:
         scan, the eager posterior exactly; ``"gap"`` predicts it once over its whole gap — the factored
         engine's lazy lane (:class:`hypotrack.hypotheses.FactoredFilter`), so all trackers of a catalogue
         run make the same approximation (:func:`hypotrack.trackers.deferred.predict_gap`).
+    validity : callable, optional
+        ``validity(x) -> (n,) bool`` of track means (e.g. :func:`hypotrack.models.plausibility.plausible_orbits`):
+        after each scan a track whose mean fails it is deleted, and a track the initiator confirms is not
+        started — the single-hypothesis counterpart of the engine's ``validity``. ``None``: no test.
+    p_detect : callable, optional
+        ``p_detect(x) -> (n,)`` detection probabilities in (0, 1] of the predicted tracks (a sensor's
+        ``detection.p_D_of``, e.g. the SNR p_D at each predicted range), used in place of the scan model's
+        ``p_D`` in the scores (:func:`~._sht_common.with_track_p_D`). ``None``: the model's ``p_D``.
 
     The tracker follows :class:`hypotrack.protocol.Tracker`: :meth:`initialise` with known objects
     and their labels, :meth:`step` with each scan's returns and time, :meth:`estimates`.
@@ -118,6 +126,8 @@ class SingleHypothesisTracker:
         gate_out_of_view: bool | None = None,
         lazy: bool = False,
         lazy_prediction: str = "replay",
+        validity=None,
+        p_detect=None,
     ):
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
@@ -143,6 +153,12 @@ class SingleHypothesisTracker:
         if in_view is not None and not callable(in_view):
             raise TypeError(f"in_view must be a callable of the track states or None, got {type(in_view).__name__}")
         self.in_view = in_view
+        if validity is not None and not callable(validity):
+            raise TypeError(f"validity must be a callable of the track means or None, got {type(validity).__name__}")
+        self.validity = validity
+        if p_detect is not None and not callable(p_detect):
+            raise TypeError(f"p_detect must be a callable of the track states or None, got {type(p_detect).__name__}")
+        self.p_detect = p_detect
         if not isinstance(lazy, bool | np.bool_):
             raise TypeError(f"lazy must be True or False, got {lazy!r}")
         gate_out_of_view = not lazy if gate_out_of_view is None else gate_out_of_view
@@ -269,9 +285,14 @@ class SingleHypothesisTracker:
             self.misses = np.zeros(len(view), dtype=np.int64)
             self.misses[rows] = misses
         keep = self.misses < self.max_misses
+        if self.validity is not None and len(keep):
+            keep &= np.asarray(self.validity(self._view), dtype=bool)  # an unphysical track is deleted
         if not keep.all():
             self.ids, self.x, self.P, self.misses = self.ids[keep], self.x[keep], self.P[keep], self.misses[keep]
             self._since, self._view = self._since[keep], self._view[keep]
+        if new_x is not None and self.validity is not None and len(new_x):
+            ok = np.asarray(self.validity(new_x), dtype=bool)
+            new_x, new_P = new_x[ok], new_P[ok]
         if new_x is not None:
             self._add(new_x, new_P)
         if len(self._since):
@@ -307,9 +328,10 @@ class SingleHypothesisTracker:
                 g = np.flatnonzero(inside)
         xg, Pg = (x, P) if g is None else (x[g], P[g])
         gated = _gate_scan(xg, Pg, Z, self.model, logdet=self.association != "gnn" or self.gnn_score == "lecture")
+        model = self.model if self.p_detect is None or not len(xg) else with_track_p_D(self.model, self.p_detect(xg))
         if self.association == "gnn":
             gain = (
-                gnn_gains(gated, self.model)
+                gnn_gains(gated, model)
                 if self.gnn_score == "lecture"
                 else mahalanobis_gains(gated, self.missed_distance)
             )
@@ -317,9 +339,9 @@ class SingleHypothesisTracker:
             xg, Pg, det = gnn_update(gated, association, self.model)
             unused = association < 0
         else:
-            lw = jpda_log_weights(gated, self.model)
+            lw = jpda_log_weights(gated, model)
             if self.association == "jpda":
-                association = jpda_probabilities(gated, self.model, log_weights=lw, marginals=self.jpda_marginals)
+                association = jpda_probabilities(gated, model, log_weights=lw, marginals=self.jpda_marginals)
             else:
                 association = pdaf_probabilities(lw)
             xg, Pg = pda_update(gated, association, self.model)

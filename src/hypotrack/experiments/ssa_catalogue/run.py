@@ -54,6 +54,7 @@ from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
 from ...trackers import ScanModel, SingleHypothesisTracker
 from ..stepping import SHTStepper, max_abs_difference
+from .physics import attach_tracker_snr, model_survival, model_validity, object_sizes, radar_snr
 
 __all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
@@ -94,13 +95,13 @@ def select_population(n: int, debris_group: str, debris_share: float, unknown_sh
 
 
 def make_radar(cfg) -> GroundRadar:
-    """The radar of the config's ``radar`` block (ENU returns, isotropic σ)."""
+    """The radar of the config's ``radar`` block (ENU returns, isotropic σ; optional SNR detection, :mod:`.physics`)."""
     r = cfg["radar"]
     site = GroundSite(r["lat_deg"], r["lon_deg"], r["alt_km"], "radar site")
     fov = RadarFieldOfView(r["az_center_deg"], r["az_width_deg"], r["el_min_deg"], r["el_max_deg"],
                            r["r_min_km"], r["r_max_km"])
     return GroundRadar(site, fov, revisit_s=r["revisit_s"], p_D=r["p_D"], clutter_rate=r["clutter_rate"],
-                       measurement="enu", sigma_enu_km=r["sigma_km"])
+                       measurement="enu", sigma_enu_km=r["sigma_km"], snr=radar_snr(r))
 
 
 #: The trackers' motion models (``trackers.motion``).
@@ -121,7 +122,8 @@ def build_scenario(cfg, n: int, seed: int):
     ss = np.random.SeedSequence([int(seed), int(n)])
     pop_seed, sim_seed, init_seed = (int(s.generate_state(1)[0]) for s in ss.spawn(3))
     objects, unknown = select_population(n, cfg["debris_group"], cfg["debris_share"], cfg["unknown_share"], pop_seed)
-    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed)
+    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed,
+                            sizes=object_sizes(cfg, objects))
     return objects, unknown, sc, init_seed
 
 
@@ -141,15 +143,18 @@ def make_problem(cfg, tsensor: TrackerSensor, motion, means, covs, labels) -> Tr
     """The catalogue as a :class:`~hypotrack.registry.TrackingProblem`: the known objects at scan 0, the radar
     (TEME returns), the EKF, the revisit interval, and births from the returns (``model`` block):
     adaptive birth terms (δ-GLMB, R-FISST), Reid's births seeded at the returns (HOMHT) and GNN/JPDA's
-    ``β_NT``, all from ``homht_births_per_scan`` and the birth spreads; a miss counts in view only."""
+    ``β_NT``, all from ``homht_births_per_scan`` and the birth spreads; a miss counts in view only; the optional
+    death model and plausibility test of :mod:`.physics` (``unconfirmed_decay``, ``plausibility``)."""
     m = cfg["model"]
     adaptive = AdaptiveBirth(position_std=m["birth_position_std_km"], velocity_std=m["birth_velocity_std_km_s"],
                              r_birth=m["r_birth"], gate_probability=m["gate_probability"])
     births = MeasurementBirths(adaptive, r_birth=m["r_birth"],
                                seeded_intensity=m["homht_births_per_scan"] / tsensor.clutter.region.area,
-                               seeded_density=OnePointBirth(m["birth_velocity_std_km_s"], m["birth_position_std_km"]))
+                               seeded_density=OnePointBirth(m["birth_velocity_std_km_s"], m["birth_position_std_km"]),
+                               survival=model_survival(m))
     return TrackingProblem(motion, tsensor, means, covs, labels, time=0.0, dt=cfg["radar"]["revisit_s"],
-                           births=births, in_view=lambda x: tsensor.detection.in_view(x[:, :3]))
+                           births=births, in_view=lambda x: tsensor.detection.in_view(x[:, :3]),
+                           validity=model_validity(m))
 
 
 def tracker_spec(cfg, name: str, **factored) -> TrackerSpec:
@@ -202,7 +207,7 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
     """
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     radar = sc.sensors[0]
-    tsensor = TrackerSensor(radar)
+    tsensor = attach_tracker_snr(cfg, TrackerSensor(radar))
     motion = make_motion(cfg)
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     scans = sc.scan_list(0)

@@ -1,0 +1,155 @@
+"""The operator's scorecard of the sparse catalogue: the breakup experiment's, on the catalogue's runs.
+
+:func:`run_with_scorecard` steps one tracker once over the scans of one population size through
+:func:`hypotrack.experiments.ssa_breakup.run.run_scored` (which records what the scorecard needs: each return's
+origin and the track it correlates to, purity, GOSPA's parts, the unphysical hypotheses held, each object's track
+at the end of its passes), adding per scan the columns of the catalogue's own table (GOSPA and OSPA at the
+config's order, groups, tracks held: :func:`.run.run_tracker`'s). From that one run come both the catalogue's
+per-scan and assignment tables and the scorecard row (:func:`hypotrack.experiments.ssa_breakup.scorecard.
+scorecard_row`: return correlation, completeness, purity, RIC error and covariance realism at re-acquisition,
+time to orbit, GOSPA per object in view, unphysical hypotheses per scan).
+
+:func:`scorecard_table`, :func:`scorecard_claims`, :func:`scorecard_macros` turn the rows into the table, the
+ledger rows (status *extension*) and the report's macros; ``cpu_s`` stays in the run's timing table.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from ...hypotheses.factored import FactoredFilter
+from ...metrics import gospa, ospa
+from ...reporting.ledger import Claim
+from ..ssa_breakup.run import run_scored
+from ..ssa_breakup.scorecard import scorecard_row
+from .run import FACTORED, _n_tracks, make_motion
+from .summary import TRACKER_NAMES
+
+__all__ = ["run_with_scorecard", "scorecard_table", "scorecard_claims", "scorecard_macros", "COLUMNS"]
+
+EXPERIMENT = "ssa_catalogue"
+SOURCE = "extension (SSA at catalogue scale)"
+
+#: The scorecard table's columns (deterministic given config and seed: no CPU times).
+COLUMNS = ["tracker", "n_objects", "n_scans", "object_returns", "correct_per_1e4", "cross_tags_per_1e4",
+           "orphan_per_1e4", "uncorrelated_per_1e4", "cross_tags", "completeness", "false_per_1000",
+           "duplicate_per_1000", "reacquisitions", "reacq_within_km", "rms_radial_km", "rms_intrack_km",
+           "rms_crosstrack_km", "realism_95", "nn_in_gate_share", "time_to_orbit_unknown_s", "unknown_with_orbit",
+           "unknown", "unphysical_map_per_scan", "unphysical_hypotheses_per_scan", "unphysical_hypotheses_max",
+           "gospa_localisation_per_object_km", "gospa_missed_per_object_km", "gospa_false_per_object_km",
+           "gospa_per_object_km"]
+
+
+def _catalogue_columns(cfg):
+    """The ``on_scan`` hook of :func:`run_scored`: the columns :func:`.run.run_tracker` records beyond it."""
+    c, p = cfg["metrics"]["cutoff_km"], cfg["metrics"]["order"]
+
+    def cols(k, tracker, EX, TX):
+        gr = gospa(EX, TX, c=c, p=p)
+        st = tracker.last_stats if isinstance(tracker, FactoredFilter) else {}
+        return dict(gospa_km=gr.value, gospa_missed_p=gr.missed, gospa_false_p=gr.false, ospa_km=ospa(EX, TX, c=c, p=p),
+                    n_groups=st.get("n_groups", np.nan), largest_group=st.get("largest_group", np.nan),
+                    n_tracks=_n_tracks(tracker))
+
+    return cols
+
+
+def run_with_scorecard(name: str, cfg, n: int, seed: int, scenario):
+    """Tracker ``name`` once over the scans of ``scenario`` (size ``n``, a :func:`.run.build_scenario` tuple).
+
+    Returns ``(per_scan, assign, card)``: the tables of :func:`.run.run_tracker` (same columns, same values) and
+    the scorecard row (a dict, with the run's ``cpu_s``)."""
+    run = run_scored(name, cfg, scenario, int(seed), on_scan=_catalogue_columns(cfg))
+    ps = run.per_scan
+    per_scan = pd.DataFrame(dict(tracker=name, n_objects=int(n), scan=ps["scan"], cpu_s=ps["cpu_s"],
+                                 n_returns=ps["n_returns"], n_in_view=ps["n_in_view"], n_estimates=ps["n_estimates"],
+                                 gospa_km=ps["gospa_km"], gospa_missed=ps["gospa_missed_p"],
+                                 gospa_false=ps["gospa_false_p"], ospa_km=ps["ospa_km"], n_groups=ps["n_groups"],
+                                 largest_group=ps["largest_group"], n_tracks=ps["n_tracks"]))
+    a = run.assign
+    unknown = set(np.asarray(scenario[1]).tolist())
+    assign = pd.DataFrame(dict(tracker=name, n_objects=int(n), scan=a["scan"].astype(int), target=a["target"].astype(int),
+                               label=a["label"].astype(int), unknown=[int(t) in unknown for t in a["target"]]))
+    card = scorecard_row(run, scenario, cfg, make_motion(cfg))
+    return per_scan, assign, card
+
+
+def scorecard_table(cards: pd.DataFrame) -> pd.DataFrame:
+    """The scorecard table (:data:`COLUMNS`) in tracker order (:data:`.summary.TRACKER_NAMES`), then by size."""
+    order = {t: i for i, t in enumerate(TRACKER_NAMES)}
+    t = cards.assign(_o=cards["tracker"].map(order).fillna(len(order)))
+    return t.sort_values(["_o", "n_objects"], kind="stable")[COLUMNS].reset_index(drop=True)
+
+
+def _fmt(x, digits=3):
+    return "n/a" if not np.isfinite(x) else f"{x:.{digits}g}"
+
+
+def scorecard_claims(table: pd.DataFrame, reference: str = "gnn") -> list[Claim]:
+    """Extension rows at the largest size, per tracker: cross-tags per 10⁴ object returns (the correct and
+    uncorrelated ones in the note), completeness at the next pass, and covariance realism at re-acquisition
+    against its 95 % goal — each with ``reference``'s value in the note."""
+    n = int(table["n_objects"].max())
+    big = table[table["n_objects"] == n].set_index("tracker")
+    ref = big.loc[reference] if reference in big.index else None
+    out = []
+    for name, r in big.iterrows():
+        lab = TRACKER_NAMES.get(name, name)
+        vs = f"; {TRACKER_NAMES.get(reference, reference)}: " if ref is not None and name != reference else None
+        out.append(Claim(EXPERIMENT, f"scorecard: cross-tags per 10^4 object returns, {lab}, N = {n}", SOURCE, "--",
+                         _fmt(r.cross_tags_per_1e4), "--", "extension",
+                         f"{int(r.object_returns)} object returns over {int(r.n_scans)} scans: correct "
+                         f"{_fmt(r.correct_per_1e4, 4)}, uncorrelated {_fmt(r.uncorrelated_per_1e4)}, to false or "
+                         f"duplicate tracks {_fmt(r.orphan_per_1e4)} per 10^4" + (f"{vs}{_fmt(ref.cross_tags_per_1e4)}"
+                                                                                    if vs else ""),
+                         "measurement", key=f"card_crosstags_{name}"))
+        out.append(Claim(EXPERIMENT, f"scorecard: completeness at the next pass, {lab}, N = {n}", SOURCE, "--",
+                         _fmt(r.completeness), "--", "extension",
+                         "share of all catalogued objects, in view or not, whose track predicted to the object's "
+                         "next pass after the run is within 5 km of the truth" + (f"{vs}{_fmt(ref.completeness)}"
+                                                                                    if vs else ""),
+                         "measurement", key=f"card_completeness_{name}"))
+        out.append(Claim(EXPERIMENT, f"scorecard: covariance realism at re-acquisition, {lab}, N = {n}", SOURCE,
+                         "goal >= 0.95", _fmt(r.realism_95), "--", "extension",
+                         f"share of {int(r.reacquisitions)} squared Mahalanobis distances (3-D position, track "
+                         f"predicted across the gap) inside chi2_3(0.95); RMS radial / in-track / cross-track "
+                         f"{_fmt(r.rms_radial_km)} / {_fmt(r.rms_intrack_km)} / {_fmt(r.rms_crosstrack_km)} km"
+                         + (f"{vs}{_fmt(ref.realism_95)}" if vs else ""),
+                         "measurement", key=f"card_realism_{name}"))
+    return out
+
+
+def _v(x, digits=3):
+    return f"{x:.{digits}g}" if np.isfinite(x) else "n/a"
+
+
+def scorecard_macros(table: pd.DataFrame, reference: str = "gnn") -> dict:
+    """Macros ``Card<Field><Tracker>`` at the largest size and the verdict's spreads: per scorecard field, the
+    largest difference of a multi-hypothesis tracker from ``reference`` (``CardMaxDiff<Field>``)."""
+    n = int(table["n_objects"].max())
+    big = table[table["n_objects"] == n].set_index("tracker")
+    v = {"CardN": n, "CardScans": int(big["n_scans"].iloc[0])}
+    fields = {"CrossTags": "cross_tags_per_1e4", "Correct": "correct_per_1e4", "Uncorrelated": "uncorrelated_per_1e4",
+              "Orphan": "orphan_per_1e4", "Completeness": "completeness", "False": "false_per_1000",
+              "Duplicate": "duplicate_per_1000", "Reacq": "reacquisitions", "ReacqWithin": "reacq_within_km",
+              "Radial": "rms_radial_km", "Intrack": "rms_intrack_km", "Crosstrack": "rms_crosstrack_km",
+              "Realism": "realism_95", "TimeToOrbit": "time_to_orbit_unknown_s", "UnknownOrbit": "unknown_with_orbit",
+              "Unknown": "unknown", "UnphysMean": "unphysical_hypotheses_per_scan",
+              "UnphysMax": "unphysical_hypotheses_max", "UnphysMap": "unphysical_map_per_scan",
+              "GospaLoc": "gospa_localisation_per_object_km", "GospaMissed": "gospa_missed_per_object_km",
+              "GospaFalse": "gospa_false_per_object_km", "Gospa": "gospa_per_object_km"}
+    ints = {"Reacq", "UnknownOrbit", "Unknown"}
+    for name, r in big.iterrows():
+        k = name.replace("_", "")
+        for f, col in fields.items():
+            v[f"Card{f}{k}"] = int(r[col]) if f in ints else _v(float(r[col]))
+    v["CardObjectReturns"] = int(big["object_returns"].iloc[0])
+    if reference in big.index:
+        mht = [t for t in FACTORED if t in big.index]
+        for f in ("CrossTags", "Completeness", "Realism", "Gospa", "False"):
+            d = [abs(float(big.loc[t, fields[f]]) - float(big.loc[reference, fields[f]])) for t in mht]
+            d = [x for x in d if np.isfinite(x)]
+            if d:
+                v[f"CardMaxDiff{f}"] = _v(max(d))
+    return v

@@ -1,7 +1,7 @@
 """ssa_catalogue: the operator's scorecard table, figure, ledger rows and macros from the tracker jobs."""
 import pandas as pd
 
-from hypotrack.experiments.ssa_catalogue.figures_scorecard import plot_scorecard
+from hypotrack.experiments.ssa_catalogue.figures import plot_scorecard
 from hypotrack.experiments.ssa_catalogue.scorecard import scorecard_claims, scorecard_macros, scorecard_table
 from hypotrack.reporting.joblog import prefix_output
 from hypotrack.reporting.ledger import write_claims, write_macros

@@ -143,7 +143,7 @@ def scorecard_macros(table: pd.DataFrame, reference: str = "gnn") -> dict:
     for name, r in big.iterrows():
         k = name.replace("_", "")
         for f, col in fields.items():
-            v[f"Card{f}{k}"] = int(r[col]) if f in ints else _v(float(r[col]))
+            v[f"Card{f}{k}"] = int(r[col]) if f in ints else _v(float(r[col]), 5 if f == "Correct" else 3)
     v["CardObjectReturns"] = int(big["object_returns"].iloc[0])
     if reference in big.index:
         mht = [t for t in FACTORED if t in big.index]

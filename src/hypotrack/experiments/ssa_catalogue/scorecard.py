@@ -22,11 +22,11 @@ from ...hypotheses.factored import FactoredFilter
 from ...metrics import gospa, ospa
 from ...reporting.ledger import Claim
 from ..ssa_breakup.run import run_scored
-from ..ssa_breakup.scorecard import scorecard_row
-from .run import FACTORED, _n_tracks, make_motion
+from ..ssa_breakup.scorecard import reacquisitions, scorecard_row
+from .run import FACTORED, _n_tracks, build_scenario, make_motion
 from .summary import TRACKER_NAMES
 
-__all__ = ["run_with_scorecard", "scorecard_table", "scorecard_claims", "scorecard_macros", "COLUMNS"]
+__all__ = ["run_with_scorecard", "scorecard_table", "scorecard_claims", "scorecard_macros", "tuning_sweep", "COLUMNS"]
 
 EXPERIMENT = "ssa_catalogue"
 SOURCE = "extension (SSA at catalogue scale)"
@@ -111,8 +111,8 @@ def scorecard_claims(table: pd.DataFrame, reference: str = "gnn") -> list[Claim]
                                                                                     if vs else ""),
                          "measurement", key=f"card_completeness_{name}"))
         out.append(Claim(EXPERIMENT, f"scorecard: covariance realism at re-acquisition, {lab}, N = {n}", SOURCE,
-                         "goal >= 0.95", _fmt(r.realism_95), "--", "extension",
-                         f"share of {int(r.reacquisitions)} squared Mahalanobis distances (3-D position, track "
+                         "--", _fmt(r.realism_95), "--", "extension",
+                         f"goal 0.95 (a realistic covariance); share of {int(r.reacquisitions)} squared Mahalanobis distances (3-D position, track "
                          f"predicted across the gap) inside chi2_3(0.95); RMS radial / in-track / cross-track "
                          f"{_fmt(r.rms_radial_km)} / {_fmt(r.rms_intrack_km)} / {_fmt(r.rms_crosstrack_km)} km"
                          + (f"{vs}{_fmt(ref.realism_95)}" if vs else ""),
@@ -153,3 +153,30 @@ def scorecard_macros(table: pd.DataFrame, reference: str = "gnn") -> dict:
             if d:
                 v[f"CardMaxDiff{f}"] = _v(max(d))
     return v
+
+
+def tuning_sweep(cfg, qs, n: int, n_scans: int, trackers=("glmb", "gnn"), windows=("tuned_on", "evaluated_on")):
+    """The process-noise choice measured on the tuning run and on the evaluated one: per window of
+    ``cfg['tuning']`` (its seed and start offset), ``q`` of ``qs`` and tracker, one scorecard row at size ``n``
+    over ``n_scans`` scans, with the mean normalised squared error at re-acquisition ``mean(d²) / 3`` (1 for a
+    realistic covariance, below 1 for one too wide)."""
+    rows = []
+    for w in windows:
+        ev = cfg["tuning"][w]
+        seed = int(ev["seed"])
+        base = {**cfg, "n_scans": int(n_scans), "tuning": {"evaluated_on": dict(ev)}}
+        scenario = build_scenario(base, int(n), seed)
+        for q in qs:
+            c = {**base, "model": {**cfg["model"], "process_noise_q": float(q)}}
+            for name in trackers:
+                run = run_scored(name, c, scenario, seed)
+                motion = make_motion(c)
+                card = scorecard_row(run, scenario, c, motion)
+                reacq = reacquisitions(run, scenario[2].truth, motion, c["radar"]["sigma_km"],
+                                       c["model"]["gate_probability"], c["metrics"]["completeness_km"])
+                rows.append(dict(window=w, seed=seed, start_offset_s=float(ev["start_offset_s"]), q=float(q),
+                                 **{k: card[k] for k in ("tracker", "n_objects", "n_scans", "completeness",
+                                                         "reacquisitions", "reacq_within_km", "rms_intrack_km",
+                                                         "realism_95", "gospa_per_object_km", "cross_tags_per_1e4")},
+                                 normalised_d2=float(np.mean(reacq["d2"]) / 3) if len(reacq) else float("nan")))
+    return pd.DataFrame(rows)

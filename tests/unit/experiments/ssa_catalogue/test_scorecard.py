@@ -1,0 +1,121 @@
+"""The catalogue's operator's scorecard: one run gives the catalogue's own tables unchanged (against
+:func:`run_tracker`, the peer) and the scorecard row; the table, ledger rows and macros on a fabricated table by
+hand; the evaluated seed and window apart from the tuning ones."""
+
+import copy
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from hypotrack.experiments.ssa_catalogue.run import build_scenario, check_tuning, evaluated_on, run_tracker
+from hypotrack.experiments.ssa_catalogue.scorecard import (COLUMNS, run_with_scorecard, scorecard_claims,
+                                                           scorecard_macros, scorecard_table)
+from hypotrack.scenarios.catalogue import reference_epoch
+
+ROOT = Path(__file__).resolve().parents[4]
+NAMES = ["glmb", "homht_kbest", "rfisst", "gnn", "jpda"]
+
+
+def quick_section(**over):
+    default = yaml.safe_load((ROOT / "workflows" / "config" / "default.yaml").read_text())["ssa_catalogue"]
+    quick = yaml.safe_load((ROOT / "workflows" / "config" / "quick.yaml").read_text())["ssa_catalogue"]
+    return copy.deepcopy({**default, **quick, **over})
+
+
+@pytest.fixture(scope="module")
+def small():
+    cfg = quick_section(n_scans=12)
+    seed = evaluated_on(cfg, 0)[0]
+    return cfg, seed, build_scenario(cfg, 30, seed)
+
+
+@pytest.mark.parametrize("name", ["glmb", "gnn"])
+def test_one_run_gives_the_catalogue_tables_of_run_tracker(small, name):
+    cfg, seed, scenario = small
+    ps, a, card = run_with_scorecard(name, cfg, 30, seed, scenario)
+    ps0, a0, _ = run_tracker(name, cfg, 30, seed, scenario=scenario)
+    pd.testing.assert_frame_equal(ps.drop(columns="cpu_s"), ps0.drop(columns="cpu_s"))
+    pd.testing.assert_frame_equal(a, a0)
+    # the scorecard row of the same run: every object return counted once, in one of the four outcomes
+    sc = scenario[2]
+    assert card["n_objects"] == 30 and card["n_scans"] == 12
+    assert card["object_returns"] == sum(int((np.asarray(o) >= 0).sum()) for _, _, o in sc.scan_list(0, with_origin=True))
+    if card["object_returns"]:
+        total = card["correct_per_1e4"] + card["cross_tags_per_1e4"] + card["orphan_per_1e4"] + card["uncorrelated_per_1e4"]
+        assert total == pytest.approx(1e4)
+    assert card["unknown"] == len(scenario[1])
+    assert card["unphysical_hypotheses_max"] >= card["unphysical_hypotheses_per_scan"] >= 0
+
+
+def test_evaluated_window_starts_at_the_offset_and_differs_from_the_tuning_one():
+    cfg = quick_section(n_scans=2)
+    seed, off = evaluated_on(cfg, 7)
+    assert (seed, off) == (cfg["tuning"]["evaluated_on"]["seed"], cfg["tuning"]["evaluated_on"]["start_offset_s"])
+    assert seed != cfg["tuning"]["tuned_on"]["seed"] and off != cfg["tuning"]["tuned_on"]["start_offset_s"]
+    objects, _, sc, _ = build_scenario(cfg, 30, seed)
+    assert sc.start == reference_epoch(objects) + pd.Timedelta(seconds=off)
+    # without a tuning block: the pipeline's seed from the catalogue's epoch
+    bare = {k: v for k, v in cfg.items() if k != "tuning"}
+    assert evaluated_on(bare, 7) == (7, 0.0)
+    objects, _, sc, _ = build_scenario(bare, 30, seed)
+    assert sc.start == reference_epoch(objects)
+
+
+def test_check_tuning_refuses_evaluating_on_the_tuning_run():
+    cfg = quick_section()
+    check_tuning(cfg)
+    same_seed = copy.deepcopy(cfg)
+    same_seed["tuning"]["evaluated_on"]["seed"] = cfg["tuning"]["tuned_on"]["seed"]
+    with pytest.raises(ValueError, match="evaluated_on.seed must differ"):
+        check_tuning(same_seed)
+    same_window = copy.deepcopy(cfg)
+    same_window["tuning"]["evaluated_on"]["start_offset_s"] = cfg["tuning"]["tuned_on"]["start_offset_s"]
+    with pytest.raises(ValueError, match="start_offset_s must differ"):
+        check_tuning(same_window)
+
+
+def fabricated():
+    """Two sizes; at N = 300 GNN has 2 cross-tags per 1e4, realism 0.90, completeness 0.40; the factored
+    trackers 1, 2, 0 cross-tags, realism 1.0, 0.99, 0.97, completeness 0.40, 0.45, 0.30."""
+    rows = []
+    vals = {"glmb": (1.0, 1.0, 0.40), "homht_kbest": (2.0, 0.99, 0.45), "rfisst": (0.0, 0.97, 0.30),
+            "gnn": (2.0, 0.90, 0.40), "jpda": (3.0, 0.80, 0.35)}
+    for n in (300, 100):
+        for t in reversed(NAMES):
+            ct, re, co = vals[t]
+            r = {c: 1.0 for c in COLUMNS}
+            r.update(tracker=t, n_objects=n, n_scans=720, object_returns=2000, cross_tags_per_1e4=ct, realism_95=re,
+                     completeness=co, correct_per_1e4=1e4 - ct - 100.0, uncorrelated_per_1e4=100.0, orphan_per_1e4=0.0,
+                     reacquisitions=5, unknown_with_orbit=2, unknown=4, gospa_per_object_km={"gnn": 1.5}.get(t, 0.5),
+                     false_per_1000={"gnn": 100.0, "jpda": 90.0}.get(t, 4.0), time_to_orbit_unknown_s=np.nan,
+                     cpu_s=3.0)
+            rows.append(r)
+    return pd.DataFrame(rows)
+
+
+def test_table_claims_and_macros_by_hand():
+    tab = scorecard_table(fabricated())
+    assert list(tab.columns) == COLUMNS  # no CPU time: the table is byte-reproducible
+    assert list(zip(tab["tracker"], tab["n_objects"]))[:3] == [("glmb", 100), ("glmb", 300), ("homht_kbest", 100)]
+    claims = scorecard_claims(tab, "gnn")
+    assert len(claims) == 15 and {c.status for c in claims} == {"extension"}
+    by = {c.key: c for c in claims}
+    assert by["card_crosstags_homht_kbest"].reproduced == "2"
+    assert by["card_realism_rfisst"].reproduced == "0.97" and "GNN: 0.9" in by["card_realism_rfisst"].note
+    assert by["card_completeness_gnn"].reproduced == "0.4" and "GNN:" not in by["card_completeness_gnn"].note
+    m = scorecard_macros(tab, "gnn")
+    assert m["CardN"] == 300 and m["CardReacqglmb"] == 5 and m["CardTimeToOrbitglmb"] == "n/a"
+    # the largest |factored − GNN|: cross-tags |0 − 2| = 2; completeness |0.30 − 0.40| = 0.1; realism
+    # |1.0 − 0.9| = 0.1; GOSPA |0.5 − 1.5| = 1; false |4 − 100| = 96 (JPDA is not a factored tracker)
+    assert (m["CardMaxDiffCrossTags"], m["CardMaxDiffCompleteness"], m["CardMaxDiffRealism"], m["CardMaxDiffGospa"],
+            m["CardMaxDiffFalse"]) == ("2", "0.1", "0.1", "1", "96")
+
+
+def test_every_claim_row_is_placed_in_the_extension_group():
+    doc = yaml.safe_load((ROOT / "src" / "hypotrack" / "reporting" / "document_claims.yaml").read_text())
+    placed = {r for g in doc["extensions"] if g["id"] == "extension.catalogue_scorecard" for r in g["rows"]}
+    keys = {f"ssa_catalogue/{c.key}" for c in scorecard_claims(scorecard_table(fabricated()), "gnn")}
+    assert keys == placed

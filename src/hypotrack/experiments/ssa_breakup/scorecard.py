@@ -10,7 +10,7 @@
   re-acquisitions open to a cross-tag;
 * **time to orbit** (:func:`~hypotrack.metrics_scorecard.time_to_orbit`): per object, from its first return to
   the end of the first pass whose track re-acquires it within ``completeness_km`` at its next pass (objects with
-  such a pass only): over every object, and over the objects unknown at the start (born from the data);
+  such a pass only);
 * **completeness** (:func:`completeness`): every object of the scenario's catalogue, its track's state at the
   last scan predicted to the object's next pass after the run (first scan in view within
   ``next_pass_horizon_s``, else the horizon's end), within ``completeness_km`` of the truth; an object without
@@ -113,12 +113,10 @@ def completeness(run, sc, motion, horizon_s: float, completeness_km: float) -> t
     return done, int(ok.sum())
 
 
-def _time_to_orbit(run, reacq: pd.DataFrame, scan_times, objects=None) -> tuple[float, int]:
+def _time_to_orbit(run, reacq: pd.DataFrame, scan_times) -> tuple[float, int]:
     """Mean time to orbit (:func:`~hypotrack.metrics_scorecard.time_to_orbit`; s) over the objects with one, and
-    their number; ``objects``: only these ids (default every object)."""
+    their number."""
     r = run.returns[run.returns["origin"] >= 0]
-    if objects is not None:
-        r = r[np.isin(r["origin"].to_numpy(np.int64), np.asarray(objects, np.int64))]
     _, dt = time_to_orbit(r["origin"], np.asarray(scan_times, float)[r["scan"].to_numpy(np.int64)], reacq["target"],
                           reacq["t_end"], reacq["within"])
     return (float(np.mean(dt)) if len(dt) else float("nan")), int(len(dt))
@@ -126,7 +124,7 @@ def _time_to_orbit(run, reacq: pd.DataFrame, scan_times, objects=None) -> tuple[
 
 def scorecard_row(run, scenario, cfg, motion) -> dict:
     """The scorecard of one run (module docstring and :mod:`hypotrack.metrics_scorecard`) as one flat row."""
-    _, unknown, sc, _ = scenario
+    _, _, sc, _ = scenario
     m = cfg["metrics"]
     ps = run.per_scan
     owners = label_owners(run.assign["target"], run.assign["label"])
@@ -136,7 +134,6 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
                            m["completeness_km"])
     done, cat_n = completeness(run, sc, motion, m["next_pass_horizon_s"], m["completeness_km"])
     t_orbit, n_orbit = _time_to_orbit(run, reacq, sc.times)
-    t_unknown, n_unknown = _time_to_orbit(run, reacq, sc.times, unknown)
     n_est = int(ps["n_estimates"].sum())
     row = dict(tracker=run.tracker, n_objects=len(sc.catalogue), n_scans=len(ps), object_returns=n,
                correct_per_1e4=per(tal["correct"], n, 1e4), cross_tags_per_1e4=per(tal["cross_tags"], n, 1e4),
@@ -153,8 +150,7 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
                if len(reacq) else float("nan"), time_to_orbit_s=t_orbit, objects_with_orbit=n_orbit,
                unphysical_map_per_scan=float(ps["unphysical_map"].mean()),
                unphysical_hypotheses_per_scan=float(ps["unphysical_hypotheses"].mean()),
-               unphysical_hypotheses_max=float(ps["unphysical_hypotheses"].max()), time_to_orbit_unknown_s=t_unknown,
-               unknown_with_orbit=n_unknown, unknown=int(len(unknown)),
+               unphysical_hypotheses_max=float(ps["unphysical_hypotheses"].max()),
                cpu_s=float(ps["cpu_s"].sum()))
     row.update(gospa_parts_per_object(ps["gospa_loc"], ps["gospa_missed"], ps["gospa_false"], ps["n_in_view"]))
     return row

@@ -7,7 +7,14 @@ at the end of its passes), adding per scan the columns of the catalogue's own ta
 config's order, groups, tracks held: :func:`.run.run_tracker`'s). From that one run come both the catalogue's
 per-scan and assignment tables and the scorecard row (:func:`hypotrack.experiments.ssa_breakup.scorecard.
 scorecard_row`: return correlation, completeness, purity, RIC error and covariance realism at re-acquisition,
-time to orbit, GOSPA per object in view, unphysical hypotheses per scan).
+GOSPA per object in view, unphysical hypotheses per scan).
+
+**Time to orbit of the objects born from the data** (:func:`unknown_time_to_orbit`): a two-hour run rarely
+sees an object born in one pass come back, so each pass end of an object unknown at the start is scored
+against the object's next pass wherever it falls, inside the run or after it (:func:`orbit_checks`: the held
+track predicted to the first instant the object is in the radar's view again, more than ``PASS_GAP_S`` after
+the pass ended, within 5 km of the truth there), and
+:func:`~hypotrack.metrics_scorecard.time_to_orbit` measures from the object's first return.
 
 :func:`scorecard_table`, :func:`scorecard_claims`, :func:`scorecard_macros` turn the rows into the table, the
 ledger rows (status *extension*) and the report's macros; ``cpu_s`` stays in the run's timing table.
@@ -21,12 +28,16 @@ import pandas as pd
 from ...hypotheses.factored import FactoredFilter
 from ...metrics import gospa, ospa
 from ...reporting.ledger import Claim
-from ..ssa_breakup.run import run_scored
+from ...metrics_scorecard import time_to_orbit
+from ...scenarios.catalogue.frames import gmst, teme_to_ef
+from ...scenarios.catalogue.propagation import time_grid_jd
+from ..ssa_breakup.run import PASS_GAP_S, run_scored
 from ..ssa_breakup.scorecard import reacquisitions, scorecard_row
 from .run import FACTORED, _n_tracks, build_scenario, make_motion
 from .summary import TRACKER_NAMES
 
-__all__ = ["run_with_scorecard", "scorecard_table", "scorecard_claims", "scorecard_macros", "tuning_sweep", "COLUMNS"]
+__all__ = ["run_with_scorecard", "scorecard_table", "scorecard_claims", "scorecard_macros", "tuning_sweep", "COLUMNS",
+           "orbit_checks", "unknown_time_to_orbit"]
 
 EXPERIMENT = "ssa_catalogue"
 SOURCE = "extension (SSA at catalogue scale)"
@@ -36,7 +47,7 @@ COLUMNS = ["tracker", "n_objects", "n_scans", "object_returns", "correct_per_1e4
            "orphan_per_1e4", "uncorrelated_per_1e4", "cross_tags", "completeness", "false_per_1000",
            "duplicate_per_1000", "reacquisitions", "reacq_within_km", "rms_radial_km", "rms_intrack_km",
            "rms_crosstrack_km", "realism_95", "nn_in_gate_share", "time_to_orbit_unknown_s", "unknown_with_orbit",
-           "unknown", "unphysical_map_per_scan", "unphysical_hypotheses_per_scan", "unphysical_hypotheses_max",
+           "unknown_detected", "unknown", "unphysical_map_per_scan", "unphysical_hypotheses_per_scan", "unphysical_hypotheses_max",
            "gospa_localisation_per_object_km", "gospa_missed_per_object_km", "gospa_false_per_object_km",
            "gospa_per_object_km"]
 
@@ -71,8 +82,66 @@ def run_with_scorecard(name: str, cfg, n: int, seed: int, scenario):
     unknown = set(np.asarray(scenario[1]).tolist())
     assign = pd.DataFrame(dict(tracker=name, n_objects=int(n), scan=a["scan"].astype(int), target=a["target"].astype(int),
                                label=a["label"].astype(int), unknown=[int(t) in unknown for t in a["target"]]))
-    card = scorecard_row(run, scenario, cfg, make_motion(cfg))
+    motion = make_motion(cfg)
+    card = scorecard_row(run, scenario, cfg, motion)
+    m = cfg["metrics"]
+    card.update(unknown_time_to_orbit(run, scenario, motion, m["next_pass_horizon_s"], m["completeness_km"]))
     return per_scan, assign, card
+
+
+def orbit_checks(run, sc, motion, objects, horizon_s: float, radius_km: float, step_s: float = 30.0) -> pd.DataFrame:
+    """Per held pass end (``pass_no >= 0``) of the objects ``objects``: ``target``, ``t_end``, the time ``t_next`` of
+    the object's next instant in view — on a ``step_s`` grid, the first after it has left the view and more than
+    :data:`PASS_GAP_S` after ``t_end``, up to ``horizon_s`` after that (``NaN``: none) — and ``ok``: the track held at
+    the pass end, predicted there (EKF mean), is within ``radius_km`` of the truth."""
+    cols = ["target", "t_end", "t_next", "ok"]
+    want = set(int(o) for o in np.asarray(objects).tolist())
+    ends = [e for e in run.ends if e["pass_no"] >= 0 and int(e["target"]) in want]
+    if not ends:
+        return pd.DataFrame(columns=cols)
+    ids = sc.catalogue["norad"].to_numpy(np.int64)
+    row = {int(t): i for i, t in enumerate(ids)}
+    t_end = np.array([e["time"] for e in ends])
+    grid = np.arange(t_end.min() + step_s, t_end.max() + PASS_GAP_S + horizon_s + step_s / 2, step_s)
+    X, valid = sc.states(grid)
+    jd, fr = time_grid_jd(sc.start, grid)
+    r_ef, _ = teme_to_ef(X[..., :3], X[..., 3:], gmst(jd, fr))
+    with np.errstate(invalid="ignore"):
+        vis = sc.sensors[0].in_view(r_ef) & valid
+    j_next = np.full(len(ends), -1)
+    for n, (e, t) in enumerate(zip(ends, t_end)):
+        v = vis[row[int(e["target"])]]
+        after = grid > t
+        left = np.flatnonzero(after & ~v)  # the object must leave the view first (a pass cut by the run's end)
+        if len(left) == 0:
+            continue
+        ok = np.flatnonzero((np.arange(len(grid)) > left[0]) & v & (grid > t + PASS_GAP_S)
+                            & (grid <= t + PASS_GAP_S + horizon_s))
+        if len(ok):
+            j_next[n] = ok[0]
+    have = np.flatnonzero(j_next >= 0)
+    out = pd.DataFrame(dict(target=[int(e["target"]) for e in ends], t_end=t_end, t_next=np.nan, ok=False))
+    if len(have):
+        x0 = np.array([ends[n]["x"] for n in have])
+        dt = np.array([grid[j_next[n]] - ends[n]["t_x"] for n in have])
+        xp = motion.propagate_each(x0, dt)
+        truth = X[[row[int(ends[n]["target"])] for n in have], j_next[have], :3]
+        out.loc[have, "t_next"] = grid[j_next[have]]
+        out.loc[have, "ok"] = np.linalg.norm(xp[:, :3] - truth, axis=1) <= radius_km
+    return out[cols]
+
+
+def unknown_time_to_orbit(run, scenario, motion, horizon_s: float, radius_km: float) -> dict:
+    """Of the objects unknown at the start (the scenario's ``unknown``): how many were detected, how many have an
+    orbit (:func:`orbit_checks`), and their mean time to orbit (s; NaN for none)."""
+    _, unknown, sc, _ = scenario
+    unknown = np.asarray(unknown, np.int64)
+    r = run.returns[np.isin(run.returns["origin"].to_numpy(np.int64), unknown)]
+    checks = orbit_checks(run, sc, motion, unknown, horizon_s, radius_km)
+    _, dt = time_to_orbit(r["origin"], np.asarray(sc.times, float)[r["scan"].to_numpy(np.int64)], checks["target"],
+                          checks["t_end"], checks["ok"].astype(bool))
+    return dict(time_to_orbit_unknown_s=float(np.mean(dt)) if len(dt) else float("nan"), unknown_with_orbit=len(dt),
+                unknown_detected=int(r["origin"].nunique()), unknown=int(len(unknown)))
 
 
 def scorecard_table(cards: pd.DataFrame) -> pd.DataFrame:
@@ -135,11 +204,11 @@ def scorecard_macros(table: pd.DataFrame, reference: str = "gnn") -> dict:
               "Duplicate": "duplicate_per_1000", "Reacq": "reacquisitions", "ReacqWithin": "reacq_within_km",
               "Radial": "rms_radial_km", "Intrack": "rms_intrack_km", "Crosstrack": "rms_crosstrack_km",
               "Realism": "realism_95", "TimeToOrbit": "time_to_orbit_unknown_s", "UnknownOrbit": "unknown_with_orbit",
-              "Unknown": "unknown", "UnphysMean": "unphysical_hypotheses_per_scan",
+              "Unknown": "unknown", "UnknownDetected": "unknown_detected", "UnphysMean": "unphysical_hypotheses_per_scan",
               "UnphysMax": "unphysical_hypotheses_max", "UnphysMap": "unphysical_map_per_scan",
               "GospaLoc": "gospa_localisation_per_object_km", "GospaMissed": "gospa_missed_per_object_km",
               "GospaFalse": "gospa_false_per_object_km", "Gospa": "gospa_per_object_km"}
-    ints = {"Reacq", "UnknownOrbit", "Unknown"}
+    ints = {"Reacq", "UnknownOrbit", "Unknown", "UnknownDetected"}
     for name, r in big.iterrows():
         k = name.replace("_", "")
         for f, col in fields.items():

@@ -119,3 +119,36 @@ def test_every_claim_row_is_placed_in_the_extension_group():
     placed = {r for g in doc["extensions"] if g["id"] == "extension.catalogue_scorecard" for r in g["rows"]}
     keys = {f"ssa_catalogue/{c.key}" for c in scorecard_claims(scorecard_table(fabricated()), "gnn")}
     assert keys == placed
+
+
+def test_orbit_checks_find_the_next_pass_and_score_the_prediction():
+    """Oracle: the scenario's own in-view truth over two hours (pass_ends). A track equal to the SGP4 state at the
+    end of an object's first pass re-acquires it at its second pass (J2 against SGP4 over one orbit: well inside
+    5 km); the same track 10 km off does not. On a 10-s grid the next instant in view is the second pass's first
+    scan exactly."""
+    from types import SimpleNamespace
+
+    from hypotrack.experiments.ssa_breakup.run import pass_ends
+    from hypotrack.experiments.ssa_catalogue.run import make_motion
+    from hypotrack.experiments.ssa_catalogue.scorecard import orbit_checks
+
+    cfg = quick_section(n_scans=720)
+    seed = evaluated_on(cfg, 0)[0]
+    _, _, sc, _ = build_scenario(cfg, 100, seed)
+    pe = pass_ends(sc.truth)
+    two = pe[pe["pass_no"] == 1]
+    assert len(two), "the two-hour run must bring an object back"
+    p1 = two.iloc[0]
+    p0 = pe[(pe["target"] == p1.target) & (pe["pass_no"] == 0)].iloc[0]
+    tv = sc.truth[(sc.truth["target"] == p1.target) & (sc.truth["scan"] == p0.last_scan)]
+    x = tv[[f"state_{i}" for i in range(6)]].to_numpy()[0]
+    off = x + np.r_[10.0, 0, 0, 0, 0, 0]
+    run = SimpleNamespace(ends=[dict(target=int(p1.target), pass_no=0, time=p0.t_last, x=x, t_x=p0.t_last),
+                                dict(target=int(p1.target), pass_no=0, time=p0.t_last, x=off, t_x=p0.t_last),
+                                dict(target=-5, pass_no=0, time=p0.t_last, x=x, t_x=p0.t_last),  # not asked about
+                                dict(target=int(p1.target), pass_no=-1, time=7190.0, x=x, t_x=p0.t_last)])  # run end
+    out = orbit_checks(run, sc, make_motion(cfg), [int(p1.target)], 10800.0, 5.0, step_s=10.0)
+    assert out["target"].tolist() == [int(p1.target)] * 2
+    assert out["t_next"].tolist() == [p1.t_first, p1.t_first]
+    assert out["ok"].tolist() == [True, False]
+    assert len(orbit_checks(run, sc, make_motion(cfg), [], 10800.0, 5.0)) == 0

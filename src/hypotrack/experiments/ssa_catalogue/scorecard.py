@@ -36,7 +36,7 @@ from ..ssa_breakup.scorecard import reacquisitions, scorecard_row
 from .run import FACTORED, _n_tracks, build_scenario, make_motion
 from .summary import TRACKER_NAMES
 
-__all__ = ["run_with_scorecard", "scorecard_table", "scorecard_claims", "scorecard_macros", "tuning_sweep", "COLUMNS",
+__all__ = ["run_with_scorecard", "scorecard_table", "scorecard_claims", "scorecard_macros", "tuning_sweep", "compare", "COLUMNS",
            "orbit_checks", "unknown_time_to_orbit"]
 
 EXPERIMENT = "ssa_catalogue"
@@ -194,8 +194,9 @@ def _v(x, digits=3):
 
 
 def scorecard_macros(table: pd.DataFrame, reference: str = "gnn") -> dict:
-    """Macros ``Card<Field><Tracker>`` at the largest size and the verdict's spreads: per scorecard field, the
-    largest difference of a multi-hypothesis tracker from ``reference`` (``CardMaxDiff<Field>``)."""
+    """Macros ``Card<Field><Tracker>`` at the largest size and the verdict's: per compared field, the largest
+    difference of a multi-hypothesis tracker from ``reference`` (``CardMaxDiff<Field>``) and where they lie
+    against it in words (``CardCmp<Field>``, :func:`compare`)."""
     n = int(table["n_objects"].max())
     big = table[table["n_objects"] == n].set_index("tracker")
     v = {"CardN": n, "CardScans": int(big["n_scans"].iloc[0])}
@@ -216,12 +217,29 @@ def scorecard_macros(table: pd.DataFrame, reference: str = "gnn") -> dict:
     v["CardObjectReturns"] = int(big["object_returns"].iloc[0])
     if reference in big.index:
         mht = [t for t in FACTORED if t in big.index]
-        for f in ("CrossTags", "Completeness", "Realism", "Gospa", "False"):
-            d = [abs(float(big.loc[t, fields[f]]) - float(big.loc[reference, fields[f]])) for t in mht]
-            d = [x for x in d if np.isfinite(x)]
+        for f in ("CrossTags", "Completeness", "Realism", "Gospa", "False", "Duplicate", "Radial", "Intrack",
+                  "UnknownOrbit"):
+            ref, own = float(big.loc[reference, fields[f]]), [float(big.loc[t, fields[f]]) for t in mht]
+            d = [abs(x - ref) for x in own if np.isfinite(x) and np.isfinite(ref)]
             if d:
                 v[f"CardMaxDiff{f}"] = _v(max(d))
+            v[f"CardCmp{f}"] = compare(own, ref)
     return v
+
+
+def compare(values, reference) -> str:
+    """Where ``values`` (the multi-hypothesis trackers') lie against ``reference`` (GNN's), in words for the
+    report's verdict, compared as printed (3 significant digits): "equal to" (all), "below" (some below, none
+    above), "above" (some above, none below), "on both sides of", or "not comparable with" (a value missing)."""
+    r = float(reference)
+    x = [float(a) for a in values]
+    if not x or not np.isfinite(r) or not all(np.isfinite(x)):
+        return "not comparable with"
+    same = [_v(a) == _v(r) for a in x]
+    if all(same):
+        return "equal to"
+    lo, hi = any(a < r and not s for a, s in zip(x, same)), any(a > r and not s for a, s in zip(x, same))
+    return "on both sides of" if lo and hi else ("below" if lo else "above")
 
 
 def tuning_sweep(cfg, qs, n: int, n_scans: int, trackers=("glmb", "gnn"), windows=("tuned_on", "evaluated_on")):

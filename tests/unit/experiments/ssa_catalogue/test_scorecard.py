@@ -112,6 +112,10 @@ def test_table_claims_and_macros_by_hand():
     # |1.0 − 0.9| = 0.1; GOSPA |0.5 − 1.5| = 1; false |4 − 100| = 96 (JPDA is not a factored tracker)
     assert (m["CardMaxDiffCrossTags"], m["CardMaxDiffCompleteness"], m["CardMaxDiffRealism"], m["CardMaxDiffGospa"],
             m["CardMaxDiffFalse"]) == ("2", "0.1", "0.1", "1", "96")
+    # in words: cross-tags 1, 2, 0 against 2 -> below (one equal, none above); realism 1.0, 0.99, 0.97 against
+    # 0.90 -> above; completeness 0.40, 0.45, 0.30 against 0.40 -> both sides
+    assert (m["CardCmpCrossTags"], m["CardCmpRealism"], m["CardCmpCompleteness"]) == ("below", "above",
+                                                                                      "on both sides of")
 
 
 def test_every_claim_row_is_placed_in_the_extension_group():
@@ -152,3 +156,15 @@ def test_orbit_checks_find_the_next_pass_and_score_the_prediction():
     assert out["t_next"].tolist() == [p1.t_first, p1.t_first]
     assert out["ok"].tolist() == [True, False]
     assert len(orbit_checks(run, sc, make_motion(cfg), [], 10800.0, 5.0)) == 0
+
+
+def test_compare_in_words_as_printed():
+    from hypotrack.experiments.ssa_catalogue.scorecard import compare
+
+    assert compare([0.0, 0.0, 0.0], 0.0) == "equal to"
+    assert compare([0.1581, 0.1582], 0.158) == "equal to"  # the same at 3 significant digits
+    assert compare([0.158, 0.16], 0.187) == "below"
+    assert compare([2.35, 5.35, 40.0], 30.9) == "on both sides of"
+    assert compare([1.0, 2.0], 0.5) == "above"
+    assert compare([1.0, float("nan")], 0.5) == "not comparable with"
+    assert compare([], 0.5) == "not comparable with"

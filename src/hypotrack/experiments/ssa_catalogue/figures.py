@@ -146,6 +146,7 @@ def _bars(ax, names, series, colours, labels, *, log=False):
     ax.set_xticks(x, [_SHORT.get(t, t) for t in names], rotation=45, ha="right", rotation_mode="anchor")
     if log:
         ax.set_yscale("symlog", linthresh=1.0)
+        ax.set_ylim(0, max(top, 1.0) * 3.0)  # the tallest bar inside the axes on the log part
     if top == 0:  # nothing but zeros or gaps: an axis from 0, not around it
         ax.set_ylim(0, 1)
     ax.grid(alpha=0.3, axis="y")
@@ -163,24 +164,24 @@ def plot_scorecard(table: pd.DataFrame, pdf, png):
     t = table[table["n_objects"] == n]
     names = [x for x in TRACKER_NAMES if x in set(t["tracker"])]
     t = t.set_index("tracker").reindex(names)
-    fig, ax = _fs().subplots(2, 3, height=5.2)
+    fig, ax = _fs().subplots(3, 2, height=6.6)
     a = ax.ravel()
     _bars(a[0], names, [t["cross_tags_per_1e4"], t["orphan_per_1e4"], t["uncorrelated_per_1e4"]],
-          ["tab:red", "tab:orange", "tab:gray"], ["cross-tag", "unowned trk", "uncorrel."])
+          ["tab:red", "tab:orange", "tab:gray"], ["cross-tag", "to an unowned track", "uncorrelated"])
     a[0].set_ylabel("object returns per 10$^4$")
     _bars(a[1], names, [t["false_per_1000"], t["duplicate_per_1000"]], ["tab:purple", "tab:brown"],
           ["false", "duplicate"])
     a[1].set_ylabel("entries per 1,000 estimates")
-    _bars(a[2], names, [t["completeness"], t["realism_95"]], ["tab:blue", "tab:green"], ["complete", "realistic"])
+    _bars(a[2], names, [t["completeness"], t["realism_95"]], ["tab:blue", "tab:green"], ["completeness", "realism"])
     a[2].axhline(0.95, color="k", ls="--", lw=0.8)
     a[2].set_ylim(0, 1.05)
     a[2].set_ylabel("share of objects / re-acquisitions")
     _bars(a[3], names, [t["rms_radial_km"], t["rms_intrack_km"], t["rms_crosstrack_km"]],
-          ["tab:cyan", "tab:blue", "tab:olive"], ["radial", "in-track", "cross"])
+          ["tab:cyan", "tab:blue", "tab:olive"], ["radial", "in-track", "cross-track"])
     a[3].set_ylabel("RMS error at re-acquisition (km)")
     x = np.arange(len(names))
     bottom = np.zeros(len(names))
-    for col, c, lab in (("gospa_localisation_per_object_km", "tab:blue", "localis."),
+    for col, c, lab in (("gospa_localisation_per_object_km", "tab:blue", "localisation"),
                         ("gospa_missed_per_object_km", "tab:orange", "missed"),
                         ("gospa_false_per_object_km", "tab:red", "false")):
         v = t[col].fillna(0.0).to_numpy(float)

@@ -169,7 +169,7 @@ def scorecard_claims(table: pd.DataFrame, reference: str = "gnn") -> list[Claim]
         out.append(Claim(EXPERIMENT, f"scorecard: cross-tags per 10^4 object returns, {lab}, N = {n}", SOURCE, "--",
                          _fmt(r.cross_tags_per_1e4), "--", "extension",
                          f"{int(r.object_returns)} object returns over {int(r.n_scans)} scans: correct "
-                         f"{_fmt(r.correct_per_1e4, 4)}, uncorrelated {_fmt(r.uncorrelated_per_1e4)}, to false or "
+                         f"{_fmt(r.correct_per_1e4, 5)}, uncorrelated {_fmt(r.uncorrelated_per_1e4)}, to false or "
                          f"duplicate tracks {_fmt(r.orphan_per_1e4)} per 10^4" + (f"{vs}{_fmt(ref.cross_tags_per_1e4)}"
                                                                                     if vs else ""),
                          "measurement", key=f"card_crosstags_{name}"))

@@ -30,7 +30,7 @@ from ...metrics import gospa, ospa
 from ...reporting.ledger import Claim
 from ...metrics_scorecard import time_to_orbit
 from ...scenarios.catalogue.frames import gmst, teme_to_ef
-from ...scenarios.catalogue.propagation import time_grid_jd
+from ...scenarios.catalogue.propagation import propagate, time_grid_jd
 from ..ssa_breakup.run import PASS_GAP_S, run_scored
 from ..ssa_breakup.scorecard import reacquisitions, scorecard_row
 from .run import FACTORED, _n_tracks, build_scenario, make_motion
@@ -99,11 +99,12 @@ def orbit_checks(run, sc, motion, objects, horizon_s: float, radius_km: float, s
     ends = [e for e in run.ends if e["pass_no"] >= 0 and int(e["target"]) in want]
     if not ends:
         return pd.DataFrame(columns=cols)
-    ids = sc.catalogue["norad"].to_numpy(np.int64)
-    row = {int(t): i for i, t in enumerate(ids)}
+    cat = sc.catalogue[sc.catalogue["norad"].isin(want)]  # only the objects asked about (the whole catalogue in full.yaml)
+    row = {int(t): i for i, t in enumerate(cat["norad"].to_numpy(np.int64))}
     t_end = np.array([e["time"] for e in ends])
     grid = np.arange(t_end.min() + step_s, t_end.max() + PASS_GAP_S + horizon_s + step_s / 2, step_s)
-    X, valid = sc.states(grid)
+    p = propagate(cat, grid, sc.start)
+    X, valid = np.concatenate([p.r, p.v], axis=-1), p.valid
     jd, fr = time_grid_jd(sc.start, grid)
     r_ef, _ = teme_to_ef(X[..., :3], X[..., 3:], gmst(jd, fr))
     with np.errstate(invalid="ignore"):

@@ -18,6 +18,8 @@ the pass ended, within 5 km of the truth there), and
 
 :func:`scorecard_table`, :func:`scorecard_claims`, :func:`scorecard_macros` turn the rows into the table, the
 ledger rows (status *extension*) and the report's macros; ``cpu_s`` stays in the run's timing table.
+:func:`tuning_sweep` measures what the process noise gives on the tuning run and on the evaluated one (the
+configuration's ``tuning`` comment quotes it).
 """
 
 from __future__ import annotations
@@ -36,8 +38,8 @@ from ..ssa_breakup.scorecard import reacquisitions, scorecard_row
 from .run import FACTORED, _n_tracks, build_scenario, make_motion
 from .summary import TRACKER_NAMES
 
-__all__ = ["run_with_scorecard", "scorecard_table", "scorecard_claims", "scorecard_macros", "tuning_sweep", "compare", "COLUMNS",
-           "orbit_checks", "unknown_time_to_orbit"]
+__all__ = ["run_with_scorecard", "orbit_checks", "unknown_time_to_orbit", "scorecard_table", "scorecard_claims",
+           "scorecard_macros", "compare", "tuning_sweep", "COLUMNS"]
 
 EXPERIMENT = "ssa_catalogue"
 SOURCE = "extension (SSA at catalogue scale)"
@@ -47,7 +49,8 @@ COLUMNS = ["tracker", "n_objects", "n_scans", "object_returns", "correct_per_1e4
            "orphan_per_1e4", "uncorrelated_per_1e4", "cross_tags", "completeness", "false_per_1000",
            "duplicate_per_1000", "reacquisitions", "reacq_within_km", "rms_radial_km", "rms_intrack_km",
            "rms_crosstrack_km", "realism_95", "nn_in_gate_share", "time_to_orbit_unknown_s", "unknown_with_orbit",
-           "unknown_detected", "unknown", "unphysical_map_per_scan", "unphysical_hypotheses_per_scan", "unphysical_hypotheses_max",
+           "unknown_detected", "unknown", "unphysical_map_per_scan", "unphysical_hypotheses_per_scan",
+           "unphysical_hypotheses_max",
            "gospa_localisation_per_object_km", "gospa_missed_per_object_km", "gospa_false_per_object_km",
            "gospa_per_object_km"]
 

@@ -4,7 +4,8 @@
 * **re-acquisition** (:func:`reacquisitions`): each object's track at the last scan of a pass (as held,
   :func:`.run.run_scored`) predicted by the trackers' EKF (``x' = f(x)``, ``P' = Φ P Φ^T + Q(Δt)``) to the
   first scan of the object's next pass, against the truth there: the RIC error, the squared Mahalanobis
-  distance of the position error under ``P'`` (realism: the share inside ``χ²₃(0.95)``), whether it is
+  distance of the position error under ``P'`` (realism: the share inside ``χ²₃(0.95)``, and the mean of ``d²/3``,
+  1 for a realistic covariance, below 1 for one too wide), whether it is
   within ``completeness_km`` (5 km), and whether the **nearest other object** in view then lies inside the
   track's gate (``(p_other − x')^T (P'_pos + σ² I)^-1 (p_other − x') ≤ χ²₃(P_G)``) — the share of
   re-acquisitions open to a cross-tag;
@@ -146,7 +147,8 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
                rms_radial_km=float(np.sqrt(np.mean(reacq["err_r"] ** 2))) if len(reacq) else float("nan"),
                rms_intrack_km=float(np.sqrt(np.mean(reacq["err_i"] ** 2))) if len(reacq) else float("nan"),
                rms_crosstrack_km=float(np.sqrt(np.mean(reacq["err_c"] ** 2))) if len(reacq) else float("nan"),
-               realism_95=chi2_share(reacq["d2"], 0.95), nn_in_gate_share=float(reacq["nn_in_gate"].mean())
+               realism_95=chi2_share(reacq["d2"], 0.95),
+               realism_mean_d2=float(np.mean(reacq["d2"]) / 3) if len(reacq) else float("nan"), nn_in_gate_share=float(reacq["nn_in_gate"].mean())
                if len(reacq) else float("nan"), time_to_orbit_s=t_orbit, objects_with_orbit=n_orbit,
                unphysical_map_per_scan=float(ps["unphysical_map"].mean()),
                unphysical_hypotheses_per_scan=float(ps["unphysical_hypotheses"].mean()),

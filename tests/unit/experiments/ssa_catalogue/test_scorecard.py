@@ -168,3 +168,21 @@ def test_compare_in_words_as_printed():
     assert compare([1.0, 2.0], 0.5) == "above"
     assert compare([1.0, float("nan")], 0.5) == "not comparable with"
     assert compare([], 0.5) == "not comparable with"
+
+
+def test_tuning_sweep_rows_are_the_scorecard_of_each_window_and_q():
+    """The sweep's evaluated-window row at the configured q is the pipeline's own scorecard of that run; its
+    tuning-window rows use the tuning seed and window."""
+    from hypotrack.experiments.ssa_catalogue.scorecard import tuning_sweep
+
+    cfg = quick_section(n_scans=4)
+    q0 = cfg["model"]["process_noise_q"]
+    sweep = tuning_sweep(cfg, [q0, 10 * q0], 30, 4, trackers=("gnn",))
+    assert sweep[["window", "q"]].values.tolist() == [["tuned_on", q0], ["tuned_on", 10 * q0],
+                                                      ["evaluated_on", q0], ["evaluated_on", 10 * q0]]
+    assert sweep["seed"].tolist() == [cfg["tuning"]["tuned_on"]["seed"]] * 2 + [cfg["tuning"]["evaluated_on"]["seed"]] * 2
+    seed = evaluated_on(cfg, 0)[0]
+    _, _, card = run_with_scorecard("gnn", cfg, 30, seed, build_scenario(cfg, 30, seed))
+    row = sweep.iloc[2]
+    for k in ("completeness", "gospa_per_object_km", "reacquisitions", "cross_tags_per_1e4"):
+        assert row[k] == pytest.approx(card[k], nan_ok=True), k

@@ -47,6 +47,7 @@ from ...scenarios.catalogue import (
     GroundSite,
     RadarFieldOfView,
     load_catalogue,
+    reference_epoch,
     select_groups,
     simulate_catalogue,
 )
@@ -56,7 +57,7 @@ from ...trackers import ScanModel, SingleHypothesisTracker
 from ..stepping import SHTStepper, max_abs_difference
 from .physics import attach_tracker_snr, model_survival, model_validity, object_sizes, radar_snr
 
-__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+__all__ = ["evaluated_on", "check_tuning", "MOTIONS", "REENTRY_GAP_SCANS", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
            "CatalogueSHTStepper", "peer_rows"]
 
@@ -117,12 +118,36 @@ def make_motion(cfg):
     return MOTIONS[m["motion"]](q=m["process_noise_q"])
 
 
+def evaluated_on(cfg, seed: int) -> tuple[int, float]:
+    """``(seed, start offset s)`` of the evaluated run — another seed and time window than the ones the model was
+    tuned on: ``tuning.evaluated_on`` of the section (its ``seed`` and ``start_offset_s``), else the pipeline's
+    ``seed`` from the catalogue's epoch."""
+    ev = (cfg.get("tuning") or {}).get("evaluated_on") or {}
+    return int(ev.get("seed", seed)), float(ev.get("start_offset_s", 0.0))
+
+
+def check_tuning(cfg) -> None:
+    """The evaluated run must differ from the one the parameters were tuned on, in seed and in time window."""
+    t = cfg.get("tuning")
+    if not t:
+        return
+    a, b = t.get("tuned_on") or {}, t.get("evaluated_on") or {}
+    if a.get("seed") == b.get("seed"):
+        raise ValueError(f"ssa_catalogue.tuning.evaluated_on.seed must differ from tuned_on.seed, both {a.get('seed')!r}")
+    if float(a.get("start_offset_s", 0.0)) == float(b.get("start_offset_s", 0.0)):
+        raise ValueError("ssa_catalogue.tuning.evaluated_on.start_offset_s must differ from tuned_on.start_offset_s "
+                         f"(another time window), both {a.get('start_offset_s', 0.0)!r}")
+
+
 def build_scenario(cfg, n: int, seed: int):
-    """Objects, unknown NORAD numbers and the simulated :class:`CatalogueScenario` for size ``n``."""
+    """Objects, unknown NORAD numbers and the simulated :class:`CatalogueScenario` for size ``n``; scan 0 at the
+    catalogue's epoch plus the evaluated run's start offset (:func:`evaluated_on`; the seed is the caller's)."""
     ss = np.random.SeedSequence([int(seed), int(n)])
     pop_seed, sim_seed, init_seed = (int(s.generate_state(1)[0]) for s in ss.spawn(3))
     objects, unknown = select_population(n, cfg["debris_group"], cfg["debris_share"], cfg["unknown_share"], pop_seed)
-    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed,
+    offset = evaluated_on(cfg, seed)[1]
+    start = reference_epoch(objects) + pd.Timedelta(seconds=offset) if offset else None
+    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed, start=start,
                             sizes=object_sizes(cfg, objects))
     return objects, unknown, sc, init_seed
 

@@ -28,7 +28,8 @@ __all__ = ["MODES", "lazy_sht_timing"]
 
 #: The runs of :func:`lazy_sht_timing`: (name, tracker options).
 MODES = (("eager", {"lazy": False, "gate_out_of_view": True}),
-         ("eager_in_view", {"lazy": False, "gate_out_of_view": False}), ("lazy", {"lazy": True, "gate_out_of_view": None}),
+         ("eager_in_view", {"lazy": False, "gate_out_of_view": False}),
+         ("lazy", {"lazy": True, "gate_out_of_view": None, "lazy_prediction": "replay"}),
          ("lazy_gap", {"lazy": True, "gate_out_of_view": None, "lazy_prediction": "gap"}))
 
 

@@ -45,6 +45,7 @@ from .._validation import (
 )
 from ..association import gate_threshold, validation_matrix
 from ..models.measurement import LinearMeasurement
+from .detection import state_p_detect
 from .duplicates import child_pairs, merge_duplicates
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
@@ -181,8 +182,7 @@ class HypothesisFilter:
             self.meas_dim, self.state_dim = self.H.shape
             what = f"the sensor (H of shape {self.H.shape})"
         else:
-            self.measurement = sensor.measurement
-            self.H, self.R = None, check_covariance(self.measurement.R, "sensor R")
+            self.measurement, self.H, self.R = sensor.measurement, None, check_covariance(sensor.measurement.R, "sensor R")
             self.meas_dim, self.state_dim = self.measurement.dim, self.measurement.ndim_state
             what = f"the sensor ({self.meas_dim}-dimensional returns of a {self.state_dim}-dimensional state)"
         check_state_dimension(motion, self.state_dim, what)
@@ -305,8 +305,7 @@ class HypothesisFilter:
         by :class:`~.factored.FactoredFilter`)."""
         n, m = len(pred), len(Z)
         if n:
-            meas = self.measurement
-            z_pred, S, _, _ = meas.innovation(pred.means, pred.covs)
+            z_pred, S, _, _ = (meas := self.measurement).innovation(pred.means, pred.covs)
             d2, logdet = meas.mahalanobis2(Z, z_pred, S)
             loglik = -0.5 * (d2 + logdet[None, :] + self.meas_dim * np.log(2 * np.pi))
             in_view = np.asarray(self.sensor.detection.in_view(meas.view_points(pred.means, z_pred)), dtype=bool)
@@ -324,6 +323,7 @@ class HypothesisFilter:
         population's birth terms (document 000 Eq. 8, 18, 30)."""
         m = len(Z)
         loglik, allowed, p_detect = self.track_scores(pred, Z)
+        p_detect = state_p_detect(self.sensor.detection, pred.means, p_detect)
         clutter = self.sensor.clutter
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))

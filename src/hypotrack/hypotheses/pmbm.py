@@ -124,6 +124,8 @@ class PMBMPosterior:
     expected_number : ``Σ_n n P(n)`` of :attr:`cardinality`.
     undetected_mean : ``∫ λ^u``, the Poisson part's expected number of undetected objects.
     top : the heaviest global hypotheses (:class:`GlobalHypothesis`), best first.
+    existence_threshold : the existence above which :attr:`map_estimate` reports a Bernoulli: the filter's
+        ``existence_estimate`` (default 0.5), so the posterior's estimate is the filter's ``estimates()``.
     """
 
     log_weights: np.ndarray
@@ -131,6 +133,7 @@ class PMBMPosterior:
     expected_number: float
     undetected_mean: float
     top: tuple
+    existence_threshold: float = 0.5
 
     @property
     def weights(self) -> np.ndarray:
@@ -138,10 +141,10 @@ class PMBMPosterior:
 
     @property
     def map_estimate(self) -> HypothesisEstimate:
-        """The heaviest global hypothesis's Bernoullis with ``r > 0.5`` (the 2018 paper's estimator 1), in the
-        form of the engine's :class:`~.posterior.HypothesisEstimate`."""
+        """The heaviest global hypothesis's Bernoullis with ``r >`` :attr:`existence_threshold` (the 2018 paper's
+        estimator 1), in the form of the engine's :class:`~.posterior.HypothesisEstimate`."""
         h = self.top[0]
-        on = h.existence > 0.5
+        on = h.existence > self.existence_threshold
         return HypothesisEstimate(h.weight, h.log_weight, h.labels[on], h.means[on], h.covs[on])
 
 
@@ -543,7 +546,7 @@ class PMBMFilter:
             card = np.pad(card, (0, max(0, len(p) - len(card)))) + np.pad(p, (0, max(0, len(card) - len(p))))
         lw = np.array([h.log_weight for h in hyps])
         return PMBMPosterior(lw, card, float(np.arange(len(card)) @ card), self.undetected.total,
-                             tuple(hyps[:n_top]))
+                             tuple(hyps[:n_top]), self.existence_estimate)
 
     def estimated_local_hypotheses(self) -> np.ndarray:
         """Indices of the local hypotheses :meth:`estimates` reports, in its order (module docstring, step 5):

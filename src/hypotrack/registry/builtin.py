@@ -94,7 +94,7 @@ def _glmb_murty(problem, *, seed, population, k, **common):
 
 def _single(association):
     def build(problem, *, seed, gate_probability, m_of_n, initial_velocity_std, max_misses, gnn_score,
-              new_target_density, min_clutter_rate, jpda_marginals, lazy, gate_out_of_view):
+              new_target_density, min_clutter_rate, jpda_marginals, lazy, lazy_prediction, gate_out_of_view):
         """GNN/JPDA/PDAF (lecture notes 004) with the problem's models; ``seed`` is unused (deterministic)."""
         s = problem.sensor
         clutter = max(max(s.clutter.rate, min_clutter_rate) / s.clutter.region.area, 1e-300)  # scores need β_FA > 0
@@ -106,8 +106,9 @@ def _single(association):
                                                               initial_velocity_std=initial_velocity_std)
         return SingleHypothesisTracker(problem.motion, model, association=association, initiator=initiator,
                                        max_misses=max_misses, gnn_score=gnn_score, in_view=problem.in_view,
-                                       jpda_marginals=jpda_marginals, lazy=lazy,
-                                       gate_out_of_view=gate_out_of_view)
+                                       jpda_marginals=jpda_marginals, lazy=lazy, lazy_prediction=lazy_prediction,
+                                       gate_out_of_view=gate_out_of_view, validity=problem.validity,
+                                       p_detect=getattr(s.detection, "p_D_of", None))
 
     build.__name__ = f"_{association}"
     return build

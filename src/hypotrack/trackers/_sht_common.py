@@ -7,6 +7,7 @@ the gated pairs, and unused returns go to the initiation logic.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +24,7 @@ from ..association import gate_threshold, validation_matrix
 from ..gaussian import innovation_unchecked, mahalanobis2_unchecked, predict_with_unchecked, symmetrize
 from ..models.motion import ConstantVelocity, OrnsteinUhlenbeck
 
-__all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks"]
+__all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks", "with_track_p_D"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -121,13 +122,26 @@ class ScanModel:
 
     @property
     def log_missed(self) -> float:
-        """``log(1 − P_D P_G)``: the weight of "target not detected in its gate"."""
-        return float(np.log1p(-self.p_D * self.p_gate))
+        """``log(1 − P_D P_G)``: the weight of "target not detected in its gate" (per track ``(n,)`` for a
+        model of :func:`with_track_p_D`)."""
+        return np.log1p(-self.p_D * self.p_gate)
 
     @property
     def external_density(self) -> float:
         """``β_EX = β_FA + β_NT`` (lecture 004, "GNN Algorithm")."""
         return self.clutter_density + self.new_target_density
+
+
+def with_track_p_D(model: ScanModel, p_D) -> ScanModel:
+    """A copy of ``model`` whose ``p_D`` is one value per track ``(n,)`` in (0, 1] (a state-dependent
+    detection probability, e.g. a radar's SNR p_D at each predicted range), for one scan's scores: the GNN
+    gains and JPDA weights broadcast it over the tracks' columns (rows for JPDA)."""
+    p = np.asarray(p_D, dtype=float)
+    if p.ndim != 1 or not np.all((p > 0) & (p <= 1)):
+        raise ValueError(f"p_D per track must be a 1-d array of values in (0, 1], got shape {p.shape}")
+    out = copy.copy(model)
+    object.__setattr__(out, "p_D", p)
+    return out
 
 
 @dataclass(frozen=True, eq=False)

@@ -50,7 +50,7 @@ def jpda_log_weights(gated: GatedTracks, model: ScanModel) -> np.ndarray:
     n = gated.n_tracks
     lw = np.empty((n, gated.n_meas + 1))
     lw[:, 0] = model.log_missed
-    det = np.log(model.p_D) - np.log(model.clutter_density) + gated.log_likelihood().T
+    det = np.log(np.reshape(model.p_D, (-1, 1))) - np.log(model.clutter_density) + gated.log_likelihood().T
     lw[:, 1:] = np.where(gated.valid.T, det, -np.inf)
     return lw
 

@@ -178,10 +178,12 @@ def _unphysical(tracker, X) -> tuple[int, float]:
     return bad_map, float(n)
 
 
-def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = True) -> ScoredRun:
+def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = True, on_scan=None) -> ScoredRun:
     """Step tracker ``name`` over the scans of ``scenario`` (a :func:`build` tuple) and record the scorecard's
     inputs (module docstring). ``cfg``: the section holding ``model``, ``trackers``, ``metrics``, the initial
-    errors and ``radar``."""
+    errors and ``radar``. ``on_scan(k, tracker, est_pos, truth_pos)``, if given, returns further columns of scan
+    ``k``'s ``per_scan`` row (the estimates and truths in view, TEME positions): an experiment that records more
+    per scan does so in this one run."""
     objects, unknown, sc, init_seed = scenario
     tsensor = tracker_sensor(sc.sensors[0])
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
@@ -232,7 +234,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
         rows.append(dict(tracker=name, scan=k, time=float(t_k), cpu_s=cpu, n_returns=len(Z), n_in_view=len(TX),
                          n_estimates=len(EX), gospa_loc=gr.localisation, gospa_missed=gr.missed, gospa_false=gr.false,
                          false=pur["false"], duplicate=pur["duplicate"], unphysical_map=bad_map,
-                         unphysical_hypotheses=bad_hyp))
+                         unphysical_hypotheses=bad_hyp, **(on_scan(k, tracker, EX, TX) if on_scan else {})))
         final = k == len(scans) - 1
         need = [(t, p, last_label[t]) for t, p in ends_at.get(k, []) if t in last_label]
         if final:  # every catalogued object: its last assigned track, else (a known object) its own label

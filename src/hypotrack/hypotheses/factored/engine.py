@@ -10,6 +10,7 @@ import numpy as np
 
 from ..._validation import check_finite_array, check_int, check_measurements
 from ...protocol import TrackEstimates
+from ..detection import state_p_detect
 from ..factored_groups import factorise, product
 from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
@@ -461,6 +462,7 @@ class FactoredFilter:
         :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once); without
         ``gate_out_of_view`` a track with ``p_D = 0`` gates nothing."""
         loglik, allowed, p_detect = self._engine.track_scores(pred, Z)
+        p_detect = state_p_detect(self._engine.sensor.detection, pred.means, p_detect)
         if not self._options.gate_out_of_view:
             allowed = allowed & (p_detect > 0)[None, :]
         track_survival = getattr(self._engine.population, "track_survival", None)

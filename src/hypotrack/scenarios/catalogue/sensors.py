@@ -17,6 +17,8 @@ below are typical of that class, not any one radar's specification):
   with isotropic Gaussian error σ_enu (km);
 * **detection**: every object inside the field of view is detected with p_D = 0.9, independently;
   nothing outside it is (a detected object's noisy return may fall just outside the field of view);
+  optionally (``snr``, :mod:`.snr`) each object's p_D is instead the Swerling I p_D of its size at its
+  range (radar equation, SNR ∝ RCS/r⁴), given object sizes (:func:`.simulate_catalogue`'s ``sizes``);
 * **clutter**: Poisson, 2 false returns per scan on average, uniform over the field of view in
   measurement space — over the box ``[r_min, r_max] × [az sector] × [el band]`` (density
   ``1/V``, V in km·rad²) for RAE, over the physical volume (V in km³) for ENU.
@@ -33,6 +35,7 @@ import numpy as np
 
 from ..._validation import check_finite_array, check_nonnegative, check_positive, check_probability
 from .frames import ef_to_rae, enu_matrix, geodetic_to_ef, local_to_rae, rae_to_enu, wrap_angle
+from .snr import SnrModel
 
 __all__ = ["GroundSite", "RadarFieldOfView", "GroundRadar", "DEFAULT_SITE", "DEFAULT_RADAR", "MEASUREMENTS"]
 
@@ -208,6 +211,9 @@ class GroundRadar:
     sigma_enu_km : float
         Standard deviation of each ENU component (``measurement="enu"`` only), > 0.
     name : str
+    snr : hypotrack.scenarios.catalogue.snr.SnrModel, optional
+        SNR detection model: with it (and object sizes, :func:`.simulate_catalogue`'s ``sizes``) each
+        object's p_D is the Swerling I ``p_D`` of its size at its range (:mod:`.snr`) in place of ``p_D``.
     sigma_range_rate_km_s : float
         Standard deviation of the range-rate (``measurement="rae_rate"`` only), > 0; default 0.01 (10 m/s,
         :data:`.radar_model.SIGMA_RANGE_RATE_KM_S`).
@@ -226,6 +232,7 @@ class GroundRadar:
     measurement: str = "rae"
     sigma_enu_km: float = 1.0
     name: str = "UHF phased-array face"
+    snr: object = None
     sigma_range_rate_km_s: float = 0.01
     range_rate_span_km_s: float = 8.0
 
@@ -242,6 +249,8 @@ class GroundRadar:
         set_("clutter_rate", check_nonnegative(self.clutter_rate, "clutter_rate"))
         if self.measurement not in MEASUREMENTS:
             raise ValueError(f"measurement must be one of {MEASUREMENTS}, got {self.measurement!r}")
+        if self.snr is not None and not isinstance(self.snr, SnrModel):
+            raise TypeError(f"snr must be an SnrModel or None, got {type(self.snr).__name__}")
 
     @property
     def R(self) -> np.ndarray:
@@ -279,8 +288,9 @@ class GroundRadar:
         out[near] = f.contains(local_to_rae(loc[near], f.az_center))
         return out
 
-    def observe_rae(self, rae, rng):
-        """One scan, given the true (range, az, el) ``(n, 3)`` of the objects inside the field of view.
+    def observe_rae(self, rae, rng, p_detect=None):
+        """One scan, given the true (range, az, el) ``(n, 3)`` of the objects inside the field of view
+        (``p_detect`` ``(n,)``: each object's p_D, default :attr:`p_D` for all).
 
         Random draws, in order: detections (n uniforms), measurement noise of the detected,
         the clutter count and positions, the shuffle of the returns.
@@ -297,7 +307,7 @@ class GroundRadar:
             rae = rae.reshape(-1, 4)
         else:
             rae = _rows3(rae, "rae")
-        det = rng.uniform(size=len(rae)) < self.p_D
+        det = rng.uniform(size=len(rae)) < (self.p_D if p_detect is None else np.asarray(p_detect, dtype=float))
         true = rae[det]
         if self.measurement == "enu":
             Z_t = rae_to_enu(true) + rng.standard_normal(true.shape) * self.sigma_enu_km

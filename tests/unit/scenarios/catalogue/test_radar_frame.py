@@ -218,3 +218,21 @@ def test_second_order_terms_match_the_geometry_and_sampled_moments():
     assert np.all(np.abs(z2[0] - mean) < 5 * se + 1e-3 * np.sqrt(np.diag(cov)))  # second order: the sampled mean
     np.testing.assert_allclose(np.sqrt(np.diag(S2[0])), np.sqrt(np.diag(cov)), rtol=0.05)
     assert np.sqrt(S1[0, 0, 0]) < 0.5 * np.sqrt(cov[0, 0])    # first order: range spread under half the true one
+
+
+def test_clone_scenario_gives_range_rate_returns_too():
+    from hypotrack.scenarios.catalogue.clones import simulate_clones
+
+    radar = GroundRadar(measurement="rae_rate", p_D=1.0, clutter_rate=0.0)
+    sc = simulate_clones(load_catalogue(), 3000, radar, n_scans=5, seed=1, clone_seed=2)
+    sensor = RadarTrackerSensor(radar)
+    w = []
+    for k, (_t, Z, origin) in enumerate(sc.scan_list(0, with_origin=True)):
+        tr = sc.truth[sc.truth["scan"] == k].set_index("target")
+        for z, o in zip(Z, origin):
+            x = tr.loc[o, [f"state_{i}" for i in range(6)]].to_numpy(float)
+            nu = sensor.measurement.residual_rows(z[None], rae_rate(x, radar.site, sc.theta[k], az_center=radar.fov.az_center))
+            w.append(nu[0] / np.sqrt(np.diag(sensor.R)))
+    w = np.array(w)
+    assert w.shape[1] == 4 and len(w) > 100
+    assert np.all(np.abs(w.mean(axis=0)) < 4 / np.sqrt(len(w))) and np.all(np.abs(w.std(axis=0) - 1) < 0.25)

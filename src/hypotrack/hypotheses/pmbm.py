@@ -209,6 +209,9 @@ class PMBMFilter:
             raise ValueError("sensor.clutter must be a PoissonClutter: the PMBM update needs the clutter intensity")
         self.p_D = check_probability(sensor.detection.p_D, "p_D", low_open=True, high_open=True)
         self.motion, self.sensor, self.generator = motion, sensor, generator
+        if not getattr(sensor.measurement, "linear", True):
+            raise ValueError("sensor.measurement must be linear (H, R) for the PMBM filters; a nonlinear model (the "
+                             "radar's sensor frame) runs on HypothesisFilter, the factored engine, GNN and JPDA")
         self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
         self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
         d = self.H.shape[1]

@@ -38,6 +38,7 @@ from ...models.plausibility import plausible_orbits
 from ...scenarios.catalogue.breakup import BreakupEvent, simulate_breakup
 from ...association import gate_threshold
 from ...scenarios.catalogue.radar_model import RadarTrackerSensor
+from ..ssa_catalogue.physics import attach_tracker_snr
 from ..ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem, make_radar, make_tracker,
                                  tracker_sensor)
 
@@ -185,7 +186,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
     ``k``'s ``per_scan`` row (the estimates and truths in view, TEME positions): an experiment that records more
     per scan does so in this one run."""
     objects, unknown, sc, init_seed = scenario
-    tsensor = tracker_sensor(sc.sensors[0])
+    tsensor = attach_tracker_snr(cfg, tracker_sensor(sc.sensors[0]))  # the scans' detection model, as run_tracker
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
     tracker = make_tracker(name, cfg, problem, int(seed))

@@ -133,9 +133,10 @@ def test_snr_config_reaches_truth_and_trackers():
     validate_config(config, ROOT / "workflows" / "config" / "schema")
     cfg = copy.deepcopy(config["ssa_catalogue"])
     cfg["n_scans"] = 30
-    assert make_radar(cfg).snr == SnrModel(**snr) and make_radar(_cfg()).snr is None
+    constant = {k: v for k, v in cfg["radar"].items() if k != "snr"}  # the radar's constant p_D
+    assert make_radar(cfg).snr == SnrModel(**snr) and make_radar({**cfg, "radar": constant}).snr is None
     objects, unknown, sc, init_seed = build_scenario(cfg, 300, 1)
-    plain = build_scenario({**cfg, "radar": _cfg()["radar"]}, 300, 1)[2]
+    plain = build_scenario({**cfg, "radar": constant}, 300, 1)[2]
     assert sc.n_in_view.sum() == plain.n_in_view.sum()  # same truth
     assert not sc.scans[["z_0", "z_1", "z_2"]].equals(plain.scans[["z_0", "z_1", "z_2"]])  # other detections
     per_scan, _, _ = run_tracker("glmb", cfg, 300, 1, scenario=(objects, unknown, sc, init_seed))
@@ -148,4 +149,5 @@ def test_snr_config_reaches_truth_and_trackers():
     det = attach_tracker_snr(cfg, TrackerSensor(make_radar(cfg))).detection
     ref = SnrTrackerDetection(TrackerSensor(make_radar(cfg)), SnrModel(**snr), SizeModel(debris_share=0.5))
     assert det.sizes.debris_share == cfg["debris_share"] == 0.5 and np.array_equal(det.table, ref.table)
-    assert not hasattr(attach_tracker_snr(_cfg(), TrackerSensor(make_radar(_cfg()))).detection, "p_D_of")
+    plain = {**cfg, "radar": constant}
+    assert not hasattr(attach_tracker_snr(plain, TrackerSensor(make_radar(plain))).detection, "p_D_of")

@@ -48,7 +48,7 @@ class FactoredState:
 
 _STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
                n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0,
-               n_fast_births=0, n_fast_clutter=0)
+               n_fast_births=0, n_fast_clutter=0, n_fast_quiet=0)
 
 
 class FactoredFilter:
@@ -87,7 +87,8 @@ class FactoredFilter:
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
         touched group kept under the cap), ``n_fast_path``, ``n_fast_births``, ``n_fast_clutter``
         (components the fast path took: lone tracks updated, lone birth terms and returns dropped;
-        they count in ``n_touched``, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        they count in ``n_touched``, not in ``n_jobs``), ``n_fast_quiet`` (quiet groups the fast path
+        found to keep no object after their empty-scan step: dropped, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
         pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
         ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.
@@ -122,12 +123,20 @@ class FactoredFilter:
         obj.initialise(np.zeros((0, obj.ndim)), time=f.time)
         state = f.state.with_next_label(0)
         groups = [state] if any(len(t) for t in state.tracks) else []
-        if groups and len(state.labels) > 1:
+        lone = _one_hypothesis_lane(state) if obj._lane_on and groups else None
+        if lone is not None:
+            # a single hypothesis of distinct objects factorises exactly into one singleton each; held
+            # directly (in the order the split and the lane give them: by label) without one Python
+            # group per object, which at 10⁶ objects costs gigabytes and minutes
+            obj._groups, obj._lane = GroupSet.at((), f.time), Lane.at(lone, f.time)
+            groups = None
+        elif groups and len(state.labels) > 1:
             record, parts = factorise(state, np.searchsorted(state.labels, state.store.labels), obj.options.factor_tol)
             if record.exact:
                 groups = parts
-        states, lane = obj._sort_out(groups)
-        obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time)
+        if groups is not None:
+            states, lane = obj._sort_out(groups)
+            obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time)
         obj._next_label = f.next_label
         obj.scan_index = f.scan_index
         return obj
@@ -346,12 +355,10 @@ class FactoredFilter:
         """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane
         singleton with one return and nothing else, whose general step would keep only the
         detected child, stepped in one batch; ``None`` when it is off or cannot be exact."""
-        if not self._options.fast_path:
-            return None
-        E = self._engine
-        rule = fast_rule(E, self._lane_on, self._options.min_weight)
+        rule = self._fast_rule()
         if rule is None:
             return None
+        E = self._engine
         r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z, E.H, E.R,
                                E.weights.seeded_births, r_birth, E.population)
@@ -360,17 +367,31 @@ class FactoredFilter:
                      n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)
         return fast
 
+    def _fast_rule(self):
+        """The fast path's :class:`~.fast_path.FastRule`, or ``None`` (off, or not exact for this engine)."""
+        if not self._options.fast_path:
+            return None
+        return fast_rule(self._engine, self._lane_on, self._options.min_weight)
+
     def _plan(self, scan, graph, Z, stats, skip=None) -> tuple:
         """Step 2–3: one plan per component, in the order of its first node (deterministic): a quiet
         group predicts or takes an empty-scan step; a touched component merges its groups and steps.
         Returns the plans and their keys (first nodes); ``skip``: components the fast path took."""
         E, plans, keys, bounds = self._engine, [], [], scan.bounds
+        rule = self._fast_rule()
         for key, c, members, regions, rows in graph.components(skip):
             keys.append(key)
             if c is None:
                 cols = np.arange(bounds[key], bounds[key + 1])
-                plans.append(quiet_plan(E, self._lane_on, self._objects, scan.groups[key], take(scan.pred, cols),
-                                        scan.scores.columns(cols), Z, scan.birth_ll, stats))
+                state = scan.groups[key]
+                plan = quiet_plan(E, self._lane_on, self._objects, state, take(scan.pred, cols),
+                                  scan.scores.columns(cols), Z, scan.birth_ll, stats)
+                if (plan[0] == "quiet" and rule is not None and len(np.unique(self._objects.of(state.labels))) == 1
+                        and rule.quiet_group_dies(state.log_w, state.tracks, scan.scores.p_detect[cols])):
+                    # the fast path: its step would keep no object (one object: no split, no record)
+                    plan = ("dropped",)
+                    stats["n_fast_quiet"] += 1
+                plans.append(plan)
             else:
                 plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
                                           scan.scores, Z, scan.birth_ll, stats))
@@ -386,12 +407,14 @@ class FactoredFilter:
         and the labels each uses are counted where its plan would have run, so the other steps
         draw and number exactly as without it."""
         n_fast = 0 if fast is None else len(fast)
+        # a dropped quiet group (the fast path's) keeps its step's place: it draws its stream, unused
         steps = np.array([p[0] != "done" for p in plans], dtype=bool)
-        jobs = [p for p in plans if p[0] != "done"]
+        run = np.array([p[0] not in ("done", "dropped") for p in plans], dtype=bool)
+        jobs = [p for p in plans if p[0] not in ("done", "dropped")]
         # each step's place among the steps and the fast components (both in key order)
         fast_before = np.searchsorted(fast.keys, keys) if n_fast else np.zeros(len(plans), np.int64)
-        slot = np.cumsum(steps)[steps] - 1 + fast_before[steps]
-        n_draw = len(jobs) + n_fast
+        slot = (np.cumsum(steps) - 1 + fast_before)[run]
+        n_draw = int(steps.sum()) + n_fast
         seeds = self.rng.integers(0, 2**63 - 1, size=n_draw)[slot] if n_draw else np.zeros(0, np.int64)
         base = self._next_label
         results = iter(self._pool.run(self._engine, [(p[1], p[2], p[3], p[4], base, int(s)) for p, s in zip(jobs, seeds)],
@@ -403,6 +426,8 @@ class FactoredFilter:
             if n_fast:  # the labels the fast path's components before this plan used
                 self._next_label += int(fast.labels_before(before) - fast.labels_before(counted))
                 counted = before
+            if plan[0] == "dropped":
+                continue
             if plan[0] == "done":
                 state, parts = plan[1], plan[2]
             else:
@@ -522,6 +547,18 @@ class FactoredFilter:
         joint, _ = product(groups, limit, "top")
         post = summarise(joint.log_w, joint.tracks, joint.store, n_top=len(joint.log_w))
         return list(post.top)
+
+
+def _one_hypothesis_lane(state) -> TrackStore | None:
+    """The lane :func:`~..factored_groups.factorise` and :meth:`FactoredFilter._sort_out` make of a state
+    with one hypothesis holding every store entry once, distinct labels (one singleton per object, in
+    label order, stably); ``None`` for any other state."""
+    if len(state.log_w) != 1 or len(state.tracks[0]) != len(state.store):
+        return None
+    labels = state.store.labels
+    if not (np.array_equal(np.sort(state.tracks[0]), np.arange(len(labels))) and len(np.unique(labels)) == len(labels)):
+        return None
+    return take(state.store, np.argsort(labels, kind="stable"))
 
 
 @dataclass(frozen=True, eq=False)

@@ -67,7 +67,7 @@ from ..tracks import TrackStore
 from ..weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
 from ..weights_glmb import GLMBWeights
 
-__all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components"]
+__all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components", "lone_update"]
 
 #: relative margin of ``min_weight`` an alternative must stay under (rounding never decides)
 MARGIN = 1e-9
@@ -107,6 +107,25 @@ class FastRule:
             alt = np.where(valid, alt, -np.inf)
         total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
         return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
+
+    def quiet_group_dies(self, log_w, tracks, p_detect) -> bool:
+        """Whether a quiet group (no return, no birth term; hypotheses ``log_w``, ``tracks``, each
+        track's ``p_D``) keeps no object after its engine step on the empty scan and the pruning.
+
+        Its only child of each hypothesis is "every object missed", weight ``w_h Π_{i∈h} (1 − p_D,i)``
+        (a silent population: no event, no birth term). The hypotheses holding a track weigh
+        ``W`` in all, normalised; when ``W < min_weight`` (by the margin) each of them, and each
+        non-empty projection of a split part, lies below ``min_weight`` and the empty hypothesis
+        (weight ``1 − W > 1/2``) is the heaviest, so pruning leaves no object. Only with no validity
+        test (which would drop children before the normalisation)."""
+        if self.validity is not None:
+            return False
+        log_miss = np.log1p(-np.asarray(p_detect, dtype=float))
+        lw = np.asarray(log_w, dtype=float) + np.array([log_miss[t].sum() for t in tracks])
+        held = np.array([len(t) > 0 for t in tracks], dtype=bool)
+        if held.all() or not np.isfinite(lw[~held]).any():
+            return False
+        return bool(np.logaddexp.reduce(lw[held]) - np.logaddexp.reduce(lw) < self.log_threshold)
 
 
 def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
@@ -187,6 +206,14 @@ class FastBatch:
         return np.concatenate([[0], np.cumsum(self.n_new)])[k]
 
 
+def lone_update(means, covs, Z, H, R):
+    """The lone tracks' measurement update, ``(means, covs)``: one batched Kalman update in Joseph
+    form (:func:`~...gaussian.update_unchecked`) of predicted tracks ``means``/``covs`` with their
+    returns ``Z`` (row for row). The fast path's only linear algebra of the update: a measurement
+    model other than a fixed ``H``, ``R`` replaces this one call."""
+    return update_unchecked(means, covs, Z, H, R)
+
+
 def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R,
                     seeded: bool, r_birth=None, population=None) -> FastBatch:
     """The components of ``graph`` the fast path takes and their results.
@@ -216,9 +243,9 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     n_new = np.full(len(j), rule.n_new, np.int64)
     if rule.validity is None:
         take = rule.takes(loglik, p_detect)
-        x, P = update_unchecked(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
+        x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
     else:  # every child's tracks tested, as the general step tests them
-        x, P = update_unchecked(pred.means[cols], pred.covs[cols], Z[rows], H, R)
+        x, P = lone_update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
         valid = np.repeat(_valid(rule.validity, pred.means[cols])[:, None], len(rule.alt_offsets), axis=1)
         if rule.n_new:  # the seeded birth child also holds the newborn track
             born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)

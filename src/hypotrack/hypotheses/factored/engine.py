@@ -16,8 +16,8 @@ from ..posterior import HypothesisEstimate, summarise
 from ..._validation import check_finite_float
 from ..state import scan_interval
 from ..tracks import TrackStore
-from .fast_path import FastBatch, birth_existence, fast_components, fast_rule
-from .lane import GroupSet, Lane, cat, is_singleton, predict_each, silent, singleton, take
+from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
+from .lane import GroupSet, Lane, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton, take
 from .options import FactoredOptions
 from .planner import (ObjectIds, Scores, interaction_parts, prune, quiet_plan, scan_graph, split_group,
                       touched_plan)
@@ -48,7 +48,7 @@ class FactoredState:
 
 _STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
                n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0,
-               n_fast_births=0, n_fast_clutter=0, n_fast_quiet=0)
+               n_fast_births=0, n_fast_clutter=0, n_fast_quiet=0, n_fast_born=0)
 
 
 class FactoredFilter:
@@ -88,7 +88,8 @@ class FactoredFilter:
         touched group kept under the cap), ``n_fast_path``, ``n_fast_births``, ``n_fast_clutter``
         (components the fast path took: lone tracks updated, lone birth terms and returns dropped;
         they count in ``n_touched``, not in ``n_jobs``), ``n_fast_quiet`` (quiet groups the fast path
-        found to keep no object after their empty-scan step: dropped, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        found to keep no object after their empty-scan step: dropped, not in ``n_jobs``), ``n_fast_born`` (lone
+        birth terms keeping both children, stepped from a template: in ``n_touched``, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
         pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
         ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.
@@ -123,11 +124,8 @@ class FactoredFilter:
         obj.initialise(np.zeros((0, obj.ndim)), time=f.time)
         state = f.state.with_next_label(0)
         groups = [state] if any(len(t) for t in state.tracks) else []
-        lone = _one_hypothesis_lane(state) if obj._lane_on and groups else None
-        if lone is not None:
-            # a single hypothesis of distinct objects factorises exactly into one singleton each; held
-            # directly (in the order the split and the lane give them: by label) without one Python
-            # group per object, which at 10⁶ objects costs gigabytes and minutes
+        lone = one_hypothesis_lane(state) if obj._lane_on and groups else None
+        if lone is not None:  # one singleton per object, as the exact split gives them (without it)
             obj._groups, obj._lane = GroupSet.at((), f.time), Lane.at(lone, f.time)
             groups = None
         elif groups and len(state.labels) > 1:
@@ -160,6 +158,7 @@ class FactoredFilter:
         self._options = options
         self._engine = engine  # the template of every group's step: models, population, settings; no hypotheses
         self._pool = WorkerPool()
+        self._born_templates, self._born_pending = {}, {}  # the fast path's lone birth terms (:meth:`_born`)
         self.rng = engine.rng
         self.ndim = engine.H.shape[1]
         # singletons are exactly their Gaussian when a quiet group takes no population event
@@ -379,6 +378,8 @@ class FactoredFilter:
         Returns the plans and their keys (first nodes); ``skip``: components the fast path took."""
         E, plans, keys, bounds = self._engine, [], [], scan.bounds
         rule = self._fast_rule()
+        r_birth = None if rule is None or E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
+        self._born_pending = {}
         for key, c, members, regions, rows in graph.components(skip):
             keys.append(key)
             if c is None:
@@ -392,6 +393,18 @@ class FactoredFilter:
                     plan = ("dropped",)
                     stats["n_fast_quiet"] += 1
                 plans.append(plan)
+            elif (r_birth is not None and len(members) == 0 and len(rows) == 0 and len(regions) == 1
+                  and rule.keeps_born(r_birth[regions[0]])):
+                # a lone birth term keeping both children: the step of the first of its r_B is the
+                # template of the others (:meth:`~.fast_path.FastRule.keeps_born`)
+                template = self._born_templates.get(float(r_birth[regions[0]]))
+                if template is None:
+                    self._born_pending[key] = float(r_birth[regions[0]])
+                    plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
+                                              scan.scores, Z, scan.birth_ll, stats))
+                else:
+                    plans.append(("born", int(regions[0]), template))
+                    stats["n_fast_born"] += 1
             else:
                 plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
                                           scan.scores, Z, scan.birth_ll, stats))
@@ -409,8 +422,8 @@ class FactoredFilter:
         n_fast = 0 if fast is None else len(fast)
         # a dropped quiet group (the fast path's) keeps its step's place: it draws its stream, unused
         steps = np.array([p[0] != "done" for p in plans], dtype=bool)
-        run = np.array([p[0] not in ("done", "dropped") for p in plans], dtype=bool)
-        jobs = [p for p in plans if p[0] not in ("done", "dropped")]
+        run = np.array([p[0] not in ("done", "dropped", "born") for p in plans], dtype=bool)
+        jobs = [p for p in plans if p[0] not in ("done", "dropped", "born")]
         # each step's place among the steps and the fast components (both in key order)
         fast_before = np.searchsorted(fast.keys, keys) if n_fast else np.zeros(len(plans), np.int64)
         slot = (np.cumsum(steps) - 1 + fast_before)[run]
@@ -430,8 +443,13 @@ class FactoredFilter:
                 continue
             if plan[0] == "done":
                 state, parts = plan[1], plan[2]
+            elif plan[0] == "born":
+                state, parts = self._born(plan[1], plan[2], stats)
             else:
-                state, parts = self._finish(plan, next(results), base, stats)
+                result = next(results)
+                if key in self._born_pending and born_template(result) is not None:  # the next ones' template
+                    self._born_templates[self._born_pending[key]] = born_template(result)
+                state, parts = self._finish(plan, result, base, stats)
             new_groups.extend((key, s) for s in split_group(state, parts, opts.split, opts.factor_tol,
                                                            self.scan_index + 1, self.split_records, stats))
         if n_fast:
@@ -456,6 +474,18 @@ class FactoredFilter:
         stats["n_kalman_updates"] += st["n_kalman_updates"]
         self._objects.register_births(new.store, sources, len(regions))
         return new, interaction_parts(self._objects.of(pred.labels), ctx, sources, len(regions))
+
+    def _born(self, b: int, template, stats):
+        """The step of lone birth term ``b`` from its ``r_B``'s template (:func:`~.fast_path.born_state`)."""
+        E = self._engine
+        new = born_state(template, E.population, b, E.R, self._next_label, self.ndim)
+        self._next_label += 1
+        st = template[-1]
+        stats["n_duplicates_merged"] += st["n_duplicates_merged"]
+        stats["n_touched"] += 1
+        stats["mass_retained_min"] = min(stats["mass_retained_min"], st["mass_retained"])
+        self._objects.register_births(new.store, np.array([[-1, -1]], dtype=np.int64), 1)
+        return new, np.zeros(1, dtype=np.int64)
 
     def _keep(self, scan, graph, new_groups, fast, now, stats):
         """Step 4's end: singletons back to the lane — the untouched candidates predicted, then those
@@ -547,18 +577,6 @@ class FactoredFilter:
         joint, _ = product(groups, limit, "top")
         post = summarise(joint.log_w, joint.tracks, joint.store, n_top=len(joint.log_w))
         return list(post.top)
-
-
-def _one_hypothesis_lane(state) -> TrackStore | None:
-    """The lane :func:`~..factored_groups.factorise` and :meth:`FactoredFilter._sort_out` make of a state
-    with one hypothesis holding every store entry once, distinct labels (one singleton per object, in
-    label order, stably); ``None`` for any other state."""
-    if len(state.log_w) != 1 or len(state.tracks[0]) != len(state.store):
-        return None
-    labels = state.store.labels
-    if not (np.array_equal(np.sort(state.tracks[0]), np.arange(len(labels))) and len(np.unique(labels)) == len(labels)):
-        return None
-    return take(state.store, np.argsort(labels, kind="stable"))
 
 
 @dataclass(frozen=True, eq=False)

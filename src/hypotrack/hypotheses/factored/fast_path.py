@@ -63,11 +63,12 @@ from ..generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from ..gibbs import GibbsGenerator
 from ..population_events import BinomialPopulation
 from ..population_lmb import LabeledMultiBernoulliPopulation
+from ..state import FilterState
 from ..tracks import TrackStore
 from ..weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
 from ..weights_glmb import GLMBWeights
 
-__all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components", "lone_update"]
+__all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components", "lone_update", "born_template", "born_state"]
 
 #: relative margin of ``min_weight`` an alternative must stay under (rounding never decides)
 MARGIN = 1e-9
@@ -94,6 +95,18 @@ class FastRule:
         born = np.log(r) + np.log1p(-self.p_detect_birth)
         light = born - np.logaddexp(born, np.log1p(-r)) < self.log_threshold
         return (r_birth > 0) & (r_birth < 1) & (light if valid is None else light | ~valid)
+
+    def keeps_born(self, r_birth) -> bool:
+        """Whether a lone birth term (existence ``r_B``) keeps both its children, "not born" and "born
+        undetected", after the pruning (the second's normalised weight above ``min_weight`` by the
+        margin): the result of its step is then the same two hypotheses for every term of that
+        ``r_B``, only the born track's moments (the term's prior) and label differ. Only with no
+        validity test (the prior might fail it)."""
+        r = float(r_birth)
+        if self.validity is not None or not 0.0 < r < 1.0:
+            return False
+        born = np.log(r) + np.log1p(-self.p_detect_birth)
+        return bool(born - np.logaddexp(born, np.log1p(-r)) > self.log_threshold - 2 * np.log1p(-MARGIN))
 
     def takes(self, loglik, p_detect, valid=None) -> np.ndarray:
         """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected
@@ -204,6 +217,28 @@ class FastBatch:
     def labels_before(self, k) -> np.ndarray:
         """Labels used by the first ``k`` components (``k`` an int or an array)."""
         return np.concatenate([[0], np.cumsum(self.n_new)])[k]
+
+
+def born_template(result):
+    """The template :func:`born_state` reuses, from the engine step (``(state, sources, n_new, stats)``)
+    of a lone birth term that kept both children: its weights, hypotheses' tracks and lineage, and the
+    step's statistics; ``None`` when the step is not of that shape."""
+    new, sources, n_new, st = result
+    if n_new == 1 and len(new.log_w) == 2 and len(new.store) == 1 and np.array_equal(sources, [[-1, -1]]):
+        return new.log_w, new.tracks, new.keys, st
+    return None
+
+
+def born_state(template, population, b: int, R, label: int, ndim: int) -> FilterState:
+    """The step of lone birth term ``b`` (:meth:`FastRule.keeps_born`) from the template of a term of the
+    same ``r_B`` (:func:`born_template`): the same two hypotheses ("not born", "born undetected"), whose
+    weights depend on ``r_B`` and ``p_D`` alone, with the term's undetected prior as the born track (as
+    :meth:`~..filter.HypothesisFilter.pair_moments` gives it) under ``label``."""
+    log_w, tracks, keys, _ = template
+    means, covs = np.zeros((1, ndim)), np.zeros((1, ndim, ndim))
+    means[0], covs[0] = population.birth_track(b, None, R)
+    store = TrackStore(means, covs, np.array([label], dtype=np.int64))
+    return FilterState(store, log_w.copy(), [t.copy() for t in tracks], list(keys))
 
 
 def lone_update(means, covs, Z, H, R):

@@ -85,7 +85,7 @@ def test_fast_path_posterior_is_the_general_one(kind, lazy, min_weight):
         assert fast.last_stats["n_kalman_updates"] == general.last_stats["n_kalman_updates"]
         st = fast.last_stats
         assert st["n_jobs"] == (general.last_stats["n_jobs"] - st["n_fast_path"] - st["n_fast_clutter"] - st["n_fast_births"]
-                                - st["n_fast_quiet"])
+                                - st["n_fast_quiet"] - st["n_fast_born"])
         n_births += st["n_fast_births"]
         n_fast += fast.last_stats["n_fast_path"]
         n_touched += fast.last_stats["n_touched"]

@@ -19,9 +19,10 @@ from ..tracks import TrackStore
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
 from .lane import GroupSet, Lane, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton, take
 from .options import FactoredOptions
-from .planner import (ObjectIds, Scores, interaction_parts, prune, quiet_plan, scan_graph, split_group,
+from .planner import (ObjectIds, interaction_parts, prune, quiet_plan, scan_graph, split_group,
                       touched_plan)
 from .pool import WorkerPool
+from .scores import Scores, score_tracks
 from .summary import FactoredPosterior
 
 __all__ = ["FactoredFilter", "FactoredState"]
@@ -386,7 +387,7 @@ class FactoredFilter:
                 cols = np.arange(bounds[key], bounds[key + 1])
                 state = scan.groups[key]
                 plan = quiet_plan(E, self._lane_on, self._objects, state, take(scan.pred, cols),
-                                  scan.scores.columns(cols), Z, scan.birth_ll, stats)
+                                  scan.scores.block(np.zeros(0, np.int64), cols), Z, scan.birth_ll, stats)
                 if (plan[0] == "quiet" and rule is not None and len(np.unique(self._objects.of(state.labels))) == 1
                         and rule.quiet_group_dies(state.log_w, state.tracks, scan.scores.p_detect[cols])):
                     # the fast path: its step would keep no object (one object: no split, no record)
@@ -513,13 +514,11 @@ class FactoredFilter:
 
     def _scores(self, pred, Z) -> Scores:
         """Every return against every predicted track (the engine's
-        :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once); without
-        ``gate_out_of_view`` a track with ``p_D = 0`` gates nothing."""
-        loglik, allowed, p_detect = self._engine.track_scores(pred, Z)
-        if not self._options.gate_out_of_view:
-            allowed = allowed & (p_detect > 0)[None, :]
-        track_survival = getattr(self._engine.population, "track_survival", None)
-        return Scores(loglik, allowed, p_detect, None if track_survival is None else track_survival(pred))
+        :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once; at scale the gated
+        pairs alone, :func:`~.scores.score_tracks`); without ``gate_out_of_view`` a track with ``p_D = 0``
+        gates nothing."""
+        return score_tracks(self._engine, pred, Z, gate_out_of_view=self._options.gate_out_of_view,
+                            survival=getattr(self._engine.population, "track_survival", None))
 
     def _set_birth_terms(self, terms):
         pop = self._engine.population.with_birth_terms(terms, r_birth=self._options.adaptive_birth.r_birth)

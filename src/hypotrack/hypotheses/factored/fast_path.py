@@ -274,7 +274,7 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     rows = ret_of[lane_comp[j]]
     cols = first_lane_col + j
     Z = np.asarray(Z)
-    loglik, p_detect = scores.loglik[rows, cols], scores.p_detect[cols]
+    loglik, p_detect = scores.at(rows, cols), scores.p_detect[cols]
     n_new = np.full(len(j), rule.n_new, np.int64)
     if rule.validity is None:
         take = rule.takes(loglik, p_detect)

@@ -82,8 +82,8 @@ streams and the labels the skipped steps would have used are counted; with the e
 ``validity`` test every child's tracks are tested as the general step tests them. Two more closed
 forms (without a validity test): a quiet group of one object whose empty-scan step would leave no
 object after the pruning (an undetected newborn fading out) is dropped without a step, and a lone
-birth term whose two children are both kept is stepped from the first such step of its ``r_B`` (the
-same hypotheses and weights; the term's prior as the born track). The posterior is the general
+birth term whose two children are both kept is stepped from one engine step of such a term of its
+``r_B`` (the same hypotheses and weights; the term's prior as the born track). The posterior is the general
 path's, bit for bit (``tests/unit/hypotheses/factored/test_fast_path.py``,
 ``test_fast_path_catalogue.py``). ``last_stats`` counts ``n_fast_path`` (lone tracks),
 ``n_fast_births``, ``n_fast_clutter``, ``n_fast_quiet`` and ``n_fast_born``.

@@ -21,7 +21,7 @@ from .lane import GroupSet, Lane, cat, is_singleton, one_hypothesis_lane, predic
 from .options import FactoredOptions
 from .planner import (ObjectIds, interaction_parts, prune, quiet_plan, scan_graph, split_group,
                       touched_plan)
-from .pool import WorkerPool
+from .pool import WorkerPool, engine_step
 from .scores import Scores, score_tracks
 from .summary import FactoredPosterior
 
@@ -159,7 +159,7 @@ class FactoredFilter:
         self._options = options
         self._engine = engine  # the template of every group's step: models, population, settings; no hypotheses
         self._pool = WorkerPool()
-        self._born_templates, self._born_pending = {}, {}  # the fast path's lone birth terms (:meth:`_born`)
+        self._born_templates = {}  # r_B -> the fast path's lone birth term step (:meth:`_born`)
         self.rng = engine.rng
         self.ndim = engine.H.shape[1]
         # singletons are exactly their Gaussian when a quiet group takes no population event
@@ -380,7 +380,6 @@ class FactoredFilter:
         E, plans, keys, bounds = self._engine, [], [], scan.bounds
         rule = self._fast_rule()
         r_birth = None if rule is None or E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
-        self._born_pending = {}
         for key, c, members, regions, rows in graph.components(skip):
             keys.append(key)
             if c is None:
@@ -396,15 +395,18 @@ class FactoredFilter:
                 plans.append(plan)
             elif (r_birth is not None and len(members) == 0 and len(rows) == 0 and len(regions) == 1
                   and rule.keeps_born(r_birth[regions[0]])):
-                # a lone birth term keeping both children: the step of the first of its r_B is the
-                # template of the others (:meth:`~.fast_path.FastRule.keeps_born`)
-                template = self._born_templates.get(float(r_birth[regions[0]]))
-                if template is None:
-                    self._born_pending[key] = float(r_birth[regions[0]])
+                # a lone birth term keeping both children: one engine step of such a term (no return: one
+                # association, nothing drawn) is the template of every term of its r_B (FastRule.keeps_born)
+                r_b = float(r_birth[regions[0]])
+                if r_b not in self._born_templates:
+                    plan = touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
+                                        scan.scores, Z, scan.birth_ll, stats)
+                    self._born_templates[r_b] = born_template(engine_step(E, *plan[1:], 0, 0))
+                if self._born_templates[r_b] is None:
                     plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
                                               scan.scores, Z, scan.birth_ll, stats))
                 else:
-                    plans.append(("born", int(regions[0]), template))
+                    plans.append(("born", int(regions[0]), self._born_templates[r_b]))
                     stats["n_fast_born"] += 1
             else:
                 plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
@@ -447,10 +449,7 @@ class FactoredFilter:
             elif plan[0] == "born":
                 state, parts = self._born(plan[1], plan[2], stats)
             else:
-                result = next(results)
-                if key in self._born_pending and born_template(result) is not None:  # the next ones' template
-                    self._born_templates[self._born_pending[key]] = born_template(result)
-                state, parts = self._finish(plan, result, base, stats)
+                state, parts = self._finish(plan, next(results), base, stats)
             new_groups.extend((key, s) for s in split_group(state, parts, opts.split, opts.factor_tol,
                                                            self.scan_index + 1, self.split_records, stats))
         if n_fast:

@@ -219,12 +219,12 @@ def _far_term(fast, validity=None, min_weight=1e-4):
 
 def test_lone_birth_terms_and_dying_quiet_groups_take_the_fast_path_exactly():
     """r_B = 0.01, p_D = 0.85: a lone term's "born undetected" child weighs 0.01 · 0.15 = 0.0015 against
-    0.99, normalised 0.00151 > min_weight = 1e-4, so both are kept: scan 1 steps it through the engine
-    (the template), scan 2 from the template. Its group is then quiet (in view, no return): after one
+    0.99, normalised 0.00151 > min_weight = 1e-4, so both are kept: every scan's term is stepped from
+    the template (one engine step of such a term). Its group is then quiet (in view, no return): after one
     miss the born child weighs 0.0015 · 0.15 / 0.99 ≈ 2.3e-4 > 1e-4 (kept, the general step), after
     two 3.4e-5 < 1e-4: the group keeps no object and the fast path drops it without a step."""
     general, fast = _far_term(False), _far_term(True)
-    expected = [(0, 0), (1, 0), (1, 1)]  # (n_fast_born, n_fast_quiet) per scan
+    expected = [(1, 0), (1, 0), (1, 1)]  # (n_fast_born, n_fast_quiet) per scan
     for k, (n_born, n_quiet) in enumerate(expected):
         general.step(_Z, float(k))
         fast.step(_Z, float(k))

@@ -7,9 +7,9 @@ for the pairs that matter: with a gate and more than ``dense_pairs`` pairs, the 
 are found with a k-d tree over the returns (a pair in the gate, ``d² = rᵀ S⁻¹ r ≤ γ``, has
 ``|r|² ≤ γ λ_max(S) ≤ γ tr S``: the ball of that radius holds every return the track gates), and the
 squared Mahalanobis distances, gate decisions and log-likelihoods are computed on those candidates alone —
-by the engine's own functions on sub-blocks of returns × tracks, whose every entry is the full matrix's
-entry bit for bit (the kernels are elementwise over the pairs), so the gated pairs' numbers are the
-engine's. Pairs outside the gate are then not stored; the association steps never read them (every
+by the engine's own ``track_scores`` on sub-blocks of returns × tracks, whose every entry is the full
+matrix's entry bit for bit (its kernels are elementwise over the pairs), so the gated pairs' numbers are
+the engine's. Pairs outside the gate are then not stored; the association steps never read them (every
 consumer masks the log-likelihoods with the gate), and :meth:`Scores.block` gives them ``−inf``.
 Smaller scans keep the dense matrices, exactly as the engine makes them.
 """
@@ -21,8 +21,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ...association.gating import gate_threshold, validation_matrix
-from ...gaussian import innovation_unchecked, mahalanobis2_unchecked
+from ...association.gating import gate_threshold
+from ...gaussian import innovation_unchecked
+from ..tracks import TrackStore
 
 __all__ = ["Scores", "score_tracks", "DENSE_PAIRS"]
 
@@ -100,13 +101,13 @@ def score_tracks(engine, pred, Z, *, gate_out_of_view: bool = True, survival=Non
         if not gate_out_of_view:
             allowed = allowed & (p_detect > 0)[None, :]
         return Scores(m, p_detect, p_survive, loglik=loglik, allowed=allowed)
-    H, R = engine.H, engine.R
-    p = H.shape[0]
-    z_pred, S, _ = innovation_unchecked(pred.means, pred.covs, H, R)
-    p_detect = np.where(np.asarray(engine.sensor.detection.in_view(z_pred), dtype=bool), engine.p_D, 0.0)
-    gamma = gate_threshold(engine.gate_probability, p)
+    _, _, p_detect = engine.track_scores(pred, Z[:0])  # the engine's p_D of every track (no return scored)
+    # the balls holding every return a track may gate, |r|² ≤ γ λ_max(S) ≤ γ tr S (a margin for rounding), for
+    # a measurement z = H x + v compared by plain differences: a measurement model of another form needs its
+    # own predicted measurements and innovation covariances here (the scores themselves are the engine's)
+    z_pred, S, _ = innovation_unchecked(pred.means, pred.covs, engine.H, engine.R)
+    gamma = gate_threshold(engine.gate_probability, z_pred.shape[1])
     cols = np.arange(n) if gate_out_of_view else np.flatnonzero(p_detect > 0)
-    # the ball holding every return a track may gate: |r|² ≤ γ λ_max(S) ≤ γ tr S (a margin for rounding)
     radius = np.sqrt(gamma * np.trace(S[cols], axis1=1, axis2=2)) * (1 + 1e-6) + 1e-9
     near = cKDTree(Z).query_ball_point(z_pred[cols], radius)
     out_r, out_c, out_ll = [], [], []
@@ -115,11 +116,12 @@ def score_tracks(engine, pred, Z, *, gate_out_of_view: bool = True, survival=Non
         r = np.unique(np.concatenate([np.asarray(x, dtype=np.int64) for x in near[a:a + _BLOCK]] + [np.zeros(0, np.int64)]))
         if len(r) == 0:
             continue
-        d2, logdet = mahalanobis2_unchecked(Z[r], z_pred[c], S[c])  # sub-block: the full matrix's entries
-        i, j = np.nonzero(validation_matrix(d2, gamma))
+        # the engine's scores of a sub-block of returns x tracks: its matrices' entries, bit for bit
+        loglik, allowed, _ = engine.track_scores(TrackStore(pred.means[c], pred.covs[c], pred.labels[c]), Z[r])
+        i, j = np.nonzero(allowed)
         out_r.append(r[i])
         out_c.append(c[j])
-        out_ll.append(-0.5 * (d2[i, j] + logdet[j] + p * np.log(2 * np.pi)))
+        out_ll.append(loglik[i, j])
     rows = np.concatenate(out_r + [np.zeros(0, np.int64)])
     cols_g = np.concatenate(out_c + [np.zeros(0, np.int64)])
     ll = np.concatenate(out_ll + [np.zeros(0)])

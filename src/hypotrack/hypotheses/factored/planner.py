@@ -207,6 +207,9 @@ class ObjectIds:
         """Forget the labels no longer held (``held``: every label of every group)."""
         if self.mapping:
             ks = np.fromiter(self.mapping, dtype=np.int64, count=len(self.mapping))
+            held = np.asarray(held, dtype=np.int64)
+            # only the held labels in the mapping's range can match (a scan's few newborns among 10⁶ objects)
+            held = held[(held >= ks.min()) & (held <= ks.max())]
             self.mapping = {int(k): self.mapping[int(k)] for k in ks[np.isin(ks, held)]}
 
 

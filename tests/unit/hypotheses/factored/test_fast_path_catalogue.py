@@ -7,25 +7,30 @@ import numpy as np
 import pytest
 import yaml
 
-from hypotrack.experiments.ssa_catalogue.run import build_scenario, initial_tracks, make_motion, make_problem, make_tracker
+from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
+                                                    make_tracker, peer_config, tracker_sensor)
 from hypotrack.hypotheses import FactoredFilter, LabeledMultiBernoulliPopulation, glmb
 from hypotrack.hypotheses.factored_groups import factorise
 from hypotrack.hypotheses.factored.lane import one_hypothesis_lane
 from hypotrack.hypotheses.state import FilterState
 from hypotrack.hypotheses.tracks import TrackStore
 from hypotrack.models.motion import ConstantVelocity
-from hypotrack.scenarios.catalogue.tracking import TrackerSensor
 from scenes import position_sensor
 
 N_SCANS = 40
 
 
-@pytest.fixture(scope="module")
-def catalogue():
+@pytest.fixture(scope="module", params=["enu", "rae_rate"])
+def catalogue(request):
+    """The default section's scans with its documented radar (sensor-frame EKF, admissible births) or with the
+    ENU stand-in (a fixed H: one-point births)."""
     with open("workflows/config/default.yaml") as fh:
         cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
+    if request.param == "enu":
+        cfg = peer_config(cfg)
+        cfg["model"] = {k: v for k, v in cfg["model"].items() if k != "birth"}
     objects, unknown, sc, init_seed = build_scenario(cfg, 400, 1)
-    tsensor = TrackerSensor(sc.sensors[0])
+    tsensor = tracker_sensor(sc.sensors[0])
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
     scans = []
@@ -40,6 +45,7 @@ def test_every_component_agrees_with_the_general_path(catalogue, name):
     cfg, problem, scans, n_known = catalogue
     general, fast = (make_tracker(name, cfg, problem, 1, fast_path=on) for on in (False, True))
     label0 = fast.next_label
+    linear = getattr(problem.sensor.measurement, "H", None) is not None
     seen = dict(n_fast_path=0, n_fast_quiet=0, n_fast_born=0, out_of_view=0, dropped=0)
     for t, Z in scans:
         before = general.n_objects_held
@@ -53,16 +59,20 @@ def test_every_component_agrees_with_the_general_path(catalogue, name):
             np.testing.assert_allclose(s.store.means, u.store.means, rtol=0, atol=1e-12)
             np.testing.assert_allclose(s.store.covs, u.store.covs, rtol=0, atol=1e-12)
             assert all(np.array_equal(x, y) for x, y in zip(s.tracks, u.tracks))
-        assert general.same_posterior(fast)  # and bit for bit, as held
+        if linear:  # and bit for bit, as held, with a fixed H (the sensor frame's batched EKF rounds differently)
+            assert general.same_posterior(fast)
         st = fast.last_stats
         for k in ("n_fast_path", "n_fast_quiet", "n_fast_born"):
             seen[k] += st[k]
         seen["out_of_view"] += general.n_objects_held - st["n_predicted"] > 0
         seen["dropped"] += general.n_objects_held < before + (general.next_label - label0)
     # the run holds what the check is for: lone tracks, objects out of view, births, groups that died
-    assert seen["n_fast_path"] > 2 * N_SCANS and seen["out_of_view"] == N_SCANS
-    assert fast.next_label > label0 and seen["n_fast_quiet"] > 0 and seen["dropped"] > 0
-    assert (seen["n_fast_born"] > 0) == (name == "glmb")  # HOMHT's births are seeded at returns: no terms
+    assert seen["n_fast_path"] > 0 and seen["out_of_view"] == N_SCANS
+    assert fast.next_label > label0 and seen["dropped"] > 0
+    if linear:  # and the shortcuts; in the sensor frame the admissible births' wide gates reach most returns,
+        # so few lone tracks are left (measured: 3 lone-track steps in 40 scans against 70 with the stand-in)
+        assert seen["n_fast_path"] > N_SCANS and seen["n_fast_quiet"] > 0
+        assert (seen["n_fast_born"] > 0) == (name == "glmb")  # HOMHT's births are seeded at returns: no terms
 
 
 def test_a_one_hypothesis_prior_goes_to_the_lane_as_the_exact_split_puts_it():

@@ -6,6 +6,8 @@ import dataclasses
 
 import numpy as np
 
+from ...models.measurement import LinearMeasurement
+
 from ...hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from ...models.sensors import DetectionModel, PoissonClutter, Sensor
 from ...registry import TrackingProblem, build
@@ -114,6 +116,8 @@ def scan_settings(tracker, R=None):
         return settings
     if R is not None:
         settings.append((tracker, "R", np.asarray(R, dtype=float)))
+        if isinstance(getattr(tracker, "measurement", None), LinearMeasurement):  # the engine's update reads it
+            settings.append((tracker, "measurement", LinearMeasurement(tracker.H, np.asarray(R, dtype=float))))
         pop = getattr(tracker, "population", None)  # the PMBM filters keep their birth intensity as a prior
         if pop is not None and any(isinstance(b, GaussianBirthTerm) for b in pop.birth_densities):
             terms = tuple(dataclasses.replace(b, R=R) if isinstance(b, GaussianBirthTerm) else b

@@ -64,7 +64,8 @@ class FactoredOptions:
         field of view (package docstring, "Singletons and lazy prediction"). ``False`` (the default)
         predicts every track every scan, as the unfactored engine does; the SSA catalogue
         experiment's configuration turns it on (its trackers' ``factored: {lazy: true}``). A track left unpredicted
-        gates nothing.
+        gates nothing. The covariance predicted over a long gap is an approximation (package docstring: over an
+        orbit's gap between passes, far from the scan-by-scan one).
     gate_out_of_view : bool
         ``True`` (default): a track's gate is geometric, the field of view entering only through
         ``p_D`` — a track out of view still links the returns in its gate to its group (a merge

@@ -67,7 +67,7 @@ class FactoredFilter:
         How the filter factors, prunes and parallelises (:class:`~.options.FactoredOptions`: every
         option, its default and its allowed values, stated once). The keywords ``split``,
         ``births``, ``factor_tol``, ``min_weight``, ``adaptive_birth``, ``workers``, ``parallel``,
-        ``measure_transfer``, ``lazy``, ``gate_out_of_view``, ``fast_path`` override single options (``lazy``
+        ``measure_transfer``, ``lazy``, ``gate_out_of_view``, ``fast_path``, ``replay`` override single options (``lazy``
         is off by default; the SSA catalogue experiment's configuration turns it on).
 
     Attributes
@@ -334,8 +334,10 @@ class FactoredFilter:
         cand, view = self._lane.candidates(lazy, interval, self._advance_view)
         lane = self._lane
         prior = cat([s.store for s in groups] + [take(lane.store, cand)], self.ndim)
+        # replay: a woken track's gap predicted scan by scan, as the eager filter would have (options.replay)
         pm, pP = predict_each(E.motion, prior.means, prior.covs,
-                              np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]))
+                              np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]),
+                              step=interval if self._options.replay and interval > 0 else None)
         pred = TrackStore(pm, pP, prior.labels)
         G, L = len(groups), len(cand)
         birth_ll = E.population.birth_loglik(Z) if E.population is not None else np.zeros((len(Z), 0))

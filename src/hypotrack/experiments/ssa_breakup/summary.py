@@ -143,7 +143,8 @@ def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
 
 def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame) -> dict:
     """Macros: per (scenario, tracker) cross-tags per 10⁴ returns (and s.e.), duplicates per 1,000 estimates,
-    completeness and covariance realism; the ratios with their s.e.; the density shares; the seeds and objects."""
+    completeness and covariance realism, identity switches per 10⁴ object-scans, the shares of first returns to
+    the object's own label and of re-acquisitions that kept the label; the ratios with their s.e.; the density shares; the seeds and objects."""
     vals = {}
     for r in summary.itertuples(index=False):
         vals[f"crosstags_{r.scenario}_{r.tracker}"] = r.cross_tags_per_1e4
@@ -151,6 +152,10 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
         vals[f"duplicates_{r.scenario}_{r.tracker}"] = r.duplicate_per_1000
         vals[f"completeness_{r.scenario}_{r.tracker}"] = r.completeness
         vals[f"realism_{r.scenario}_{r.tracker}"] = r.realism_95
+        # the standard crediting and where labels change objects (:mod:`.custody`)
+        vals[f"idsw_{r.scenario}_{r.tracker}"] = getattr(r, "id_switches_per_1e4", float("nan"))
+        vals[f"firstown_{r.scenario}_{r.tracker}"] = getattr(r, "first_return_own", float("nan"))
+        vals[f"reacqkept_{r.scenario}_{r.tracker}"] = getattr(r, "reacquired_same_label", float("nan"))
         vals[f"n_seeds_{r.scenario}"] = int(r.n_seeds)
         vals[f"n_objects_{r.scenario}"] = int(round(r.n_objects))
     for r in ratios.itertuples(index=False):

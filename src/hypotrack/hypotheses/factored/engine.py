@@ -19,7 +19,7 @@ from ..tracks import TrackStore
 from .fast_path import FastBatch, birth_existence, fast_components, fast_rule
 from .lane import GroupSet, Lane, cat, is_singleton, predict_each, silent, singleton, take
 from .options import FactoredOptions
-from .planner import (ObjectIds, Scores, interaction_parts, prune, quiet_plan, scan_graph, split_group,
+from .planner import (ObjectIds, Scores, interaction_parts, prune, quiet_plan, scan_graph, scorable, split_group,
                       touched_plan)
 from .pool import WorkerPool
 from .summary import FactoredPosterior
@@ -461,8 +461,19 @@ class FactoredFilter:
     def _scores(self, pred, Z) -> Scores:
         """Every return against every predicted track (the engine's
         :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once); without
-        ``gate_out_of_view`` a track with ``p_D = 0`` gates nothing."""
-        loglik, allowed, p_detect = self._engine.track_scores(pred, Z)
+        ``gate_out_of_view`` a track with ``p_D = 0`` gates nothing. A track whose innovation covariance
+        is not finite and positive definite (:func:`~.planner.scorable`: a prediction that diverged, e.g.
+        an orbit flung out by a wrong update in an unlikely hypothesis and predicted for an hour) takes no
+        return and is not missed (``p_D = 0``) instead of aborting the scan."""
+        E = self._engine
+        ok = scorable(pred.covs, E.H, E.R)
+        if ok.all():
+            loglik, allowed, p_detect = E.track_scores(pred, Z)
+        else:
+            good = np.flatnonzero(ok)
+            loglik, allowed = np.full((len(Z), len(pred)), -np.inf), np.zeros((len(Z), len(pred)), dtype=bool)
+            p_detect = np.zeros(len(pred))
+            loglik[:, good], allowed[:, good], p_detect[good] = E.track_scores(take(pred, good), Z)
         if not self._options.gate_out_of_view:
             allowed = allowed & (p_detect > 0)[None, :]
         track_survival = getattr(self._engine.population, "track_survival", None)

@@ -18,7 +18,7 @@ from ..scan_context import ScanContext
 from ..state import FilterState
 from .lane import empty_state, singleton, take
 
-__all__ = ["Scores", "ScanGraph", "scan_graph", "component_context", "touched_plan", "quiet_plan",
+__all__ = ["Scores", "scorable", "ScanGraph", "scan_graph", "component_context", "touched_plan", "quiet_plan",
            "interaction_parts", "ObjectIds", "split_group", "prune"]
 
 
@@ -36,6 +36,25 @@ class Scores:
         """``(loglik (m, c), allowed (m, c), p_detect (c,), p_survive (c,) or None)`` of tracks ``cols``."""
         return (self.loglik[:, cols], self.allowed[:, cols], self.p_detect[cols],
                 None if self.p_survive is None else self.p_survive[cols])
+
+
+def scorable(covs, H, R) -> np.ndarray:
+    """Whether each predicted track ``covs`` (n, d, d) has a finite, positive definite innovation
+    covariance ``S = H P Hᵀ + R`` (Cholesky succeeds): the tracks a scan can score."""
+    with np.errstate(invalid="ignore", over="ignore"):  # inf or nan moments: not scorable
+        S = H @ covs @ H.T + R
+    ok = np.isfinite(S).all(axis=(1, 2))
+    try:
+        np.linalg.cholesky(S[ok])
+        return ok
+    except np.linalg.LinAlgError:
+        pass
+    for i in np.flatnonzero(ok):  # rare: find the ones that fail
+        try:
+            np.linalg.cholesky(S[i])
+        except np.linalg.LinAlgError:
+            ok[i] = False
+    return ok
 
 
 @dataclass(frozen=True, eq=False)

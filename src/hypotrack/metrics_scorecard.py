@@ -19,6 +19,10 @@ A catalogue operator asks of a tracker (Vallado & Griesbach-style catalogue-main
   :func:`chi2_share`; a realistic covariance puts 95 % inside).
 * **completeness** — the share of catalogued objects whose predicted position at their next pass is within
   5 km of the truth (the caller predicts; :func:`within`).
+* **time to orbit** — per object, the seconds from its first detection (its first return) to the end of
+  the first pass, ending at or after that detection, whose track predicted to the object's next pass is
+  within 5 km of the truth there (:func:`time_to_orbit`): how long an object born from the data waits for
+  an orbit good enough to find it again.
 * **GOSPA per object in view** — the sums over scans of GOSPA's localisation, missed and false parts
   (p = 1) divided by the number of (scan, object in view) pairs (:func:`gospa_parts_per_object`).
 
@@ -35,7 +39,8 @@ from ._validation import check_positive, check_probability
 
 __all__ = ["correlate_returns", "label_owners", "return_tallies", "id_switches", "cross_tag_causes",
            "CROSS_TAG_CAUSES", "purity_counts", "ric_frame", "ric_error",
-           "mahalanobis2", "chi2_share", "within", "per", "mean_se", "gospa_parts_per_object", "CHI2_95_3D"]
+           "mahalanobis2", "chi2_share", "within", "per", "mean_se", "gospa_parts_per_object", "time_to_orbit",
+           "CHI2_95_3D"]
 
 CHI2_95_3D = float(chi2.ppf(0.95, 3))
 """The 95 % bound of a 3-D squared Mahalanobis distance (7.8147)."""
@@ -246,3 +251,38 @@ def gospa_parts_per_object(localisation, missed, false, n_in_view) -> dict:
     out = {f"gospa_{k}_per_object_km": (v / n if n else float("nan")) for k, v in parts.items()}
     out["gospa_per_object_km"] = sum(parts.values()) / n if n else float("nan")
     return out
+
+
+def time_to_orbit(det_target, det_time, pass_target, pass_end, pass_ok) -> tuple[np.ndarray, np.ndarray]:
+    """Time to orbit (module docstring) of every detected object that has one.
+
+    ``det_target``, ``det_time``: one row per detection (object id, time s; any order, repeats allowed);
+    ``pass_target``, ``pass_end``, ``pass_ok``: one row per (object, pass) scored at re-acquisition — the
+    time its pass ended and whether its track predicted from there re-acquires the object at its next pass.
+    For object ``o`` with first detection ``t_o``: ``min{pass_end : pass_ok, pass_end >= t_o} − t_o``.
+
+    Returns ``(objects, seconds)``, sorted by object id; objects never detected or without such a pass are
+    left out (the caller counts them against the objects it asks about).
+    """
+    dt_ = np.asarray(det_target, dtype=np.int64).reshape(-1)
+    dtime = np.asarray(det_time, dtype=float).reshape(-1)
+    pt = np.asarray(pass_target, dtype=np.int64).reshape(-1)
+    pe = np.asarray(pass_end, dtype=float).reshape(-1)
+    ok = np.asarray(pass_ok, dtype=bool).reshape(-1)
+    if len(dt_) != len(dtime):
+        raise ValueError(f"det_target and det_time must have the same length, got {len(dt_)} and {len(dtime)}")
+    if not (len(pt) == len(pe) == len(ok)):
+        raise ValueError(f"pass_target, pass_end and pass_ok must have the same length, got {len(pt)}, {len(pe)} "
+                         f"and {len(ok)}")
+    if not (np.all(np.isfinite(dtime)) and np.all(np.isfinite(pe))):
+        raise ValueError("det_time and pass_end must be finite times (s)")
+    first: dict = {}
+    for o, t in zip(dt_.tolist(), dtime.tolist()):
+        if t < first.get(o, np.inf):
+            first[o] = t
+    best: dict = {}
+    for o, t, good in zip(pt.tolist(), pe.tolist(), ok.tolist()):
+        if good and o in first and t >= first[o] and t < best.get(o, np.inf):
+            best[o] = t
+    objs = np.array(sorted(best), dtype=np.int64)
+    return objs, np.array([best[o] - first[o] for o in objs.tolist()], dtype=float)

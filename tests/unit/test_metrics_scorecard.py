@@ -14,7 +14,7 @@ from hypotrack.metrics import gospa
 from hypotrack.metrics_scorecard import (CHI2_95_3D, CROSS_TAG_CAUSES, chi2_share, correlate_returns, cross_tag_causes,
                                          gospa_parts_per_object, id_switches,
                                          label_owners, mahalanobis2, mean_se, per, purity_counts, return_tallies,
-                                         ric_error, within)
+                                         ric_error, time_to_orbit, within)
 
 TRUTH = np.array([[0.0, 0, 0], [10.0, 0, 0], [100.0, 0, 0]])
 EST_LAB = np.array([10, 20, 30, 40, 50])
@@ -129,3 +129,29 @@ def test_cross_tag_causes_by_hand():
     assert cross_tag_causes(rs, ro, rc, owners, s, t, lab, catalogued=[1, 2, 3, 4, 50])["elsewhere"] == 2
     with pytest.raises(ValueError, match="same length"):
         cross_tag_causes([0], [1], [1, 2], owners, s, t, lab, [1])
+
+
+def test_time_to_orbit_by_hand():
+    # Object 7: first detected at 30 s (detections at 50, 30, 40 out of order); its passes end at 20 s
+    # (re-acquires, but before the first detection: a catalogued track's, not the detected object's orbit),
+    # 100 s (misses) and 700 s (re-acquires) -> 700 - 30 = 670 s. Object 8: first detected at 200 s, passes
+    # ending at 900 (ok) and 400 (ok; the earlier one counts) -> 200 s. Object 9: detected, never re-acquired;
+    # object 11: a good pass but never detected -> both left out.
+    objs, secs = time_to_orbit([7, 7, 8, 7, 9, 8], [50.0, 30.0, 200.0, 40.0, 60.0, 210.0],
+                               [7, 7, 7, 8, 8, 9, 11], [20.0, 100.0, 700.0, 900.0, 400.0, 300.0, 50.0],
+                               [True, False, True, True, True, False, True])
+    assert objs.tolist() == [7, 8]
+    assert secs.tolist() == [670.0, 200.0]
+    # a pass ending at the detection itself counts (0 s), and nothing detected gives nothing
+    assert time_to_orbit([3], [10.0], [3], [10.0], [True])[1].tolist() == [0.0]
+    o, s = time_to_orbit([], [], [1], [5.0], [True])
+    assert len(o) == 0 and len(s) == 0
+
+
+def test_time_to_orbit_bad_input():
+    with pytest.raises(ValueError, match="det_target and det_time"):
+        time_to_orbit([1, 2], [0.0], [], [], [])
+    with pytest.raises(ValueError, match="pass_target, pass_end and pass_ok"):
+        time_to_orbit([1], [0.0], [1], [5.0, 6.0], [True])
+    with pytest.raises(ValueError, match="finite"):
+        time_to_orbit([1], [np.nan], [1], [5.0], [True])

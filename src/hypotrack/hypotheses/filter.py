@@ -44,7 +44,8 @@ from .._validation import (
     check_state_dimension,
 )
 from ..association import gate_threshold, validation_matrix
-from ..gaussian import innovation_unchecked, mahalanobis2_unchecked
+from ..models.measurement import LinearMeasurement
+from .detection import state_p_detect
 from .duplicates import child_pairs, merge_duplicates
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
@@ -173,11 +174,20 @@ class HypothesisFilter:
         )
         self.p_D = p_D
         self.rng = seed if isinstance(seed, np.random.Generator) else np.random.default_rng(check_seed(seed))
-        self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
-        self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
-        check_state_dimension(motion, self.H.shape[1], f"the sensor (H of shape {self.H.shape})")
+        # a linear sensor's H and R as before, or an extended model (the catalogue radar's, in the sensor frame)
+        if getattr(sensor.measurement, "linear", True):
+            self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
+            self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
+            self.measurement = LinearMeasurement(self.H, self.R)
+            self.meas_dim, self.state_dim = self.H.shape
+            what = f"the sensor (H of shape {self.H.shape})"
+        else:
+            self.measurement, self.H, self.R = sensor.measurement, None, check_covariance(sensor.measurement.R, "sensor R")
+            self.meas_dim, self.state_dim = self.measurement.dim, self.measurement.ndim_state
+            what = f"the sensor ({self.meas_dim}-dimensional returns of a {self.state_dim}-dimensional state)"
+        check_state_dimension(motion, self.state_dim, what)
         self.last_stats = {}
-        self.initialise(np.zeros((0, self.H.shape[1])) if means is None else means, covs, labels)
+        self.initialise(np.zeros((0, self.state_dim)) if means is None else means, covs, labels)
 
     _OPTIONS = ("motion", "sensor", "weights", "generator", "population", "dt", "max_hypotheses", "cap",
                 "gate_probability", "seed", "merge_duplicates", "validity")
@@ -215,7 +225,7 @@ class HypothesisFilter:
         new.rng = copy.deepcopy(self.rng) if "seed" not in changes else (
             seed if isinstance(seed, np.random.Generator) else np.random.default_rng(seed))
         new.last_stats = {}
-        new.initialise(np.zeros((0, self.H.shape[1])))
+        new.initialise(np.zeros((0, self.state_dim)))
         return new
 
     def set_population(self, population) -> None:
@@ -227,7 +237,7 @@ class HypothesisFilter:
     # ------------------------------------------------------------------ state
     def initialise(self, means, covs=None, labels=None, *, time: float = 0.0):
         """Start from one hypothesis holding ``n`` objects (``n = 0`` allowed), weight 1, at ``time``."""
-        d = self.H.shape[1]
+        d = self.state_dim
         means = np.asarray(means, dtype=float)
         if means.size:
             means = check_finite_array(np.atleast_2d(means), "means", shape=(None, d))
@@ -248,7 +258,7 @@ class HypothesisFilter:
     def state(self, state: FilterState) -> None:
         if not isinstance(state, FilterState):
             raise TypeError(f"state must be a FilterState, got {type(state).__name__}")
-        if state.store.ndim != self.H.shape[1] or not len(state.tracks) == len(state.log_w) == len(state.keys):
+        if state.store.ndim != self.state_dim or not len(state.tracks) == len(state.log_w) == len(state.keys):
             raise ValueError("state must hold one track list and key per weight, tracks of the sensor's dimension")
         self._state = state
 
@@ -295,17 +305,17 @@ class HypothesisFilter:
         by :class:`~.factored.FactoredFilter`)."""
         n, m = len(pred), len(Z)
         if n:
-            z_pred, S, _ = innovation_unchecked(pred.means, pred.covs, self.H, self.R)
-            d2, logdet = mahalanobis2_unchecked(Z, z_pred, S)
-            loglik = -0.5 * (d2 + logdet[None, :] + self.H.shape[0] * np.log(2 * np.pi))
-            in_view = np.asarray(self.sensor.detection.in_view(z_pred), dtype=bool)
+            z_pred, S, _, _ = (meas := self.measurement).innovation(pred.means, pred.covs)
+            d2, logdet = meas.mahalanobis2(Z, z_pred, S)
+            loglik = -0.5 * (d2 + logdet[None, :] + self.meas_dim * np.log(2 * np.pi))
+            in_view = np.asarray(self.sensor.detection.in_view(meas.view_points(pred.means, z_pred)), dtype=bool)
         else:
             d2 = loglik = np.zeros((m, 0))
             in_view = np.zeros(0, dtype=bool)
         if self.gate_probability is None:
             allowed = np.ones((m, n), dtype=bool)
         else:
-            allowed = validation_matrix(d2, gate_threshold(self.gate_probability, self.H.shape[0]))
+            allowed = validation_matrix(d2, gate_threshold(self.gate_probability, self.meas_dim))
         return loglik, allowed, np.where(in_view, self.p_D, 0.0)
 
     def scan_context(self, pred: TrackStore, Z) -> ScanContext:
@@ -313,6 +323,7 @@ class HypothesisFilter:
         population's birth terms (document 000 Eq. 8, 18, 30)."""
         m = len(Z)
         loglik, allowed, p_detect = self.track_scores(pred, Z)
+        p_detect = state_p_detect(self.sensor.detection, pred.means, p_detect)
         clutter = self.sensor.clutter
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))
@@ -432,7 +443,7 @@ class HypothesisFilter:
         interval, _ = scan_interval(self.time, dt=dt, default=self.dt)
         state = self._state
         pred = self.predict(state.store, interval)
-        Z = check_measurements(Z, "Z", self.H.shape[0])
+        Z = check_measurements(Z, "Z", self.meas_dim)
         ctx = self.scan_context(pred, Z)
         gens = self.parent_generators(state)
         parts = [self.children_of(ctx, state, h, None, None, gens[h])[0] for h in range(len(state.log_w))]
@@ -465,7 +476,7 @@ class HypothesisFilter:
     def _step(self, Z, time, dt):
         t0 = _clock.perf_counter()
         interval, now = scan_interval(self.time, time, dt, self.dt)
-        Z = check_measurements(Z, "Z", self.H.shape[0])
+        Z = check_measurements(Z, "Z", self.meas_dim)
         pred = self.predict(self._state.store, interval)
         result = self.advance(self._state, pred, self.scan_context(pred, Z))
         result.stats["time_total"] = _clock.perf_counter() - t0
@@ -567,7 +578,7 @@ class HypothesisFilter:
         means, covs = np.zeros((len(src), d)), np.zeros((len(src), d, d))
         old = src >= 0
         if old.any():
-            means[old], covs[old] = update_pairs(pred, ctx.Z, self.H, self.R, src[old], ret[old])
+            means[old], covs[old] = update_pairs(pred, ctx.Z, self.measurement, None, src[old], ret[old])
         seeded_src = -1 - ctx.n_birth_regions
         for q in np.flatnonzero(~old):
             z = ctx.Z[ret[q]] if ret[q] >= 0 else None

@@ -124,6 +124,8 @@ class PMBMPosterior:
     expected_number : ``Σ_n n P(n)`` of :attr:`cardinality`.
     undetected_mean : ``∫ λ^u``, the Poisson part's expected number of undetected objects.
     top : the heaviest global hypotheses (:class:`GlobalHypothesis`), best first.
+    existence_threshold : the existence above which :attr:`map_estimate` reports a Bernoulli: the filter's
+        ``existence_estimate`` (default 0.5), so the posterior's estimate is the filter's ``estimates()``.
     """
 
     log_weights: np.ndarray
@@ -131,6 +133,7 @@ class PMBMPosterior:
     expected_number: float
     undetected_mean: float
     top: tuple
+    existence_threshold: float = 0.5
 
     @property
     def weights(self) -> np.ndarray:
@@ -138,10 +141,10 @@ class PMBMPosterior:
 
     @property
     def map_estimate(self) -> HypothesisEstimate:
-        """The heaviest global hypothesis's Bernoullis with ``r > 0.5`` (the 2018 paper's estimator 1), in the
-        form of the engine's :class:`~.posterior.HypothesisEstimate`."""
+        """The heaviest global hypothesis's Bernoullis with ``r >`` :attr:`existence_threshold` (the 2018 paper's
+        estimator 1), in the form of the engine's :class:`~.posterior.HypothesisEstimate`."""
         h = self.top[0]
-        on = h.existence > 0.5
+        on = h.existence > self.existence_threshold
         return HypothesisEstimate(h.weight, h.log_weight, h.labels[on], h.means[on], h.covs[on])
 
 
@@ -206,6 +209,9 @@ class PMBMFilter:
             raise ValueError("sensor.clutter must be a PoissonClutter: the PMBM update needs the clutter intensity")
         self.p_D = check_probability(sensor.detection.p_D, "p_D", low_open=True, high_open=True)
         self.motion, self.sensor, self.generator = motion, sensor, generator
+        if not getattr(sensor.measurement, "linear", True):
+            raise ValueError("sensor.measurement must be linear (H, R) for the PMBM filters; a nonlinear model (the "
+                             "radar's sensor frame) runs on HypothesisFilter, the factored engine, GNN and JPDA")
         self.H = check_finite_array(sensor.measurement.H, "sensor H", ndim=2)
         self.R = check_covariance(sensor.measurement.R, "sensor R", dim=self.H.shape[0])
         d = self.H.shape[1]
@@ -543,7 +549,7 @@ class PMBMFilter:
             card = np.pad(card, (0, max(0, len(p) - len(card)))) + np.pad(p, (0, max(0, len(card) - len(p))))
         lw = np.array([h.log_weight for h in hyps])
         return PMBMPosterior(lw, card, float(np.arange(len(card)) @ card), self.undetected.total,
-                             tuple(hyps[:n_top]))
+                             tuple(hyps[:n_top]), self.existence_estimate)
 
     def estimated_local_hypotheses(self) -> np.ndarray:
         """Indices of the local hypotheses :meth:`estimates` reports, in its order (module docstring, step 5):

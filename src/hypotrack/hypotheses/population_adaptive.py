@@ -56,12 +56,23 @@ class AdaptiveBirth:
         binomial population uses its own ``alpha``.
     gate_probability : float
         Gate of each term, in (0, 1).
+    mixture : object, optional
+        A birth mixture per return in place of the one-point initiation: ``mixture.components(z)
+        -> (weights (K,), means (K, d), covs (K, d, d))`` (``K = 0``: no state can give ``z``), e.g. the
+        admissible region of a radar return (:class:`hypotrack.scenarios.catalogue.admissible.AdmissibleRegionBirth`).
+        Each component is a term of weight ``weights[k]`` (existence ``r_birth × weights[k]``), predicted
+        over the scan interval like a one-point term.
+
+    With a nonlinear measurement model (``measurement`` of :meth:`terms`, e.g. a radar's range, angles and
+    range-rate in the sensor frame) the one-point initiation is the model's own ``one_point(Z, position_std,
+    velocity_std)`` and each term is observed through the model (:class:`~.population_lmb.GaussianBirthTerm`).
     """
 
     position_std: float = 0.0
     velocity_std: float = 1.0
     r_birth: float = 0.01
     gate_probability: float = 0.999
+    mixture: object = None
 
     def __post_init__(self):
         if not (np.isfinite(self.position_std) and self.position_std >= 0):
@@ -81,10 +92,31 @@ class AdaptiveBirth:
         P0 = Hp @ R @ Hp.T + np.diag(s**2)
         return Z @ Hp.T, np.broadcast_to(P0, (len(Z), *P0.shape)).copy()
 
-    def terms(self, Z, H, R, motion, dt) -> list:
-        """The birth terms of the next scan: the one-point initiations of ``Z`` predicted by ``dt``."""
+    def terms(self, Z, H, R, motion, dt, measurement=None) -> list:
+        """The birth terms of the next scan: the one-point initiations of ``Z`` (or their mixtures'
+        components) predicted by ``dt``. ``measurement``: the sensor's measurement model; a nonlinear one
+        (``measurement.linear`` false) replaces ``H``."""
         if len(Z) == 0:
             return []
-        x0, P0 = self.initial(Z, H, R)
+        nonlinear = measurement is not None and not measurement.linear
+        weights = None
+        if self.mixture is not None:
+            parts = [self.mixture.components(z) for z in np.atleast_2d(np.asarray(Z, dtype=float))]
+            parts = [p for p in parts if len(p[0])]
+            if not parts:
+                return []
+            weights = np.concatenate([p[0] for p in parts])
+            x0, P0 = np.concatenate([p[1] for p in parts]), np.concatenate([p[2] for p in parts])
+        elif nonlinear:
+            x0, P0 = measurement.one_point(Z, self.position_std, self.velocity_std)
+        else:
+            x0, P0 = self.initial(Z, H, R)
         x, P = predict_with_unchecked(motion, x0, P0, dt)
+        if nonlinear:
+            w = np.ones(len(x)) if weights is None else weights
+            return [GaussianBirthTerm(x[i], P[i], None, measurement.R, self.gate_probability, measurement=measurement,
+                                      weight=float(w[i])) for i in range(len(x))]
+        if weights is not None:
+            return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability, weight=float(weights[i]))
+                    for i in range(len(x))]
         return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability) for i in range(len(x))]

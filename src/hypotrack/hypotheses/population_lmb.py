@@ -70,6 +70,13 @@ class GaussianBirthTerm:
     cannot be the birth's first detection (likelihood 0). Without it a Gaussian birth term may
     take any return of the scan, which couples every return with every object that gates it —
     the factored engine (:mod:`.factored`) would then have to merge all groups seeing a return.
+
+    ``measurement`` (optional): a nonlinear measurement model (:class:`hypotrack.models.measurement.ExtendedMeasurement`,
+    e.g. the catalogue radar's ``(ρ, az, el, ρ̇)``) in place of ``H``: the term is then observed through
+    its EKF linearisation at ``mean`` (``ẑ = h(mean)``, ``S = H_m cov H_mᵀ + R``, ``H_m = ∂h/∂x(mean)``, the
+    azimuth residual wrapped) and ``H`` is ignored (give ``None``). ``weight`` (in (0, 1], default 1): the
+    term's share of a birth mixture (an admissible region's component, :mod:`.population_adaptive`); the
+    adaptive birth gives the term the existence ``r_B × weight``.
     """
 
     mean: np.ndarray
@@ -77,11 +84,20 @@ class GaussianBirthTerm:
     H: np.ndarray
     R: np.ndarray
     gate_probability: float | None = None
+    measurement: object = None
+    weight: float = 1.0
 
     def __post_init__(self):
         mean = check_finite_array(self.mean, "mean", ndim=1)
         object.__setattr__(self, "mean", mean)
         object.__setattr__(self, "cov", check_covariance(self.cov, "cov", dim=len(mean)))
+        object.__setattr__(self, "weight", check_probability(self.weight, "weight", low_open=True))
+        if self.measurement is not None:
+            object.__setattr__(self, "R", check_covariance(self.measurement.R, "measurement.R"))
+            if self.gate_probability is not None:
+                object.__setattr__(self, "gate_probability", check_probability(
+                    self.gate_probability, "gate_probability", low_open=True, high_open=True))
+            return
         H = check_finite_array(self.H, "H", ndim=2)
         if H.shape[1] != len(mean):
             raise ValueError(f"H must have {len(mean)} columns, got shape {H.shape}")
@@ -93,11 +109,16 @@ class GaussianBirthTerm:
 
     def loglik(self, Z) -> np.ndarray:
         """``log ∫ N(z; H x, R) N(x; mean, cov) dx = log N(z; H mean, H cov Hᵀ + R)`` per return."""
-        Z = np.asarray(Z, dtype=float).reshape(-1, self.H.shape[0])
+        Z = np.asarray(Z, dtype=float).reshape(-1, self.R.shape[0])
         # the term's moments and model were checked at construction (S = H cov Hᵀ + R is PD: R is)
-        z_pred, S, _ = (a[0] for a in innovation_unchecked(self.mean[None], self.cov[None], self.H, self.R))
+        if self.measurement is None:
+            z_pred, S, _ = (a[0] for a in innovation_unchecked(self.mean[None], self.cov[None], self.H, self.R))
+            resid = Z - z_pred
+        else:
+            z_pred, S, _, _ = (a[0] for a in self.measurement.innovation(self.mean[None], self.cov[None]))
+            resid = self.measurement.residual(Z, z_pred[None])[:, 0]
         L = np.linalg.cholesky(S)
-        r = np.linalg.solve(L, (Z - z_pred).T)
+        r = np.linalg.solve(L, resid.T)
         d2 = np.sum(r * r, axis=0)
         ll = -0.5 * d2 - np.sum(np.log(np.diag(L))) - 0.5 * len(z_pred) * np.log(2 * np.pi)
         if self.gate_probability is None:
@@ -106,6 +127,9 @@ class GaussianBirthTerm:
 
     def initial_state(self, z, R):
         """The born object's Gaussian: the birth density updated with its first return ``z``."""
+        if self.measurement is not None:
+            x, P = self.measurement.update(self.mean[None], self.cov[None], np.asarray(z, dtype=float)[None])
+            return x[0], P[0]
         return update(self.mean, self.cov, z, self.H, R)
 
     def prior(self):

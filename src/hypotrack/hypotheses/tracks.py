@@ -70,7 +70,9 @@ def update_pairs(predicted: TrackStore, Z, H, R, sources, returns):
     ----------
     predicted : TrackStore
     Z : (m, p) returns of the scan.
-    H, R : measurement matrix and noise covariance.
+    H, R : measurement matrix and noise covariance; or ``H`` a measurement model
+        (:mod:`hypotrack.models.measurement`: its :meth:`update`, e.g. the radar's EKF in the sensor
+        frame) and ``R`` ``None``.
     sources, returns : (P,) int arrays
         Distinct pairs: track index in ``predicted`` and return index (``-1`` = missed, the
         predicted track is kept).
@@ -86,6 +88,10 @@ def update_pairs(predicted: TrackStore, Z, H, R, sources, returns):
     covs = predicted.covs[sources].copy()
     hit = returns >= 0
     if np.any(hit):
-        x, P = update_unchecked(means[hit], covs[hit], np.asarray(Z)[returns[hit]], H, R)
+        Zh = np.asarray(Z)[returns[hit]]
+        if R is None and hasattr(H, "update"):
+            x, P = H.update(means[hit], covs[hit], Zh)
+        else:
+            x, P = update_unchecked(means[hit], covs[hit], Zh, H, R)
         means[hit], covs[hit] = x, P
     return means, covs

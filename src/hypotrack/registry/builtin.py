@@ -94,18 +94,21 @@ def _glmb_murty(problem, *, seed, population, k, **common):
 
 def _single(association):
     def build(problem, *, seed, gate_probability, m_of_n, initial_velocity_std, max_misses, gnn_score,
-              new_target_density, min_clutter_rate, jpda_marginals, lazy, gate_out_of_view):
+              new_target_density, min_clutter_rate, jpda_marginals, lazy, lazy_prediction, gate_out_of_view):
         """GNN/JPDA/PDAF (lecture notes 004) with the problem's models; ``seed`` is unused (deterministic)."""
         s = problem.sensor
         clutter = max(max(s.clutter.rate, min_clutter_rate) / s.clutter.region.area, 1e-300)  # scores need β_FA > 0
         beta_nt = problem.seeded_intensity() if new_target_density is None else new_target_density
-        model = ScanModel(s.measurement.H, s.measurement.R, s.detection.p_D, gate_probability, clutter, beta_nt)
+        m = s.measurement  # a nonlinear one (the radar's, in the sensor frame) has no H: the EKF's Jacobians
+        model = ScanModel(getattr(m, "H", None), m.R, s.detection.p_D, gate_probability, clutter, beta_nt,
+                          measurement=None if getattr(m, "linear", True) else m)
         initiator = None if m_of_n is None else MOfNInitiator(problem.motion, model, m=m_of_n[0], n=m_of_n[1],
                                                               initial_velocity_std=initial_velocity_std)
         return SingleHypothesisTracker(problem.motion, model, association=association, initiator=initiator,
                                        max_misses=max_misses, gnn_score=gnn_score, in_view=problem.in_view,
-                                       jpda_marginals=jpda_marginals, lazy=lazy,
-                                       gate_out_of_view=gate_out_of_view)
+                                       jpda_marginals=jpda_marginals, lazy=lazy, lazy_prediction=lazy_prediction,
+                                       gate_out_of_view=gate_out_of_view, validity=problem.validity,
+                                       p_detect=getattr(s.detection, "p_D_of", None))
 
     build.__name__ = f"_{association}"
     return build

@@ -47,12 +47,18 @@ class MeasurementBirths:
         returns; GNN/JPDA's ``β_NT``), ≥ 0.
     seeded_density : object, optional
         Reid's birth density at a return (e.g. :class:`hypotrack.scenarios.catalogue.tracking.OnePointBirth`).
+    survival : callable, optional
+        ``survival(means, covs) -> p_S (n,)`` of each predicted track (e.g.
+        :class:`hypotrack.hypotheses.UnconfirmedDecay`: a track never confirmed loses existence each scan),
+        the death model of the δ-GLMB presets (:meth:`TrackingProblem.labeled_population`). The FISST and
+        HOMHT presets have no per-track death model and do not use it. ``None``: ``p_S = 1``.
     """
 
     adaptive: AdaptiveBirth
     r_birth: float
     seeded_intensity: float = 0.0
     seeded_density: object = None
+    survival: object = None
 
     def __post_init__(self):
         if not isinstance(self.adaptive, AdaptiveBirth):
@@ -60,6 +66,9 @@ class MeasurementBirths:
         check_probability(self.r_birth, "r_birth", low_open=True, high_open=True)
         if not (np.isfinite(self.seeded_intensity) and self.seeded_intensity >= 0):
             raise ValueError(f"seeded_intensity must be a finite number >= 0, got {self.seeded_intensity!r}")
+        if self.survival is not None and not callable(self.survival):
+            raise TypeError(f"survival must be callable (means, covs -> p_S per track) or None, "
+                            f"got {type(self.survival).__name__}")
 
 
 _BIRTHS = (SingleEventBirthDeath, LabeledMultiBernoulliPopulation, MeasurementBirths)
@@ -106,7 +115,8 @@ class TrackingProblem:
     validity: object = field(default=None, repr=False)
 
     def __post_init__(self):
-        d = np.asarray(self.sensor.measurement.H).shape[1]
+        m = self.sensor.measurement  # a nonlinear measurement model (no H) gives its state dimension
+        d = m.ndim_state if getattr(m, "linear", True) is False else np.asarray(m.H).shape[1]
         means = np.zeros((0, d)) if self.means is None else np.asarray(self.means, dtype=float)
         means = check_finite_array(means.reshape(-1, d) if means.size == 0 else means, "means", shape=(None, d))
         n = len(means)
@@ -170,7 +180,7 @@ class TrackingProblem:
         if isinstance(b, SingleEventBirthDeath):
             terms = [b.birth_density(r) for r in range(b.n_birth_regions)]
             return LabeledMultiBernoulliPopulation(terms, r_birth=b.alpha, p_survive=1.0 - b.beta)
-        return LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0)
+        return LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0, survival=b.survival)
 
     def reid_births(self) -> dict:
         """The birth model as Reid's HOMHT presets take it: ``population``, or ``birth_intensity`` and

@@ -7,6 +7,7 @@ the gated pairs, and unused returns go to the initiation logic.
 
 from __future__ import annotations
 
+import copy
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,7 +24,7 @@ from ..association import gate_threshold, validation_matrix
 from ..gaussian import innovation_unchecked, mahalanobis2_unchecked, predict_with_unchecked, symmetrize
 from ..models.motion import ConstantVelocity, OrnsteinUhlenbeck
 
-__all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks"]
+__all__ = ["ScanModel", "GatedTracks", "predict_tracks", "gate_tracks", "with_track_p_D"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -46,6 +47,10 @@ class ScanModel:
     new_target_density : float
         New-target density ``β_NT`` ≥ 0 (used by GNN, whose external sources have density
         ``β_EX = β_FA + β_NT``; JPDA has no new-target hypotheses).
+    measurement : optional
+        A nonlinear measurement model (:class:`hypotrack.models.measurement.ExtendedMeasurement`, e.g. the
+        catalogue radar's ``(ρ, az, el, ρ̇)`` in the sensor frame) in place of ``H`` (give ``H = None``,
+        ``R`` its ``R``): gating and updates are then the EKF's, per-track Jacobian and wrapped residuals.
     """
 
     H: np.ndarray
@@ -54,16 +59,26 @@ class ScanModel:
     p_gate: float
     clutter_density: float
     new_target_density: float = 0.0
+    measurement: object = None
 
     def __post_init__(self):
-        H = check_finite_array(np.atleast_2d(self.H), "H", ndim=2)
-        object.__setattr__(self, "H", H)
-        object.__setattr__(self, "R", check_covariance(np.atleast_2d(self.R), "R", dim=H.shape[0]))
+        if self.measurement is not None and not self.measurement.linear:
+            R = check_covariance(np.atleast_2d(self.measurement.R), "measurement.R")
+            object.__setattr__(self, "H", None)
+            object.__setattr__(self, "R", R)
+        else:
+            object.__setattr__(self, "measurement", None)
+            H = check_finite_array(np.atleast_2d(self.H), "H", ndim=2)
+            object.__setattr__(self, "H", H)
+            object.__setattr__(self, "R", check_covariance(np.atleast_2d(self.R), "R", dim=H.shape[0]))
+        self._post_common()
+
+    def _post_common(self):
         object.__setattr__(self, "p_D", check_probability(self.p_D, "p_D", low_open=True))
         object.__setattr__(self, "p_gate", check_probability(self.p_gate, "p_gate", low_open=True, high_open=True))
         object.__setattr__(self, "clutter_density", check_positive(self.clutter_density, "clutter_density"))
         object.__setattr__(self, "new_target_density", check_nonnegative(self.new_target_density, "new_target_density"))
-        object.__setattr__(self, "gate", gate_threshold(self.p_gate, H.shape[0]))
+        object.__setattr__(self, "gate", gate_threshold(self.p_gate, self.dim))
 
     @classmethod
     def from_sensor(
@@ -80,6 +95,9 @@ class ScanModel:
                     "sensor has no clutter (β_FA = 0): pass clutter_density > 0 for the JPDA/GNN scores"
                 )
             clutter_density = sensor.clutter.intensity
+        m = sensor.measurement
+        if getattr(m, "linear", True) is False:
+            return cls(None, m.R, sensor.detection.p_D, p_gate, clutter_density, new_target_density, measurement=m)
         return cls(
             sensor.measurement.H, sensor.measurement.R, sensor.detection.p_D, p_gate, clutter_density,
             new_target_density,
@@ -88,21 +106,42 @@ class ScanModel:
     @property
     def dim(self) -> int:
         """Measurement dimension ``p``."""
-        return self.H.shape[0]
+        return self.R.shape[0]
 
     @property
     def ndim_state(self) -> int:
-        return self.H.shape[1]
+        return self.H.shape[1] if self.measurement is None else self.measurement.ndim_state
+
+    def residual_rows(self, Z_rows, z_pred) -> np.ndarray:
+        """``z_j − ẑ_j`` per row (angle components wrapped for a nonlinear measurement)."""
+        return Z_rows - z_pred if self.measurement is None else self.measurement.residual_rows(Z_rows, z_pred)
+
+    def H_of(self, gated: "GatedTracks", tracks):
+        """The measurement matrix of ``tracks``: ``H``, or their Jacobians ``(k, p, d)``."""
+        return self.H if self.measurement is None else gated.Hj[tracks]
 
     @property
     def log_missed(self) -> float:
-        """``log(1 − P_D P_G)``: the weight of "target not detected in its gate"."""
-        return float(np.log1p(-self.p_D * self.p_gate))
+        """``log(1 − P_D P_G)``: the weight of "target not detected in its gate" (per track ``(n,)`` for a
+        model of :func:`with_track_p_D`)."""
+        return np.log1p(-self.p_D * self.p_gate)
 
     @property
     def external_density(self) -> float:
         """``β_EX = β_FA + β_NT`` (lecture 004, "GNN Algorithm")."""
         return self.clutter_density + self.new_target_density
+
+
+def with_track_p_D(model: ScanModel, p_D) -> ScanModel:
+    """A copy of ``model`` whose ``p_D`` is one value per track ``(n,)`` in (0, 1] (a state-dependent
+    detection probability, e.g. a radar's SNR p_D at each predicted range), for one scan's scores: the GNN
+    gains and JPDA weights broadcast it over the tracks' columns (rows for JPDA)."""
+    p = np.asarray(p_D, dtype=float)
+    if p.ndim != 1 or not np.all((p > 0) & (p <= 1)):
+        raise ValueError(f"p_D per track must be a 1-d array of values in (0, 1], got shape {p.shape}")
+    out = copy.copy(model)
+    object.__setattr__(out, "p_D", p)
+    return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,6 +163,8 @@ class GatedTracks:
         GNN criterion), :meth:`log_likelihood` then computes it.
     valid : (m, n) bool
         The validation matrix (lecture 004, "Gating"): return i lies in track j's gate.
+    Hj : (n, p, d) or None
+        Each track's measurement Jacobian (a nonlinear measurement model), else ``None``.
     """
 
     x: np.ndarray
@@ -135,6 +176,7 @@ class GatedTracks:
     d2: np.ndarray
     logdet: np.ndarray | None
     valid: np.ndarray
+    Hj: np.ndarray | None = None
 
     @property
     def n_tracks(self) -> int:
@@ -176,6 +218,11 @@ def gate_tracks(x, P, Z, model: ScanModel, *, gate: float | None = None) -> Gate
     x = np.asarray(x, dtype=float).reshape(-1, model.ndim_state)
     P = np.asarray(P, dtype=float).reshape(-1, model.ndim_state, model.ndim_state)
     n, p = len(x), model.dim
+    if model.measurement is not None:
+        z_pred, S, K, Hj = model.measurement.innovation(x, P)
+        d2, logdet = model.measurement.mahalanobis2(Z, z_pred, S)
+        return GatedTracks(x, P, z_pred, S, K, Z, d2, logdet, validation_matrix(d2, model.gate if gate is None else gate),
+                           Hj)
     if n:
         z_pred, S, K = innovation_unchecked(x, P, model.H, model.R)
     else:
@@ -231,7 +278,7 @@ def _gate_scan(x, P, Z, model: ScanModel, *, logdet: bool = True) -> GatedTracks
     by the Joseph form, ``R`` checked PD), so the plain inverse is safe here; the numbers equal
     :func:`gate_tracks`' up to rounding. Without ``logdet`` the result's ``logdet`` is ``None``.
     """
-    if len(x) == 0:
+    if len(x) == 0 or model.measurement is not None:
         return gate_tracks(x, P, Z, model)
     H = model.H
     z_pred = x @ H.T

@@ -26,13 +26,26 @@ than eager with in-view gating over the first 40 scans and 1.7×/1.6× over 120,
 720 scans
 (:func:`hypotrack.experiments.ssa_catalogue.lazy_sht.lazy_sht_timing`): exactness forbids replacing
 the ``k`` predictions by one, as the factored engine's lazy lane does (an approximation there).
+
+:func:`predict_gap` is that approximation, offered to GNN and JPDA (``lazy_prediction="gap"``) so that every
+tracker of a catalogue run defers alike: a deferred track is predicted once over its whole gap,
+``x = f(x_s, t − t_s)``, ``P = Φ P_s Φᵀ + Q(t − t_s)`` — one batch per scan whatever the gaps, where the
+replay costs a pass per deferred scan. For the white-noise-acceleration models ``Q(kΔ) = Σ_j Φ^j Q(Δ) Φ^jᵀ``
+holds exactly (the continuous-time noise integrates over the gap either way), so the two differ by the
+motion model's integration only; for the catalogue's two-body + J2 EKF, by the linearisation along one
+long step instead of ``k`` short ones. Measured on the whole catalogue (N = 10,855, 720 scans, GNN, one run
+on a loaded machine): 10.9 ms per scan against 18.1 eager with in-view gating, 38.2 eager and 50.9 replayed;
+at N = 1,000 the gap costs more than not deferring (3.6 against 2.5 ms: the catch-up integrates each gap in
+30-s steps) and moves GNN's mean GOSPA from 8.98 to 9.07 km.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ScanTimes", "replay"]
+from ..hypotheses.factored.lane import predict_each
+
+__all__ = ["ScanTimes", "replay", "predict_gap"]
 
 
 class ScanTimes:
@@ -99,3 +112,16 @@ def replay(predict, x, P, since, times: ScanTimes):
     out_x, out_P = np.empty_like(xo), np.empty_like(Po)
     out_x[order], out_P[order] = xo, Po
     return out_x, out_P
+
+
+def predict_gap(motion, x, P, since, times: ScanTimes):
+    """Predict tracks ``x, P`` (``(r, d)``, ``(r, d, d)``), each valid at scan ``since[i]``, to the last scan of
+    ``times`` in one step each (module docstring): :func:`hypotrack.hypotheses.factored.lane.predict_each`
+    over the intervals ``t_now − t_since``, the factored engine's lazy prediction. Returns new arrays."""
+    since = np.asarray(since, dtype=np.int64)
+    if len(since) == 0:
+        return x.copy(), P.copy()
+    first = int(since.min())
+    t = times.since(first)
+    gap = t[-1] - t[since - first]
+    return predict_each(motion, x, P, gap)

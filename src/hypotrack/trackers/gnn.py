@@ -215,8 +215,8 @@ def gnn_update(gated: GatedTracks, a, model: ScanModel):
     if len(rows):
         tracks = a[rows]
         K = gated.K[tracks]
-        nu = gated.Z[rows] - gated.z_pred[tracks]
+        nu = model.residual_rows(gated.Z[rows], gated.z_pred[tracks])
         x[tracks] = gated.x[tracks] + np.einsum("ndp,np->nd", K, nu)
-        P[tracks] = joseph_covariance_unchecked(gated.P[tracks], K, model.H, model.R)
+        P[tracks] = joseph_covariance_unchecked(gated.P[tracks], K, model.H_of(gated, tracks), model.R)
         detected[tracks] = True
     return x, P, detected

@@ -10,7 +10,9 @@ longer reach ``M`` hits within ``N`` scans is dropped.
 A tentative track starts at a single return (one-point initiation): position from the return
 (``x = H⁺ z``, ``P_pos = H⁺ R H⁺ᵀ``) and zero velocity with a broad standard deviation
 ``initial_velocity_std``, so the first gate is wide enough to catch the target's next return.
-Tentative tracks are associated with returns by GNN with the lecture's scores
+With a nonlinear measurement model (a radar's ``(ρ, az, el, ρ̇)`` in the sensor frame) a new tentative
+track is the model's own ``one_point`` initiation instead (the return's position and range-rate, velocity
+across the line of sight ``N(0, initial_velocity_std²)``). Tentative tracks are associated with returns by GNN with the lecture's scores
 (:func:`hypotrack.trackers.gnn.gnn_gains`).
 """
 
@@ -55,17 +57,20 @@ class MOfNInitiator:
     def __init__(self, motion, model: ScanModel, *, m: int = 2, n: int = 3, initial_velocity_std: float = 10.0):
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
-        check_state_dimension(motion, model.ndim_state, f"the scan model (H of shape {model.H.shape})")
+        check_state_dimension(motion, model.ndim_state, f"the scan model (H of shape {(model.dim, model.ndim_state)})")
         self.motion = motion
         self.model = model
         self.n = check_int(n, "n", minimum=1)
         self.m = check_int(m, "m", minimum=1, maximum=self.n)
         self.initial_velocity_std = check_positive(initial_velocity_std, "initial_velocity_std")
         d = model.ndim_state
-        H_pinv = np.linalg.pinv(model.H)
-        self._H_pinv = H_pinv
-        # Position block from the return's noise; the unmeasured (velocity) block broad.
-        self.P0 = H_pinv @ model.R @ H_pinv.T + self.initial_velocity_std**2 * (np.eye(d) - H_pinv @ model.H)
+        if model.measurement is None:
+            H_pinv = np.linalg.pinv(model.H)
+            self._H_pinv = H_pinv
+            # Position block from the return's noise; the unmeasured (velocity) block broad.
+            self.P0 = H_pinv @ model.R @ H_pinv.T + self.initial_velocity_std**2 * (np.eye(d) - H_pinv @ model.H)
+        else:  # a nonlinear (sensor-frame) measurement: its own one-point initiation per return
+            self._H_pinv, self.P0 = None, None
         self.x = np.zeros((0, d))
         self.P = np.zeros((0, d, d))
         self.hits = np.zeros(0, dtype=np.int64)
@@ -111,8 +116,13 @@ class MOfNInitiator:
         unused = Z[a < 0]
         k = len(unused)
         self._time = time  # nothing below can fail: the step is all-or-nothing
-        self.x = np.concatenate([x[alive], unused @ self._H_pinv.T])
-        self.P = np.concatenate([P[alive], np.broadcast_to(self.P0, (k, d, d))])
+        if self.model.measurement is None:
+            x_new, P_new = unused @ self._H_pinv.T, np.broadcast_to(self.P0, (k, d, d))
+        else:
+            x_new, P_new = self.model.measurement.one_point(unused, 0.0, self.initial_velocity_std) if k else (
+                np.zeros((0, d)), np.zeros((0, d, d)))
+        self.x = np.concatenate([x[alive], x_new])
+        self.P = np.concatenate([P[alive], P_new])
         self.hits = np.concatenate([hits[alive], np.ones(k, dtype=np.int64)])
         self.age = np.concatenate([age[alive], np.ones(k, dtype=np.int64)])
         # With m = 1 a single return confirms a track at once.

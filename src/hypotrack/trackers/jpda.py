@@ -50,7 +50,7 @@ def jpda_log_weights(gated: GatedTracks, model: ScanModel) -> np.ndarray:
     n = gated.n_tracks
     lw = np.empty((n, gated.n_meas + 1))
     lw[:, 0] = model.log_missed
-    det = np.log(model.p_D) - np.log(model.clutter_density) + gated.log_likelihood().T
+    det = np.log(np.reshape(model.p_D, (-1, 1))) - np.log(model.clutter_density) + gated.log_likelihood().T
     lw[:, 1:] = np.where(gated.valid.T, det, -np.inf)
     return lw
 
@@ -145,13 +145,13 @@ def pda_update(gated: GatedTracks, beta, model: ScanModel):
     # Only pairs with β > 0 (inside the gates) contribute: work on those, not all n × m pairs.
     t_idx, i_idx = np.nonzero(beta[:, 1:] > 0)
     w = beta[t_idx, 1 + i_idx]
-    nu = gated.Z[i_idx] - gated.z_pred[t_idx]  # (pairs, p) innovations ν_i of each target
+    nu = model.residual_rows(gated.Z[i_idx], gated.z_pred[t_idx])  # (pairs, p) innovations ν_i of each target
     nu_bar = np.stack([np.bincount(t_idx, w * nu[:, a], minlength=n) for a in range(p)], axis=1)
     second = np.stack(
         [np.bincount(t_idx, w * nu[:, a] * nu[:, b], minlength=n) for a in range(p) for b in range(p)], axis=1
     ).reshape(n, p, p)
     spread = second - nu_bar[:, :, None] * nu_bar[:, None, :]
     x_upd = x + np.einsum("ndp,np->nd", K, nu_bar)
-    P_c = joseph_covariance_unchecked(P, K, model.H, model.R)
+    P_c = joseph_covariance_unchecked(P, K, model.H_of(gated, slice(None)), model.R)
     P_upd = b0[:, None, None] * P + (1 - b0)[:, None, None] * P_c + K @ spread @ np.swapaxes(K, -1, -2)
     return x_upd, symmetrize(P_upd)

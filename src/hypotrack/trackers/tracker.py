@@ -32,15 +32,16 @@ from .._validation import (
     check_time,
 )
 from ..protocol import TrackEstimates
-from ._sht_common import ScanModel, _gate_scan, _ScanPredictor
+from ._sht_common import ScanModel, _gate_scan, _ScanPredictor, with_track_p_D
 from .gnn import _associate, gnn_gains, gnn_update, mahalanobis_gains
-from .deferred import ScanTimes, replay
+from .deferred import ScanTimes, predict_gap, replay
 from .initiation import MOfNInitiator
 from .jpda import jpda_log_weights, jpda_probabilities, pda_update, pdaf_probabilities
 
 __all__ = ["TrackEstimates", "SingleHypothesisTracker"]
 
 _ASSOCIATIONS = ("gnn", "jpda", "pdaf")
+_LAZY_PREDICTIONS = ("replay", "gap")
 
 
 class SingleHypothesisTracker:
@@ -83,6 +84,19 @@ class SingleHypothesisTracker:
         advanced, and a track is predicted — over every scan it missed, scan by scan — when its
         advanced mean is in view or :meth:`estimates` is called. Same posterior as the eager
         tracker with ``gate_out_of_view=False``.
+    lazy_prediction : {"replay", "gap"}
+        With ``lazy``, how a deferred track is brought to now: ``"replay"`` (default) predicts it scan by
+        scan, the eager posterior exactly; ``"gap"`` predicts it once over its whole gap — the factored
+        engine's lazy lane (:class:`hypotrack.hypotheses.FactoredFilter`), so all trackers of a catalogue
+        run make the same approximation (:func:`hypotrack.trackers.deferred.predict_gap`).
+    validity : callable, optional
+        ``validity(x) -> (n,) bool`` of track means (e.g. :func:`hypotrack.models.plausibility.plausible_orbits`):
+        after each scan a track whose mean fails it is deleted, and a track the initiator confirms is not
+        started — the single-hypothesis counterpart of the engine's ``validity``. ``None``: no test.
+    p_detect : callable, optional
+        ``p_detect(x) -> (n,)`` detection probabilities in (0, 1] of the predicted tracks (a sensor's
+        ``detection.p_D_of``, e.g. the SNR p_D at each predicted range), used in place of the scan model's
+        ``p_D`` in the scores (:func:`~._sht_common.with_track_p_D`). ``None``: the model's ``p_D``.
 
     The tracker follows :class:`hypotrack.protocol.Tracker`: :meth:`initialise` with known objects
     and their labels, :meth:`step` with each scan's returns and time, :meth:`estimates`.
@@ -111,6 +125,9 @@ class SingleHypothesisTracker:
         in_view=None,
         gate_out_of_view: bool | None = None,
         lazy: bool = False,
+        lazy_prediction: str = "replay",
+        validity=None,
+        p_detect=None,
     ):
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
@@ -122,9 +139,11 @@ class SingleHypothesisTracker:
             raise ValueError(f"gnn_score must be 'lecture' or 'mahalanobis', got {gnn_score!r}")
         if initiator is not None and not isinstance(initiator, MOfNInitiator):
             raise TypeError(f"initiator must be an MOfNInitiator or None, got {type(initiator).__name__}")
-        check_state_dimension(motion, model.ndim_state, f"the scan model (H of shape {model.H.shape})")
-        if initiator is not None and initiator.model.H.shape != model.H.shape:
-            raise ValueError(f"initiator's scan model has H of shape {initiator.model.H.shape}, the tracker's {model.H.shape}")
+        shape = (model.dim, model.ndim_state)
+        check_state_dimension(motion, model.ndim_state, f"the scan model (H of shape {shape})")
+        if initiator is not None and (initiator.model.dim, initiator.model.ndim_state) != shape:
+            raise ValueError(f"initiator's scan model has H of shape {(initiator.model.dim, initiator.model.ndim_state)}, "
+                             f"the tracker's {shape}")
         self.motion = motion
         self._predict = _ScanPredictor(motion)
         self.model = model
@@ -136,6 +155,12 @@ class SingleHypothesisTracker:
         if in_view is not None and not callable(in_view):
             raise TypeError(f"in_view must be a callable of the track states or None, got {type(in_view).__name__}")
         self.in_view = in_view
+        if validity is not None and not callable(validity):
+            raise TypeError(f"validity must be a callable of the track means or None, got {type(validity).__name__}")
+        self.validity = validity
+        if p_detect is not None and not callable(p_detect):
+            raise TypeError(f"p_detect must be a callable of the track states or None, got {type(p_detect).__name__}")
+        self.p_detect = p_detect
         if not isinstance(lazy, bool | np.bool_):
             raise TypeError(f"lazy must be True or False, got {lazy!r}")
         gate_out_of_view = not lazy if gate_out_of_view is None else gate_out_of_view
@@ -146,6 +171,9 @@ class SingleHypothesisTracker:
         if lazy and gate_out_of_view:
             raise ValueError("lazy=True needs gate_out_of_view=False (a deferred track takes no return)")
         self.lazy, self.gate_out_of_view = bool(lazy), bool(gate_out_of_view)
+        if lazy_prediction not in _LAZY_PREDICTIONS:
+            raise ValueError(f"lazy_prediction must be one of {_LAZY_PREDICTIONS}, got {lazy_prediction!r}")
+        self.lazy_prediction = lazy_prediction
         self.missed_distance = (
             float(np.sqrt(model.gate)) if missed_distance is None else check_positive(missed_distance, "missed_distance")
         )
@@ -259,9 +287,14 @@ class SingleHypothesisTracker:
             self.misses = np.zeros(len(view), dtype=np.int64)
             self.misses[rows] = misses
         keep = self.misses < self.max_misses
+        if self.validity is not None and len(keep):
+            keep &= np.asarray(self.validity(self._view), dtype=bool)  # an unphysical track is deleted
         if not keep.all():
             self.ids, self.x, self.P, self.misses = self.ids[keep], self.x[keep], self.P[keep], self.misses[keep]
             self._since, self._view = self._since[keep], self._view[keep]
+        if new_x is not None and self.validity is not None and len(new_x):
+            ok = np.asarray(self.validity(new_x), dtype=bool)
+            new_x, new_P = new_x[ok], new_P[ok]
         if new_x is not None:
             self._add(new_x, new_P)
         if len(self._since):
@@ -277,8 +310,14 @@ class SingleHypothesisTracker:
         view = self._predict.mean(self._view, dt)
         view = view.copy() if view is self._view else view
         rows = np.flatnonzero(np.asarray(self.in_view(view), dtype=bool)) if len(view) else np.zeros(0, np.int64)
-        x, P = replay(self._predict, self.x[rows], self.P[rows], self._since[rows], self._times)
+        x, P = self._catch_up(rows)
         return rows, x, P, view
+
+    def _catch_up(self, rows):
+        """The deferred tracks ``rows`` predicted to now (``lazy_prediction``: scan by scan, or over the gap)."""
+        if self.lazy_prediction == "replay":
+            return replay(self._predict, self.x[rows], self.P[rows], self._since[rows], self._times)
+        return predict_gap(self.motion, self.x[rows], self.P[rows], self._since[rows], self._times)
 
     def _scan(self, Z, x, P):
         """Gate, associate and update predicted tracks ``x, P``: ``(x, P, detected, gated, unused returns,
@@ -291,9 +330,10 @@ class SingleHypothesisTracker:
                 g = np.flatnonzero(inside)
         xg, Pg = (x, P) if g is None else (x[g], P[g])
         gated = _gate_scan(xg, Pg, Z, self.model, logdet=self.association != "gnn" or self.gnn_score == "lecture")
+        model = self.model if self.p_detect is None or not len(xg) else with_track_p_D(self.model, self.p_detect(xg))
         if self.association == "gnn":
             gain = (
-                gnn_gains(gated, self.model)
+                gnn_gains(gated, model)
                 if self.gnn_score == "lecture"
                 else mahalanobis_gains(gated, self.missed_distance)
             )
@@ -301,9 +341,9 @@ class SingleHypothesisTracker:
             xg, Pg, det = gnn_update(gated, association, self.model)
             unused = association < 0
         else:
-            lw = jpda_log_weights(gated, self.model)
+            lw = jpda_log_weights(gated, model)
             if self.association == "jpda":
-                association = jpda_probabilities(gated, self.model, log_weights=lw, marginals=self.jpda_marginals)
+                association = jpda_probabilities(gated, model, log_weights=lw, marginals=self.jpda_marginals)
             else:
                 association = pdaf_probabilities(lw)
             xg, Pg = pda_update(gated, association, self.model)
@@ -330,8 +370,7 @@ class SingleHypothesisTracker:
             return TrackEstimates(t, self.ids.copy(), self._view.copy(), None)
         if self.lazy and len(self._since) and self._since.min() < self._times.now:
             late = np.flatnonzero(self._since < self._times.now)
-            self.x[late], self.P[late] = replay(self._predict, self.x[late], self.P[late], self._since[late],
-                                                self._times)
+            self.x[late], self.P[late] = self._catch_up(late)
             self._since[late] = self._times.now
             self._view[late] = self.x[late]
         return TrackEstimates(t, self.ids.copy(), self.x.copy(), self.P.copy())

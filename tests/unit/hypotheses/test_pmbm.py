@@ -71,6 +71,19 @@ def test_one_bernoulli_one_return_by_hand():
     assert post.map_estimate.weight == a.weight
 
 
+@pytest.mark.parametrize("threshold, reported", [(0.5, [5]), (0.7, [])])
+def test_posterior_map_estimate_uses_the_filters_existence_threshold(threshold, reported):
+    """A known object missed (no return): r = 0.9 (1 − 0.8) / (1 − 0.9 · 0.8) = 0.643, between the two
+    thresholds; the posterior's MAP estimate and ``estimates()`` report it exactly when r exceeds the option."""
+    f = pmbm(p_survive=0.9, existence_estimate=threshold, birth_means=[[3.0, 0, 0, 0]],
+             birth_covs=[np.diag([4.0, 4, 1, 1])], birth_weights=[0.2])
+    f.initialise([[0.0, 0, 0, 0]], [np.diag([2.0, 2, 1, 1])], labels=[5])
+    f.step(np.zeros((0, 2)), 0.0)
+    post = f.posterior()
+    np.testing.assert_allclose(post.top[0].existence, [0.18 / 0.28], atol=1e-12)
+    assert post.map_estimate.labels.tolist() == reported == f.estimates().labels.tolist()
+
+
 # ------------------------------------------------------------------------------------ PMB
 Z3 = np.array([[-1.0, 0.3], [2.0, -0.2], [5.0, 0.4]])
 

@@ -575,6 +575,14 @@ def test_ssa_catalogue_figures(monkeypatch):
     sf.plot_catalogue(pos, np.arange(200) % 2 == 0, make_radar(cfg), "x.pdf", "x.png")
     fig, _ = seen.pop()
     check(fig, "ssa_catalogue/catalogue")
+    from hypotrack.experiments.ssa_catalogue.scorecard import COLUMNS
+
+    card = pd.DataFrame([{**{c: float(i + 1) for c in COLUMNS}, "tracker": t, "n_objects": n, "cross_tags_per_1e4": 0.0,
+                          "realism_95": np.nan if t == "jpda" else 1.0, "unphysical_hypotheses_max": 90.0 * (i + 1)}
+                         for i, t in enumerate(names) for n in (300, 1000)])
+    sf.plot_scorecard(card, "x.pdf", "x.png")
+    fig, _ = seen.pop()
+    check(fig, "ssa_catalogue/scorecard")
 
 
 def test_ssa50_sensitivity_figure():

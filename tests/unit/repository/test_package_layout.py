@@ -34,6 +34,8 @@ CROSS_IMPORTS = {
     ("ssa_breakup", "ssa_catalogue"): "the breakup cloud tracked as the catalogue is: the catalogue experiment's "
                                       "radar, motion model, tracking problem and trackers, and its scenario as the "
                                       "sparse control",
+    ("ssa_catalogue.scorecard", "ssa_breakup"): "the catalogue scored as the breakup cloud is: the breakup "
+                                                "experiment's scored run and operator's scorecard, one code for both",
 }
 
 

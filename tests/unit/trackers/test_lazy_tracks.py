@@ -151,3 +151,89 @@ def test_lazy_with_no_tracks_and_empty_scans():
     assert len(a0) == 0 and a1.labels.tolist() == [0] and a2.P is None
     np.testing.assert_array_equal(a2.x, e2.x)
     np.testing.assert_array_equal(a.P, e.P)
+
+
+def stripes(x):
+    """In view on stripes 40 wide every 100 in x: a straight-line target leaves and comes back."""
+    return np.mod(x[:, 0], 100.0) < 40.0
+
+
+def stripe_scene(n_objects=8, n_scans=120, seed=3):
+    """Constant-velocity targets crossing the stripes (speeds 1–3 per scan), p_D = 0.9 in view, σ = 0.3,
+    Poisson clutter (mean 1) in view; truth propagated by the model's own mean."""
+    rng = np.random.default_rng(seed)
+    X = np.column_stack([rng.uniform(0, 300, n_objects), rng.uniform(0, 50, n_objects),
+                         rng.uniform(1, 3, n_objects), rng.uniform(-0.2, 0.2, n_objects)])
+    motion = ConstantVelocity(0.001)
+    scans = []
+    for k in range(n_scans):
+        if k:
+            X = motion.propagate(X, 1.0)
+        seen = stripes(X) & (rng.random(n_objects) < 0.9)
+        Z = X[seen, :2] + 0.3 * rng.standard_normal((int(seen.sum()), 2))
+        c = np.column_stack([100 * rng.integers(0, 6, 5) + rng.uniform(0, 40, 5), rng.uniform(0, 50, 5)])
+        scans.append((float(k), rng.permutation(np.vstack([Z, c[: rng.poisson(1.0)]]))))
+    return motion, scans, X
+
+
+@pytest.mark.parametrize("association", ["gnn", "jpda"])
+def test_gap_prediction_is_the_eager_posterior_for_white_noise_acceleration(association):
+    """``lazy_prediction="gap"`` predicts a deferred track once over its gap. The constant-velocity model's
+    continuous white-noise-acceleration Q composes exactly (Q(kΔ) = Σ_j Φ(Δ)^j Q(Δ) Φ(Δ)^jᵀ), so on targets
+    that leave the view and come back (with births, deletions and clutter) the gap tracker is the eager
+    one up to rounding — tracks deferred over 30 scans included."""
+    motion, scans, _ = stripe_scene()
+    model = ScanModel(np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]]), 0.09 * np.eye(2), 0.9, 0.999, 1.0 / (240 * 50))
+
+    def make_cv(**kw):
+        return SingleHypothesisTracker(motion, model, association=association, max_misses=3, in_view=stripes,
+                                       initiator=MOfNInitiator(motion, model, m=2, n=3, initial_velocity_std=3.0),
+                                       **kw)
+
+    eager, gap = make_cv(gate_out_of_view=False), make_cv(lazy=True, lazy_prediction="gap")
+    longest, compared = 0, 0
+    for k, (t, Z) in enumerate(scans):
+        e = eager.step(Z, t)
+        gap.step(Z, t)
+        np.testing.assert_array_equal(gap.estimates(covariances=False).labels, e.labels)
+        if k in (40, 80, len(scans) - 1):  # the deferred tracks brought to now, each in one step
+            longest = max(longest, gap._times.now - int(gap._since.min()))
+            g = gap.estimates()
+            np.testing.assert_allclose(g.x, e.x, rtol=0, atol=1e-9)
+            np.testing.assert_allclose(g.P, e.P, rtol=0, atol=1e-9)
+            compared += 1
+    assert compared == 3 and len(e) >= 6 and longest >= 30
+
+
+def test_gap_prediction_on_an_orbit_is_one_long_step_not_the_replay(scene):
+    """On the J2 EKF the gap tracker's deferred track is one EKF prediction over the gap (the factored
+    engine's lane), which differs from the scan-by-scan replay by the linearisation along the way."""
+    motion, scans, truth = scene
+    known = np.arange(12)
+    P0 = np.broadcast_to(np.diag([1.0, 1.0, 1.0, 1e-6, 1e-6, 1e-6]), (12, 6, 6))
+    runs = {}
+    for how in ("replay", "gap"):
+        tr = make(motion, "gnn", lazy=True, lazy_prediction=how)
+        tr.initialise(truth[0], P0, known, time=0.0)
+        for t, Z in scans[:80]:
+            tr.step(Z, t)
+        runs[how] = tr
+    tr = runs["gap"]
+    late = np.flatnonzero(tr._since < tr._times.now)
+    assert len(late) >= 3
+    j = late[0]
+    t_now, t_s = scans[79][0], scans[int(tr._since[j])][0]
+    x1, F = motion.transition(tr.x[[j]], t_now - t_s)
+    P1 = F @ tr.P[[j]] @ np.swapaxes(F, -1, -2) + motion.Q(t_now - t_s)
+    row = np.flatnonzero(tr.ids == tr.ids[j])[0]
+    g, r = tr.estimates(), runs["replay"].estimates()
+    np.testing.assert_allclose(g.x[row], x1[0], rtol=1e-12)
+    np.testing.assert_allclose(g.P[row], P1[0], rtol=1e-9, atol=1e-12)
+    assert np.abs(g.P[row] - r.P[np.flatnonzero(r.labels == g.labels[row])[0]]).max() > 1e-9
+
+
+def test_lazy_prediction_is_checked():
+    motion = ConstantVelocity(0.01)
+    model = ScanModel(np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]]), np.eye(2), 0.9, 0.99, 1e-3)
+    with pytest.raises(ValueError, match="lazy_prediction must be one of"):
+        SingleHypothesisTracker(motion, model, lazy=True, lazy_prediction="once", in_view=lambda x: x[:, 0] < 1)

@@ -269,7 +269,8 @@ def test_scan_model_stores_validated_arrays_and_names_bad_input():
     mdl = ScanModel([[1, 0, 0, 0], [0, 1, 0, 0]], [[1, 0], [0, 1]], 1, 0.5, 2, 0)
     assert isinstance(mdl.H, np.ndarray) and isinstance(mdl.R, np.ndarray) and mdl.H.dtype == float
     assert [type(v) for v in (mdl.p_D, mdl.p_gate, mdl.clutter_density, mdl.new_target_density)] == [float] * 4
-    assert set(vars(mdl)) == {"H", "R", "p_D", "p_gate", "clutter_density", "new_target_density", "gate"}
+    assert set(vars(mdl)) == {"H", "R", "p_D", "p_gate", "clutter_density", "new_target_density", "gate", "measurement"}
+    assert mdl.measurement is None  # a linear model
     good = dict(H=H, R=np.eye(2), p_D=0.9, p_gate=0.99, clutter_density=1e-3)
     for bad, msg in [(dict(H=np.full((2, 4), np.nan)), "^H must be finite"),
                      (dict(H=np.zeros((1, 2, 4))), "^H must be a 2-D array"),

@@ -13,7 +13,7 @@ import pandas as pd
 
 from ...scenarios.catalogue.breakup import gate_radius_km
 from ..ssa_catalogue.run import make_motion
-from .run import build, run_scored
+from .run import build, control_radar, run_scored
 from .scorecard import scorecard_row
 from .summary import density_rows
 
@@ -21,11 +21,12 @@ __all__ = ["score_tracker", "density", "smallest_gate_km"]
 
 
 def _section(cfg, scenario: str, cfg_catalogue):
-    """The section a scenario's trackers read: this experiment's (the control uses its own radar and metrics
-    but this experiment's trackers, model and initial errors, so both scenarios differ only in the scene)."""
+    """The section a scenario's trackers read: this experiment's (the control uses its own radar — site, field of
+    view, clutter — and metrics but this experiment's measurement model (:func:`.run.control_radar`), trackers, model
+    and initial errors, so both scenarios differ only in the scene)."""
     if scenario == "breakup":
         return cfg
-    return {**cfg, "radar": cfg_catalogue["radar"]}
+    return {**cfg, "radar": control_radar(cfg, cfg_catalogue)}
 
 
 def smallest_gate_km(cfg) -> float:

@@ -36,10 +36,13 @@ from ...metrics import gospa
 from ...metrics_scorecard import correlate_returns, purity_counts
 from ...models.plausibility import plausible_orbits
 from ...scenarios.catalogue.breakup import BreakupEvent, simulate_breakup
-from ...scenarios.catalogue.tracking import TrackerSensor
-from ..ssa_catalogue.run import build_scenario, initial_tracks, make_motion, make_problem, make_radar, make_tracker
+from ...association import gate_threshold
+from ...scenarios.catalogue.radar_model import RadarTrackerSensor
+from ..ssa_catalogue.physics import attach_tracker_snr
+from ..ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem, make_radar, make_tracker,
+                                 tracker_sensor)
 
-__all__ = ["SCENARIOS", "build_breakup", "build_control", "build", "pass_ends", "ScoredRun", "run_scored",
+__all__ = ["SCENARIOS", "MEASUREMENT_KEYS", "control_radar", "build_breakup", "build_control", "build", "pass_ends", "ScoredRun", "run_scored", "correlate_in_sensor_frame",
            "PASS_GAP_S"]
 
 SCENARIOS = ("breakup", "catalogue")
@@ -69,11 +72,26 @@ def build_control(cfg_catalogue, control, seed: int, unknown_share: float = 0.0)
     return build_scenario(c, int(control["n_objects"]), int(seed))
 
 
+#: The radar keys of the measurement model (not of the site, field of view or clutter).
+MEASUREMENT_KEYS = ("measurement", "sigma_range_km", "sigma_angle_deg", "sigma_range_rate_km_s", "range_rate_span_km_s")
+
+
+def control_radar(cfg, cfg_catalogue) -> dict:
+    """The control's radar block: the catalogue experiment's site, field of view and clutter with this section's
+    measurement model (:data:`MEASUREMENT_KEYS`), so that both scenarios are measured alike — by the ENU stand-in,
+    or by the documented radar whose returns the trackers use in the sensor frame."""
+    own = {k: cfg["radar"][k] for k in MEASUREMENT_KEYS if k in cfg["radar"]}
+    return {**cfg_catalogue["radar"], **own}
+
+
 def build(scenario: str, cfg, cfg_catalogue, seed: int):
     """The scenario tuple of ``scenario`` (one of :data:`SCENARIOS`)."""
     if scenario not in SCENARIOS:
         raise ValueError(f"scenario must be one of {SCENARIOS}, got {scenario!r}")
-    return build_breakup(cfg, seed) if scenario == "breakup" else build_control(cfg_catalogue, cfg["control"], seed, cfg["unknown_share"])
+    if scenario == "breakup":
+        return build_breakup(cfg, seed)
+    return build_control({**cfg_catalogue, "radar": control_radar(cfg, cfg_catalogue)}, cfg["control"], seed,
+                         cfg["unknown_share"])
 
 
 def pass_ends(truth: pd.DataFrame, gap_s: float = PASS_GAP_S) -> pd.DataFrame:
@@ -88,6 +106,25 @@ def pass_ends(truth: pd.DataFrame, gap_s: float = PASS_GAP_S) -> pd.DataFrame:
         rows.extend(dict(target=int(tid), pass_no=p, first_scan=int(s[a]), last_scan=int(s[b]),
                          t_first=float(t[a]), t_last=float(t[b])) for p, (a, b) in enumerate(zip(starts, ends)))
     return pd.DataFrame(rows, columns=["target", "pass_no", "first_scan", "last_scan", "t_first", "t_last"])
+
+
+def correlate_in_sensor_frame(measurement, Z, labels, X, gate_probability: float) -> np.ndarray:
+    """The sensor-frame counterpart of :func:`hypotrack.metrics_scorecard.correlate_returns` (the documented radar):
+    each return's track is the estimate (means ``X``) of smallest ``d² = νᵀ R⁻¹ ν`` — ``ν`` the return's
+    (azimuth-wrapped) residual from the estimate's predicted return ``h(x̂)``, ``R`` the radar's noise — within
+    the ``χ²₄(gate_probability)`` gate, −1 when none. As the stand-in's Euclidean gate (``√χ²₃(0.999) σ``), the
+    99.9 % gate of the measurement noise alone (the estimates' own errors are smaller); a Euclidean km gate on the
+    radar's returns would drop half of them (their cross-beam error is 1.2–2.6 km at 1,400–3,000 km)."""
+    out = np.full(len(Z), -1, np.int64)
+    if len(Z) == 0 or len(X) == 0:
+        return out
+    z_pred = measurement.h(np.asarray(X, dtype=float))
+    S = np.broadcast_to(measurement.R, (len(z_pred), *measurement.R.shape))
+    d2, _ = measurement.mahalanobis2(np.asarray(Z, dtype=float), z_pred, S)
+    j = np.argmin(d2, axis=1)
+    ok = d2[np.arange(len(Z)), j] <= gate_threshold(gate_probability, measurement.dim)
+    out[ok] = np.asarray(labels, dtype=np.int64)[j[ok]]
+    return out
 
 
 def _held_moments(tracker, labels) -> dict:
@@ -142,12 +179,14 @@ def _unphysical(tracker, X) -> tuple[int, float]:
     return bad_map, float(n)
 
 
-def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = True) -> ScoredRun:
+def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = True, on_scan=None) -> ScoredRun:
     """Step tracker ``name`` over the scans of ``scenario`` (a :func:`build` tuple) and record the scorecard's
     inputs (module docstring). ``cfg``: the section holding ``model``, ``trackers``, ``metrics``, the initial
-    errors and ``radar``."""
+    errors and ``radar``. ``on_scan(k, tracker, est_pos, truth_pos)``, if given, returns further columns of scan
+    ``k``'s ``per_scan`` row (the estimates and truths in view, TEME positions): an experiment that records more
+    per scan does so in this one run."""
     objects, unknown, sc, init_seed = scenario
-    tsensor = TrackerSensor(sc.sensors[0])
+    tsensor = attach_tracker_snr(cfg, tracker_sensor(sc.sensors[0]))  # the scans' detection model, as run_tracker
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
     tracker = make_tracker(name, cfg, problem, int(seed))
@@ -175,7 +214,10 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
         g = by_scan.get(k)
         TX = g[["state_0", "state_1", "state_2"]].to_numpy() if g is not None else np.zeros((0, 3))
         tid = g["target"].to_numpy(np.int64) if g is not None else np.zeros(0, np.int64)
-        cor = correlate_returns(Zt, lab, EX, gate)
+        if isinstance(tsensor, RadarTrackerSensor):
+            cor = correlate_in_sensor_frame(tsensor.measurement, Zt, lab, X_all[inv], cfg["model"]["gate_probability"])
+        else:
+            cor = correlate_returns(Zt, lab, EX, gate)
         ret_rows.append(pd.DataFrame(dict(scan=k, origin=np.asarray(origin, np.int64), label=cor)))
         lab_of = np.full(len(TX), -1, np.int64)
         if len(TX) and len(EX):
@@ -193,7 +235,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
         rows.append(dict(tracker=name, scan=k, time=float(t_k), cpu_s=cpu, n_returns=len(Z), n_in_view=len(TX),
                          n_estimates=len(EX), gospa_loc=gr.localisation, gospa_missed=gr.missed, gospa_false=gr.false,
                          false=pur["false"], duplicate=pur["duplicate"], unphysical_map=bad_map,
-                         unphysical_hypotheses=bad_hyp))
+                         unphysical_hypotheses=bad_hyp, **(on_scan(k, tracker, EX, TX) if on_scan else {})))
         final = k == len(scans) - 1
         need = [(t, p, last_label[t]) for t, p in ends_at.get(k, []) if t in last_label]
         if final:  # every catalogued object: its last assigned track, else (a known object) its own label

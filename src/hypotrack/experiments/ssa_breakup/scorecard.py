@@ -4,12 +4,14 @@
 * **re-acquisition** (:func:`reacquisitions`): each object's track at the last scan of a pass (as held,
   :func:`.run.run_scored`) predicted by the trackers' EKF (``x' = f(x)``, ``P' = Φ P Φ^T + Q(Δt)``) to the
   first scan of the object's next pass, against the truth there: the RIC error, the squared Mahalanobis
-  distance of the position error under ``P'`` (realism: the share inside ``χ²₃(0.95)``), whether it is
+  distance of the position error under ``P'`` (realism: the share inside ``χ²₃(0.95)``, and the mean of ``d²/3``,
+  1 for a realistic covariance, below 1 for one too wide), whether it is
   within ``completeness_km`` (5 km), and whether the **nearest other object** in view then lies inside the
   track's gate (``(p_other − x')^T (P'_pos + σ² I)^-1 (p_other − x') ≤ χ²₃(P_G)``) — the share of
   re-acquisitions open to a cross-tag;
-* **time to orbit**: per object, from its first return to the end of the first pass whose track re-acquires
-  it within ``completeness_km`` at its next pass (objects with such a pass only);
+* **time to orbit** (:func:`~hypotrack.metrics_scorecard.time_to_orbit`): per object, from its first return to
+  the end of the first pass whose track re-acquires it within ``completeness_km`` at its next pass (objects with
+  such a pass only);
 * **completeness** (:func:`completeness`): every object of the scenario's catalogue, its track's state at the
   last scan predicted to the object's next pass after the run (first scan in view within
   ``next_pass_horizon_s``, else the horizon's end), within ``completeness_km`` of the truth; an object without
@@ -23,7 +25,7 @@ import pandas as pd
 from scipy.stats import chi2
 
 from ...metrics_scorecard import (CROSS_TAG_CAUSES, chi2_share, cross_tag_causes, gospa_parts_per_object, id_switches,
-                                  label_owners, mahalanobis2, per, return_tallies, ric_error)
+                                  label_owners, mahalanobis2, per, return_tallies, ric_error, time_to_orbit)
 from ...scenarios.catalogue.frames import gmst, teme_to_ef
 from ...scenarios.catalogue.propagation import time_grid_jd
 from .custody import first_return_own, reacquired_same_label
@@ -98,34 +100,28 @@ def next_pass(sc, after_s: float, horizon_s: float, step_s: float = 30.0):
 
 
 def completeness(run, sc, motion, horizon_s: float, completeness_km: float) -> tuple[int, int]:
-    """``(complete, catalogued)`` (module docstring)."""
+    """``(complete, catalogued)`` (module docstring); the held tracks predicted in one batch, each by its own
+    interval (:meth:`propagate_each`, the EKF mean of :func:`predict`)."""
     final = {e["target"]: e for e in run.ends if e["pass_no"] < 0}
     t_end = float(sc.times[-1])
     t_next, X_next, ok = next_pass(sc, t_end, horizon_s)
     ids = sc.catalogue["norad"].to_numpy(np.int64)
-    done = 0
-    for i, tid in enumerate(ids):
-        e = final.get(int(tid))
-        if e is None or not ok[i]:
-            continue
-        x = motion.propagate(e["x"][None], float(t_next[i] - e["t_x"]))[0]
-        done += int(np.linalg.norm(x[:3] - X_next[i, :3]) <= completeness_km)
+    rows = [i for i, tid in enumerate(ids) if ok[i] and int(tid) in final]
+    if not rows:
+        return 0, int(ok.sum())
+    ev = [final[int(ids[i])] for i in rows]
+    x = motion.propagate_each(np.array([e["x"] for e in ev]), np.array([t_next[i] - e["t_x"] for i, e in zip(rows, ev)]))
+    done = int((np.linalg.norm(x[:, :3] - X_next[rows, :3], axis=1) <= completeness_km).sum())
     return done, int(ok.sum())
 
 
 def _time_to_orbit(run, reacq: pd.DataFrame, scan_times) -> tuple[float, int]:
-    """Mean seconds from an object's first return to the end of its first pass re-acquired within the radius,
-    and the number of objects with such a pass."""
+    """Mean time to orbit (:func:`~hypotrack.metrics_scorecard.time_to_orbit`; s) over the objects with one, and
+    their number."""
     r = run.returns[run.returns["origin"] >= 0]
-    if len(r) == 0 or len(reacq) == 0:
-        return float("nan"), 0
-    first = r.groupby("origin")["scan"].min()
-    good = reacq[reacq["within"]].sort_values("t_end").groupby("target")["t_end"].first()
-    common = good.index.intersection(first.index)
-    if len(common) == 0:
-        return float("nan"), 0
-    dt = good.loc[common].to_numpy() - np.asarray(scan_times)[first.loc[common].to_numpy()]
-    return float(np.mean(dt)), int(len(common))
+    _, dt = time_to_orbit(r["origin"], np.asarray(scan_times, float)[r["scan"].to_numpy(np.int64)], reacq["target"],
+                          reacq["t_end"], reacq["within"])
+    return (float(np.mean(dt)) if len(dt) else float("nan")), int(len(dt))
 
 
 def scorecard_row(run, scenario, cfg, motion) -> dict:
@@ -152,10 +148,12 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
                rms_radial_km=float(np.sqrt(np.mean(reacq["err_r"] ** 2))) if len(reacq) else float("nan"),
                rms_intrack_km=float(np.sqrt(np.mean(reacq["err_i"] ** 2))) if len(reacq) else float("nan"),
                rms_crosstrack_km=float(np.sqrt(np.mean(reacq["err_c"] ** 2))) if len(reacq) else float("nan"),
-               realism_95=chi2_share(reacq["d2"], 0.95), nn_in_gate_share=float(reacq["nn_in_gate"].mean())
+               realism_95=chi2_share(reacq["d2"], 0.95),
+               realism_mean_d2=float(np.mean(reacq["d2"]) / 3) if len(reacq) else float("nan"), nn_in_gate_share=float(reacq["nn_in_gate"].mean())
                if len(reacq) else float("nan"), time_to_orbit_s=t_orbit, objects_with_orbit=n_orbit,
                unphysical_map_per_scan=float(ps["unphysical_map"].mean()),
                unphysical_hypotheses_per_scan=float(ps["unphysical_hypotheses"].mean()),
+               unphysical_hypotheses_max=float(ps["unphysical_hypotheses"].max()),
                cpu_s=float(ps["cpu_s"].sum()))
     ids = sc.catalogue["norad"].to_numpy(np.int64)
     catalogued = ids[~np.isin(ids, np.asarray(unknown, dtype=np.int64))]

@@ -14,8 +14,7 @@ import time
 import numpy as np
 import pandas as pd
 
-from ...scenarios.catalogue.tracking import TrackerSensor
-from .run import initial_tracks, build_scenario, make_motion, make_problem, make_tracker
+from .run import initial_tracks, build_scenario, make_motion, make_problem, make_tracker, tracker_sensor
 
 __all__ = ["fast_path_timing"]
 
@@ -45,7 +44,7 @@ def fast_path_timing(cfg, n: int, seed: int, trackers=("glmb", "homht_kbest"), *
     a state (both paths alike), the scans before it timed.
     """
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
-    tsensor = TrackerSensor(sc.sensors[0])
+    tsensor = tracker_sensor(sc.sensors[0])
     motion = make_motion(cfg)
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, motion, means, covs, labels)

@@ -1,4 +1,5 @@
-"""Figures of the ``ssa_catalogue`` experiment: cost against N, groups over time, the catalogue and the radar.
+"""Figures of the ``ssa_catalogue`` experiment: cost against N, groups over time, the catalogue and the radar, the
+operator's scorecard.
 
 Sized for a full text width (6.5 in) with ≥ 8 pt labels; legends sit outside the data.
 """
@@ -10,7 +11,7 @@ import pandas as pd
 
 from .summary import TRACKER_NAMES, slopes
 
-__all__ = ["plot_cost", "plot_groups", "plot_catalogue"]
+__all__ = ["plot_cost", "plot_groups", "plot_catalogue", "plot_scorecard"]
 
 _STYLE = {"font.size": 8, "axes.labelsize": 8, "xtick.labelsize": 8, "ytick.labelsize": 8, "legend.fontsize": 8}
 
@@ -121,4 +122,78 @@ def plot_catalogue(positions_ef: np.ndarray, is_debris: np.ndarray, radar, pdf, 
     ax.set_ylim(-90, 90)
     ax.grid(alpha=0.3)
     _fs().legend_below(fig, *ax.get_legend_handles_labels(), ncol=2, frameon=False, markerscale=3)
+    _save(fig, pdf, png)
+
+
+_SHORT = {"glmb": "δ-GLMB", "homht_kbest": "HOMHT", "rfisst": "R-FISST", "gnn": "GNN", "jpda": "JPDA"}
+
+
+def _bars(ax, names, series, colours, labels, *, log=False):
+    """Grouped bars, one group per tracker; a zero bar is marked "0" and a missing one "–" (invisible otherwise);
+    the legend above the axes, out of the data."""
+    x = np.arange(len(names))
+    w = 0.8 / len(series)
+    top = 0.0
+    for i, (vals, col, lab) in enumerate(zip(series, colours, labels)):
+        xi = x + (i - (len(series) - 1) / 2) * w
+        v = np.asarray(vals, float)
+        ax.bar(xi, np.where(np.isfinite(v), v, 0.0), w, color=col, label=lab)
+        top = max(top, float(np.nanmax(v)) if np.isfinite(v).any() else 0.0)
+        for xx, vv in zip(xi, v):
+            if not np.isfinite(vv) or vv == 0:
+                ax.annotate("0" if np.isfinite(vv) else "–", (xx, 0), xytext=(0, 1), textcoords="offset points",
+                            ha="center", va="bottom", color=col, fontsize=7)
+    ax.set_xticks(x, [_SHORT.get(t, t) for t in names], rotation=45, ha="right", rotation_mode="anchor")
+    if log:
+        ax.set_yscale("symlog", linthresh=1.0)
+        ax.set_ylim(0, max(top, 1.0) * 3.0)  # the tallest bar inside the axes on the log part
+    if top == 0:  # nothing but zeros or gaps: an axis from 0, not around it
+        ax.set_ylim(0, 1)
+    ax.grid(alpha=0.3, axis="y")
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), frameon=False, fontsize=7, ncol=len(series),
+              handlelength=1.0, columnspacing=0.8, handletextpad=0.4)
+
+
+def plot_scorecard(table: pd.DataFrame, pdf, png):
+    """The operator's scorecard at the largest N, one group of bars per tracker (``table`` of
+    :func:`.scorecard.scorecard_table`): returns per 10⁴; false and duplicate entries per 1,000; completeness and
+    covariance realism (the 95 % goal dashed); RMS error at re-acquisition (R, I, C); GOSPA per object in view by
+    part (stacked); unphysical hypotheses per scan (mean, max; symlog)."""
+    plt = _plt()  # noqa: F841 (the report style)
+    n = int(table["n_objects"].max())
+    t = table[table["n_objects"] == n]
+    names = [x for x in TRACKER_NAMES if x in set(t["tracker"])]
+    t = t.set_index("tracker").reindex(names)
+    fig, ax = _fs().subplots(3, 2, height=6.6)
+    a = ax.ravel()
+    _bars(a[0], names, [t["cross_tags_per_1e4"], t["orphan_per_1e4"], t["uncorrelated_per_1e4"]],
+          ["tab:red", "tab:orange", "tab:gray"], ["cross-tag", "to an unowned track", "uncorrelated"])
+    a[0].set_ylabel("object returns per 10$^4$")
+    _bars(a[1], names, [t["false_per_1000"], t["duplicate_per_1000"]], ["tab:purple", "tab:brown"],
+          ["false", "duplicate"])
+    a[1].set_ylabel("entries per 1,000 estimates")
+    _bars(a[2], names, [t["completeness"], t["realism_95"]], ["tab:blue", "tab:green"], ["completeness", "realism"])
+    a[2].axhline(0.95, color="k", ls="--", lw=0.8)
+    a[2].set_ylim(0, 1.05)
+    a[2].set_ylabel("share of objects / re-acquisitions")
+    _bars(a[3], names, [t["rms_radial_km"], t["rms_intrack_km"], t["rms_crosstrack_km"]],
+          ["tab:cyan", "tab:blue", "tab:olive"], ["radial", "in-track", "cross-track"])
+    a[3].set_ylabel("RMS error at re-acquisition (km)")
+    x = np.arange(len(names))
+    bottom = np.zeros(len(names))
+    for col, c, lab in (("gospa_localisation_per_object_km", "tab:blue", "localisation"),
+                        ("gospa_missed_per_object_km", "tab:orange", "missed"),
+                        ("gospa_false_per_object_km", "tab:red", "false")):
+        v = t[col].fillna(0.0).to_numpy(float)
+        a[4].bar(x, v, 0.6, bottom=bottom, color=c, label=lab)
+        bottom += v
+    a[4].set_xticks(x, [_SHORT.get(n_, n_) for n_ in names], rotation=45, ha="right", rotation_mode="anchor")
+    a[4].set_ylabel("GOSPA per object in view (km)")
+    a[4].grid(alpha=0.3, axis="y")
+    a[4].legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), frameon=False, fontsize=7, ncol=3, handlelength=1.0,
+                columnspacing=0.8, handletextpad=0.4)
+    _bars(a[5], names, [t["unphysical_hypotheses_per_scan"], t["unphysical_hypotheses_max"]],
+          ["tab:gray", "k"], ["mean", "max"], log=True)
+    a[5].set_ylabel("unphysical hypotheses per scan")
+    fig.suptitle(f"Operator's scorecard, N = {n} catalogue objects", fontsize=8)
     _save(fig, pdf, png)

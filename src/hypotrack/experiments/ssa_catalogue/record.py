@@ -25,6 +25,7 @@ import pandas as pd
 
 from ...reporting.readme import CATALOGUE_RECORD
 from ...reporting.record import RECORD, ROOT, comparable, config_differences, full_config, rewrite_readme, run_step
+from .run import evaluated_on
 from .summary import full_record_markdown
 
 __all__ = ["TABLE", "CONFIG", "BLOCK", "render_record", "update_catalogue_record"]
@@ -59,7 +60,7 @@ def update_catalogue_record(results, record=RECORD, readme=ROOT / "README.md", w
         raise FileNotFoundError(f"results {source} lacks {', '.join(missing)}: run the ssa_catalogue rules first")
     run = comparable(json.loads((source / "run_config.json").read_text()))
     full = full_config(workflow_dir)
-    want = comparable({"seed": full["seed"], "ssa_catalogue": full["ssa_catalogue"]})
+    want = comparable({"seed": evaluated_on(full["ssa_catalogue"], full["seed"])[0], "ssa_catalogue": full["ssa_catalogue"]})
     differ = config_differences(run, want)
     if differ and not force:
         raise ValueError("the run's ssa_catalogue config is not workflows/config/full.yaml's (differs at "

@@ -7,7 +7,12 @@ Scenario (config section ``ssa_catalogue``)
 * **sensor**: one ground radar (:class:`~hypotrack.scenarios.catalogue.GroundRadar`, its
   site, field of view, 10-s revisit, p_D and Poisson clutter from the config) reporting ENU
   positions with isotropic error σ — converted to TEME positions for the trackers
-  (:mod:`hypotrack.scenarios.catalogue.tracking`);
+  (:mod:`hypotrack.scenarios.catalogue.tracking`) — or, with ``radar.measurement: rae_rate``, the
+  documented radar's range, azimuth, elevation and range-rate (σ from ``sigma_range_km``,
+  ``sigma_angle_deg``, ``sigma_range_rate_km_s``; :mod:`hypotrack.scenarios.catalogue.radar_model`),
+  which the trackers use **in the sensor frame** (:func:`tracker_sensor`: an EKF update with
+  ``z = h(x)``, a per-track Jacobian and a constant ``R``; births from ``model.birth``: ``one_point``
+  or ``admissible``, the admissible-region mixture of :mod:`hypotrack.scenarios.catalogue.admissible`);
 * **motion model** of every tracker (:func:`make_motion`, ``trackers.motion``): the EKF of
   two-body motion plus J2 (:class:`~hypotrack.models.orbit3d.J2Orbit3D`), which neglects the
   higher zonals, drag and third bodies (SGP4 has them), or of two-body motion alone
@@ -47,15 +52,19 @@ from ...scenarios.catalogue import (
     GroundSite,
     RadarFieldOfView,
     load_catalogue,
+    reference_epoch,
     select_groups,
     simulate_catalogue,
 )
+from ...scenarios.catalogue.admissible import AdmissibleRegionBirth
+from ...scenarios.catalogue.radar_model import RadarOnePointBirth, RadarTrackerSensor
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
 from ...trackers import ScanModel, SingleHypothesisTracker
 from ..stepping import SHTStepper, max_abs_difference
+from .physics import attach_tracker_snr, model_survival, model_validity, object_sizes, radar_snr
 
-__all__ = ["MOTIONS", "REENTRY_GAP_SCANS", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
+__all__ = ["evaluated_on", "check_tuning", "MOTIONS", "REENTRY_GAP_SCANS", "BIRTHS", "tracker_sensor", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
            "CatalogueSHTStepper", "peer_rows"]
 
@@ -94,13 +103,33 @@ def select_population(n: int, debris_group: str, debris_share: float, unknown_sh
 
 
 def make_radar(cfg) -> GroundRadar:
-    """The radar of the config's ``radar`` block (ENU returns, isotropic σ)."""
+    """The radar of the config's ``radar`` block: ENU returns with isotropic σ (``sigma_km``; the default), or
+    with ``measurement: rae_rate`` the documented radar's (ρ, az, el, ρ̇) with ``sigma_range_km``,
+    ``sigma_angle_deg`` (azimuth and elevation) and ``sigma_range_rate_km_s`` (defaults 0.03 km, 0.05°, 0.01 km/s:
+    :mod:`hypotrack.scenarios.catalogue.radar_model` cites them); optional SNR detection (:mod:`.physics`)."""
     r = cfg["radar"]
     site = GroundSite(r["lat_deg"], r["lon_deg"], r["alt_km"], "radar site")
     fov = RadarFieldOfView(r["az_center_deg"], r["az_width_deg"], r["el_min_deg"], r["el_max_deg"],
                            r["r_min_km"], r["r_max_km"])
+    kind = r.get("measurement", "enu")
+    if kind == "rae_rate":
+        ang = float(r.get("sigma_angle_deg", 0.05))
+        return GroundRadar(site, fov, revisit_s=r["revisit_s"], p_D=r["p_D"], clutter_rate=r["clutter_rate"],
+                           measurement="rae_rate", sigma_range_km=float(r.get("sigma_range_km", 0.03)), sigma_az_deg=ang,
+                           sigma_el_deg=ang, sigma_range_rate_km_s=float(r.get("sigma_range_rate_km_s", 0.01)),
+                           range_rate_span_km_s=float(r.get("range_rate_span_km_s", 8.0)), snr=radar_snr(r))
+    if kind != "enu":
+        raise ValueError(f"radar.measurement must be 'enu' or 'rae_rate', got {kind!r}")
     return GroundRadar(site, fov, revisit_s=r["revisit_s"], p_D=r["p_D"], clutter_rate=r["clutter_rate"],
-                       measurement="enu", sigma_enu_km=r["sigma_km"])
+                       measurement="enu", sigma_enu_km=r["sigma_km"], snr=radar_snr(r))
+
+
+def tracker_sensor(radar: GroundRadar):
+    """The trackers' sensor of ``radar``: the ENU stand-in's TEME positions (:class:`TrackerSensor`, linear ``H``)
+    or, for the documented radar (``measurement="rae_rate"``), :class:`RadarTrackerSensor` — the trackers then work
+    in the sensor frame (its noise is Gaussian with a constant covariance there; a Cartesian conversion would need a
+    covariance per return and could not carry the range-rate linearly)."""
+    return RadarTrackerSensor(radar) if radar.measurement == "rae_rate" else TrackerSensor(radar)
 
 
 #: The trackers' motion models (``trackers.motion``).
@@ -116,12 +145,37 @@ def make_motion(cfg):
     return MOTIONS[m["motion"]](q=m["process_noise_q"])
 
 
+def evaluated_on(cfg, seed: int) -> tuple[int, float]:
+    """``(seed, start offset s)`` of the evaluated run — another seed and time window than the ones the model was
+    tuned on: ``tuning.evaluated_on`` of the section (its ``seed`` and ``start_offset_s``), else the pipeline's
+    ``seed`` from the catalogue's epoch."""
+    ev = (cfg.get("tuning") or {}).get("evaluated_on") or {}
+    return int(ev.get("seed", seed)), float(ev.get("start_offset_s", 0.0))
+
+
+def check_tuning(cfg) -> None:
+    """The evaluated run must differ from the one the parameters were tuned on, in seed and in time window."""
+    t = cfg.get("tuning")
+    if not t:
+        return
+    a, b = t.get("tuned_on") or {}, t.get("evaluated_on") or {}
+    if a.get("seed") == b.get("seed"):
+        raise ValueError(f"ssa_catalogue.tuning.evaluated_on.seed must differ from tuned_on.seed, both {a.get('seed')!r}")
+    if float(a.get("start_offset_s", 0.0)) == float(b.get("start_offset_s", 0.0)):
+        raise ValueError("ssa_catalogue.tuning.evaluated_on.start_offset_s must differ from tuned_on.start_offset_s "
+                         f"(another time window), both {a.get('start_offset_s', 0.0)!r}")
+
+
 def build_scenario(cfg, n: int, seed: int):
-    """Objects, unknown NORAD numbers and the simulated :class:`CatalogueScenario` for size ``n``."""
+    """Objects, unknown NORAD numbers and the simulated :class:`CatalogueScenario` for size ``n``; scan 0 at the
+    catalogue's epoch plus the evaluated run's start offset (:func:`evaluated_on`; the seed is the caller's)."""
     ss = np.random.SeedSequence([int(seed), int(n)])
     pop_seed, sim_seed, init_seed = (int(s.generate_state(1)[0]) for s in ss.spawn(3))
     objects, unknown = select_population(n, cfg["debris_group"], cfg["debris_share"], cfg["unknown_share"], pop_seed)
-    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed)
+    offset = evaluated_on(cfg, seed)[1]
+    start = reference_epoch(objects) + pd.Timedelta(seconds=offset) if offset else None
+    sc = simulate_catalogue(objects, make_radar(cfg), n_scans=cfg["n_scans"], seed=sim_seed, start=start,
+                            sizes=object_sizes(cfg, objects))
     return objects, unknown, sc, init_seed
 
 
@@ -137,19 +191,40 @@ def initial_tracks(sc, unknown, cfg, init_seed):
     return X[known] + err, P, norad[known]
 
 
-def make_problem(cfg, tsensor: TrackerSensor, motion, means, covs, labels) -> TrackingProblem:
+#: The births of ``model.birth``: one-point (position at the return, velocity ``N(0, birth_velocity_std²)``; with the
+#: documented radar, across the line of sight, the range-rate measured along it) or the admissible region's mixture.
+BIRTHS = ("one_point", "admissible")
+
+
+def make_problem(cfg, tsensor, motion, means, covs, labels) -> TrackingProblem:
     """The catalogue as a :class:`~hypotrack.registry.TrackingProblem`: the known objects at scan 0, the radar
-    (TEME returns), the EKF, the revisit interval, and births from the returns (``model`` block):
-    adaptive birth terms (δ-GLMB, R-FISST), Reid's births seeded at the returns (HOMHT) and GNN/JPDA's
-    ``β_NT``, all from ``homht_births_per_scan`` and the birth spreads; a miss counts in view only."""
+    (TEME returns, or the documented radar's in the sensor frame: :func:`tracker_sensor`), the EKF, the revisit
+    interval, and births from the returns (``model`` block): adaptive birth terms (δ-GLMB, R-FISST), Reid's births
+    seeded at the returns (HOMHT) and GNN/JPDA's ``β_NT``, all from ``homht_births_per_scan`` and the birth
+    spreads; a miss counts in view only. ``model.birth: admissible`` (documented radar only) makes each adaptive
+    birth the admissible-region mixture of its return (``model.admissible_blocks`` blocks per axis, default 3),
+    its components terms of existence ``r_birth × weight``; HOMHT's seeded births and GNN/JPDA's initiation stay
+    one-point (a seeded birth is one Gaussian); the optional death model and plausibility test of
+    :mod:`.physics` (``unconfirmed_decay``, ``plausibility``)."""
     m = cfg["model"]
+    birth = m.get("birth", "one_point")
+    if birth not in BIRTHS:
+        raise ValueError(f"model.birth must be one of {BIRTHS}, got {birth!r}")
+    radar = isinstance(tsensor, RadarTrackerSensor)
+    if birth == "admissible" and not radar:
+        raise ValueError("model.birth: admissible needs the documented radar (radar.measurement: rae_rate): the "
+                         "admissible region is of a (range, azimuth, elevation, range-rate) return")
+    mixture = AdmissibleRegionBirth(tsensor, n_blocks=int(m.get("admissible_blocks", 3))) if birth == "admissible" else None
     adaptive = AdaptiveBirth(position_std=m["birth_position_std_km"], velocity_std=m["birth_velocity_std_km_s"],
-                             r_birth=m["r_birth"], gate_probability=m["gate_probability"])
+                             r_birth=m["r_birth"], gate_probability=m["gate_probability"], mixture=mixture)
+    seeded = (RadarOnePointBirth(tsensor.measurement, m["birth_velocity_std_km_s"], m["birth_position_std_km"]) if radar
+              else OnePointBirth(m["birth_velocity_std_km_s"], m["birth_position_std_km"]))
     births = MeasurementBirths(adaptive, r_birth=m["r_birth"],
                                seeded_intensity=m["homht_births_per_scan"] / tsensor.clutter.region.area,
-                               seeded_density=OnePointBirth(m["birth_velocity_std_km_s"], m["birth_position_std_km"]))
+                               seeded_density=seeded, survival=model_survival(m))
     return TrackingProblem(motion, tsensor, means, covs, labels, time=0.0, dt=cfg["radar"]["revisit_s"],
-                           births=births, in_view=lambda x: tsensor.detection.in_view(x[:, :3]))
+                           births=births, in_view=lambda x: tsensor.detection.in_view(x[:, :3]),
+                           validity=model_validity(m))
 
 
 def tracker_spec(cfg, name: str, **factored) -> TrackerSpec:
@@ -202,7 +277,7 @@ def run_tracker(name: str, cfg, n: int, seed: int, *, memory: bool = False, scen
     """
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     radar = sc.sensors[0]
-    tsensor = TrackerSensor(radar)
+    tsensor = attach_tracker_snr(cfg, tracker_sensor(radar))
     motion = make_motion(cfg)
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     scans = sc.scan_list(0)
@@ -353,7 +428,7 @@ def parallel_timing(name: str, cfg, n: int, seed: int, workers: int, pools, *, s
     if any(p not in ("process", "thread") for p in pools):
         raise ValueError(f"pools must hold 'process' and/or 'thread', got {pools!r}")
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
-    tsensor = TrackerSensor(sc.sensors[0])
+    tsensor = tracker_sensor(sc.sensors[0])
     motion = make_motion(cfg)
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, motion, means, covs, labels)
@@ -429,7 +504,9 @@ class PeerScenario:
 def peer_scenario(cfg, n: int, seed: int, scenario=None) -> PeerScenario:
     """:class:`PeerScenario` of size ``n`` (known objects only; the radar's returns in TEME)."""
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
-    tsensor = TrackerSensor(sc.sensors[0])
+    tsensor = tracker_sensor(sc.sensors[0])
+    if isinstance(tsensor, RadarTrackerSensor):
+        raise ValueError("the peer trackers run on a linear measurement: radar.measurement must be 'enu' for peer_scenario")
     means, covs, _ = initial_tracks(sc, unknown, cfg, init_seed)
     times, returns = [], []
     for k, (t_k, Z) in enumerate(sc.scan_list(0)):

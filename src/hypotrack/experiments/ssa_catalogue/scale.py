@@ -30,8 +30,7 @@ import pandas as pd
 
 from ...scenarios.catalogue import load_catalogue
 from ...scenarios.catalogue.clones import simulate_clones
-from ...scenarios.catalogue.tracking import TrackerSensor
-from .run import initial_tracks, make_motion, make_problem, make_radar, make_tracker
+from .run import initial_tracks, make_motion, make_problem, make_radar, make_tracker, tracker_sensor
 
 __all__ = ["FIGURES", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
 
@@ -59,7 +58,7 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
     load0 = os.getloadavg()[0]
     wall0 = time.perf_counter()
     objects, unknown, sc, init_seed = clone_scenario(cfg, n, seed, n_scans=s["n_scans"], chunk=s["chunk"])
-    tsensor = TrackerSensor(sc.sensors[0])
+    tsensor = tracker_sensor(sc.sensors[0])
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
     factored = s.get("factored") or {}

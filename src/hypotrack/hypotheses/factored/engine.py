@@ -10,6 +10,7 @@ import numpy as np
 
 from ..._validation import check_finite_array, check_int, check_measurements
 from ...protocol import TrackEstimates
+from ..detection import state_p_detect
 from ..factored_groups import factorise, product
 from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
@@ -19,8 +20,8 @@ from ..tracks import TrackStore
 from .fast_path import FastBatch, birth_existence, fast_components, fast_rule
 from .lane import GroupSet, Lane, cat, is_singleton, predict_each, silent, singleton, take
 from .options import FactoredOptions
-from .planner import (ObjectIds, Scores, interaction_parts, prune, quiet_plan, scan_graph, scorable, split_group,
-                      touched_plan)
+from .planner import (ObjectIds, Scores, innovation_covariances, interaction_parts, prune, quiet_plan, scan_graph,
+                      scorable, split_group, touched_plan)
 from .pool import WorkerPool
 from .summary import FactoredPosterior
 
@@ -152,7 +153,7 @@ class FactoredFilter:
         self._engine = engine  # the template of every group's step: models, population, settings; no hypotheses
         self._pool = WorkerPool()
         self.rng = engine.rng
-        self.ndim = engine.H.shape[1]
+        self.ndim = engine.state_dim
         # singletons are exactly their Gaussian when a quiet group takes no population event
         self._lane_on = silent(engine.population)
 
@@ -296,7 +297,7 @@ class FactoredFilter:
         t0 = _clock.perf_counter()
         E = self._engine
         interval, now = scan_interval(self.time, time, dt, E.dt)
-        Z = check_measurements(Z, "Z", E.H.shape[0])
+        Z = check_measurements(Z, "Z", E.meas_dim)
         scan = self._predict_and_score(Z, interval, now)
         graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
                            E.weights.seeded_births)
@@ -317,7 +318,7 @@ class FactoredFilter:
         ab = self._options.adaptive_birth
         if ab is not None:
             # the next scan's birth terms: one at each return no group or birth term explained
-            terms = ab.terms(Z[graph.unexplained], E.H, E.R, E.motion, interval)
+            terms = ab.terms(Z[graph.unexplained], E.H, E.R, E.motion, interval, measurement=E.measurement)
             self._set_birth_terms(terms)
             stats["n_adaptive_terms"] = len(terms)
         self.last_stats = stats
@@ -355,8 +356,8 @@ class FactoredFilter:
         if rule is None:
             return None
         r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
-        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z, E.H, E.R,
-                               E.weights.seeded_births, r_birth, E.population)
+        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z,
+                               E.H if E.H is not None else E.measurement, E.R, E.weights.seeded_births, r_birth, E.population)
         n = len(fast.store)
         stats.update(n_fast_path=n, n_fast_births=fast.n_births, n_fast_clutter=fast.n_clutter,
                      n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)
@@ -456,7 +457,7 @@ class FactoredFilter:
         and whether each is in the field of view."""
         E = self._engine
         view = means if interval == 0 else E.motion.propagate(means, interval)
-        return view, E.sensor.detection.in_view(view @ E.H.T)
+        return view, E.sensor.detection.in_view(view @ E.H.T if E.H is not None else E.measurement.view_points(view))
 
     def _scores(self, pred, Z) -> Scores:
         """Every return against every predicted track (the engine's
@@ -466,7 +467,11 @@ class FactoredFilter:
         an orbit flung out by a wrong update in an unlikely hypothesis and predicted for an hour) takes no
         return and is not missed (``p_D = 0``) instead of aborting the scan."""
         E = self._engine
-        ok = scorable(pred.covs, E.H, E.R)
+        if len(pred):
+            with np.errstate(invalid="ignore", over="ignore"):
+                ok = scorable(innovation_covariances(E.measurement, pred.means, pred.covs))
+        else:
+            ok = np.ones(0, dtype=bool)
         if ok.all():
             loglik, allowed, p_detect = E.track_scores(pred, Z)
         else:
@@ -474,13 +479,18 @@ class FactoredFilter:
             loglik, allowed = np.full((len(Z), len(pred)), -np.inf), np.zeros((len(Z), len(pred)), dtype=bool)
             p_detect = np.zeros(len(pred))
             loglik[:, good], allowed[:, good], p_detect[good] = E.track_scores(take(pred, good), Z)
+        p_detect = state_p_detect(E.sensor.detection, pred.means, p_detect)
+        p_detect[~ok] = 0.0
         if not self._options.gate_out_of_view:
             allowed = allowed & (p_detect > 0)[None, :]
         track_survival = getattr(self._engine.population, "track_survival", None)
         return Scores(loglik, allowed, p_detect, None if track_survival is None else track_survival(pred))
 
     def _set_birth_terms(self, terms):
-        pop = self._engine.population.with_birth_terms(terms, r_birth=self._options.adaptive_birth.r_birth)
+        r_birth = self._options.adaptive_birth.r_birth
+        if any(getattr(t, "weight", 1.0) != 1.0 for t in terms):  # an admissible-region mixture's components
+            r_birth = r_birth * np.array([t.weight for t in terms])
+        pop = self._engine.population.with_birth_terms(terms, r_birth=r_birth)
         self._engine.set_population(pop)
 
     # ------------------------------------------------------------------ pool

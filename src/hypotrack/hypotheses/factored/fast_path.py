@@ -216,9 +216,9 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     n_new = np.full(len(j), rule.n_new, np.int64)
     if rule.validity is None:
         take = rule.takes(loglik, p_detect)
-        x, P = update_unchecked(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
+        x, P = _update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
     else:  # every child's tracks tested, as the general step tests them
-        x, P = update_unchecked(pred.means[cols], pred.covs[cols], Z[rows], H, R)
+        x, P = _update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
         valid = np.repeat(_valid(rule.validity, pred.means[cols])[:, None], len(rule.alt_offsets), axis=1)
         if rule.n_new:  # the seeded birth child also holds the newborn track
             born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
@@ -243,6 +243,14 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     return FastBatch(comps, np.concatenate([keys, G + L + b, np.full(len(lone), len(graph.node_lab))]).astype(np.int64),
                      TrackStore(x, P, pred.labels[cols]), keys,
                      np.concatenate([n_new, b_new, np.zeros(len(lone), np.int64)]).astype(np.int64), len(b), len(lone))
+
+
+def _update(means, covs, Z, H, R):
+    """Kalman update with ``H`` and ``R``, or with ``H`` a measurement model's own update (the radar's EKF
+    in the sensor frame, :mod:`hypotrack.models.measurement`)."""
+    if hasattr(H, "update"):
+        return H.update(means, covs, Z)
+    return update_unchecked(means, covs, Z, H, R)
 
 
 def _valid(validity, means) -> np.ndarray:

@@ -18,7 +18,7 @@ from ..scan_context import ScanContext
 from ..state import FilterState
 from .lane import empty_state, singleton, take
 
-__all__ = ["Scores", "scorable", "ScanGraph", "scan_graph", "component_context", "touched_plan", "quiet_plan",
+__all__ = ["Scores", "scorable", "innovation_covariances", "ScanGraph", "scan_graph", "component_context", "touched_plan", "quiet_plan",
            "interaction_parts", "ObjectIds", "split_group", "prune"]
 
 
@@ -38,11 +38,17 @@ class Scores:
                 None if self.p_survive is None else self.p_survive[cols])
 
 
-def scorable(covs, H, R) -> np.ndarray:
-    """Whether each predicted track ``covs`` (n, d, d) has a finite, positive definite innovation
-    covariance ``S = H P Hᵀ + R`` (Cholesky succeeds): the tracks a scan can score."""
-    with np.errstate(invalid="ignore", over="ignore"):  # inf or nan moments: not scorable
-        S = H @ covs @ H.T + R
+def innovation_covariances(measurement, means, covs) -> np.ndarray:
+    """``S = H P Hᵀ + R`` (n, p, p) of each track, ``H`` the measurement's matrix or, for a nonlinear one, its
+    Jacobian at the mean (no gain: a singular ``S`` is what :func:`scorable` looks for)."""
+    H = measurement.H if getattr(measurement, "linear", False) else measurement.jacobian(means)
+    return H @ covs @ np.swapaxes(H, -1, -2) + measurement.R
+
+
+def scorable(S) -> np.ndarray:
+    """Whether each innovation covariance ``S`` (n, p, p) of the predicted tracks is finite and positive
+    definite (Cholesky succeeds): the tracks a scan can score."""
+    S = np.asarray(S, dtype=float)
     ok = np.isfinite(S).all(axis=(1, 2))
     try:
         np.linalg.cholesky(S[ok])

@@ -17,6 +17,9 @@ Modules, in data-flow order:
   return (bound orbit, perigee >= 100 km; the test is :func:`hypotrack.models.plausibility.plausible_orbits`);
 * :mod:`.sbm` — the NASA standard breakup model (fragment sizes, area-to-mass ratios, ejection speeds);
 * :mod:`.breakup` — a fresh breakup cloud of a bundled parent orbit (two-body + J2 truth) seen by a radar.
+* :mod:`.snr` — detection from the signal-to-noise ratio: object size → RCS → SNR (radar equation) →
+  Swerling I p_D; stated sizes of the bundled objects; the trackers' marginal p_D of a predicted range;
+* :mod:`.fence` — a fence sensor (S-band, Kwajalein) with a thin elevation band: a few returns per crossing.
 
 Example (``import pandas as pd``)::
 

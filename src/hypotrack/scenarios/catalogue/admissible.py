@@ -44,44 +44,9 @@ from ..._validation import check_finite_array, check_int, check_positive
 from ...models.orbit import MU_EARTH
 from ...models.plausibility import MIN_PERIGEE_ALTITUDE, plausible_orbits
 from .frames import EARTH_ROTATION
-from .radar_model import RadarTrackerSensor, site_teme
-from .sensors import GroundSite
+from .radar_model import RadarTrackerSensor, attributable_jacobian, attributable_to_state
 
-__all__ = ["attributable_to_state", "AdmissibleRegionBirth", "StateMixture"]
-
-_H_STEP = 1e-20
-
-
-def _r3(theta):
-    c, s = np.cos(theta), np.sin(theta)
-    return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def attributable_to_state(y, site: GroundSite, theta: float) -> np.ndarray:
-    """TEME states ``(n, 6)`` of attributables ``y`` ``(n, 6)`` = (ρ km, az rad, el rad, ρ̇ km/s, α̇ rad/s,
-    ε̇ rad/s) seen from ``site`` at GMST ``theta`` (module docstring, step 1). Accepts complex input (for the
-    complex-step Jacobian)."""
-    Y = np.atleast_2d(y)
-    rho, az, el, rd, azd, eld = (Y[:, k][:, None] for k in range(6))
-    ce, se, ca, sa = np.cos(el), np.sin(el), np.cos(az), np.sin(az)
-    zero = np.zeros_like(ce)
-    u = np.hstack([ce * sa, ce * ca, se])
-    du_az = np.hstack([ce * ca, -ce * sa, zero])
-    du_el = np.hstack([-se * sa, -se * ca, ce])
-    l = rho * u
-    ldot = rd * u + rho * (azd * du_az + eld * du_el)
-    M = site.enu @ _r3(theta)
-    s, _ = site_teme(site, theta)
-    r = s + l @ M
-    w_x_r = EARTH_ROTATION * np.stack([-r[:, 1], r[:, 0], np.zeros_like(r[:, 0])], axis=1)
-    return np.hstack([r, ldot @ M + w_x_r])
-
-
-def _jacobian(y, site, theta):
-    """``∂x/∂y`` (6, 6) of :func:`attributable_to_state` at one ``y`` by complex step."""
-    Yc = np.repeat(np.asarray(y, dtype=float)[None], 6, axis=0).astype(complex)
-    Yc[np.arange(6), np.arange(6)] += 1j * _H_STEP
-    return (attributable_to_state(Yc, site, theta).imag / _H_STEP).T
+__all__ = ["attributable_to_state", "attributable_jacobian", "AdmissibleRegionBirth", "StateMixture"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -208,8 +173,18 @@ class AdmissibleRegionBirth:
         for k in range(len(counts)):
             y = np.r_[z, rate_means[k]]
             Cy[4:, 4:] = rate_covs[k]
-            J = _jacobian(y, site, theta)
+            J = attributable_jacobian(y, site, theta)
             means[k] = attributable_to_state(y, site, theta)[0].real
             P = J @ Cy @ J.T
             covs[k] = 0.5 * (P + P.T)
         return StateMixture(counts / counts.sum(), means, covs, rate_means, rate_covs, float(ok.sum() * da * de))
+
+    def components(self, z):
+        """``(weights (K,), means (K, 6), covs (K, 6, 6))`` of :meth:`mixture` at the sensor's current GMST, and
+        ``K = 0`` for a return no admissible orbit can give (a clutter return's range-rate above escape speed):
+        the adaptive birth's per-return mixture (:class:`hypotrack.hypotheses.factored.AdaptiveBirth`)."""
+        try:
+            m = self.mixture(z)
+        except ValueError:
+            return np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6))
+        return m.weights, m.means, m.covs

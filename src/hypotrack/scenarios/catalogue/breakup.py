@@ -45,6 +45,7 @@ from ...models.orbit3d import J2Orbit3D
 from ...models.plausibility import plausible_orbits
 from ..tables import scans_table, scans_to_list, truth_table
 from .frames import gmst, teme_to_ef
+from .scenario import range_rate_ef
 from .propagation import propagate, time_grid_jd
 from .sbm import Fragments, sample_breakup
 from .sensors import GroundRadar
@@ -168,9 +169,11 @@ def simulate_breakup(event: BreakupEvent, radar: GroundRadar, *, obs_start_s: fl
     for j, t in enumerate(grid):
         if j:
             X = TRUTH_MOTION.propagate(X, radar.revisit_s) if N else X
-        r_ef, _ = teme_to_ef(X[:, None, :3], X[:, None, 3:], theta_all[j:j + 1])
+        r_ef, v_ef = teme_to_ef(X[:, None, :3], X[:, None, 3:], theta_all[j:j + 1])
         rae = radar.rae(r_ef[:, 0])
         vis = radar.fov.contains(rae) if N else np.zeros(0, bool)
+        if radar.measurement == "rae_rate":  # the documented radar: its range-rate too
+            rae = np.column_stack([rae, range_rate_ef(r_ef[:, 0], v_ef[:, 0], radar.site)])
         k = len(kept_t)
         rows = np.flatnonzero(vis)
         Z, origin = radar.observe_rae(rae[rows], rng)
@@ -182,6 +185,7 @@ def simulate_breakup(event: BreakupEvent, radar: GroundRadar, *, obs_start_s: fl
         kept_theta.append(theta_all[j])
         n_view.append(len(rows))
     times = np.array(kept_t, float)
+    p_meas = 4 if radar.measurement == "rae_rate" else 3
     truth = truth_table(
         np.concatenate([np.full(len(p[2]), p[0]) for p in truth_parts]) if truth_parts else np.zeros(0, np.int64),
         np.concatenate([np.full(len(p[2]), p[1]) for p in truth_parts]) if truth_parts else np.zeros(0),
@@ -192,8 +196,8 @@ def simulate_breakup(event: BreakupEvent, radar: GroundRadar, *, obs_start_s: fl
         np.concatenate([np.full(len(p[2]), p[0]) for p in scan_parts]) if scan_parts else np.zeros(0, np.int64),
         np.concatenate([np.full(len(p[2]), p[1]) for p in scan_parts]) if scan_parts else np.zeros(0),
         np.zeros(sum(len(p[2]) for p in scan_parts), np.int64),
-        np.vstack([p[2] for p in scan_parts]) if scan_parts else np.zeros((0, 3)),
-        np.concatenate([p[3] for p in scan_parts]) if scan_parts else np.zeros(0, np.int64), p=3)
+        np.vstack([p[2] for p in scan_parts]) if scan_parts else np.zeros((0, p_meas)),
+        np.concatenate([p[3] for p in scan_parts]) if scan_parts else np.zeros(0, np.int64), p=p_meas)
     catalogue = pd.DataFrame({"norad": ids, "group": "breakup", "name": [f"fragment {i}" for i in range(N)],
                               "lc_m": frags.lc_m, "chi": frags.chi, "dv_m_s": frags.dv_m_s})
     return BreakupScenario(catalogue=catalogue, sensors=(radar,), start=start, event_time=event_time, times=times,

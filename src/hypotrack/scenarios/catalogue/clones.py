@@ -37,7 +37,7 @@ from ..._validation import check_int
 from ..tables import scans_table, truth_table
 from .frames import gmst, teme_to_ef
 from .propagation import check_epoch_span, reference_epoch, sgp4_states, time_grid_jd
-from .scenario import CatalogueScenario, _check_sensors
+from .scenario import CatalogueScenario, _check_sensors, range_rate_ef
 from .tle import check_catalogue
 
 __all__ = ["CLONE_ID_BASE", "clone_offsets", "clone_population", "clone_satrecs", "clone_states", "simulate_clones",
@@ -168,7 +168,7 @@ def simulate_clones(cat: pd.DataFrame, n: int, sensors, *, n_scans: int, seed, c
     for i0, e, r, v in clone_states(pop, cat, jd, fr, chunk=chunk):
         bad = e != 0
         decayed.append(np.flatnonzero(bad.any(axis=1)) + i0)
-        r_ef, _ = teme_to_ef(r, v, theta)
+        r_ef, v_ef = teme_to_ef(r, v, theta)
         seen_any = np.zeros(bad.shape, bool)
         for s, sen in enumerate(sensors):
             rae = sen.rae(r_ef)
@@ -176,6 +176,8 @@ def simulate_clones(cat: pd.DataFrame, n: int, sensors, *, n_scans: int, seed, c
             n_in_view[:, s] += vis.sum(axis=0)
             seen_any |= vis
             obj, kk = np.nonzero(vis)
+            if sen.measurement == "rae_rate":  # the documented radar's range-rate too
+                rae = np.concatenate([rae, range_rate_ef(r_ef, v_ef, sen.site)[..., None]], axis=-1)
             seen[s].append((kk, obj + i0, rae[obj, kk]))
         obj, kk = np.nonzero(seen_any)
         truth_parts.append((kk, obj + i0, np.concatenate([r[obj, kk], v[obj, kk]], axis=1)))
@@ -203,7 +205,8 @@ def simulate_clones(cat: pd.DataFrame, n: int, sensors, *, n_scans: int, seed, c
     truth = truth_table(kk[order], times[kk[order]], norad[obj[order]], X[order], np.ones(len(order), bool))
     scan_idx = np.concatenate([np.full(len(p[2]), p[0]) for p in scan_parts])
     scans = scans_table(scan_idx, times[scan_idx], np.concatenate([np.full(len(p[2]), p[1]) for p in scan_parts]),
-                        np.vstack([p[2] for p in scan_parts]), np.concatenate([p[3] for p in scan_parts]), p=3)
+                        np.vstack([p[2] for p in scan_parts]), np.concatenate([p[3] for p in scan_parts]),
+                        p=4 if sensors[0].measurement == "rae_rate" else 3)
     return CloneScenario(catalogue=pop, sensors=sensors, start=start, times=times, theta=theta, truth=truth,
                          scans=scans, n_in_view=n_in_view, decayed=norad[np.concatenate(decayed)], parents=cat,
                          chunk=chunk)

@@ -40,11 +40,15 @@ from __future__ import annotations
 
 import numpy as np
 
+from dataclasses import dataclass
+
 from ..._validation import check_finite_array, check_positive
+from ...models.measurement import ExtendedMeasurement
 from .frames import EARTH_ROTATION, wrap_angle
 from .sensors import GroundRadar, GroundSite
 
-__all__ = ["site_teme", "rae_rate", "rae_rate_jacobian", "RadarTrackerSensor", "SIGMA_RANGE_RATE_KM_S"]
+__all__ = ["site_teme", "rae_rate", "rae_rate_jacobian", "attributable_to_state", "attributable_jacobian", "RadarTrackerSensor", "RadarMeasurement", "RadarOnePointBirth",
+           "SIGMA_RANGE_RATE_KM_S"]
 
 SIGMA_RANGE_RATE_KM_S = 0.01
 """Range-rate standard deviation (km/s) of the radar model: 10 m/s (module docstring for its derivation)."""
@@ -109,6 +113,36 @@ def rae_rate_jacobian(x, site: GroundSite, theta: float) -> np.ndarray:
     return J
 
 
+_H_STEP = 1e-20
+
+
+def attributable_to_state(y, site: GroundSite, theta: float) -> np.ndarray:
+    """TEME states ``(n, 6)`` of attributables ``y`` ``(n, 6)`` = (ρ km, az rad, el rad, ρ̇ km/s, α̇ rad/s,
+    ε̇ rad/s) seen from ``site`` at GMST ``theta`` (module docstring, step 1). Accepts complex input (for the
+    complex-step Jacobian)."""
+    Y = np.atleast_2d(y)
+    rho, az, el, rd, azd, eld = (Y[:, k][:, None] for k in range(6))
+    ce, se, ca, sa = np.cos(el), np.sin(el), np.cos(az), np.sin(az)
+    zero = np.zeros_like(ce)
+    u = np.hstack([ce * sa, ce * ca, se])
+    du_az = np.hstack([ce * ca, -ce * sa, zero])
+    du_el = np.hstack([-se * sa, -se * ca, ce])
+    l = rho * u
+    ldot = rd * u + rho * (azd * du_az + eld * du_el)
+    M = site.enu @ _r3(theta)
+    s, _ = site_teme(site, theta)
+    r = s + l @ M
+    w_x_r = EARTH_ROTATION * np.stack([-r[:, 1], r[:, 0], np.zeros_like(r[:, 0])], axis=1)
+    return np.hstack([r, ldot @ M + w_x_r])
+
+
+def attributable_jacobian(y, site, theta):
+    """``∂x/∂y`` (6, 6) of :func:`attributable_to_state` at one ``y`` by complex step."""
+    Yc = np.repeat(np.asarray(y, dtype=float)[None], 6, axis=0).astype(complex)
+    Yc[np.arange(6), np.arange(6)] += 1j * _H_STEP
+    return (attributable_to_state(Yc, site, theta).imag / _H_STEP).T
+
+
 class _Detection:
     def __init__(self, owner: "RadarTrackerSensor"):
         self.p_D = owner.radar.p_D
@@ -122,12 +156,92 @@ class _Detection:
         return self._owner.radar.in_view(r[:, :3] @ _r3(self._owner.theta).T)
 
 
+class RadarMeasurement(ExtendedMeasurement):
+    """The radar's ``z = h(x) = (ρ, az, el, ρ̇)`` as the trackers' measurement model (:mod:`hypotrack.models.measurement`):
+    the EKF in the sensor frame at the GMST its sensor is set to (:meth:`RadarTrackerSensor.at`), constant
+    ``R = diag(σ_ρ², σ_az², σ_el², σ_ρ̇²)``, the azimuth residual (index 1) wrapped into ``[−π, π)``.
+
+    Why the sensor frame: the radar's noise is Gaussian with a constant covariance in ``(ρ, az, el, ρ̇)``; a
+    return converted to a Cartesian position would need a covariance per return (it grows with range across
+    the beam) and cannot carry the range-rate, a nonlinear function of position and velocity, linearly."""
+
+    wrapped = (1,)
+    ndim_state = 6
+    hessian_steps = (1e-2,) * 3 + (1e-3,) * 3  # km, km/s: the Jacobian is linear in v, smooth over 10 m in r
+
+    def __init__(self, sensor: "RadarTrackerSensor", second_order: bool = True):
+        self.sensor = sensor
+        self.R = sensor.R
+        self.second_order = bool(second_order)
+
+    def h(self, means) -> np.ndarray:
+        return self.sensor.h(means)
+
+    def jacobian(self, means) -> np.ndarray:
+        return self.sensor.jacobian(means)
+
+    def one_point(self, Z, position_std: float = 0.0, velocity_std: float = 8.0):
+        """One-point initiation ``(x₀ (m, 6), P₀ (m, 6, 6))`` of returns ``Z`` ``(m, 4)`` in the sensor frame: the
+        state of the attributable ``(ρ, az, el, ρ̇, 0, 0)`` (:func:`attributable_to_state`) — the
+        return's position, its range-rate along the line of sight — with the covariance ``J C Jᵀ`` of
+        ``C = diag(R, (v_s/(ρ cos el))², (v_s/ρ)²)`` (``v_s`` = ``velocity_std``: the velocity across the line of
+        sight is ``N(0, v_s²)`` per direction) plus ``position_std²`` on each position component."""
+        Z = np.atleast_2d(np.asarray(Z, dtype=float))
+        site, theta = self.sensor.radar.site, self.sensor.theta
+        x0, P0 = np.zeros((len(Z), 6)), np.zeros((len(Z), 6, 6))
+        C = np.zeros((6, 6))
+        C[:4, :4] = self.R
+        for i, z in enumerate(Z):
+            y = np.r_[z, 0.0, 0.0]
+            C[4, 4] = (velocity_std / (z[0] * max(np.cos(z[2]), 1e-6))) ** 2
+            C[5, 5] = (velocity_std / z[0]) ** 2
+            J = attributable_jacobian(y, site, theta)
+            x0[i] = attributable_to_state(y, site, theta)[0].real
+            P = J @ C @ J.T
+            P[:3, :3] += np.eye(3) * position_std**2
+            P0[i] = 0.5 * (P + P.T)
+        return x0, P0
+
+
+@dataclass(frozen=True, eq=False)
+class RadarOnePointBirth:
+    """The birth density of births seeded at a radar return (HOMHT's ``initial_state(z, R)``): the
+    sensor-frame one-point initiation :meth:`RadarMeasurement.one_point` (``R`` is the sensor's own)."""
+
+    measurement: RadarMeasurement
+    velocity_std: float = 8.0
+    position_std: float = 0.0
+
+    def initial_state(self, z, R=None):
+        x, P = self.measurement.one_point(np.asarray(z, dtype=float).reshape(1, 4), self.position_std, self.velocity_std)
+        return x[0], P[0]
+
+
+@dataclass(frozen=True, eq=False)
+class _Region:
+    area: float
+
+
+@dataclass(frozen=True, eq=False)
+class _Clutter:
+    rate: float
+    region: _Region
+
+    @property
+    def intensity(self) -> float:
+        return self.rate / self.region.area
+
+
 class RadarTrackerSensor:
     """A 6-state TEME tracker's view of a ground radar measuring ``(ρ, az, el, ρ̇)`` (module docstring).
 
     The nonlinear counterpart of :class:`.TrackerSensor` (which needs ENU returns and a fixed ``H``): an
     extended Kalman filter linearises :meth:`h` with :meth:`jacobian` at each predicted state
-    (:meth:`update`), and every return has the covariance :attr:`R` (:meth:`covariances`).
+    (:meth:`update`), and every return has the covariance :attr:`R` (:meth:`covariances`). The trackers
+    work **in the sensor frame**: :attr:`measurement` (:class:`RadarMeasurement`) is what
+    :class:`~hypotrack.hypotheses.HypothesisFilter`, the factored engine, the birth terms and GNN/JPDA use
+    (``innovation``/``residual``/``update``), :attr:`clutter` its clutter rate over the measurement-space
+    volume ``Δρ Δaz Δel 2 span_ρ̇``.
 
     Parameters
     ----------
@@ -143,13 +257,23 @@ class RadarTrackerSensor:
     R : (4, 4) diagonal measurement covariance (km², rad², rad², km²/s²).
     detection : ``p_D`` and ``in_view`` at the current GMST :attr:`theta`.
     clutter_volume : measurement-space volume of the field of view ``Δρ Δaz Δel Δρ̇`` (km·rad²·km/s).
+    measurement : RadarMeasurement (the EKF in the sensor frame).
+    clutter : ``rate`` (the radar's) and ``region.area`` = :attr:`clutter_volume`.
     theta : GMST (rad) of the scan being processed; set with :meth:`at`.
+
+    A radar with ``measurement="rae_rate"`` gives the defaults of ``sigma_range_rate_km_s`` and
+    ``range_rate_span_km_s`` (its own); otherwise :data:`SIGMA_RANGE_RATE_KM_S` and 8 km/s.
     """
 
-    def __init__(self, radar: GroundRadar, sigma_range_rate_km_s: float = SIGMA_RANGE_RATE_KM_S,
-                 range_rate_span_km_s: float = 8.0):
+    def __init__(self, radar: GroundRadar, sigma_range_rate_km_s: float | None = None,
+                 range_rate_span_km_s: float | None = None):
         if not isinstance(radar, GroundRadar):
             raise TypeError(f"radar must be a GroundRadar, got {type(radar).__name__}")
+        own = radar.measurement == "rae_rate"
+        if sigma_range_rate_km_s is None:
+            sigma_range_rate_km_s = radar.sigma_range_rate_km_s if own else SIGMA_RANGE_RATE_KM_S
+        if range_rate_span_km_s is None:
+            range_rate_span_km_s = radar.range_rate_span_km_s if own else 8.0
         self.radar = radar
         self.sigma_range_rate_km_s = check_positive(sigma_range_rate_km_s, "sigma_range_rate_km_s")
         self.range_rate_span_km_s = check_positive(range_rate_span_km_s, "range_rate_span_km_s")
@@ -158,6 +282,8 @@ class RadarTrackerSensor:
         self.R = np.diag(sig**2)
         self.detection = _Detection(self)
         self.clutter_volume = radar.fov.measurement_volume * 2 * self.range_rate_span_km_s
+        self.clutter = _Clutter(radar.clutter_rate, _Region(self.clutter_volume))
+        self.measurement = RadarMeasurement(self)
         self.theta = 0.0
 
     @property
@@ -168,6 +294,10 @@ class RadarTrackerSensor:
         """Set the GMST (rad) of the next scan; returns ``self``."""
         self.theta = float(check_finite_array(theta, "theta", ndim=0))
         return self
+
+    def returns(self, Z) -> np.ndarray:
+        """The scan's returns as the trackers take them: ``(m, 4)`` as measured (the sensor frame)."""
+        return check_finite_array(np.asarray(Z, dtype=float).reshape(-1, 4), "Z", shape=(None, 4))
 
     def h(self, x) -> np.ndarray:
         """Noise-free returns ``(n, 4)`` of TEME states ``(n, 6)`` at the current GMST."""

@@ -3,7 +3,8 @@
 Truth = SGP4 propagation of the selected catalogue (:mod:`.propagation`) from ``start`` (default the
 catalogue's epoch, :func:`.reference_epoch`) at ``t_k = k Δt``, ``Δt`` the sensors' revisit
 interval. Each scan, each sensor (:class:`.GroundRadar`) detects the objects in its field of view
-with p_D, adds measurement noise and Poisson clutter, and shuffles its returns.
+with p_D (or, given object ``sizes`` and a sensor ``snr`` model, each object with the p_D of its size at
+its range, :mod:`.snr`), adds measurement noise and Poisson clutter, and shuffles its returns.
 
 Tables (schema of :mod:`hypotrack.scenarios.tables`):
 
@@ -41,10 +42,11 @@ from ..._validation import check_int
 from ..tables import scans_table, scans_to_list, truth_table, truth_to_list
 from .frames import gmst, teme_to_ef, utc_timestamp
 from .propagation import check_epoch_span, propagate, reference_epoch, sgp4_states, time_grid_jd
-from .sensors import DEFAULT_RADAR, GroundRadar
+from .sensors import DEFAULT_RADAR, GroundRadar, GroundSite
+from .snr import check_sizes
 from .tle import check_catalogue, satrec_array
 
-__all__ = ["CatalogueScenario", "simulate_catalogue", "TRUTH_ROWS"]
+__all__ = ["CatalogueScenario", "simulate_catalogue", "TRUTH_ROWS", "range_rate_ef"]
 
 TRUTH_ROWS = ("in_view", "all")
 _CHUNK_OBJECT_EPOCHS = 2_000_000  # propagate this many (object, epoch) pairs at a time (~100 MB)
@@ -93,6 +95,14 @@ class CatalogueScenario:
         return np.concatenate([p.r, p.v], axis=-1), p.valid
 
 
+def range_rate_ef(r_ef, v_ef, site: GroundSite) -> np.ndarray:
+    """Range-rate (km/s) ``d · v_ef / |d|`` of Earth-fixed positions and velocities ``(..., 3)`` seen from the
+    (Earth-fixed, so still) ``site``, ``d = r_ef − s_ef``: the fourth component of a ``"rae_rate"`` return
+    (Vallado, *Fundamentals of Astrodynamics and Applications*, 4th ed., Sec. 4.4, algorithm RAZEL)."""
+    d = np.asarray(r_ef, dtype=float) - site.ef
+    return np.sum(d * np.asarray(v_ef, dtype=float), axis=-1) / np.linalg.norm(d, axis=-1)
+
+
 def _check_sensors(sensors) -> tuple:
     sensors = (sensors,) if isinstance(sensors, GroundRadar) else tuple(sensors)
     if not sensors:
@@ -121,6 +131,7 @@ def simulate_catalogue(
     seed,
     start=None,
     truth_rows: str = "in_view",
+    sizes=None,
 ) -> CatalogueScenario:
     """Simulate the scans of ground radars observing a real catalogue propagated by SGP4.
 
@@ -135,6 +146,11 @@ def simulate_catalogue(
         Time of scan 0; default :func:`reference_epoch` of the catalogue.
     truth_rows : {"in_view", "all"}
         Which (object, scan) rows the truth table keeps.
+    sizes : (N,) array_like, optional
+        Object sizes (m), catalogue order (e.g. :meth:`.snr.SizeModel.sizes`): a sensor with an ``snr``
+        model then detects each object with the Swerling I p_D of its size at its range (:mod:`.snr`);
+        without ``sizes`` (or ``snr``) with the sensor's ``p_D``. The draws are the same in number and
+        order either way.
 
     Returns
     -------
@@ -144,6 +160,7 @@ def simulate_catalogue(
     if len(cat) == 0:
         raise ValueError("catalogue must hold at least one object")
     sensors = _check_sensors(sensors)
+    sizes = None if sizes is None else check_sizes(sizes, len(cat))
     K = check_int(n_scans, "n_scans", minimum=1)
     if truth_rows not in TRUTH_ROWS:
         raise ValueError(f"truth_rows must be one of {TRUTH_ROWS}, got {truth_rows!r}")
@@ -168,12 +185,14 @@ def simulate_catalogue(
         e, r, v = sgp4_states(sats, jd[ks], fr[ks], a_mean)
         bad = e != 0
         decayed |= bad.any(axis=1)
-        r_ef, _ = teme_to_ef(r, v, theta[ks])
+        r_ef, v_ef = teme_to_ef(r, v, theta[ks])
         seen_any = np.zeros(bad.shape, bool)
         rae = []
         for s, sen in enumerate(sensors):
             rae_s = sen.rae(r_ef)
             vis = sen.fov.contains(rae_s.reshape(-1, 3)).reshape(bad.shape)
+            if sen.measurement == "rae_rate":
+                rae_s = np.concatenate([rae_s, range_rate_ef(r_ef, v_ef, sen.site)[..., None]], axis=-1)
             n_in_view[ks, s] = vis.sum(axis=0)
             seen_any |= vis
             rae.append((rae_s, vis))
@@ -181,7 +200,8 @@ def simulate_catalogue(
             for s, sen in enumerate(sensors):
                 rae_s, vis = rae[s]
                 rows = np.flatnonzero(vis[:, j])
-                Z, origin = sen.observe_rae(rae_s[rows, j], rngs[s])
+                p_det = None if sizes is None or sen.snr is None else sen.snr.p_detect(sizes[rows], rae_s[rows, j, 0])
+                Z, origin = sen.observe_rae(rae_s[rows, j], rngs[s], p_det)
                 label = np.full(len(origin), -1, np.int64)
                 label[origin >= 0] = norad[rows[origin[origin >= 0]]]
                 scan_parts.append((k, s, Z, label))
@@ -208,7 +228,7 @@ def simulate_catalogue(
         np.concatenate([np.full(len(p[2]), p[1]) for p in scan_parts]),
         np.vstack([p[2] for p in scan_parts]),
         np.concatenate([p[3] for p in scan_parts]),
-        p=3,
+        p=4 if sensors[0].measurement == "rae_rate" else 3,
     )
     return CatalogueScenario(
         catalogue=cat.reset_index(drop=True),

@@ -17,6 +17,8 @@ below are typical of that class, not any one radar's specification):
   with isotropic Gaussian error σ_enu (km);
 * **detection**: every object inside the field of view is detected with p_D = 0.9, independently;
   nothing outside it is (a detected object's noisy return may fall just outside the field of view);
+  optionally (``snr``, :mod:`.snr`) each object's p_D is instead the Swerling I p_D of its size at its
+  range (radar equation, SNR ∝ RCS/r⁴), given object sizes (:func:`.simulate_catalogue`'s ``sizes``);
 * **clutter**: Poisson, 2 false returns per scan on average, uniform over the field of view in
   measurement space — over the box ``[r_min, r_max] × [az sector] × [el band]`` (density
   ``1/V``, V in km·rad²) for RAE, over the physical volume (V in km³) for ENU.
@@ -33,10 +35,11 @@ import numpy as np
 
 from ..._validation import check_finite_array, check_nonnegative, check_positive, check_probability
 from .frames import ef_to_rae, enu_matrix, geodetic_to_ef, local_to_rae, rae_to_enu, wrap_angle
+from .snr import SnrModel
 
 __all__ = ["GroundSite", "RadarFieldOfView", "GroundRadar", "DEFAULT_SITE", "DEFAULT_RADAR", "MEASUREMENTS"]
 
-MEASUREMENTS = ("rae", "enu")
+MEASUREMENTS = ("rae", "enu", "rae_rate")
 
 
 def _in_range(value, name, lo, hi, *, lo_open=False, hi_open=False):
@@ -201,11 +204,21 @@ class GroundRadar:
         Detection probability inside the field of view, in (0, 1].
     clutter_rate : float
         Expected false returns per scan, >= 0.
-    measurement : {"rae", "enu"}
-        What a return is: (range km, azimuth rad, elevation rad) or local (east, north, up) km.
+    measurement : {"rae", "enu", "rae_rate"}
+        What a return is: (range km, azimuth rad, elevation rad), local (east, north, up) km, or
+        (range, azimuth, elevation, range-rate km/s) — the documented radar of
+        :mod:`.radar_model` (range-rate from the Doppler shift; its σ derived there).
     sigma_enu_km : float
         Standard deviation of each ENU component (``measurement="enu"`` only), > 0.
     name : str
+    snr : hypotrack.scenarios.catalogue.snr.SnrModel, optional
+        SNR detection model: with it (and object sizes, :func:`.simulate_catalogue`'s ``sizes``) each
+        object's p_D is the Swerling I ``p_D`` of its size at its range (:mod:`.snr`) in place of ``p_D``.
+    sigma_range_rate_km_s : float
+        Standard deviation of the range-rate (``measurement="rae_rate"`` only), > 0; default 0.01 (10 m/s,
+        :data:`.radar_model.SIGMA_RANGE_RATE_KM_S`).
+    range_rate_span_km_s : float
+        Clutter range-rates are uniform over ``[−span, span]`` (``"rae_rate"`` only), > 0; default 8.
     """
 
     site: GroundSite = DEFAULT_SITE
@@ -219,6 +232,9 @@ class GroundRadar:
     measurement: str = "rae"
     sigma_enu_km: float = 1.0
     name: str = "UHF phased-array face"
+    snr: object = None
+    sigma_range_rate_km_s: float = 0.01
+    range_rate_span_km_s: float = 8.0
 
     def __post_init__(self):
         if not isinstance(self.site, GroundSite):
@@ -226,12 +242,15 @@ class GroundRadar:
         if not isinstance(self.fov, RadarFieldOfView):
             raise TypeError(f"fov must be a RadarFieldOfView, got {type(self.fov).__name__}")
         set_ = lambda k, v: object.__setattr__(self, k, v)  # noqa: E731
-        for name in ("revisit_s", "sigma_range_km", "sigma_az_deg", "sigma_el_deg", "sigma_enu_km"):
+        for name in ("revisit_s", "sigma_range_km", "sigma_az_deg", "sigma_el_deg", "sigma_enu_km",
+                     "sigma_range_rate_km_s", "range_rate_span_km_s"):
             set_(name, check_positive(getattr(self, name), name))
         set_("p_D", check_probability(self.p_D, "p_D", low_open=True))
         set_("clutter_rate", check_nonnegative(self.clutter_rate, "clutter_rate"))
         if self.measurement not in MEASUREMENTS:
             raise ValueError(f"measurement must be one of {MEASUREMENTS}, got {self.measurement!r}")
+        if self.snr is not None and not isinstance(self.snr, SnrModel):
+            raise TypeError(f"snr must be an SnrModel or None, got {type(self.snr).__name__}")
 
     @property
     def R(self) -> np.ndarray:
@@ -239,12 +258,16 @@ class GroundRadar:
         if self.measurement == "enu":
             return np.eye(3) * self.sigma_enu_km**2
         s = np.array([self.sigma_range_km, np.deg2rad(self.sigma_az_deg), np.deg2rad(self.sigma_el_deg)])
+        if self.measurement == "rae_rate":
+            s = np.r_[s, self.sigma_range_rate_km_s]
         return np.diag(s**2)
 
     @property
     def clutter_density(self) -> float:
         """``g(z) = 1/V`` of one clutter return (per km·rad² for RAE, per km³ for ENU)."""
         v = self.fov.physical_volume if self.measurement == "enu" else self.fov.measurement_volume
+        if self.measurement == "rae_rate":
+            v *= 2 * self.range_rate_span_km_s
         return 1.0 / v
 
     def rae(self, r_ef) -> np.ndarray:
@@ -265,8 +288,9 @@ class GroundRadar:
         out[near] = f.contains(local_to_rae(loc[near], f.az_center))
         return out
 
-    def observe_rae(self, rae, rng):
-        """One scan, given the true (range, az, el) ``(n, 3)`` of the objects inside the field of view.
+    def observe_rae(self, rae, rng, p_detect=None):
+        """One scan, given the true (range, az, el) ``(n, 3)`` of the objects inside the field of view
+        (``p_detect`` ``(n,)``: each object's p_D, default :attr:`p_D` for all).
 
         Random draws, in order: detections (n uniforms), measurement noise of the detected,
         the clutter count and positions, the shuffle of the returns.
@@ -275,8 +299,15 @@ class GroundRadar:
         -------
         Z : (m, 3) returns; origin : (m,) row of ``rae`` that produced each, or −1 (clutter).
         """
-        rae = _rows3(rae, "rae")
-        det = rng.uniform(size=len(rae)) < self.p_D
+        if self.measurement == "rae_rate":  # (range, az, el, range-rate) rows
+            rae = np.asarray(rae, dtype=float)
+            if not (rae.ndim == 2 and rae.shape[1] == 4 or rae.size == 0):
+                raise ValueError(f"rae must have shape (n, 4) (range, azimuth, elevation, range-rate) for a "
+                                 f"'rae_rate' radar, got {rae.shape}")
+            rae = rae.reshape(-1, 4)
+        else:
+            rae = _rows3(rae, "rae")
+        det = rng.uniform(size=len(rae)) < (self.p_D if p_detect is None else np.asarray(p_detect, dtype=float))
         true = rae[det]
         if self.measurement == "enu":
             Z_t = rae_to_enu(true) + rng.standard_normal(true.shape) * self.sigma_enu_km
@@ -285,6 +316,8 @@ class GroundRadar:
             Z_t[:, 1] = wrap_angle(Z_t[:, 1], self.fov.az_center)
         k = int(rng.poisson(self.clutter_rate))
         Z_c = self.fov.sample_enu(k, rng) if self.measurement == "enu" else self.fov.sample_rae(k, rng)
+        if self.measurement == "rae_rate":
+            Z_c = np.column_stack([Z_c, rng.uniform(-self.range_rate_span_km_s, self.range_rate_span_km_s, k)])
         Z = np.vstack([Z_t, Z_c])
         origin = np.concatenate([np.flatnonzero(det), np.full(k, -1)]).astype(np.int64)
         order = rng.permutation(len(Z))
@@ -306,6 +339,11 @@ class GroundRadar:
 
     # --- the tracker's side: measurement function of a TEME state ----------------------------
 
+    def _no_rate(self, what):
+        if self.measurement == "rae_rate":
+            raise ValueError(f"{what} is the position-only model: a 'rae_rate' radar's is radar_model.rae_rate "
+                             "(RadarTrackerSensor.h / .jacobian)")
+
     def _local(self, x_teme, theta):
         """ENU of TEME positions at GMST θ and the (3, 3) matrix d(ENU)/d(r_teme)."""
         c, s = np.cos(theta), np.sin(theta)
@@ -316,6 +354,7 @@ class GroundRadar:
 
     def h(self, x_teme, theta) -> np.ndarray:
         """Noise-free measurement ``(n, 3)`` of TEME states ``(n, >= 3)`` at GMST ``theta`` (rad)."""
+        self._no_rate("h")
         loc, _ = self._local(x_teme, theta)
         if self.measurement == "enu":
             return loc
@@ -330,6 +369,7 @@ class GroundRadar:
         ``∂el/∂l = (−e u, −n u, e² + n²) / (ρ² sqrt(e² + n²))`` with ``l = (e, n, u)``, chained with
         ``∂l/∂r_teme = E R3(θ)``.
         """
+        self._no_rate("h_jacobian")
         X = np.atleast_2d(np.asarray(x_teme, dtype=float))
         loc, M = self._local(X, theta)
         n = len(X)

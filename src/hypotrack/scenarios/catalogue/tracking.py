@@ -12,8 +12,12 @@ rotation. Every tracker of the project (the hypothesis engine, GNN, JPDA) then r
 measurement model with a fixed ``H`` and ``R``, and the two-body EKF
 (:class:`hypotrack.models.orbit3d.TwoBodyOrbit3D`) carries the nonlinearity. The radar's
 range/azimuth/elevation errors (30 m in range, ~1 km across the beam) are not isotropic; the
-ENU radar with one σ is the stand-in the trackers' fixed-``R`` engines need (stated in the
-paper).
+ENU radar with one σ is a stand-in with a fixed ``H`` and ``R``. The documented radar itself
+(``measurement="rae_rate"``: range, azimuth, elevation and range-rate) is tracked **in the sensor
+frame** by :class:`.radar_model.RadarTrackerSensor` — an EKF update with ``z = h(x)``, a per-track
+Jacobian, a constant ``R`` and the azimuth innovation wrapped (:mod:`hypotrack.models.measurement`):
+its noise is Gaussian with a constant covariance there, while a converted Cartesian return would need
+a covariance per return and could not carry the range-rate linearly.
 
 :class:`TrackerSensor` is what :class:`~hypotrack.hypotheses.HypothesisFilter` and
 :class:`~hypotrack.hypotheses.FactoredFilter` need of a sensor (``measurement.H``/``R``,

@@ -142,3 +142,77 @@ def test_every_claim_row_is_placed_in_the_extension_group():
     # R-FISST runs in full.yaml (and the quick wiring) only: its rows are reported unplaced there
     assert keys - {k for k in keys if "_rfisst" in k} == placed
     assert {c.status for c in rows} == {"extension"}
+
+
+def test_radar_frame_option_end_to_end(small_cfg):
+    """``radar.measurement: rae_rate`` with ``model.birth: admissible``: the config validates, the scans are
+    (ρ, az, el, ρ̇), every tracker runs in the sensor frame (same scorecard twice), GNN keeps the known fragments
+    of the cloud's first pass, and the options are refused where they cannot apply."""
+    from hypotrack.config import validate_config
+    from hypotrack.experiments.ssa_breakup.run import build
+    from hypotrack.experiments.ssa_catalogue.run import make_motion, make_problem, make_radar, tracker_sensor
+    from hypotrack.scenarios.catalogue.radar_model import RadarTrackerSensor
+
+    cfg, cat = small_cfg
+    cfg = copy.deepcopy(cfg)
+    cfg["scenarios"] = ["breakup", "catalogue"]
+    cfg["radar"].update(measurement="rae_rate", sigma_range_km=0.03, sigma_angle_deg=0.05, sigma_range_rate_km_s=0.01)
+    cfg["model"]["birth"] = "admissible"
+    full = yaml.safe_load(CONFIG.read_text())
+    full["ssa_breakup"] = {**full["ssa_breakup"], "radar": cfg["radar"], "model": cfg["model"]}
+    schema = Path(__file__).resolve().parents[4] / "workflows" / "config" / "schema"
+    validate_config(copy.deepcopy(full), schema)
+    bad = copy.deepcopy(full)
+    bad["ssa_breakup"]["model"]["birth"] = "two_point"
+    with pytest.raises(Exception, match="two_point|birth"):
+        validate_config(bad, schema)
+    radar = make_radar(cfg)
+    assert radar.measurement == "rae_rate" and np.sqrt(np.diag(radar.R))[3] == pytest.approx(0.01)
+    assert isinstance(tracker_sensor(radar), RadarTrackerSensor)
+    _, _, sc, _ = build("breakup", cfg, cat, 5)
+    assert [c for c in sc.scans.columns if c.startswith("z_")] == ["z_0", "z_1", "z_2", "z_3"]
+    _, _, ctrl, _ = build("catalogue", cfg, cat, 5)  # the control: the catalogue's site, this radar's measurement
+    assert ctrl.sensors[0].measurement == "rae_rate" and ctrl.sensors[0].site.lat_deg == cat["radar"]["lat_deg"]
+    cards = score_tracker("gnn", cfg, cat)
+    assert cards["scenario"].tolist() == ["breakup", "catalogue"]
+    b = cards.iloc[0]
+    assert b["object_returns"] > 100
+    assert b["cross_tags_per_1e4"] < 100 and b["completeness"] > 0.5
+    assert cards.iloc[1]["cross_tags"] == 0  # the sparse catalogue: no cross-tag
+    pd.testing.assert_frame_equal(cards.drop(columns="cpu_s"), score_tracker("gnn", cfg, cat).drop(columns="cpu_s"))
+    enu = copy.deepcopy(small_cfg[0])
+    enu["radar"]["measurement"], enu["model"]["birth"] = "enu", "admissible"
+    with pytest.raises(ValueError, match="admissible needs the documented radar"):
+        make_problem(enu, tracker_sensor(make_radar(enu)), make_motion(enu), np.zeros((0, 6)), np.zeros((0, 6, 6)),
+                     np.zeros(0, np.int64))
+    with pytest.raises(ValueError, match="radar.measurement must be"):
+        make_radar({**cfg, "radar": {**cfg["radar"], "measurement": "rae"}})
+
+
+def test_sensor_frame_correlation_by_hand():
+    """Returns correlate with the estimate of smallest ``νᵀ R⁻¹ ν`` within the χ²₄(0.999) = 18.47 gate: a return 2σ
+    from track A in azimuth across the ±π wrap goes to A, one 4σ in range from B to B (d² = 16), one far off both to
+    none, one 4.5σ off (d² = 20.25) to none."""
+    from hypotrack.experiments.ssa_breakup.run import correlate_in_sensor_frame
+    from hypotrack.models.measurement import ExtendedMeasurement
+
+    class _Identity(ExtendedMeasurement):  # h(x) = x (a 4-state "radar" so that S = P + R is known by hand)
+        wrapped = (1,)
+        ndim_state = 4
+        R = np.diag([1.0, 0.01, 0.01, 1.0])  # σ = 1, 0.1, 0.1, 1
+
+        def h(self, x):
+            return np.array(x, dtype=float)
+
+        def jacobian(self, x):
+            return np.broadcast_to(np.eye(4), (len(x), 4, 4)).copy()
+
+    m = _Identity()
+    X = np.array([[100.0, np.pi - 0.05, 0.3, 0.0], [200.0, 0.0, 0.3, 0.0]])
+    Z = np.array([[100.0, -np.pi + 0.15, 0.3, 0.0],   # Δaz = +0.2 across the wrap: d² = 4
+                  [204.0, 0.0, 0.3, 0.0],              # 4σ in range: d² = 16
+                  [150.0, 0.0, 0.3, 0.0]])            # 50σ off both
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z, [7, 9], X, 0.999), [7, 9, -1])
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z[:0], [7, 9], X, 0.999), np.zeros(0, int))
+    Z2 = np.array([[100.0, np.pi - 0.05, 0.3, 4.5]])  # d² = 4.5² = 20.25 > 18.47: outside the gate
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z2, [7, 9], X, 0.999), [-1])

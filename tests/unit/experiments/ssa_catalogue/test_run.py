@@ -245,6 +245,9 @@ def _config():
     (("trackers", "rfisst", "n_step"), 10, r"ssa_catalogue\.trackers\.rfisst\.n_step'.*unknown option"),
     (("trackers", "glmb", "n_sweeps"), 0, r"ssa_catalogue\.trackers\.glmb\.n_sweeps"),
     (("trackers", "gnn", "kind"), "gnm", r"ssa_catalogue\.trackers\.gnn\.kind'.*unknown tracker kind 'gnm'"),
+    (("tuning", "evaluated_on", "start_offset_s"), -60.0, r"ssa_catalogue\.tuning\.evaluated_on\.start_offset_s"),
+    (("tuning", "evaluated_on", "sed"), 3, r"ssa_catalogue\.tuning\.evaluated_on.*'sed' was unexpected"),
+    (("metrics", "completeness_km"), 0.0, r"ssa_catalogue\.metrics\.completeness_km"),
 ])
 def test_config_validation_names_the_bad_key(path, value, message):
     cfg = copy.deepcopy(_config())

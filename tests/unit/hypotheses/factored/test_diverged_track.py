@@ -39,12 +39,12 @@ def _step(n):
 
 
 def test_scorable_by_hand():
-    H, R = np.hstack([np.eye(2), np.zeros((2, 2))]), 0.5 * np.eye(2)
-    P = np.repeat(np.eye(4)[None], 3, 0)
-    P[1, :2, :2] = [[2e20, 2e20], [2e20, 2e20]]  # S singular to working precision
-    P[2, 0, 0] = np.inf
-    assert scorable(P, H, R).tolist() == [True, False, False]
-    assert scorable(np.zeros((0, 4, 4)), H, R).tolist() == []
+    S = np.repeat(np.eye(2)[None], 4, 0)
+    S[1] = [[2e20, 2e20], [2e20, 2e20]]  # singular to working precision
+    S[2, 0, 0] = np.inf
+    S[3] = [[1.0, 2.0], [2.0, 1.0]]  # indefinite: eigenvalues 3 and -1
+    assert scorable(S).tolist() == [True, False, False, False]
+    assert scorable(np.zeros((0, 2, 2))).tolist() == []
 
 
 def test_diverged_track_takes_no_return_and_the_others_are_as_without_it():

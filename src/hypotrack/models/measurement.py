@@ -1,0 +1,219 @@
+"""Measurement models as one small surface for every tracker: linear (``z = H x + v``) and extended.
+
+Every tracker of the project (the hypothesis engine and its factored form, the birth terms, GNN,
+JPDA and their initiator) asks four things of the measurement model, batched over tracks:
+
+* :meth:`innovation` ``(means (n, d), covs (n, d, d)) -> (z_pred (n, p), S (n, p, p), K (n, d, p),
+  H (n, p, d))`` — the predicted return, innovation covariance ``S = H P Hᵀ + R``, gain
+  ``K = P Hᵀ S⁻¹`` and the measurement matrix of each track;
+* :meth:`residual` ``(Z (m, p), z_pred (n, p)) -> (m, n, p)`` — ``z_i − ẑ_j``, with the angle
+  components wrapped into ``[−π, π)`` for an extended model whose ``wrapped`` lists them;
+* :meth:`mahalanobis2` ``(Z, z_pred, S) -> (d² (m, n), log det S (n,))``;
+* :meth:`update` ``(means, covs, Z_rows (n, p)) -> (means⁺, covs⁺)`` — the Joseph-form update
+  (Bar-Shalom, Li & Kirubarajan, *Estimation with Applications to Tracking and Navigation*, 2001,
+  Sec. 5.2.3) of each track with its own return.
+
+:class:`LinearMeasurement` ``(H, R)`` calls exactly the functions the trackers called before
+(:func:`hypotrack.gaussian.innovation_unchecked`, :func:`~hypotrack.gaussian.update_unchecked`,
+:func:`~hypotrack.gaussian.mahalanobis2_unchecked`), so its numbers are bit for bit the previous ones.
+:class:`ExtendedMeasurement` is the extended Kalman filter's linearisation (ibid. Sec. 10.3.2): a
+subclass gives ``h(x)`` (``(n, p)``), its Jacobian ``(n, p, d)`` and a constant ``R``; the update is
+``x⁺ = x + K ν`` with ``ν = z − h(x)`` (wrapped) and ``P⁺ = (I − K H_j) P (I − K H_j)ᵀ + K R Kᵀ``,
+``H_j = ∂h/∂x(x̂_j)``. The ground radar of the catalogue experiments
+(:class:`hypotrack.scenarios.catalogue.radar_model.RadarMeasurement`) is one.
+
+:func:`as_measurement` turns what a sensor exposes as ``sensor.measurement`` into one of these: an
+object that already is one is returned, anything with ``H`` and ``R`` attributes becomes a
+:class:`LinearMeasurement`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .._validation import check_covariance, check_finite_array
+from ..gaussian import innovation_unchecked, mahalanobis2_unchecked, symmetrize, update_unchecked
+
+__all__ = ["LinearMeasurement", "ExtendedMeasurement", "as_measurement", "wrap_pi"]
+
+_LOG_2PI = float(np.log(2.0 * np.pi))
+
+
+def wrap_pi(a):
+    """Angles wrapped into ``[−π, π)``."""
+    return (np.asarray(a, dtype=float) + np.pi) % (2.0 * np.pi) - np.pi
+
+
+class LinearMeasurement:
+    """``z = H x + v``, ``v ~ N(0, R)`` (module docstring). ``H`` (p, d), ``R`` (p, p) positive definite."""
+
+    linear = True
+
+    def __init__(self, H, R):
+        self.H = check_finite_array(np.atleast_2d(np.asarray(H, dtype=float)), "H", ndim=2)
+        self.R = check_covariance(np.atleast_2d(np.asarray(R, dtype=float)), "R", dim=self.H.shape[0])
+
+    @property
+    def dim(self) -> int:
+        """Measurement dimension ``p``."""
+        return self.H.shape[0]
+
+    @property
+    def ndim_state(self) -> int:
+        return self.H.shape[1]
+
+    def predict(self, means) -> np.ndarray:
+        """``H x`` of each mean ``(n, d)``."""
+        return means @ self.H.T
+
+    def innovation(self, means, covs):
+        """``(z_pred, S, K, H)`` of each track; ``H`` broadcast to ``(n, p, d)`` (a view, no copy)."""
+        z_pred, S, K = innovation_unchecked(means, covs, self.H, self.R)
+        return z_pred, S, K, np.broadcast_to(self.H, (len(means), *self.H.shape))
+
+    @staticmethod
+    def residual(Z, z_pred) -> np.ndarray:
+        """``z_i − ẑ_j`` ``(m, n, p)``."""
+        return np.asarray(Z)[:, None, :] - np.asarray(z_pred)[None, :, :]
+
+    @staticmethod
+    def residual_rows(Z_rows, z_pred) -> np.ndarray:
+        """``z_j − ẑ_j`` ``(n, p)`` (one return per track)."""
+        return Z_rows - z_pred
+
+    @staticmethod
+    def mahalanobis2(Z, z_pred, S):
+        """``(d² (m, n), log det S (n,))`` (:func:`hypotrack.gaussian.mahalanobis2_unchecked`)."""
+        return mahalanobis2_unchecked(Z, z_pred, S)
+
+    def update(self, means, covs, Z_rows):
+        """Joseph-form Kalman update of each track with its own return ``Z_rows`` (n, p)."""
+        return update_unchecked(means, covs, Z_rows, self.H, self.R)
+
+    def view_points(self, means, z_pred=None) -> np.ndarray:
+        """What the sensor's ``detection.in_view`` is given: the predicted returns ``H x``."""
+        return self.predict(means) if z_pred is None else z_pred
+
+
+class ExtendedMeasurement:
+    """Base of a nonlinear measurement ``z = h(x) + v``, ``v ~ N(0, R)``, filtered by the EKF (module docstring).
+
+    A subclass defines :meth:`h` ``(n, d) -> (n, p)``, :meth:`jacobian` ``(n, d) -> (n, p, d)``, the
+    attribute ``R`` ``(p, p)`` and ``wrapped``: the indices of the angle components whose residuals are
+    wrapped into ``[−π, π)``. :meth:`view_points` (what ``detection.in_view`` is given) defaults to the
+    state's first three components (a position).
+    """
+
+    linear = False
+    wrapped: tuple = ()
+    R: np.ndarray
+    #: Second-order EKF (Bar-Shalom, Li & Kirubarajan 2001, Sec. 10.3.3): the predicted return gets the bias
+    #: ``½ tr(∂²h_a/∂x² P)`` and the innovation covariance the term ``½ tr(∂²h_a P ∂²h_b P)``, which the update
+    #: treats as extra measurement noise (Joseph form with ``R + S₂``). For a track whose prior is wide across a
+    #: curved measurement (a one-point birth seen by a radar: tens of km across the line of sight make a range
+    #: bias of ``δ²/(2ρ)``, kilometres against a 30-m σ) the first-order filter's gate misses the true return.
+    second_order: bool = False
+    #: Central-difference steps (per state component) of the Hessian from :meth:`jacobian` (:meth:`hessian`).
+    hessian_steps: tuple = ()
+
+    def h(self, means) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def jacobian(self, means) -> np.ndarray:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    @property
+    def dim(self) -> int:
+        return self.R.shape[0]
+
+    def predict(self, means) -> np.ndarray:
+        return self.h(means)
+
+    def hessian(self, means) -> np.ndarray:
+        """``∂²h_a/∂x_k∂x_l`` ``(n, p, d, d)`` by central differences of :meth:`jacobian` (steps :attr:`hessian_steps`)."""
+        n, d = np.shape(means)
+        out = np.empty((n, self.dim, d, d))
+        for k, h in enumerate(self.hessian_steps):
+            xp, xm = np.array(means, dtype=float), np.array(means, dtype=float)
+            xp[:, k] += h
+            xm[:, k] -= h
+            out[:, :, :, k] = (self.jacobian(xp) - self.jacobian(xm)) / (2 * h)
+        return 0.5 * (out + np.swapaxes(out, 2, 3))
+
+    def _moments(self, means, covs):
+        """``(z_pred, H, R_eff)``: first order ``(h(x), ∂h/∂x, R)``, or with :attr:`second_order` the bias and the
+        extra covariance added (class docstring)."""
+        H, z_pred = self.jacobian(means), self.h(means)
+        if not self.second_order:
+            return z_pred, H, self.R
+        Hxx = self.hessian(means)
+        A = Hxx @ covs[:, None]  # (n, p, d, d): ∂²h_a P
+        z_pred = z_pred + 0.5 * np.trace(A, axis1=2, axis2=3)
+        S2 = 0.5 * np.einsum("nakl,nblk->nab", A, A)
+        return z_pred, H, self.R + symmetrize(S2)
+
+    def innovation(self, means, covs):
+        """``(z_pred, S, K, H)`` with ``H_j = ∂h/∂x(x̂_j)``, ``S_j = H_j P_j H_jᵀ + R``, ``K_j = P_j H_jᵀ S_j⁻¹``
+        (second order: the bias in ``z_pred`` and ``S₂`` in ``S``, class docstring)."""
+        n = len(means)
+        if n == 0:
+            p = self.dim
+            d = np.shape(means)[-1]
+            return np.zeros((0, p)), np.zeros((0, p, p)), np.zeros((0, d, p)), np.zeros((0, p, d))
+        z_pred, H, R = self._moments(means, covs)
+        PHt = covs @ np.swapaxes(H, 1, 2)
+        S = symmetrize(H @ PHt + R)
+        K = np.swapaxes(np.linalg.solve(S, np.swapaxes(PHt, 1, 2)), 1, 2)
+        return z_pred, S, K, H
+
+    def _wrap(self, r):
+        for i in self.wrapped:
+            r[..., i] = wrap_pi(r[..., i])
+        return r
+
+    def residual(self, Z, z_pred) -> np.ndarray:
+        """``z_i − ẑ_j`` ``(m, n, p)``, angle components wrapped into ``[−π, π)``."""
+        return self._wrap(np.asarray(Z, dtype=float)[:, None, :] - np.asarray(z_pred, dtype=float)[None, :, :])
+
+    def residual_rows(self, Z_rows, z_pred) -> np.ndarray:
+        """``z_j − ẑ_j`` ``(n, p)``, angle components wrapped."""
+        return self._wrap(np.asarray(Z_rows, dtype=float) - z_pred)
+
+    def mahalanobis2(self, Z, z_pred, S):
+        """``(d² (m, n), log det S (n,))`` of the wrapped residuals (Cholesky of ``S``)."""
+        n, m = len(z_pred), len(Z)
+        if n == 0 or m == 0:
+            return np.zeros((m, n)), (np.zeros(0) if n == 0 else 2.0 * np.sum(
+                np.log(np.diagonal(np.linalg.cholesky(S), axis1=-2, axis2=-1)), axis=-1))
+        L = np.linalg.cholesky(S)
+        logdet = 2.0 * np.sum(np.log(np.diagonal(L, axis1=-2, axis2=-1)), axis=-1)
+        u = np.einsum("njk,mnk->mnj", np.linalg.inv(L), self.residual(Z, z_pred))
+        return np.sum(u * u, axis=-1), logdet
+
+    def update(self, means, covs, Z_rows):
+        """EKF update of each track with its own return (Joseph form, residual wrapped)."""
+        if len(means) == 0:
+            return means.copy(), covs.copy()
+        z_pred, H, R = self._moments(means, covs)
+        PHt = covs @ np.swapaxes(H, 1, 2)
+        S = symmetrize(H @ PHt + R)
+        K = np.swapaxes(np.linalg.solve(S, np.swapaxes(PHt, 1, 2)), 1, 2)
+        nu = self.residual_rows(Z_rows, z_pred)
+        x = means + np.einsum("nij,nj->ni", K, nu)
+        IKH = np.eye(means.shape[1]) - K @ H
+        P = IKH @ covs @ np.swapaxes(IKH, 1, 2) + K @ R @ np.swapaxes(K, 1, 2)
+        return x, symmetrize(P)
+
+    def view_points(self, means, z_pred=None) -> np.ndarray:
+        """The state's position ``(n, 3)``: what ``detection.in_view`` of a position sensor tests."""
+        return np.asarray(means)[:, :3]
+
+
+def as_measurement(m):
+    """``m`` itself when it has :meth:`~LinearMeasurement.innovation` and :meth:`~LinearMeasurement.update`;
+    otherwise a :class:`LinearMeasurement` of its ``H`` and ``R``."""
+    if hasattr(m, "innovation") and hasattr(m, "update") and hasattr(m, "residual"):
+        return m
+    if not (hasattr(m, "H") and hasattr(m, "R")):
+        raise TypeError(f"a sensor's measurement must have H and R, or be a measurement model, got {type(m).__name__}")
+    return LinearMeasurement(m.H, m.R)

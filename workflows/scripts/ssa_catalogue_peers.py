@@ -6,7 +6,8 @@ an EKF predictor on the trackers' motion model; without Stone Soup the rule time
 run the known objects with no initiation or deletion, the same EKF dynamics (hypotrack's motion model, two-body plus J2
 by default, ``make_motion``, wrapped as a Stone Soup transition model by
 :func:`hypotrack.interop.stonesoup.transition.orbit_transition_model`, integrated once per track and scan),
-the same linear TEME position measurement, gate, p_D and clutter density.
+the same linear TEME position measurement, gate, p_D and clutter density (the ENU stand-in radar of
+:func:`~hypotrack.experiments.ssa_catalogue.run.peer_config`, whatever radar the section tracks with).
 """
 import pandas as pd
 

@@ -47,6 +47,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 
 from .._validation import check_finite_array, check_nonnegative, check_positive
@@ -142,6 +143,16 @@ def _rk4_j2(X, dt, mu, c_j2, max_step):
     n = np.ceil(np.abs(dt) / max_step).astype(np.int64)
     if not len(n) or n.max() == 0:
         return X.copy()
+    if not np.iscomplexobj(X):  # the means alone (no complex step): one compiled pass, the same arithmetic
+        h = np.asarray(dt, dtype=float) / np.maximum(n, 1)
+        return _rk4_j2_real(np.ascontiguousarray(X, dtype=float), h, n, float(mu), float(c_j2))
+    return _rk4_j2_arrays(X, dt, mu, c_j2, n)
+
+
+def _rk4_j2_arrays(X, dt, mu, c_j2, n):
+    """:func:`_rk4_j2` in array passes (real or complex rows; ``n`` the steps of each row)."""
+    if not len(n) or n.max() == 0:
+        return X.copy()
     order = np.argsort(-n, kind="stable")
     ns = n[order]
     h = np.asarray(dt, dtype=float)[order] / np.maximum(ns, 1)
@@ -162,6 +173,43 @@ def _rk4_j2(X, dt, mu, c_j2, max_step):
         v[:, :a] = vi + hk6 * (a1 + 2 * (a2 + a3) + a4)
     out = np.empty_like(X)
     out[order] = np.vstack([r, v]).T
+    return out
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _j2_acceleration_xyz(x, y, z, mu, c_j2):
+    """:func:`_j2_acceleration` of one real position, operation for operation (the same rounding)."""
+    ir2 = 1.0 / (x * x + y * y + z * z)
+    ir3 = ir2 * np.sqrt(ir2)
+    kj = c_j2 * ir2
+    s = 5.0 * z * z * ir2
+    f = ir3 * (kj * (s - 1.0) - mu)
+    return x * f, y * f, z * (ir3 * (kj * (s - 3.0) - mu))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _rk4_j2_real(X, h, n, mu, c_j2):
+    """:func:`_rk4_j2` of real rows ``X`` (N, 6), row ``i`` in ``n[i]`` steps of ``h[i]``: the array passes'
+    operations row by row in the same order, so bit for bit their result (no fast-math: no reassociation,
+    no fused multiply-add), in one pass over the rows instead of ~30 array passes."""
+    out = np.empty_like(X)
+    for i in range(X.shape[0]):
+        rx, ry, rz, vx, vy, vz = X[i, 0], X[i, 1], X[i, 2], X[i, 3], X[i, 4], X[i, 5]
+        hk = h[i]
+        hk2, hk6 = hk / 2, hk / 6
+        for _ in range(n[i]):
+            a1x, a1y, a1z = _j2_acceleration_xyz(rx, ry, rz, mu, c_j2)
+            v2x, v2y, v2z = vx + hk2 * a1x, vy + hk2 * a1y, vz + hk2 * a1z
+            a2x, a2y, a2z = _j2_acceleration_xyz(rx + hk2 * vx, ry + hk2 * vy, rz + hk2 * vz, mu, c_j2)
+            v3x, v3y, v3z = vx + hk2 * a2x, vy + hk2 * a2y, vz + hk2 * a2z
+            a3x, a3y, a3z = _j2_acceleration_xyz(rx + hk2 * v2x, ry + hk2 * v2y, rz + hk2 * v2z, mu, c_j2)
+            v4x, v4y, v4z = vx + hk * a3x, vy + hk * a3y, vz + hk * a3z
+            a4x, a4y, a4z = _j2_acceleration_xyz(rx + hk * v3x, ry + hk * v3y, rz + hk * v3z, mu, c_j2)
+            rx, ry, rz = (rx + hk6 * (vx + 2 * (v2x + v3x) + v4x), ry + hk6 * (vy + 2 * (v2y + v3y) + v4y),
+                          rz + hk6 * (vz + 2 * (v2z + v3z) + v4z))
+            vx, vy, vz = (vx + hk6 * (a1x + 2 * (a2x + a3x) + a4x), vy + hk6 * (a1y + 2 * (a2y + a3y) + a4y),
+                          vz + hk6 * (a1z + 2 * (a2z + a3z) + a4z))
+        out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4], out[i, 5] = rx, ry, rz, vx, vy, vz
     return out
 
 

@@ -66,7 +66,7 @@ from .physics import attach_tracker_snr, model_survival, model_validity, object_
 
 __all__ = ["evaluated_on", "check_tuning", "MOTIONS", "REENTRY_GAP_SCANS", "BIRTHS", "tracker_sensor", "initial_tracks", "make_motion", "make_problem", "make_tracker", "FACTORED", "select_population", "make_radar", "build_scenario", "run_tracker",
            "continuity", "scan_rows", "parallel_timing", "same_posterior", "PeerScenario", "peer_scenario",
-           "CatalogueSHTStepper", "peer_rows"]
+           "CatalogueSHTStepper", "peer_rows", "peer_config"]
 
 #: The factored trackers of the committed configurations (names of ``ssa_catalogue.trackers``), for the summaries.
 FACTORED = ("glmb", "homht_kbest", "rfisst")
@@ -501,8 +501,22 @@ class PeerScenario:
         return list(zip(self.times, self.returns))
 
 
+_RADAR_FRAME_KEYS = ("measurement", "sigma_range_km", "sigma_angle_deg", "sigma_range_rate_km_s", "snr")
+
+
+def peer_config(cfg) -> dict:
+    """The section with its radar as the ENU stand-in (isotropic ``sigma_km``, the constant ``p_D``): the peer
+    comparison checks two implementations of GNN/JPDA on one linear problem, which Stone Soup's linear
+    updater and hypotrack's share (the documented radar's sensor-frame EKF and SNR detection have no
+    counterpart on the peer's side of that harness)."""
+    return {**cfg, "radar": {k: v for k, v in cfg["radar"].items() if k not in _RADAR_FRAME_KEYS}}
+
+
 def peer_scenario(cfg, n: int, seed: int, scenario=None) -> PeerScenario:
-    """:class:`PeerScenario` of size ``n`` (known objects only; the radar's returns in TEME)."""
+    """:class:`PeerScenario` of size ``n`` (known objects only; the radar's returns in TEME). Without a
+    ``scenario``, built on :func:`peer_config`'s stand-in radar."""
+    if scenario is None:
+        cfg = peer_config(cfg)
     objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
     tsensor = tracker_sensor(sc.sensors[0])
     if isinstance(tsensor, RadarTrackerSensor):

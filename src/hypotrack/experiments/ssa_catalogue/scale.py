@@ -9,7 +9,9 @@ in :func:`~.run.build_scenario`.
 One **run** (:func:`measure_run`) is one tracker over ``n_scans`` scans of one population, in a fresh
 Python process (:func:`run_isolated`), so that its peak resident memory (``ru_maxrss``, over the
 whole run: simulation included) is its own. Per run: CPU seconds of the tracker's steps
-(``time.process_time``; the first scan, at the priors' epoch, stepped untimed), and from them µs per
+(``time.process_time``; the first ``warm_scans`` scans stepped untimed: scan 0 is at the priors' epoch, and a
+fresh process compiles each numba kernel on its first call, ~0.1 s of CPU in the first scan with a general
+engine step, which over a few timed scans would swamp the steady cost), and from them µs per
 object in view per scan, per catalogued object per scan and per return; the **real-time factor**
 (simulated seconds per CPU second: above 1 the tracker keeps up with the radar on one core); the
 load average of the machine before and after. :func:`scale_summary`: per (tracker, N) the median of the
@@ -65,6 +67,9 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
     kw = factored if cfg["trackers"][tracker].get("factored") is not None else {}
     tr = make_tracker(tracker, cfg, problem, int(seed), **kw)
     in_view = sc.truth.groupby("scan").size()
+    warm = int(s.get("warm_scans", 1))
+    if not 1 <= warm < s["n_scans"]:
+        raise ValueError(f"scale.warm_scans must lie in [1, n_scans = {s['n_scans']}), got {warm}")
     cpu, view, returns, timed = 0.0, 0, 0, 0
     for k, (t_k, Z) in enumerate(sc.scan_list(0)):
         tsensor.at(sc.theta[k])
@@ -72,7 +77,7 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
         c0 = time.process_time()
         tr.step(Zt, float(t_k))
         c = time.process_time() - c0
-        if k >= 1:  # scan 0 is at the priors' epoch (an update without prediction, first compiled calls)
+        if k >= warm:  # scan 0 is at the priors' epoch (an update without prediction); first compiled calls
             cpu += c
             view += int(in_view.get(k, 0))
             returns += len(Z)

@@ -14,7 +14,8 @@ One ``step(Z)``
 ---------------
 1. Predict every group's tracks (with ``lazy``, of the singletons only those that may be in
    view); score every return against them (the engine's
-   :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once). A group's
+   :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once; at scale only the pairs a
+   k-d tree over the returns finds near each track, with the same numbers, :mod:`.scores`). A group's
    *gate* is the set of returns inside the validation gate of any of its tracks, in any of its
    hypotheses (the engine's ``allowed``; the field of view enters through ``p_D``, not the gate,
    unless ``gate_out_of_view=False``, when a track out of view gates nothing).
@@ -82,9 +83,14 @@ back to the lane; returns no gate reaches and birth terms no return reaches, who
 object, are dropped. The decision is taken from the weight models' closed forms with a margin, the
 results go where the general path puts them (plan order), the other steps draw the same random
 streams and the labels the skipped steps would have used are counted; with the engine's
-``validity`` test every child's tracks are tested as the general step tests them. The posterior is
-the general path's, bit for bit (``tests/unit/hypotheses/factored/test_fast_path.py``). ``last_stats`` counts
-``n_fast_path`` (lone tracks), ``n_fast_births`` and ``n_fast_clutter``.
+``validity`` test every child's tracks are tested as the general step tests them. Two more closed
+forms (without a validity test): a quiet group of one object whose empty-scan step would leave no
+object after the pruning (an undetected newborn fading out) is dropped without a step, and a lone
+birth term whose two children are both kept is stepped from one engine step of such a term of its
+``r_B`` (the same hypotheses and weights; the term's prior as the born track). The posterior is the general
+path's, bit for bit (``tests/unit/hypotheses/factored/test_fast_path.py``,
+``test_fast_path_catalogue.py``). ``last_stats`` counts ``n_fast_path`` (lone tracks),
+``n_fast_births``, ``n_fast_clutter``, ``n_fast_quiet`` and ``n_fast_born``.
 
 When the factored posterior equals the unfactored one
 -----------------------------------------------------
@@ -115,7 +121,8 @@ Where each job lives
 --------------------
 :mod:`.options` (:class:`FactoredOptions`, every option stated and checked once), :mod:`.engine`
 (:class:`FactoredFilter`: the scan in named stages), :mod:`.planner` (the graph, the plans, the
-splits), :mod:`.fast_path` (the lone tracks' batch), :mod:`.lane` (singletons and lazy prediction), :mod:`.pool` (the engine steps and the
+splits), :mod:`.scores` (the returns against the predicted tracks: dense, or at scale the gated pairs
+through a k-d tree), :mod:`.fast_path` (the lone tracks' batch), :mod:`.lane` (singletons and lazy prediction), :mod:`.pool` (the engine steps and the
 workers that run them), :mod:`.summary` (:class:`FactoredPosterior`); the measurement-driven birth
 model :class:`AdaptiveBirth` lives beside the populations (:mod:`..population_adaptive`).
 """

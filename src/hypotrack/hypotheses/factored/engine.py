@@ -10,19 +10,19 @@ import numpy as np
 
 from ..._validation import check_finite_array, check_int, check_measurements
 from ...protocol import TrackEstimates
-from ..detection import state_p_detect
 from ..factored_groups import factorise, product
 from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
 from ..._validation import check_finite_float
 from ..state import scan_interval
 from ..tracks import TrackStore
-from .fast_path import FastBatch, birth_existence, fast_components, fast_rule
-from .lane import GroupSet, Lane, cat, is_singleton, predict_each, silent, singleton, take
+from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
+from .lane import GroupSet, Lane, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton, take
 from .options import FactoredOptions
-from .planner import (ObjectIds, Scores, innovation_covariances, interaction_parts, prune, quiet_plan, scan_graph,
-                      scorable, split_group, touched_plan)
-from .pool import WorkerPool
+from .planner import (ObjectIds, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
+                      touched_plan)
+from .pool import WorkerPool, engine_step
+from .scores import Scores
 from .summary import FactoredPosterior
 
 __all__ = ["FactoredFilter", "FactoredState"]
@@ -49,7 +49,7 @@ class FactoredState:
 
 _STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
                n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0,
-               n_fast_births=0, n_fast_clutter=0)
+               n_fast_births=0, n_fast_clutter=0, n_fast_quiet=0, n_fast_born=0)
 
 
 class FactoredFilter:
@@ -88,7 +88,9 @@ class FactoredFilter:
         ``n_kalman_updates``, ``mass_retained_min`` (smallest share of its children's mass a
         touched group kept under the cap), ``n_fast_path``, ``n_fast_births``, ``n_fast_clutter``
         (components the fast path took: lone tracks updated, lone birth terms and returns dropped;
-        they count in ``n_touched``, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        they count in ``n_touched``, not in ``n_jobs``), ``n_fast_quiet`` (quiet groups the fast path
+        found to keep no object after their empty-scan step: dropped, not in ``n_jobs``), ``n_fast_born`` (lone
+        birth terms keeping both children, stepped from a template: in ``n_touched``, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
         pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
         ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.
@@ -123,12 +125,17 @@ class FactoredFilter:
         obj.initialise(np.zeros((0, obj.ndim)), time=f.time)
         state = f.state.with_next_label(0)
         groups = [state] if any(len(t) for t in state.tracks) else []
-        if groups and len(state.labels) > 1:
+        lone = one_hypothesis_lane(state) if obj._lane_on and groups else None
+        if lone is not None:  # one singleton per object, as the exact split gives them (without it)
+            obj._groups, obj._lane = GroupSet.at((), f.time), Lane.at(lone, f.time)
+            groups = None
+        elif groups and len(state.labels) > 1:
             record, parts = factorise(state, np.searchsorted(state.labels, state.store.labels), obj.options.factor_tol)
             if record.exact:
                 groups = parts
-        states, lane = obj._sort_out(groups)
-        obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time)
+        if groups is not None:
+            states, lane = obj._sort_out(groups)
+            obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time)
         obj._next_label = f.next_label
         obj.scan_index = f.scan_index
         return obj
@@ -152,6 +159,7 @@ class FactoredFilter:
         self._options = options
         self._engine = engine  # the template of every group's step: models, population, settings; no hypotheses
         self._pool = WorkerPool()
+        self._born_templates = {}  # r_B -> the fast path's lone birth term step (:meth:`_born`)
         self.rng = engine.rng
         self.ndim = engine.state_dim
         # singletons are exactly their Gaussian when a quiet group takes no population event
@@ -335,7 +343,6 @@ class FactoredFilter:
         cand, view = self._lane.candidates(lazy, interval, self._advance_view)
         lane = self._lane
         prior = cat([s.store for s in groups] + [take(lane.store, cand)], self.ndim)
-        # replay: a woken track's gap predicted scan by scan, as the eager filter would have (options.replay)
         pm, pP = predict_each(E.motion, prior.means, prior.covs,
                               np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]),
                               step=interval if self._options.replay and interval > 0 else None)
@@ -349,12 +356,10 @@ class FactoredFilter:
         """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane
         singleton with one return and nothing else, whose general step would keep only the
         detected child, stepped in one batch; ``None`` when it is off or cannot be exact."""
-        if not self._options.fast_path:
-            return None
-        E = self._engine
-        rule = fast_rule(E, self._lane_on, self._options.min_weight)
+        rule = self._fast_rule()
         if rule is None:
             return None
+        E = self._engine
         r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z,
                                E.H if E.H is not None else E.measurement, E.R, E.weights.seeded_births, r_birth, E.population)
@@ -363,17 +368,47 @@ class FactoredFilter:
                      n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)
         return fast
 
+    def _fast_rule(self):
+        """The fast path's :class:`~.fast_path.FastRule`, or ``None`` (off, or not exact for this engine)."""
+        if not self._options.fast_path:
+            return None
+        return fast_rule(self._engine, self._lane_on, self._options.min_weight)
+
     def _plan(self, scan, graph, Z, stats, skip=None) -> tuple:
         """Step 2–3: one plan per component, in the order of its first node (deterministic): a quiet
         group predicts or takes an empty-scan step; a touched component merges its groups and steps.
         Returns the plans and their keys (first nodes); ``skip``: components the fast path took."""
         E, plans, keys, bounds = self._engine, [], [], scan.bounds
+        rule = self._fast_rule()
+        r_birth = None if rule is None or E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         for key, c, members, regions, rows in graph.components(skip):
             keys.append(key)
             if c is None:
                 cols = np.arange(bounds[key], bounds[key + 1])
-                plans.append(quiet_plan(E, self._lane_on, self._objects, scan.groups[key], take(scan.pred, cols),
-                                        scan.scores.columns(cols), Z, scan.birth_ll, stats))
+                state = scan.groups[key]
+                plan = quiet_plan(E, self._lane_on, self._objects, state, take(scan.pred, cols),
+                                  scan.scores.block(np.zeros(0, np.int64), cols), Z, scan.birth_ll, stats)
+                if (plan[0] == "quiet" and rule is not None and len(np.unique(self._objects.of(state.labels))) == 1
+                        and rule.quiet_group_dies(state.log_w, state.tracks, scan.scores.p_detect[cols])):
+                    # the fast path: its step would keep no object (one object: no split, no record)
+                    plan = ("dropped",)
+                    stats["n_fast_quiet"] += 1
+                plans.append(plan)
+            elif (r_birth is not None and len(members) == 0 and len(rows) == 0 and len(regions) == 1
+                  and rule.keeps_born(r_birth[regions[0]])):
+                # a lone birth term keeping both children: one engine step of such a term (no return: one
+                # association, nothing drawn) is the template of every term of its r_B (FastRule.keeps_born)
+                r_b = float(r_birth[regions[0]])
+                if r_b not in self._born_templates:
+                    plan = touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
+                                        scan.scores, Z, scan.birth_ll, stats)
+                    self._born_templates[r_b] = born_template(engine_step(E, *plan[1:], 0, 0))
+                if self._born_templates[r_b] is None:
+                    plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
+                                              scan.scores, Z, scan.birth_ll, stats))
+                else:
+                    plans.append(("born", int(regions[0]), self._born_templates[r_b]))
+                    stats["n_fast_born"] += 1
             else:
                 plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
                                           scan.scores, Z, scan.birth_ll, stats))
@@ -389,12 +424,14 @@ class FactoredFilter:
         and the labels each uses are counted where its plan would have run, so the other steps
         draw and number exactly as without it."""
         n_fast = 0 if fast is None else len(fast)
+        # a dropped quiet group (the fast path's) keeps its step's place: it draws its stream, unused
         steps = np.array([p[0] != "done" for p in plans], dtype=bool)
-        jobs = [p for p in plans if p[0] != "done"]
+        run = np.array([p[0] not in ("done", "dropped", "born") for p in plans], dtype=bool)
+        jobs = [p for p in plans if p[0] not in ("done", "dropped", "born")]
         # each step's place among the steps and the fast components (both in key order)
         fast_before = np.searchsorted(fast.keys, keys) if n_fast else np.zeros(len(plans), np.int64)
-        slot = np.cumsum(steps)[steps] - 1 + fast_before[steps]
-        n_draw = len(jobs) + n_fast
+        slot = (np.cumsum(steps) - 1 + fast_before)[run]
+        n_draw = int(steps.sum()) + n_fast
         seeds = self.rng.integers(0, 2**63 - 1, size=n_draw)[slot] if n_draw else np.zeros(0, np.int64)
         base = self._next_label
         results = iter(self._pool.run(self._engine, [(p[1], p[2], p[3], p[4], base, int(s)) for p, s in zip(jobs, seeds)],
@@ -406,8 +443,12 @@ class FactoredFilter:
             if n_fast:  # the labels the fast path's components before this plan used
                 self._next_label += int(fast.labels_before(before) - fast.labels_before(counted))
                 counted = before
+            if plan[0] == "dropped":
+                continue
             if plan[0] == "done":
                 state, parts = plan[1], plan[2]
+            elif plan[0] == "born":
+                state, parts = self._born(plan[1], plan[2], stats)
             else:
                 state, parts = self._finish(plan, next(results), base, stats)
             new_groups.extend((key, s) for s in split_group(state, parts, opts.split, opts.factor_tol,
@@ -435,6 +476,18 @@ class FactoredFilter:
         self._objects.register_births(new.store, sources, len(regions))
         return new, interaction_parts(self._objects.of(pred.labels), ctx, sources, len(regions))
 
+    def _born(self, b: int, template, stats):
+        """The step of lone birth term ``b`` from its ``r_B``'s template (:func:`~.fast_path.born_state`)."""
+        E = self._engine
+        new = born_state(template, E.population, b, E.R, self._next_label, self.ndim)
+        self._next_label += 1
+        st = template[-1]
+        stats["n_duplicates_merged"] += st["n_duplicates_merged"]
+        stats["n_touched"] += 1
+        stats["mass_retained_min"] = min(stats["mass_retained_min"], st["mass_retained"])
+        self._objects.register_births(new.store, np.array([[-1, -1]], dtype=np.int64), 1)
+        return new, np.zeros(1, dtype=np.int64)
+
     def _keep(self, scan, graph, new_groups, fast, now, stats):
         """Step 4's end: singletons back to the lane — the untouched candidates predicted, then those
         the steps (and the fast path) produced, in plan order; the groups left for later first, then the scan's."""
@@ -460,31 +513,12 @@ class FactoredFilter:
         return view, E.sensor.detection.in_view(view @ E.H.T if E.H is not None else E.measurement.view_points(view))
 
     def _scores(self, pred, Z) -> Scores:
-        """Every return against every predicted track (the engine's
-        :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once); without
-        ``gate_out_of_view`` a track with ``p_D = 0`` gates nothing. A track whose innovation covariance
-        is not finite and positive definite (:func:`~.planner.scorable`: a prediction that diverged, e.g.
-        an orbit flung out by a wrong update in an unlikely hypothesis and predicted for an hour) takes no
-        return and is not missed (``p_D = 0``) instead of aborting the scan."""
-        E = self._engine
-        if len(pred):
-            with np.errstate(invalid="ignore", over="ignore"):
-                ok = scorable(innovation_covariances(E.measurement, pred.means, pred.covs))
-        else:
-            ok = np.ones(0, dtype=bool)
-        if ok.all():
-            loglik, allowed, p_detect = E.track_scores(pred, Z)
-        else:
-            good = np.flatnonzero(ok)
-            loglik, allowed = np.full((len(Z), len(pred)), -np.inf), np.zeros((len(Z), len(pred)), dtype=bool)
-            p_detect = np.zeros(len(pred))
-            loglik[:, good], allowed[:, good], p_detect[good] = E.track_scores(take(pred, good), Z)
-        p_detect = state_p_detect(E.sensor.detection, pred.means, p_detect)
-        p_detect[~ok] = 0.0
-        if not self._options.gate_out_of_view:
-            allowed = allowed & (p_detect > 0)[None, :]
-        track_survival = getattr(self._engine.population, "track_survival", None)
-        return Scores(loglik, allowed, p_detect, None if track_survival is None else track_survival(pred))
+        """Every return against every predicted track (:func:`~.planner.score_scorable`: the engine's
+        ``track_scores``, at scale the gated pairs alone, :func:`~.scores.score_tracks`; a track whose
+        prediction diverged takes no return and is not missed); without ``gate_out_of_view`` a track with
+        ``p_D = 0`` gates nothing."""
+        return score_scorable(self._engine, pred, Z, gate_out_of_view=self._options.gate_out_of_view,
+                              survival=getattr(self._engine.population, "track_survival", None))
 
     def _set_birth_terms(self, terms):
         r_birth = self._options.adaptive_birth.r_birth

@@ -63,11 +63,12 @@ from ..generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from ..gibbs import GibbsGenerator
 from ..population_events import BinomialPopulation
 from ..population_lmb import LabeledMultiBernoulliPopulation
+from ..state import FilterState
 from ..tracks import TrackStore
 from ..weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
 from ..weights_glmb import GLMBWeights
 
-__all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components"]
+__all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components", "lone_update", "born_template", "born_state"]
 
 #: relative margin of ``min_weight`` an alternative must stay under (rounding never decides)
 MARGIN = 1e-9
@@ -95,6 +96,18 @@ class FastRule:
         light = born - np.logaddexp(born, np.log1p(-r)) < self.log_threshold
         return (r_birth > 0) & (r_birth < 1) & (light if valid is None else light | ~valid)
 
+    def keeps_born(self, r_birth) -> bool:
+        """Whether a lone birth term (existence ``r_B``) keeps both its children, "not born" and "born
+        undetected", after the pruning (the second's normalised weight above ``min_weight`` by the
+        margin): the result of its step is then the same two hypotheses for every term of that
+        ``r_B``, only the born track's moments (the term's prior) and label differ. Only with no
+        validity test (the prior might fail it)."""
+        r = float(r_birth)
+        if self.validity is not None or not 0.0 < r < 1.0:
+            return False
+        born = np.log(r) + np.log1p(-self.p_detect_birth)
+        return bool(born - np.logaddexp(born, np.log1p(-r)) > self.log_threshold - 2 * np.log1p(-MARGIN))
+
     def takes(self, loglik, p_detect, valid=None) -> np.ndarray:
         """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected
         child; ``valid`` (n, alternatives): whether each alternative child passes the validity test
@@ -107,6 +120,25 @@ class FastRule:
             alt = np.where(valid, alt, -np.inf)
         total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
         return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
+
+    def quiet_group_dies(self, log_w, tracks, p_detect) -> bool:
+        """Whether a quiet group (no return, no birth term; hypotheses ``log_w``, ``tracks``, each
+        track's ``p_D``) keeps no object after its engine step on the empty scan and the pruning.
+
+        Its only child of each hypothesis is "every object missed", weight ``w_h Π_{i∈h} (1 − p_D,i)``
+        (a silent population: no event, no birth term). The hypotheses holding a track weigh
+        ``W`` in all, normalised; when ``W < min_weight`` (by the margin) each of them, and each
+        non-empty projection of a split part, lies below ``min_weight`` and the empty hypothesis
+        (weight ``1 − W > 1/2``) is the heaviest, so pruning leaves no object. Only with no validity
+        test (which would drop children before the normalisation)."""
+        if self.validity is not None:
+            return False
+        log_miss = np.log1p(-np.asarray(p_detect, dtype=float))
+        lw = np.asarray(log_w, dtype=float) + np.array([log_miss[t].sum() for t in tracks])
+        held = np.array([len(t) > 0 for t in tracks], dtype=bool)
+        if held.all() or not np.isfinite(lw[~held]).any():
+            return False
+        return bool(np.logaddexp.reduce(lw[held]) - np.logaddexp.reduce(lw) < self.log_threshold)
 
 
 def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
@@ -187,6 +219,38 @@ class FastBatch:
         return np.concatenate([[0], np.cumsum(self.n_new)])[k]
 
 
+def born_template(result):
+    """The template :func:`born_state` reuses, from the engine step (``(state, sources, n_new, stats)``)
+    of a lone birth term that kept both children: its weights, hypotheses' tracks and lineage, and the
+    step's statistics; ``None`` when the step is not of that shape."""
+    new, sources, n_new, st = result
+    if n_new == 1 and len(new.log_w) == 2 and len(new.store) == 1 and np.array_equal(sources, [[-1, -1]]):
+        return new.log_w, new.tracks, new.keys, st
+    return None
+
+
+def born_state(template, population, b: int, R, label: int, ndim: int) -> FilterState:
+    """The step of lone birth term ``b`` (:meth:`FastRule.keeps_born`) from the template of a term of the
+    same ``r_B`` (:func:`born_template`): the same two hypotheses ("not born", "born undetected"), whose
+    weights depend on ``r_B`` and ``p_D`` alone, with the term's undetected prior as the born track (as
+    :meth:`~..filter.HypothesisFilter.pair_moments` gives it) under ``label``."""
+    log_w, tracks, keys, _ = template
+    means, covs = np.zeros((1, ndim)), np.zeros((1, ndim, ndim))
+    means[0], covs[0] = population.birth_track(b, None, R)
+    store = TrackStore(means, covs, np.array([label], dtype=np.int64))
+    return FilterState(store, log_w.copy(), [t.copy() for t in tracks], list(keys))
+
+
+def lone_update(means, covs, Z, H, R):
+    """The lone tracks' measurement update, ``(means, covs)``: one batched Kalman update in Joseph
+    form (:func:`~...gaussian.update_unchecked`) of predicted tracks ``means``/``covs`` with their
+    returns ``Z`` (row for row), or with ``H`` a measurement model, that model's own update (the radar's EKF
+    in the sensor frame, :mod:`hypotrack.models.measurement`). The fast path's only linear algebra of the update."""
+    if hasattr(H, "update"):
+        return H.update(means, covs, Z)
+    return update_unchecked(means, covs, Z, H, R)
+
+
 def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R,
                     seeded: bool, r_birth=None, population=None) -> FastBatch:
     """The components of ``graph`` the fast path takes and their results.
@@ -212,13 +276,13 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     rows = ret_of[lane_comp[j]]
     cols = first_lane_col + j
     Z = np.asarray(Z)
-    loglik, p_detect = scores.loglik[rows, cols], scores.p_detect[cols]
+    loglik, p_detect = scores.at(rows, cols), scores.p_detect[cols]
     n_new = np.full(len(j), rule.n_new, np.int64)
     if rule.validity is None:
         take = rule.takes(loglik, p_detect)
-        x, P = _update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
+        x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
     else:  # every child's tracks tested, as the general step tests them
-        x, P = _update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
+        x, P = lone_update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
         valid = np.repeat(_valid(rule.validity, pred.means[cols])[:, None], len(rule.alt_offsets), axis=1)
         if rule.n_new:  # the seeded birth child also holds the newborn track
             born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
@@ -243,14 +307,6 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     return FastBatch(comps, np.concatenate([keys, G + L + b, np.full(len(lone), len(graph.node_lab))]).astype(np.int64),
                      TrackStore(x, P, pred.labels[cols]), keys,
                      np.concatenate([n_new, b_new, np.zeros(len(lone), np.int64)]).astype(np.int64), len(b), len(lone))
-
-
-def _update(means, covs, Z, H, R):
-    """Kalman update with ``H`` and ``R``, or with ``H`` a measurement model's own update (the radar's EKF
-    in the sensor frame, :mod:`hypotrack.models.measurement`)."""
-    if hasattr(H, "update"):
-        return H.update(means, covs, Z)
-    return update_unchecked(means, covs, Z, H, R)
 
 
 def _valid(validity, means) -> np.ndarray:

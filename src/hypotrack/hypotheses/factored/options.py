@@ -84,9 +84,11 @@ class FactoredOptions:
     fast_path : bool
         Step the components that are one lone track with one return nothing else gates, and whose
         general step would keep only the detected child (every alternative below ``min_weight``),
-        in one batch instead of one engine step each (:mod:`.fast_path`): the same posterior, the
-        same random streams and labels for the other steps. ``False`` (the default) steps every
-        component through the engine. Takes nothing with ``min_weight = 0``.
+        in one batch instead of one engine step each (:mod:`.fast_path`); also drops the quiet groups
+        whose empty-scan step keeps no object and steps the lone birth terms keeping both children
+        from a template: the same posterior, the same random streams and labels for the other steps.
+        ``False`` (the default) steps every component through the engine. Takes nothing with
+        ``min_weight = 0``.
 
     Examples
     --------

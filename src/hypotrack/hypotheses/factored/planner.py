@@ -17,25 +17,10 @@ from ..factored_groups import SplitRecord, compact, components, factorise, produ
 from ..scan_context import ScanContext
 from ..state import FilterState
 from .lane import empty_state, singleton, take
+from .scores import Scores, score_tracks
 
-__all__ = ["Scores", "scorable", "innovation_covariances", "ScanGraph", "scan_graph", "component_context", "touched_plan", "quiet_plan",
-           "interaction_parts", "ObjectIds", "split_group", "prune"]
-
-
-@dataclass(frozen=True)
-class Scores:
-    """A scan's scores of the predicted tracks: ``loglik``, ``allowed`` (m, n), ``p_detect`` (n,) and
-    ``p_survive`` (n,) or ``None`` (the population's one ``p_S``)."""
-
-    loglik: np.ndarray
-    allowed: np.ndarray
-    p_detect: np.ndarray
-    p_survive: np.ndarray | None = None
-
-    def columns(self, cols):
-        """``(loglik (m, c), allowed (m, c), p_detect (c,), p_survive (c,) or None)`` of tracks ``cols``."""
-        return (self.loglik[:, cols], self.allowed[:, cols], self.p_detect[cols],
-                None if self.p_survive is None else self.p_survive[cols])
+__all__ = ["Scores", "scorable", "innovation_covariances", "score_scorable", "ScanGraph", "scan_graph", "component_context",
+           "touched_plan", "quiet_plan", "interaction_parts", "ObjectIds", "split_group", "prune"]
 
 
 def innovation_covariances(measurement, means, covs) -> np.ndarray:
@@ -61,6 +46,30 @@ def scorable(S) -> np.ndarray:
         except np.linalg.LinAlgError:
             ok[i] = False
     return ok
+
+
+def score_scorable(engine, pred, Z, *, gate_out_of_view: bool, survival) -> Scores:
+    """:func:`~.scores.score_tracks` of the tracks whose innovation covariance is finite and positive definite
+    (:func:`scorable`); a track whose prediction diverged takes no return and is not missed (``p_D = 0``,
+    ``p_S = 1``): the scan goes on without it. Every track scorable: :func:`~.scores.score_tracks` itself."""
+    if len(pred):
+        with np.errstate(invalid="ignore", over="ignore"):
+            ok = scorable(innovation_covariances(engine.measurement, pred.means, pred.covs))
+    else:
+        ok = np.ones(0, dtype=bool)
+    if ok.all():
+        return score_tracks(engine, pred, Z, gate_out_of_view=gate_out_of_view, survival=survival)
+    good = np.flatnonzero(ok)
+    sub = score_tracks(engine, take(pred, good), Z, gate_out_of_view=gate_out_of_view, survival=survival)
+    m, n = len(Z), len(pred)
+    loglik, allowed = np.full((m, n), -np.inf), np.zeros((m, n), dtype=bool)
+    p_detect = np.zeros(n)
+    p_survive = None if sub.p_survive is None else np.ones(n)
+    block = sub.block(np.arange(m), np.arange(len(good)))
+    loglik[:, good], allowed[:, good], p_detect[good] = block[:3]
+    if p_survive is not None:
+        p_survive[good] = block[3]
+    return Scores(m, p_detect, p_survive, loglik=loglik, allowed=allowed)
 
 
 @dataclass(frozen=True, eq=False)
@@ -119,7 +128,7 @@ def scan_graph(col_node, G: int, L: int, scores: Scores, birth_ll, births: str, 
     the first detection of (finite likelihood; with ``births="free"`` only those in no gate), and with
     ``seeded`` births each return in no gate becomes a node of its own."""
     m, B = birth_ll.shape
-    gr, c_a = np.nonzero(scores.allowed)
+    gr, c_a = scores.gated()
     gi = col_node[c_a]
     explained = np.zeros(m, dtype=bool)
     explained[gr] = True
@@ -142,10 +151,11 @@ def scan_graph(col_node, G: int, L: int, scores: Scores, birth_ll, births: str, 
 
 def component_context(engine, Z, rows, scores, birth_ll, regions) -> ScanContext:
     """The :class:`ScanContext` of returns ``rows`` against a component's track columns ``scores``
-    (``(loglik, allowed, p_detect, p_survive)``) and its birth terms ``regions`` (document 000 Eq. 8, 18, 30)."""
+    (``(loglik, allowed, p_detect, p_survive)``, their rows those returns: :meth:`~.scores.Scores.block`)
+    and its birth terms ``regions`` (document 000 Eq. 8, 18, 30)."""
     loglik, allowed, p_detect, p_survive = scores
     clutter = engine.sensor.clutter
-    return ScanContext(Z=Z[rows], loglik=loglik[rows], allowed=allowed[rows], p_detect=p_detect,
+    return ScanContext(Z=Z[rows], loglik=loglik, allowed=allowed, p_detect=p_detect,
                        birth_loglik=birth_ll[np.ix_(rows, regions)], p_detect_birth=engine.p_D,
                        clutter_rate=float(clutter.rate), clutter_volume=float(clutter.region.area),
                        p_survive=p_survive)
@@ -176,7 +186,7 @@ def touched_plan(engine, rng, members, regions, rows, groups, bounds, pred, scor
             state, used = product(states, engine.max_hypotheses, engine.cap, rng)
             cols = np.concatenate(col_sets)[used]
             stats["n_merges"] += len(states) - 1
-    sc = scores.columns(cols)
+    sc = scores.block(rows, cols)
     return ("touched", state, take(pred, cols), component_context(engine, Z, rows, sc, birth_ll, regions), regions)
 
 
@@ -246,6 +256,9 @@ class ObjectIds:
         """Forget the labels no longer held (``held``: every label of every group)."""
         if self.mapping:
             ks = np.fromiter(self.mapping, dtype=np.int64, count=len(self.mapping))
+            held = np.asarray(held, dtype=np.int64)
+            # only the held labels in the mapping's range can match (a scan's few newborns among 10⁶ objects)
+            held = held[(held >= ks.min()) & (held <= ks.max())]
             self.mapping = {int(k): self.mapping[int(k)] for k in ks[np.isin(ks, held)]}
 
 

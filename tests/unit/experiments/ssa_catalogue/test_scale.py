@@ -31,6 +31,18 @@ def test_a_run_reports_consistent_figures(cfg):
     assert r["peak_rss_mb"] > 50  # numpy, pandas and the scenario are resident
 
 
+def test_warm_scans_are_stepped_untimed_and_a_bad_value_is_refused(cfg):
+    """``warm_scans = 2``: scans 0 and 1 untimed, so two of the four scans are timed; the real-time
+    factor counts the timed scans' simulated seconds only."""
+    c = dict(cfg, scale=dict(cfg["scale"], warm_scans=2))
+    r = measure_run(c, "gnn", 1500, 3)
+    assert r["n_scans"] == 2
+    np.testing.assert_allclose(r["real_time_factor"], 20.0 / r["cpu_s"])
+    for bad in (0, 4):
+        with pytest.raises(ValueError, match=rf"^scale\.warm_scans must lie in \[1, n_scans = 4\), got {bad}$"):
+            measure_run(dict(cfg, scale=dict(cfg["scale"], warm_scans=bad)), "gnn", 60, 3)
+
+
 def test_isolated_runs_are_deterministic_but_for_the_clock(cfg):
     a, b = run_isolated(cfg, "gnn", 60, 3), run_isolated(cfg, "gnn", 60, 3)
     for k in ("n_scans", "in_view_per_scan", "returns_per_scan"):

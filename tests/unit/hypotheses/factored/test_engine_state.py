@@ -79,3 +79,16 @@ def test_state_and_same_posterior():
     d.step(Z, 1.0)
     d.step(Z + 0.5, 2.0)
     assert not a.same_posterior(d)  # the next label differs (6 against 3)
+
+
+def test_object_ids_forget_exactly_the_labels_no_longer_held():
+    """Newborn labels 100 and 101 are one object (id 100), 205 its own; held: 101, 205 and objects outside
+    the mapping's range (below and above it): 100 is forgotten, the others kept with their ids."""
+    from hypotrack.hypotheses.factored.planner import ObjectIds
+
+    ids = ObjectIds({100: 100, 101: 100, 205: 205})
+    ids.keep_held(np.array([1, 2, 101, 150, 205, 999_999]))
+    assert ids.mapping == {101: 100, 205: 205}
+    np.testing.assert_array_equal(ids.of([101, 205, 7]), [100, 205, 7])
+    ids.keep_held(np.zeros(0, dtype=np.int64))
+    assert ids.mapping == {}

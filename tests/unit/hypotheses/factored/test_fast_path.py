@@ -84,7 +84,8 @@ def test_fast_path_posterior_is_the_general_one(kind, lazy, min_weight):
         assert fast.last_stats["n_touched"] == general.last_stats["n_touched"]
         assert fast.last_stats["n_kalman_updates"] == general.last_stats["n_kalman_updates"]
         st = fast.last_stats
-        assert st["n_jobs"] == general.last_stats["n_jobs"] - st["n_fast_path"] - st["n_fast_clutter"] - st["n_fast_births"]
+        assert st["n_jobs"] == (general.last_stats["n_jobs"] - st["n_fast_path"] - st["n_fast_clutter"] - st["n_fast_births"]
+                                - st["n_fast_quiet"] - st["n_fast_born"])
         n_births += st["n_fast_births"]
         n_fast += fast.last_stats["n_fast_path"]
         n_touched += fast.last_stats["n_touched"]
@@ -209,3 +210,63 @@ def test_fast_path_with_a_pool_holds_the_serial_general_posterior():
             assert fast.last_stats["n_fast_path"] > 0
     finally:
         fast.close()
+
+
+def _far_term(fast, validity=None, min_weight=1e-4):
+    """The hand scene with its birth term at (450, −450): far from every return, a lone birth term each scan."""
+    return _hand(fast, min_weight=min_weight, birth_at=(450.0, -450.0), validity=validity)
+
+
+def test_lone_birth_terms_and_dying_quiet_groups_take_the_fast_path_exactly():
+    """r_B = 0.01, p_D = 0.85: a lone term's "born undetected" child weighs 0.01 · 0.15 = 0.0015 against
+    0.99, normalised 0.00151 > min_weight = 1e-4, so both are kept: every scan's term is stepped from
+    the template (one engine step of such a term). Its group is then quiet (in view, no return): after one
+    miss the born child weighs 0.0015 · 0.15 / 0.99 ≈ 2.3e-4 > 1e-4 (kept, the general step), after
+    two 3.4e-5 < 1e-4: the group keeps no object and the fast path drops it without a step."""
+    general, fast = _far_term(False), _far_term(True)
+    expected = [(1, 0), (1, 0), (1, 1)]  # (n_fast_born, n_fast_quiet) per scan
+    for k, (n_born, n_quiet) in enumerate(expected):
+        general.step(_Z, float(k))
+        fast.step(_Z, float(k))
+        _assert_same(general, fast)
+        assert (fast.last_stats["n_fast_born"], fast.last_stats["n_fast_quiet"]) == (n_born, n_quiet)
+        assert general.last_stats["n_fast_born"] == general.last_stats["n_fast_quiet"] == 0
+        assert fast.last_stats["n_jobs"] == general.last_stats["n_jobs"] - n_born - n_quiet - fast.last_stats["n_fast_path"] \
+            - fast.last_stats["n_fast_clutter"] - fast.last_stats["n_fast_births"]
+    # the newest term's group, from the template: the two hand weights and the term's prior under a new label
+    born = [s for s in fast.groups if len(s.log_w) == 2 and len(s.store) == 1 and s.store.labels[0] >= len(_X)]
+    assert len(born) == 2  # scans 2 and 3's (scan 1's died at scan 3)
+    older, newest = sorted(born, key=lambda s: s.store.labels[0])
+    for s, w_born in ((newest, 0.0015), (older, 0.0015 * 0.15)):  # the older one missed once
+        np.testing.assert_allclose(s.log_w, np.log([0.99, w_born]) - np.log(0.99 + w_born), rtol=0, atol=1e-12)
+        np.testing.assert_array_equal(s.store.means[0][:2], [450.0, -450.0])  # at rest: it stays
+    np.testing.assert_array_equal(newest.store.covs[0], np.diag([4.0, 4.0, 1.0, 1.0]))  # the term's prior
+
+
+def test_with_a_validity_test_lone_terms_and_quiet_groups_take_the_general_path():
+    """A validity test could reject a child before the normalisation: the closed forms are not used."""
+    def validity(means):
+        return np.abs(means[:, 0]) < 1e6  # passes everything; its presence alone decides
+
+    general, fast = _far_term(False, validity=validity), _far_term(True, validity=validity)
+    plain = _far_term(True)
+    for k in range(3):
+        for f in (general, fast, plain):
+            f.step(_Z, float(k))
+        _assert_same(general, fast)
+        assert fast.last_stats["n_fast_born"] == fast.last_stats["n_fast_quiet"] == 0
+        # the lone tracks, tested and valid, take the fast path as without the test
+        assert fast.last_stats["n_fast_path"] == plain.last_stats["n_fast_path"] >= 2  # A and E at least
+
+
+def test_a_heavy_born_child_or_a_light_one_is_not_a_template_step():
+    """min_weight 0.002 above the born child's 0.00151: the lone term is dropped (n_fast_births), never
+    stepped from a template; min_weight 0 keeps every child: the fast path is off for all of it."""
+    fast = _far_term(True, min_weight=0.002)
+    for k in range(3):
+        fast.step(_Z, float(k))
+        assert fast.last_stats["n_fast_births"] == 1 and fast.last_stats["n_fast_born"] == 0
+    fast = _far_term(True, min_weight=0.0)
+    for k in range(3):
+        fast.step(_Z, float(k))
+        assert fast.last_stats["n_fast_born"] == fast.last_stats["n_fast_quiet"] == 0

@@ -65,8 +65,9 @@ def object_sizes(cfg: dict, objects):
 
 def attach_tracker_snr(cfg: dict, tsensor):
     """Give the tracker sensor the marginal SNR p_D (:func:`attach_snr_detection`, size model with the config's
-    ``debris_share``) when ``radar.snr`` is set; returns ``tsensor``."""
+    ``debris_share``; a section without one, the breakup cloud's, is all fragments: 1) when ``radar.snr`` is set;
+    returns ``tsensor``."""
     model = radar_snr(cfg["radar"])
     if model is None:
         return tsensor
-    return attach_snr_detection(tsensor, model, SizeModel(debris_share=float(cfg["debris_share"])))
+    return attach_snr_detection(tsensor, model, SizeModel(debris_share=float(cfg.get("debris_share", 1.0))))

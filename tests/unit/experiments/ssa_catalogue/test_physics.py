@@ -11,7 +11,7 @@ import yaml
 
 from hypotrack.config import ConfigError, validate_config
 from hypotrack.experiments.ssa_catalogue.physics import model_survival, model_validity
-from hypotrack.experiments.ssa_catalogue.run import make_motion, make_problem, make_radar, make_tracker
+from hypotrack.experiments.ssa_catalogue.run import make_motion, make_problem, make_radar, make_tracker, peer_config
 from hypotrack.models.plausibility import plausible_orbits
 from hypotrack.scenarios.catalogue.tracking import TrackerSensor
 
@@ -22,6 +22,8 @@ OMEGA_E = 7.2921159e-5  # rad/s
 def _cfg(**model):
     with open(ROOT / "workflows" / "config" / "default.yaml") as fh:
         cfg = copy.deepcopy(yaml.safe_load(fh)["ssa_catalogue"])
+    cfg = peer_config(cfg)  # the ENU stand-in radar with a constant p_D: these are tests of the model block
+    cfg["model"] = {k: v for k, v in cfg["model"].items() if k != "birth"}
     cfg["model"].update(model)
     return cfg
 
@@ -131,7 +133,8 @@ def test_snr_config_reaches_truth_and_trackers():
         config = yaml.safe_load(fh)
     config["ssa_catalogue"]["radar"]["snr"] = snr
     validate_config(config, ROOT / "workflows" / "config" / "schema")
-    cfg = copy.deepcopy(config["ssa_catalogue"])
+    cfg = _cfg()  # the ENU stand-in (a linear TrackerSensor below) ...
+    cfg["radar"] = dict(cfg["radar"], snr=snr)  # ... with this SNR detection
     cfg["n_scans"] = 30
     constant = {k: v for k, v in cfg["radar"].items() if k != "snr"}  # the radar's constant p_D
     assert make_radar(cfg).snr == SnrModel(**snr) and make_radar({**cfg, "radar": constant}).snr is None

@@ -37,7 +37,8 @@ from scipy.stats import chi2
 
 from ._validation import check_positive, check_probability
 
-__all__ = ["correlate_returns", "label_owners", "return_tallies", "purity_counts", "ric_frame", "ric_error",
+__all__ = ["correlate_returns", "label_owners", "return_tallies", "id_switches", "cross_tag_causes",
+           "CROSS_TAG_CAUSES", "purity_counts", "ric_frame", "ric_error",
            "mahalanobis2", "chi2_share", "within", "per", "mean_se", "gospa_parts_per_object", "time_to_orbit",
            "CHI2_95_3D"]
 
@@ -107,6 +108,65 @@ def return_tallies(origin, correlated, owners: dict) -> dict:
     return dict(n_returns=int(len(o)), correct=int((~unc & (own == o)).sum()),
                 cross_tags=int((~unc & (own >= 0) & (own != o)).sum()), orphan=int((~unc & (own < 0)).sum()),
                 uncorrelated=int(unc.sum()))
+
+
+def id_switches(scans, targets, labels) -> int:
+    """CLEAR-MOT identity switches (module docstring): from parallel arrays of per-scan assignments
+    (scan, target, label; label < 0: the target had no estimate that scan, skipped), per target in scan order,
+    the number of times its label differs from its previous assigned label. Exact integer."""
+    s = np.asarray(scans, dtype=np.int64).reshape(-1)
+    t = np.asarray(targets, dtype=np.int64).reshape(-1)
+    lab = np.asarray(labels, dtype=np.int64).reshape(-1)
+    if not len(s) == len(t) == len(lab):
+        raise ValueError(f"scans, targets and labels must have the same length, got {len(s)}, {len(t)} and {len(lab)}")
+    keep = lab >= 0
+    s, t, lab = s[keep], t[keep], lab[keep]
+    order = np.lexsort((s, t))
+    t, lab = t[order], lab[order]
+    return int(np.sum((t[1:] == t[:-1]) & (lab[1:] != lab[:-1])))
+
+
+#: The causes of a cross-tag (:func:`cross_tag_causes`), in the order they are tested.
+CROSS_TAG_CAUSES = ("newborn", "own_label", "carried_label", "elsewhere")
+
+
+def cross_tag_causes(scan, origin, correlated, owners: dict, assign_scans, assign_targets, assign_labels,
+                     catalogued) -> dict:
+    """The cross-tags of :func:`return_tallies` by cause, the first that applies (counts add up to its
+    ``cross_tags``):
+
+    * ``newborn`` — the label is not a catalogued object's (a track born from the data);
+    * ``own_label`` — the label is the return's origin's own catalogued label and the per-scan assignment puts it
+      on the origin at that scan: a right association, charged because the label held another object longer
+      (a swap elsewhere in the run);
+    * ``carried_label`` — the per-scan assignment puts the label on the origin at that scan, but it is another
+      catalogued object's: custody carried over from another object (a swap at acquisition or re-acquisition);
+    * ``elsewhere`` — the label is on another object, or on none, at that scan: a single-scan misassociation
+      or a duplicate track.
+
+    ``scan, origin, correlated``: the returns (as :func:`return_tallies`, with their scan); ``assign_*``: the
+    per-scan assignment (scan, target, label; label < 0 none); ``catalogued``: the catalogued labels.
+    """
+    sc = np.asarray(scan, dtype=np.int64).reshape(-1)
+    o = np.asarray(origin, dtype=np.int64).reshape(-1)
+    c = np.asarray(correlated, dtype=np.int64).reshape(-1)
+    if not len(sc) == len(o) == len(c):
+        raise ValueError(f"scan, origin and correlated must have the same length, got {len(sc)}, {len(o)} and {len(c)}")
+    own = np.array([owners.get(int(x), -1) for x in c], dtype=np.int64) if len(c) else np.zeros(0, np.int64)
+    x = (o >= 0) & (c >= 0) & (own >= 0) & (own != o)
+    on = {(int(a), int(b)): int(t) for a, b, t in zip(np.asarray(assign_scans).reshape(-1),
+                                                     np.asarray(assign_labels).reshape(-1),
+                                                     np.asarray(assign_targets).reshape(-1)) if b >= 0}
+    cat_set = set(int(v) for v in np.asarray(catalogued).reshape(-1))
+    out = dict.fromkeys(CROSS_TAG_CAUSES, 0)
+    for s_, o_, c_ in zip(sc[x], o[x], c[x]):
+        if int(c_) not in cat_set:
+            out["newborn"] += 1
+        elif on.get((int(s_), int(c_))) == int(o_):
+            out["own_label" if c_ == o_ else "carried_label"] += 1
+        else:
+            out["elsewhere"] += 1
+    return out
 
 
 def purity_counts(truth_pos, est_pos, cutoff_km: float) -> dict:

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from hypotrack.metrics import gospa
-from hypotrack.metrics_scorecard import (CHI2_95_3D, chi2_share, correlate_returns, gospa_parts_per_object,
+from hypotrack.metrics_scorecard import (CHI2_95_3D, CROSS_TAG_CAUSES, chi2_share, correlate_returns, cross_tag_causes,
+                                         gospa_parts_per_object, id_switches,
                                          label_owners, mahalanobis2, mean_se, per, purity_counts, return_tallies,
                                          ric_error, time_to_orbit, within)
 
@@ -86,6 +87,48 @@ def test_within_and_mean_se():
         within([[0.0, 0, 0]], [[0.0, 0, 0]], 0.0)
     with pytest.raises(ValueError, match="gate_km"):
         correlate_returns(RET, EST_LAB, EST, gate_km=-1.0)
+
+
+# Four catalogued objects 1-4 over five scans (scan, target, label; -1 none): labels 1 and 2 swap at scan 2,
+# object 3 is missed at scan 2 and then held by a newborn label 50, and at scan 4 object 4 is held by label 3.
+ASSIGN = np.array([(0, 1, 1), (0, 2, 2), (0, 3, 3), (0, 4, 4),
+                   (1, 1, 1), (1, 2, 2), (1, 3, 3), (1, 4, 4),
+                   (2, 1, 2), (2, 2, 1), (2, 3, -1), (2, 4, 4),
+                   (3, 1, 2), (3, 2, 1), (3, 3, 50), (3, 4, 4),
+                   (4, 1, 2), (4, 2, 1), (4, 3, 50), (4, 4, 3)])
+# returns (scan, origin, correlated label); origin -1 clutter, label -1 uncorrelated
+RETURNS = np.array([(0, 1, 1), (1, 2, 2), (2, 1, 2), (2, 3, 1), (4, 4, 3), (3, 3, 50), (4, 2, 50), (1, -1, 4),
+                    (3, 4, -1)])
+
+
+def test_id_switches_by_hand():
+    s, t, lab = ASSIGN.T
+    # per object: 1: 1,1,2,2,2 (one switch); 2: 2,2,1,1,1 (one); 3: 3,3,-,50,50 (one: the gap is skipped);
+    # 4: 4,4,4,4,3 (one)
+    assert id_switches(s, t, lab) == 4
+    perm = np.random.default_rng(0).permutation(len(s))  # the order of the rows does not matter
+    assert id_switches(s[perm], t[perm], lab[perm]) == 4
+    assert id_switches([], [], []) == 0
+    with pytest.raises(ValueError, match="same length"):
+        id_switches([0], [1, 2], [1])
+
+
+def test_cross_tag_causes_by_hand():
+    s, t, lab = ASSIGN.T
+    owners = label_owners(t, lab)
+    # label 1: object 1 twice, object 2 three times; label 2 the reverse; label 3: object 3 twice, 4 once
+    assert owners == {1: 2, 2: 1, 3: 3, 4: 4, 50: 3}
+    rs, ro, rc = RETURNS.T
+    # cross-tags: (0,1,1) and (1,2,2) own labels on their own objects; (2,3,1) label 1 is on object 2 then;
+    # (4,4,3) label 3 carried onto object 4; (4,2,50) a newborn label owned by object 3
+    assert return_tallies(ro, rc, owners) == dict(n_returns=8, correct=2, cross_tags=5, orphan=0, uncorrelated=1)
+    causes = cross_tag_causes(rs, ro, rc, owners, s, t, lab, catalogued=[1, 2, 3, 4])
+    assert causes == dict(newborn=1, own_label=2, carried_label=1, elsewhere=1)
+    assert tuple(causes) == CROSS_TAG_CAUSES
+    # label 50 counted as catalogued: then it is on object 3, not on the return's origin 2, at scan 4
+    assert cross_tag_causes(rs, ro, rc, owners, s, t, lab, catalogued=[1, 2, 3, 4, 50])["elsewhere"] == 2
+    with pytest.raises(ValueError, match="same length"):
+        cross_tag_causes([0], [1], [1, 2], owners, s, t, lab, [1])
 
 
 def test_time_to_orbit_by_hand():

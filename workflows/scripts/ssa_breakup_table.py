@@ -3,8 +3,9 @@ import pandas as pd
 
 from hypotrack.experiments.ssa_breakup.figures import plot_breakup
 from hypotrack.experiments.ssa_breakup.jobs import smallest_gate_km
-from hypotrack.experiments.ssa_breakup.summary import (EXPERIMENT, TIMING_COLUMNS, breakup_claims, breakup_macros,
-                                                        cross_tag_ratios, density_table, scorecard_summary)
+from hypotrack.experiments.ssa_breakup.summary import (EXPERIMENT, RATIO_TRACKERS, TIMING_COLUMNS, breakup_claims,
+                                                        breakup_macros, cross_tag_ratios, density_table,
+                                                        scorecard_summary)
 from hypotrack.reporting.joblog import prefix_output
 from hypotrack.reporting.ledger import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
@@ -17,7 +18,10 @@ write_table(cards.drop(columns=list(TIMING_COLUMNS)), out.scorecard)
 summary, timing = scorecard_summary(cards)
 write_table(summary, out.summary)
 write_table(timing, out.timing)
-ratios = cross_tag_ratios(cards, cfg["reference_tracker"], goal=cfg["ratio_goal"])
+# the operator's cross-tags (the goal's), then the standard crediting's identity switches
+compared = tuple(t for t in RATIO_TRACKERS if t in cfg["trackers_run"])
+ratios = pd.concat([cross_tag_ratios(cards, cfg["reference_tracker"], compared, goal=cfg["ratio_goal"], column=c)
+                    for c in ("cross_tags_per_1e4", "id_switches_per_1e4")], ignore_index=True)
 write_table(ratios, out.ratios)
 density = density_table(pd.read_csv(snakemake.input.density).to_dict("records"))  # noqa: F821
 dist = pd.read_csv(snakemake.input.distances)  # noqa: F821

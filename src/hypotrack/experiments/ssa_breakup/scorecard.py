@@ -24,10 +24,11 @@ import numpy as np
 import pandas as pd
 from scipy.stats import chi2
 
-from ...metrics_scorecard import (chi2_share, gospa_parts_per_object, label_owners, mahalanobis2, per,
-                                  return_tallies, ric_error, time_to_orbit)
+from ...metrics_scorecard import (CROSS_TAG_CAUSES, chi2_share, cross_tag_causes, gospa_parts_per_object, id_switches,
+                                  label_owners, mahalanobis2, per, return_tallies, ric_error, time_to_orbit)
 from ...scenarios.catalogue.frames import gmst, teme_to_ef
 from ...scenarios.catalogue.propagation import time_grid_jd
+from .custody import first_return_own, reacquired_same_label
 from .run import pass_ends
 
 __all__ = ["predict", "reacquisitions", "next_pass", "completeness", "scorecard_row"]
@@ -125,7 +126,7 @@ def _time_to_orbit(run, reacq: pd.DataFrame, scan_times) -> tuple[float, int]:
 
 def scorecard_row(run, scenario, cfg, motion) -> dict:
     """The scorecard of one run (module docstring and :mod:`hypotrack.metrics_scorecard`) as one flat row."""
-    _, _, sc, _ = scenario
+    _, unknown, sc, _ = scenario
     m = cfg["metrics"]
     ps = run.per_scan
     owners = label_owners(run.assign["target"], run.assign["label"])
@@ -154,5 +155,16 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
                unphysical_hypotheses_per_scan=float(ps["unphysical_hypotheses"].mean()),
                unphysical_hypotheses_max=float(ps["unphysical_hypotheses"].max()),
                cpu_s=float(ps["cpu_s"].sum()))
+    ids = sc.catalogue["norad"].to_numpy(np.int64)
+    catalogued = ids[~np.isin(ids, np.asarray(unknown, dtype=np.int64))]
+    A, rt = run.assign, run.returns
+    causes = cross_tag_causes(rt["scan"], rt["origin"], rt["label"], owners, A["scan"], A["target"], A["label"],
+                              catalogued)
+    row.update({f"xtag_{k}_per_1e4": per(causes[k], n, 1e4) for k in CROSS_TAG_CAUSES})
+    n_view = int(ps["n_in_view"].sum())
+    switches = id_switches(A["scan"], A["target"], A["label"])
+    row.update(id_switches=switches, id_switches_per_1e4=per(switches, n_view, 1e4),
+               first_return_own=first_return_own(rt, catalogued),
+               reacquired_same_label=reacquired_same_label(A, pass_ends(sc.truth)))
     row.update(gospa_parts_per_object(ps["gospa_loc"], ps["gospa_missed"], ps["gospa_false"], ps["n_in_view"]))
     return row

@@ -4,7 +4,9 @@
   error over the seeds of every column;
 * :func:`cross_tag_ratios` — per scenario, the cross-tags per 10⁴ returns of each factored tracker over GNN's,
   per seed, then mean ± standard error over the seeds (a seed where GNN has none gives no ratio), against
-  the goal ``ratio ≤ goal`` (default ½);
+  the goal ``ratio ≤ goal`` (default ½); with ``column="id_switches_per_1e4"`` the same ratio of the
+  standard crediting, CLEAR-MOT's identity switches (:mod:`hypotrack.metrics_scorecard`), column ``metric``
+  says which;
 * :func:`density_table` — per (scenario, seed): the nearest-neighbour distances of the objects in view (median)
   and the share inside the smallest gate (:func:`hypotrack.scenarios.catalogue.breakup.gate_radius_km`);
 * :func:`breakup_claims`, :func:`breakup_macros` — ledger rows (status *extension*) and macros.
@@ -21,15 +23,21 @@ from ...metrics_scorecard import mean_se
 from ...reporting.ledger import Claim
 from ...scenarios.catalogue.breakup import nearest_neighbour_km
 
-__all__ = ["EXPERIMENT", "TRACKER_NAMES", "SCENARIO_NAMES", "TIMING_COLUMNS", "scorecard_summary", "cross_tag_ratios",
+__all__ = ["EXPERIMENT", "TRACKER_NAMES", "RATIO_TRACKERS", "SCENARIO_NAMES", "TIMING_COLUMNS", "scorecard_summary", "cross_tag_ratios",
            "density_rows", "density_table", "breakup_claims", "breakup_macros"]
 
 EXPERIMENT = "ssa_breakup"
 SOURCE = "extension (a fresh breakup cloud)"
-TRACKER_NAMES = {"glmb": "δ-GLMB", "homht_kbest": "HOMHT k-best", "rfisst": "R-FISST", "gnn": "GNN", "jpda": "JPDA"}
+TRACKER_NAMES = {"glmb": "δ-GLMB", "glmb_murty": "δ-GLMB (Murty)", "homht_kbest": "HOMHT k-best", "rfisst": "R-FISST",
+                 "gnn": "GNN", "jpda": "JPDA"}
+#: The trackers whose cross-tags are compared with the reference's (those of a run's ``trackers_run``).
+RATIO_TRACKERS = ("glmb", "glmb_murty", "homht_kbest")
 SCENARIO_NAMES = {"breakup": "breakup cloud", "catalogue": "sparse catalogue"}
 TIMING_COLUMNS = ("cpu_s",)
 _KEYS = ("scenario", "tracker")
+#: The ratio metrics: ``column: (what the claim calls it, key prefix)`` — the operator's cross-tags (the goal's) and
+#: the standard crediting's identity switches.
+_RATIO_METRICS = {"cross_tags_per_1e4": ("cross-tags", ""), "id_switches_per_1e4": ("identity switches", "idsw_")}
 
 
 def scorecard_summary(cards: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -48,21 +56,22 @@ def scorecard_summary(cards: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
 
 
 def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glmb", "homht_kbest"),
-                     goal: float = 0.5) -> pd.DataFrame:
-    """Per (scenario, tracker): cross-tags per 10⁴ returns over ``reference``'s, mean ± s.e. over the seeds
-    with a nonzero reference (``n_ratio`` of them), and whether the mean meets ``ratio ≤ goal``."""
+                     goal: float = 0.5, column: str = "cross_tags_per_1e4") -> pd.DataFrame:
+    """Per (scenario, tracker): cross-tags per 10⁴ returns (or another ``column`` of the cards, named in
+    ``metric``) over ``reference``'s, mean ± s.e. over the seeds with a nonzero reference (``n_ratio`` of them),
+    and whether the mean meets ``ratio ≤ goal``."""
     rows = []
     for scen, g in cards.groupby("scenario", sort=False):
-        ref = g[g["tracker"] == reference].set_index("seed")["cross_tags_per_1e4"]
+        ref = g[g["tracker"] == reference].set_index("seed")[column]
         for name in trackers:
-            own = g[g["tracker"] == name].set_index("seed")["cross_tags_per_1e4"]
+            own = g[g["tracker"] == name].set_index("seed")[column]
             seeds = own.index.intersection(ref.index[ref > 0])
             ratio = (own.loc[seeds] / ref.loc[seeds]).to_numpy(float)
             m, se = mean_se(ratio)
             rows.append(dict(scenario=scen, tracker=name, reference=reference, n_ratio=len(seeds), ratio=m, ratio_se=se,
-                             goal=goal, meets_goal=bool(np.isfinite(m) and m <= goal)))
+                             goal=goal, meets_goal=bool(np.isfinite(m) and m <= goal), metric=column))
     return pd.DataFrame(rows, columns=["scenario", "tracker", "reference", "n_ratio", "ratio", "ratio_se", "goal",
-                                       "meets_goal"])
+                                       "meets_goal", "metric"])
 
 
 def density_rows(truth: pd.DataFrame, scenario: str, seed: int, gate_km: float) -> tuple[dict, np.ndarray]:
@@ -109,12 +118,13 @@ def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
                          f"{_f(r.duplicate_per_1000)} and false {_f(r.false_per_1000)} per 1,000 estimates",
                          "measurement", key=f"crosstags_{r.scenario}_{r.tracker}"))
     for r in ratios.itertuples(index=False):
-        out.append(Claim(EXPERIMENT, f"cross-tags of {TRACKER_NAMES[r.tracker]} over GNN's, "
+        what, pre = _RATIO_METRICS[getattr(r, "metric", "cross_tags_per_1e4")]
+        out.append(Claim(EXPERIMENT, f"{what} of {TRACKER_NAMES[r.tracker]} over GNN's, "
                          f"{SCENARIO_NAMES[r.scenario]}", SOURCE, f"goal ≤ {r.goal:g}",
                          f"{_f(r.ratio)} ± {_f(r.ratio_se, 2)}", "--", "extension",
-                         f"per-seed ratios over {_seeds(r.n_ratio)} with GNN cross-tags; "
+                         f"per-seed ratios over {_seeds(r.n_ratio)} with GNN {what}; "
                          f"{'meets' if r.meets_goal else 'misses'} the goal", "measurement",
-                         key=f"ratio_{r.scenario}_{r.tracker}"))
+                         key=f"{pre}ratio_{r.scenario}_{r.tracker}"))
     for r in summary[summary["tracker"] == reference].itertuples(index=False):
         out.append(Claim(EXPERIMENT, f"re-acquisitions with another object inside the track's gate, "
                          f"{TRACKER_NAMES[r.tracker]}, {SCENARIO_NAMES[r.scenario]}", SOURCE, "--",
@@ -133,7 +143,8 @@ def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
 
 def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame) -> dict:
     """Macros: per (scenario, tracker) cross-tags per 10⁴ returns (and s.e.), duplicates per 1,000 estimates,
-    completeness and covariance realism; the ratios with their s.e.; the density shares; the seeds and objects."""
+    completeness and covariance realism, identity switches per 10⁴ object-scans, the shares of first returns to
+    the object's own label and of re-acquisitions that kept the label; the ratios with their s.e.; the density shares; the seeds and objects."""
     vals = {}
     for r in summary.itertuples(index=False):
         vals[f"crosstags_{r.scenario}_{r.tracker}"] = r.cross_tags_per_1e4
@@ -141,11 +152,16 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
         vals[f"duplicates_{r.scenario}_{r.tracker}"] = r.duplicate_per_1000
         vals[f"completeness_{r.scenario}_{r.tracker}"] = r.completeness
         vals[f"realism_{r.scenario}_{r.tracker}"] = r.realism_95
+        # the standard crediting and where labels change objects (:mod:`.custody`)
+        vals[f"idsw_{r.scenario}_{r.tracker}"] = getattr(r, "id_switches_per_1e4", float("nan"))
+        vals[f"firstown_{r.scenario}_{r.tracker}"] = getattr(r, "first_return_own", float("nan"))
+        vals[f"reacqkept_{r.scenario}_{r.tracker}"] = getattr(r, "reacquired_same_label", float("nan"))
         vals[f"n_seeds_{r.scenario}"] = int(r.n_seeds)
         vals[f"n_objects_{r.scenario}"] = int(round(r.n_objects))
     for r in ratios.itertuples(index=False):
-        vals[f"ratio_{r.scenario}_{r.tracker}"] = r.ratio
-        vals[f"ratio_se_{r.scenario}_{r.tracker}"] = r.ratio_se
+        pre = _RATIO_METRICS[getattr(r, "metric", "cross_tags_per_1e4")][1]
+        vals[f"{pre}ratio_{r.scenario}_{r.tracker}"] = r.ratio
+        vals[f"{pre}ratio_se_{r.scenario}_{r.tracker}"] = r.ratio_se
     for r in density[density["seed"] < 0].itertuples(index=False):
         vals[f"nn_share_{r.scenario}"] = r.share_in_gate
         vals[f"nn_median_{r.scenario}"] = r.nn_median_km

@@ -59,7 +59,11 @@ predicted position is inside the sensor's field of view (``p_D > 0``) are predic
 of view can take no return, so this changes the posterior only through the process noise: one
 EKF prediction over a gap of ``k`` scans adds ``Q(kΔ)`` where ``k`` predictions add
 ``Σ Φ Q(Δ) Φᵀ`` (equal for a linear constant-velocity model, a few per cent apart on an
-orbit over minutes). The means are exact either way for the Kepler model; a numerically integrated
+orbit over minutes, but not over an orbit's gap between passes: the white-acceleration ``Q(kΔ)`` is
+isotropic where the orbit shears the accumulated noise along the track — for a 850-km orbit with
+``q = 1e-9`` km²/s³ over 65 min the one prediction's in-track σ is 11 km for 17 km and its cross-track
+4.4 km for 1.4 km, over 95 min 15 km for 31 km and 7.9 km for 1.8 km, enough to swap the labels of
+fragments 20 km apart at re-acquisition; ``tests/unit/hypotheses/factored/test_lazy_gap.py``). The means are exact either way for the Kepler model; a numerically integrated
 one (``J2Orbit3D``) advances the lane's means scan by scan and a candidate's over its whole gap, equal
 up to its integration error.
 The same holds for a multi-hypothesis group (an object whose existence or association is still

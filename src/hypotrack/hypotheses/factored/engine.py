@@ -19,10 +19,10 @@ from ..tracks import TrackStore
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
 from .lane import GroupSet, Lane, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton, take
 from .options import FactoredOptions
-from .planner import (ObjectIds, interaction_parts, prune, quiet_plan, scan_graph, split_group,
+from .planner import (ObjectIds, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
                       touched_plan)
 from .pool import WorkerPool, engine_step
-from .scores import Scores, score_tracks
+from .scores import Scores
 from .summary import FactoredPosterior
 
 __all__ = ["FactoredFilter", "FactoredState"]
@@ -68,7 +68,7 @@ class FactoredFilter:
         How the filter factors, prunes and parallelises (:class:`~.options.FactoredOptions`: every
         option, its default and its allowed values, stated once). The keywords ``split``,
         ``births``, ``factor_tol``, ``min_weight``, ``adaptive_birth``, ``workers``, ``parallel``,
-        ``measure_transfer``, ``lazy``, ``gate_out_of_view``, ``fast_path`` override single options (``lazy``
+        ``measure_transfer``, ``lazy``, ``gate_out_of_view``, ``fast_path``, ``replay`` override single options (``lazy``
         is off by default; the SSA catalogue experiment's configuration turns it on).
 
     Attributes
@@ -344,7 +344,8 @@ class FactoredFilter:
         lane = self._lane
         prior = cat([s.store for s in groups] + [take(lane.store, cand)], self.ndim)
         pm, pP = predict_each(E.motion, prior.means, prior.covs,
-                              np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]))
+                              np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]),
+                              step=interval if self._options.replay and interval > 0 else None)
         pred = TrackStore(pm, pP, prior.labels)
         G, L = len(groups), len(cand)
         birth_ll = E.population.birth_loglik(Z) if E.population is not None else np.zeros((len(Z), 0))
@@ -512,12 +513,12 @@ class FactoredFilter:
         return view, E.sensor.detection.in_view(view @ E.H.T if E.H is not None else E.measurement.view_points(view))
 
     def _scores(self, pred, Z) -> Scores:
-        """Every return against every predicted track (the engine's
-        :meth:`~..filter.HypothesisFilter.track_scores`, each (return, track) pair once; at scale the gated
-        pairs alone, :func:`~.scores.score_tracks`); without ``gate_out_of_view`` a track with ``p_D = 0``
-        gates nothing."""
-        return score_tracks(self._engine, pred, Z, gate_out_of_view=self._options.gate_out_of_view,
-                            survival=getattr(self._engine.population, "track_survival", None))
+        """Every return against every predicted track (:func:`~.planner.score_scorable`: the engine's
+        ``track_scores``, at scale the gated pairs alone, :func:`~.scores.score_tracks`; a track whose
+        prediction diverged takes no return and is not missed); without ``gate_out_of_view`` a track with
+        ``p_D = 0`` gates nothing."""
+        return score_scorable(self._engine, pred, Z, gate_out_of_view=self._options.gate_out_of_view,
+                              survival=getattr(self._engine.population, "track_survival", None))
 
     def _set_birth_terms(self, terms):
         r_birth = self._options.adaptive_birth.r_birth

@@ -34,10 +34,25 @@ def silent(population) -> bool:
                                   and population.p_survive == 1.0 and getattr(population, "survival", None) is None)
 
 
-def predict_each(motion, x, P, dt):
+def predict_each(motion, x, P, dt, step=None):
     """EKF prediction of ``(x, P)`` by their own intervals ``dt`` (n,): the motion model's
     ``transition_each``/``Q_each`` where it has them (one batch), else one batch per distinct
-    interval (a zero interval leaves a track as it is)."""
+    interval (a zero interval leaves a track as it is).
+
+    ``step`` (> 0, optional): each interval is cut into ``k = max(1, round(dt / step))`` equal steps,
+    predicted one after the other, ``P ← sym(Φ P Φᵀ + Q(dt / k))`` — the predictions an eager filter
+    scanning every ``step`` makes (``Σ Φ Q Φᵀ``), where one step over the interval adds ``Q(dt)``
+    (package docstring: far apart over an orbit's gap between passes). All tracks take their ``j``-th
+    step in one batch."""
+    if step is not None and len(dt):
+        k = np.where(dt > 0, np.maximum(np.rint(np.asarray(dt) / float(step)), 1), 0).astype(np.int64)
+        if k.max() > 1:
+            h = np.where(k > 0, dt / np.maximum(k, 1), 0.0)
+            xo, Po = x.copy(), P.copy()
+            for j in range(int(k.max())):
+                sel = np.flatnonzero(k > j)
+                xo[sel], Po[sel] = predict_each(motion, xo[sel], Po[sel], h[sel])
+            return xo, Po
     if len(dt) and np.all(dt == dt[0]):
         return predict_with_unchecked(motion, x, P, float(dt[0])) if dt[0] != 0 else (x.copy(), P.copy())
     if hasattr(motion, "transition_each"):  # one batch for every interval (a zero one is the identity)

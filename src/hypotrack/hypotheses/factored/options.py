@@ -64,7 +64,8 @@ class FactoredOptions:
         field of view (package docstring, "Singletons and lazy prediction"). ``False`` (the default)
         predicts every track every scan, as the unfactored engine does; the SSA catalogue
         experiment's configuration turns it on (its trackers' ``factored: {lazy: true}``). A track left unpredicted
-        gates nothing.
+        gates nothing. The covariance predicted over a long gap is an approximation (package docstring: over an
+        orbit's gap between passes, far from the scan-by-scan one).
     gate_out_of_view : bool
         ``True`` (default): a track's gate is geometric, the field of view entering only through
         ``p_D`` — a track out of view still links the returns in its gate to its group (a merge
@@ -73,6 +74,13 @@ class FactoredOptions:
         posterior is the same; only merges that cannot matter are avoided — at catalogue scale an
         undetected newborn out of view, whose covariance grows by ~80 km a scan, otherwise gates
         every return in view and merges every object there into one group.
+    replay : bool
+        With ``lazy``: predict a track woken after a gap over that gap in steps of the scan interval
+        (:func:`~.lane.predict_each` with ``step``), the predictions the eager filter makes, instead of in
+        one step (whose process noise is far off over an orbit's gap between passes, package
+        docstring). ``False`` (the default) keeps the one step. The scan's predictions only:
+        :attr:`~.engine.FactoredFilter.posterior` and ``groups`` still predict the tracks left
+        asleep in one step.
     fast_path : bool
         Step the components that are one lone track with one return nothing else gates, and whose
         general step would keep only the detected child (every alternative below ``min_weight``),
@@ -103,6 +111,7 @@ class FactoredOptions:
     lazy: bool = False
     gate_out_of_view: bool = True
     fast_path: bool = False
+    replay: bool = False
 
     def __post_init__(self):
         for name, allowed in (("split", SPLITS), ("births", BIRTHS), ("parallel", PARALLEL)):
@@ -117,13 +126,13 @@ class FactoredOptions:
         workers = check_int(self.workers, "workers", minimum=1)
         if self.adaptive_birth is not None and not isinstance(self.adaptive_birth, AdaptiveBirth):
             raise TypeError(f"adaptive_birth must be an AdaptiveBirth or None, got {type(self.adaptive_birth).__name__}")
-        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path"):
+        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path", "replay"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
         object.__setattr__(self, "factor_tol", tol)
         object.__setattr__(self, "min_weight", w)
         object.__setattr__(self, "workers", workers)
-        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path"):
+        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path", "replay"):
             object.__setattr__(self, name, bool(getattr(self, name)))
 
     @classmethod

@@ -17,10 +17,59 @@ from ..factored_groups import SplitRecord, compact, components, factorise, produ
 from ..scan_context import ScanContext
 from ..state import FilterState
 from .lane import empty_state, singleton, take
-from .scores import Scores
+from .scores import Scores, score_tracks
 
-__all__ = ["Scores", "ScanGraph", "scan_graph", "component_context", "touched_plan", "quiet_plan",
-           "interaction_parts", "ObjectIds", "split_group", "prune"]
+__all__ = ["Scores", "scorable", "innovation_covariances", "score_scorable", "ScanGraph", "scan_graph", "component_context",
+           "touched_plan", "quiet_plan", "interaction_parts", "ObjectIds", "split_group", "prune"]
+
+
+def innovation_covariances(measurement, means, covs) -> np.ndarray:
+    """``S = H P Hᵀ + R`` (n, p, p) of each track, ``H`` the measurement's matrix or, for a nonlinear one, its
+    Jacobian at the mean (no gain: a singular ``S`` is what :func:`scorable` looks for)."""
+    H = measurement.H if getattr(measurement, "linear", False) else measurement.jacobian(means)
+    return H @ covs @ np.swapaxes(H, -1, -2) + measurement.R
+
+
+def scorable(S) -> np.ndarray:
+    """Whether each innovation covariance ``S`` (n, p, p) of the predicted tracks is finite and positive
+    definite (Cholesky succeeds): the tracks a scan can score."""
+    S = np.asarray(S, dtype=float)
+    ok = np.isfinite(S).all(axis=(1, 2))
+    try:
+        np.linalg.cholesky(S[ok])
+        return ok
+    except np.linalg.LinAlgError:
+        pass
+    for i in np.flatnonzero(ok):  # rare: find the ones that fail
+        try:
+            np.linalg.cholesky(S[i])
+        except np.linalg.LinAlgError:
+            ok[i] = False
+    return ok
+
+
+def score_scorable(engine, pred, Z, *, gate_out_of_view: bool, survival) -> Scores:
+    """:func:`~.scores.score_tracks` of the tracks whose innovation covariance is finite and positive definite
+    (:func:`scorable`); a track whose prediction diverged takes no return and is not missed (``p_D = 0``,
+    ``p_S = 1``): the scan goes on without it. Every track scorable: :func:`~.scores.score_tracks` itself."""
+    if len(pred):
+        with np.errstate(invalid="ignore", over="ignore"):
+            ok = scorable(innovation_covariances(engine.measurement, pred.means, pred.covs))
+    else:
+        ok = np.ones(0, dtype=bool)
+    if ok.all():
+        return score_tracks(engine, pred, Z, gate_out_of_view=gate_out_of_view, survival=survival)
+    good = np.flatnonzero(ok)
+    sub = score_tracks(engine, take(pred, good), Z, gate_out_of_view=gate_out_of_view, survival=survival)
+    m, n = len(Z), len(pred)
+    loglik, allowed = np.full((m, n), -np.inf), np.zeros((m, n), dtype=bool)
+    p_detect = np.zeros(n)
+    p_survive = None if sub.p_survive is None else np.ones(n)
+    block = sub.block(np.arange(m), np.arange(len(good)))
+    loglik[:, good], allowed[:, good], p_detect[good] = block[:3]
+    if p_survive is not None:
+        p_survive[good] = block[3]
+    return Scores(m, p_detect, p_survive, loglik=loglik, allowed=allowed)
 
 
 @dataclass(frozen=True, eq=False)

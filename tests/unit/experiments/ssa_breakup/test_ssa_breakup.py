@@ -10,7 +10,7 @@ import yaml
 from hypotrack.experiments.ssa_breakup.jobs import density, score_tracker
 from hypotrack.experiments.ssa_breakup.run import pass_ends
 from hypotrack.experiments.ssa_breakup.scorecard import predict
-from hypotrack.experiments.ssa_breakup.summary import cross_tag_ratios, density_table, scorecard_summary
+from hypotrack.experiments.ssa_breakup.summary import RATIO_TRACKERS, cross_tag_ratios, density_table, scorecard_summary
 from hypotrack.models.orbit3d import J2Orbit3D
 from hypotrack.scenarios.tables import truth_table
 
@@ -49,6 +49,11 @@ def test_ratios_and_summary_by_hand():
     row = acc.set_index(["scenario", "tracker"]).loc[("breakup", "homht_kbest")]
     assert (row["cross_tags_per_1e4"], row["cross_tags_per_1e4_se"], row["n_seeds"]) == pytest.approx((250.0, 50.0, 2))
     assert "cpu_s" not in acc and "cpu_s" in timing
+    # the same ratio of another column (the identity switches), named in ``metric``
+    cards["id_switches_per_1e4"] = [10.0, 5.0, 10.0, 10.0, 15.0, 30.0, 0.0, 1.0]
+    r = cross_tag_ratios(cards, column="id_switches_per_1e4").set_index(["scenario", "tracker"])
+    assert r.loc[("breakup", "glmb"), ["ratio", "ratio_se"]].tolist() == pytest.approx([1.0, 0.5])
+    assert set(r["metric"]) == {"id_switches_per_1e4"}
 
 
 def test_density_table_mean_rows():
@@ -91,6 +96,10 @@ def test_small_run_end_to_end(small_cfg):
     assert b["object_returns"] > 100
     parts = b[["correct_per_1e4", "cross_tags_per_1e4", "orphan_per_1e4", "uncorrelated_per_1e4"]].sum()
     assert parts == pytest.approx(1e4)
+    causes = b[["xtag_newborn_per_1e4", "xtag_own_label_per_1e4", "xtag_carried_label_per_1e4", "xtag_elsewhere_per_1e4"]]
+    assert causes.sum() == pytest.approx(b["cross_tags_per_1e4"])  # every cross-tag has one cause
+    assert b["id_switches"] == int(b["id_switches"]) >= 0
+    assert 0.0 <= b["first_return_own"] <= 1.0
     assert 0.0 <= b["completeness"] <= 1.0
     again = score_tracker("gnn", cfg, cat)
     pd.testing.assert_frame_equal(cards.drop(columns="cpu_s"), again.drop(columns="cpu_s"))
@@ -117,16 +126,19 @@ def test_every_claim_row_is_placed_in_the_extension_group():
 
     doc = yaml.safe_load((CONFIG.parents[2] / "src" / "hypotrack" / "reporting" / "document_claims.yaml").read_text())
     placed = {r for g in doc["extensions"] if g["id"] == "extension.breakup" for r in g["rows"]}
-    names = ["glmb", "homht_kbest", "rfisst", "gnn", "jpda"]
+    names = ["glmb", "glmb_murty", "homht_kbest", "rfisst", "gnn", "jpda"]
     cards = pd.DataFrame([dict(scenario=s, tracker=t, seed=k, cross_tags_per_1e4=float(k), completeness=0.5,
-                               duplicate_per_1000=1.0, false_per_1000=1.0, nn_in_gate_share=0.5, reacquisitions=3.0)
+                               duplicate_per_1000=1.0, false_per_1000=1.0, nn_in_gate_share=0.5, reacquisitions=3.0,
+                               id_switches_per_1e4=float(k))
                           for s in ("breakup", "catalogue") for t in names for k in (1, 2)])
     acc, _ = scorecard_summary(cards)
     dens = density_table([dict(scenario=s, seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0, share_in_gate=0.5,
                                share_in_5_gates=1.0) for s in ("breakup", "catalogue")])
-    rows = breakup_claims(acc, cross_tag_ratios(cards), dens)
+    ratios = pd.concat([cross_tag_ratios(cards, "gnn", RATIO_TRACKERS, column=c)
+                        for c in ("cross_tags_per_1e4", "id_switches_per_1e4")])
+    rows = breakup_claims(acc, ratios, dens)
     keys = {f"ssa_breakup/{c.key}" for c in rows}
-    assert len(keys) == len(rows) == 10 + 4 + 2 + 2
+    assert len(keys) == len(rows) == 12 + 6 + 6 + 2 + 2
     # R-FISST runs in full.yaml (and the quick wiring) only: its rows are reported unplaced there
     assert keys - {k for k in keys if "_rfisst" in k} == placed
     assert {c.status for c in rows} == {"extension"}

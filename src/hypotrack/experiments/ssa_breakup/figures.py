@@ -35,7 +35,7 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
         if len(d):
             a.step(d, np.arange(1, len(d) + 1) / len(d), where="post", color=_COLOURS.get(scen, "k"),
                    label=f"{SCENARIO_NAMES.get(scen, scen)} (median {np.median(d):.3g} km)")
-    a.axvline(gate_km, color="k", ls="--", lw=1, label=f"smallest gate, {gate_km:.2f} km")
+    a.axvline(gate_km, color="k", ls="--", lw=1, label=f"smallest gate across the beam, {gate_km:.2f} km")
     a.set_xscale("log")
     a.set_xlabel("distance to the nearest other object in view (km)")
     a.set_ylabel("share of (scan, object) pairs")
@@ -53,7 +53,7 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
             if v == 0:  # a bar of height zero is invisible: say so
                 b.annotate("0", (xi, 0), xytext=(0, 2), textcoords="offset points", ha="center", va="bottom",
                            color=_COLOURS.get(scen, "k"))
-    b.set_xticks(x, [TRACKER_NAMES[t] for t in names], rotation=20)
+    b.set_xticks(x, [TRACKER_NAMES[t] for t in names], rotation=30, ha="right")
     b.set_ylabel("cross-tags per 10$^4$ object returns")
     b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=2)
     fig.tight_layout()

@@ -9,7 +9,9 @@ every tracker job sees the same scans, and each tracker draws (Gibbs, MCMC) from
 
 from __future__ import annotations
 
+import numpy as np
 import pandas as pd
+from scipy.stats import chi2
 
 from ...scenarios.catalogue.breakup import gate_radius_km
 from ..ssa_catalogue.run import make_motion
@@ -30,8 +32,14 @@ def _section(cfg, scenario: str, cfg_catalogue):
 
 
 def smallest_gate_km(cfg) -> float:
-    """The smallest gate of the section's radar and gate probability (:func:`gate_radius_km`)."""
-    return gate_radius_km(cfg["radar"]["sigma_km"], cfg["model"]["gate_probability"])
+    """The smallest gate of the section's radar and gate probability: the ENU stand-in's isotropic one
+    (:func:`gate_radius_km`), or the documented radar's across the beam at its nearest range,
+    ``sqrt(χ²₄(P_G)) σ_angle r_min`` (the range gate is narrower, but two objects at one range and angle apart are
+    told apart only across the beam; the track's own uncertainty neglected, so a real gate is larger)."""
+    radar, p_gate = cfg["radar"], cfg["model"]["gate_probability"]
+    if radar.get("measurement") == "rae_rate":
+        return float(np.sqrt(chi2.ppf(p_gate, 4)) * np.radians(radar["sigma_angle_deg"]) * radar["r_min_km"])
+    return gate_radius_km(radar["sigma_km"], p_gate)
 
 
 def score_tracker(name: str, cfg, cfg_catalogue) -> pd.DataFrame:

@@ -53,7 +53,8 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
             if v == 0:  # a bar of height zero is invisible: say so
                 b.annotate("0", (xi, 0), xytext=(0, 2), textcoords="offset points", ha="center", va="bottom",
                            color=_COLOURS.get(scen, "k"))
-    b.set_xticks(x, [TRACKER_NAMES[t] for t in names], rotation=30, ha="right")
+    # two-line names side by side: rotated ones overlapped or pushed the legend off the figure
+    b.set_xticks(x, [TRACKER_NAMES[t].replace(" (", "\n(").replace(" k-best", "\nk-best") for t in names])
     b.set_ylabel("cross-tags per 10$^4$ object returns")
     b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=2)
     fig.tight_layout()

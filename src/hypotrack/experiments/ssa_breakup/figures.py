@@ -17,6 +17,9 @@ _STYLE = {"font.size": 8, "axes.labelsize": 8, "xtick.labelsize": 8, "ytick.labe
 _COLOURS = {"breakup": "tab:red", "catalogue": "tab:blue"}
 
 
+_SHORT = {"glmb": "δ-GLMB\n(Gibbs)", "glmb_murty": "δ-GLMB\n(Murty)", "homht_kbest": "HOMHT\nk-best"}
+
+
 def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, png):
     """Left: the distribution (CDF) of each object's distance to its nearest neighbour in view, per scenario
     (``distances``: scenario → km), with the smallest gate marked. Right: cross-tags per 10⁴ returns per tracker
@@ -53,9 +56,9 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
             if v == 0:  # a bar of height zero is invisible: say so
                 b.annotate("0", (xi, 0), xytext=(0, 2), textcoords="offset points", ha="center", va="bottom",
                            color=_COLOURS.get(scen, "k"))
-    # two-line names side by side: rotated ones overlapped or pushed the legend off the figure
-    b.set_xticks(x, [TRACKER_NAMES[t].replace(" (", "\n(").replace(" k-best", "\nk-best") for t in names])
+    # short two-line names side by side: long or rotated ones overlapped or pushed the legend off the figure
+    b.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
     b.set_ylabel("cross-tags per 10$^4$ object returns")
-    b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=2)
+    b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=1)
     fig.tight_layout()
     figure_style.save(fig, pdf, png, width=1.0)  # refuses text under 7 pt; closes the figure

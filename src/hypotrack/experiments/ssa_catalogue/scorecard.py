@@ -225,8 +225,7 @@ def scorecard_macros(table: pd.DataFrame, reference: str = "gnn") -> dict:
                   "UnknownOrbit"):
             ref, own = float(big.loc[reference, fields[f]]), [float(big.loc[t, fields[f]]) for t in mht]
             d = [abs(x - ref) for x in own if np.isfinite(x) and np.isfinite(ref)]
-            if d:
-                v[f"CardMaxDiff{f}"] = _v(max(d))
+            v[f"CardMaxDiff{f}"] = _v(max(d)) if d else "n/a"  # a small run may have no re-acquisition
             v[f"CardCmp{f}"] = compare(own, ref)
     return v
 

@@ -142,7 +142,8 @@ def timing_claims(timing: pd.DataFrame, goal: float, per_object_goal_ms: float |
             out.append(Claim(EXPERIMENT, f"CPU per object in view per scan, {TRACKER_NAMES[r.tracker]}, N = {int(n)}",
                              SOURCE, f"goal ≤ {per_object_goal_ms:g} ms", f"{_fmt(r.cpu_ms_per_object_in_view)} ms",
                              "--", "extension",
-                             f"{_fmt(r.cpu_s_per_scan)} CPU s per scan with {_fmt(r.mean_in_view)} objects in view, "
+                             f"{_fmt(r.cpu_s_per_scan)} CPU s per scan with {_fmt(r.mean_in_view)} "
+                             f"object{'' if _fmt(r.mean_in_view) == '1' else 's'} in view, "
                              f"mean of {int(r.scans_timed)} scans (largest {_fmt(r.cpu_s_max)} s); "
                              f"{'meets' if ok else 'misses'} the goal", "measurement",
                              key=f"cpu_object_{r.tracker}"))

@@ -86,9 +86,10 @@ class SingleHypothesisTracker:
         tracker with ``gate_out_of_view=False``.
     lazy_prediction : {"replay", "gap"}
         With ``lazy``, how a deferred track is brought to now: ``"replay"`` (default) predicts it scan by
-        scan, the eager posterior exactly; ``"gap"`` predicts it once over its whole gap — the factored
-        engine's lazy lane (:class:`hypotrack.hypotheses.FactoredFilter`), so all trackers of a catalogue
-        run make the same approximation (:func:`hypotrack.trackers.deferred.predict_gap`).
+        scan, the eager posterior exactly; ``"gap"`` predicts it once over its whole gap, as the factored
+        engine's lazy lane does without ``replay`` (:func:`hypotrack.trackers.deferred.predict_gap`): cheaper,
+        and exact for white-noise acceleration, but over an orbit's pass gap its in-track spread is too
+        narrow and its cross-track one too wide.
     validity : callable, optional
         ``validity(x) -> (n,) bool`` of track means (e.g. :func:`hypotrack.models.plausibility.plausible_orbits`):
         after each scan a track whose mean fails it is deleted, and a track the initiator confirms is not

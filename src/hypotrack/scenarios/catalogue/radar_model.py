@@ -46,6 +46,7 @@ from ..._validation import check_finite_array, check_positive
 from ...models.measurement import ExtendedMeasurement
 from .frames import EARTH_ROTATION, wrap_angle
 from .sensors import GroundRadar, GroundSite
+from .tracking import _Clutter, _Region  # the clutter record the engine reads of either tracker sensor
 
 __all__ = ["site_teme", "rae_rate", "rae_rate_jacobian", "attributable_to_state", "attributable_jacobian", "RadarTrackerSensor", "RadarMeasurement", "RadarOnePointBirth",
            "SIGMA_RANGE_RATE_KM_S"]
@@ -215,21 +216,6 @@ class RadarOnePointBirth:
     def initial_state(self, z, R=None):
         x, P = self.measurement.one_point(np.asarray(z, dtype=float).reshape(1, 4), self.position_std, self.velocity_std)
         return x[0], P[0]
-
-
-@dataclass(frozen=True, eq=False)
-class _Region:
-    area: float
-
-
-@dataclass(frozen=True, eq=False)
-class _Clutter:
-    rate: float
-    region: _Region
-
-    @property
-    def intensity(self) -> float:
-        return self.rate / self.region.area
 
 
 class RadarTrackerSensor:

@@ -97,7 +97,8 @@ def test_in_view_on_states_placed_in_and_out_of_the_field_of_view():
     x = attributable_to_state(y, SITE, THETA)
     assert s.detection.in_view(x).tolist() == [True, False, False, False, True]
     assert s.detection.in_view(x[:, :3]).tolist() == [True, False, False, False, True]  # positions alone
-    assert s.detection.in_view(np.zeros((0, 6))).shape == (0,)
+    none = s.detection.in_view(np.zeros((0, 6)))
+    assert none.shape == (0,) and none.dtype == bool
     assert s.detection.p_D == DEFAULT_RADAR.p_D
     # the same states seen at another GMST have turned away with the Earth
     assert not s.at(THETA + np.pi).detection.in_view(x)[0]

@@ -86,6 +86,14 @@ def test_predict_gap_is_one_prediction_over_each_rows_gap():
         F = motion.F(gap)
         np.testing.assert_allclose(gx[i], F @ x[i], rtol=1e-12)
         np.testing.assert_allclose(gP[i], F @ P[i] @ F.T + motion.Q(gap), rtol=1e-12)
+    # rows all deferred since later scans (the times read from the oldest one's on)
+    late = np.array([4, 2, 3, 5])
+    lx, lP = predict_gap(motion, x, P, late, times)
+    for i, s in enumerate(late):
+        gap = t[-1] - t[s]
+        F = motion.F(gap) if gap else np.eye(4)
+        np.testing.assert_allclose(lx[i], F @ x[i], rtol=1e-12)
+        np.testing.assert_allclose(lP[i], F @ P[i] @ F.T + (motion.Q(gap) if gap else 0), rtol=1e-12)
     ex, eP = predict_gap(motion, x[:0], P[:0], [], times)
     assert ex.shape == (0, 4) and eP.shape == (0, 4, 4)
 

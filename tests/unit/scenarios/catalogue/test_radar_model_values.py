@@ -75,10 +75,15 @@ def test_one_point_birth_maps_back_to_the_return_and_its_noise():
         los = H[i, 0, :3]
         across = np.linalg.svd(np.vstack([los, np.zeros((2, 3))]))[2][1:]  # an orthonormal basis ⟂ the line of sight
         np.testing.assert_allclose(across @ P0[i, 3:, 3:] @ across.T, 25.0 * np.eye(2), rtol=1e-4, atol=1e-3)
-    x1, P1 = m.one_point(Z, position_std=2.0, velocity_std=5.0)
+    x1, P1 = m.one_point(Z, position_std=3.0, velocity_std=5.0)
     np.testing.assert_array_equal(x1, x0)
-    np.testing.assert_allclose(P1 - P0, np.broadcast_to(np.diag([4.0] * 3 + [0.0] * 3), P0.shape), atol=1e-9)
-    xb, Pb = RadarOnePointBirth(m, velocity_std=5.0, position_std=2.0).initial_state(Z[1])
+    np.testing.assert_allclose(P1 - P0, np.broadcast_to(np.diag([9.0] * 3 + [0.0] * 3), P0.shape), atol=1e-9)
+    # the defaults: no extra position spread, 8 km/s across the line of sight
+    xd, Pd = m.one_point(Z[:1])
+    np.testing.assert_allclose(H[0] @ Pd[0] @ H[0].T, s.R, rtol=1e-6, atol=1e-12)
+    across0 = np.linalg.svd(np.vstack([H[0, 0, :3], np.zeros((2, 3))]))[2][1:]
+    np.testing.assert_allclose(across0 @ Pd[0, 3:, 3:] @ across0.T, 64.0 * np.eye(2), rtol=1e-4, atol=1e-3)
+    xb, Pb = RadarOnePointBirth(m, velocity_std=5.0, position_std=3.0).initial_state(Z[1])
     np.testing.assert_array_equal(xb, x1[1])
     np.testing.assert_array_equal(Pb, P1[1])
     xd, Pd = RadarOnePointBirth(m).initial_state(Z[1])  # defaults: 8 km/s across, no extra position spread
@@ -97,6 +102,7 @@ def test_in_view_on_states_placed_in_and_out_of_the_field_of_view():
     x = attributable_to_state(y, SITE, THETA)
     assert s.detection.in_view(x).tolist() == [True, False, False, False, True]
     assert s.detection.in_view(x[:, :3]).tolist() == [True, False, False, False, True]  # positions alone
+    assert s.detection.in_view(x[:1]).tolist() == [True] and s.detection.in_view(x[0]).tolist() == [True]
     none = s.detection.in_view(np.zeros((0, 6)))
     assert none.shape == (0,) and none.dtype == bool
     assert s.detection.p_D == DEFAULT_RADAR.p_D
@@ -143,10 +149,10 @@ def test_the_measurement_model_of_a_sensor():
 
 
 def test_azimuth_report_window():
-    y = np.array([[800.0, -0.5, 0.6, 0, 0, 0]])  # 0.5 rad west of north
+    y = np.array([[800.0, -2.5, 0.6, 0, 0, 0]])  # 2.5 rad west of north
     x = attributable_to_state(y, SITE, THETA)
-    assert rae_rate(x, SITE, THETA)[0, 1] == pytest.approx(-0.5, abs=1e-12)  # default window [-π, π)
-    assert rae_rate(x, SITE, THETA, az_center=np.pi)[0, 1] == pytest.approx(2 * np.pi - 0.5, abs=1e-12)
+    assert rae_rate(x, SITE, THETA)[0, 1] == pytest.approx(-2.5, abs=1e-12)  # default window [-π, π)
+    assert rae_rate(x, SITE, THETA, az_center=np.pi)[0, 1] == pytest.approx(2 * np.pi - 2.5, abs=1e-12)
 
 
 def test_defaults_a_radar_hands_its_sensor():
@@ -159,6 +165,9 @@ def test_defaults_a_radar_hands_its_sensor():
     other = RadarTrackerSensor(GroundRadar(measurement="rae"))
     assert other.sigma_range_rate_km_s == SIGMA_RANGE_RATE_KM_S and other.range_rate_span_km_s == 8.0
     assert other.clutter_volume == pytest.approx(fov.measurement_volume * 16.0)
+    # a radar of another measurement does not hand over its range-rate settings
+    not_own = RadarTrackerSensor(GroundRadar(measurement="rae", sigma_range_rate_km_s=0.02, range_rate_span_km_s=5.0))
+    assert not_own.sigma_range_rate_km_s == SIGMA_RANGE_RATE_KM_S and not_own.range_rate_span_km_s == 8.0
     given = RadarTrackerSensor(own, sigma_range_rate_km_s=0.05, range_rate_span_km_s=2.0)
     assert given.sigma_range_rate_km_s == 0.05 and given.range_rate_span_km_s == 2.0
 
@@ -190,7 +199,7 @@ def test_bad_input_names_the_parameter():
         s.returns([1.0, 2.0, np.inf, 4.0])
     with pytest.raises(TypeError, match="radar must be a GroundRadar, got str"):
         RadarTrackerSensor("radar")
-    with pytest.raises(ValueError, match="sigma_range_rate_km_s"):
+    with pytest.raises(ValueError, match="^sigma_range_rate_km_s must be"):
         RadarTrackerSensor(DEFAULT_RADAR, sigma_range_rate_km_s=-1.0)
-    with pytest.raises(ValueError, match="range_rate_span_km_s"):
+    with pytest.raises(ValueError, match="^range_rate_span_km_s must be"):
         RadarTrackerSensor(DEFAULT_RADAR, range_rate_span_km_s=0.0)

@@ -52,6 +52,8 @@ def test_tabulated_marginal_at_ranges_between_nodes_and_another_gmst():
     assert det.in_view(x[:, :3]).tolist() == RadarTrackerSensor(DEFAULT_RADAR).at(theta).detection.in_view(x).tolist()
     coarse = SnrTrackerDetection(RadarTrackerSensor(DEFAULT_RADAR).at(theta), UHF_SNR, SIZES, n_grid=20, n_nodes=8)
     assert len(coarse.ranges) == 20 and coarse.ranges[-1] == DEFAULT_RADAR.fov.r_max_km
+    attached = attach_snr_detection(RadarTrackerSensor(DEFAULT_RADAR), UHF_SNR, SIZES, n_grid=20, n_nodes=8).detection
+    np.testing.assert_array_equal(attached.table, coarse.table)  # the keywords reach the detection
     assert coarse.p_D_of(x)[1] == pytest.approx(np.interp(1234.5, coarse.ranges, coarse.table), abs=1e-15)
 
 

@@ -22,6 +22,7 @@ Usage (from the repository root; about 10 min for ``gaussian`` on one shared cor
 the engine modules)::
 
     python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
+    python workflows/mutation/run_mutation.py models.measurement trackers.deferred   # single modules
     python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
     python workflows/mutation/run_mutation.py trackers --resume   # after adding tests: rerun the rest
     python workflows/mutation/run_mutation.py hypotheses --mutants 'hypotrack.hypotheses.gibbs*'

@@ -36,7 +36,7 @@ def test_circular_orbit_energy_and_a_perigee_on_the_floor():
 
 
 def test_degenerate_states_are_implausible_without_warnings():
-    X = np.array([[0.0] * 6, [np.nan] * 6, [1.0, 0, 0, 0, 0, 0]])
+    X = np.array([[0.0] * 6, [np.nan] * 6, [1.0, 0, 0, 0, 0, 0], [1.0, 0, 0, 0, 2.0, 0]])  # ..., a parabola (ε = 0)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         eps = orbit_energy(X, MU)
@@ -44,4 +44,6 @@ def test_degenerate_states_are_implausible_without_warnings():
         ok = plausible_orbits(X, mu=MU, earth_radius=0.1)
     assert eps[0] == -np.inf and np.isnan(eps[1]) and eps[2] == -2.0
     assert rp[2] == 0.0 and ra[2] == pytest.approx(1.0)  # a radial fall: apogee where it is, perigee at the centre
-    assert ok.tolist() == [False, False, False]
+    assert ok.tolist() == [False, False, False, False] and ra[3] == np.inf
+    with pytest.raises(ValueError, match="^min_perigee_km must be"):
+        plausible_orbits(X, min_perigee_km=-0.5)

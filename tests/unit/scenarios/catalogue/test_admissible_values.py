@@ -4,6 +4,8 @@ the plausibility of its centre and four corners tested one point at a time, each
 return's noise ``R`` and its own rate covariance (through the attributable's Jacobian), the weights are the
 blocks' shares of admissible cells, and bad parameters are refused by name."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -38,6 +40,12 @@ def test_the_rate_box_edges_are_the_speed_bound():
     bound = np.sqrt(2 * MU_EARTH / np.linalg.norm(r, axis=1)) + np.linalg.norm(w_x_r, axis=1)
     np.testing.assert_allclose(np.linalg.norm(v - w_x_r, axis=1), bound, rtol=1e-12)
     assert not plausible_orbits(x).any()  # at the speed bound's edge no orbit is bound
+    # a range-rate 10 m/s short of the bound leaves a box of about 0.4 km/s across the line of sight
+    z = np.r_[Z[:3], bound[0] - 0.01]
+    a_max, e_max = b.rate_box(z, THETA)
+    assert e_max * Z[0] == pytest.approx(np.sqrt(bound[0] ** 2 - z[3] ** 2), rel=1e-9)  # ρ ε̇ ≤ V
+    assert a_max * Z[0] * np.cos(Z[2]) == pytest.approx(e_max * Z[0], rel=1e-12)  # ρ α̇ cos el ≤ V
+    assert b.rate_box(np.r_[Z[:3], bound[0] + 0.5], THETA) == (0.0, 0.0)  # beyond it: an empty box
 
 
 def test_each_cell_is_its_centre_and_four_corners_tested_one_by_one():
@@ -99,6 +107,31 @@ def test_components_map_back_to_the_returns_noise_and_their_rate_covariance():
     np.testing.assert_array_equal(c, mix.covs)
     w0, m0, c0 = b.components(np.r_[Z[:3], 15.0])  # above the escape speed: no component
     assert w0.shape == (0,) and m0.shape == (0, 6) and c0.shape == (0, 6, 6)
+
+
+def test_single_cell_blocks_and_a_gmst_other_than_the_sensors():
+    theta2 = THETA + 0.3
+    b = AdmissibleRegionBirth(RadarTrackerSensor(DEFAULT_RADAR).at(THETA), n_blocks=12, cells=1, spread=0.8)
+    at2 = AdmissibleRegionBirth(RadarTrackerSensor(DEFAULT_RADAR).at(theta2), n_blocks=12, cells=1, spread=0.8)
+    for u, v in zip(b.region(Z, theta2), at2.region(Z)):
+        np.testing.assert_array_equal(u, v)
+    mix, mix2 = b.mixture(Z, theta2), at2.mixture(Z)
+    np.testing.assert_array_equal(mix.means, mix2.means)
+    np.testing.assert_array_equal(mix.covs, mix2.covs)
+    # one cell per block: each admissible cell is a component, its rate covariance the uniform cell's × spread²
+    a_max, e_max = b.rate_box(Z, theta2)
+    ac, ec, ok = b.region(Z, theta2)
+    assert len(mix) == ok.sum() >= 1
+    np.testing.assert_allclose(mix.weights, 1.0 / ok.sum(), rtol=1e-14)
+    cell = np.diag([(2 * a_max / 12) ** 2, (2 * e_max / 12) ** 2]) / 12 * 0.64
+    np.testing.assert_allclose(mix.rate_covs, np.broadcast_to(cell, mix.rate_covs.shape), rtol=1e-12)
+    ii, jj = np.nonzero(ok)
+    np.testing.assert_allclose(mix.rate_means, np.column_stack([ac[ii], ec[jj]]), rtol=1e-12)
+
+
+def test_parameters_are_stored_as_plain_numbers():
+    b = AdmissibleRegionBirth(_sensor(), n_blocks=np.int64(2), cells=np.int32(3), spread=np.float32(0.5))
+    assert json.loads(json.dumps([b.n_blocks, b.cells, b.spread])) == [2, 3, 0.5]
 
 
 def test_mixture_draws():

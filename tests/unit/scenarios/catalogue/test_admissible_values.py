@@ -115,7 +115,10 @@ def test_single_cell_blocks_and_a_gmst_other_than_the_sensors():
     at2 = AdmissibleRegionBirth(RadarTrackerSensor(DEFAULT_RADAR).at(theta2), n_blocks=12, cells=1, spread=0.8)
     for u, v in zip(b.region(Z, theta2), at2.region(Z)):
         np.testing.assert_array_equal(u, v)
+    # the cells do not depend on the GMST (another θ turns every state about the polar axis: same energy, perigee)
+    np.testing.assert_array_equal(b.region(Z)[2], b.region(Z, theta2)[2])
     mix, mix2 = b.mixture(Z, theta2), at2.mixture(Z)
+    assert not np.allclose(mix.means, b.mixture(Z).means)  # the states themselves turn with it
     np.testing.assert_array_equal(mix.means, mix2.means)
     np.testing.assert_array_equal(mix.covs, mix2.covs)
     # one cell per block: each admissible cell is a component, its rate covariance the uniform cell's × spread²

@@ -57,6 +57,17 @@ def test_tabulated_marginal_at_ranges_between_nodes_and_another_gmst():
     assert coarse.p_D_of(x)[1] == pytest.approx(np.interp(1234.5, coarse.ranges, coarse.table), abs=1e-15)
 
 
+def test_default_table_is_the_marginal_over_the_size_models_nodes():
+    """At the grid's ranges the default detection's p̄_D is the marginal over ``sizes.nodes()`` (class docstring)."""
+    det = SnrTrackerDetection(RadarTrackerSensor(DEFAULT_RADAR), UHF_SNR, SIZES)
+    k = np.array([0, 77, 300, len(det.ranges) - 1])
+    x = attributable_to_state(np.column_stack([det.ranges[k], np.full(4, DEFAULT_RADAR.fov.az_center),
+                                               np.full(4, 0.6), np.zeros((4, 3))]), DEFAULT_RADAR.site, 0.0)
+    d, w = SIZES.nodes()
+    want = [min(float(UHF_SNR.p_detect(d, r) @ w), 1 - 1e-9) for r in det.ranges[k]]
+    np.testing.assert_allclose(det.p_D_of(x), want, rtol=1e-9)
+
+
 def test_debris_quantile_nodes_by_hand():
     d, w = SizeModel(payload_diameter_m=1.5, debris_min_m=0.2, debris_exponent=2.0, debris_share=0.4).nodes(4)
     u = np.array([1, 3, 5, 7]) / 8

@@ -64,6 +64,21 @@ class MOfNInitiator:
         self.m = check_int(m, "m", minimum=1, maximum=self.n)
         self.initial_velocity_std = check_positive(initial_velocity_std, "initial_velocity_std")
         d = model.ndim_state
+        self.set_model(model)
+        self.x = np.zeros((0, d))
+        self.P = np.zeros((0, d, d))
+        self.hits = np.zeros(0, dtype=np.int64)
+        self.age = np.zeros(0, dtype=np.int64)
+        self._time = None
+
+    def set_model(self, model: ScanModel) -> None:
+        """Use ``model`` (of the same state dimension) from the next scan on: the scan's sensor when several sensors
+        are fused (:mod:`.multisensor`); the tentative tracks are kept."""
+        if not isinstance(model, ScanModel):
+            raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
+        if model.ndim_state != self.model.ndim_state:
+            raise ValueError(f"model must have state dimension {self.model.ndim_state}, got {model.ndim_state}")
+        self.model, d = model, model.ndim_state
         if model.measurement is None:
             H_pinv = np.linalg.pinv(model.H)
             self._H_pinv = H_pinv
@@ -71,11 +86,6 @@ class MOfNInitiator:
             self.P0 = H_pinv @ model.R @ H_pinv.T + self.initial_velocity_std**2 * (np.eye(d) - H_pinv @ model.H)
         else:  # a nonlinear (sensor-frame) measurement: its own one-point initiation per return
             self._H_pinv, self.P0 = None, None
-        self.x = np.zeros((0, d))
-        self.P = np.zeros((0, d, d))
-        self.hits = np.zeros(0, dtype=np.int64)
-        self.age = np.zeros(0, dtype=np.int64)
-        self._time = None
 
     def __len__(self) -> int:
         return len(self.x)

@@ -34,7 +34,8 @@ from .physics import attach_tracker_snr, object_sizes
 from .run import build_scenario, initial_tracks, make_motion, make_problem, tracker_sensor
 from .scorecard import COLUMNS, _catalogue_columns, unknown_time_to_orbit
 
-__all__ = ["SENSOR_SETS", "make_fence", "build_fused", "fused_tracker", "run_fused", "fused_table"]
+__all__ = ["SENSOR_SETS", "TABLE_COLUMNS", "make_fence", "build_fused", "fused_tracker", "run_fused", "fused_table",
+           "fusion_claims", "fusion_macros", "plot_fusion"]
 
 #: The runs compared: the radar alone, the radar and the fence.
 SENSOR_SETS = ("radar", "radar+fence")
@@ -139,3 +140,82 @@ def fused_table(rows) -> pd.DataFrame:
     trackers = list(dict.fromkeys(t["tracker"]))
     t = t.assign(_t=t["tracker"].map({x: i for i, x in enumerate(trackers)})).sort_values(["_t", "_s"], kind="stable")
     return t[TABLE_COLUMNS].reset_index(drop=True)
+
+
+EXPERIMENT = "ssa_catalogue"
+SOURCE = "extension (SSA at catalogue scale: radar and fence fused)"
+_NAMES = {"glmb": "δ-GLMB", "homht_kbest": "HOMHT k-best", "rfisst": "R-FISST", "gnn": "GNN", "jpda": "JPDA"}
+
+
+def _fmt(x, digits=3):
+    return "n/a" if not np.isfinite(x) else f"{x:.{digits}g}"
+
+
+def fusion_claims(table: pd.DataFrame) -> list:
+    """Extension rows per tracker: completeness at the next radar pass, covariance realism at re-acquisition and
+    GOSPA per object in the radar's view of the fused run, each with the radar-alone run's value in the note."""
+    from ...reporting.ledger import Claim
+
+    out = []
+    for name, g in table.groupby("tracker", sort=False):
+        r = g.set_index("sensors")
+        if not set(SENSOR_SETS) <= set(r.index):
+            continue
+        a, f = r.loc["radar"], r.loc["radar+fence"]
+        lab, n = _NAMES.get(name, name), int(f["n_objects"])
+        common = f"radar and fence fused, N = {n}, {int(f['n_scans'])} scans, {int(f['fence_returns'])} fence returns"
+        out.append(Claim(EXPERIMENT, f"fusion: completeness at the next radar pass, {lab}, N = {n}", SOURCE, "--",
+                         _fmt(f["completeness"]), "--", "extension",
+                         f"{common}; radar alone {_fmt(a['completeness'])} (share of all catalogued objects whose "
+                         "track predicted to the next radar pass after the run is within 5 km)",
+                         "measurement", key=f"fusion_completeness_{name}"))
+        out.append(Claim(EXPERIMENT, f"fusion: covariance realism at re-acquisition, {lab}, N = {n}", SOURCE, "--",
+                         _fmt(f["realism_95"]), "--", "extension",
+                         f"{common}; goal 0.95; {int(f['reacquisitions'])} re-acquisitions, within 5 km "
+                         f"{_fmt(f['reacq_within_km'])}; radar alone {_fmt(a['realism_95'])} over "
+                         f"{int(a['reacquisitions'])}, within 5 km {_fmt(a['reacq_within_km'])}",
+                         "measurement", key=f"fusion_realism_{name}"))
+        out.append(Claim(EXPERIMENT, f"fusion: GOSPA per object in the radar's view (km), {lab}, N = {n}", SOURCE,
+                         "--", _fmt(f["gospa_per_object_km"]), "--", "extension",
+                         f"{common}; radar alone {_fmt(a['gospa_per_object_km'])}; cross-tags per 10^4 radar "
+                         f"returns {_fmt(f['cross_tags_per_1e4'])} (radar alone {_fmt(a['cross_tags_per_1e4'])})",
+                         "measurement", key=f"fusion_gospa_{name}"))
+    return out
+
+
+def fusion_macros(table: pd.DataFrame) -> dict:
+    """Macros ``Fusion<Field><Tracker><Radar|Fused>`` of the table's compared fields, and the fence's returns."""
+    fields = {"Completeness": "completeness", "Realism": "realism_95", "Reacq": "reacquisitions",
+              "ReacqWithin": "reacq_within_km", "Gospa": "gospa_per_object_km", "CrossTags": "cross_tags_per_1e4",
+              "TimeToOrbit": "time_to_orbit_unknown_s", "UnknownOrbit": "unknown_with_orbit"}
+    v = {"FusionN": int(table["n_objects"].iloc[0]), "FusionScans": int(table["n_scans"].iloc[0]),
+         "FusionFenceReturns": int(table["fence_returns"].max())}
+    for r in table.itertuples(index=False):
+        side = "Fused" if r.sensors == "radar+fence" else "Radar"
+        for f, col in fields.items():
+            x = float(getattr(r, col))
+            v[f"Fusion{f}{r.tracker.replace('_', '')}{side}"] = int(x) if f in ("Reacq", "UnknownOrbit") else _fmt(x)
+    return v
+
+
+def plot_fusion(table: pd.DataFrame, pdf, png):
+    """Radar alone against radar and fence, one pair of bars per tracker: completeness at the next radar pass,
+    re-acquisitions within 5 km (share), GOSPA per object in the radar's view."""
+    from .figures import _SHORT, _fs, _plt, _save
+
+    _plt()
+    names = list(dict.fromkeys(table["tracker"]))
+    fig, ax = _fs().subplots(1, 3, height=2.6)
+    panels = [("completeness", "completeness (share)"), ("reacq_within_km", "re-acquired within 5 km (share)"),
+              ("gospa_per_object_km", "GOSPA per object in view (km)")]
+    x = np.arange(len(names))
+    for a, (col, label) in zip(ax, panels):
+        for i, (s, c) in enumerate(zip(SENSOR_SETS, ("tab:gray", "tab:blue"))):
+            t = table[table["sensors"] == s].set_index("tracker").reindex(names)
+            v = t[col].to_numpy(float)
+            a.bar(x + (i - 0.5) * 0.38, np.where(np.isfinite(v), v, 0.0), 0.38, color=c, label=s.replace("+", " + "))
+        a.set_xticks(x, [_SHORT.get(n, n) for n in names], rotation=45, ha="right", rotation_mode="anchor")
+        a.set_ylabel(label)
+        a.grid(alpha=0.3, axis="y")
+    _fs().legend_below(fig, *ax[0].get_legend_handles_labels(), ncol=2, frameon=False)
+    _save(fig, pdf, png)

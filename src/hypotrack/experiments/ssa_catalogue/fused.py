@@ -28,11 +28,9 @@ from ...scenarios.catalogue import simulate_catalogue
 from ...scenarios.catalogue.fence import space_fence
 from ...scenarios.catalogue.snr import SizeModel, attach_snr_detection
 from ...trackers.multisensor import MultiSensorSHT
-from ..ssa_breakup.run import run_scored
-from ..ssa_breakup.scorecard import scorecard_row
 from .physics import attach_tracker_snr, object_sizes
 from .run import build_scenario, initial_tracks, make_motion, make_problem, tracker_sensor
-from .scorecard import COLUMNS, _catalogue_columns, unknown_time_to_orbit
+from .scorecard import COLUMNS, _catalogue_columns, run_scored, scorecard_row, unknown_time_to_orbit  # ssa_breakup's
 
 __all__ = ["SENSOR_SETS", "TABLE_COLUMNS", "make_fence", "build_fused", "fused_tracker", "run_fused", "fused_table",
            "fusion_claims", "fusion_macros", "plot_fusion"]

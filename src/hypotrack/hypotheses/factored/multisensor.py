@@ -15,9 +15,9 @@ without prediction (the second sensor's corrector applied to the first one's pos
 whose returns are conditionally independent given the objects this is the multi-sensor Bayes filter's corrector
 written as a product of single-sensor correctors — exact for the full multi-object filter, and the standard
 approximation once each corrector is truncated or capped (Mahler, *Statistical Multisource-Multitarget Information
-Fusion*, Artech House 2007, Sec. 10.6, the "iterated-corrector" multi-sensor filter; for the δ-GLMB filter Vo, Vo &
-Beard, "Multi-sensor multi-object tracking with the generalized labeled multi-Bernoulli filter", IEEE TSP 67(23),
-2019, Sec. III, who note that the result depends on the order of the sensors once hypotheses are pruned). The
+Fusion*, Artech House 2007: the "iterated-corrector" multi-sensor filter, whose approximate forms depend on the order
+of the sensors; for the δ-GLMB filter Vo, Vo & Beard, "Multi-sensor multi-object tracking with the generalized
+labeled multi-Bernoulli filter", IEEE TSP 67(23), 2019, who contrast it with the joint multi-sensor update). The
 population's per-scan events (a birth term, a per-scan survival) count once per sensor scan, as a second scan of a
 single sensor at the same time would (:meth:`~..filter.HypothesisFilter.step`).
 

@@ -13,8 +13,9 @@ radar's scan, then the fence's at a zero interval: the sequential update of
 :class:`~hypotrack.trackers.multisensor.MultiSensorSHT`) so that they differ in the fence's scans alone; each sensor has
 its own tracking problem (:func:`.run.make_problem`: its sensor-frame model, SNR ``p_D``, clutter, field of view,
 admissible-region births of its own returns). The scorecard (:mod:`.scorecard`) is the operator's of the radar: the
-radar's returns correlated, GOSPA and custody in the radar's view, re-acquisition at the radar's next pass — so a
-difference is what the fence's returns between and during the radar's passes did to the catalogue.
+radar's returns correlated, GOSPA and custody in the radar's view, re-acquisition at the radar's next pass, time to
+orbit from an object's first *radar* return — so a difference is what the fence's returns between and during the
+radar's passes did to the catalogue (an object the fence saw first is credited from the radar's first return).
 """
 
 from __future__ import annotations

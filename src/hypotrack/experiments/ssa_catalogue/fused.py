@@ -198,14 +198,14 @@ def fusion_macros(table: pd.DataFrame) -> dict:
 
 
 def plot_fusion(table: pd.DataFrame, pdf, png):
-    """Radar alone against radar and fence, one pair of bars per tracker: completeness at the next radar pass,
-    re-acquisitions within 5 km (share), GOSPA per object in the radar's view."""
+    """Radar alone against radar and fence, one pair of bars per tracker: completeness at the next radar pass, radar
+    returns of real objects no track in view explained (per 10⁴), GOSPA per object in the radar's view."""
     from .figures import _SHORT, _fs, _plt, _save
 
     _plt()
     names = list(dict.fromkeys(table["tracker"]))
-    fig, ax = _fs().subplots(1, 3, height=2.6)
-    panels = [("completeness", "completeness (share)"), ("reacq_within_km", "re-acquired within 5 km (share)"),
+    fig, ax = _fs().subplots(1, 3, height=2.8)
+    panels = [("completeness", "completeness (share)"), ("uncorrelated_per_1e4", "uncorrelated per 10$^4$ returns"),
               ("gospa_per_object_km", "GOSPA per object in view (km)")]
     x = np.arange(len(names))
     for a, (col, label) in zip(ax, panels):

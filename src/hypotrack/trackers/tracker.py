@@ -384,6 +384,15 @@ class SingleHypothesisTracker:
             self._view[late] = self.x[late]
         return TrackEstimates(t, self.ids.copy(), self.x.copy(), self.P.copy())
 
+    def state_times(self) -> np.ndarray:
+        """The time each stored track (rows of ``x``, ``P``) is valid at: now, except for a lazy
+        tracker's deferred tracks, which stay at the last scan they were predicted to until
+        :meth:`estimates` brings them to now."""
+        if not len(self._since):
+            return np.zeros(0)
+        first = int(self._since.min())
+        return self._times.since(first)[self._since - first]
+
     def run(self, scans) -> list[TrackEstimates]:
         """:meth:`step` over a sequence of scans; the estimates after each."""
         return [self.step(Z, t) for t, Z in scans]

@@ -143,7 +143,6 @@ class MOfNInitiator:
 
         unused = Z[a < 0]
         self._time = time  # nothing below can fail: the step is all-or-nothing
-        fam_new, score_new = np.zeros(0, np.int64), np.zeros(0)
         if self.mixture is not None:
             x_new, P_new, fam_new, score_new = self._mixture_tracks(unused)
         elif self.model.measurement is None:
@@ -152,6 +151,8 @@ class MOfNInitiator:
             x_new, P_new = self.model.measurement.one_point(unused, 0.0, self.initial_velocity_std) if len(unused) else (
                 np.zeros((0, d)), np.zeros((0, d, d)))
         k = len(x_new)
+        if self.mixture is None:  # no families: every tentative track its own
+            fam_new, score_new = np.full(k, -1, np.int64), np.zeros(k)
         self.x = np.concatenate([x[alive], x_new])
         self.P = np.concatenate([P[alive], P_new])
         self.hits = np.concatenate([hits[alive], np.ones(k, dtype=np.int64)])

@@ -28,7 +28,7 @@ def catalogue(request):
         cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
     if request.param == "enu":
         cfg = peer_config(cfg)
-        cfg["model"] = {k: v for k, v in cfg["model"].items() if k != "birth"}
+        cfg["model"] = {k: v for k, v in cfg["model"].items() if k not in ("birth", "plausibility")}
     objects, unknown, sc, init_seed = build_scenario(cfg, 400, 1)
     tsensor = tracker_sensor(sc.sensors[0])
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)

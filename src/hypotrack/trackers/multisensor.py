@@ -62,6 +62,8 @@ class MultiSensorSHT(SingleHypothesisTracker):
         if t0.time is not None:
             obj.initialise(t0.x, t0.P, t0.ids, time=t0.time)
         obj.sensors = [(t.model, t.in_view, t.p_detect, t.missed_distance) for t in trackers]
+        # a mixture initiator's admissible region is its sensor's (site, frame)
+        obj._mixtures = [getattr(t.initiator, "mixture", None) for t in trackers]
         views = [t.in_view for t in trackers]
         obj.miss_view = lambda x: np.logical_or.reduce([np.asarray(v(x), dtype=bool) for v in views]) if len(x) \
             else np.zeros(0, dtype=bool)
@@ -75,7 +77,7 @@ class MultiSensorSHT(SingleHypothesisTracker):
     def _use(self, sensor: int) -> None:
         self.model, self.in_view, self.p_detect, self.missed_distance = self.sensors[sensor]
         if self.initiator is not None:
-            self.initiator.set_model(self.model)
+            self.initiator.set_model(self.model, self._mixtures[sensor])
         self.sensor = sensor
 
     def step(self, Z, time=None, sensor: int = 0):

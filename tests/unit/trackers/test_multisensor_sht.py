@@ -83,3 +83,28 @@ def test_bad_input():
     assert t.sensor == 0
     with pytest.raises(ValueError, match="in_view"):
         MultiSensorSHT.from_trackers([SingleHypothesisTracker(MOTION, MODEL_A)])
+
+
+class _Mixture:
+    """One component at the return with velocity ``(vx, 0)``: each sensor's admissible region differs."""
+
+    def __init__(self, vx):
+        self.vx = vx
+
+    def components(self, z):
+        return np.ones(1), np.array([[z[0], z[1], self.vx, 0.0]]), np.diag([0.01, 0.01, 0.01, 0.01])[None]
+
+
+def test_each_sensors_return_starts_from_that_sensors_mixture():
+    """A's return (−5, 0) and B's (5, 0), each in its own view only: A's tentative track moves at +1 (A's mixture),
+    B's at −1 (B's); the mixture of the sensor scanned last would give both one velocity."""
+    trackers = []
+    for model, view, vx in ((MODEL_A, _view(-10, 1), 1.0), (MODEL_B, _view(-1, 10), -1.0)):
+        ini = MOfNInitiator(MOTION, model, m=2, n=3, initial_velocity_std=1.0, mixture=_Mixture(vx))
+        trackers.append(SingleHypothesisTracker(MOTION, model, association="gnn", max_misses=3, in_view=view,
+                                                initiator=ini))
+    t = MultiSensorSHT.from_trackers(trackers)
+    t.step(np.array([[-5.0, 0.0]]), 0.0, sensor=0)
+    t.step(np.array([[5.0, 0.0]]), 0.0, sensor=1)
+    tentative = {float(x[0]): float(x[2]) for x in t.initiator.x}
+    assert tentative == {-5.0: 1.0, 5.0: -1.0}

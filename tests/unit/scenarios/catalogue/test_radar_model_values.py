@@ -203,3 +203,13 @@ def test_bad_input_names_the_parameter():
         RadarTrackerSensor(DEFAULT_RADAR, sigma_range_rate_km_s=-1.0)
     with pytest.raises(ValueError, match="^range_rate_span_km_s must be"):
         RadarTrackerSensor(DEFAULT_RADAR, range_rate_span_km_s=0.0)
+
+
+def test_returns_refuse_a_scan_of_the_wrong_width_and_take_an_empty_one():
+    sensor = RadarTrackerSensor(DEFAULT_RADAR).at(THETA)
+    with pytest.raises(ValueError, match=r"^Z must have shape \(n, 4\), got \(3, 8\)$"):
+        sensor.returns(np.zeros((3, 8)))  # two returns' width per row: never silently six returns
+    with pytest.raises(ValueError, match=r"^Z must have shape \(n, 4\), got \(3, 3\)$"):
+        sensor.returns(np.zeros((3, 3)))
+    assert sensor.returns([]).shape == (0, 4)
+    assert sensor.returns(np.zeros((0, 2))).shape == (0, 4)

@@ -16,6 +16,7 @@ from ..posterior import HypothesisEstimate, summarise
 from ..._validation import check_finite_float
 from ..state import scan_interval
 from ..tracks import TrackStore
+from .births import birth_loglik
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
 from .lane import GroupSet, Lane, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton, take
 from .options import FactoredOptions
@@ -348,7 +349,7 @@ class FactoredFilter:
                               step=interval if self._options.replay and interval > 0 else None)
         pred = TrackStore(pm, pP, prior.labels)
         G, L = len(groups), len(cand)
-        birth_ll = E.population.birth_loglik(Z) if E.population is not None else np.zeros((len(Z), 0))
+        birth_ll = birth_loglik(E.population, Z) if E.population is not None else np.zeros((len(Z), 0))
         col_node = np.concatenate([np.repeat(np.arange(G), sizes), G + np.arange(L)]).astype(np.int64)
         return _Scan(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
 

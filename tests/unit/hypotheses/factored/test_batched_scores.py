@@ -1,7 +1,12 @@
-"""The scan's birth likelihoods in one batch (:func:`hypotrack.hypotheses.factored.births.birth_loglik`) against
-each birth term's own (:meth:`GaussianBirthTerm.loglik`): the catalogue's admissible-region terms (documented
-radar, second-order EKF) on real scans, a return put on a term's gate edge along the direction where the
-bound is tight, and terms the batch cannot take (the population's own call, bit for bit)."""
+"""A scan's scores in the sensor frame without the dense matrices, on real scans of the documented radar (second-order
+EKF in ``(ρ, az, el, ρ̇)``):
+
+* the birth likelihoods in one batch (:func:`hypotrack.hypotheses.factored.births.birth_loglik`) against each
+  birth term's own (:meth:`GaussianBirthTerm.loglik`): the catalogue's admissible-region terms, a return put on
+  a term's gate edge along the direction where the bound is tight, and terms the batch cannot take (the
+  population's own call, bit for bit);
+* the tracks' gated pairs (:func:`hypotrack.hypotheses.factored.scores.sensor_frame_pairs`) against the engine's
+  dense matrices, bit for bit, tracks in and out of view, with and without ``gate_out_of_view``."""
 
 import numpy as np
 import pytest
@@ -12,14 +17,19 @@ from hypotrack.experiments.ssa_catalogue.run import initial_tracks, make_motion,
 from hypotrack.experiments.ssa_catalogue.scale import clone_scenario
 from hypotrack.hypotheses import GaussianBirthTerm, LabeledMultiBernoulliPopulation
 from hypotrack.hypotheses.factored.births import batchable, birth_loglik
+from hypotrack.hypotheses.factored.lane import predict_each
+from hypotrack.hypotheses.factored.scores import score_tracks, sensor_frame_pairs
+from hypotrack.hypotheses.tracks import TrackStore
 
-N_SCANS = 8
+N_SCANS = 7
 
 
 @pytest.fixture(scope="module")
 def scans_and_terms():
-    """(Z, population, the radar set to the scan's GMST) at each scan of the default section's scale population (the catalogue cloned, N = 10,855)
-    as δ-GLMB steps it: the population holds the adaptive birth terms of the previous scan's unexplained returns."""
+    """(Z, population, the radar set to the scan's GMST, predicted tracks, engine) at each scan of the default
+    section's scale population (the catalogue cloned, N = 10,855) as δ-GLMB steps it: the population holds the
+    adaptive birth terms of the previous scan's unexplained returns; the tracks are the lane's in view at the
+    scan and 300 others (out of view), predicted to it."""
     with open("workflows/config/default.yaml") as fh:
         cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
     objects, unknown, sc, init_seed = clone_scenario(cfg, 10855, 1, n_scans=N_SCANS, chunk=20000)
@@ -30,8 +40,14 @@ def scans_and_terms():
     for k, (t_k, Z) in enumerate(sc.scan_list(0)):
         tsensor.at(sc.theta[k])
         Zt = tsensor.returns(Z)
-        out.append((Zt, tr.engine.population, lambda theta=sc.theta[k]: tsensor.at(theta)))
+        pop = tr.engine.population
         tr.step(Zt, float(t_k))
+        lane = tr.state().lane
+        pick = np.concatenate([np.flatnonzero(tr.engine.sensor.detection.in_view(lane.view[:, :3])),
+                               np.random.default_rng(k).choice(len(lane), 300, replace=False)])
+        x, P = predict_each(tr.engine.motion, lane.store.means[pick], lane.store.covs[pick], tr.time - lane.times[pick])
+        out.append((Zt, pop, lambda theta=sc.theta[k]: tsensor.at(theta), TrackStore(x, P, lane.store.labels[pick]),
+                    tr.engine))
     return out
 
 
@@ -47,7 +63,7 @@ def _own(term, Z):
 
 def test_every_likelihood_is_the_terms_own_and_the_bound_keeps_every_gated_pair(scans_and_terms):
     n_terms = n_gated = n_bound_only = n_pairs = n_bound = 0
-    for Z, pop, at in scans_and_terms:
+    for Z, pop, at, _, _ in scans_and_terms:
         at()
         want = pop.birth_loglik(Z)
         got = birth_loglik(pop, Z)
@@ -71,7 +87,7 @@ def test_every_likelihood_is_the_terms_own_and_the_bound_keeps_every_gated_pair(
 
 def test_a_return_on_the_gate_edge_where_the_bound_is_tight(scans_and_terms):
     """ν along ``S e_0`` makes the bound on the range an equality: d² = γ(1 − 1e-6) is kept, (1 + 1e-6) is not."""
-    Z, pop, at = next(s for s in scans_and_terms if s[1].n_birth_regions)
+    Z, pop, at, _, _ = next(s for s in scans_and_terms if s[1].n_birth_regions)
     at()
     term = pop.birth_densities[0]
     meas = term.measurement
@@ -101,3 +117,22 @@ def test_terms_the_batch_cannot_take_go_through_the_population():
     np.testing.assert_allclose(got[0, 0], -0.5 * 0.34 / 4.5 - np.log(2 * np.pi * 4.5), rtol=1e-13)
     assert np.isneginf(got[2]).all()
     assert birth_loglik(pop, np.zeros((0, 2))).shape == (0, 2)
+
+
+@pytest.mark.parametrize("gate_out_of_view", [True, False])
+def test_the_sensor_frames_gated_pairs_are_the_dense_matrices_entries(scans_and_terms, gate_out_of_view):
+    n_gated = n_out = 0
+    for Z, _, at, pred, engine in scans_and_terms:
+        at()
+        dense = score_tracks(engine, pred, Z, gate_out_of_view=gate_out_of_view, dense_pairs=10**12)
+        pairs = sensor_frame_pairs(engine, pred, Z, gate_out_of_view=gate_out_of_view)
+        assert dense.loglik is not None and pairs.loglik is None  # the two forms
+        every = np.arange(len(Z)), np.arange(len(pred))
+        la, aa, pa, _ = dense.block(*every)
+        lb, ab, pb, _ = pairs.block(*every)
+        np.testing.assert_array_equal(ab, aa)
+        np.testing.assert_array_equal(lb[ab], la[aa])  # bit for bit
+        np.testing.assert_array_equal(pb, pa)
+        n_gated += int(aa.sum())
+        n_out += int(np.sum(pa == 0))
+    assert n_gated > 500 and n_out > 1000  # returns gated, and tracks out of view scored alike

@@ -183,8 +183,10 @@ class Lane:
         moved = cand[quiet]
         means = np.empty((n_keep + len(new), d))
         covs = np.empty((n_keep + len(new), d, d))
-        np.take(self.store.means, idx, axis=0, out=means[:n_keep])
-        np.take(self.store.covs, idx, axis=0, out=covs[:n_keep])
+        # mode="clip": the indices are in range, and numpy buffers ``out`` in its default mode (a second copy of
+        # the whole lane: 3x slower at 10^6 singletons)
+        np.take(self.store.means, idx, axis=0, out=means[:n_keep], mode="clip")
+        np.take(self.store.covs, idx, axis=0, out=covs[:n_keep], mode="clip")
         means[pos[moved]], covs[pos[moved]] = pred.means[quiet], pred.covs[quiet]
         means[n_keep:], covs[n_keep:] = new.means, new.covs
         times = np.concatenate([self.times[idx], np.full(len(new), now)])

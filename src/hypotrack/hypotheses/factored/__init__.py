@@ -128,7 +128,8 @@ Where each job lives
 (:class:`FactoredFilter`: the scan in named stages), :mod:`.planner` (the graph, the plans, the
 splits), :mod:`.scores` (the returns against the predicted tracks: dense, or at scale the gated pairs
 through a k-d tree), :mod:`.fast_path` (the lone tracks' batch), :mod:`.lane` (singletons and lazy prediction), :mod:`.pool` (the engine steps and the
-workers that run them), :mod:`.summary` (:class:`FactoredPosterior`); the measurement-driven birth
+workers that run them), :mod:`.summary` (:class:`FactoredPosterior`), :mod:`.multisensor` (the scans of several
+sensors, each with its sensor's engine; birth terms for the scan they belong to); the measurement-driven birth
 model :class:`AdaptiveBirth` lives beside the populations (:mod:`..population_adaptive`).
 """
 

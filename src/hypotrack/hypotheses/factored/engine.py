@@ -8,12 +8,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validation import check_finite_array, check_int, check_measurements
+from ..._validation import check_finite_array, check_finite_float, check_int, check_measurements
 from ...protocol import TrackEstimates
 from ..factored_groups import factorise, product
 from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
-from ..._validation import check_finite_float
 from ..state import scan_interval
 from ..tracks import TrackStore
 from .births import birth_loglik
@@ -291,10 +290,9 @@ class FactoredFilter:
     def step(self, Z, time=None, *, dt=None) -> FactoredPosterior:
         """Advance one scan with returns ``Z`` (m, p) observed at ``time`` (package docstring, steps 1–4).
 
-        ``time``/``dt`` as :meth:`HypothesisFilter.step <..filter.HypothesisFilter.step>`: a zero
-        interval predicts nothing (every gap since a track's last prediction is then zero, the lazy
-        lane's means are not advanced; the population's per-scan events are those of any scan) and
-        updates; a negative one raises ``ValueError``.
+        ``time``/``dt`` as :meth:`HypothesisFilter.step <..filter.HypothesisFilter.step>`: a zero interval advances no
+        lane mean and predicts only the tracks another sensor's scan woke (scan by scan with ``replay``; the population's
+        per-scan events are those of any scan) and updates; a negative one raises ``ValueError``.
         All-or-nothing like the engine's step: if it raises, the filter is as before.
         """
         saved = (self._groups, self._lane, self.time, self._next_label, self.scan_index, self.rng.bit_generator.state,
@@ -311,8 +309,7 @@ class FactoredFilter:
             raise
 
     def _step(self, Z, time, dt):
-        t0 = _clock.perf_counter()
-        E = self._engine
+        t0, E = _clock.perf_counter(), self._engine
         interval, now = scan_interval(self.time, time, dt, E.dt)
         Z = check_measurements(Z, "Z", E.meas_dim)
         scan = self._predict_and_score(Z, interval, now)
@@ -334,12 +331,8 @@ class FactoredFilter:
                      largest_group=max(sizes, default=int(len(self._lane) > 0)),
                      largest_group_hypotheses=max((len(s.log_w) for s in states), default=int(len(self._lane) > 0)),
                      time_total=_clock.perf_counter() - t0)
-        ab = self._options.adaptive_birth
-        if ab is not None:
-            # the next scan's birth terms: one at each return no group or birth term explained
-            terms = ab.terms(Z[graph.unexplained], E.H, E.R, E.motion, interval, measurement=E.measurement)
-            self._set_birth_terms(terms)
-            stats["n_adaptive_terms"] = len(terms)
+        if self._options.adaptive_birth is not None:
+            stats["n_adaptive_terms"] = self._births_after(Z[graph.unexplained], interval)
         self.last_stats = stats
         self.stats_history.append(stats)
         return self.posterior()
@@ -356,7 +349,7 @@ class FactoredFilter:
         prior = cat([s.store for s in groups] + [take(lane.store, cand)], self.ndim)
         pm, pP = predict_each(E.motion, prior.means, prior.covs,
                               np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]),
-                              step=interval if self._options.replay and interval > 0 else None)
+                              step=(interval or E.dt) if self._options.replay else None)
         pred = TrackStore(pm, pP, prior.labels)
         G, L = len(groups), len(cand)
         birth_ll = birth_loglik(E.population, Z) if E.population is not None else np.zeros((len(Z), 0))
@@ -530,6 +523,14 @@ class FactoredFilter:
         ``p_D = 0`` gates nothing."""
         return score_scorable(self._engine, pred, Z, gate_out_of_view=self._options.gate_out_of_view,
                               survival=getattr(self._engine.population, "track_survival", None))
+
+    def _births_after(self, Z, interval) -> int:
+        """The next scan's birth terms, one at each return ``Z`` no group or birth term explained, predicted over this scan's
+        interval (the next one's if evenly spaced; :mod:`.multisensor` waits for the next scan's time and sensor); their number."""
+        E = self._engine
+        terms = self._options.adaptive_birth.terms(Z, E.H, E.R, E.motion, interval, measurement=E.measurement)
+        self._set_birth_terms(terms)
+        return len(terms)
 
     def _set_birth_terms(self, terms):
         r_birth = self._options.adaptive_birth.r_birth

@@ -48,7 +48,8 @@ with ``p_S = 1``: the lane's condition), a cap that keeps every child (``H∞`` 
 children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
 two samplers with certainty only up to the chance that they never leave the alternative
 (``< min_weight^n_sweeps``). With seeded births the generator must make all three children
-(exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts.
+(exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts; a mixture birth density
+(one seeded child per component, :mod:`..seeded`) takes the general path.
 """
 
 from __future__ import annotations
@@ -63,6 +64,7 @@ from ..generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from ..gibbs import GibbsGenerator
 from ..population_events import BinomialPopulation
 from ..population_lmb import LabeledMultiBernoulliPopulation
+from ..seeded import is_mixture
 from ..state import FilterState
 from ..tracks import TrackStore
 from ..weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
@@ -168,6 +170,8 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         lam_c = kappa if w.clutter_intensity is None else w.clutter_intensity
         det, alt = 0.0, [float(np.log(lam_c))]
         if w.seeded_births:
+            if is_mixture(w.birth_density):  # one child per component: not the three children of the rule
+                return None
             alt.append(float(np.log(w.birth_intensity)))
             n_new = 1
             if not (type(gen) is ExhaustiveGenerator or (type(gen) is MurtyGenerator and gen.k >= 3)):

@@ -231,7 +231,7 @@ def interaction_parts(pred_objects, ctx, sources, n_regions):
     tnode = np.empty(len(src), dtype=np.int64)
     old = src >= 0
     tnode[old] = col_node[src[old]]
-    seeded = src == -1 - n_regions
+    seeded = src <= -1 - n_regions  # (every component of a mixture seeded at return r: r's node)
     tnode[seeded] = L + n_regions + r[seeded]
     born = ~old & ~seeded
     tnode[born] = L + (-1 - src[born])
@@ -255,10 +255,16 @@ class ObjectIds:
         return np.array([get(int(x), int(x)) for x in labels], dtype=np.int64)
 
     def register_births(self, store, sources, n_regions):
-        """The newborn labels of each birth term (``sources``, :class:`~..state.StepResult`) become one object."""
-        born = np.flatnonzero((sources[:, 0] < 0) & (sources[:, 0] != -1 - n_regions))
-        for r in np.unique(sources[born, 0]):
-            labels = store.labels[born[sources[born, 0] == r]]
+        """The newborn labels of each birth term (``sources``, :class:`~..state.StepResult`) become one object,
+        and those of the components of a mixture seeded at one return (alternatives of one newborn, :mod:`..seeded`)."""
+        born = np.flatnonzero((sources[:, 0] < 0) & (sources[:, 0] > -1 - n_regions))
+        seeded = np.flatnonzero(sources[:, 0] < -1 - n_regions)  # components c >= 1 only: a one-Gaussian's stays
+        groups = [born[sources[born, 0] == r] for r in np.unique(sources[born, 0])]
+        if len(seeded):
+            on = np.flatnonzero(sources[:, 0] <= -1 - n_regions)
+            groups += [on[sources[on, 1] == r] for r in np.unique(sources[seeded, 1])]
+        for g in groups:
+            labels = store.labels[g]
             for x in labels:
                 self.mapping[int(x)] = int(labels.min())
 

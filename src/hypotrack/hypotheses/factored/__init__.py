@@ -72,6 +72,11 @@ in the same batch, and predicted over its whole gap when one of its tracks may b
 catalogue scale these groups accumulate out of view (nothing resolves them there) and would otherwise
 be predicted and visited every scan. :attr:`~FactoredFilter.posterior` and
 :attr:`~FactoredFilter.groups` predict the lazy singletons and groups to the current scan (:mod:`.lane`).
+With per-track survival (a labeled multi-Bernoulli population with ``p_S = 1`` and a ``survival``
+callable, e.g. :class:`~..population_lmb.UnconfirmedDecay`) the lane holds the singletons whose track
+surely survives (``p_S = 1``: no "died" child, so the singleton is again exactly its Gaussian); a candidate
+whose predicted ``p_S`` is below 1 takes its step on the empty scan and leaves the lane, and the groups are
+predicted every scan (:func:`.lane.survival_lane`, which states what lazy prediction assumes there).
 
 The fast path
 -------------

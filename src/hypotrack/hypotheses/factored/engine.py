@@ -15,10 +15,12 @@ from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
 from ..state import scan_interval
 from ..tracks import TrackStore
+from .births import birth_loglik
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
-from .lane import GroupSet, Lane, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton, take
+from .lane import (GroupSet, Lane, admitted, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton,
+                   survival_lane, take)
 from .options import FactoredOptions
-from .planner import (ObjectIds, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
+from .planner import (ObjectIds, ScanData, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
                       touched_plan)
 from .pool import WorkerPool, engine_step
 from .scores import Scores
@@ -124,7 +126,7 @@ class FactoredFilter:
         obj.initialise(np.zeros((0, obj.ndim)), time=f.time)
         state = f.state.with_next_label(0)
         groups = [state] if any(len(t) for t in state.tracks) else []
-        lone = one_hypothesis_lane(state) if obj._lane_on and groups else None
+        lone = one_hypothesis_lane(state) if obj._silent and groups else None
         if lone is not None:  # one singleton per object, as the exact split gives them (without it)
             obj._groups, obj._lane = GroupSet.at((), f.time), Lane.at(lone, f.time)
             groups = None
@@ -161,8 +163,10 @@ class FactoredFilter:
         self._born_templates = {}  # r_B -> the fast path's lone birth term step (:meth:`_born`)
         self.rng = engine.rng
         self.ndim = engine.state_dim
-        # singletons are exactly their Gaussian when a quiet group takes no population event
-        self._lane_on = silent(engine.population)
+        # singletons are exactly their Gaussian when a quiet group takes no population event, or (per-track
+        # survival) when their track surely survives (lane.survival_lane)
+        self._silent = silent(engine.population)
+        self._lane_on = self._silent or survival_lane(engine.population)
 
     # ------------------------------------------------------------------ options
     @property
@@ -233,7 +237,9 @@ class FactoredFilter:
         if len(np.unique(store.labels)) != len(store):
             raise ValueError("labels must be distinct (one per object)")
         if self._lane_on:
-            self._lane = Lane.at(store, self.time)
+            ok = admitted(self._engine.population, store)
+            self._lane = Lane.at(store if ok.all() else take(store, np.flatnonzero(ok)), self.time)
+            self._groups = GroupSet.at([singleton(store, j) for j in np.flatnonzero(~ok)], self.time)
         else:
             self._groups = GroupSet.at([singleton(store, j) for j in range(len(store))], self.time)
         self._next_label = int(store.labels.max()) + 1
@@ -263,6 +269,9 @@ class FactoredFilter:
         if not self._lane_on:
             return list(states), cat([], self.ndim)
         single = [is_singleton(s) for s in states]
+        if not self._silent and any(single):  # per-track survival: only the tracks surviving surely
+            ok = iter(admitted(self._engine.population, cat([s.store for s, x in zip(states, single) if x], self.ndim)))
+            single = [x and bool(next(ok)) for x in single]
         return ([s for s, x in zip(states, single) if not x],
                 cat([s.store for s, x in zip(states, single) if x], self.ndim))
 
@@ -304,7 +313,10 @@ class FactoredFilter:
         interval, now = scan_interval(self.time, time, dt, E.dt)
         Z = check_measurements(Z, "Z", E.meas_dim)
         scan = self._predict_and_score(Z, interval, now)
-        graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births, E.weights.seeded_births)
+        graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
+                           E.weights.seeded_births)
+        if not self._silent and self._lane_on:  # a lane track that may die this scan takes its step (lane.survival_lane)
+            graph = graph.touching(scan.G + np.flatnonzero(scan.scores.p_survive[scan.bounds[-1]:] < 1))
         stats = dict(_STATS0, n_predicted=len(scan.pred))
         fast = self._fast(scan, graph, Z, stats)
         plans, keys = self._plan(scan, graph, Z, stats, None if fast is None else fast.comps)
@@ -325,11 +337,11 @@ class FactoredFilter:
         self.stats_history.append(stats)
         return self.posterior()
 
-    def _predict_and_score(self, Z, interval, now) -> "_Scan":
+    def _predict_and_score(self, Z, interval, now) -> "ScanData":
         """Step 1: predict the groups and the singletons that may be observed (``lazy``: those whose
         mean, advanced a scan, is in view), score every return against them."""
         E, lazy = self._engine, self._options.lazy
-        groups, group_gap, asleep = self._groups.wake(lazy and self._lane_on, interval, now, self._advance_view)
+        groups, group_gap, asleep = self._groups.wake(lazy and self._silent, interval, now, self._advance_view)
         sizes = np.array([len(s.store) for s in groups], dtype=np.int64)
         bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
         cand, view = self._lane.candidates(lazy, interval, self._advance_view)
@@ -340,9 +352,9 @@ class FactoredFilter:
                               step=(interval or E.dt) if self._options.replay else None)
         pred = TrackStore(pm, pP, prior.labels)
         G, L = len(groups), len(cand)
-        birth_ll = E.population.birth_loglik(Z) if E.population is not None else np.zeros((len(Z), 0))
+        birth_ll = birth_loglik(E.population, Z) if E.population is not None else np.zeros((len(Z), 0))
         col_node = np.concatenate([np.repeat(np.arange(G), sizes), G + np.arange(L)]).astype(np.int64)
-        return _Scan(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
+        return ScanData(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
 
     def _fast(self, scan, graph, Z, stats) -> FastBatch | None:
         """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane
@@ -378,9 +390,9 @@ class FactoredFilter:
             if c is None:
                 cols = np.arange(bounds[key], bounds[key + 1])
                 state = scan.groups[key]
-                plan = quiet_plan(E, self._lane_on, self._objects, state, take(scan.pred, cols),
+                plan = quiet_plan(E, self._silent, self._objects, state, take(scan.pred, cols),
                                   scan.scores.block(np.zeros(0, np.int64), cols), Z, scan.birth_ll, stats)
-                if (plan[0] == "quiet" and rule is not None and len(np.unique(self._objects.of(state.labels))) == 1
+                if (plan[0] == "quiet" and rule is not None and self._silent and len(np.unique(self._objects.of(state.labels))) == 1
                         and rule.quiet_group_dies(state.log_w, state.tracks, scan.scores.p_detect[cols])):
                     # the fast path: its step would keep no object (one object: no split, no record)
                     plan = ("dropped",)
@@ -580,21 +592,3 @@ class FactoredFilter:
         post = summarise(joint.log_w, joint.tracks, joint.store, n_top=len(joint.log_w))
         return list(post.top)
 
-
-@dataclass(frozen=True, eq=False)
-class _Scan:
-    """Step 1's results: the groups to step and those left for later, each group's track columns
-    ``bounds``, the lane's candidates (and every singleton's mean advanced, ``lazy``), the predicted
-    tracks (the groups' then the candidates'), their scores, the birth likelihoods, each column's graph node."""
-
-    groups: list
-    asleep: GroupSet
-    bounds: np.ndarray
-    cand: np.ndarray
-    view: np.ndarray | None
-    pred: TrackStore
-    scores: Scores
-    birth_ll: np.ndarray
-    col_node: np.ndarray
-    G: int
-    L: int

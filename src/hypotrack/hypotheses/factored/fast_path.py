@@ -282,8 +282,10 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     Z = np.asarray(Z)
     loglik, p_detect = scores.at(rows, cols), scores.p_detect[cols]
     n_new = np.full(len(j), rule.n_new, np.int64)
+    # with per-track survival only a track that surely survives (no "died" child: the lane's condition)
+    sure = np.ones(len(cols), dtype=bool) if scores.p_survive is None else scores.p_survive[cols] == 1.0
     if rule.validity is None:
-        take = rule.takes(loglik, p_detect)
+        take = rule.takes(loglik, p_detect) & sure
         x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
     else:  # every child's tracks tested, as the general step tests them
         x, P = lone_update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
@@ -292,7 +294,7 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
             born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
             valid[:, -1] &= _valid(rule.validity, born)
             n_new = valid[:, -1].astype(np.int64)
-        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid)
+        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid) & sure
         x, P = x[take], P[take]
     j, cols, n_new = j[take], cols[take], n_new[take]
     keys = (G + j).astype(np.int64)

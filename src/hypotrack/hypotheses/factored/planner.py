@@ -16,10 +16,12 @@ import numpy as np
 from ..factored_groups import SplitRecord, compact, components, factorise, product
 from ..scan_context import ScanContext
 from ..state import FilterState
-from .lane import empty_state, singleton, take
+from ..tracks import TrackStore
+from .lane import GroupSet, empty_state, singleton, take
 from .scores import Scores, score_tracks
 
-__all__ = ["Scores", "scorable", "innovation_covariances", "score_scorable", "ScanGraph", "scan_graph", "component_context",
+__all__ = ["Scores", "scorable", "innovation_covariances", "score_scorable", "ScanData", "ScanGraph", "scan_graph",
+           "component_context",
            "touched_plan", "quiet_plan", "interaction_parts", "ObjectIds", "split_group", "prune"]
 
 
@@ -116,6 +118,14 @@ class ScanGraph:
             members = nodes[nodes < G + L]
             regions = nodes[(nodes >= G + L) & (nodes < G + L + B)] - (G + L)
             yield key, c, members, regions, order_r[starts_r[c]:starts_r[c + 1]]
+
+    def touching(self, nodes) -> "ScanGraph":
+        """This graph with the components of ``nodes`` touched (stepped even with no return or birth term)."""
+        if len(nodes) == 0:
+            return self
+        touched = self.touched.copy()
+        touched[self.node_lab[nodes]] = True
+        return ScanGraph(self.G, self.L, self.B, self.n_comp, self.node_lab, self.ret_lab, touched, self.unexplained)
 
     def quiet_singletons(self) -> np.ndarray:
         """Whether each singleton's component is untouched (no return, no birth term)."""
@@ -316,3 +326,22 @@ def prune(state, min_weight: float):
     if not any(len(t) for t in state.tracks):
         return None
     return state
+
+
+@dataclass(frozen=True, eq=False)
+class ScanData:
+    """Step 1's results: the groups to step and those left for later, each group's track columns
+    ``bounds``, the lane's candidates (and every singleton's mean advanced, ``lazy``), the predicted
+    tracks (the groups' then the candidates'), their scores, the birth likelihoods, each column's graph node."""
+
+    groups: list
+    asleep: GroupSet
+    bounds: np.ndarray
+    cand: np.ndarray
+    view: np.ndarray | None
+    pred: TrackStore
+    scores: Scores
+    birth_ll: np.ndarray
+    col_node: np.ndarray
+    G: int
+    L: int

@@ -216,3 +216,27 @@ def test_sensor_frame_correlation_by_hand():
     np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z[:0], [7, 9], X, 0.999), np.zeros(0, int))
     Z2 = np.array([[100.0, np.pi - 0.05, 0.3, 4.5]])  # d² = 4.5² = 20.25 > 18.47: outside the gate
     np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z2, [7, 9], X, 0.999), [-1])
+
+
+def test_macros_of_a_tracker_not_run_are_dashes():
+    """A configuration without the Gibbs δ-GLMB and R-FISST (the default) still defines their macros, as NaN
+    (written "--"), while the trackers it runs keep their measured values: the paper leaves the sentence out."""
+    from hypotrack.experiments.ssa_breakup.summary import breakup_macros
+
+    run = ["glmb_murty", "homht_kbest", "gnn", "jpda"]
+    cards = pd.DataFrame([dict(scenario="breakup", tracker=t, seed=k, cross_tags_per_1e4=10.0 * (i + 1) * k,
+                               completeness=0.5, duplicate_per_1000=1.0, realism_95=0.9, id_switches_per_1e4=2.0 * k,
+                               n_objects=500)
+                          for i, t in enumerate(run) for k in (1, 2)])
+    acc, _ = scorecard_summary(cards)
+    ratios = cross_tag_ratios(cards, "gnn", ("glmb_murty", "homht_kbest"))
+    dens = density_table([dict(scenario="breakup", seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0,
+                               share_in_gate=0.5, share_in_5_gates=1.0)])
+    m = breakup_macros(acc, ratios, dens)
+    # gnn: 30 and 60 -> 45; homht over gnn: 20/30 and 40/60 -> 2/3 each
+    assert m["crosstags_breakup_gnn"] == pytest.approx(45.0)
+    assert m["ratio_breakup_homht_kbest"] == pytest.approx(2 / 3) and m["ratio_se_breakup_homht_kbest"] == 0.0
+    for key in ("crosstags_breakup_glmb", "crosstags_se_breakup_rfisst", "ratio_breakup_glmb",
+                "idsw_ratio_se_breakup_glmb", "realism_breakup_rfisst"):
+        assert np.isnan(m[key]), key
+    assert not any(k.endswith("_catalogue_glmb") for k in m)  # no scenario the cards do not hold

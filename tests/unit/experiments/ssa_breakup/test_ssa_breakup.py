@@ -229,13 +229,18 @@ def test_macros_of_a_tracker_not_run_are_dashes():
                                n_objects=500)
                           for i, t in enumerate(run) for k in (1, 2)])
     acc, _ = scorecard_summary(cards)
-    ratios = cross_tag_ratios(cards, "gnn", ("glmb_murty", "homht_kbest"))
+    ratios = pd.concat([cross_tag_ratios(cards, "gnn", ("glmb_murty", "homht_kbest"), column=c)
+                        for c in ("cross_tags_per_1e4", "id_switches_per_1e4")])
     dens = density_table([dict(scenario="breakup", seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0,
                                share_in_gate=0.5, share_in_5_gates=1.0)])
     m = breakup_macros(acc, ratios, dens)
     # gnn: 30 and 60 -> 45; homht over gnn: 20/30 and 40/60 -> 2/3 each
     assert m["crosstags_breakup_gnn"] == pytest.approx(45.0)
     assert m["ratio_breakup_homht_kbest"] == pytest.approx(2 / 3) and m["ratio_se_breakup_homht_kbest"] == 0.0
+    # identity switches 2 and 4 for every tracker: ratio 1 -> not met either
+    assert m["goal_breakup_homht_kbest"] == "not met" and m["idsw_ratio_breakup_homht_kbest"] == pytest.approx(1.0)
+    assert m["idsw_goal_breakup_homht_kbest"] == "not met"
+    assert np.isnan(m["goal_breakup_glmb"])
     for key in ("crosstags_breakup_glmb", "crosstags_se_breakup_rfisst", "ratio_breakup_glmb",
                 "idsw_ratio_se_breakup_glmb", "realism_breakup_rfisst"):
         assert np.isnan(m[key]), key

@@ -20,10 +20,12 @@ _COLOURS = {"breakup": "tab:red", "catalogue": "tab:blue"}
 _SHORT = {"glmb": "δ-GLMB\n(Gibbs)", "glmb_murty": "δ-GLMB\n(Murty)", "homht_kbest": "HOMHT\nk-best"}
 
 
-def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, png):
+def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, png, ratios: pd.DataFrame | None = None):
     """Left: the distribution (CDF) of each object's distance to its nearest neighbour in view, per scenario
-    (``distances``: scenario → km), with the smallest gate marked. Right: cross-tags per 10⁴ returns per tracker
-    and scenario (mean ± s.e. over seeds, ``summary`` of :func:`.summary.scorecard_summary`)."""
+    (``distances``: scenario → km), with the smallest gate marked. Middle: cross-tags per 10⁴ returns per tracker
+    and scenario (mean ± s.e. over seeds, ``summary`` of :func:`.summary.scorecard_summary`). Right, when
+    ``ratios`` (:func:`.summary.cross_tag_ratios` of both metrics) is given: each compared tracker's ratio to the
+    reference in the breakup cloud, cross-tags and identity switches (mean ± s.e. over seeds), against the goal."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -32,7 +34,12 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
     from ...reporting import figure_style
 
     plt.rcParams.update(_STYLE)
-    fig, (a, b) = plt.subplots(1, 2, figsize=(6.5, 3.4))
+    if ratios is None:
+        fig, (a, b) = plt.subplots(1, 2, figsize=(6.5, 3.4))
+    else:  # the ratios below, across the full width
+        fig = plt.figure(figsize=(6.5, 6.2))
+        grid = fig.add_gridspec(2, 2, height_ratios=[1.0, 0.8])
+        a, b, c = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1]), fig.add_subplot(grid[1, :])
     for scen, d in distances.items():
         d = np.sort(np.asarray(d, float))
         if len(d):
@@ -60,5 +67,31 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
     b.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
     b.set_ylabel("cross-tags per 10$^4$ object returns")
     b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=1)
+    if ratios is not None:
+        _plot_ratios(c, ratios)
     fig.tight_layout()
     figure_style.save(fig, pdf, png, width=1.0)  # refuses text under 7 pt; closes the figure
+
+
+_METRIC_STYLE = {"cross_tags_per_1e4": ("cross-tags", "tab:red"), "id_switches_per_1e4": ("identity switches", "tab:gray")}
+
+
+def _plot_ratios(ax, ratios: pd.DataFrame):
+    """Each compared tracker's ratio to the reference in the breakup cloud, one bar per metric, the goal dashed."""
+    r = ratios[ratios["scenario"] == "breakup"]
+    names = [t for t in TRACKER_NAMES if t in set(r["tracker"])]
+    x = np.arange(len(names))
+    metrics = [m for m in _METRIC_STYLE if m in set(r["metric"])]
+    w = 0.8 / max(len(metrics), 1)
+    for i, m in enumerate(metrics):
+        g = r[r["metric"] == m].set_index("tracker").reindex(names)
+        label, colour = _METRIC_STYLE[m]
+        ax.bar(x + (i - (len(metrics) - 1) / 2) * w, g["ratio"], w, yerr=g["ratio_se"].fillna(0.0), color=colour,
+               capsize=2, label=label)
+    goal = float(r["goal"].iloc[0]) if len(r) else 0.5
+    ax.axhline(goal, color="k", ls="--", lw=1, label=f"goal {goal:g}")
+    ax.axhline(1.0, color="k", ls=":", lw=0.8)
+    ax.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
+    ax.set_ylabel("breakup cloud:\nratio to GNN's")
+    ax.set_ylim(bottom=0.0)
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=3)

@@ -61,7 +61,8 @@ completeness ~0.98 against ~0.95; 0.55-0.6 of GNN's identity switches), yet thei
 remains is a few label swaps per run at acquisition or re-acquisition which the multi-hypothesis trackers then
 keep to the end (cause ``carried_label``), while GNN mostly drops a confused track and starts a new one, and a
 newborn label owned by its own object is no cross-tag. The operator's cross-tag charges a kept swap and not a
-lost track; the identity switches charge both.
+lost track; the identity switches charge both. On the tuning seed: 43 of GNN's 49 label changes put a newborn
+label on the object and 1 another object's, against 8, 9 and 19 (back to its own) of HOMHT's 36.
 """
 
 from __future__ import annotations

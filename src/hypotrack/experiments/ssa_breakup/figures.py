@@ -90,8 +90,11 @@ def _plot_ratios(ax, ratios: pd.DataFrame):
                capsize=2, label=label)
     goal = float(r["goal"].iloc[0]) if len(r) else 0.5
     ax.axhline(goal, color="k", ls="--", lw=1, label=f"goal {goal:g}")
-    ax.axhline(1.0, color="k", ls=":", lw=0.8)
+    ax.axhline(1.0, color="k", ls=":", lw=0.8, label="parity")
     ax.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
     ax.set_ylabel("breakup cloud:\nratio to GNN's")
-    ax.set_ylim(bottom=0.0)
-    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=3)
+    # ratios from a tenth to tens: on a log scale the goal, parity and both metrics read alike
+    ax.set_yscale("log")
+    low = r["ratio"][np.isfinite(r["ratio"]) & (r["ratio"] > 0)]
+    ax.set_ylim(bottom=min(0.1, 0.5 * float(low.min())) if len(low) else 0.1)
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=4)

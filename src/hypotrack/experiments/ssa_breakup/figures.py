@@ -18,6 +18,7 @@ _COLOURS = {"breakup": "tab:red", "catalogue": "tab:blue"}
 
 
 _SHORT = {"glmb": "δ-GLMB\n(Gibbs)", "glmb_murty": "δ-GLMB\n(Murty)", "homht_kbest": "HOMHT\nk-best"}
+_ONE_LINE = {"glmb": "δ-GLMB Gibbs", "glmb_murty": "δ-GLMB Murty", "homht_kbest": "HOMHT"}
 
 
 def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, png, ratios: pd.DataFrame | None = None):
@@ -38,7 +39,7 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
         fig, (a, b) = plt.subplots(1, 2, figsize=(6.5, 3.4))
     else:  # the ratios below, across the full width
         fig = plt.figure(figsize=(6.5, 6.2))
-        grid = fig.add_gridspec(2, 2, height_ratios=[1.0, 0.8])
+        grid = fig.add_gridspec(2, 2, height_ratios=[1.0, 0.8], width_ratios=[1.0, 1.35])
         a, b, c = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1]), fig.add_subplot(grid[1, :])
     for scen, d in distances.items():
         d = np.sort(np.asarray(d, float))
@@ -64,7 +65,11 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
                 b.annotate("0", (xi, 0), xytext=(0, 2), textcoords="offset points", ha="center", va="bottom",
                            color=_COLOURS.get(scen, "k"))
     # short two-line names side by side: long or rotated ones overlapped or pushed the legend off the figure
-    b.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
+    if ratios is not None and len(names) > 4:  # six two-line names overlap in half the width: one line, slanted
+        b.set_xticks(x, [_ONE_LINE.get(t, TRACKER_NAMES[t]) for t in names], rotation=35, ha="right",
+                     rotation_mode="anchor")
+    else:
+        b.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
     b.set_ylabel("cross-tags per 10$^4$ object returns")
     b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=1)
     if ratios is not None:

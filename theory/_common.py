@@ -158,8 +158,20 @@ class Findings:
         """Store a finding (a number, a table as a list of rows, an expression as text)."""
         self.values[key] = _jsonable(value)
 
-    def figure(self, fig, stem: str) -> list[Path]:
-        """Save ``fig`` as PDF (paper) and PNG (report); return both paths."""
+    def figure(self, fig, stem: str, width: float = 1.0) -> list[Path]:
+        """Save ``fig`` as PDF (paper) and PNG (report); return both paths.
+
+        The figure is first held to the report's legibility rules at ``width`` × the line width
+        (:func:`hypotrack.reporting.figure_style.legibility_problems`: no text under 7 pt, no clipped
+        title, no legend over data, series told apart): ``ValueError`` lists what fails, nothing is written.
+        """
+        from hypotrack.reporting import figure_style
+
+        figure_style.enlarge_scripts(fig, width)
+        problems = figure_style.legibility_problems(fig, width)
+        if problems:
+            raise ValueError(f"figure {self.name}_{stem} is not legible at width {width} × \\linewidth: "
+                             + "; ".join(problems))
         paths = [self.out / f"{self.name}_{stem}.{ext}" for ext in ("pdf", "png")]
         for path in paths:
             fig.savefig(path, dpi=150, bbox_inches="tight")

@@ -367,7 +367,7 @@ gauss_gauss = gaussian_curve(1 / 12) / (np.exp(-(d_axis**2) / (2 * (1 / 12 + noi
                                          / np.sqrt(2 * np.pi * (1 / 12 + noise["R"])))
 # The new birth sits in the pixel that holds z*, so that comparison only means something inside it.
 gauss_gauss[np.abs(d_axis) > 0.5] = np.nan
-fig, ax = plt.subplots(figsize=(6.5, 4.5))
+fig, ax = plt.subplots(figsize=(6.5, 5.2))
 ax.axvspan(-0.5, 0.5, color="0.92", label="birth pixel")
 ax.plot(d_axis, uniform_curve, "k-", label="uniform pixel birth (document 001 Eq. 31)")
 ax.plot(d_axis, gaussian_curve(1 / (2 * np.pi)), "C0--", label=r"Gaussian birth, peak-matched $P=(\bar{V})^2/2\pi$")
@@ -379,7 +379,8 @@ ax.set_ylim(0, 2)
 ax.set_xlabel(r"return offset from the pixel centre $(z^*-c)/\bar V$ (pixel widths)")
 ax.set_ylabel(r"$\omega^\gamma / \omega^{\gamma'}$ divided by $(1-p_D)$ (dimensionless)")
 ax.set_title(r"Eq. 43 one scan after an undetected birth, $Q = R = 0.005\,(\bar{V})^2$")
-ax.legend(fontsize=7, loc="upper left")
+# below the axes: the curves fill the upper left, where a legend inside would cover them
+ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=1, frameon=False)
 fig.tight_layout()
 findings.figure(fig, "eq43")
 plt.show()

@@ -116,14 +116,15 @@ print("sum_j p_ij at M=10, m=5, p_D=0.95:", float(defect_10_5))
 # %%
 P_SHOW = 0.95
 grid = np.array([[binom.cdf(m, M, P_SHOW) for m in range(13)] for M in range(13)])
-fig, (ax, ax2) = plt.subplots(1, 2, figsize=(10, 4))
+fig, (ax, ax2) = plt.subplots(2, 1, figsize=(6.5, 6.9))  # the report's line width: 10 pt text prints at 10 pt
 im = ax.imshow(np.log10(grid), origin="lower", cmap="viridis")
 ax.plot([-0.5, 12.5], [-0.5, 12.5], "w--", lw=0.8)
-ax.text(8.5, 3, "M ≤ m: sum = 1", color="k", ha="center")
+ax.text(8.5, 3, "M ≤ m: sum = 1", color="k", ha="center", fontsize=9)
 ax.text(3, 9.5, "M > m:\nsum < 1", color="w", ha="center")
 ax.set_xlabel("returns m")
 ax.set_ylabel("objects M")
-ax.set_title(r"$\log_{10}\sum_j p_{ij}$ (Eq. 9), $p_D$ = 0.95")
+ax.set_xticks(range(0, 13, 2))
+ax.set_title(r"$\log_{10}\sum_j p_{ij}$ (Eq. 9) at $p_D$ = 0.95")
 fig.colorbar(im, ax=ax, label=r"$\log_{10}$ of the sum (0 means normalised)")
 for p_show, style in ((0.5, "C0"), (0.9, "C1"), (0.95, "C2"), (0.99, "C3")):
     ax2.semilogy(range(13), [binom.cdf(m, 10, p_show) for m in range(13)], "o-", color=style, ms=3,
@@ -133,7 +134,7 @@ ax2.text(10.2, 1e-12, "m = M", color="grey")
 ax2.set_xlabel("returns m")
 ax2.set_ylabel(r"$\sum_j p_{ij}$ = P[Bin(10, $p_D$) ≤ m] (probability)")
 ax2.set_title("M = 10 objects: Eq. 9 holds only for m ≥ M")
-ax2.legend(fontsize=8)
+ax2.legend(fontsize=8, loc="center left", bbox_to_anchor=(1.01, 0.5), frameon=False)  # the curves fill the axes
 fig.tight_layout()
 findings.figure(fig, "eq9")
 plt.show()

@@ -22,6 +22,7 @@ Usage (from the repository root; about 10 min for ``gaussian`` on one shared cor
 the engine modules)::
 
     python workflows/mutation/run_mutation.py gaussian metrics hypotheses association trackers
+    python workflows/mutation/run_mutation.py models.measurement trackers.deferred   # single modules
     python workflows/mutation/run_mutation.py --report-only   # re-read the last runs' results
     python workflows/mutation/run_mutation.py trackers --resume   # after adding tests: rerun the rest
     python workflows/mutation/run_mutation.py hypotheses --mutants 'hypotrack.hypotheses.gibbs*'
@@ -70,6 +71,14 @@ SOURCES = {
     "hypotheses": ["src/hypotrack/hypotheses/*"],
     "association": ["src/hypotrack/association/*"],
     "trackers": ["src/hypotrack/trackers/*"],
+    # Single modules, keyed by their dotted path under hypotrack (the prefix of their mutants' names);
+    # a folder module above leaves out the files one of these claims.
+    "models.measurement": ["src/hypotrack/models/measurement.py"],
+    "models.plausibility": ["src/hypotrack/models/plausibility.py"],
+    "scenarios.catalogue.radar_model": ["src/hypotrack/scenarios/catalogue/radar_model.py"],
+    "scenarios.catalogue.admissible": ["src/hypotrack/scenarios/catalogue/admissible.py"],
+    "scenarios.catalogue.snr": ["src/hypotrack/scenarios/catalogue/snr.py"],
+    "trackers.deferred": ["src/hypotrack/trackers/deferred.py"],
 }
 CATALOGUE = "tests/unit/test_bad_input_catalogue.py"  # bad input at every public entry point
 STEPS = "tests/unit/test_protocol_transactional.py"  # every tracker's step is all-or-nothing
@@ -105,7 +114,21 @@ def module_tests(module: str, root: Path = ROOT) -> list:
     return list(dict.fromkeys(derived + EXTRA_TESTS.get(module, [])))
 
 
-MODULES = {module: (sources, module_tests(module)) for module, sources in SOURCES.items()}
+def mutated_files(module: str, root: Path = ROOT) -> list:
+    """The files mutated for ``module``: its sources, a folder ``a/*`` as the files under it less those
+    another module names itself (each mutant counted in one row only)."""
+    claimed = {s for m, sources in SOURCES.items() if m != module for s in sources if not s.endswith("/*")}
+    out = []
+    for source in SOURCES[module]:
+        if source.endswith("/*"):
+            found = sorted(p.relative_to(root).as_posix() for p in (root / source[:-2]).rglob("*.py"))
+            out += [f for f in found if f not in claimed]
+        else:
+            out.append(source)
+    return out
+
+
+MODULES = {module: (mutated_files(module), module_tests(module)) for module in SOURCES}
 
 # mutmut 3 exit codes (mutmut.stats.status_by_exit_code)
 # (-11: the tests crashed with SIGSEGV, e.g. a mutant indexing out of bounds in compiled code: detected;

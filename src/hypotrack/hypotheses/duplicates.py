@@ -59,7 +59,8 @@ def child_pairs(children: ChildSet, c: int, tracks, n_birth: int) -> list:
     """The ``(source, return)`` pairs of child ``c`` whose parent holds store tracks ``tracks``.
 
     ``source >= 0`` a parent track (return −1: missed), ``−1 − r`` birth term/region ``r``
-    (return −1: born undetected), ``−1 − n_birth`` a seeded birth (HOMHT). The order is the
+    (return −1: born undetected), ``−1 − n_birth − c`` a seeded birth in component ``c`` of its
+    birth density (HOMHT; ``c = 0`` for one Gaussian, :mod:`.seeded`). The order is the
     order of the child's tracks in the next store list.
     """
     ev = children.events[c]
@@ -70,7 +71,7 @@ def child_pairs(children: ChildSet, c: int, tracks, n_birth: int) -> list:
     dead, unseen_births = children.silent_events(c, M)
     keys = [(int(tracks[j]), int(ret[j])) for j in range(M) if j not in dead]
     keys += [(-1 - int(ev[i] - M), int(i)) for i in np.flatnonzero(ev >= M)]
-    keys += [(-1 - n_birth, int(i)) for i in np.flatnonzero(ev == SEEDED_BIRTH)]
+    keys += [(-1 - n_birth - int(SEEDED_BIRTH - ev[i]), int(i)) for i in np.flatnonzero(ev <= SEEDED_BIRTH)]
     keys += [(-1 - int(r), -1) for r in unseen_births]
     return keys
 
@@ -134,10 +135,11 @@ def child_hashes(children: ChildSet, track_lists, n_birth: int, dead=None, unsee
         if born.any():
             codes = (n_birth - (ev - M)) * stride + ret_idx + 1
             h ^= np.bitwise_xor.reduce(np.where(born, _mix(codes), np.uint64(0)), axis=1)
-        seeded = ev == SEEDED_BIRTH
-        if seeded.any():
-            h ^= np.bitwise_xor.reduce(np.where(seeded, _mix(np.broadcast_to(ret_idx + 1, ev.shape)), np.uint64(0)),
-                                       axis=1)
+        seeded = ev <= SEEDED_BIRTH
+        if seeded.any():  # component c >= 1 of a mixture: a negative code, disjoint from every other one
+            comp = SEEDED_BIRTH - ev
+            codes = np.where(comp > 0, -(comp * stride + ret_idx + 1), ret_idx + 1)
+            h ^= np.bitwise_xor.reduce(np.where(seeded, _mix(codes), np.uint64(0)), axis=1)
         if n_birth and unseen[sl].any():
             codes = (n_birth - np.arange(n_birth)[None, :]) * stride
             h ^= np.bitwise_xor.reduce(np.where(unseen[sl], _mix(np.broadcast_to(codes, unseen[sl].shape)),

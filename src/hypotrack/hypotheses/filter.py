@@ -55,7 +55,7 @@ from .scan_context import ScanContext
 from .state import FilterState, StepResult, scan_interval
 from .tracks import TrackStore, update_pairs
 from .validity import valid_top_k
-from .weights import WeightModel
+from .weights import WeightModel, seeded_state
 
 __all__ = ["HypothesisFilter"]
 
@@ -562,7 +562,7 @@ class HypothesisFilter:
             labels[q] = next_label
             next_label += 1
         # (source, return) of each store entry: source >= 0 a predicted track, -1 - r birth term r,
-        # -1 - B a seeded birth (read by the factored engine to place newborn objects)
+        # -1 - B - c a seeded birth in component c (read by the factored engine to place newborn objects)
         sources = np.stack([src, ret], axis=1) if len(pairs) else np.zeros((0, 2), np.int64)
         keys = [(state.keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())
                 for c in range(len(kept))]
@@ -582,8 +582,8 @@ class HypothesisFilter:
         seeded_src = -1 - ctx.n_birth_regions
         for q in np.flatnonzero(~old):
             z = ctx.Z[ret[q]] if ret[q] >= 0 else None
-            if src[q] == seeded_src:
-                means[q], covs[q] = self.weights.birth_density.initial_state(z, self.R)
+            if src[q] <= seeded_src:  # component seeded_src − src of a (mixture) seeded birth, :mod:`.seeded`
+                means[q], covs[q] = seeded_state(self.weights.birth_density, z, self.R, int(seeded_src - src[q]))
             else:
                 means[q], covs[q] = self.population.birth_track(int(-1 - src[q]), z, self.R)
         return means, covs

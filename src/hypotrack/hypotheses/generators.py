@@ -78,19 +78,21 @@ class ChildGenerator:
 
 
 def _enumeration_columns(problem: AssociationProblem):
-    """Allowed matrix for the enumerator: exclusive columns, plus one diagonal column per
-    return for the seeded-birth option (a seeded birth is a second kind of non-exclusive
-    choice; the enumerator knows only one, clutter)."""
+    """Allowed matrix for the enumerator: exclusive columns, plus one diagonal block (a column per
+    return) for each seeded-birth option ``t >= 1`` (a seeded birth, or one of a mixture's components,
+    :mod:`.seeded`, is another kind of non-exclusive choice; the enumerator knows only one, clutter)."""
     allowed = problem.allowed
     if problem.n_options > 1:
-        seeded = np.isfinite(problem.option_scores[:, 1])
-        allowed = np.hstack([allowed, np.diag(seeded)])
+        seeded = [np.diag(np.isfinite(problem.option_scores[:, t])) for t in range(1, problem.n_options)]
+        allowed = np.hstack([allowed] + seeded)
     return allowed
 
 
 def _decode_enumerated(events, problem):
+    """Column ``n_exclusive + (t − 1) m + i`` of the extended matrix → option ``t``'s code ``−1 − t``."""
     if problem.n_options > 1:
-        events = np.where(events >= problem.n_exclusive, SEEDED_BIRTH, events)
+        extra = events - problem.n_exclusive
+        events = np.where(extra >= 0, SEEDED_BIRTH - extra // max(problem.n_returns, 1), events)
     return events
 
 
@@ -143,9 +145,9 @@ class ExhaustiveGenerator(ChildGenerator):
 
 def _murty_matrix(problem):
     targets = problem.target_scores
-    if problem.n_options > 1:
+    for t in range(1, problem.n_options):  # a diagonal block per seeded option (see _enumeration_columns)
         seeded = np.full((problem.n_returns, problem.n_returns), -np.inf)
-        np.fill_diagonal(seeded, problem.option_scores[:, 1])
+        np.fill_diagonal(seeded, problem.option_scores[:, t])
         targets = np.hstack([targets, seeded])
     return association_score_matrix(targets, problem.option_scores[:, 0]), targets.shape[1]
 

@@ -95,24 +95,38 @@ class AdaptiveBirth:
     def terms(self, Z, H, R, motion, dt, measurement=None) -> list:
         """The birth terms of the next scan: the one-point initiations of ``Z`` (or their mixtures'
         components) predicted by ``dt``. ``measurement``: the sensor's measurement model; a nonlinear one
-        (``measurement.linear`` false) replaces ``H``."""
+        (``measurement.linear`` false) replaces ``H``. :meth:`components` then :meth:`observed`."""
         if len(Z) == 0:
             return []
-        nonlinear = measurement is not None and not measurement.linear
-        weights = None
-        if self.mixture is not None:
-            parts = [self.mixture.components(z) for z in np.atleast_2d(np.asarray(Z, dtype=float))]
-            parts = [p for p in parts if len(p[0])]
-            if not parts:
-                return []
-            weights = np.concatenate([p[0] for p in parts])
-            x0, P0 = np.concatenate([p[1] for p in parts]), np.concatenate([p[2] for p in parts])
-        elif nonlinear:
-            x0, P0 = measurement.one_point(Z, self.position_std, self.velocity_std)
-        else:
-            x0, P0 = self.initial(Z, H, R)
+        x0, P0, weights = self.components(Z, H, R, measurement)
+        if len(x0) == 0:
+            return []
         x, P = predict_with_unchecked(motion, x0, P0, dt)
+        return self.observed(x, P, weights, H, R, measurement)
+
+    def components(self, Z, H, R, measurement=None):
+        """``(x₀ (K, d), P₀ (K, d, d), weights (K,) or None)``: the states of returns ``Z`` at their own scan —
+        the one-point initiation of each (the nonlinear ``measurement``'s own, else through ``H``, ``R``) or the
+        components of its mixture (``K = 0``: none); ``weights`` is ``None`` for one-point terms."""
+        Z = np.atleast_2d(np.asarray(Z, dtype=float))
+        nonlinear = measurement is not None and not measurement.linear
+        if self.mixture is not None:
+            parts = [p for p in (self.mixture.components(z) for z in Z) if len(p[0])]
+            if not parts:
+                d = measurement.ndim_state if nonlinear else np.shape(H)[1]
+                return np.zeros((0, d)), np.zeros((0, d, d)), np.zeros(0)
+            return (np.concatenate([p[1] for p in parts]), np.concatenate([p[2] for p in parts]),
+                    np.concatenate([p[0] for p in parts]))
         if nonlinear:
+            return (*measurement.one_point(Z, self.position_std, self.velocity_std), None)
+        return (*self.initial(Z, H, R), None)
+
+    def observed(self, x, P, weights, H, R, measurement=None) -> list:
+        """Birth terms (:class:`~.population_lmb.GaussianBirthTerm`, this model's gate) of states ``x``, ``P`` (already
+        predicted to the scan they are for), ``weights`` as :meth:`components` gives them, observed by that scan's
+        sensor: ``H``, ``R`` or a nonlinear ``measurement`` (its own ``R``). Another sensor than the one whose
+        returns made the states may observe them (:mod:`.factored.multisensor`)."""
+        if measurement is not None and not measurement.linear:
             w = np.ones(len(x)) if weights is None else weights
             return [GaussianBirthTerm(x[i], P[i], None, measurement.R, self.gate_probability, measurement=measurement,
                                       weight=float(w[i])) for i in range(len(x))]

@@ -108,8 +108,8 @@ class StepResult:
         The hypotheses after the scan.
     sources : (N, 2) int64
         Per entry of the new store, ``(source, return)``: ``source >= 0`` the predicted track it
-        was updated from, ``−1 − r`` birth term ``r``, ``−1 − B`` a seeded birth (``B`` birth
-        terms); ``return`` the return it took, ``−1`` none.
+        was updated from, ``−1 − r`` birth term ``r``, ``−1 − B − c`` a seeded birth in component ``c``
+        of its birth density (``B`` birth terms; :mod:`.seeded`); ``return`` the return it took, ``−1`` none.
     kept : ChildSet
         The kept children (parent, events, kind, argument, weight), in the new state's order.
     stats : dict

@@ -23,6 +23,7 @@ from scipy.special import gammaln
 
 from .._validation import check_nonnegative, check_positive
 from .association_problem import AssociationProblem
+from .seeded import is_mixture, seeded_option_scores, seeded_state  # noqa: F401 (seeded_state: filter's import)
 
 __all__ = ["WeightModel", "HFISSTWeights", "FISSTPoissonWeights", "ReidWeights", "make_weight_model"]
 
@@ -217,8 +218,8 @@ class ReidWeights(WeightModel):
         ``λ_B`` ≥ 0, new targets per unit volume per scan; 0 disables Reid's seeded births.
     birth_density : object, optional
         Anything with ``initial_state(z, R) -> (mean, cov)`` (e.g.
-        :class:`hypotrack.models.population.UniformBirthDensity`); required when
-        ``birth_intensity > 0``.
+        :class:`hypotrack.models.population.UniformBirthDensity`), or a mixture with ``components(z)``
+        (one seeded option per component, :mod:`.seeded`); required when ``birth_intensity > 0``.
     clutter_intensity : float, optional
         Overrides the scan's ``λ_C = λV / V``.
     """
@@ -230,8 +231,10 @@ class ReidWeights(WeightModel):
 
     def __post_init__(self):
         object.__setattr__(self, "birth_intensity", check_nonnegative(self.birth_intensity, "birth_intensity"))
-        if self.birth_intensity > 0 and not hasattr(self.birth_density, "initial_state"):
-            raise ValueError("birth_density with initial_state(z, R) is required when birth_intensity > 0")
+        if self.birth_intensity > 0 and not (hasattr(self.birth_density, "initial_state") or
+                                             is_mixture(self.birth_density)):
+            raise ValueError("birth_density with initial_state(z, R) (or a mixture's components(z)) is required "
+                             "when birth_intensity > 0")
         if self.clutter_intensity is not None:
             check_positive(self.clutter_intensity, "clutter_intensity")
 
@@ -262,8 +265,9 @@ class ReidWeights(WeightModel):
         lam_c = check_positive(ctx.clutter_intensity if self.clutter_intensity is None else self.clutter_intensity,
                                "clutter intensity")
         cols = [np.full(ctx.n_returns, np.log(lam_c))]
-        if self.seeded_births:
-            cols.append(np.full(ctx.n_returns, np.log(self.birth_intensity)))
+        if self.seeded_births:  # one column, or one per mixture component (:mod:`.seeded`)
+            return np.hstack([np.stack(cols, axis=1),
+                              seeded_option_scores(self.birth_density, ctx.Z, np.log(self.birth_intensity))])
         return np.stack(cols, axis=1)
 
     def count_term(self, ctx, n_objects, n_births):

@@ -102,8 +102,10 @@ def _single(association):
         m = s.measurement  # a nonlinear one (the radar's, in the sensor frame) has no H: the EKF's Jacobians
         model = ScanModel(getattr(m, "H", None), m.R, s.detection.p_D, gate_probability, clutter, beta_nt,
                           measurement=None if getattr(m, "linear", True) else m)
+        seeded = getattr(problem.births, "seeded_density", None)  # a mixture (admissible region): one track per component
         initiator = None if m_of_n is None else MOfNInitiator(problem.motion, model, m=m_of_n[0], n=m_of_n[1],
-                                                              initial_velocity_std=initial_velocity_std)
+                                                              initial_velocity_std=initial_velocity_std,
+                                                              mixture=seeded if hasattr(seeded, "components") else None)
         return SingleHypothesisTracker(problem.motion, model, association=association, initiator=initiator,
                                        max_misses=max_misses, gnn_score=gnn_score, in_view=problem.in_view,
                                        jpda_marginals=jpda_marginals, lazy=lazy, lazy_prediction=lazy_prediction,

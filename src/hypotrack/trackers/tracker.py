@@ -110,6 +110,10 @@ class SingleHypothesisTracker:
         The last scan's association: the event vector (GNN) or ``β`` (JPDA/PDAF).
     last_predicted : int
         Tracks predicted at the last scan (all of them unless ``lazy``).
+    miss_view : callable or None
+        ``None`` (default): a track out of view has its miss count reset. Several sensors
+        (:mod:`.multisensor`): ``miss_view(x)`` is where *some* sensor sees; a track out of this scan's
+        view but inside it keeps its count (another sensor's misses are not forgiven), outside it is reset.
     """
 
     def __init__(
@@ -156,6 +160,7 @@ class SingleHypothesisTracker:
         if in_view is not None and not callable(in_view):
             raise TypeError(f"in_view must be a callable of the track states or None, got {type(in_view).__name__}")
         self.in_view = in_view
+        self.miss_view = None
         if validity is not None and not callable(validity):
             raise TypeError(f"validity must be a callable of the track means or None, got {type(validity).__name__}")
         self.validity = validity
@@ -264,11 +269,13 @@ class SingleHypothesisTracker:
             raise
         x, P, detected, gated, association = out[0], out[1], out[2], out[3], out[5]
 
-        misses = self.misses[rows] + 1 if rows is not None else self.misses + 1
+        prev = self.misses[rows] if rows is not None else self.misses
+        misses = prev + 1
         misses[detected] = 0
         if self.in_view is not None and len(x):
-            # deletion counts misses in view only: a track out of view is not missed
-            misses[~np.asarray(self.in_view(x), dtype=bool)] = 0
+            # deletion counts misses in view only: a track out of view is not missed (miss_view: it keeps its count)
+            out = ~np.asarray(self.in_view(x), dtype=bool)
+            misses[out] = 0 if self.miss_view is None else np.where(self.miss_view(x[out]), prev[out], 0)
 
         # commit (the initiator's own step above was the last thing that may fail)
         self.time = time
@@ -285,7 +292,8 @@ class SingleHypothesisTracker:
             self.x[rows], self.P[rows], self._since[rows] = x, P, now
             view[rows] = x
             self._view = view
-            self.misses = np.zeros(len(view), dtype=np.int64)
+            self.misses = (np.zeros(len(view), dtype=np.int64) if self.miss_view is None
+                           else np.where(self.miss_view(view), self.misses, 0).astype(np.int64))
             self.misses[rows] = misses
         keep = self.misses < self.max_misses
         if self.validity is not None and len(keep):
@@ -375,6 +383,15 @@ class SingleHypothesisTracker:
             self._since[late] = self._times.now
             self._view[late] = self.x[late]
         return TrackEstimates(t, self.ids.copy(), self.x.copy(), self.P.copy())
+
+    def state_times(self) -> np.ndarray:
+        """The time each stored track (rows of ``x``, ``P``) is valid at: now, except for a lazy
+        tracker's deferred tracks, which stay at the last scan they were predicted to until
+        :meth:`estimates` brings them to now."""
+        if not len(self._since):
+            return np.zeros(0)
+        first = int(self._since.min())
+        return self._times.since(first)[self._since - first]
 
     def run(self, scans) -> list[TrackEstimates]:
         """:meth:`step` over a sequence of scans; the estimates after each."""

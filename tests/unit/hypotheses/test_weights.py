@@ -165,7 +165,7 @@ def test_reid_options_births_and_intensity():
 @pytest.mark.parametrize("call, message", [
     (lambda: ReidWeights(birth_intensity=-1.0), "birth_intensity must be a finite number >= 0, got -1.0"),
     (lambda: ReidWeights(birth_intensity=1.0),
-     "birth_density with initial_state(z, R) is required when birth_intensity > 0"),
+     "birth_density with initial_state(z, R) (or a mixture's components(z)) is required when birth_intensity > 0"),
     (lambda: ReidWeights(clutter_intensity=0.0), "clutter_intensity must be a finite number > 0, got 0.0"),
     (lambda: ReidWeights().problem(context(np.zeros((1, 1)), [0.9], rate=0.0), np.arange(1)),
      "clutter intensity must be a finite number > 0, got 0.0"),

@@ -79,7 +79,7 @@ def test_catalogue_experiment_factored_and_single():
     cfg = copy.deepcopy(CONFIG["ssa_catalogue"])
     cfg.pop("tuning", None)  # scan 0 at the catalogue's epoch, where the scene below holds
     cfg = cat.peer_config(cfg)  # the ENU stand-in radar (a fixed H, which the test kinds' scan model reads)
-    cfg["model"] = {k: v for k, v in cfg["model"].items() if k != "birth"}
+    cfg["model"] = {k: v for k, v in cfg["model"].items() if k not in ("birth", "plausibility")}
     cfg.update(n_scans=2, trackers={
         "mine": {"kind": "test_chain", "chain_length": 30, "max_hypotheses": 4, "gate_probability": 0.999,
                  "factored": {"lazy": True, "min_weight": 0.001, "gate_out_of_view": False}},

@@ -15,7 +15,9 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[3]
 QUALITY = ROOT / "paper" / "record"
-MODULES = {"gaussian", "metrics", "hypotheses", "association", "trackers"}
+MODULES = {"gaussian", "metrics", "hypotheses", "association", "trackers", "models.measurement", "models.plausibility",
+           "scenarios.catalogue.radar_model", "scenarios.catalogue.admissible", "scenarios.catalogue.snr",
+           "trackers.deferred"}
 NAME = re.compile(r"^hypotrack\.[a-z_]+(\.[a-z_]+)*\.x.+__mutmut_\d+$")
 
 

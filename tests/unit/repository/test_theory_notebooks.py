@@ -218,6 +218,29 @@ def test_check_raises_and_output_directory(common, monkeypatch, tmp_path):
         findings.claim("item", "source", 1, 2, "roughly")
 
 
+def test_notebook_figures_are_held_to_the_report_legibility_rules(common, tmp_path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    findings = common.Findings("demo", "test")
+    findings.out = tmp_path
+    # 8 pt on a 13-in figure prints at 8 × 6.535 / 13 = 4.0 pt on the report's line
+    fig, ax = plt.subplots(figsize=(13, 4))
+    ax.set_xlabel("x", fontsize=8)
+    with pytest.raises(ValueError, match="4.0 pt"):
+        findings.figure(fig, "too_wide")
+    assert not list(tmp_path.glob("demo_too_wide.*"))
+    plt.close(fig)
+    fig, ax = plt.subplots(figsize=(6.5, 3))
+    ax.set_xlabel("x", fontsize=8)
+    fig.tight_layout()
+    assert [p.name for p in findings.figure(fig, "fits")] == ["demo_fits.pdf", "demo_fits.png"]
+    assert (tmp_path / "demo_fits.pdf").exists()
+    plt.close(fig)
+
+
 def test_brute_force_enumerator_and_json_encoding(common):
     import sympy as sp
 

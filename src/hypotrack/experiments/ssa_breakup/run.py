@@ -222,17 +222,20 @@ def _unphysical(tracker, X) -> tuple[int, float]:
     return bad_map, float(n)
 
 
-def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = True, on_scan=None) -> ScoredRun:
+def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = True, on_scan=None, tracker=None,
+               step=None) -> ScoredRun:
     """Step tracker ``name`` over the scans of ``scenario`` (a :func:`build` tuple) and record the scorecard's
     inputs (module docstring). ``cfg``: the section holding ``model``, ``trackers``, ``metrics``, the initial
     errors and ``radar``. ``on_scan(k, tracker, est_pos, truth_pos)``, if given, returns further columns of scan
     ``k``'s ``per_scan`` row (the estimates and truths in view, TEME positions): an experiment that records more
-    per scan does so in this one run."""
+    per scan does so in this one run. ``tracker`` and ``step(k, t_k, returns)``, if given, replace the tracker built
+    here and its step with the scan's returns (several sensors fused: :mod:`hypotrack.experiments.ssa_catalogue.fused`);
+    the scoring is of the scenario's radar (its returns, its view) either way."""
     objects, unknown, sc, init_seed = scenario
     tsensor = attach_tracker_snr(cfg, tracker_sensor(sc.sensors[0]))  # the scans' detection model, as run_tracker
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
     problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
-    tracker = make_tracker(name, cfg, problem, int(seed))
+    tracker = make_tracker(name, cfg, problem, int(seed)) if tracker is None else tracker
     c, gate = cfg["metrics"]["cutoff_km"], cfg["metrics"]["correlation_gate_km"]
     scans = sc.scan_list(0, with_origin=True)
     truth = sc.truth[sc.truth["in_view"]]
@@ -248,7 +251,10 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
         tsensor.at(sc.theta[k])
         Zt = tsensor.returns(Z)
         t0 = time.process_time()
-        tracker.step(Zt, float(t_k))
+        if step is None:
+            tracker.step(Zt, float(t_k))
+        else:
+            step(k, float(t_k), Zt)
         cpu = time.process_time() - t0
         e = tracker.estimates()
         lab_all, X_all = np.asarray(e.labels, np.int64), np.asarray(e.x)

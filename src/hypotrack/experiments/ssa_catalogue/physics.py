@@ -10,9 +10,11 @@ for tracks never confirmed and the orbit plausibility test.
   object out of view for an orbit stays).
 * ``plausibility: true`` — ``validity = plausible_orbits`` (bound, perigee >= 100 km;
   :mod:`hypotrack.models.plausibility`) for every tracker: the engine gives a hypothesis holding an
-  unphysical track weight 0, GNN/JPDA delete such a track. Off by default: a one-point birth has a
-  zero-mean velocity, i.e. falls straight down, and fails the test; with admissible-region births (whose
-  states are bound orbits) it can be on.
+  unphysical track weight 0, GNN/JPDA delete such a track. Off unless set: a one-point birth has a
+  zero-mean velocity, i.e. falls straight down, and fails the test. With ``birth: admissible`` every tracker's
+  births are the admissible region's mixture (δ-GLMB's and R-FISST's birth terms, HOMHT's seeded births,
+  GNN/JPDA's tentative tracks), whose means are bound orbits above the floor, and the catalogue and breakup
+  configurations turn it on.
 * ``radar.snr: {wavelength_m, ref_diameter_m, ref_range_km, ref_p_D, p_fa}`` (optional; absent: the constant
   ``radar.p_D``) — SNR detection (:mod:`hypotrack.scenarios.catalogue.snr`): the returns detect each object
   with the Swerling I p_D of its stated size (:class:`~hypotrack.scenarios.catalogue.snr.SizeModel`, one draw,

@@ -56,7 +56,7 @@ from ...scenarios.catalogue import (
     select_groups,
     simulate_catalogue,
 )
-from ...scenarios.catalogue.admissible import AdmissibleRegionBirth
+from ...scenarios.catalogue.admissible import AdmissibleRegionBirth, SeededAdmissibleBirth
 from ...scenarios.catalogue.radar_model import RadarOnePointBirth, RadarTrackerSensor
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
@@ -203,8 +203,9 @@ def make_problem(cfg, tsensor, motion, means, covs, labels) -> TrackingProblem:
     seeded at the returns (HOMHT) and GNN/JPDA's ``β_NT``, all from ``homht_births_per_scan`` and the birth
     spreads; a miss counts in view only. ``model.birth: admissible`` (documented radar only) makes each adaptive
     birth the admissible-region mixture of its return (``model.admissible_blocks`` blocks per axis, default 3),
-    its components terms of existence ``r_birth × weight``; HOMHT's seeded births and GNN/JPDA's initiation stay
-    one-point (a seeded birth is one Gaussian); the optional death model and plausibility test of
+    its components terms of existence ``r_birth × weight``, HOMHT's seeded births one option per component
+    (:mod:`hypotrack.hypotheses.seeded`) and GNN/JPDA's initiation one tentative track per component
+    (:class:`~hypotrack.trackers.MOfNInitiator`), all from :class:`SeededAdmissibleBirth`; the optional death model and plausibility test of
     :mod:`.physics` (``unconfirmed_decay``, ``plausibility``)."""
     m = cfg["model"]
     birth = m.get("birth", "one_point")
@@ -217,7 +218,8 @@ def make_problem(cfg, tsensor, motion, means, covs, labels) -> TrackingProblem:
     mixture = AdmissibleRegionBirth(tsensor, n_blocks=int(m.get("admissible_blocks", 3))) if birth == "admissible" else None
     adaptive = AdaptiveBirth(position_std=m["birth_position_std_km"], velocity_std=m["birth_velocity_std_km_s"],
                              r_birth=m["r_birth"], gate_probability=m["gate_probability"], mixture=mixture)
-    seeded = (RadarOnePointBirth(tsensor.measurement, m["birth_velocity_std_km_s"], m["birth_position_std_km"]) if radar
+    seeded = (SeededAdmissibleBirth(mixture) if mixture is not None else
+              RadarOnePointBirth(tsensor.measurement, m["birth_velocity_std_km_s"], m["birth_position_std_km"]) if radar
               else OnePointBirth(m["birth_velocity_std_km_s"], m["birth_position_std_km"]))
     births = MeasurementBirths(adaptive, r_birth=m["r_birth"],
                                seeded_intensity=m["homht_births_per_scan"] / tsensor.clutter.region.area,

@@ -72,6 +72,11 @@ in the same batch, and predicted over its whole gap when one of its tracks may b
 catalogue scale these groups accumulate out of view (nothing resolves them there) and would otherwise
 be predicted and visited every scan. :attr:`~FactoredFilter.posterior` and
 :attr:`~FactoredFilter.groups` predict the lazy singletons and groups to the current scan (:mod:`.lane`).
+With per-track survival (a labeled multi-Bernoulli population with ``p_S = 1`` and a ``survival``
+callable, e.g. :class:`~..population_lmb.UnconfirmedDecay`) the lane holds the singletons whose track
+surely survives (``p_S = 1``: no "died" child, so the singleton is again exactly its Gaussian); a candidate
+whose predicted ``p_S`` is below 1 takes its step on the empty scan and leaves the lane, and the groups are
+predicted every scan (:func:`.lane.survival_lane`, which states what lazy prediction assumes there).
 
 The fast path
 -------------
@@ -123,7 +128,8 @@ Where each job lives
 (:class:`FactoredFilter`: the scan in named stages), :mod:`.planner` (the graph, the plans, the
 splits), :mod:`.scores` (the returns against the predicted tracks: dense, or at scale the gated pairs
 through a k-d tree), :mod:`.fast_path` (the lone tracks' batch), :mod:`.lane` (singletons and lazy prediction), :mod:`.pool` (the engine steps and the
-workers that run them), :mod:`.summary` (:class:`FactoredPosterior`); the measurement-driven birth
+workers that run them), :mod:`.summary` (:class:`FactoredPosterior`), :mod:`.multisensor` (the scans of several
+sensors, each with its sensor's engine; birth terms for the scan they belong to); the measurement-driven birth
 model :class:`AdaptiveBirth` lives beside the populations (:mod:`..population_adaptive`).
 """
 

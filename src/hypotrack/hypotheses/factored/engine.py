@@ -8,18 +8,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validation import check_finite_array, check_int, check_measurements
+from ..._validation import check_finite_array, check_finite_float, check_int, check_measurements
 from ...protocol import TrackEstimates
 from ..factored_groups import factorise, product
 from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
-from ..._validation import check_finite_float
 from ..state import scan_interval
 from ..tracks import TrackStore
+from .births import birth_loglik
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
-from .lane import GroupSet, Lane, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton, take
+from .lane import (GroupSet, Lane, admitted, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton,
+                   survival_lane, take)
 from .options import FactoredOptions
-from .planner import (ObjectIds, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
+from .planner import (ObjectIds, ScanData, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
                       touched_plan)
 from .pool import WorkerPool, engine_step
 from .scores import Scores
@@ -125,7 +126,7 @@ class FactoredFilter:
         obj.initialise(np.zeros((0, obj.ndim)), time=f.time)
         state = f.state.with_next_label(0)
         groups = [state] if any(len(t) for t in state.tracks) else []
-        lone = one_hypothesis_lane(state) if obj._lane_on and groups else None
+        lone = one_hypothesis_lane(state) if obj._silent and groups else None
         if lone is not None:  # one singleton per object, as the exact split gives them (without it)
             obj._groups, obj._lane = GroupSet.at((), f.time), Lane.at(lone, f.time)
             groups = None
@@ -162,8 +163,10 @@ class FactoredFilter:
         self._born_templates = {}  # r_B -> the fast path's lone birth term step (:meth:`_born`)
         self.rng = engine.rng
         self.ndim = engine.state_dim
-        # singletons are exactly their Gaussian when a quiet group takes no population event
-        self._lane_on = silent(engine.population)
+        # singletons are exactly their Gaussian when a quiet group takes no population event, or (per-track
+        # survival) when their track surely survives (lane.survival_lane)
+        self._silent = silent(engine.population)
+        self._lane_on = self._silent or survival_lane(engine.population)
 
     # ------------------------------------------------------------------ options
     @property
@@ -234,7 +237,9 @@ class FactoredFilter:
         if len(np.unique(store.labels)) != len(store):
             raise ValueError("labels must be distinct (one per object)")
         if self._lane_on:
-            self._lane = Lane.at(store, self.time)
+            ok = admitted(self._engine.population, store)
+            self._lane = Lane.at(store if ok.all() else take(store, np.flatnonzero(ok)), self.time)
+            self._groups = GroupSet.at([singleton(store, j) for j in np.flatnonzero(~ok)], self.time)
         else:
             self._groups = GroupSet.at([singleton(store, j) for j in range(len(store))], self.time)
         self._next_label = int(store.labels.max()) + 1
@@ -264,6 +269,9 @@ class FactoredFilter:
         if not self._lane_on:
             return list(states), cat([], self.ndim)
         single = [is_singleton(s) for s in states]
+        if not self._silent and any(single):  # per-track survival: only the tracks surviving surely
+            ok = iter(admitted(self._engine.population, cat([s.store for s, x in zip(states, single) if x], self.ndim)))
+            single = [x and bool(next(ok)) for x in single]
         return ([s for s, x in zip(states, single) if not x],
                 cat([s.store for s, x in zip(states, single) if x], self.ndim))
 
@@ -282,10 +290,9 @@ class FactoredFilter:
     def step(self, Z, time=None, *, dt=None) -> FactoredPosterior:
         """Advance one scan with returns ``Z`` (m, p) observed at ``time`` (package docstring, steps 1–4).
 
-        ``time``/``dt`` as :meth:`HypothesisFilter.step <..filter.HypothesisFilter.step>`: a zero
-        interval predicts nothing (every gap since a track's last prediction is then zero, the lazy
-        lane's means are not advanced; the population's per-scan events are those of any scan) and
-        updates; a negative one raises ``ValueError``.
+        ``time``/``dt`` as :meth:`HypothesisFilter.step <..filter.HypothesisFilter.step>`: a zero interval advances no
+        lane mean and predicts only the tracks another sensor's scan woke (scan by scan with ``replay``; the population's
+        per-scan events are those of any scan) and updates; a negative one raises ``ValueError``.
         All-or-nothing like the engine's step: if it raises, the filter is as before.
         """
         saved = (self._groups, self._lane, self.time, self._next_label, self.scan_index, self.rng.bit_generator.state,
@@ -302,13 +309,14 @@ class FactoredFilter:
             raise
 
     def _step(self, Z, time, dt):
-        t0 = _clock.perf_counter()
-        E = self._engine
+        t0, E = _clock.perf_counter(), self._engine
         interval, now = scan_interval(self.time, time, dt, E.dt)
         Z = check_measurements(Z, "Z", E.meas_dim)
         scan = self._predict_and_score(Z, interval, now)
         graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
                            E.weights.seeded_births)
+        if not self._silent and self._lane_on:  # a lane track that may die this scan takes its step (lane.survival_lane)
+            graph = graph.touching(scan.G + np.flatnonzero(scan.scores.p_survive[scan.bounds[-1]:] < 1))
         stats = dict(_STATS0, n_predicted=len(scan.pred))
         fast = self._fast(scan, graph, Z, stats)
         plans, keys = self._plan(scan, graph, Z, stats, None if fast is None else fast.comps)
@@ -323,21 +331,17 @@ class FactoredFilter:
                      largest_group=max(sizes, default=int(len(self._lane) > 0)),
                      largest_group_hypotheses=max((len(s.log_w) for s in states), default=int(len(self._lane) > 0)),
                      time_total=_clock.perf_counter() - t0)
-        ab = self._options.adaptive_birth
-        if ab is not None:
-            # the next scan's birth terms: one at each return no group or birth term explained
-            terms = ab.terms(Z[graph.unexplained], E.H, E.R, E.motion, interval, measurement=E.measurement)
-            self._set_birth_terms(terms)
-            stats["n_adaptive_terms"] = len(terms)
+        if self._options.adaptive_birth is not None:
+            stats["n_adaptive_terms"] = self._births_after(Z[graph.unexplained], interval)
         self.last_stats = stats
         self.stats_history.append(stats)
         return self.posterior()
 
-    def _predict_and_score(self, Z, interval, now) -> "_Scan":
+    def _predict_and_score(self, Z, interval, now) -> "ScanData":
         """Step 1: predict the groups and the singletons that may be observed (``lazy``: those whose
         mean, advanced a scan, is in view), score every return against them."""
         E, lazy = self._engine, self._options.lazy
-        groups, group_gap, asleep = self._groups.wake(lazy and self._lane_on, interval, now, self._advance_view)
+        groups, group_gap, asleep = self._groups.wake(lazy and self._silent, interval, now, self._advance_view)
         sizes = np.array([len(s.store) for s in groups], dtype=np.int64)
         bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
         cand, view = self._lane.candidates(lazy, interval, self._advance_view)
@@ -345,12 +349,12 @@ class FactoredFilter:
         prior = cat([s.store for s in groups] + [take(lane.store, cand)], self.ndim)
         pm, pP = predict_each(E.motion, prior.means, prior.covs,
                               np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]),
-                              step=interval if self._options.replay and interval > 0 else None)
+                              step=(interval or E.dt) if self._options.replay else None)
         pred = TrackStore(pm, pP, prior.labels)
         G, L = len(groups), len(cand)
-        birth_ll = E.population.birth_loglik(Z) if E.population is not None else np.zeros((len(Z), 0))
+        birth_ll = birth_loglik(E.population, Z) if E.population is not None else np.zeros((len(Z), 0))
         col_node = np.concatenate([np.repeat(np.arange(G), sizes), G + np.arange(L)]).astype(np.int64)
-        return _Scan(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
+        return ScanData(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
 
     def _fast(self, scan, graph, Z, stats) -> FastBatch | None:
         """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane
@@ -386,9 +390,9 @@ class FactoredFilter:
             if c is None:
                 cols = np.arange(bounds[key], bounds[key + 1])
                 state = scan.groups[key]
-                plan = quiet_plan(E, self._lane_on, self._objects, state, take(scan.pred, cols),
+                plan = quiet_plan(E, self._silent, self._objects, state, take(scan.pred, cols),
                                   scan.scores.block(np.zeros(0, np.int64), cols), Z, scan.birth_ll, stats)
-                if (plan[0] == "quiet" and rule is not None and len(np.unique(self._objects.of(state.labels))) == 1
+                if (plan[0] == "quiet" and rule is not None and self._silent and len(np.unique(self._objects.of(state.labels))) == 1
                         and rule.quiet_group_dies(state.log_w, state.tracks, scan.scores.p_detect[cols])):
                     # the fast path: its step would keep no object (one object: no split, no record)
                     plan = ("dropped",)
@@ -520,6 +524,14 @@ class FactoredFilter:
         return score_scorable(self._engine, pred, Z, gate_out_of_view=self._options.gate_out_of_view,
                               survival=getattr(self._engine.population, "track_survival", None))
 
+    def _births_after(self, Z, interval) -> int:
+        """The next scan's birth terms, one at each return ``Z`` no group or birth term explained, predicted over this scan's
+        interval (the next one's if evenly spaced; :mod:`.multisensor` waits for the next scan's time and sensor); their number."""
+        E = self._engine
+        terms = self._options.adaptive_birth.terms(Z, E.H, E.R, E.motion, interval, measurement=E.measurement)
+        self._set_birth_terms(terms)
+        return len(terms)
+
     def _set_birth_terms(self, terms):
         r_birth = self._options.adaptive_birth.r_birth
         if any(getattr(t, "weight", 1.0) != 1.0 for t in terms):  # an admissible-region mixture's components
@@ -580,21 +592,3 @@ class FactoredFilter:
         post = summarise(joint.log_w, joint.tracks, joint.store, n_top=len(joint.log_w))
         return list(post.top)
 
-
-@dataclass(frozen=True, eq=False)
-class _Scan:
-    """Step 1's results: the groups to step and those left for later, each group's track columns
-    ``bounds``, the lane's candidates (and every singleton's mean advanced, ``lazy``), the predicted
-    tracks (the groups' then the candidates'), their scores, the birth likelihoods, each column's graph node."""
-
-    groups: list
-    asleep: GroupSet
-    bounds: np.ndarray
-    cand: np.ndarray
-    view: np.ndarray | None
-    pred: TrackStore
-    scores: Scores
-    birth_ll: np.ndarray
-    col_node: np.ndarray
-    G: int
-    L: int

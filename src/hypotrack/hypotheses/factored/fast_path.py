@@ -48,7 +48,8 @@ with ``p_S = 1``: the lane's condition), a cap that keeps every child (``H∞`` 
 children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
 two samplers with certainty only up to the chance that they never leave the alternative
 (``< min_weight^n_sweeps``). With seeded births the generator must make all three children
-(exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts.
+(exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts; a mixture birth density
+(one seeded child per component, :mod:`..seeded`) takes the general path.
 """
 
 from __future__ import annotations
@@ -63,6 +64,7 @@ from ..generators import ExhaustiveGenerator, MCMCGenerator, MurtyGenerator
 from ..gibbs import GibbsGenerator
 from ..population_events import BinomialPopulation
 from ..population_lmb import LabeledMultiBernoulliPopulation
+from ..seeded import is_mixture
 from ..state import FilterState
 from ..tracks import TrackStore
 from ..weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
@@ -168,6 +170,8 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         lam_c = kappa if w.clutter_intensity is None else w.clutter_intensity
         det, alt = 0.0, [float(np.log(lam_c))]
         if w.seeded_births:
+            if is_mixture(w.birth_density):  # one child per component: not the three children of the rule
+                return None
             alt.append(float(np.log(w.birth_intensity)))
             n_new = 1
             if not (type(gen) is ExhaustiveGenerator or (type(gen) is MurtyGenerator and gen.k >= 3)):
@@ -278,8 +282,10 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     Z = np.asarray(Z)
     loglik, p_detect = scores.at(rows, cols), scores.p_detect[cols]
     n_new = np.full(len(j), rule.n_new, np.int64)
+    # with per-track survival only a track that surely survives (no "died" child: the lane's condition)
+    sure = np.ones(len(cols), dtype=bool) if scores.p_survive is None else scores.p_survive[cols] == 1.0
     if rule.validity is None:
-        take = rule.takes(loglik, p_detect)
+        take = rule.takes(loglik, p_detect) & sure
         x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
     else:  # every child's tracks tested, as the general step tests them
         x, P = lone_update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
@@ -288,7 +294,7 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
             born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
             valid[:, -1] &= _valid(rule.validity, born)
             n_new = valid[:, -1].astype(np.int64)
-        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid)
+        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid) & sure
         x, P = x[take], P[take]
     j, cols, n_new = j[take], cols[take], n_new[take]
     keys = (G + j).astype(np.int64)

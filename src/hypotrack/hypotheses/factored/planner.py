@@ -16,10 +16,12 @@ import numpy as np
 from ..factored_groups import SplitRecord, compact, components, factorise, product
 from ..scan_context import ScanContext
 from ..state import FilterState
-from .lane import empty_state, singleton, take
+from ..tracks import TrackStore
+from .lane import GroupSet, empty_state, singleton, take
 from .scores import Scores, score_tracks
 
-__all__ = ["Scores", "MAX_SCALED_CONDITION", "scorable", "innovation_covariances", "score_scorable", "ScanGraph", "scan_graph", "component_context",
+__all__ = ["Scores", "MAX_SCALED_CONDITION", "scorable", "innovation_covariances", "score_scorable", "ScanData",
+           "ScanGraph", "scan_graph", "component_context",
            "touched_plan", "quiet_plan", "interaction_parts", "ObjectIds", "split_group", "prune"]
 
 
@@ -132,6 +134,14 @@ class ScanGraph:
             regions = nodes[(nodes >= G + L) & (nodes < G + L + B)] - (G + L)
             yield key, c, members, regions, order_r[starts_r[c]:starts_r[c + 1]]
 
+    def touching(self, nodes) -> "ScanGraph":
+        """This graph with the components of ``nodes`` touched (stepped even with no return or birth term)."""
+        if len(nodes) == 0:
+            return self
+        touched = self.touched.copy()
+        touched[self.node_lab[nodes]] = True
+        return ScanGraph(self.G, self.L, self.B, self.n_comp, self.node_lab, self.ret_lab, touched, self.unexplained)
+
     def quiet_singletons(self) -> np.ndarray:
         """Whether each singleton's component is untouched (no return, no birth term)."""
         return ~self.touched[self.node_lab[self.G:self.G + self.L]]
@@ -236,7 +246,7 @@ def interaction_parts(pred_objects, ctx, sources, n_regions):
     tnode = np.empty(len(src), dtype=np.int64)
     old = src >= 0
     tnode[old] = col_node[src[old]]
-    seeded = src == -1 - n_regions
+    seeded = src <= -1 - n_regions  # (every component of a mixture seeded at return r: r's node)
     tnode[seeded] = L + n_regions + r[seeded]
     born = ~old & ~seeded
     tnode[born] = L + (-1 - src[born])
@@ -260,10 +270,16 @@ class ObjectIds:
         return np.array([get(int(x), int(x)) for x in labels], dtype=np.int64)
 
     def register_births(self, store, sources, n_regions):
-        """The newborn labels of each birth term (``sources``, :class:`~..state.StepResult`) become one object."""
-        born = np.flatnonzero((sources[:, 0] < 0) & (sources[:, 0] != -1 - n_regions))
-        for r in np.unique(sources[born, 0]):
-            labels = store.labels[born[sources[born, 0] == r]]
+        """The newborn labels of each birth term (``sources``, :class:`~..state.StepResult`) become one object,
+        and those of the components of a mixture seeded at one return (alternatives of one newborn, :mod:`..seeded`)."""
+        born = np.flatnonzero((sources[:, 0] < 0) & (sources[:, 0] > -1 - n_regions))
+        seeded = np.flatnonzero(sources[:, 0] < -1 - n_regions)  # components c >= 1 only: a one-Gaussian's stays
+        groups = [born[sources[born, 0] == r] for r in np.unique(sources[born, 0])]
+        if len(seeded):
+            on = np.flatnonzero(sources[:, 0] <= -1 - n_regions)
+            groups += [on[sources[on, 1] == r] for r in np.unique(sources[seeded, 1])]
+        for g in groups:
+            labels = store.labels[g]
             for x in labels:
                 self.mapping[int(x)] = int(labels.min())
 
@@ -325,3 +341,22 @@ def prune(state, min_weight: float):
     if not any(len(t) for t in state.tracks):
         return None
     return state
+
+
+@dataclass(frozen=True, eq=False)
+class ScanData:
+    """Step 1's results: the groups to step and those left for later, each group's track columns
+    ``bounds``, the lane's candidates (and every singleton's mean advanced, ``lazy``), the predicted
+    tracks (the groups' then the candidates'), their scores, the birth likelihoods, each column's graph node."""
+
+    groups: list
+    asleep: GroupSet
+    bounds: np.ndarray
+    cand: np.ndarray
+    view: np.ndarray | None
+    pred: TrackStore
+    scores: Scores
+    birth_ll: np.ndarray
+    col_node: np.ndarray
+    G: int
+    L: int

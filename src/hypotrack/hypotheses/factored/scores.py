@@ -12,6 +12,15 @@ matrix's entry bit for bit (its kernels are elementwise over the pairs), so the 
 the engine's. Pairs outside the gate are then not stored; the association steps never read them (every
 consumer masks the log-likelihoods with the gate), and :meth:`Scores.block` gives them ``−inf``.
 Smaller scans keep the dense matrices, exactly as the engine makes them.
+
+A measurement model without a fixed ``H`` (an EKF in the sensor frame, e.g. the catalogue radar's
+``(ρ, az, el, ρ̇)`` with its azimuth wrapped) has no ball of plain differences; :func:`sensor_frame_pairs`
+finds its candidates with a bound that cannot drop a gated pair (Cauchy–Schwarz in the ``S⁻¹`` inner
+product): ``d² = νᵀS⁻¹ν ≥ ν_i² / S_ii`` for every component ``i``, so a pair with ``|ν_i| > √(γ S_ii)`` for
+some ``i`` is outside the gate. The first component (range) gives a band found by binary search on the sorted
+returns, the others a box checked on the band's pairs; the pairs left are scored with the engine's arithmetic
+(the innovation of every track in one batch, as the dense call makes it; the residual, ``L⁻¹ν`` and its squared
+norm per pair by the same kernels), bit for bit the dense matrix's entries (tests compare them).
 """
 
 from __future__ import annotations
@@ -23,10 +32,12 @@ from scipy.spatial import cKDTree
 
 from ...association.gating import gate_threshold
 from ...gaussian import innovation_unchecked
+from ...models.measurement import ExtendedMeasurement
 from ..detection import state_p_detect
+from ..filter import HypothesisFilter
 from ..tracks import TrackStore
 
-__all__ = ["Scores", "score_tracks", "DENSE_PAIRS"]
+__all__ = ["Scores", "score_tracks", "sensor_frame_pairs", "DENSE_PAIRS"]
 
 #: pairs up to which a scan's scores are the engine's dense matrices
 DENSE_PAIRS = 200_000
@@ -97,8 +108,10 @@ def score_tracks(engine, pred, Z, *, gate_out_of_view: bool = True, survival=Non
     n, m = len(pred), len(Z)
     dense_pairs = DENSE_PAIRS if dense_pairs is None else dense_pairs
     p_survive = None if survival is None else survival(pred)
-    # the k-d tree's balls compare plain differences of H x: a measurement model without a fixed H (the radar's
-    # sensor frame, wrapped angles) is scored densely
+    if engine.gate_probability is not None and m * n > dense_pairs and engine.H is None and _frame_model(engine):
+        return sensor_frame_pairs(engine, pred, Z, gate_out_of_view=gate_out_of_view, p_survive=p_survive)
+    # the k-d tree's balls compare plain differences of H x: another measurement model without a fixed H is
+    # scored densely
     if engine.gate_probability is None or m * n <= dense_pairs or engine.H is None:
         loglik, allowed, p_detect = engine.track_scores(pred, Z)
         p_detect = state_p_detect(engine.sensor.detection, pred.means, p_detect)
@@ -132,3 +145,51 @@ def score_tracks(engine, pred, Z, *, gate_out_of_view: bool = True, survival=Non
     ll = np.concatenate(out_ll + [np.zeros(0)])
     order = np.lexsort((cols_g, rows))  # row-major, as np.nonzero of the dense gate
     return Scores(m, p_detect, p_survive, rows=rows[order], cols=cols_g[order], pair_loglik=ll[order])
+
+
+def _frame_model(engine) -> bool:
+    """Whether :func:`sensor_frame_pairs` reproduces the engine's ``track_scores``: the engine's own method and an
+    extended measurement model's own Mahalanobis distances and residuals (module docstring)."""
+    meas = engine.measurement
+    return (type(engine).track_scores is HypothesisFilter.track_scores and isinstance(meas, ExtendedMeasurement)
+            and type(meas).mahalanobis2 is ExtendedMeasurement.mahalanobis2
+            and type(meas).residual_rows is ExtendedMeasurement.residual_rows)
+
+
+def sensor_frame_pairs(engine, pred, Z, *, gate_out_of_view: bool, p_survive=None) -> Scores:
+    """The gated pairs of returns ``Z`` (m, p) and predicted tracks ``pred`` under an extended measurement model
+    (module docstring): the entries of the engine's ``track_scores`` matrices, bit for bit, at the pairs in the
+    gate; ``p_detect`` as :func:`score_tracks` gives it."""
+    meas, n, m = engine.measurement, len(pred), len(Z)
+    z_pred, S, _, _ = meas.innovation(pred.means, pred.covs)  # one batch, as track_scores
+    in_view = np.asarray(engine.sensor.detection.in_view(meas.view_points(pred.means, z_pred)), dtype=bool)
+    p_detect = state_p_detect(engine.sensor.detection, pred.means, np.where(in_view, engine.p_D, 0.0))
+    Linv, logdet = np.zeros((n, meas.dim, meas.dim)), np.zeros(n)
+    if n:
+        L = np.linalg.cholesky(S)  # as ExtendedMeasurement.mahalanobis2
+        logdet = 2.0 * np.sum(np.log(np.diagonal(L, axis1=-2, axis2=-1)), axis=-1)
+        Linv = np.linalg.inv(L)
+    gamma = gate_threshold(engine.gate_probability, engine.meas_dim)
+    cols = np.arange(n) if gate_out_of_view else np.flatnonzero(p_detect > 0)
+    half = np.sqrt(gamma * np.diagonal(S[cols], axis1=1, axis2=2)) * (1 + 1e-6)  # a margin for rounding
+    order = np.argsort(Z[:, 0], kind="stable")
+    z0 = Z[order, 0]
+    lo = np.searchsorted(z0, z_pred[cols, 0] - half[:, 0], side="left")
+    cnt = np.maximum(np.searchsorted(z0, z_pred[cols, 0] + half[:, 0], side="right") - lo, 0)
+    k = np.repeat(np.arange(len(cols)), cnt)  # candidate pairs: each track's band of returns
+    r = order[lo[k] + np.arange(len(k)) - np.repeat(np.cumsum(cnt) - cnt, cnt)]
+    box = np.all(np.abs(meas.residual_rows(Z[r], z_pred[cols[k]])) <= half[k], axis=1)
+    r, c = r[box], cols[k[box]]
+    # the dense path's arithmetic per pair: the residual, u = L⁻¹ν summed over k in order (as the dense einsum
+    # over (m, n, p) sums; the einsum of a (pairs, p) layout may pair the terms differently), d² its squared norm
+    nu, Li = meas.residual_rows(Z[r], z_pred[c]), Linv[c]
+    u = Li[:, :, 0] * nu[:, None, 0]
+    for j in range(1, nu.shape[1]):
+        u = u + Li[:, :, j] * nu[:, None, j]
+    d2 = np.sum(u * u, axis=-1)
+    ll = -0.5 * (d2 + logdet[c] + engine.meas_dim * np.log(2 * np.pi))
+    gated = d2 <= gamma
+    r, c, ll = r[gated], c[gated], ll[gated]
+    o = np.lexsort((c, r))  # row-major, as np.nonzero of the dense gate
+    return Scores(m, p_detect, p_survive, rows=r[o].astype(np.int64), cols=c[o].astype(np.int64), pair_loglik=ll[o])
+

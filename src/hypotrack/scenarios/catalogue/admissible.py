@@ -46,7 +46,7 @@ from ...models.plausibility import MIN_PERIGEE_ALTITUDE, plausible_orbits
 from .frames import EARTH_ROTATION
 from .radar_model import RadarTrackerSensor, attributable_jacobian, attributable_to_state
 
-__all__ = ["attributable_to_state", "attributable_jacobian", "AdmissibleRegionBirth", "StateMixture"]
+__all__ = ["attributable_to_state", "attributable_jacobian", "AdmissibleRegionBirth", "StateMixture", "SeededAdmissibleBirth"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -188,3 +188,48 @@ class AdmissibleRegionBirth:
         except ValueError:
             return np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6))
         return m.weights, m.means, m.covs
+
+
+class SeededAdmissibleBirth:
+    """The admissible region as the density of a track started at one return: HOMHT's births seeded at the
+    returns (one option per component, :mod:`hypotrack.hypotheses.seeded`) and GNN/JPDA's mixture initiation
+    (:class:`hypotrack.trackers.MOfNInitiator`).
+
+    :meth:`components` is :meth:`AdmissibleRegionBirth.components` at the sensor's current GMST with the
+    components whose **mean** fails the plausibility test dropped and the weights renormalised (a block's
+    centroid can fall outside a non-convex region; a newborn's mean is then always a bound orbit above
+    the floor), cached per (GMST, return): an engine asks for the same return's mixture once per parent
+    hypothesis and again for each kept child's track. :meth:`admissible` is the region's test.
+
+    Parameters
+    ----------
+    region : AdmissibleRegionBirth
+    cache_size : int
+        Returns kept in the cache (cleared when the GMST changes, i.e. every scan), >= 1; default 4096.
+    """
+
+    def __init__(self, region: AdmissibleRegionBirth, cache_size: int = 4096):
+        if not isinstance(region, AdmissibleRegionBirth):
+            raise TypeError(f"region must be an AdmissibleRegionBirth, got {type(region).__name__}")
+        self.region = region
+        self.cache_size = check_int(cache_size, "cache_size", minimum=1)
+        self._theta, self._cache = None, {}
+
+    def admissible(self, states) -> np.ndarray:
+        """Whether each state ``(n, 6)`` is a bound orbit with perigee above the region's floor."""
+        return plausible_orbits(states, min_perigee_km=self.region.min_perigee_km)
+
+    def components(self, z):
+        """``(weights (K,), means (K, 6), covs (K, 6, 6))`` of return ``z`` ``(4,)`` (class docstring)."""
+        z = np.asarray(z, dtype=float).reshape(4)
+        theta = float(self.region.sensor.theta)
+        if theta != self._theta or len(self._cache) >= self.cache_size:
+            self._theta, self._cache = theta, {}
+        key = z.tobytes()
+        if key not in self._cache:
+            w, means, covs = self.region.components(z)
+            ok = self.admissible(means) if len(w) else np.zeros(0, dtype=bool)
+            w = w[ok]
+            self._cache[key] = (w / w.sum() if len(w) else w, means[ok], covs[ok])
+        w, means, covs = self._cache[key]
+        return w.copy(), means.copy(), covs.copy()

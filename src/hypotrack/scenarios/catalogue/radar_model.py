@@ -282,8 +282,14 @@ class RadarTrackerSensor:
         return self
 
     def returns(self, Z) -> np.ndarray:
-        """The scan's returns as the trackers take them: ``(m, 4)`` as measured (the sensor frame)."""
-        return check_finite_array(np.asarray(Z, dtype=float).reshape(-1, 4), "Z", shape=(None, 4))
+        """The scan's returns as the trackers take them: ``(m, 4)`` as measured (the sensor frame); a flat
+        sequence of ``4m`` numbers is read as ``m`` returns, any other shape is refused."""
+        Z = np.asarray(Z, dtype=float)
+        if Z.size == 0:  # an empty scan, however it is shaped
+            Z = Z.reshape(0, 4)
+        elif Z.ndim == 1 and Z.size % 4 == 0:  # a flat list: four numbers per return
+            Z = Z.reshape(-1, 4)
+        return check_finite_array(Z, "Z", shape=(None, 4))
 
     def h(self, x) -> np.ndarray:
         """Noise-free returns ``(n, 4)`` of TEME states ``(n, 6)`` at the current GMST."""

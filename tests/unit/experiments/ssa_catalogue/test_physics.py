@@ -23,7 +23,7 @@ def _cfg(**model):
     with open(ROOT / "workflows" / "config" / "default.yaml") as fh:
         cfg = copy.deepcopy(yaml.safe_load(fh)["ssa_catalogue"])
     cfg = peer_config(cfg)  # the ENU stand-in radar with a constant p_D: these are tests of the model block
-    cfg["model"] = {k: v for k, v in cfg["model"].items() if k != "birth"}
+    cfg["model"] = {k: v for k, v in cfg["model"].items() if k not in ("birth", "plausibility")}
     cfg["model"].update(model)
     return cfg
 

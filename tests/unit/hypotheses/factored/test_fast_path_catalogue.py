@@ -28,7 +28,7 @@ def catalogue(request):
         cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
     if request.param == "enu":
         cfg = peer_config(cfg)
-        cfg["model"] = {k: v for k, v in cfg["model"].items() if k != "birth"}
+        cfg["model"] = {k: v for k, v in cfg["model"].items() if k not in ("birth", "plausibility")}
     objects, unknown, sc, init_seed = build_scenario(cfg, 400, 1)
     tsensor = tracker_sensor(sc.sensors[0])
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
@@ -67,7 +67,8 @@ def test_every_component_agrees_with_the_general_path(catalogue, name):
         seen["out_of_view"] += general.n_objects_held - st["n_predicted"] > 0
         seen["dropped"] += general.n_objects_held < before + (general.next_label - label0)
     # the run holds what the check is for: lone tracks, objects out of view, births, groups that died
-    assert seen["n_fast_path"] > 0 and seen["out_of_view"] == N_SCANS
+    # (HOMHT's admissible-region seeded births, one child per component, take the general path: fast_rule declines)
+    assert (seen["n_fast_path"] > 0) == (linear or name == "glmb") and seen["out_of_view"] == N_SCANS
     assert fast.next_label > label0 and seen["dropped"] > 0
     if linear:  # and the shortcuts; in the sensor frame the admissible births' wide gates reach most returns,
         # so few lone tracks are left (measured: 3 lone-track steps in 40 scans against 70 with the stand-in)

@@ -1,0 +1,70 @@
+"""Reid's births seeded at a return: one Gaussian, or one option per component of a Gaussian mixture.
+
+Reid (1979; document 001 Eq. 35) gives every return the row option "a new target seeded at this return",
+factor ``λ_B`` (new targets per unit measurement volume per scan), the newborn's track started from the
+return by a birth density ``p_B(x | z)`` (``birth_density.initial_state(z, R)``: one Gaussian).
+
+A **mixture** birth density (``birth_density.components(z) -> (w (K,), means (K, d), covs (K, d, d))``,
+``Σ_c w_c = 1``; e.g. the admissible region of a radar return, DeMars & Jah, *JGCD* 36(5), 2013:
+:class:`hypotrack.scenarios.catalogue.admissible.SeededAdmissibleBirth`) makes the seeded option of return
+``i`` one option per component, ``t = 1 + c`` (event code ``a_i = −1 − t = −2 − c``, the
+:mod:`.association_problem` convention), with factor ``λ_B w_c``. Why this is Reid's Eq. 35 unchanged:
+
+* the child "new target at ``z_i``" of Reid's tree has weight ``Π(rest) · λ_B`` and the newborn's density
+  ``p_B(x | z_i) = Σ_c w_c N(x; m_c, P_c)``; splitting it into the children "new target at ``z_i`` in
+  component ``c``" of weights ``Π(rest) · λ_B w_c`` and tracks ``N(m_c, P_c)`` — the Gaussian-mixture
+  form of a hypothesis whose track is a mixture, one hypothesis per term — keeps their sum equal to
+  Reid's child's weight and their mixture equal to its track: the marginal posterior over the
+  targets is the same;
+* ``w_c`` is already the posterior weight of the component given ``z_i``: the mixture is the density of
+  the unmeasured angle rates over the admissible region (uniform: ``w_c`` ∝ area) and ``z_i`` measures
+  none of them, so the return's likelihood is the same under every component (its predictive
+  ``N(z_i; h(m_c), H_c P_c H_cᵀ + R)`` is ``N(0; 0, 2R)`` for every ``c``: ``h`` maps every component's
+  mean back to ``z_i`` and its covariance to ``R``; the tests check it) and cancels into ``λ_B`` exactly
+  as Reid's one-Gaussian option carries no likelihood factor either;
+* a return no admissible state can give (``K = 0``: e.g. a clutter range-rate above escape speed) has
+  no seeded option — ``p_B(· | z_i)`` has no mass — and can only be clutter or a known target's.
+
+The component children of one return are alternatives of the same newborn object (one event holds
+at most one option per return); the factored engine keeps them in one object
+(:meth:`hypotrack.hypotheses.factored.planner.ObjectIds.register_births`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["is_mixture", "seeded_option_scores", "seeded_state"]
+
+
+def is_mixture(density) -> bool:
+    """Whether ``density`` is a mixture birth density (has ``components(z)``)."""
+    return hasattr(density, "components")
+
+
+def seeded_option_scores(density, Z, log_intensity: float) -> np.ndarray:
+    """Scores ``(m, T_s)`` of the seeded options of returns ``Z`` (m, p): ``log λ_B`` in one column for a
+    one-Gaussian density; ``log λ_B + log w_c(z_i)`` in column ``c`` for a mixture (``−inf`` past a return's
+    own ``K_i`` components; ``T_s = max_i K_i``, 0 when no return has an admissible component)."""
+    Z = np.asarray(Z, dtype=float)
+    if not is_mixture(density):
+        return np.full((len(Z), 1), float(log_intensity))
+    weights = [np.asarray(density.components(z)[0], dtype=float) for z in Z]
+    out = np.full((len(Z), max((len(w) for w in weights), default=0)), -np.inf)
+    for i, w in enumerate(weights):
+        with np.errstate(divide="ignore"):
+            out[i, :len(w)] = float(log_intensity) + np.log(w)
+    return out
+
+
+def seeded_state(density, z, R, c: int = 0):
+    """``(mean, cov)`` of the track seeded at return ``z`` in component ``c`` (``c = 0`` for a one-Gaussian
+    density's ``initial_state(z, R)``)."""
+    if not is_mixture(density):
+        if c != 0:
+            raise ValueError(f"a one-Gaussian birth density has one seeded option (component 0), got component {c}")
+        return density.initial_state(z, R)
+    w, means, covs = density.components(np.asarray(z, dtype=float))
+    if not 0 <= c < len(w):
+        raise ValueError(f"component must lie in [0, {len(w) - 1}] for this return, got {c}")
+    return means[c].copy(), covs[c].copy()

@@ -1,0 +1,79 @@
+"""The seeded admissible birth against its region: the components are the region's with those whose mean is
+no bound orbit above the floor dropped (a return whose three blocks give one centroid off the region, another
+whose single block's centroid falls in the region's hole) and the weights renormalised; the cache follows the
+sensor's GMST; the region's floor is the test's; bad parameters are refused by name."""
+
+import numpy as np
+import pytest
+
+from hypotrack.models.plausibility import plausible_orbits
+from hypotrack.scenarios.catalogue import DEFAULT_RADAR
+from hypotrack.scenarios.catalogue.admissible import AdmissibleRegionBirth, SeededAdmissibleBirth
+from hypotrack.scenarios.catalogue.radar_model import RadarTrackerSensor
+
+C = DEFAULT_RADAR.fov.az_center
+Z_DROP = np.array([400.0, C + 0.2, np.deg2rad(60.0), -3.0])  # 3 blocks' centroids, one not a bound orbit
+Z = np.array([1200.0, C + 0.2, np.deg2rad(40.0), 1.5])
+
+
+def _region(theta=0.4, **kw):
+    return AdmissibleRegionBirth(RadarTrackerSensor(DEFAULT_RADAR).at(theta), **kw)
+
+
+def test_components_drop_implausible_means_and_renormalise():
+    region = _region(n_blocks=3, cells=6)
+    w0, m0, c0 = region.components(Z_DROP)
+    ok = plausible_orbits(m0)
+    assert len(w0) == 3 and ok.sum() == 2  # the case: one of three dropped
+    w, m, c = SeededAdmissibleBirth(region).components(Z_DROP)
+    np.testing.assert_allclose(w, w0[ok] / w0[ok].sum(), rtol=1e-14)
+    assert w.sum() == pytest.approx(1.0, rel=1e-14) and w.sum() > w0[ok].sum()
+    np.testing.assert_array_equal(m, m0[ok])
+    np.testing.assert_array_equal(c, c0[ok])
+    # a (1, 4) return is the same return
+    for u, v in zip(SeededAdmissibleBirth(region).components(Z_DROP[None]), (w, m, c)):
+        np.testing.assert_array_equal(u, v)
+
+
+def test_a_region_whose_centroids_all_fail_and_a_return_with_no_region():
+    one_block = _region(n_blocks=1, cells=24)
+    z = np.array([300.0, C + 0.2, np.deg2rad(45.0), -3.0])  # 300 km away: the region is a thin ring
+    w0, m0, _ = one_block.components(z)
+    assert len(w0) == 1 and not plausible_orbits(m0).any()  # its centroid lies in its hole
+    w, m, c = SeededAdmissibleBirth(one_block).components(z)
+    assert w.shape == (0,) and m.shape == (0, 6) and c.shape == (0, 6, 6)
+    w, m, c = SeededAdmissibleBirth(_region()).components(np.r_[Z[:3], 15.0])  # above escape speed
+    assert w.shape == (0,) and m.shape == (0, 6) and c.shape == (0, 6, 6)
+
+
+def test_the_cache_follows_the_gmst_and_hands_out_copies():
+    seeded = SeededAdmissibleBirth(_region(0.4, n_blocks=2, cells=8))
+    first = seeded.components(Z)
+    first[1][...] = 0.0  # a caller's change does not reach the cache
+    np.testing.assert_array_equal(seeded.components(Z)[1], SeededAdmissibleBirth(_region(0.4, n_blocks=2, cells=8))
+                                  .components(Z)[1])
+    seeded.region.sensor.at(1.1)
+    fresh = SeededAdmissibleBirth(_region(1.1, n_blocks=2, cells=8)).components(Z)
+    for u, v in zip(seeded.components(Z), fresh):
+        np.testing.assert_array_equal(u, v)
+    assert not np.allclose(fresh[1], SeededAdmissibleBirth(_region(0.4, n_blocks=2, cells=8)).components(Z)[1])
+    small = SeededAdmissibleBirth(_region(1.1, n_blocks=2, cells=8), cache_size=1)
+    small.components(Z_DROP)  # a second return with a cache of one
+    for u, v in zip(small.components(Z), fresh):
+        np.testing.assert_array_equal(u, v)
+
+
+def test_the_test_is_the_regions_floor():
+    seeded = SeededAdmissibleBirth(_region(min_perigee_km=600.0))
+    r_a, r_p = 6378.135 + 900.0, 6378.135 + 300.0  # perigee 300 km up: above 100, below 600
+    a = (r_a + r_p) / 2
+    state = np.array([[r_a, 0, 0, 0, np.sqrt(398600.4418 * (2 / r_a - 1 / a)), 0.0]])
+    assert plausible_orbits(state)[0] and not seeded.admissible(state)[0]
+
+
+def test_bad_parameters_are_refused_by_name():
+    with pytest.raises(TypeError, match="^region must be an AdmissibleRegionBirth, got str"):
+        SeededAdmissibleBirth("region")
+    with pytest.raises(ValueError, match=r"^cache_size must be an integer in \[1, inf\]"):
+        SeededAdmissibleBirth(_region(), cache_size=0)
+    assert SeededAdmissibleBirth(_region(), cache_size=1).cache_size == 1

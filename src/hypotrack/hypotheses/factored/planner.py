@@ -41,9 +41,9 @@ def scorable(S) -> np.ndarray:
     """Whether each innovation covariance ``S`` (n, p, p) of the predicted tracks is finite, positive definite
     (Cholesky succeeds) and invertible in working precision — the condition number of ``D^-1/2 S D^-1/2``
     (``D = diag S``) at most :data:`MAX_SCALED_CONDITION`: the tracks a scan can score. A track whose covariance
-    diverged (a seeded birth with 8 km/s velocity spread predicted over an hour out of view: position variances
-    of 1e16 km² against the radar's 1e-6 rad²) can pass Cholesky by rounding and then stop the scan in the gain's
-    solve (an exact zero pivot, depending on the BLAS)."""
+    diverged (a one-Gaussian seeded birth, 8 km/s velocity spread, predicted over an hour out of view: position
+    variances of 1e16 km² against the radar's 1e-6 rad²) can pass Cholesky by rounding and then stop the scan in
+    the gain's solve (an exact zero pivot, depending on the BLAS)."""
     S = np.asarray(S, dtype=float)
     ok = np.isfinite(S).all(axis=(1, 2))
     d = np.einsum("nii->ni", S)

@@ -26,6 +26,6 @@ write_table(ratios, out.ratios)
 density = density_table(pd.read_csv(snakemake.input.density).to_dict("records"))  # noqa: F821
 dist = pd.read_csv(snakemake.input.distances)  # noqa: F821
 plot_breakup({s: g["nn_km"].to_numpy() for s, g in dist.groupby("scenario", sort=False)}, smallest_gate_km(cfg),
-             summary, out.fig_pdf, out.fig_png)
+             summary, out.fig_pdf, out.fig_png, ratios)
 write_claims(breakup_claims(summary, ratios, density, cfg["reference_tracker"]), out.claims)
 write_macros(EXPERIMENT, breakup_macros(summary, ratios, density), out.macros)

@@ -18,12 +18,15 @@ _COLOURS = {"breakup": "tab:red", "catalogue": "tab:blue"}
 
 
 _SHORT = {"glmb": "δ-GLMB\n(Gibbs)", "glmb_murty": "δ-GLMB\n(Murty)", "homht_kbest": "HOMHT\nk-best"}
+_ONE_LINE = {"glmb": "δ-GLMB Gibbs", "glmb_murty": "δ-GLMB Murty", "homht_kbest": "HOMHT"}
 
 
-def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, png):
+def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, png, ratios: pd.DataFrame | None = None):
     """Left: the distribution (CDF) of each object's distance to its nearest neighbour in view, per scenario
-    (``distances``: scenario → km), with the smallest gate marked. Right: cross-tags per 10⁴ returns per tracker
-    and scenario (mean ± s.e. over seeds, ``summary`` of :func:`.summary.scorecard_summary`)."""
+    (``distances``: scenario → km), with the smallest gate marked. Middle: cross-tags per 10⁴ returns per tracker
+    and scenario (mean ± s.e. over seeds, ``summary`` of :func:`.summary.scorecard_summary`). Right, when
+    ``ratios`` (:func:`.summary.cross_tag_ratios` of both metrics) is given: each compared tracker's ratio to the
+    reference in the breakup cloud, cross-tags and identity switches (mean ± s.e. over seeds), against the goal."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -32,7 +35,12 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
     from ...reporting import figure_style
 
     plt.rcParams.update(_STYLE)
-    fig, (a, b) = plt.subplots(1, 2, figsize=(6.5, 3.4))
+    if ratios is None:
+        fig, (a, b) = plt.subplots(1, 2, figsize=(6.5, 3.4))
+    else:  # the ratios below, across the full width
+        fig = plt.figure(figsize=(6.5, 6.2))
+        grid = fig.add_gridspec(2, 2, height_ratios=[1.0, 0.8], width_ratios=[1.0, 1.35])
+        a, b, c = fig.add_subplot(grid[0, 0]), fig.add_subplot(grid[0, 1]), fig.add_subplot(grid[1, :])
     for scen, d in distances.items():
         d = np.sort(np.asarray(d, float))
         if len(d):
@@ -57,8 +65,41 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
                 b.annotate("0", (xi, 0), xytext=(0, 2), textcoords="offset points", ha="center", va="bottom",
                            color=_COLOURS.get(scen, "k"))
     # short two-line names side by side: long or rotated ones overlapped or pushed the legend off the figure
-    b.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
+    if ratios is not None and len(names) > 4:  # six two-line names overlap in half the width: one line, slanted
+        b.set_xticks(x, [_ONE_LINE.get(t, TRACKER_NAMES[t]) for t in names], rotation=35, ha="right",
+                     rotation_mode="anchor")
+    else:
+        b.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
     b.set_ylabel("cross-tags per 10$^4$ object returns")
     b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=1)
+    if ratios is not None:
+        _plot_ratios(c, ratios)
     fig.tight_layout()
     figure_style.save(fig, pdf, png, width=1.0)  # refuses text under 7 pt; closes the figure
+
+
+_METRIC_STYLE = {"cross_tags_per_1e4": ("cross-tags", "tab:red"), "id_switches_per_1e4": ("identity switches", "tab:gray")}
+
+
+def _plot_ratios(ax, ratios: pd.DataFrame):
+    """Each compared tracker's ratio to the reference in the breakup cloud, one bar per metric, the goal dashed."""
+    r = ratios[ratios["scenario"] == "breakup"]
+    names = [t for t in TRACKER_NAMES if t in set(r["tracker"])]
+    x = np.arange(len(names))
+    metrics = [m for m in _METRIC_STYLE if m in set(r["metric"])]
+    w = 0.8 / max(len(metrics), 1)
+    for i, m in enumerate(metrics):
+        g = r[r["metric"] == m].set_index("tracker").reindex(names)
+        label, colour = _METRIC_STYLE[m]
+        ax.bar(x + (i - (len(metrics) - 1) / 2) * w, g["ratio"], w, yerr=g["ratio_se"].fillna(0.0), color=colour,
+               capsize=2, label=label)
+    goal = float(r["goal"].iloc[0]) if len(r) else 0.5
+    ax.axhline(goal, color="k", ls="--", lw=1, label=f"goal {goal:g}")
+    ax.axhline(1.0, color="k", ls=":", lw=0.8, label="parity")
+    ax.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
+    ax.set_ylabel("breakup cloud:\nratio to GNN's")
+    # ratios from a tenth to tens: on a log scale the goal, parity and both metrics read alike
+    ax.set_yscale("log")
+    low = r["ratio"][np.isfinite(r["ratio"]) & (r["ratio"] > 0)]
+    ax.set_ylim(bottom=min(0.1, 0.5 * float(low.min())) if len(low) else 0.1)
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=4)

@@ -144,7 +144,8 @@ def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
 def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame) -> dict:
     """Macros: per (scenario, tracker) cross-tags per 10⁴ returns (and s.e.), duplicates per 1,000 estimates,
     completeness and covariance realism, identity switches per 10⁴ object-scans, the shares of first returns to
-    the object's own label and of re-acquisitions that kept the label; the ratios with their s.e.; the density shares; the seeds and objects."""
+    the object's own label and of re-acquisitions that kept the label; the ratios with their s.e. and the verdict (``met``/``not met``); the density shares; the seeds and objects. A tracker of :data:`TRACKER_NAMES` (or
+    ratio of :data:`RATIO_TRACKERS`) the cards do not hold gets NaN (written ``--``) under each of its names."""
     vals = {}
     for r in summary.itertuples(index=False):
         vals[f"crosstags_{r.scenario}_{r.tracker}"] = r.cross_tags_per_1e4
@@ -162,7 +163,22 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
         pre = _RATIO_METRICS[getattr(r, "metric", "cross_tags_per_1e4")][1]
         vals[f"{pre}ratio_{r.scenario}_{r.tracker}"] = r.ratio
         vals[f"{pre}ratio_se_{r.scenario}_{r.tracker}"] = r.ratio_se
+        # the verdict as words, only where a ratio was measured
+        vals[f"{pre}goal_{r.scenario}_{r.tracker}"] = (("met" if r.meets_goal else "not met") if np.isfinite(r.ratio)
+                                                       else float("nan"))
     for r in density[density["seed"] < 0].itertuples(index=False):
         vals[f"nn_share_{r.scenario}"] = r.share_in_gate
         vals[f"nn_median_{r.scenario}"] = r.nn_median_km
+    # a tracker a configuration does not run (the Gibbs delta-GLMB and R-FISST run in full.yaml) gets "--", so the
+    # paper can leave its sentence out (\htifvalue) instead of failing on an undefined macro
+    for scen in summary["scenario"].unique():
+        for name in TRACKER_NAMES:
+            for key in ("crosstags", "crosstags_se", "duplicates", "completeness", "realism", "idsw", "firstown",
+                        "reacqkept"):
+                vals.setdefault(f"{key}_{scen}_{name}", float("nan"))
+        for name in RATIO_TRACKERS:
+            for pre in ("", "idsw_"):
+                vals.setdefault(f"{pre}ratio_{scen}_{name}", float("nan"))
+                vals.setdefault(f"{pre}ratio_se_{scen}_{name}", float("nan"))
+                vals.setdefault(f"{pre}goal_{scen}_{name}", float("nan"))
     return vals

@@ -20,8 +20,8 @@ from ..tracks import TrackStore
 from .lane import GroupSet, empty_state, singleton, take
 from .scores import Scores, score_tracks
 
-__all__ = ["Scores", "scorable", "innovation_covariances", "score_scorable", "ScanData", "ScanGraph", "scan_graph",
-           "component_context",
+__all__ = ["Scores", "MAX_SCALED_CONDITION", "scorable", "innovation_covariances", "score_scorable", "ScanData",
+           "ScanGraph", "scan_graph", "component_context",
            "touched_plan", "quiet_plan", "interaction_parts", "ObjectIds", "split_group", "prune"]
 
 
@@ -32,11 +32,26 @@ def innovation_covariances(measurement, means, covs) -> np.ndarray:
     return H @ covs @ np.swapaxes(H, -1, -2) + measurement.R
 
 
+#: The largest condition number of an innovation covariance scaled to a unit diagonal that a scan still scores:
+#: beyond it ``S⁻¹`` keeps fewer than six correct digits (units do not count: the scaling removes them).
+MAX_SCALED_CONDITION = 1e10
+
+
 def scorable(S) -> np.ndarray:
-    """Whether each innovation covariance ``S`` (n, p, p) of the predicted tracks is finite and positive
-    definite (Cholesky succeeds): the tracks a scan can score."""
+    """Whether each innovation covariance ``S`` (n, p, p) of the predicted tracks is finite, positive definite
+    (Cholesky succeeds) and invertible in working precision — the condition number of ``D^-1/2 S D^-1/2``
+    (``D = diag S``) at most :data:`MAX_SCALED_CONDITION`: the tracks a scan can score. A track whose covariance
+    diverged (a one-Gaussian seeded birth, 8 km/s velocity spread, predicted over an hour out of view: position
+    variances of 1e16 km² against the radar's 1e-6 rad²) can pass Cholesky by rounding and then stop the scan in
+    the gain's solve (an exact zero pivot, depending on the BLAS)."""
     S = np.asarray(S, dtype=float)
     ok = np.isfinite(S).all(axis=(1, 2))
+    d = np.einsum("nii->ni", S)
+    ok &= (d > 0).all(axis=1)
+    if ok.any():
+        s = 1.0 / np.sqrt(d[ok])
+        lam = np.linalg.eigvalsh(S[ok] * s[:, :, None] * s[:, None, :])
+        ok[np.flatnonzero(ok)[lam[:, 0] * MAX_SCALED_CONDITION <= lam[:, -1]]] = False
     try:
         np.linalg.cholesky(S[ok])
         return ok

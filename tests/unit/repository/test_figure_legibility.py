@@ -638,3 +638,15 @@ def test_a_series_coinciding_in_one_panel_is_noted_in_every_panel():
     assert [t.get_text() for t in fig.legends[0].get_texts()] == ["peer A", "peer B (coincides with peer A in a panel)"]
     assert fs.legibility_problems(fig, 1.0) == []
     plt.close(fig)
+
+
+def test_ssa_catalogue_fusion_figure(monkeypatch):
+    from hypotrack.experiments.ssa_catalogue.fused import SENSOR_SETS, TABLE_COLUMNS, fused_table, plot_fusion
+
+    seen = _save_and_check(monkeypatch, "ssa_catalogue")
+    rows = [{**{c: 0.0 for c in TABLE_COLUMNS}, "tracker": t, "sensors": s, "completeness": 0.2 + 0.03 * j,
+             "uncorrelated_per_1e4": 250.0 - 80 * j + 5 * i, "gospa_per_object_km": 1.0 - 0.2 * j + 0.05 * i}
+            for i, t in enumerate(["glmb", "homht_kbest", "rfisst", "gnn", "jpda"]) for j, s in enumerate(SENSOR_SETS)]
+    plot_fusion(fused_table(rows), "x.pdf", "x.png")
+    fig, _ = seen.pop()
+    check(fig, "ssa_catalogue/fusion")

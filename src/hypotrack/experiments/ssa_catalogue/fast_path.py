@@ -14,7 +14,8 @@ import time
 import numpy as np
 import pandas as pd
 
-from .run import initial_tracks, build_scenario, make_motion, make_problem, make_tracker, tracker_sensor
+from .lockstep import same_scans
+from .run import make_tracker
 
 __all__ = ["fast_path_timing"]
 
@@ -43,31 +44,22 @@ def fast_path_timing(cfg, n: int, seed: int, trackers=("glmb", "homht_kbest"), *
     general path at every scan) and ``stopped``: empty, or the scan and error at which the engine refused
     a state (both paths alike), the scans before it timed.
     """
-    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
-    tsensor = tracker_sensor(sc.sensors[0])
-    motion = make_motion(cfg)
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problem = make_problem(cfg, tsensor, motion, means, covs, labels)
-    in_view = sc.truth[sc.truth["in_view"]].groupby("scan").size()
-    scans = sc.scan_list(0)
-    n_scans = len(scans) if n_scans is None else min(int(n_scans), len(scans))
+    same = same_scans(cfg, n, seed, scenario, n_scans)
+    problem, in_view, n_scans = same.problem, same.in_view, len(same.scans)
     rows = []
     for name in trackers:
         pair = [make_tracker(name, cfg, problem, int(seed), **{**(factored or {}), "fast_path": on})
                 for on in (False, True)]
         if warm_run:
-            _warm(make_tracker(name, cfg, problem, int(seed), **{**(factored or {}), "fast_path": False}),
-                  sc, tsensor, scans[:n_scans])
+            _warm(make_tracker(name, cfg, problem, int(seed), **{**(factored or {}), "fast_path": False}), same)
         cpu, fast, touched, view, identical, done, error = [0.0, 0.0], 0, 0, 0, True, 0, ""
         for k in range(n_scans):
-            t_k, Z = scans[k]
-            tsensor.at(sc.theta[k])
-            Zt = tsensor.returns(Z)
+            t_k, Zt = same.returns(k)
             used = [0.0, 0.0]
             try:
                 for i in (np.arange(2) if k % 2 == 0 else np.arange(2)[::-1]):
                     c0 = time.process_time()
-                    pair[i].step(Zt, float(t_k))
+                    pair[i].step(Zt, t_k)
                     used[i] = time.process_time() - c0
             except ValueError as err:  # the engine refused a state (both paths hold the same posterior)
                 error = f"scan {k}: {err}"
@@ -89,11 +81,11 @@ def fast_path_timing(cfg, n: int, seed: int, trackers=("glmb", "homht_kbest"), *
     return pd.DataFrame(rows)
 
 
-def _warm(tracker, sc, tsensor, scans):
-    """``tracker`` stepped through ``scans`` (until the engine refuses a state), untimed."""
-    for k, (t_k, Z) in enumerate(scans):
-        tsensor.at(sc.theta[k])
+def _warm(tracker, same):
+    """``tracker`` stepped through the scans of ``same`` (until the engine refuses a state), untimed."""
+    for k in range(len(same.scans)):
+        t_k, Zt = same.returns(k)
         try:
-            tracker.step(tsensor.returns(Z), float(t_k))
+            tracker.step(Zt, t_k)
         except ValueError:
             return

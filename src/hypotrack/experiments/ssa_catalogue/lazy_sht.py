@@ -19,7 +19,8 @@ import time
 import numpy as np
 import pandas as pd
 
-from .run import initial_tracks, build_scenario, make_motion, make_problem, tracker_sensor, tracker_spec
+from .lockstep import same_scans
+from .run import tracker_spec
 from ...registry import build
 from ...registry.spec import TrackerSpec
 
@@ -58,14 +59,8 @@ def lazy_sht_timing(cfg, n: int, seed: int, trackers=("gnn", "jpda"), *, n_scans
     (scans at which the in-view estimates of ``eager_in_view`` differ from the every-track-gated tracker's:
     other labels, or means more than 1e-9 apart).
     """
-    objects, unknown, sc, init_seed = scenario if scenario is not None else build_scenario(cfg, n, seed)
-    tsensor = tracker_sensor(sc.sensors[0])
-    motion = make_motion(cfg)
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problem = make_problem(cfg, tsensor, motion, means, covs, labels)
-    in_view_count = sc.truth[sc.truth["in_view"]].groupby("scan").size()
-    scans = sc.scan_list(0)
-    n_scans = len(scans) if n_scans is None else min(int(n_scans), len(scans))
+    same = same_scans(cfg, n, seed, scenario, n_scans)
+    problem, in_view_count, n_scans = same.problem, same.in_view, len(same.scans)
     rows = []
     for name in trackers:
         runs = [_make(name, cfg, problem, opts) for _, opts in MODES]
@@ -73,13 +68,11 @@ def lazy_sht_timing(cfg, n: int, seed: int, trackers=("gnn", "jpda"), *, n_scans
         same, diff_view = np.ones(len(runs), bool), np.zeros(len(runs))
         view, done, differ = 0, 0, 0
         for k in range(n_scans):
-            t_k, Z = scans[k]
-            tsensor.at(sc.theta[k])
-            Zt = tsensor.returns(Z)
+            t_k, Zt = same.returns(k)
             used = np.zeros(len(runs))
             for i in np.roll(np.arange(len(runs)), -k):
                 c0 = time.process_time()
-                runs[i].step(Zt, float(t_k))
+                runs[i].step(Zt, t_k)
                 used[i] = time.process_time() - c0
             est = [_in_view(r, problem.in_view) for r in runs]
             for i in range(len(runs)):

@@ -139,8 +139,10 @@ def test_every_claim_row_is_placed_in_the_extension_group():
     rows = breakup_claims(acc, ratios, dens)
     keys = {f"ssa_breakup/{c.key}" for c in rows}
     assert len(keys) == len(rows) == 12 + 6 + 6 + 2 + 2
-    # R-FISST runs in full.yaml (and the quick wiring) only: its rows are reported unplaced there
-    assert keys - {k for k in keys if "_rfisst" in k} == placed
+    # R-FISST and the Gibbs δ-GLMB run in full.yaml (and the quick wiring) only: their rows are reported unplaced there
+    full_only = {k for k in keys if k.endswith(("_rfisst", "_glmb"))}
+    assert len(full_only) == 6 + 2  # the Gibbs δ-GLMB: cross-tags and both ratios; R-FISST: cross-tags
+    assert keys - full_only == placed
     assert {c.status for c in rows} == {"extension"}
 
 

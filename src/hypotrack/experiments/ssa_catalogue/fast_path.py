@@ -44,17 +44,17 @@ def fast_path_timing(cfg, n: int, seed: int, trackers=("glmb", "homht_kbest"), *
     general path at every scan) and ``stopped``: empty, or the scan and error at which the engine refused
     a state (both paths alike), the scans before it timed.
     """
-    same = same_scans(cfg, n, seed, scenario, n_scans)
-    problem, in_view, n_scans = same.problem, same.in_view, len(same.scans)
+    lock = same_scans(cfg, n, seed, scenario, n_scans)
+    problem, in_view, n_scans = lock.problem, lock.in_view, len(lock.scans)
     rows = []
     for name in trackers:
         pair = [make_tracker(name, cfg, problem, int(seed), **{**(factored or {}), "fast_path": on})
                 for on in (False, True)]
         if warm_run:
-            _warm(make_tracker(name, cfg, problem, int(seed), **{**(factored or {}), "fast_path": False}), same)
+            _warm(make_tracker(name, cfg, problem, int(seed), **{**(factored or {}), "fast_path": False}), lock)
         cpu, fast, touched, view, identical, done, error = [0.0, 0.0], 0, 0, 0, True, 0, ""
         for k in range(n_scans):
-            t_k, Zt = same.returns(k)
+            t_k, Zt = lock.returns(k)
             used = [0.0, 0.0]
             try:
                 for i in (np.arange(2) if k % 2 == 0 else np.arange(2)[::-1]):
@@ -81,10 +81,10 @@ def fast_path_timing(cfg, n: int, seed: int, trackers=("glmb", "homht_kbest"), *
     return pd.DataFrame(rows)
 
 
-def _warm(tracker, same):
-    """``tracker`` stepped through the scans of ``same`` (until the engine refuses a state), untimed."""
-    for k in range(len(same.scans)):
-        t_k, Zt = same.returns(k)
+def _warm(tracker, lock):
+    """``tracker`` stepped through the scans of ``lock`` (until the engine refuses a state), untimed."""
+    for k in range(len(lock.scans)):
+        t_k, Zt = lock.returns(k)
         try:
             tracker.step(Zt, t_k)
         except ValueError:

@@ -59,8 +59,8 @@ def lazy_sht_timing(cfg, n: int, seed: int, trackers=("gnn", "jpda"), *, n_scans
     (scans at which the in-view estimates of ``eager_in_view`` differ from the every-track-gated tracker's:
     other labels, or means more than 1e-9 apart).
     """
-    same = same_scans(cfg, n, seed, scenario, n_scans)
-    problem, in_view_count, n_scans = same.problem, same.in_view, len(same.scans)
+    lock = same_scans(cfg, n, seed, scenario, n_scans)
+    problem, in_view_count, n_scans = lock.problem, lock.in_view, len(lock.scans)
     rows = []
     for name in trackers:
         runs = [_make(name, cfg, problem, opts) for _, opts in MODES]
@@ -68,7 +68,7 @@ def lazy_sht_timing(cfg, n: int, seed: int, trackers=("gnn", "jpda"), *, n_scans
         same, diff_view = np.ones(len(runs), bool), np.zeros(len(runs))
         view, done, differ = 0, 0, 0
         for k in range(n_scans):
-            t_k, Zt = same.returns(k)
+            t_k, Zt = lock.returns(k)
             used = np.zeros(len(runs))
             for i in np.roll(np.arange(len(runs)), -k):
                 c0 = time.process_time()

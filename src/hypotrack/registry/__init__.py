@@ -23,10 +23,10 @@ accept its kind:
 """
 
 from . import builtin  # noqa: F401  (registers hypotrack's own kinds)
-from .build import build
+from .build import build, build_fused
 from .builtin import engine_options
-from .problem import MeasurementBirths, TrackingProblem
+from .problem import MeasurementBirths, MultiSensorProblem, SensorEntry, TrackingProblem
 from .spec import FAMILIES, Preset, SpecError, TrackerSpec, kinds, preset, register, unregister
 
-__all__ = ["FAMILIES", "MeasurementBirths", "Preset", "SpecError", "TrackerSpec", "TrackingProblem", "build",
-           "engine_options", "kinds", "preset", "register", "unregister"]
+__all__ = ["FAMILIES", "MeasurementBirths", "MultiSensorProblem", "Preset", "SensorEntry", "SpecError", "TrackerSpec",
+           "TrackingProblem", "build", "build_fused", "engine_options", "kinds", "preset", "register", "unregister"]

@@ -75,6 +75,11 @@ class MeasurementBirths:
 _BIRTHS = (SingleEventBirthDeath, LabeledMultiBernoulliPopulation, MeasurementBirths)
 
 
+def _state_dim(m) -> int:
+    """The state dimension of measurement model ``m`` (a nonlinear one, with no ``H``, states it)."""
+    return m.ndim_state if getattr(m, "linear", True) is False else np.asarray(m.H).shape[1]
+
+
 @dataclass(frozen=True, eq=False)
 class TrackingProblem:
     """The models and known objects every tracker of an experiment shares.
@@ -116,8 +121,7 @@ class TrackingProblem:
     validity: object = field(default=None, repr=False)
 
     def __post_init__(self):
-        m = self.sensor.measurement  # a nonlinear measurement model (no H) gives its state dimension
-        d = m.ndim_state if getattr(m, "linear", True) is False else np.asarray(m.H).shape[1]
+        d = _state_dim(self.sensor.measurement)
         means = np.zeros((0, d)) if self.means is None else np.asarray(self.means, dtype=float)
         means = check_finite_array(means.reshape(-1, d) if means.size == 0 else means, "means", shape=(None, d))
         n = len(means)
@@ -228,10 +232,6 @@ class SensorEntry:
     sensor: object
     in_view: object = field(repr=False)
     births: object = None
-
-
-def _state_dim(measurement) -> int:
-    return measurement.ndim_state if getattr(measurement, "linear", True) is False else np.asarray(measurement.H).shape[1]
 
 
 @dataclass(frozen=True, eq=False)

@@ -17,7 +17,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from hypotrack.hypotheses import BinomialPopulation, LabeledMultiBernoulliPopulation, presets
+from hypotrack.hypotheses import BinomialPopulation, GaussianBirthTerm, LabeledMultiBernoulliPopulation, presets
 from hypotrack.hypotheses.factored import AdaptiveBirth
 from hypotrack.hypotheses.factored.multisensor import MultiSensorFactored
 from hypotrack.models.motion import ConstantVelocity
@@ -338,3 +338,27 @@ def test_spec_from_config_reaches_the_fused_tracker():
     tr = build(spec, _problem(), seed=SEED)
     assert tr.options.lazy and tr.options.min_weight == 0.001 and tr.options.split == "marginal"
     assert tr.n_sensors == 2
+
+
+@pytest.mark.parametrize("kind", ["glmb", "homht_kbest", "gnn", "jpda"])
+def test_one_sensor_fused_is_the_single_sensor_tracker(kind):
+    """One sensor: the fused tracker over sensor A's scans is the single-sensor registry tracker, hypothesis for
+    hypothesis (engine) or track for track — births from a fixed labeled-Bernoulli term at N1's place (no
+    measurement-driven births, whose first interval differs by design: hypotrack.hypotheses.factored.multisensor)."""
+    term = GaussianBirthTerm(np.array([0.0, 6.0, 0.0, 0.0]), np.diag([1.0, 1.0, 0.5, 0.5]), SENSOR_A.measurement.H,
+                             R_A, gate_probability=GATE)
+    births = LabeledMultiBernoulliPopulation([term], r_birth=0.2, p_survive=0.99)
+    single = TrackingProblem(MOTION, SENSOR_A, X0, P0, LABELS, births=births, in_view=_view(BOX_A))
+    fused = MultiSensorProblem.from_problems([single])
+    a, b = build(SPECS[kind], single, seed=SEED), build(SPECS[kind], fused, seed=SEED)
+    assert type(b) is (MultiSensorFactored if kind in ENGINE_SPECS else MultiSensorSHT)
+    for t, s, Z in SCANS:
+        if s == 0:
+            a.step(Z, t)
+            b.step(Z, t, sensor=0)
+            if kind in ENGINE_SPECS:
+                assert a.same_posterior(b)
+            else:
+                for x, y in zip((a.ids, a.x, a.P, a.misses), (b.ids, b.x, b.P, b.misses), strict=True):
+                    np.testing.assert_array_equal(x, y)
+    assert len(a.estimates()) >= 2

@@ -12,9 +12,10 @@ radar's scan, then the fence's at a zero interval: the sequential update of
 (:class:`~hypotrack.hypotheses.factored.multisensor.MultiSensorFactored`,
 :class:`~hypotrack.trackers.multisensor.MultiSensorSHT`) so that they differ in the fence's scans alone; each sensor has
 its own tracking problem (:func:`.run.make_problem`: its sensor-frame model, SNR ``p_D``, clutter, field of view,
-admissible-region births of its own returns). The scorecard (:mod:`.scorecard`) is the operator's of the radar: the
-radar's returns correlated, GOSPA and custody in the radar's view, re-acquisition at the radar's next pass, time to
-orbit from an object's first *radar* return — so a difference is what the fence's returns between and during the
+admissible-region births of its own returns), the sensors joined in one :class:`~hypotrack.registry.MultiSensorProblem`
+from which the registry builds the fused tracker. The scorecard (:mod:`.scorecard`) is the operator's of the radar:
+the radar's returns correlated, GOSPA and custody in the radar's view, re-acquisition at the radar's next pass, time
+to orbit from an object's first *radar* return — so a difference is what the fence's returns between and during the
 radar's passes did to the catalogue (an object the fence saw first is credited from the radar's first return).
 """
 
@@ -96,9 +97,8 @@ def fused_problem(cfg, scenario, tsensors) -> MultiSensorProblem:
 
 def fused_tracker(name: str, cfg, scenario, tsensors, seed: int):
     """Tracker ``name`` (``ssa_catalogue.trackers``) over the sensors ``tsensors`` (:func:`fused_problem`), built by
-    the registry (:func:`hypotrack.registry.build`: :class:`~hypotrack.hypotheses.factored.multisensor.
-    MultiSensorFactored` for an engine with ``factored`` options, :class:`~hypotrack.trackers.multisensor.
-    MultiSensorSHT` for GNN/JPDA)."""
+    the registry (:func:`hypotrack.registry.build`: the factored engine's multi-sensor filter for an engine with
+    ``factored`` options, the multi-sensor GNN/JPDA for GNN/JPDA)."""
     return build(tracker_spec(cfg, name), fused_problem(cfg, scenario, tsensors), seed=int(seed))
 
 

@@ -25,7 +25,7 @@ from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensi
 from hypotrack.models.sensors import Box
 from hypotrack.protocol import Tracker
 from hypotrack.registry import (MeasurementBirths, MultiSensorProblem, SensorEntry, TrackerSpec, TrackingProblem,
-                                build, kinds, preset)
+                                build, kinds, preset, register, unregister)
 from hypotrack.trackers import MOfNInitiator, ScanModel, SingleHypothesisTracker
 from hypotrack.trackers.multisensor import MultiSensorSHT
 from scenes import position_sensor
@@ -362,3 +362,37 @@ def test_one_sensor_fused_is_the_single_sensor_tracker(kind):
                 for x, y in zip((a.ids, a.x, a.P, a.misses), (b.ids, b.x, b.P, b.misses), strict=True):
                     np.testing.assert_array_equal(x, y)
     assert len(a.estimates()) >= 2
+
+
+def _glmb_anyway(problem, *, seed, **options):
+    return presets.glmb(MOTION, problem.sensor, population=LabeledMultiBernoulliPopulation([], r_birth=0.3), n_sweeps=5)
+
+
+def test_a_registered_kind_fuses_through_its_family_or_states_why_not():
+    """A kind registered at run time fuses as its family does (here gnn's builder under another name: the same
+    fused tracker); ``no_fusion`` refuses it with the reason given; a builder whose tracker is not of its family's
+    kind is refused naming the sensor."""
+    gnn = preset("gnn").builder
+    register("test_fused_nn", gnn, family="single")
+    register("test_solo", gnn, family="single", no_fusion="its scores assume one sensor")
+    register("test_wrong", _glmb_anyway, family="single")
+    try:
+        spec = {**SPECS["gnn"], "kind": "test_fused_nn"}
+        a, b = build(spec, _problem()), build(SPECS["gnn"], _problem())
+        assert isinstance(a, MultiSensorSHT) and a.n_sensors == 2
+        for t, s, Z in SCANS:
+            a.step(Z, t, sensor=s)
+            b.step(Z, t, sensor=s)
+            for x, y in zip(_single_table(a), _single_table(b), strict=True):
+                np.testing.assert_array_equal(x, y)
+        with pytest.raises(ValueError, match=r"^test_solo: kind 'test_solo' cannot fuse several sensors: its scores "
+                                             r"assume one sensor$"):
+            build({"kind": "test_solo"}, _problem())
+        with pytest.raises(ValueError, match=r"^test_wrong: kind 'test_wrong' built a HypothesisFilter for "
+                                             r"sensors\[0\], not a SingleHypothesisTracker"):
+            build({"kind": "test_wrong"}, _problem())
+        with pytest.raises(TypeError, match="no_fusion must be a string"):
+            register("test_bad", gnn, family="single", no_fusion=True)
+    finally:
+        for k in ("test_fused_nn", "test_solo", "test_wrong"):
+            unregister(k)

@@ -16,6 +16,10 @@ Birth models a problem may carry (``births``):
 * :class:`MeasurementBirths` — births started at the returns no track explains (adaptive birth
   terms for the factored δ-GLMB and FISST presets, Reid's births seeded at the returns for HOMHT,
   β_NT for GNN/JPDA).
+
+Several sensors fused: a :class:`MultiSensorProblem` (the shared motion model and known objects, one
+:class:`SensorEntry` per sensor: its model, field of view, births), whose
+:meth:`~MultiSensorProblem.problem` ``(s)`` is sensor ``s``'s :class:`TrackingProblem`.
 """
 
 from __future__ import annotations
@@ -224,7 +228,8 @@ class SensorEntry:
         clutter (rate, region).
     in_view : callable
         ``in_view(x) -> (n,) bool``: where this sensor sees. Required: a sensor of several sees part of the scene,
-        and GNN/JPDA count a miss of its scan only there (:mod:`hypotrack.trackers.multisensor`).
+        and GNN/JPDA count a miss of its scan only there (:mod:`hypotrack.trackers.multisensor`). The hypothesis
+        filters see through ``sensor.detection`` (``p_D`` 0 outside its field of view), which should agree.
     births : None, SingleEventBirthDeath, LabeledMultiBernoulliPopulation or MeasurementBirths
         The birth model of this sensor's scans (e.g. births started at *its* returns; :class:`TrackingProblem`).
     """

@@ -1,4 +1,11 @@
-"""One tracker from a specification and a problem: the registry's single construction path."""
+"""One tracker from a specification and a problem: the registry's single construction path.
+
+On a :class:`~.problem.MultiSensorProblem` the tracker is the fused one: the preset's builder makes one tracker per
+sensor (on :meth:`~.problem.MultiSensorProblem.problem` ``(s)``) and the family's multi-sensor form joins them —
+:class:`~hypotrack.hypotheses.factored.multisensor.MultiSensorFactored` for the ``engine`` family (on the factored
+engine: ``factored`` options are required), :class:`~hypotrack.trackers.multisensor.MultiSensorSHT` for the
+``single`` family. The ``poisson_mb`` family and a kind whose preset states ``no_fusion`` have no fused form.
+"""
 
 from __future__ import annotations
 
@@ -6,13 +13,19 @@ from collections.abc import Mapping
 
 from ..hypotheses import HypothesisFilter
 from ..hypotheses.factored import FactoredFilter
-from .problem import TrackingProblem
+from ..hypotheses.factored.multisensor import MultiSensorFactored
+from ..trackers import SingleHypothesisTracker
+from ..trackers.multisensor import MultiSensorSHT
+from .problem import MultiSensorProblem, TrackingProblem
 from .spec import TrackerSpec, preset
 
-__all__ = ["build"]
+__all__ = ["build", "FUSED"]
+
+#: The families with a multi-sensor form: what each sensor's tracker must be, and the fused tracker's class.
+FUSED = {"engine": (HypothesisFilter, MultiSensorFactored), "single": (SingleHypothesisTracker, MultiSensorSHT)}
 
 
-def build(spec, problem: TrackingProblem, *, seed=None, where: str = ""):
+def build(spec, problem: TrackingProblem | MultiSensorProblem, *, seed=None, where: str = ""):
     """The tracker of ``spec`` (a :class:`TrackerSpec` or a config mapping ``{kind: ..., ...}``) on ``problem``.
 
     The preset's builder makes the tracker; with ``factored`` options an engine preset runs on the
@@ -20,7 +33,9 @@ def build(spec, problem: TrackingProblem, *, seed=None, where: str = ""):
     adaptive birth terms when its birth model has them and the preset a population); the known
     objects of the problem are then given to it (``initialise(means, covs, labels, time=...)``).
     ``seed`` (an int, a ``SeedSequence`` or a ``numpy.random.Generator``) feeds every random draw.
-    Returns a :class:`hypotrack.protocol.Tracker`.
+    Returns a :class:`hypotrack.protocol.Tracker`. On a :class:`~.problem.MultiSensorProblem`, the fused
+    tracker of the module docstring (its ``step(Z, time, sensor=s)`` takes a scan of sensor ``s``):
+    :func:`build_fused`.
 
     Examples
     --------
@@ -38,12 +53,11 @@ def build(spec, problem: TrackingProblem, *, seed=None, where: str = ""):
     >>> est.labels.tolist(), np.round(est.x[:, 0], 1).tolist()
     ([7, 9], [1.1, 9.0])
     """
+    if isinstance(problem, MultiSensorProblem):
+        return build_fused(spec, problem, seed=seed, where=where)
     if not isinstance(problem, TrackingProblem):
-        raise TypeError(f"problem must be a TrackingProblem, got {type(problem).__name__}")
-    if not isinstance(spec, TrackerSpec):
-        if not isinstance(spec, Mapping):
-            raise TypeError(f"spec must be a TrackerSpec or a mapping with a 'kind', got {type(spec).__name__}")
-        spec = TrackerSpec.from_config(spec, where)
+        raise TypeError(f"problem must be a TrackingProblem or a MultiSensorProblem, got {type(problem).__name__}")
+    spec = _spec(spec, where)
     options = dict(spec.options)
     p = preset(spec.kind)
     factored = options.pop("factored", None) if p.family == "engine" else None
@@ -56,3 +70,49 @@ def build(spec, problem: TrackingProblem, *, seed=None, where: str = ""):
         adaptive = problem.adaptive_birth() if tracker.population is not None else None
         tracker = FactoredFilter.from_filter(tracker, adaptive_birth=adaptive, **factored)
     return tracker
+
+
+def _spec(spec, where: str) -> TrackerSpec:
+    if isinstance(spec, TrackerSpec):
+        return spec
+    if not isinstance(spec, Mapping):
+        raise TypeError(f"spec must be a TrackerSpec or a mapping with a 'kind', got {type(spec).__name__}")
+    return TrackerSpec.from_config(spec, where)
+
+
+def build_fused(spec, problem: MultiSensorProblem, *, seed=None, where: str = ""):
+    """The fused tracker of ``spec`` on the sensors of ``problem`` (module docstring).
+
+    One tracker per sensor from the preset's builder on that sensor's problem, each given the known objects and
+    ``seed`` (the fused tracker draws from the first one's generator, which it copies or shares); then
+    :meth:`MultiSensorFactored.from_filters` with each sensor's adaptive birth terms (when the preset has a
+    population) and the ``factored`` options, or :meth:`MultiSensorSHT.from_trackers`. A kind that cannot fuse is a
+    ``ValueError`` naming it.
+    """
+    if not isinstance(problem, MultiSensorProblem):
+        raise TypeError(f"problem must be a MultiSensorProblem, got {type(problem).__name__}")
+    spec = _spec(spec, where)
+    p, at = preset(spec.kind), where or spec.kind
+    if p.no_fusion:
+        raise ValueError(f"{at}: kind {spec.kind!r} cannot fuse several sensors: {p.no_fusion}")
+    if p.family not in FUSED:
+        raise ValueError(f"{at}: kind {spec.kind!r} (family {p.family}) has no multi-sensor form; the kinds of the "
+                         f"{' and '.join(FUSED)} families fuse (MultiSensorFactored, MultiSensorSHT)")
+    options = dict(spec.options)
+    factored = options.pop("factored", None) if p.family == "engine" else None
+    if p.family == "engine" and factored is None:
+        raise ValueError(f"{at}.factored: kind {spec.kind!r} fuses sensors on the factored engine "
+                         "(MultiSensorFactored): give factored options ({} for their defaults)")
+    member, fused = FUSED[p.family]
+    trackers = []
+    for s, sp in enumerate(problem.problems):
+        t = p.builder(sp, seed=seed, **options)
+        if not isinstance(t, member):
+            raise ValueError(f"{at}: kind {spec.kind!r} built a {type(t).__name__} for sensors[{s}], not a "
+                             f"{member.__name__}: its {p.family} family's fused tracker ({fused.__name__}) needs one")
+        t.initialise(sp.means, sp.covs, sp.labels, time=sp.time)
+        trackers.append(t)
+    if p.family == "single":
+        return MultiSensorSHT.from_trackers(trackers)
+    births = [sp.adaptive_birth() if t.population is not None else None for sp, t in zip(problem.problems, trackers)]
+    return MultiSensorFactored.from_filters(trackers, births, **factored)

@@ -152,4 +152,5 @@ _BUILDERS = {"hfisst": _hfisst, "rfisst": _rfisst, "homht": _homht, "homht_kbest
 
 for _kind, _entry in BUILTIN["kinds"].items():
     register(_kind, _BUILDERS[_kind], family=_entry["family"], description=_entry.get("description", ""),
-             options=MappingProxyType(_entry.get("options", {})), defaults=_entry.get("defaults", {}))
+             options=MappingProxyType(_entry.get("options", {})), defaults=_entry.get("defaults", {}),
+             no_fusion=_entry.get("no_fusion", ""))

@@ -44,7 +44,9 @@ class Preset:
     ``builder(problem, *, seed, **options)`` returns a tracker (:class:`hypotrack.protocol.Tracker`);
     ``options`` maps each of the kind's own option names to its JSON schema (with ``default``);
     ``family`` (``"engine"`` or ``"single"``) adds the family's shared options; ``defaults``
-    overrides family defaults for this kind.
+    overrides family defaults for this kind. ``no_fusion``, when not empty, says why the kind has no
+    multi-sensor form although its family has one (:func:`hypotrack.registry.build` on a
+    :class:`~.problem.MultiSensorProblem` refuses it with this reason).
     """
 
     kind: str
@@ -53,6 +55,7 @@ class Preset:
     description: str = ""
     options: Mapping = field(default_factory=dict)
     defaults: Mapping = field(default_factory=dict)
+    no_fusion: str = ""
 
     def __post_init__(self):
         if not isinstance(self.kind, str) or not self.kind.isidentifier():
@@ -71,6 +74,9 @@ class Preset:
         unknown = sorted(set(self.defaults) - set(FAMILIES[self.family]))
         if unknown:
             raise ValueError(f"defaults {unknown} are not options of the {self.family} family")
+        if not isinstance(self.no_fusion, str):
+            raise TypeError(f"no_fusion must be a string (why the kind cannot fuse sensors; empty: it can), got "
+                            f"{type(self.no_fusion).__name__}")
 
     def schema(self) -> dict:
         """The JSON schema of this kind's specification (``kind`` plus every option, defaults filled)."""
@@ -92,18 +98,19 @@ _PRESETS: dict[str, Preset] = {}
 
 
 def register(kind: str, builder, *, family: str, description: str = "", options=None, defaults=None,
-             replace: bool = False) -> Preset:
+             replace: bool = False, no_fusion: str = "") -> Preset:
     """Register a tracker kind: ``builder(problem, *, seed, **options)`` returning a tracker.
 
     ``options`` maps the kind's own option names to JSON schemas, each with its ``default``; the
     ``family``'s shared options (``presets.yaml``) come with it. Every experiment and the Stone
     Soup adapter build their trackers through the registry, so a registered kind reaches all of
-    them. An existing kind is refused unless ``replace``.
+    them. An existing kind is refused unless ``replace``. A kind of the ``engine`` or ``single``
+    family fuses several sensors (:class:`~.problem.MultiSensorProblem`) unless ``no_fusion`` says why not.
     """
     if kind in _PRESETS and not replace:
         raise ValueError(f"kind {kind!r} is already registered (pass replace=True to replace it)")
     p = Preset(kind, builder, family, description, MappingProxyType(dict(options or {})),
-               MappingProxyType(dict(defaults or {})))
+               MappingProxyType(dict(defaults or {})), no_fusion)
     _PRESETS[kind] = p
     return p
 

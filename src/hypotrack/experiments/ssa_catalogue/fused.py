@@ -12,9 +12,10 @@ radar's scan, then the fence's at a zero interval: the sequential update of
 (:class:`~hypotrack.hypotheses.factored.multisensor.MultiSensorFactored`,
 :class:`~hypotrack.trackers.multisensor.MultiSensorSHT`) so that they differ in the fence's scans alone; each sensor has
 its own tracking problem (:func:`.run.make_problem`: its sensor-frame model, SNR ``p_D``, clutter, field of view,
-admissible-region births of its own returns). The scorecard (:mod:`.scorecard`) is the operator's of the radar: the
-radar's returns correlated, GOSPA and custody in the radar's view, re-acquisition at the radar's next pass, time to
-orbit from an object's first *radar* return — so a difference is what the fence's returns between and during the
+admissible-region births of its own returns), the sensors joined in one :class:`~hypotrack.registry.MultiSensorProblem`
+from which the registry builds the fused tracker. The scorecard (:mod:`.scorecard`) is the operator's of the radar:
+the radar's returns correlated, GOSPA and custody in the radar's view, re-acquisition at the radar's next pass, time
+to orbit from an object's first *radar* return — so a difference is what the fence's returns between and during the
 radar's passes did to the catalogue (an object the fence saw first is credited from the radar's first return).
 """
 
@@ -23,17 +24,16 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from ...hypotheses.factored.multisensor import MultiSensorFactored
-from ...registry import TrackerSpec, build
+from ...registry import MultiSensorProblem, build
 from ...scenarios.catalogue import simulate_catalogue
 from ...scenarios.catalogue.fence import space_fence
 from ...scenarios.catalogue.snr import SizeModel, attach_snr_detection
-from ...trackers.multisensor import MultiSensorSHT
 from .physics import attach_tracker_snr, object_sizes
-from .run import build_scenario, initial_tracks, make_motion, make_problem, tracker_sensor
+from .run import build_scenario, initial_tracks, make_motion, make_problem, tracker_sensor, tracker_spec
 from .scorecard import COLUMNS, _catalogue_columns, run_scored, scorecard_row, unknown_time_to_orbit  # ssa_breakup's
 
-__all__ = ["SENSOR_SETS", "TABLE_COLUMNS", "make_fence", "build_fused", "fused_tracker", "run_fused", "fused_table",
+__all__ = ["SENSOR_SETS", "TABLE_COLUMNS", "make_fence", "build_fused", "fused_problem", "fused_tracker", "run_fused",
+           "fused_table",
            "fusion_claims", "fusion_macros", "plot_fusion"]
 
 #: The runs compared: the radar alone, the radar and the fence.
@@ -85,22 +85,21 @@ def _tracker_sensors(cfg, fused, sensors: str):
     return out
 
 
-def fused_tracker(name: str, cfg, scenario, tsensors, seed: int):
-    """Tracker ``name`` (``ssa_catalogue.trackers``) over the sensors ``tsensors``: one problem per sensor
-    (:func:`.run.make_problem`, one motion model), fused (:class:`MultiSensorFactored` for an engine with ``factored``
-    options, :class:`MultiSensorSHT` for GNN/JPDA)."""
+def fused_problem(cfg, scenario, tsensors) -> MultiSensorProblem:
+    """The catalogue over the sensors ``tsensors``: each sensor's problem (:func:`.run.make_problem`: its model,
+    field of view, admissible-region or one-point births of its own returns) on one motion model and the known
+    objects at scan 0."""
     objects, unknown, sc, init_seed = scenario
     motion = make_motion(cfg)
     means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problems = [make_problem(cfg, t, motion, means, covs, labels) for t in tsensors]
-    own = dict(cfg["trackers"][name])
-    factored = own.pop("factored", None)
-    spec = TrackerSpec.from_config(own, f"ssa_catalogue.trackers.{name}")
-    trackers = [build(spec, p, seed=int(seed)) for p in problems]
-    if factored is None:
-        return MultiSensorSHT.from_trackers(trackers)
-    births = [p.adaptive_birth() if t.population is not None else None for p, t in zip(problems, trackers)]
-    return MultiSensorFactored.from_filters(trackers, births, **factored)
+    return MultiSensorProblem.from_problems([make_problem(cfg, t, motion, means, covs, labels) for t in tsensors])
+
+
+def fused_tracker(name: str, cfg, scenario, tsensors, seed: int):
+    """Tracker ``name`` (``ssa_catalogue.trackers``) over the sensors ``tsensors`` (:func:`fused_problem`), built by
+    the registry (:func:`hypotrack.registry.build`: the factored engine's multi-sensor filter for an engine with
+    ``factored`` options, the multi-sensor GNN/JPDA for GNN/JPDA)."""
+    return build(tracker_spec(cfg, name), fused_problem(cfg, scenario, tsensors), seed=int(seed))
 
 
 def run_fused(name: str, cfg, n: int, seed: int, scenario, fused, sensors: str):

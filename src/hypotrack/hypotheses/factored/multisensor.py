@@ -116,10 +116,11 @@ class MultiSensorFactored(FactoredFilter):
         self._pending = None
 
     @classmethod
-    def from_filters(cls, filters: Sequence, births: Sequence | None = None, options=None, **option_changes):
+    def from_filters(cls, filters: Sequence, births: Sequence | None = None, options=None, /, **option_changes):
         """The fused filter of ``filters`` (one :class:`~..filter.HypothesisFilter` per sensor, the first one's
         posterior) with ``births`` (one :class:`AdaptiveBirth` or ``None`` per sensor; ``None``: no adaptive births).
-        ``options``/``option_changes``: as :meth:`FactoredFilter.from_filter` (``adaptive_birth`` is ``births[0]``)."""
+        ``options``/``option_changes``: as :meth:`FactoredFilter.from_filter` (``adaptive_birth`` is ``births[0]``).
+        The first three are positional only: the factored option ``births`` (coupled or free) is an option change."""
         filters = list(filters)
         if not filters:
             raise ValueError("filters must hold one HypothesisFilter per sensor, got none")

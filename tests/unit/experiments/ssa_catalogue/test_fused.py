@@ -9,8 +9,9 @@ import yaml
 
 from hypotrack.experiments.ssa_catalogue.fused import (SENSOR_SETS, TABLE_COLUMNS, fused_table, fused_tracker,
                                                        fusion_claims, fusion_macros, make_fence)
-from hypotrack.experiments.ssa_catalogue.run import make_radar
+from hypotrack.experiments.ssa_catalogue.run import initial_tracks, make_motion, make_problem, make_radar
 from hypotrack.hypotheses.factored.multisensor import MultiSensorFactored
+from hypotrack.registry import TrackerSpec, build
 from hypotrack.scenarios.catalogue.radar_model import RadarTrackerSensor, attributable_to_state
 from hypotrack.trackers.multisensor import MultiSensorSHT
 
@@ -86,6 +87,45 @@ def test_the_fences_return_updates_the_track_with_the_fences_model(name):
     np.testing.assert_allclose(P, want_P[0], rtol=1e-8 if name == "glmb" else 1e-5, atol=1e-12)
     wrong_x, _ = radar.measurement.update(x_prior[None], P_prior[None], z[None])
     assert np.linalg.norm(wrong_x[0][:3] - x[:3]) > 100.0  # the radar's model would put it elsewhere
+
+
+def _hand_wrapped(name, cfg, scenario, tsensors, seed):
+    """The fused tracker wrapped by hand, as the experiment did before the registry built it: one registry tracker
+    per sensor's problem, the engine's joined with each problem's adaptive births and the ``factored`` options."""
+    objects, unknown, sc, init_seed = scenario
+    motion = make_motion(cfg)
+    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
+    problems = [make_problem(cfg, t, motion, means, covs, labels) for t in tsensors]
+    own = dict(cfg["trackers"][name])
+    factored = own.pop("factored", None)
+    trackers = [build(TrackerSpec.from_config(own), p, seed=seed) for p in problems]
+    if factored is None:
+        return MultiSensorSHT.from_trackers(trackers)
+    births = [p.adaptive_birth() if t.population is not None else None for p, t in zip(problems, trackers)]
+    return MultiSensorFactored.from_filters(trackers, births, **factored)
+
+
+@pytest.mark.parametrize("name", ["glmb", "homht_kbest", "rfisst", "gnn", "jpda"])
+def test_the_registry_builds_the_hand_wrapped_tracker(name):
+    """The catalogue's sensors (the radar, the fence; sensor-frame EKF, admissible-region births of each one's own
+    returns, the fence's return at a zero interval after the radar's empty scan, then an empty instant): the tracker
+    the registry builds is the hand-wrapped one, bit for bit (engine) or track for track (GNN/JPDA)."""
+    cfg, radar, fence, x0, P0, z = _scene()
+    cfg["model"]["birth"] = "admissible"
+    scenario = ({}, np.zeros(0, np.int64), _Sc(x0, P0), 0)
+    reg = fused_tracker(name, cfg, scenario, [radar, fence], seed=1)
+    hand = _hand_wrapped(name, cfg, scenario, [radar, fence], seed=1)
+    clutter = fence.h(x0[None])[0] + np.array([40.0, 0.01, 0.004, 0.3])  # a second return: a birth candidate
+    for t, s, Z in ((0.0, 0, np.zeros((0, 4))), (0.0, 1, np.vstack([z, clutter])), (10.0, 0, np.zeros((0, 4))),
+                    (10.0, 1, np.zeros((0, 4)))):
+        reg.step(Z, t, sensor=s)
+        hand.step(Z, t, sensor=s)
+        if isinstance(reg, MultiSensorFactored):
+            assert reg.same_posterior(hand)
+        else:
+            for a, b in ((reg.ids, hand.ids), (reg.x, hand.x), (reg.P, hand.P), (reg.initiator.x, hand.initiator.x)):
+                np.testing.assert_array_equal(a, b)
+    assert len(reg.estimates()) >= 1
 
 
 def _rows():

@@ -19,8 +19,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import stats
 
+# scipy.stats is imported where it is used: it costs ~1 s, and every Snakemake invocation (each cluster
+# job's too) imports this module through the tracker registry.
 from .._validation import check_covariance, check_int, check_nonnegative, check_probability
 from .sensors import FieldOfView
 
@@ -82,6 +83,7 @@ class UniformBirthDensity:
         """``log p_b(x)`` for states ``(n, 4)``; ``-inf`` outside the region."""
         X = np.atleast_2d(np.asarray(states, dtype=float))
         pos, vel = X[:, :2], X[:, 2:4]
+        from scipy import stats
         lv = stats.multivariate_normal(np.zeros(2), self.velocity_cov).logpdf(vel - self.mean_velocity(pos))
         return np.where(self.region.contains(pos), self.log_position_density + np.atleast_1d(lv), -np.inf)
 
@@ -242,6 +244,7 @@ class BinomialBirth:
 
     @property
     def _dist(self):
+        from scipy import stats
         return stats.binom(self.n_potential, self.alpha)
 
     def pmf(self, k):
@@ -268,6 +271,7 @@ class BinomialBirth:
 
         Returns a frozen :data:`scipy.stats.poisson` distribution.
         """
+        from scipy import stats
         return stats.poisson(self.mean)
 
 
@@ -287,9 +291,11 @@ class BinomialSurvival:
 
     def pmf(self, k, r: int):
         """P(exactly ``k`` of ``r`` targets survive)."""
+        from scipy import stats
         return stats.binom(check_int(r, "r", minimum=0), self.p_survive).pmf(k)
 
     def logpmf(self, k, r: int):
+        from scipy import stats
         return stats.binom(check_int(r, "r", minimum=0), self.p_survive).logpmf(k)
 
     def log_specific_prob(self, p: int, r: int) -> float:

@@ -13,6 +13,8 @@ which does not, and cannot import from ``conftest``).
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from hypotrack.hypotheses.population_events import SingleEventPopulation
@@ -66,3 +68,28 @@ def observed_scans(X, motion, sensor, n_scans, seed, dt=1.0):
         X = X @ F.T
         scans.append(sensor.observe(X, rng)[0])
     return scans, X
+
+
+@lru_cache(maxsize=4)
+def sgp4_in_view(n_objects: int, span_s: float, step_s: float):
+    """The first ``n_objects`` bundled active satellites propagated by SGP4 every ``step_s`` over ``span_s``
+    from the catalogue's epoch, and which of them the default radar sees when: ``(cat, start, p, theta, vis)``
+    (``p`` the TEME propagation, ``theta`` the Greenwich sidereal angles, ``vis`` ``(n_objects, n_times)``).
+
+    Built once per argument set for the whole session (several modules check the radar and the births on these
+    real states); the arrays are read-only."""
+    from hypotrack.scenarios.catalogue import DEFAULT_RADAR, load_catalogue, propagate, select_groups
+    from hypotrack.scenarios.catalogue.frames import gmst, teme_to_ef
+    from hypotrack.scenarios.catalogue.propagation import reference_epoch, time_grid_jd
+
+    cat = select_groups(load_catalogue(), "active").iloc[:n_objects].reset_index(drop=True)
+    start = reference_epoch(cat)
+    t = np.arange(0.0, span_s, step_s)
+    p = propagate(cat, t, start)
+    theta = gmst(*time_grid_jd(start, t))
+    r_ef, _ = teme_to_ef(p.r, p.v, theta)
+    vis = DEFAULT_RADAR.in_view(r_ef)
+    for a in (p.r, p.v, theta, vis):
+        if isinstance(a, np.ndarray):
+            a.setflags(write=False)
+    return cat, start, p, theta, vis

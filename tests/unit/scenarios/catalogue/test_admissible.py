@@ -9,11 +9,11 @@ import pytest
 from scipy.stats import chi2
 
 from hypotrack.models.plausibility import plausible_orbits
-from hypotrack.scenarios.catalogue import DEFAULT_RADAR, load_catalogue, propagate, select_groups
+from hypotrack.scenarios.catalogue import DEFAULT_RADAR
 from hypotrack.scenarios.catalogue.admissible import AdmissibleRegionBirth, attributable_to_state
-from hypotrack.scenarios.catalogue.frames import EARTH_ROTATION, ef_to_rae, gmst, teme_to_ef, wrap_angle
-from hypotrack.scenarios.catalogue.propagation import reference_epoch, time_grid_jd
+from hypotrack.scenarios.catalogue.frames import EARTH_ROTATION, ef_to_rae, teme_to_ef, wrap_angle
 from hypotrack.scenarios.catalogue.radar_model import RadarTrackerSensor
+from scenes import sgp4_in_view
 
 SITE = DEFAULT_RADAR.site
 
@@ -21,13 +21,8 @@ SITE = DEFAULT_RADAR.site
 @pytest.fixture(scope="module")
 def returns():
     """Noise-free returns of 8 (object, time) pairs of bundled active satellites in the default radar's view."""
-    cat = select_groups(load_catalogue(), "active").iloc[:400].reset_index(drop=True)
-    start = reference_epoch(cat)
-    t = np.arange(0.0, 7200.0, 30.0)
-    p = propagate(cat, t, start)
-    theta = gmst(*time_grid_jd(start, t))
-    r_ef, _ = teme_to_ef(p.r, p.v, theta)
-    obj, k = np.nonzero(DEFAULT_RADAR.in_view(r_ef))
+    _, _, p, theta, vis = sgp4_in_view(400, 7200.0, 30.0)
+    obj, k = np.nonzero(vis)
     pick = np.linspace(0, len(obj) - 1, 8).astype(int)
     sensor = RadarTrackerSensor(DEFAULT_RADAR)
     out = []

@@ -13,12 +13,11 @@ from scipy.stats import chi2
 from hypotrack.hypotheses import FactoredFilter, ReidWeights, homht_kbest
 from hypotrack.models.orbit3d import TwoBodyOrbit3D
 from hypotrack.models.plausibility import plausible_orbits
-from hypotrack.scenarios.catalogue import DEFAULT_RADAR, load_catalogue, propagate, select_groups
+from hypotrack.scenarios.catalogue import DEFAULT_RADAR
 from hypotrack.scenarios.catalogue.admissible import AdmissibleRegionBirth, SeededAdmissibleBirth
-from hypotrack.scenarios.catalogue.frames import gmst, teme_to_ef
-from hypotrack.scenarios.catalogue.propagation import reference_epoch, time_grid_jd
 from hypotrack.scenarios.catalogue.radar_model import RadarOnePointBirth, RadarTrackerSensor
 from hypotrack.trackers import MOfNInitiator, ScanModel
+from scenes import sgp4_in_view
 
 MOTION = TwoBodyOrbit3D(q=1e-9)
 N_DRAWS = 20000
@@ -29,13 +28,7 @@ def scene():
     """``(theta (3,), x_true (3, 6), x_fall (3, 6), returns)``: three scans 10 s apart of a bundled active satellite
     in the default radar's view and of a fall-in object at rest 10 s of arc away in the same view; ``returns``
     twelve noise-free returns of (object, time) pairs in view (the sampling check)."""
-    cat = select_groups(load_catalogue(), "active").iloc[:100].reset_index(drop=True)
-    start = reference_epoch(cat)
-    t = np.arange(0.0, 3600.0, 10.0)
-    p = propagate(cat, t, start)
-    theta = gmst(*time_grid_jd(start, t))
-    r_ef, _ = teme_to_ef(p.r, p.v, theta)
-    vis = DEFAULT_RADAR.in_view(r_ef)
+    cat, _, p, theta, vis = sgp4_in_view(100, 3600.0, 10.0)
     run = vis[:, :-2] & vis[:, 1:-1] & vis[:, 2:]
     i, k = np.argwhere(run)[0]
     x_true = np.concatenate([p.r[i, k:k + 3], p.v[i, k:k + 3]], axis=1)

@@ -8,9 +8,9 @@ bundled objects propagated by SGP4, and the range-rate against the finite differ
 import numpy as np
 import pytest
 
-from hypotrack.scenarios.catalogue import DEFAULT_RADAR, GroundRadar, load_catalogue, propagate, select_groups
+from hypotrack.scenarios.catalogue import DEFAULT_RADAR, GroundRadar, propagate
 from hypotrack.scenarios.catalogue.frames import gmst, rae_to_enu, teme_to_ef, wrap_angle
-from hypotrack.scenarios.catalogue.propagation import reference_epoch, time_grid_jd
+from hypotrack.scenarios.catalogue.propagation import time_grid_jd
 from hypotrack.scenarios.catalogue.radar_model import (
     SIGMA_RANGE_RATE_KM_S,
     RadarTrackerSensor,
@@ -18,6 +18,7 @@ from hypotrack.scenarios.catalogue.radar_model import (
     rae_rate_jacobian,
     site_teme,
 )
+from scenes import sgp4_in_view
 
 SITE = DEFAULT_RADAR.site
 
@@ -88,13 +89,7 @@ def test_site_velocity_and_range_rate_of_a_co_rotating_point_is_zero():
 def sgp4_pairs():
     """(object, time) pairs of 400 bundled active satellites inside the default radar's field of view over
     2 h from the catalogue's epoch, propagated by SGP4 at t and t ± 0.5 s."""
-    cat = select_groups(load_catalogue(), "active").iloc[:400].reset_index(drop=True)
-    start = reference_epoch(cat)
-    t = np.arange(0.0, 7200.0, 30.0)
-    p = propagate(cat, t, start)
-    theta = gmst(*time_grid_jd(start, t))
-    r_ef, _ = teme_to_ef(p.r, p.v, theta)
-    vis = DEFAULT_RADAR.in_view(r_ef)
+    cat, start, p, theta, vis = sgp4_in_view(400, 7200.0, 30.0)
     obj, k = np.nonzero(vis)
     assert len(obj) >= 30
     return cat, start, p, theta, obj[:60], k[:60]

@@ -17,8 +17,8 @@ from ..state import scan_interval
 from ..tracks import TrackStore
 from .births import birth_loglik
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
-from .lane import (GroupSet, Lane, admitted, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton,
-                   survival_lane, take)
+from .lane import (GroupSet, Lane, admitted, bernoulli, bernoulli_existence, bernoulli_lane, cat, is_singleton,
+                   lane_survival, missed, one_hypothesis_lane, predict_each, silent, singleton, survival_lane, take)
 from .options import FactoredOptions
 from .planner import (ObjectIds, ScanData, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
                       touched_plan)
@@ -135,8 +135,8 @@ class FactoredFilter:
             if record.exact:
                 groups = parts
         if groups is not None:
-            states, lane = obj._sort_out(groups)
-            obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time)
+            states, lane, r = obj._sort_out(groups)
+            obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time, *obj._existence(lane, r))
         obj._next_label = f.next_label
         obj.scan_index = f.scan_index
         return obj
@@ -166,7 +166,9 @@ class FactoredFilter:
         # singletons are exactly their Gaussian when a quiet group takes no population event, or (per-track
         # survival) when their track surely survives (lane.survival_lane)
         self._silent = silent(engine.population)
-        self._lane_on = self._silent or survival_lane(engine.population)
+        # Bernoulli singletons (lane module docstring): every lone track in the lane with its existence
+        self._bern = bernoulli_lane(engine.population, options.bernoulli_lane)
+        self._lane_on = self._silent or survival_lane(engine.population) or self._bern
 
     # ------------------------------------------------------------------ options
     @property
@@ -213,7 +215,7 @@ class FactoredFilter:
         if self._options.adaptive_birth is not None:
             self._set_birth_terms([])
         self._groups = GroupSet.at((), time)
-        self._lane = Lane.empty(self.ndim)
+        self._lane = Lane.empty(self.ndim, self._bern)
         self.time = float(time)
         self._objects = ObjectIds()
         self._next_label = 0
@@ -236,7 +238,9 @@ class FactoredFilter:
         store = TrackStore.from_arrays(means, covs, labels)
         if len(np.unique(store.labels)) != len(store):
             raise ValueError("labels must be distinct (one per object)")
-        if self._lane_on:
+        if self._bern:
+            self._lane = Lane.at(store, self.time, *self._existence(store, np.ones(len(store))))
+        elif self._lane_on:
             ok = admitted(self._engine.population, store)
             self._lane = Lane.at(store if ok.all() else take(store, np.flatnonzero(ok)), self.time)
             self._groups = GroupSet.at([singleton(store, j) for j in np.flatnonzero(~ok)], self.time)
@@ -262,18 +266,30 @@ class FactoredFilter:
         """The groups' states (:class:`~..state.FilterState`): the multi-hypothesis groups, then the
         singletons (predicted to the current scan), as a new list."""
         lane = self._lane.now(self.time, self._engine.motion)
-        return self._groups.now(self.time, self._engine.motion) + [singleton(lane, j) for j in range(len(lane))]
+        return self._groups.now(self.time, self._engine.motion) + self._lane.bernoulli_states(lane)
+
+    def _existence(self, store, r):
+        """``(r, p_s)`` of new lane singletons ``store`` of existences ``r`` (Bernoulli singletons: their per-scan
+        survival at these moments, :func:`~.lane.lane_survival`), ``(None, None)`` otherwise."""
+        if not self._bern:
+            return None, None
+        return np.asarray(r, dtype=float), lane_survival(self._engine.population, store)
 
     def _sort_out(self, states):
-        """``(groups, lane store)``: the singletons of ``states`` moved to a lane store (when the lane is on)."""
+        """``(groups, lane store, r)``: the singletons of ``states`` moved to a lane store (when the lane is on),
+        ``r`` their existences (Bernoulli singletons, :func:`~.lane.bernoulli_existence`; else ``None``)."""
         if not self._lane_on:
-            return list(states), cat([], self.ndim)
+            return list(states), cat([], self.ndim), None
+        if self._bern:
+            r = [bernoulli_existence(s) for s in states]
+            return ([s for s, x in zip(states, r) if x is None], cat([s.store for s, x in zip(states, r) if x is not None],
+                                                                       self.ndim), np.array([x for x in r if x is not None]))
         single = [is_singleton(s) for s in states]
         if not self._silent and any(single):  # per-track survival: only the tracks surviving surely
             ok = iter(admitted(self._engine.population, cat([s.store for s, x in zip(states, single) if x], self.ndim)))
             single = [x and bool(next(ok)) for x in single]
         return ([s for s, x in zip(states, single) if not x],
-                cat([s.store for s, x in zip(states, single) if x], self.ndim))
+                cat([s.store for s, x in zip(states, single) if x], self.ndim), None)
 
     @property
     def n_objects_held(self) -> int:
@@ -315,7 +331,7 @@ class FactoredFilter:
         scan = self._predict_and_score(Z, interval, now)
         graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
                            E.weights.seeded_births)
-        if not self._silent and self._lane_on:  # a lane track that may die this scan takes its step (lane.survival_lane)
+        if not self._silent and self._lane_on and not self._bern:  # a lane track that may die this scan takes its step (lane.survival_lane)
             graph = graph.touching(scan.G + np.flatnonzero(scan.scores.p_survive[scan.bounds[-1]:] < 1))
         stats = dict(_STATS0, n_predicted=len(scan.pred))
         fast = self._fast(scan, graph, Z, stats)
@@ -374,7 +390,7 @@ class FactoredFilter:
 
     def _fast_rule(self):
         """The fast path's :class:`~.fast_path.FastRule`, or ``None`` (off, or not exact for this engine)."""
-        if not self._options.fast_path:
+        if not self._options.fast_path or self._bern:  # (its rule assumes every lane track exists surely)
             return None
         return fast_rule(self._engine, self._lane_on, self._options.min_weight)
 
@@ -383,6 +399,7 @@ class FactoredFilter:
         group predicts or takes an empty-scan step; a touched component merges its groups and steps.
         Returns the plans and their keys (first nodes); ``skip``: components the fast path took."""
         E, plans, keys, bounds = self._engine, [], [], scan.bounds
+        lane_r = self._lane.r[scan.cand] if self._bern else None  # a woken Bernoulli enters as its two hypotheses
         rule = self._fast_rule()
         r_birth = None if rule is None or E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         for key, c, members, regions, rows in graph.components(skip):
@@ -405,17 +422,17 @@ class FactoredFilter:
                 r_b = float(r_birth[regions[0]])
                 if r_b not in self._born_templates:
                     plan = touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                        scan.scores, Z, scan.birth_ll, stats)
+                                        scan.scores, Z, scan.birth_ll, stats, lane_r)
                     self._born_templates[r_b] = born_template(engine_step(E, *plan[1:], 0, 0))
                 if self._born_templates[r_b] is None:
                     plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                              scan.scores, Z, scan.birth_ll, stats))
+                                              scan.scores, Z, scan.birth_ll, stats, lane_r))
                 else:
                     plans.append(("born", int(regions[0]), self._born_templates[r_b]))
                     stats["n_fast_born"] += 1
             else:
                 plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                          scan.scores, Z, scan.birth_ll, stats))
+                                          scan.scores, Z, scan.birth_ll, stats, lane_r))
         return plans, np.array(keys, dtype=np.int64)
 
     def _run_plans(self, plans, keys, fast, stats) -> list:
@@ -498,16 +515,34 @@ class FactoredFilter:
         tail = take(scan.pred, np.arange(scan.bounds[-1], len(scan.pred)))
         kept = [(k, s) for k, s in ((k, prune(s, self._options.min_weight)) for k, s in new_groups) if s is not None]
         states = [s for _, s in kept]
-        groups_new, lane_new = self._sort_out(states)
+        groups_new, lane_new, r_new = self._sort_out(states)
         if fast is not None and len(fast.store):
             # the fast path's singletons between the steps' ones, by plan key (stable: a step's own stay in order)
             step_keys = np.array([k for k, s in kept if is_singleton(s)], dtype=np.int64)
             order = np.argsort(np.concatenate([step_keys, fast.store_keys]), kind="stable")
             lane_new = take(cat([lane_new, fast.store], self.ndim), order)
-        self._lane, n_kept = self._lane.after_scan(scan.cand, graph.quiet_singletons(), tail, now, scan.view, lane_new)
+        quiet = graph.quiet_singletons()
+        exist = self._quiet_existence(scan, quiet, tail, lane_new, r_new) if self._bern else None
+        self._lane, n_kept = self._lane.after_scan(scan.cand, quiet, tail, now, scan.view, lane_new, exist)
         stats["n_predict_only"] += n_kept + len(scan.asleep)
         stats["n_asleep"] = len(scan.asleep)
         self._groups = scan.asleep.then(groups_new, now)
+
+    def _quiet_existence(self, scan, quiet, tail, lane_new, r_new):
+        """Bernoulli singletons' ``exist`` of :meth:`~.lane.Lane.after_scan`: each quiet candidate's empty-scan step in
+        closed form (:func:`~.lane.missed` with its predicted ``p_S`` and ``p_D``, the ones the engine's step takes from
+        the scan's scores; a track failing the engine's ``validity`` leaves, as its "missed" child would weigh 0
+        there), the new singletons' existences, each one's survival, ``min_weight``."""
+        E = self._engine
+        q = np.flatnonzero(quiet)
+        pq = take(tail, q)
+        r0 = self._lane.r[scan.cand[q]]
+        p_s = lane_survival(E.population, pq)
+        r = missed(r0, p_s, scan.scores.p_detect[scan.bounds[-1] + q])
+        if E.validity is not None and len(q):
+            stepped = (r0 < 1) | (p_s < 1)  # (r = p_S = 1: a lone track the general path only predicts)
+            r = np.where(stepped & ~np.asarray(E.validity(pq.means), dtype=bool), 0.0, r)
+        return r, p_s, r_new, lane_survival(E.population, lane_new), self._options.min_weight
 
     def _advance_view(self, means, interval):
         """Means ``(n, d)`` advanced by ``interval`` (means only, one batch; a zero interval leaves them)
@@ -555,6 +590,12 @@ class FactoredFilter:
         """Per-group posteriors, the convolved cardinality distribution and the union of MAPs."""
         n_top = check_int(n_top, "n_top", minimum=1)
         motion, t, groups, lane = self._engine.motion, self.time, self._groups, self._lane
+        if lane.r is not None and np.any(lane.r < 1):  # the uncertain singletons as their two hypotheses
+            unsure = np.flatnonzero(lane.r < 1)
+            sure = np.flatnonzero(lane.r == 1)
+            return FactoredPosterior(
+                lambda: groups.now(t, motion) + [bernoulli(lane.now(t, motion), j, float(lane.r[j])) for j in unsure],
+                lambda: take(lane.now(t, motion), sure), len(sure), n_top=n_top, n_states=len(groups) + len(unsure))
         return FactoredPosterior(lambda: groups.now(t, motion), lambda: lane.now(t, motion),
                                  len(lane), n_top=n_top, n_states=len(groups))
 
@@ -566,8 +607,11 @@ class FactoredFilter:
         """
         maps = [summarise(s.log_w, s.tracks, TrackStore(v, s.store.covs, s.store.labels)).map_estimate
                 for s, v in zip(self._groups.states, self._groups.views)]
-        return (np.concatenate([e.labels for e in maps] + [self._lane.store.labels]).astype(np.int64),
-                np.concatenate([e.means for e in maps] + [self._lane.view]).reshape(-1, self.ndim))
+        lane = self._lane
+        if lane.r is not None:  # a Bernoulli singleton is in the MAP when "exists" is the heavier (first on a tie)
+            lane = lane.where(lane.r >= 1.0 - lane.r)
+        return (np.concatenate([e.labels for e in maps] + [lane.store.labels]).astype(np.int64),
+                np.concatenate([e.means for e in maps] + [lane.view]).reshape(-1, self.ndim))
 
     def estimates(self) -> TrackEstimates:
         """The MAP joint hypothesis (the union of the groups' MAPs) at :attr:`time`: labels and means

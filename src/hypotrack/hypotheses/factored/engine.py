@@ -17,8 +17,8 @@ from ..state import scan_interval
 from ..tracks import TrackStore
 from .births import birth_loglik
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
-from .lane import (GroupSet, Lane, admitted, bernoulli, bernoulli_existence, bernoulli_lane, cat, is_singleton,
-                   lane_survival, missed, one_hypothesis_lane, predict_each, silent, singleton, survival_lane, take)
+from .lane import (GroupSet, Lane, admitted, bernoulli_lane, cat, is_singleton, lane_existence, one_hypothesis_lane,
+                   predict_each, scan_existence, silent, singleton, sort_out, survival_lane, take)
 from .options import FactoredOptions
 from .planner import (ObjectIds, ScanData, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
                       touched_plan)
@@ -136,7 +136,7 @@ class FactoredFilter:
                 groups = parts
         if groups is not None:
             states, lane, r = obj._sort_out(groups)
-            obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time, *obj._existence(lane, r))
+            obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time, *lane_existence(obj._bern_pop, lane, r))
         obj._next_label = f.next_label
         obj.scan_index = f.scan_index
         return obj
@@ -166,8 +166,8 @@ class FactoredFilter:
         # singletons are exactly their Gaussian when a quiet group takes no population event, or (per-track
         # survival) when their track surely survives (lane.survival_lane)
         self._silent = silent(engine.population)
-        # Bernoulli singletons (lane module docstring): every lone track in the lane with its existence
-        self._bern = bernoulli_lane(engine.population, options.bernoulli_lane)
+        self._bern = bernoulli_lane(engine.population, options.bernoulli_lane)  # (lane module docstring)
+        self._bern_pop = engine.population if self._bern else None
         self._lane_on = self._silent or survival_lane(engine.population) or self._bern
 
     # ------------------------------------------------------------------ options
@@ -239,7 +239,7 @@ class FactoredFilter:
         if len(np.unique(store.labels)) != len(store):
             raise ValueError("labels must be distinct (one per object)")
         if self._bern:
-            self._lane = Lane.at(store, self.time, *self._existence(store, np.ones(len(store))))
+            self._lane = Lane.at(store, self.time, *lane_existence(self._bern_pop, store, np.ones(len(store))))
         elif self._lane_on:
             ok = admitted(self._engine.population, store)
             self._lane = Lane.at(store if ok.all() else take(store, np.flatnonzero(ok)), self.time)
@@ -268,28 +268,10 @@ class FactoredFilter:
         lane = self._lane.now(self.time, self._engine.motion)
         return self._groups.now(self.time, self._engine.motion) + self._lane.bernoulli_states(lane)
 
-    def _existence(self, store, r):
-        """``(r, p_s)`` of new lane singletons ``store`` of existences ``r`` (Bernoulli singletons: their per-scan
-        survival at these moments, :func:`~.lane.lane_survival`), ``(None, None)`` otherwise."""
-        if not self._bern:
-            return None, None
-        return np.asarray(r, dtype=float), lane_survival(self._engine.population, store)
-
     def _sort_out(self, states):
-        """``(groups, lane store, r)``: the singletons of ``states`` moved to a lane store (when the lane is on),
-        ``r`` their existences (Bernoulli singletons, :func:`~.lane.bernoulli_existence`; else ``None``)."""
-        if not self._lane_on:
-            return list(states), cat([], self.ndim), None
-        if self._bern:
-            r = [bernoulli_existence(s) for s in states]
-            return ([s for s, x in zip(states, r) if x is None], cat([s.store for s, x in zip(states, r) if x is not None],
-                                                                       self.ndim), np.array([x for x in r if x is not None]))
-        single = [is_singleton(s) for s in states]
-        if not self._silent and any(single):  # per-track survival: only the tracks surviving surely
-            ok = iter(admitted(self._engine.population, cat([s.store for s, x in zip(states, single) if x], self.ndim)))
-            single = [x and bool(next(ok)) for x in single]
-        return ([s for s, x in zip(states, single) if not x],
-                cat([s.store for s, x in zip(states, single) if x], self.ndim), None)
+        """``(groups, lane store, r)``: :func:`~.lane.sort_out` with this filter's lane."""
+        mode = "off" if not self._lane_on else "silent" if self._silent else "bernoulli" if self._bern else "survival"
+        return sort_out(states, mode, self._engine.population, self.ndim)
 
     @property
     def n_objects_held(self) -> int:
@@ -521,28 +503,14 @@ class FactoredFilter:
             step_keys = np.array([k for k, s in kept if is_singleton(s)], dtype=np.int64)
             order = np.argsort(np.concatenate([step_keys, fast.store_keys]), kind="stable")
             lane_new = take(cat([lane_new, fast.store], self.ndim), order)
-        quiet = graph.quiet_singletons()
-        exist = self._quiet_existence(scan, quiet, tail, lane_new, r_new) if self._bern else None
+        quiet, E = graph.quiet_singletons(), self._engine
+        q = np.flatnonzero(quiet)  # Bernoulli singletons: the quiet ones' empty-scan steps in closed form
+        exist = None if not self._bern else scan_existence(E.population, E.validity, self._lane.r[scan.cand[q]], take(
+            tail, q), scan.scores.p_detect[scan.bounds[-1] + q], lane_new, r_new, self._options.min_weight)
         self._lane, n_kept = self._lane.after_scan(scan.cand, quiet, tail, now, scan.view, lane_new, exist)
         stats["n_predict_only"] += n_kept + len(scan.asleep)
         stats["n_asleep"] = len(scan.asleep)
         self._groups = scan.asleep.then(groups_new, now)
-
-    def _quiet_existence(self, scan, quiet, tail, lane_new, r_new):
-        """Bernoulli singletons' ``exist`` of :meth:`~.lane.Lane.after_scan`: each quiet candidate's empty-scan step in
-        closed form (:func:`~.lane.missed` with its predicted ``p_S`` and ``p_D``, the ones the engine's step takes from
-        the scan's scores; a track failing the engine's ``validity`` leaves, as its "missed" child would weigh 0
-        there), the new singletons' existences, each one's survival, ``min_weight``."""
-        E = self._engine
-        q = np.flatnonzero(quiet)
-        pq = take(tail, q)
-        r0 = self._lane.r[scan.cand[q]]
-        p_s = lane_survival(E.population, pq)
-        r = missed(r0, p_s, scan.scores.p_detect[scan.bounds[-1] + q])
-        if E.validity is not None and len(q):
-            stepped = (r0 < 1) | (p_s < 1)  # (r = p_S = 1: a lone track the general path only predicts)
-            r = np.where(stepped & ~np.asarray(E.validity(pq.means), dtype=bool), 0.0, r)
-        return r, p_s, r_new, lane_survival(E.population, lane_new), self._options.min_weight
 
     def _advance_view(self, means, interval):
         """Means ``(n, d)`` advanced by ``interval`` (means only, one batch; a zero interval leaves them)
@@ -590,14 +558,8 @@ class FactoredFilter:
         """Per-group posteriors, the convolved cardinality distribution and the union of MAPs."""
         n_top = check_int(n_top, "n_top", minimum=1)
         motion, t, groups, lane = self._engine.motion, self.time, self._groups, self._lane
-        if lane.r is not None and np.any(lane.r < 1):  # the uncertain singletons as their two hypotheses
-            unsure = np.flatnonzero(lane.r < 1)
-            sure = np.flatnonzero(lane.r == 1)
-            return FactoredPosterior(
-                lambda: groups.now(t, motion) + [bernoulli(lane.now(t, motion), j, float(lane.r[j])) for j in unsure],
-                lambda: take(lane.now(t, motion), sure), len(sure), n_top=n_top, n_states=len(groups) + len(unsure))
-        return FactoredPosterior(lambda: groups.now(t, motion), lambda: lane.now(t, motion),
-                                 len(lane), n_top=n_top, n_states=len(groups))
+        states, singles, n_singles, n_unsure = lane.summary_parts(lambda: groups.now(t, motion), t, motion)
+        return FactoredPosterior(states, singles, n_singles, n_top=n_top, n_states=len(groups) + n_unsure)
 
     def map_means(self) -> tuple[np.ndarray, np.ndarray]:
         """``(labels, means)`` of the MAP joint hypothesis: :attr:`posterior`'s ``map_estimate``

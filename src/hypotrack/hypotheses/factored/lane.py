@@ -47,7 +47,7 @@ from ..tracks import TrackStore
 
 __all__ = ["Lane", "GroupSet", "silent", "survival_lane", "admitted", "predict_each", "singleton", "is_singleton", "take", "cat", "empty_state",
            "one_hypothesis_lane", "bernoulli", "bernoulli_existence", "bernoulli_lane", "lane_survival", "missed",
-           "bernoulli_prune"]
+           "bernoulli_prune", "lane_existence", "scan_existence", "sort_out"]
 
 
 def silent(population) -> bool:
@@ -133,6 +133,48 @@ def bernoulli_existence(state: FilterState) -> float | None:
         h = 0 if len(state.tracks[0]) == 1 else 1
         return float(np.exp(state.log_w[h] - np.logaddexp(state.log_w[0], state.log_w[1])))
     return None
+
+
+def lane_existence(population, store: TrackStore, r):
+    """``(r, p_s)`` of new Bernoulli singletons ``store`` of existences ``r``: their per-scan survival at these
+    moments (:func:`lane_survival` of ``population``); ``(None, None)`` without Bernoulli singletons (``population``
+    ``None``)."""
+    if population is None:
+        return None, None
+    return np.asarray(r, dtype=float), lane_survival(population, store)
+
+
+def scan_existence(population, validity, r, pred: TrackStore, p_detect, new: TrackStore, r_new, min_weight: float):
+    """The ``exist`` of :meth:`Lane.after_scan` for Bernoulli singletons: the quiet candidates (existences ``r``,
+    predicted to ``pred``, no return or birth term) take the engine's empty-scan step in closed form
+    (:func:`missed` with the predicted ``p_S`` and the scan's ``p_D``, the ones its step takes from the scores; a
+    track failing the engine's ``validity`` gets ``r' = 0``, its "missed" child weighing 0 there, unless
+    ``r = p_S = 1``: a lone track the general path only predicts); the singletons ``new`` the steps produced keep
+    their existences ``r_new``; each one's survival (:func:`lane_survival`) and ``min_weight``."""
+    p_s = lane_survival(population, pred)
+    out = missed(r, p_s, p_detect)
+    if validity is not None and len(pred):
+        stepped = (np.asarray(r) < 1) | (p_s < 1)
+        out = np.where(stepped & ~np.asarray(validity(pred.means), dtype=bool), 0.0, out)
+    return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight
+
+
+def sort_out(states, mode: str, population, ndim: int):
+    """``(groups, lane store, r)``: the singletons of ``states`` moved to a lane store — ``mode`` ``"off"`` (none),
+    ``"silent"`` (every singleton), ``"survival"`` (those whose track surely survives, :func:`admitted`) or
+    ``"bernoulli"`` (every one-track Bernoulli, ``r`` their existences, :func:`bernoulli_existence`; else
+    ``r`` is ``None``)."""
+    if mode == "off":
+        return list(states), cat([], ndim), None
+    if mode == "bernoulli":
+        r = [bernoulli_existence(s) for s in states]
+        return ([s for s, x in zip(states, r) if x is None], cat([s.store for s, x in zip(states, r) if x is not None], ndim),
+                np.array([x for x in r if x is not None], dtype=float))
+    single = [is_singleton(s) for s in states]
+    if mode == "survival" and any(single):  # per-track survival: only the tracks surviving surely
+        ok = iter(admitted(population, cat([s.store for s, x in zip(states, single) if x], ndim)))
+        single = [x and bool(next(ok)) for x in single]
+    return ([s for s, x in zip(states, single) if not x], cat([s.store for s, x in zip(states, single) if x], ndim), None)
 
 
 def predict_each(motion, x, P, dt, step=None):
@@ -236,6 +278,16 @@ class Lane:
         idx = np.flatnonzero(keep)
         return Lane(take(self.store, idx), self.times[idx], self.view[idx],
                     None if self.r is None else self.r[idx], None if self.p_s is None else self.p_s[idx])
+
+    def summary_parts(self, groups, time: float, motion):
+        """``(states, singles, n_singles, n_unsure)`` for :class:`~.summary.FactoredPosterior`: ``groups()`` (the
+        multi-hypothesis groups predicted to ``time``) followed by the singletons of ``r < 1`` as their two
+        hypotheses (:func:`bernoulli`), and the singletons that surely exist, all predicted when read."""
+        if self.r is None or not np.any(self.r < 1):
+            return groups, lambda: self.now(time, motion), len(self), 0
+        unsure, sure = np.flatnonzero(self.r < 1), np.flatnonzero(self.r == 1)
+        return (lambda: groups() + [bernoulli(self.now(time, motion), j, float(self.r[j])) for j in unsure],
+                lambda: take(self.now(time, motion), sure), len(sure), len(unsure))
 
     def bernoulli_states(self, store: TrackStore) -> list:
         """Each singleton of ``store`` (this lane's, e.g. predicted) as the engine's group (:func:`bernoulli`)."""

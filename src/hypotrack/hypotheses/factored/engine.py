@@ -17,8 +17,9 @@ from ..state import scan_interval
 from ..tracks import TrackStore
 from .births import birth_loglik
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
-from .lane import (GroupSet, Lane, admitted, bernoulli_lane, cat, is_singleton, lane_existence, one_hypothesis_lane,
-                   predict_each, scan_existence, silent, singleton, sort_out, survival_lane, take)
+from .lane import (GroupSet, Lane, admitted, bernoulli_existence, bernoulli_lane, cat, is_singleton, lane_existence,
+                   lane_survival, one_hypothesis_lane, predict_each, scan_existence, silent, singleton, sort_out,
+                   survival_lane, take)
 from .options import FactoredOptions
 from .planner import (ObjectIds, ScanData, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
                       touched_plan)
@@ -135,7 +136,7 @@ class FactoredFilter:
             if record.exact:
                 groups = parts
         if groups is not None:
-            states, lane, r = obj._sort_out(groups)
+            states, lane, r = sort_out(groups, obj._mode, obj._engine.population, obj.ndim)
             obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time, *lane_existence(obj._bern_pop, lane, r))
         obj._next_label = f.next_label
         obj.scan_index = f.scan_index
@@ -169,6 +170,7 @@ class FactoredFilter:
         self._bern = bernoulli_lane(engine.population, options.bernoulli_lane)  # (lane module docstring)
         self._bern_pop = engine.population if self._bern else None
         self._lane_on = self._silent or survival_lane(engine.population) or self._bern
+        self._mode = "off" if not self._lane_on else "silent" if self._silent else "bernoulli" if self._bern else "survival"
 
     # ------------------------------------------------------------------ options
     @property
@@ -268,11 +270,6 @@ class FactoredFilter:
         lane = self._lane.now(self.time, self._engine.motion)
         return self._groups.now(self.time, self._engine.motion) + self._lane.bernoulli_states(lane)
 
-    def _sort_out(self, states):
-        """``(groups, lane store, r)``: :func:`~.lane.sort_out` with this filter's lane."""
-        mode = "off" if not self._lane_on else "silent" if self._silent else "bernoulli" if self._bern else "survival"
-        return sort_out(states, mode, self._engine.population, self.ndim)
-
     @property
     def n_objects_held(self) -> int:
         """Objects (labels) held by some hypothesis of some group."""
@@ -355,16 +352,17 @@ class FactoredFilter:
         return ScanData(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
 
     def _fast(self, scan, graph, Z, stats) -> FastBatch | None:
-        """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane
-        singleton with one return and nothing else, whose general step would keep only the
-        detected child, stepped in one batch; ``None`` when it is off or cannot be exact."""
-        rule = self._fast_rule()
+        """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane singleton with one return
+        and nothing else, whose general step keeps only the detected child, stepped in one batch; ``None``: off/not exact."""
+        rule, E = self._fast_rule(), self._engine
         if rule is None:
             return None
-        E = self._engine
         r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
-        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z,
-                               E.H if E.H is not None else E.measurement, E.R, E.weights.seeded_births, r_birth, E.population)
+        c0, rp = int(scan.bounds[-1]), None  # Bernoulli singletons: r p_S ("not": 1 - r p_S, "died" merged into it)
+        if self._bern:  # (duplicates not merged: 0, none taken)
+            rp = self._lane.r[scan.cand] * lane_survival(E.population, take(scan.pred, np.arange(c0, len(scan.pred)))) * E.merge_duplicates
+        fast = fast_components(rule, graph, scan.scores, scan.pred, c0, Z, E.H if E.H is not None else E.measurement, E.R,
+                               E.weights.seeded_births, r_birth, E.population, lane_exist=rp)
         n = len(fast.store)
         stats.update(n_fast_path=n, n_fast_births=fast.n_births, n_fast_clutter=fast.n_clutter,
                      n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)
@@ -372,7 +370,7 @@ class FactoredFilter:
 
     def _fast_rule(self):
         """The fast path's :class:`~.fast_path.FastRule`, or ``None`` (off, or not exact for this engine)."""
-        if not self._options.fast_path or self._bern:  # (its rule assumes every lane track exists surely)
+        if not self._options.fast_path:
             return None
         return fast_rule(self._engine, self._lane_on, self._options.min_weight)
 
@@ -497,12 +495,14 @@ class FactoredFilter:
         tail = take(scan.pred, np.arange(scan.bounds[-1], len(scan.pred)))
         kept = [(k, s) for k, s in ((k, prune(s, self._options.min_weight)) for k, s in new_groups) if s is not None]
         states = [s for _, s in kept]
-        groups_new, lane_new, r_new = self._sort_out(states)
+        groups_new, lane_new, r_new = sort_out(states, self._mode, self._engine.population, self.ndim)
         if fast is not None and len(fast.store):
             # the fast path's singletons between the steps' ones, by plan key (stable: a step's own stay in order)
-            step_keys = np.array([k for k, s in kept if is_singleton(s)], dtype=np.int64)
+            one = (lambda s: bernoulli_existence(s) is not None) if self._bern else is_singleton
+            step_keys = np.array([k for k, s in kept if one(s)], dtype=np.int64)
             order = np.argsort(np.concatenate([step_keys, fast.store_keys]), kind="stable")
             lane_new = take(cat([lane_new, fast.store], self.ndim), order)
+            r_new = None if r_new is None else np.concatenate([r_new, np.ones(len(fast.store))])[order]  # detected: r = 1
         quiet, E = graph.quiet_singletons(), self._engine
         q = np.flatnonzero(quiet)  # Bernoulli singletons: the quiet ones' empty-scan steps in closed form
         exist = None if not self._bern else scan_existence(E.population, E.validity, self._lane.r[scan.cand[q]], take(

@@ -277,9 +277,9 @@ class FactoredFilter:
 
     @property
     def n_joint_hypotheses(self) -> int:
-        """Hypotheses of the product (``Π_g H_g``, exact integer)."""
-        states = self._groups.states
-        return int(np.prod([len(s.log_w) for s in states], dtype=object)) if states else 1
+        """Hypotheses of the product (``Π_g H_g``, exact integer; a Bernoulli singleton of ``r < 1`` holds two)."""
+        n = [len(s.log_w) for s in self._groups.states] + [2] * int(np.sum(self._lane.r < 1) if self._bern else 0)
+        return int(np.prod(n, dtype=object)) if n else 1
 
     # ------------------------------------------------------------------ scan
     def step(self, Z, time=None, *, dt=None) -> FactoredPosterior:

@@ -123,6 +123,7 @@ def test_bernoulli_lane_is_the_general_engine(pop, lazy, use_fast):
         plain.step(Z, float(k))
         _assert_same(fast, general)
         assert fast.same_posterior(plain)
+        assert fast.n_joint_hypotheses == general.n_joint_hypotheses == len(fast.joint_hypotheses())
         n_fast += fast.last_stats["n_fast_path"]
         lane = fast.state().lane
         n_unsure += int(np.sum(lane.r < 1))  # Bernoulli singletons of r < 1 held in the lane

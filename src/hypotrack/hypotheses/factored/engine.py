@@ -503,10 +503,10 @@ class FactoredFilter:
             order = np.argsort(np.concatenate([step_keys, fast.store_keys]), kind="stable")
             lane_new = take(cat([lane_new, fast.store], self.ndim), order)
             r_new = None if r_new is None else np.concatenate([r_new, np.ones(len(fast.store))])[order]  # detected: r = 1
-        quiet, E = graph.quiet_singletons(), self._engine
-        q = np.flatnonzero(quiet)  # Bernoulli singletons: the quiet ones' empty-scan steps in closed form
-        exist = None if not self._bern else scan_existence(E.population, E.validity, self._lane.r[scan.cand[q]], take(
-            tail, q), scan.scores.p_detect[scan.bounds[-1] + q], lane_new, r_new, self._options.min_weight)
+        quiet, q = graph.quiet_singletons(), np.flatnonzero(graph.quiet_singletons())
+        exist = None if not self._bern else scan_existence(  # Bernoulli singletons: empty-scan steps in closed form
+            self._lane, scan.cand, scan.view, quiet, take(tail, q), scan.scores.p_detect[scan.bounds[-1] + q],
+            self._engine, lane_new, r_new, self._options.min_weight)
         self._lane, n_kept = self._lane.after_scan(scan.cand, quiet, tail, now, scan.view, lane_new, exist)
         stats["n_predict_only"] += n_kept + len(scan.asleep)
         stats["n_asleep"] = len(scan.asleep)

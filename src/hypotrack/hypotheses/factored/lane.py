@@ -144,19 +144,30 @@ def lane_existence(population, store: TrackStore, r):
     return np.asarray(r, dtype=float), lane_survival(population, store)
 
 
-def scan_existence(population, validity, r, pred: TrackStore, p_detect, new: TrackStore, r_new, min_weight: float):
-    """The ``exist`` of :meth:`Lane.after_scan` for Bernoulli singletons: the quiet candidates (existences ``r``,
-    predicted to ``pred``, no return or birth term) take the engine's empty-scan step in closed form
-    (:func:`missed` with the predicted ``p_S`` and the scan's ``p_D``, the ones its step takes from the scores; a
-    track failing the engine's ``validity`` gets ``r' = 0``, its "missed" child weighing 0 there, unless
-    ``r = p_S = 1``: a lone track the general path only predicts); the singletons ``new`` the steps produced keep
-    their existences ``r_new``; each one's survival (:func:`lane_survival`) and ``min_weight``."""
+def scan_existence(lane: "Lane", cand, view, quiet, pred: TrackStore, p_detect, engine, new: TrackStore, r_new,
+                   min_weight: float):
+    """The ``exist`` of :meth:`Lane.after_scan` for Bernoulli singletons. The quiet candidates ``cand[quiet]``
+    (predicted to ``pred``, no return or birth term) take the engine's empty-scan step in closed form (:func:`missed`
+    with the predicted ``p_S`` and the scan's ``p_D``, the ones its step takes from the scores); the singletons
+    ``new`` the steps produced keep their existences ``r_new``; each one's survival (:func:`lane_survival`) and
+    ``min_weight``. With the engine's ``validity`` test a track failing it gets ``r' = 0``, as its "missed" child
+    weighs 0 in the engine's step: a quiet candidate at its prediction, a singleton asleep at its mean at the scan
+    (``view``, lazy) — unless ``r = p_S = 1`` (a lone track the general path only predicts)."""
+    population, validity = engine.population, engine.validity
+    r = lane.r[cand[quiet]]
     p_s = lane_survival(population, pred)
     out = missed(r, p_s, p_detect)
-    if validity is not None and len(pred):
-        stepped = (np.asarray(r) < 1) | (p_s < 1)
-        out = np.where(stepped & ~np.asarray(validity(pred.means), dtype=bool), 0.0, out)
-    return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight
+    ok = None
+    if validity is not None:
+        if len(pred):
+            stepped = (r < 1) | (p_s < 1)
+            out = np.where(stepped & ~np.asarray(validity(pred.means), dtype=bool), 0.0, out)
+        check = (lane.r < 1) | (lane.p_s < 1)
+        check[cand] = False
+        if view is not None and check.any():
+            ok = np.ones(len(lane))
+            ok[check] = np.asarray(validity(view[check]), dtype=bool)
+    return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight, ok
 
 
 def sort_out(states, mode: str, population, ndim: int):
@@ -320,9 +331,10 @@ class Lane:
         ``pred`` (their order), the ``quiet`` ones (no return, no birth term) kept here, the others
         stepped; then the singletons ``new`` the scan's steps produced, at ``now``.
 
-        ``exist`` (Bernoulli singletons): ``(r_quiet, p_s_quiet, r_new, p_s_new, min_weight)``, the quiet
+        ``exist`` (Bernoulli singletons): ``(r_quiet, p_s_quiet, r_new, p_s_new, min_weight, ok)``, the quiet
         candidates' existences after the scan (:func:`missed`) and survivals at their prediction, the new
-        singletons' existences and survivals; the singletons not predicted take ``r ← p_S r``, and every
+        singletons' existences and survivals, whether each singleton passes the validity test (``None``: all,
+        :func:`scan_existence`); the singletons not predicted take ``r ← p_S r`` (0 failing it), and every
         existence the engine's pruning (:func:`bernoulli_prune`: a singleton whose track it drops leaves)."""
         # one pass over the lane's arrays: the kept singletons (the quiet candidates replaced by their
         # prediction), then the new ones
@@ -348,8 +360,9 @@ class Lane:
         labels = np.concatenate([self.store.labels[idx], new.labels])
         if exist is None:
             return Lane(TrackStore(means, covs, labels), times, lane_view), n_keep
-        r_quiet, p_quiet, r_new, p_new, min_weight = exist
-        r = np.concatenate([self.r[idx] * self.p_s[idx], r_new])  # out of view: r <- p_S r (p_D = 0)
+        r_quiet, p_quiet, r_new, p_new, min_weight, ok = exist
+        r = self.r[idx] * self.p_s[idx] if ok is None else self.r[idx] * self.p_s[idx] * ok[idx]
+        r = np.concatenate([r, r_new])  # out of view: r <- p_S r (p_D = 0); 0 if its mean fails the validity test
         p_s = np.concatenate([self.p_s[idx], p_new])
         r[pos[moved]], p_s[pos[moved]] = r_quiet, p_quiet
         alive, r = bernoulli_prune(r, min_weight)

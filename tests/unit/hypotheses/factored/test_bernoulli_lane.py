@@ -54,11 +54,12 @@ def _returns(k):
     return np.array(Z).reshape(-1, 2)
 
 
-def _filter(bern, population, means=X0, covs=None, lazy=True, min_weight=1e-3, p_D=0.8, adaptive=BIRTH, fast=False):
+def _filter(bern, population, means=X0, covs=None, lazy=True, min_weight=1e-3, p_D=0.8, adaptive=BIRTH, fast=False,
+            validity=None):
     covs = np.repeat(CONF[None], len(means), axis=0) if covs is None else covs
     f = HypothesisFilter(MOTION, position_sensor(R=0.25, p_D=p_D, view=VIEW, clutter_rate=1.0), GLMBWeights(),
                          ExhaustiveGenerator(), population=population, dt=1.0, max_hypotheses=100, means=means,
-                         covs=covs, seed=0, gate_probability=0.999)
+                         covs=covs, seed=0, gate_probability=0.999, validity=validity)
     return FactoredFilter.from_filter(f, adaptive_birth=adaptive, min_weight=min_weight, lazy=lazy, replay=True,
                                       gate_out_of_view=False, bernoulli_lane=bern, fast_path=fast)
 
@@ -135,6 +136,28 @@ def test_bernoulli_lane_is_the_general_engine(pop, lazy, use_fast):
     assert sorted(fast.estimates().labels.tolist()) == [0, 1, 3, 4, 7]
     p_s = 0.95 if pop == "p_S 0.95" else 0.97
     assert _existence(fast, 3) == pytest.approx(p_s**12, rel=1e-12)
+
+
+def _south_west(means):
+    """A validity test D (asleep at x = 500) and C (in view at y = 50) fail from the start."""
+    return (means[:, 0] < 400) & (means[:, 1] < 40)
+
+
+@pytest.mark.parametrize("lazy, use_fast", [(True, False), (False, False), (True, True)])
+def test_a_track_failing_the_validity_test_leaves_as_in_the_general_engine(lazy, use_fast):
+    """With the engine's validity test the general engine's empty-scan step gives the "missed" child of a track
+    failing it weight 0, so the track leaves at the first scan it may die in: C (quiet in view) and D (asleep out of
+    view, tested at its mean at the scan) at scan 1, in the lane as there; every label as the general engine's."""
+    population = POPULATIONS["p_S 0.95"]
+    fast = _filter(True, population, lazy=lazy, fast=use_fast, validity=_south_west)
+    general = _filter(False, population, lazy=lazy, validity=_south_west)
+    for k in range(1, 13):
+        Z = _returns(k)
+        fast.step(Z, float(k))
+        general.step(Z, float(k))
+        _assert_same(fast, general)
+        assert 2 not in _by_label(fast) and 3 not in _by_label(fast)
+    assert sorted(fast.estimates().labels.tolist()) == [0, 1, 4, 6]  # (the clutter return's newborn failed it too)
 
 
 def test_the_recursion_over_a_gap_hand_computed():

@@ -31,6 +31,11 @@ the lane; over ``k`` scans asleep ``p_S^k r``, exact for a constant ``p_S``, and
 changes only where the track turns tentative out of view), and a singleton a return or birth term
 reaches enters the engine's step as its two hypotheses (:func:`bernoulli`), its results of one track
 coming back with their ``r``. ``r = 1`` is the single hypothesis of a lone track, as without.
+The survival is per scan, as the engine's (``p_S^k`` over ``k`` scans: ``p_S^{Δt/dt}`` for evenly spaced
+scans); "died" and "not" are one hypothesis when the engine merges duplicates (its default; the fast path
+takes no Bernoulli singleton otherwise); with the engine's ``validity`` test a track failing it leaves, as its
+"missed" child weighs 0 there (:func:`scan_existence`: a quiet candidate at its prediction, a singleton asleep
+at its mean at the scan).
 """
 
 from __future__ import annotations

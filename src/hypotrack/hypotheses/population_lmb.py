@@ -272,7 +272,11 @@ class UnconfirmedDecay:
         Largest velocity standard deviation (state units per second) of a confirmed track, > 0; e.g. 1 km/s
         against the 8 km/s of a one-point birth and ~0.1 km/s after a second position fix 10 s later.
     p_confirmed : float
-        Per-scan survival of a confirmed track, in (0, 1]; default 1.
+        Per-scan survival of a confirmed track, in (0, 1]; default 1. Below 1 a catalogued track with no object
+        behind it in view leaves too: with ``p_S = 1`` its existence ``r = 1`` is a fixed point of the miss
+        update, with ``p_S < 1`` each miss multiplies its odds by about ``p_S (1 − p_D)``, while out of view
+        ``r`` falls only as ``p_S^k`` (the factored engine keeps such tracks in its lane with
+        ``bernoulli_lane``, :mod:`.factored.lane`).
     velocity_components : tuple of int
         The state components holding the velocity; default ``(3, 4, 5)`` (``[r, v]`` in 3-D).
 

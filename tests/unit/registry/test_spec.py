@@ -23,7 +23,7 @@ def test_defaults_fill_every_option_and_kind_overrides_the_family():
     f = TrackerSpec.from_config({"kind": "glmb", "factored": {"lazy": True}}).options["factored"]
     assert f == {"lazy": True, "split": "marginal", "births": "coupled", "factor_tol": 1e-10, "min_weight": 0.0,
                  "gate_out_of_view": True, "workers": 1, "parallel": "process", "measure_transfer": False,
-                 "fast_path": False, "replay": False}
+                 "fast_path": False, "replay": False, "bernoulli_lane": False}
 
 
 @pytest.mark.parametrize("mapping, where", [

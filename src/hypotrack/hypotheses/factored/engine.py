@@ -17,7 +17,8 @@ from ..state import scan_interval
 from ..tracks import TrackStore
 from .births import birth_loglik
 from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
-from .lane import (GroupSet, Lane, admitted, cat, is_singleton, one_hypothesis_lane, predict_each, silent, singleton,
+from .lane import (GroupSet, Lane, admitted, bernoulli_existence, bernoulli_lane, cat, is_singleton, lane_existence,
+                   lane_survival, one_hypothesis_lane, predict_each, scan_existence, silent, singleton, sort_out,
                    survival_lane, take)
 from .options import FactoredOptions
 from .planner import (ObjectIds, ScanData, interaction_parts, prune, quiet_plan, scan_graph, score_scorable, split_group,
@@ -135,8 +136,8 @@ class FactoredFilter:
             if record.exact:
                 groups = parts
         if groups is not None:
-            states, lane = obj._sort_out(groups)
-            obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time)
+            states, lane, r = sort_out(groups, obj._mode, obj._engine.population, obj.ndim)
+            obj._groups, obj._lane = GroupSet.at(states, f.time), Lane.at(lane, f.time, *lane_existence(obj._bern_pop, lane, r))
         obj._next_label = f.next_label
         obj.scan_index = f.scan_index
         return obj
@@ -166,7 +167,10 @@ class FactoredFilter:
         # singletons are exactly their Gaussian when a quiet group takes no population event, or (per-track
         # survival) when their track surely survives (lane.survival_lane)
         self._silent = silent(engine.population)
-        self._lane_on = self._silent or survival_lane(engine.population)
+        self._bern = bernoulli_lane(engine.population, options.bernoulli_lane)  # (lane module docstring)
+        self._bern_pop = engine.population if self._bern else None
+        self._lane_on = self._silent or survival_lane(engine.population) or self._bern
+        self._mode = "off" if not self._lane_on else "silent" if self._silent else "bernoulli" if self._bern else "survival"
 
     # ------------------------------------------------------------------ options
     @property
@@ -213,7 +217,7 @@ class FactoredFilter:
         if self._options.adaptive_birth is not None:
             self._set_birth_terms([])
         self._groups = GroupSet.at((), time)
-        self._lane = Lane.empty(self.ndim)
+        self._lane = Lane.empty(self.ndim, self._bern)
         self.time = float(time)
         self._objects = ObjectIds()
         self._next_label = 0
@@ -236,7 +240,9 @@ class FactoredFilter:
         store = TrackStore.from_arrays(means, covs, labels)
         if len(np.unique(store.labels)) != len(store):
             raise ValueError("labels must be distinct (one per object)")
-        if self._lane_on:
+        if self._bern:
+            self._lane = Lane.at(store, self.time, *lane_existence(self._bern_pop, store, np.ones(len(store))))
+        elif self._lane_on:
             ok = admitted(self._engine.population, store)
             self._lane = Lane.at(store if ok.all() else take(store, np.flatnonzero(ok)), self.time)
             self._groups = GroupSet.at([singleton(store, j) for j in np.flatnonzero(~ok)], self.time)
@@ -262,18 +268,7 @@ class FactoredFilter:
         """The groups' states (:class:`~..state.FilterState`): the multi-hypothesis groups, then the
         singletons (predicted to the current scan), as a new list."""
         lane = self._lane.now(self.time, self._engine.motion)
-        return self._groups.now(self.time, self._engine.motion) + [singleton(lane, j) for j in range(len(lane))]
-
-    def _sort_out(self, states):
-        """``(groups, lane store)``: the singletons of ``states`` moved to a lane store (when the lane is on)."""
-        if not self._lane_on:
-            return list(states), cat([], self.ndim)
-        single = [is_singleton(s) for s in states]
-        if not self._silent and any(single):  # per-track survival: only the tracks surviving surely
-            ok = iter(admitted(self._engine.population, cat([s.store for s, x in zip(states, single) if x], self.ndim)))
-            single = [x and bool(next(ok)) for x in single]
-        return ([s for s, x in zip(states, single) if not x],
-                cat([s.store for s, x in zip(states, single) if x], self.ndim))
+        return self._groups.now(self.time, self._engine.motion) + self._lane.bernoulli_states(lane)
 
     @property
     def n_objects_held(self) -> int:
@@ -282,9 +277,9 @@ class FactoredFilter:
 
     @property
     def n_joint_hypotheses(self) -> int:
-        """Hypotheses of the product (``Π_g H_g``, exact integer)."""
-        states = self._groups.states
-        return int(np.prod([len(s.log_w) for s in states], dtype=object)) if states else 1
+        """Hypotheses of the product (``Π_g H_g``, exact integer; a Bernoulli singleton of ``r < 1`` holds two)."""
+        n = [len(s.log_w) for s in self._groups.states] + [2] * int(np.sum(self._lane.r < 1) if self._bern else 0)
+        return int(np.prod(n, dtype=object)) if n else 1
 
     # ------------------------------------------------------------------ scan
     def step(self, Z, time=None, *, dt=None) -> FactoredPosterior:
@@ -315,7 +310,7 @@ class FactoredFilter:
         scan = self._predict_and_score(Z, interval, now)
         graph = scan_graph(scan.col_node, scan.G, scan.L, scan.scores, scan.birth_ll, self._options.births,
                            E.weights.seeded_births)
-        if not self._silent and self._lane_on:  # a lane track that may die this scan takes its step (lane.survival_lane)
+        if not self._silent and self._lane_on and not self._bern:  # a lane track that may die this scan takes its step (lane.survival_lane)
             graph = graph.touching(scan.G + np.flatnonzero(scan.scores.p_survive[scan.bounds[-1]:] < 1))
         stats = dict(_STATS0, n_predicted=len(scan.pred))
         fast = self._fast(scan, graph, Z, stats)
@@ -357,16 +352,17 @@ class FactoredFilter:
         return ScanData(groups, asleep, bounds, cand, view, pred, self._scores(pred, Z), birth_ll, col_node, G, L)
 
     def _fast(self, scan, graph, Z, stats) -> FastBatch | None:
-        """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane
-        singleton with one return and nothing else, whose general step would keep only the
-        detected child, stepped in one batch; ``None`` when it is off or cannot be exact."""
-        rule = self._fast_rule()
+        """The fast path (``fast_path``, :mod:`.fast_path`): the components that are one lane singleton with one return
+        and nothing else, whose general step keeps only the detected child, stepped in one batch; ``None``: off/not exact."""
+        rule, E = self._fast_rule(), self._engine
         if rule is None:
             return None
-        E = self._engine
         r_birth = None if E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
-        fast = fast_components(rule, graph, scan.scores, scan.pred, int(scan.bounds[-1]), Z,
-                               E.H if E.H is not None else E.measurement, E.R, E.weights.seeded_births, r_birth, E.population)
+        c0, rp = int(scan.bounds[-1]), None  # Bernoulli singletons: r p_S ("not": 1 - r p_S, "died" merged into it)
+        if self._bern:  # (duplicates not merged: 0, none taken)
+            rp = self._lane.r[scan.cand] * lane_survival(E.population, take(scan.pred, np.arange(c0, len(scan.pred)))) * E.merge_duplicates
+        fast = fast_components(rule, graph, scan.scores, scan.pred, c0, Z, E.H if E.H is not None else E.measurement, E.R,
+                               E.weights.seeded_births, r_birth, E.population, lane_exist=rp)
         n = len(fast.store)
         stats.update(n_fast_path=n, n_fast_births=fast.n_births, n_fast_clutter=fast.n_clutter,
                      n_touched=stats["n_touched"] + len(fast), n_kalman_updates=stats["n_kalman_updates"] + n)
@@ -383,6 +379,7 @@ class FactoredFilter:
         group predicts or takes an empty-scan step; a touched component merges its groups and steps.
         Returns the plans and their keys (first nodes); ``skip``: components the fast path took."""
         E, plans, keys, bounds = self._engine, [], [], scan.bounds
+        lane_r = self._lane.r[scan.cand] if self._bern else None  # a woken Bernoulli enters as its two hypotheses
         rule = self._fast_rule()
         r_birth = None if rule is None or E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         for key, c, members, regions, rows in graph.components(skip):
@@ -405,17 +402,17 @@ class FactoredFilter:
                 r_b = float(r_birth[regions[0]])
                 if r_b not in self._born_templates:
                     plan = touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                        scan.scores, Z, scan.birth_ll, stats)
+                                        scan.scores, Z, scan.birth_ll, stats, lane_r)
                     self._born_templates[r_b] = born_template(engine_step(E, *plan[1:], 0, 0))
                 if self._born_templates[r_b] is None:
                     plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                              scan.scores, Z, scan.birth_ll, stats))
+                                              scan.scores, Z, scan.birth_ll, stats, lane_r))
                 else:
                     plans.append(("born", int(regions[0]), self._born_templates[r_b]))
                     stats["n_fast_born"] += 1
             else:
                 plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                          scan.scores, Z, scan.birth_ll, stats))
+                                          scan.scores, Z, scan.birth_ll, stats, lane_r))
         return plans, np.array(keys, dtype=np.int64)
 
     def _run_plans(self, plans, keys, fast, stats) -> list:
@@ -498,13 +495,19 @@ class FactoredFilter:
         tail = take(scan.pred, np.arange(scan.bounds[-1], len(scan.pred)))
         kept = [(k, s) for k, s in ((k, prune(s, self._options.min_weight)) for k, s in new_groups) if s is not None]
         states = [s for _, s in kept]
-        groups_new, lane_new = self._sort_out(states)
+        groups_new, lane_new, r_new = sort_out(states, self._mode, self._engine.population, self.ndim)
         if fast is not None and len(fast.store):
             # the fast path's singletons between the steps' ones, by plan key (stable: a step's own stay in order)
-            step_keys = np.array([k for k, s in kept if is_singleton(s)], dtype=np.int64)
+            one = (lambda s: bernoulli_existence(s) is not None) if self._bern else is_singleton
+            step_keys = np.array([k for k, s in kept if one(s)], dtype=np.int64)
             order = np.argsort(np.concatenate([step_keys, fast.store_keys]), kind="stable")
             lane_new = take(cat([lane_new, fast.store], self.ndim), order)
-        self._lane, n_kept = self._lane.after_scan(scan.cand, graph.quiet_singletons(), tail, now, scan.view, lane_new)
+            r_new = None if r_new is None else np.concatenate([r_new, np.ones(len(fast.store))])[order]  # detected: r = 1
+        quiet, q = graph.quiet_singletons(), np.flatnonzero(graph.quiet_singletons())
+        exist = None if not self._bern else scan_existence(  # Bernoulli singletons: empty-scan steps in closed form
+            self._lane, scan.cand, scan.view, quiet, take(tail, q), scan.scores.p_detect[scan.bounds[-1] + q],
+            self._engine, lane_new, r_new, self._options.min_weight)
+        self._lane, n_kept = self._lane.after_scan(scan.cand, quiet, tail, now, scan.view, lane_new, exist)
         stats["n_predict_only"] += n_kept + len(scan.asleep)
         stats["n_asleep"] = len(scan.asleep)
         self._groups = scan.asleep.then(groups_new, now)
@@ -555,8 +558,8 @@ class FactoredFilter:
         """Per-group posteriors, the convolved cardinality distribution and the union of MAPs."""
         n_top = check_int(n_top, "n_top", minimum=1)
         motion, t, groups, lane = self._engine.motion, self.time, self._groups, self._lane
-        return FactoredPosterior(lambda: groups.now(t, motion), lambda: lane.now(t, motion),
-                                 len(lane), n_top=n_top, n_states=len(groups))
+        states, singles, n_singles, n_unsure = lane.summary_parts(lambda: groups.now(t, motion), t, motion)
+        return FactoredPosterior(states, singles, n_singles, n_top=n_top, n_states=len(groups) + n_unsure)
 
     def map_means(self) -> tuple[np.ndarray, np.ndarray]:
         """``(labels, means)`` of the MAP joint hypothesis: :attr:`posterior`'s ``map_estimate``
@@ -566,8 +569,11 @@ class FactoredFilter:
         """
         maps = [summarise(s.log_w, s.tracks, TrackStore(v, s.store.covs, s.store.labels)).map_estimate
                 for s, v in zip(self._groups.states, self._groups.views)]
-        return (np.concatenate([e.labels for e in maps] + [self._lane.store.labels]).astype(np.int64),
-                np.concatenate([e.means for e in maps] + [self._lane.view]).reshape(-1, self.ndim))
+        lane = self._lane
+        if lane.r is not None:  # a Bernoulli singleton is in the MAP when "exists" is the heavier (first on a tie)
+            lane = lane.where(lane.r >= 1.0 - lane.r)
+        return (np.concatenate([e.labels for e in maps] + [lane.store.labels]).astype(np.int64),
+                np.concatenate([e.means for e in maps] + [lane.view]).reshape(-1, self.ndim))
 
     def estimates(self) -> TrackEstimates:
         """The MAP joint hypothesis (the union of the groups' MAPs) at :attr:`time`: labels and means

@@ -44,7 +44,8 @@ term's undetected prior — and normalises over the valid children only.
 
 The rule holds for the engine itself (not a subclass that overrides its extension points), the four
 weight models above with a silent population (no population, or labeled multi-Bernoulli / binomial
-with ``p_S = 1``: the lane's condition), a cap that keeps every child (``H∞`` ≥ the number of
+with ``p_S = 1``: the lane's condition; or the lane's Bernoulli singletons, whose "not" child, weight
+``1 − r p_S`` against the others' ``r p_S``, is one more alternative), a cap that keeps every child (``H∞`` ≥ the number of
 children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
 two samplers with certainty only up to the chance that they never leave the alternative
 (``< min_weight^n_sweeps``). With seeded births the generator must make all three children
@@ -110,16 +111,21 @@ class FastRule:
         born = np.log(r) + np.log1p(-self.p_detect_birth)
         return bool(born - np.logaddexp(born, np.log1p(-r)) > self.log_threshold - 2 * np.log1p(-MARGIN))
 
-    def takes(self, loglik, p_detect, valid=None) -> np.ndarray:
+    def takes(self, loglik, p_detect, valid=None, extra=None) -> np.ndarray:
         """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected
         child; ``valid`` (n, alternatives): whether each alternative child passes the validity test
-        (an invalid one is not kept, nor counted in the normalisation)."""
+        (an invalid one is not kept, nor counted in the normalisation); ``extra`` (n,): the log-weight of one
+        more alternative per track, relative to the others' base (a Bernoulli singleton's "not" child,
+        ``log(1 − r p_S) − log(r p_S)``: the δ-GLMB row's children all carry ``r p_S`` but this one; it holds
+        no track, so it is always valid)."""
         ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik)
         p = np.where(ok, p_detect, 0.5)
         det = np.log(p) + np.where(ok, loglik, 0.0) - self.det_offset
         alt = np.log1p(-p)[:, None] + self.alt_offsets[None, :]
         if valid is not None:
             alt = np.where(valid, alt, -np.inf)
+        if extra is not None:
+            alt = np.concatenate([alt, np.asarray(extra, dtype=float)[:, None]], axis=1)
         total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
         return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
 
@@ -256,7 +262,7 @@ def lone_update(means, covs, Z, H, R):
 
 
 def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_col: int, Z, H, R,
-                    seeded: bool, r_birth=None, population=None) -> FastBatch:
+                    seeded: bool, r_birth=None, population=None, lane_exist=None) -> FastBatch:
     """The components of ``graph`` the fast path takes and their results.
 
     A lone track is a component of one lane singleton (node ``G + j``, its track column
@@ -267,7 +273,9 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     every node's), as in :meth:`~.planner.ScanGraph.components`. A lone birth term (node
     ``G + L + b``, alone, no return; ``r_birth``: each term's existence, ``None``: none taken) is
     dropped when :meth:`FastRule.takes_births` says so (``population``: its born-undetected tracks, for
-    the validity test).
+    the validity test). ``lane_exist`` (per lane singleton, optional): its ``r p_S`` (Bernoulli singletons,
+    :mod:`.lane`): its "not" child is one more alternative (:meth:`FastRule.takes`), and a taken track's
+    result is the detected child alone, ``r = 1``.
     """
     G, L, n_comp = graph.G, graph.L, graph.n_comp
     n_nodes = np.bincount(graph.node_lab, minlength=n_comp)
@@ -283,9 +291,15 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
     loglik, p_detect = scores.at(rows, cols), scores.p_detect[cols]
     n_new = np.full(len(j), rule.n_new, np.int64)
     # with per-track survival only a track that surely survives (no "died" child: the lane's condition)
-    sure = np.ones(len(cols), dtype=bool) if scores.p_survive is None else scores.p_survive[cols] == 1.0
+    sure = np.ones(len(cols), dtype=bool) if scores.p_survive is None or lane_exist is not None else \
+        scores.p_survive[cols] == 1.0
+    extra = None
+    if lane_exist is not None:
+        with np.errstate(divide="ignore"):
+            rp = np.asarray(lane_exist, dtype=float)[j]
+            extra = np.log1p(-rp) - np.log(rp)
     if rule.validity is None:
-        take = rule.takes(loglik, p_detect) & sure
+        take = rule.takes(loglik, p_detect, extra=extra) & sure
         x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
     else:  # every child's tracks tested, as the general step tests them
         x, P = lone_update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
@@ -294,7 +308,7 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
             born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
             valid[:, -1] &= _valid(rule.validity, born)
             n_new = valid[:, -1].astype(np.int64)
-        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid) & sure
+        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid, extra) & sure
         x, P = x[take], P[take]
     j, cols, n_new = j[take], cols[take], n_new[take]
     keys = (G + j).astype(np.int64)

@@ -8,6 +8,34 @@ multi-hypothesis groups are a :class:`GroupSet` (the same times and means per gr
 only what may be in view is predicted in full (:meth:`Lane.candidates`, :meth:`GroupSet.wake`):
 a track out of view takes no return, and one EKF prediction over a gap of ``k`` scans replaces
 ``k`` predictions (equal for a linear constant-velocity model).
+
+Bernoulli singletons (``bernoulli_lane``)
+-----------------------------------------
+With a labeled multi-Bernoulli population whose tracks may die, the general engine holds a lone
+track of existence ``r < 1`` as a group of two hypotheses over one track: "exists" (weight ``r``,
+the track) and "not" (``1 − r``, no track) (:func:`bernoulli`). A scan in which no return or birth term
+reaches it is the engine's empty-scan step (Vo, Vo & Hoang 2017, Eq. 12; the labeled problem's
+rows, :mod:`..population_lmb`): children "exists, missed" ``r p_S (1 − p_D)``, "died" ``r (1 − p_S)`` and
+"not" ``1 − r``, the last two the same hypothesis (no track: merged), so the posterior is again
+one Bernoulli,
+
+    ``r' = r p_S (1 − p_D) / (1 − r p_S p_D)``                 (:func:`missed`)
+
+(out of view ``p_D = 0``: ``r' = p_S r``), and the engine's pruning of its two hypotheses deletes the
+track when ``r' < min_weight`` (and "not" is the heavier) or sets ``r' = 1`` when ``1 − r' < min_weight``
+(:func:`bernoulli_prune`). So the lane carries ``r`` and each singleton's per-scan survival
+``p_S`` (of its moments when last predicted): a quiet candidate takes :func:`missed` with its
+predicted ``p_S`` and ``p_D``, a singleton out of view ``r ← p_S r`` each scan (one multiplication over
+the lane; over ``k`` scans asleep ``p_S^k r``, exact for a constant ``p_S``, and for a per-track
+``survival`` the value at its last prediction, which for :class:`~..population_lmb.UnconfirmedDecay`
+changes only where the track turns tentative out of view), and a singleton a return or birth term
+reaches enters the engine's step as its two hypotheses (:func:`bernoulli`), its results of one track
+coming back with their ``r``. ``r = 1`` is the single hypothesis of a lone track, as without.
+The survival is per scan, as the engine's (``p_S^k`` over ``k`` scans: ``p_S^{Δt/dt}`` for evenly spaced
+scans); "died" and "not" are one hypothesis when the engine merges duplicates (its default; the fast path
+takes no Bernoulli singleton otherwise); with the engine's ``validity`` test a track failing it leaves, as its
+"missed" child weighs 0 there (:func:`scan_existence`: a quiet candidate at its prediction, a singleton asleep
+at its mean at the scan).
 """
 
 from __future__ import annotations
@@ -23,7 +51,8 @@ from ..state import FilterState
 from ..tracks import TrackStore
 
 __all__ = ["Lane", "GroupSet", "silent", "survival_lane", "admitted", "predict_each", "singleton", "is_singleton", "take", "cat", "empty_state",
-           "one_hypothesis_lane"]
+           "one_hypothesis_lane", "bernoulli", "bernoulli_existence", "bernoulli_lane", "lane_survival", "missed",
+           "bernoulli_prune", "lane_existence", "scan_existence", "sort_out"]
 
 
 def silent(population) -> bool:
@@ -55,6 +84,113 @@ def admitted(population, store: TrackStore) -> np.ndarray:
     if silent(population) or len(store) == 0:
         return np.ones(len(store), dtype=bool)
     return population.track_survival(store) == 1.0
+
+
+def bernoulli_lane(population, requested: bool) -> bool:
+    """Whether the lane holds Bernoulli singletons (module docstring): ``requested`` (the ``bernoulli_lane``
+    option) with a labeled multi-Bernoulli population that is not :func:`silent`."""
+    return bool(requested) and type(population) is LabeledMultiBernoulliPopulation and not silent(population)
+
+
+def lane_survival(population, store: TrackStore) -> np.ndarray:
+    """Per-scan ``p_S`` ``(n,)`` of the tracks of ``store`` (labeled multi-Bernoulli): its ``survival`` of their
+    moments, else its one ``p_survive`` (:meth:`~..population_lmb.LabeledMultiBernoulliPopulation.log_existence`)."""
+    p = population.track_survival(store)
+    return np.full(len(store), float(population.p_survive)) if p is None else p
+
+
+def missed(r, p_s, p_d) -> np.ndarray:
+    """Existence after a scan with no return for the track (module docstring):
+    ``r p_S (1 − p_D) / (1 − r p_S p_D)``; ``r = p_S = 1`` stays exactly 1."""
+    a = np.asarray(r, dtype=float) * p_s
+    return a * (1.0 - p_d) / (1.0 - a * p_d)
+
+
+def bernoulli_prune(r, min_weight: float):
+    """``(alive, r)``: the engine's pruning (:func:`~.planner.prune`: below ``min_weight`` dropped, the heavier
+    always kept, "exists" first on a tie) of the Bernoulli groups of existences ``r``: "exists" dropped (the
+    track deleted: ``alive`` False) or "not" dropped (``r = 1``)."""
+    r = np.asarray(r, dtype=float)
+    if min_weight <= 0:
+        return r > 0, r
+    alive = (r > 0) & ((r >= min_weight) | (r >= 1.0 - r))
+    return alive, np.where(((1.0 - r) >= min_weight) | (1.0 - r > r), r, 1.0)
+
+
+def bernoulli(store: TrackStore, j, r: float) -> FilterState:
+    """The group of store entry ``j`` of existence ``r``: :func:`singleton` for ``r = 1``, else the two
+    hypotheses the general engine holds for it, "exists" (``log r``, the track) and "not" (``log(1 − r)``)."""
+    if r == 1.0:
+        return singleton(store, j)
+    return FilterState(TrackStore(store.means[[j]], store.covs[[j]], store.labels[[j]]),
+                       np.array([np.log(r), np.log1p(-r)]),
+                       [np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64)], [("lane", 1), ("lane", 0)])
+
+
+def bernoulli_existence(state: FilterState) -> float | None:
+    """The existence ``r`` of a group that is one track's Bernoulli (:func:`bernoulli`; a singleton: 1),
+    or ``None`` for any other group."""
+    if len(state.store) != 1:
+        return None
+    if len(state.log_w) == 1:
+        return 1.0 if len(state.tracks[0]) == 1 else None
+    if len(state.log_w) == 2 and sorted(len(t) for t in state.tracks) == [0, 1]:
+        h = 0 if len(state.tracks[0]) == 1 else 1
+        return float(np.exp(state.log_w[h] - np.logaddexp(state.log_w[0], state.log_w[1])))
+    return None
+
+
+def lane_existence(population, store: TrackStore, r):
+    """``(r, p_s)`` of new Bernoulli singletons ``store`` of existences ``r``: their per-scan survival at these
+    moments (:func:`lane_survival` of ``population``); ``(None, None)`` without Bernoulli singletons (``population``
+    ``None``)."""
+    if population is None:
+        return None, None
+    return np.asarray(r, dtype=float), lane_survival(population, store)
+
+
+def scan_existence(lane: "Lane", cand, view, quiet, pred: TrackStore, p_detect, engine, new: TrackStore, r_new,
+                   min_weight: float):
+    """The ``exist`` of :meth:`Lane.after_scan` for Bernoulli singletons. The quiet candidates ``cand[quiet]``
+    (predicted to ``pred``, no return or birth term) take the engine's empty-scan step in closed form (:func:`missed`
+    with the predicted ``p_S`` and the scan's ``p_D``, the ones its step takes from the scores); the singletons
+    ``new`` the steps produced keep their existences ``r_new``; each one's survival (:func:`lane_survival`) and
+    ``min_weight``. With the engine's ``validity`` test a track failing it gets ``r' = 0``, as its "missed" child
+    weighs 0 in the engine's step: a quiet candidate at its prediction, a singleton asleep at its mean at the scan
+    (``view``, lazy) — unless ``r = p_S = 1`` (a lone track the general path only predicts)."""
+    population, validity = engine.population, engine.validity
+    r = lane.r[cand[quiet]]
+    p_s = lane_survival(population, pred)
+    out = missed(r, p_s, p_detect)
+    ok = None
+    if validity is not None:
+        if len(pred):
+            stepped = (r < 1) | (p_s < 1)
+            out = np.where(stepped & ~np.asarray(validity(pred.means), dtype=bool), 0.0, out)
+        check = (lane.r < 1) | (lane.p_s < 1)
+        check[cand] = False
+        if view is not None and check.any():
+            ok = np.ones(len(lane))
+            ok[check] = np.asarray(validity(view[check]), dtype=bool)
+    return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight, ok
+
+
+def sort_out(states, mode: str, population, ndim: int):
+    """``(groups, lane store, r)``: the singletons of ``states`` moved to a lane store — ``mode`` ``"off"`` (none),
+    ``"silent"`` (every singleton), ``"survival"`` (those whose track surely survives, :func:`admitted`) or
+    ``"bernoulli"`` (every one-track Bernoulli, ``r`` their existences, :func:`bernoulli_existence`; else
+    ``r`` is ``None``)."""
+    if mode == "off":
+        return list(states), cat([], ndim), None
+    if mode == "bernoulli":
+        r = [bernoulli_existence(s) for s in states]
+        return ([s for s, x in zip(states, r) if x is None], cat([s.store for s, x in zip(states, r) if x is not None], ndim),
+                np.array([x for x in r if x is not None], dtype=float))
+    single = [is_singleton(s) for s in states]
+    if mode == "survival" and any(single):  # per-track survival: only the tracks surviving surely
+        ok = iter(admitted(population, cat([s.store for s, x in zip(states, single) if x], ndim)))
+        single = [x and bool(next(ok)) for x in single]
+    return ([s for s, x in zip(states, single) if not x], cat([s.store for s, x in zip(states, single) if x], ndim), None)
 
 
 def predict_each(motion, x, P, dt, step=None):
@@ -133,20 +269,47 @@ def empty_state(ndim: int) -> FilterState:
 @dataclass(frozen=True, eq=False)
 class Lane:
     """The singletons: ``store`` (each at its own time ``times``) and ``view``, their means at the
-    current scan (with ``lazy``, advanced a scan at a time)."""
+    current scan (with ``lazy``, advanced a scan at a time); with Bernoulli singletons (module docstring)
+    ``r``, each one's existence after the last scan, and ``p_s``, its per-scan survival while not
+    predicted (both ``None``: every singleton exists surely)."""
 
     store: TrackStore
     times: np.ndarray
     view: np.ndarray
+    r: np.ndarray | None = None
+    p_s: np.ndarray | None = None
 
     @classmethod
-    def empty(cls, ndim: int) -> "Lane":
-        return cls(cat([], ndim), np.zeros(0), np.zeros((0, ndim)))
+    def empty(cls, ndim: int, bernoulli: bool = False) -> "Lane":
+        z = np.zeros(0) if bernoulli else None
+        return cls(cat([], ndim), np.zeros(0), np.zeros((0, ndim)), z, z)
 
     @classmethod
-    def at(cls, store: TrackStore, time: float) -> "Lane":
-        """Singletons ``store``, all predicted to ``time``."""
-        return cls(store, np.full(len(store), float(time)), store.means.copy())
+    def at(cls, store: TrackStore, time: float, r=None, p_s=None) -> "Lane":
+        """Singletons ``store``, all predicted to ``time`` (with Bernoulli singletons: existences ``r``, survivals ``p_s``)."""
+        return cls(store, np.full(len(store), float(time)), store.means.copy(), r, p_s)
+
+    def where(self, keep) -> "Lane":
+        """The singletons ``keep`` (bool mask), in order."""
+        idx = np.flatnonzero(keep)
+        return Lane(take(self.store, idx), self.times[idx], self.view[idx],
+                    None if self.r is None else self.r[idx], None if self.p_s is None else self.p_s[idx])
+
+    def summary_parts(self, groups, time: float, motion):
+        """``(states, singles, n_singles, n_unsure)`` for :class:`~.summary.FactoredPosterior`: ``groups()`` (the
+        multi-hypothesis groups predicted to ``time``) followed by the singletons of ``r < 1`` as their two
+        hypotheses (:func:`bernoulli`), and the singletons that surely exist, all predicted when read."""
+        if self.r is None or not np.any(self.r < 1):
+            return groups, lambda: self.now(time, motion), len(self), 0
+        unsure, sure = np.flatnonzero(self.r < 1), np.flatnonzero(self.r == 1)
+        return (lambda: groups() + [bernoulli(self.now(time, motion), j, float(self.r[j])) for j in unsure],
+                lambda: take(self.now(time, motion), sure), len(sure), len(unsure))
+
+    def bernoulli_states(self, store: TrackStore) -> list:
+        """Each singleton of ``store`` (this lane's, e.g. predicted) as the engine's group (:func:`bernoulli`)."""
+        if self.r is None:
+            return [singleton(store, j) for j in range(len(store))]
+        return [bernoulli(store, j, float(r)) for j, r in enumerate(self.r)]
 
     def __len__(self) -> int:
         return len(self.store)
@@ -168,10 +331,16 @@ class Lane:
             return np.flatnonzero(seen), view
         return np.arange(len(self)), None
 
-    def after_scan(self, cand, quiet, pred: TrackStore, now: float, view, new: TrackStore):
+    def after_scan(self, cand, quiet, pred: TrackStore, now: float, view, new: TrackStore, exist=None):
         """``(lane, n_kept)``: the lane after a scan whose candidates ``cand`` were predicted to
         ``pred`` (their order), the ``quiet`` ones (no return, no birth term) kept here, the others
-        stepped; then the singletons ``new`` the scan's steps produced, at ``now``."""
+        stepped; then the singletons ``new`` the scan's steps produced, at ``now``.
+
+        ``exist`` (Bernoulli singletons): ``(r_quiet, p_s_quiet, r_new, p_s_new, min_weight, ok)``, the quiet
+        candidates' existences after the scan (:func:`missed`) and survivals at their prediction, the new
+        singletons' existences and survivals, whether each singleton passes the validity test (``None``: all,
+        :func:`scan_existence`); the singletons not predicted take ``r ← p_S r`` (0 failing it), and every
+        existence the engine's pruning (:func:`bernoulli_prune`: a singleton whose track it drops leaves)."""
         # one pass over the lane's arrays: the kept singletons (the quiet candidates replaced by their
         # prediction), then the new ones
         keep = np.ones(len(self), dtype=bool)
@@ -194,13 +363,23 @@ class Lane:
         lane_view = np.concatenate([(self.store.means if view is None else view)[idx], new.means])
         lane_view[pos[moved]] = pred.means[quiet]
         labels = np.concatenate([self.store.labels[idx], new.labels])
-        return Lane(TrackStore(means, covs, labels), times, lane_view), n_keep
+        if exist is None:
+            return Lane(TrackStore(means, covs, labels), times, lane_view), n_keep
+        r_quiet, p_quiet, r_new, p_new, min_weight, ok = exist
+        r = self.r[idx] * self.p_s[idx] if ok is None else self.r[idx] * self.p_s[idx] * ok[idx]
+        r = np.concatenate([r, r_new])  # out of view: r <- p_S r (p_D = 0); 0 if its mean fails the validity test
+        p_s = np.concatenate([self.p_s[idx], p_new])
+        r[pos[moved]], p_s[pos[moved]] = r_quiet, p_quiet
+        alive, r = bernoulli_prune(r, min_weight)
+        lane = Lane(TrackStore(means, covs, labels), times, lane_view, r, p_s)
+        return (lane, n_keep) if alive.all() else (lane.where(alive), n_keep)
 
     def same_as(self, other: "Lane") -> bool:
         """Bit-for-bit the same singletons, times and means at the scan."""
         a, b = self.store, other.store
         return all(np.array_equal(x, y) for x, y in ((a.means, b.means), (a.covs, b.covs), (a.labels, b.labels),
-                                                      (self.times, other.times), (self.view, other.view)))
+                                                      (self.times, other.times), (self.view, other.view),
+                                                      (self.r, other.r), (self.p_s, other.p_s)))
 
 
 @dataclass(frozen=True, eq=False)

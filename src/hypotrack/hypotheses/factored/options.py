@@ -89,6 +89,14 @@ class FactoredOptions:
         from a template: the same posterior, the same random streams and labels for the other steps.
         ``False`` (the default) steps every component through the engine. Takes nothing with
         ``min_weight = 0``.
+    bernoulli_lane : bool
+        With a labeled multi-Bernoulli population whose tracks may die (``p_S < 1``, or a per-track
+        ``survival``): the lane holds every singleton as a Bernoulli (its existence ``r`` beside its moments,
+        :func:`~.lane.bernoulli`), so a track of ``p_S < 1`` stays in the lane instead of becoming a group
+        stepped every scan; the posterior is the general engine's (one track, two hypotheses: exists / not).
+        ``False`` (the default): the lane holds only the tracks of ``p_S = 1``. No effect with a silent
+        population (every ``r`` stays 1) or another population. Turns the fast path off (its rule assumes
+        ``r = 1``).
 
     Examples
     --------
@@ -112,6 +120,7 @@ class FactoredOptions:
     gate_out_of_view: bool = True
     fast_path: bool = False
     replay: bool = False
+    bernoulli_lane: bool = False
 
     def __post_init__(self):
         for name, allowed in (("split", SPLITS), ("births", BIRTHS), ("parallel", PARALLEL)):
@@ -126,13 +135,13 @@ class FactoredOptions:
         workers = check_int(self.workers, "workers", minimum=1)
         if self.adaptive_birth is not None and not isinstance(self.adaptive_birth, AdaptiveBirth):
             raise TypeError(f"adaptive_birth must be an AdaptiveBirth or None, got {type(self.adaptive_birth).__name__}")
-        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path", "replay"):
+        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path", "replay", "bernoulli_lane"):
             if not isinstance(getattr(self, name), bool | np.bool_):
                 raise TypeError(f"{name} must be True or False, got {getattr(self, name)!r}")
         object.__setattr__(self, "factor_tol", tol)
         object.__setattr__(self, "min_weight", w)
         object.__setattr__(self, "workers", workers)
-        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path", "replay"):
+        for name in ("measure_transfer", "lazy", "gate_out_of_view", "fast_path", "replay", "bernoulli_lane"):
             object.__setattr__(self, name, bool(getattr(self, name)))
 
     @classmethod

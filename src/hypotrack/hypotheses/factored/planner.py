@@ -17,7 +17,7 @@ from ..factored_groups import SplitRecord, compact, components, factorise, produ
 from ..scan_context import ScanContext
 from ..state import FilterState
 from ..tracks import TrackStore
-from .lane import GroupSet, empty_state, singleton, take
+from .lane import GroupSet, bernoulli, empty_state, singleton, take
 from .scores import Scores, score_tracks
 
 __all__ = ["Scores", "MAX_SCALED_CONDITION", "scorable", "innovation_covariances", "score_scorable", "ScanData",
@@ -186,12 +186,13 @@ def component_context(engine, Z, rows, scores, birth_ll, regions) -> ScanContext
                        p_survive=p_survive)
 
 
-def touched_plan(engine, rng, members, regions, rows, groups, bounds, pred, scores, Z, birth_ll, stats):
+def touched_plan(engine, rng, members, regions, rows, groups, bounds, pred, scores, Z, birth_ll, stats, lane_r=None):
     """The plan of one engine step on a touched component (package docstring, step 2): its groups
     and singletons merged (:func:`~..factored_groups.product`, capped as the engine caps), with its
     returns ``rows`` and birth terms ``regions``. ``members``: graph nodes (``< len(groups)``: a
     group, its track columns ``bounds[g]:bounds[g + 1]`` of ``pred``; else a singleton, its track
-    the column ``bounds[-1] + node − len(groups)``)."""
+    the column ``bounds[-1] + node − len(groups)``, of existence ``lane_r[node − len(groups)]`` when given
+    (Bernoulli singletons, :func:`~.lane.bernoulli`))."""
     G = len(groups)
     if len(members) == 0:
         state, cols = empty_state(pred.ndim), np.zeros(0, dtype=np.int64)
@@ -203,7 +204,7 @@ def touched_plan(engine, rng, members, regions, rows, groups, bounds, pred, scor
                 col_sets.append(np.arange(bounds[g], bounds[g + 1]))
             else:
                 col = bounds[-1] + g - G
-                states.append(singleton(pred, col))
+                states.append(singleton(pred, col) if lane_r is None else bernoulli(pred, col, float(lane_r[g - G])))
                 col_sets.append(np.array([col]))
         if len(states) == 1:
             state, cols = states[0], col_sets[0]

@@ -74,7 +74,8 @@ def test_confirmed_object_out_of_view_for_an_orbit_survives():
 
 
 def test_without_decay_the_false_entry_stays():
-    tracker, posts = _run(_cfg(), "glmb", np.stack([CONFIRMED, TENTATIVE]), np.stack([P_CONF, P_TENT]), 11)
+    tracker, posts = _run(_cfg(unconfirmed_decay=None), "glmb", np.stack([CONFIRMED, TENTATIVE]), np.stack([P_CONF, P_TENT]),
+                          11)
     assert [p.expected_number for p in posts] == [2.0] * 11
 
 

@@ -26,6 +26,9 @@ def catalogue(request):
     ENU stand-in (a fixed H: one-point births)."""
     with open("workflows/config/default.yaml") as fh:
         cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
+    # the shortcuts counted below are the silent population's (quiet groups dropped, lone tracks of r = 1); the
+    # decaying one's Bernoulli lane and its fast path: test_bernoulli_lane.py
+    cfg["model"] = {k: v for k, v in cfg["model"].items() if k != "unconfirmed_decay"}
     if request.param == "enu":
         cfg = peer_config(cfg)
         cfg["model"] = {k: v for k, v in cfg["model"].items() if k not in ("birth", "plausibility")}

@@ -116,3 +116,20 @@ def test_checks_of_the_trackers_and_the_sensor():
     with pytest.raises(ValueError, match=r"^sensor must be an integer in \[0, 1\], got -1$"):
         fused.step(np.zeros((0, 2)), 6.0, sensor=-1)
     assert fused.sensor == 0 and fused.time == 5.0
+
+
+def test_before_its_first_scan_the_fused_tracker_holds_trackers_0s_settings():
+    """Settings the scenes above cannot tell apart are carried over too: the lazy prediction's form (``gap`` equals
+    ``replay`` for constant velocity), and the missed distance and ``p_detect`` (each scan takes its sensor's)."""
+    def p_detect(x):
+        return np.full(len(x), 0.8)
+
+    settings = dict(association="jpda", jpda_marginals="lbp", max_misses=2, gnn_score="mahalanobis",
+                    missed_distance=2.5, lazy=True, lazy_prediction="gap", validity=_valid, p_detect=p_detect)
+    t0 = _sensor_tracker(MODEL_0, settings)
+    fused = MultiSensorSHT.from_trackers([t0, _sensor_tracker(MODEL_1, settings, known=False)])
+    for name in ("association", "jpda_marginals", "max_misses", "gnn_score", "missed_distance", "gate_out_of_view",
+                 "lazy", "lazy_prediction", "validity", "p_detect", "in_view", "model", "time"):
+        assert getattr(fused, name) == getattr(t0, name), name
+    assert fused.missed_distance == 2.5 and fused.lazy_prediction == "gap" and fused.time == 5.0
+    assert fused.ids.tolist() == [10, 11, 12, 13, 14] and np.array_equal(fused.x, X0)

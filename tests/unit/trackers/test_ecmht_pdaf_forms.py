@@ -1,4 +1,5 @@
-"""The PDAF's "jpda" form (two tracks coupled, sensor after sensor: lecture 004 Eq. (1), then each track's PDA update
+"""The PDAF's "all_at_once" form (one PDA update per scan with all 2N returns as candidates, variance R each) and
+its "jpda" form (two tracks coupled, sensor after sensor: lecture 004 Eq. (1), then each track's PDA update
 with its marginals, Eqs. 5.14–5.17) by hand on a two-sensor scan of two runs, one where the straight assignment is
 the likelier and one where the crossed one is; and a run whose crossed assignment is certain (the weights' ratio
 beyond e^700) gives each track the other return exactly."""
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from hypotrack.models import OrnsteinUhlenbeck
-from hypotrack.trackers.ecmht import PDAFilter
+from hypotrack.trackers.ecmht import ECMHTFilter, PDAFilter
 
 SIGMA2, GAMMA, R = 0.02, 0.01, 0.5
 MODEL = OrnsteinUhlenbeck(SIGMA2, GAMMA)
@@ -74,3 +75,28 @@ def test_rejects_a_scan_of_another_shape():
     f = PDAFilter(MODEL, R, 2, variant="jpda")
     with pytest.raises(ValueError):
         f.step(np.zeros((1, 3, 2)))
+
+
+def test_all_at_once_two_sensors_by_hand():
+    """Each track weighs the scan's four returns ``w_i ∝ exp(−(z_i − x)²/(2(P + R)))`` and takes the PDA update."""
+    f = PDAFilter(MODEL, R, 2, variant="all_at_once")
+    f.step(np.array([[[0.0, 2.0], [-1.0, 1.0]], [[0.5, 2.5], [-0.5, 3.5]]]))  # tracks (−0.5, 1.5) and (0, 3)
+    scan = np.array([[[-0.2, 0.9], [0.1, 1.6]], [[2.4, 0.2], [0.1, 2.9]]])
+    got = f.step(scan)
+    Pp = A * A * R / 2 + Q
+    L = Pp / (Pp + R)
+    for run, start in enumerate(((-0.5, 1.5), (0.0, 3.0))):
+        returns = scan[run].ravel()
+        for j in range(2):
+            m = A * start[j]
+            w = [math.exp(-((z - m) ** 2) / (2 * (Pp + R))) for z in returns]
+            beta = [v / sum(w) for v in w]
+            nu_c = sum(b * (z - m) for b, z in zip(beta, returns))
+            spread = sum(b * (z - m) ** 2 for b, z in zip(beta, returns)) - nu_c**2
+            assert got[run, j] == pytest.approx(m + L * nu_c, rel=1e-12)
+            assert f.P[run, j] == pytest.approx((1 - L) * Pp + L * L * spread, rel=1e-12)
+
+
+def test_ecmht_names_its_seed_in_errors():
+    with pytest.raises(ValueError, match=r"^rng must be an integer >= 0, got -1$"):
+        ECMHTFilter(MODEL, R, 2, rng=-1)

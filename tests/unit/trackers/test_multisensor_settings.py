@@ -72,6 +72,7 @@ def test_scanned_by_sensor_0_the_fused_tracker_is_sensor_0s_own(name):
     fused = MultiSensorSHT.from_trackers([_sensor_tracker(MODEL_0, settings),
                                           _sensor_tracker(MODEL_1, settings, known=False)])
     assert _same(_run(fused), own)  # step without sensor=: sensor 0
+    assert fused.misses.dtype == np.int64  # miss counts stay exact integers
     if name is not None:  # the setting matters here
         assert not _same(own, _run(_sensor_tracker(MODEL_0, {})))
 

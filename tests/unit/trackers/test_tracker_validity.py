@@ -84,5 +84,6 @@ def test_a_lazy_tracker_advances_a_lone_unseen_track_and_never_asks_about_no_tra
     tr.initialise(np.array([[0.0, 0.0, 2.0, -1.0]]), P0[None], [7], time=0.0)
     for t in (1.0, 2.5):
         est = tr.step(np.zeros((0, 2)), t)
-        assert tr.last_predicted == 0
+        assert tr.last_predicted == 0 and est.time == t
         np.testing.assert_allclose(est.x, [[2.0 * t, -t, 2.0, -1.0]], atol=1e-12)
+        assert tr.misses.tolist() == [0] and tr.misses.dtype == np.int64  # unseen out of view: not missed

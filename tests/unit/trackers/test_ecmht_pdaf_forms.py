@@ -79,13 +79,13 @@ def test_rejects_a_scan_of_another_shape():
 
 def test_all_at_once_two_sensors_by_hand():
     """Each track weighs the scan's four returns ``w_i ∝ exp(−(z_i − x)²/(2(P + R)))`` and takes the PDA update."""
-    f = PDAFilter(MODEL, R, 2, variant="all_at_once")
-    f.step(np.array([[[0.0, 2.0], [-1.0, 1.0]], [[0.5, 2.5], [-0.5, 3.5]]]))  # tracks (−0.5, 1.5) and (0, 3)
-    scan = np.array([[[-0.2, 0.9], [0.1, 1.6]], [[2.4, 0.2], [0.1, 2.9]]])
+    f = PDAFilter(MODEL, R, 2, variant="all_at_once")  # three runs, two sensors: the runs' returns kept apart
+    f.step(np.array([[[0.0, 2.0], [-1.0, 1.0]], [[0.5, 2.5], [-0.5, 3.5]], [[1.0, 1.0], [1.0, 1.0]]]))
+    scan = np.array([[[-0.2, 0.9], [0.1, 1.6]], [[2.4, 0.2], [0.1, 2.9]], [[0.7, 1.5], [1.1, 0.8]]])
     got = f.step(scan)
     Pp = A * A * R / 2 + Q
     L = Pp / (Pp + R)
-    for run, start in enumerate(((-0.5, 1.5), (0.0, 3.0))):
+    for run, start in enumerate(((-0.5, 1.5), (0.0, 3.0), (1.0, 1.0))):
         returns = scan[run].ravel()
         for j in range(2):
             m = A * start[j]

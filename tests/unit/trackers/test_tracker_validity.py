@@ -87,3 +87,29 @@ def test_a_lazy_tracker_advances_a_lone_unseen_track_and_never_asks_about_no_tra
         assert tr.last_predicted == 0 and est.time == t
         np.testing.assert_allclose(est.x, [[2.0 * t, -t, 2.0, -1.0]], atol=1e-12)
         assert tr.misses.tolist() == [0] and tr.misses.dtype == np.int64  # unseen out of view: not missed
+
+
+def test_gating_in_view_only_and_lbp_marginals():
+    """gate_out_of_view=False: the track in view takes its return by the Kalman update (by hand), the one out of view
+    keeps its prediction though a return lies on it. jpda_marginals="lbp": the tracker's β are loopy BP's of its own
+    gating, not the exact marginals (two tracks gating two returns: a cycle)."""
+    from hypotrack.trackers.jpda import jpda_probabilities
+
+    def view(x):
+        return np.asarray(x)[:, 0] < 50.0
+
+    tr = SingleHypothesisTracker(MOTION, MODEL, in_view=view, gate_out_of_view=False)
+    tr.initialise(np.array([[0.0, 0.0, 0.0, 0.0], [100.0, 0.0, 0.0, 0.0]]), np.stack([P0, P0]), [0, 1], time=0.0)
+    est = tr.step(np.array([[0.1, 0.0], [100.0, 0.1]]), 0.0)
+    k = 0.01 / (0.01 + 0.01)  # position gain P/(P + R)
+    np.testing.assert_allclose(est.x, [[k * 0.1, 0.0, 0.0, 0.0], [100.0, 0.0, 0.0, 0.0]], atol=1e-12)
+    assert tr.misses.tolist() == [0, 0]  # the unseen track out of view is not missed
+
+    model = ScanModel(H, 0.5 * np.eye(2), 0.9, 0.999, 1e-3)
+    tr = SingleHypothesisTracker(MOTION, model, association="jpda", jpda_marginals="lbp")
+    tr.initialise(np.array([[0.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]]), np.stack([np.eye(4)] * 2), [0, 1], time=0.0)
+    tr.step(np.array([[0.3, 0.1], [0.8, -0.2]]), 0.0)
+    lbp = jpda_probabilities(tr.last_gated, model, marginals="lbp")
+    exact = jpda_probabilities(tr.last_gated, model, marginals="exact")
+    np.testing.assert_allclose(tr.last_association, lbp, atol=1e-12)
+    assert np.abs(lbp - exact).max() > 1e-6

@@ -79,11 +79,8 @@ class MOfNInitiator:
         self.n = check_int(n, "n", minimum=1)
         self.m = check_int(m, "m", minimum=1, maximum=self.n)
         self.initial_velocity_std = check_positive(initial_velocity_std, "initial_velocity_std")
-        if mixture is not None and not callable(getattr(mixture, "components", None)):
-            raise TypeError(f"mixture must have components(z) -> (weights, means, covs), got {type(mixture).__name__}")
-        self.mixture = mixture
         d = model.ndim_state
-        self.set_model(model)
+        self.set_model(model, mixture)
         self.x = np.zeros((0, d))
         self.P = np.zeros((0, d, d))
         self.hits = np.zeros(0, dtype=np.int64)
@@ -94,18 +91,16 @@ class MOfNInitiator:
         self._time = None
 
     def set_model(self, model: ScanModel, mixture=None) -> None:
-        """Use ``model`` (of the same state dimension) and, for a mixture initiator, that sensor's ``mixture`` (the
-        admissible region is the sensor's: its site and frame) from the next scan on: the scan's sensor when several
-        sensors are fused (:mod:`.multisensor`); the tentative tracks are kept."""
-        if mixture is not None:
-            if not callable(getattr(mixture, "components", None)):
-                raise TypeError(f"mixture must have components(z) -> (weights, means, covs), got {type(mixture).__name__}")
-            self.mixture = mixture
+        """Use ``model`` (of the same state dimension) and that sensor's ``mixture`` (the admissible region is the
+        sensor's: its site and frame; ``None``: one-point starts, as that sensor has no mixture) from the next scan on:
+        the scan's sensor when several sensors are fused (:mod:`.multisensor`); the tentative tracks are kept."""
+        if mixture is not None and not callable(getattr(mixture, "components", None)):
+            raise TypeError(f"mixture must have components(z) -> (weights, means, covs), got {type(mixture).__name__}")
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
         if model.ndim_state != self.model.ndim_state:
             raise ValueError(f"model must have state dimension {self.model.ndim_state}, got {model.ndim_state}")
-        self.model, d = model, model.ndim_state
+        self.model, self.mixture, d = model, mixture, model.ndim_state
         if model.measurement is None:
             H_pinv = np.linalg.pinv(model.H)
             self._H_pinv = H_pinv
@@ -166,8 +161,9 @@ class MOfNInitiator:
             x_new, P_new = self.model.measurement.one_point(unused, 0.0, self.initial_velocity_std) if len(unused) else (
                 np.zeros((0, d)), np.zeros((0, d, d)))
         k = len(x_new)
-        if self.mixture is None:  # no families: every tentative track its own
-            fam_new, score_new = np.full(k, -1, np.int64), np.zeros(k)
+        if self.mixture is None:  # every tentative track a family of its own (another sensor's scans may have one)
+            fam_new, score_new = np.arange(self._n_families, self._n_families + k, dtype=np.int64), np.zeros(k)
+            self._n_families += k
         self.x = np.concatenate([x[alive], x_new])
         self.P = np.concatenate([P[alive], P_new])
         self.hits = np.concatenate([hits[alive], np.ones(k, dtype=np.int64)])

@@ -121,3 +121,20 @@ def test_set_model_checks_its_arguments():
         init.set_model("model")
     with pytest.raises(ValueError, match=r"^model must have state dimension 4, got 6$"):
         init.set_model(ScanModel(np.eye(2, 6), R, P_D, P_G, BETA))
+
+
+def test_a_sensor_without_a_mixture_starts_one_point_tracks_each_its_own_family():
+    """Two fused sensors, one with the mixture and one without: ``set_model(model, None)`` starts one-point tracks
+    (not the other sensor's mixture), and two of them confirming at the mixture sensor's next scan both confirm (a
+    shared family label would have let only the better-scored one through and dropped the other)."""
+    init = MOfNInitiator(MOTION, MODEL, m=2, n=3, initial_velocity_std=0.5, mixture=TwoWay())
+    init.set_model(MODEL, None)
+    init.step(0.0, [[0.0, 0.0], [30.0, 0.0]])
+    assert init.mixture is None and len(init) == 2  # one-point starts: one track per return, not two per return
+    assert len(set(init.family.tolist())) == 2
+    np.testing.assert_array_equal(init.x[:, 2:], 0.0)
+    init.set_model(MODEL, TwoWay())
+    x, _ = init.step(1.0, [[0.0, 0.0], [30.0, 0.0]])
+    assert len(x) == 2
+    np.testing.assert_allclose(np.sort(x[:, 0]), [0.0, 30.0])
+    assert len(init) == 0  # both returns went to the confirmed tracks: nothing left to start

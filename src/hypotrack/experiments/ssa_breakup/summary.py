@@ -7,6 +7,8 @@
   the goal ``ratio ≤ goal`` (default ½); with ``column="id_switches_per_1e4"`` the same ratio of the
   standard crediting, CLEAR-MOT's identity switches (:mod:`hypotrack.metrics_scorecard`), column ``metric``
   says which;
+* :func:`ambiguity_sweep` — per (scenario, factored tracker, ``p_min``) the ambiguity output's cross-tags and
+  identity switches (mean ± s.e.) and both ratios to the reference's (:func:`cross_tag_ratios`), against the goal;
 * :func:`density_table` — per (scenario, seed): the nearest-neighbour distances of the objects in view (median)
   and the share inside the smallest gate (:func:`hypotrack.scenarios.catalogue.breakup.gate_radius_km`);
 * :func:`breakup_claims`, :func:`breakup_macros` — ledger rows (status *extension*) and macros.
@@ -23,15 +25,20 @@ from ...metrics_scorecard import mean_se
 from ...reporting.ledger import Claim
 from ...scenarios.catalogue.breakup import nearest_neighbour_km
 
-__all__ = ["EXPERIMENT", "TRACKER_NAMES", "RATIO_TRACKERS", "SCENARIO_NAMES", "TIMING_COLUMNS", "scorecard_summary", "cross_tag_ratios",
+__all__ = ["EXPERIMENT", "TRACKER_NAMES", "RATIO_TRACKERS", "AMBIGUITY_TRACKERS", "SCENARIO_NAMES", "TIMING_COLUMNS", "scorecard_summary", "cross_tag_ratios",
+           "ambiguity_sweep",
            "density_rows", "density_table", "breakup_claims", "breakup_macros"]
 
 EXPERIMENT = "ssa_breakup"
 SOURCE = "extension (a fresh breakup cloud)"
 TRACKER_NAMES = {"glmb": "δ-GLMB", "glmb_murty": "δ-GLMB (Murty)", "homht_kbest": "HOMHT k-best", "rfisst": "R-FISST",
-                 "gnn": "GNN", "jpda": "JPDA"}
+                 "gnn": "GNN", "jpda": "JPDA", "glmb_amb": "δ-GLMB, ambiguity output",
+                 "glmb_murty_amb": "δ-GLMB (Murty), ambiguity output", "homht_kbest_amb": "HOMHT k-best, ambiguity output",
+                 "rfisst_amb": "R-FISST, ambiguity output"}
 #: The trackers whose cross-tags are compared with the reference's (those of a run's ``trackers_run``).
 RATIO_TRACKERS = ("glmb", "glmb_murty", "homht_kbest")
+#: Their ambiguity outputs (:meth:`.run.ScoredRun.with_output`), compared with the reference too (rows after theirs).
+AMBIGUITY_TRACKERS = ("glmb_amb", "glmb_murty_amb", "homht_kbest_amb", "rfisst_amb")
 SCENARIO_NAMES = {"breakup": "breakup cloud", "catalogue": "sparse catalogue"}
 TIMING_COLUMNS = ("cpu_s",)
 _KEYS = ("scenario", "tracker")
@@ -72,6 +79,30 @@ def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glm
                              goal=goal, meets_goal=bool(np.isfinite(m) and m <= goal), metric=column))
     return pd.DataFrame(rows, columns=["scenario", "tracker", "reference", "n_ratio", "ratio", "ratio_se", "goal",
                                        "meets_goal", "metric"])
+
+
+def ambiguity_sweep(sweep: pd.DataFrame, cards: pd.DataFrame, reference: str = "gnn",
+                    goal: float = 0.5) -> pd.DataFrame:
+    """Per (scenario, tracker, ``p_min``) of the sweep rows (:func:`.jobs.score_tracker_outputs`): the number of seeds,
+    cross-tags per 10⁴ returns and identity switches per 10⁴ object-scans (mean, s.e.), and each one's ratio to
+    ``reference``'s in ``cards`` (:func:`cross_tag_ratios`: ``xtag_ratio``, ``idsw_ratio`` with s.e. and verdict)."""
+    cols = ["scenario", "tracker", "p_min", "n_seeds", "cross_tags_per_1e4", "cross_tags_per_1e4_se",
+            "id_switches_per_1e4", "id_switches_per_1e4_se", "xtag_ratio", "xtag_ratio_se", "xtag_meets_goal",
+            "idsw_ratio", "idsw_ratio_se", "idsw_meets_goal", "goal"]
+    if sweep.empty:
+        return pd.DataFrame(columns=cols)
+    ref = cards[cards["tracker"] == reference]
+    rows = []
+    for (scen, name, p), g in sweep.groupby(["scenario", "tracker", "p_min"], sort=False):
+        both = pd.concat([g, ref[ref["scenario"] == scen]], ignore_index=True)
+        r = dict(scenario=scen, tracker=name, p_min=float(p), n_seeds=int(g["seed"].nunique()))
+        for c in ("cross_tags_per_1e4", "id_switches_per_1e4"):
+            r[c], r[f"{c}_se"] = mean_se(g[c])
+        for pre, c in (("xtag", "cross_tags_per_1e4"), ("idsw", "id_switches_per_1e4")):
+            q = cross_tag_ratios(both, reference, (name,), goal, c).iloc[0]
+            r[f"{pre}_ratio"], r[f"{pre}_ratio_se"], r[f"{pre}_meets_goal"] = q["ratio"], q["ratio_se"], q["meets_goal"]
+        rows.append(dict(r, goal=goal))
+    return pd.DataFrame(rows, columns=cols)
 
 
 def density_rows(truth: pd.DataFrame, scenario: str, seed: int, gate_km: float) -> tuple[dict, np.ndarray]:
@@ -176,7 +207,7 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
             for key in ("crosstags", "crosstags_se", "duplicates", "completeness", "realism", "idsw", "firstown",
                         "reacqkept"):
                 vals.setdefault(f"{key}_{scen}_{name}", float("nan"))
-        for name in RATIO_TRACKERS:
+        for name in (*RATIO_TRACKERS, *AMBIGUITY_TRACKERS):
             for pre in ("", "idsw_"):
                 vals.setdefault(f"{pre}ratio_{scen}_{name}", float("nan"))
                 vals.setdefault(f"{pre}ratio_se_{scen}_{name}", float("nan"))

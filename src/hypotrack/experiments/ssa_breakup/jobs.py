@@ -2,8 +2,8 @@
 
 * :func:`score_tracker` — one tracker on every (scenario, seed): the scorecard rows (:mod:`.scorecard`);
   :func:`score_tracker_outputs` adds, for a factored filter, the rows of its ambiguity output (:mod:`.identities`,
-  tracker ``<name>_amb``, at ``ambiguity.p_min``) scored from the same run, and the sweep of ``p_min`` over
-  ``ambiguity.p_min_sweep`` (:func:`.scorecard.identity_row` per value);
+  tracker ``<name>_amb``, at ``ambiguity.p_min`` in ``ambiguity.mode``) scored from the same run, and the sweep of
+  both modes and ``p_min`` over ``ambiguity.p_min_sweep`` (:func:`.scorecard.identity_row` per value);
 * :func:`density` — per (scenario, seed) the nearest-neighbour density rows and distances (:mod:`.summary`).
 
 Seeds: ``seeds`` of the section; scenario ``s`` of seed ``k`` is built from ``k`` alone (:func:`.run.build`), so
@@ -18,6 +18,7 @@ from scipy.stats import chi2
 
 from ...scenarios.catalogue.breakup import gate_radius_km
 from ..ssa_catalogue.run import make_motion
+from .identities import MODES
 from .run import build, control_radar, run_scored
 from .scorecard import identity_row, scorecard_row
 from .summary import density_rows
@@ -52,8 +53,8 @@ def score_tracker(name: str, cfg, cfg_catalogue) -> pd.DataFrame:
     return score_tracker_outputs(name, cfg, cfg_catalogue)[0]
 
 
-SWEEP_COLUMNS = ["scenario", "seed", "p_min", "tracker", "object_returns", "cross_tags", "cross_tags_per_1e4",
-                 "id_switches", "id_switches_per_1e4"]
+SWEEP_COLUMNS = ["scenario", "seed", "mode", "p_min", "tracker", "object_returns", "cross_tags", "cross_tags_per_1e4",
+                 "id_switches", "id_switches_per_1e4", "uncorrelated_per_1e4"]
 
 
 def score_tracker_outputs(name: str, cfg, cfg_catalogue) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -71,11 +72,13 @@ def score_tracker_outputs(name: str, cfg, cfg_catalogue) -> tuple[pd.DataFrame, 
             rows.append(dict(scenario=scen, seed=int(seed), **scorecard_row(run, scenario, sec, motion)))
             if amb is None or run.marginals is None:
                 continue
-            out = run.with_output(float(amb["p_min"]))
+            mode = amb.get("mode", "fresh")
+            out = run.with_output(float(amb["p_min"]), mode)
             rows.append(dict(scenario=scen, seed=int(seed), **scorecard_row(out, scenario, sec, motion)))
-            for p in amb.get("p_min_sweep", []):
-                sweep.append(dict(scenario=scen, seed=int(seed), p_min=float(p),
-                                  **identity_row(run.with_output(float(p)))))
+            for m in MODES:
+                for p in amb.get("p_min_sweep", []):
+                    sweep.append(dict(scenario=scen, seed=int(seed), mode=m, p_min=float(p),
+                                      **identity_row(run.with_output(float(p), m))))
     return pd.DataFrame(rows), pd.DataFrame(sweep, columns=SWEEP_COLUMNS)
 
 

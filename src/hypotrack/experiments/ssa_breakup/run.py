@@ -19,7 +19,12 @@ its first observations); a seeded ``unknown_share`` of them must be born from th
 (:mod:`.scorecard`): the returns with their origin and the track each correlates to, the assignment of
 estimates to the truths in view, purity counts, GOSPA's parts, the CPU seconds of the step, the MAP tracks
 that fail the plausibility test (:func:`hypotrack.models.plausibility.plausible_orbits`), and each object's
-track (mean, covariance) at the end of each of its passes and at the last scan.
+track (mean, covariance) at the end of each of its passes and at the last scan. For a factored filter it also
+records, per scan, every MAP label's marginal probability (the total weight of the hypotheses holding the MAP's
+association history for it, :func:`hypotrack.hypotheses.factored.marginals.map_label_marginals`) and whether its
+track is in view: :meth:`ScoredRun.with_output` then reports the same run under the ambiguity output policy
+(:mod:`.identities`: a label whose MAP track is ambiguous at a scan in view takes a fresh output identity instead of
+being carried onto a neighbour), scored as tracker ``<name>_amb`` — no second tracker run.
 
 Diagnosis of the cross-tags at the catalogue's process noise (q = 1e-9 km²/s³)
 ------------------------------------------------------------------------------
@@ -212,13 +217,13 @@ class ScoredRun:
     #: a factored filter's MAP labels per scan with their marginals (scan, label, p, in_view), else None
     marginals: pd.DataFrame | None = None
 
-    def with_output(self, p_min: float, suffix: str = AMBIGUITY_SUFFIX) -> "ScoredRun":
+    def with_output(self, p_min: float, mode: str = "fresh", suffix: str = AMBIGUITY_SUFFIX) -> "ScoredRun":
         """This run as the ambiguity output policy reports it (:mod:`.identities`): the returns' and assignments'
-        labels replaced by their output identities at ``p_min``, tracker ``<name><suffix>``; the tracks' states
-        (``ends``, ``per_scan``) are the same. Needs :attr:`marginals`."""
+        labels replaced by their output identities at ``p_min`` in ``mode`` (withheld: −1, no label), tracker
+        ``<name><suffix>``; the tracks' states (``ends``, ``per_scan``) are the same. Needs :attr:`marginals`."""
         if self.marginals is None:
             raise ValueError(f"run of {self.tracker!r} has no marginals (not a factored filter)")
-        tab = output_identities(self.marginals, p_min)
+        tab = output_identities(self.marginals, p_min, mode=mode)
         return ScoredRun(self.tracker + suffix, self.per_scan,
                          self.returns.assign(label=relabel(self.returns["scan"], self.returns["label"], tab)),
                          self.assign.assign(label=relabel(self.assign["scan"], self.assign["label"], tab)),

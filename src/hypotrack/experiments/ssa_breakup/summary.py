@@ -7,7 +7,7 @@
   the goal ``ratio ≤ goal`` (default ½); with ``column="id_switches_per_1e4"`` the same ratio of the
   standard crediting, CLEAR-MOT's identity switches (:mod:`hypotrack.metrics_scorecard`), column ``metric``
   says which;
-* :func:`ambiguity_sweep` — per (scenario, factored tracker, ``p_min``) the ambiguity output's cross-tags and
+* :func:`ambiguity_sweep` — per (scenario, factored tracker, mode, ``p_min``) the ambiguity output's cross-tags and
   identity switches (mean ± s.e.) and both ratios to the reference's (:func:`cross_tag_ratios`), against the goal;
 * :func:`density_table` — per (scenario, seed): the nearest-neighbour distances of the objects in view (median)
   and the share inside the smallest gate (:func:`hypotrack.scenarios.catalogue.breakup.gate_radius_km`);
@@ -83,20 +83,21 @@ def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glm
 
 def ambiguity_sweep(sweep: pd.DataFrame, cards: pd.DataFrame, reference: str = "gnn",
                     goal: float = 0.5) -> pd.DataFrame:
-    """Per (scenario, tracker, ``p_min``) of the sweep rows (:func:`.jobs.score_tracker_outputs`): the number of seeds,
-    cross-tags per 10⁴ returns and identity switches per 10⁴ object-scans (mean, s.e.), and each one's ratio to
-    ``reference``'s in ``cards`` (:func:`cross_tag_ratios`: ``xtag_ratio``, ``idsw_ratio`` with s.e. and verdict)."""
-    cols = ["scenario", "tracker", "p_min", "n_seeds", "cross_tags_per_1e4", "cross_tags_per_1e4_se",
-            "id_switches_per_1e4", "id_switches_per_1e4_se", "xtag_ratio", "xtag_ratio_se", "xtag_meets_goal",
+    """Per (scenario, tracker, mode, ``p_min``) of the sweep rows (:func:`.jobs.score_tracker_outputs`): the number of
+    seeds, cross-tags and uncorrelated returns per 10⁴ returns and identity switches per 10⁴ object-scans (mean,
+    s.e.), and the cross-tags' and identity switches' ratios to ``reference``'s in ``cards`` (:func:`cross_tag_ratios`: ``xtag_ratio``, ``idsw_ratio`` with s.e. and verdict)."""
+    cols = ["scenario", "tracker", "mode", "p_min", "n_seeds", "cross_tags_per_1e4", "cross_tags_per_1e4_se",
+            "id_switches_per_1e4", "id_switches_per_1e4_se", "uncorrelated_per_1e4", "uncorrelated_per_1e4_se",
+            "xtag_ratio", "xtag_ratio_se", "xtag_meets_goal",
             "idsw_ratio", "idsw_ratio_se", "idsw_meets_goal", "goal"]
     if sweep.empty:
         return pd.DataFrame(columns=cols)
     ref = cards[cards["tracker"] == reference]
     rows = []
-    for (scen, name, p), g in sweep.groupby(["scenario", "tracker", "p_min"], sort=False):
+    for (scen, name, mode, p), g in sweep.groupby(["scenario", "tracker", "mode", "p_min"], sort=False):
         both = pd.concat([g, ref[ref["scenario"] == scen]], ignore_index=True)
-        r = dict(scenario=scen, tracker=name, p_min=float(p), n_seeds=int(g["seed"].nunique()))
-        for c in ("cross_tags_per_1e4", "id_switches_per_1e4"):
+        r = dict(scenario=scen, tracker=name, mode=mode, p_min=float(p), n_seeds=int(g["seed"].nunique()))
+        for c in ("cross_tags_per_1e4", "id_switches_per_1e4", "uncorrelated_per_1e4"):
             r[c], r[f"{c}_se"] = mean_se(g[c])
         for pre, c in (("xtag", "cross_tags_per_1e4"), ("idsw", "id_switches_per_1e4")):
             q = cross_tag_ratios(both, reference, (name,), goal, c).iloc[0]

@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from hypotrack.experiments.ssa_breakup.identities import OutputIdentities, output_identities, relabel
+from hypotrack.experiments.ssa_breakup.identities import WITHHELD, OutputIdentities, output_identities, relabel
 from hypotrack.metrics_scorecard import id_switches, label_owners, return_tallies
 
 B = 1000  # fresh identities count from here in these tests
@@ -25,6 +25,23 @@ def test_one_break_per_episode_rearmed_above_p_min_and_only_in_view():
     lab, p, v = seq[4][0]
     assert pol.update(lab, p, v).tolist() == [B + 4, B + 1, B + 5]
     assert pol.n_breaks == 6 and pol.identity(2) == B + 1 and pol.identity(9) == 9
+
+
+def test_withhold_mode_untags_the_episode_and_resumes_under_a_fresh_identity():
+    pol = OutputIdentities(0.8, base=B, mode="withhold")
+    W = WITHHELD
+    seq = [
+        (([1, 2, 3], [0.99, 0.95, 0.5], [True, True, False]), [1, 2, 3]),    # 3 out of view: no episode
+        (([1, 2, 3], [0.55, 0.51, 0.5], [True, True, True]), [W, W, W]),     # three episodes start: withheld
+        (([1, 2, 3], [0.45, 0.6, 0.9], [False, True, True]), [W, W, B]),     # 3 resolved: a fresh identity
+        (([1, 2, 3], [0.85, 0.7, 0.95], [True, True, True]), [B + 1, W, B]),  # 1 resolved; 2 still withheld
+        (([1, 2, 3], [0.9, 0.7, 0.5], [True, False, True]), [B + 1, W, W]),  # 3's second episode
+    ]
+    for (lab, p, v), want in seq:
+        assert pol.update(lab, p, v).tolist() == want
+    assert pol.n_breaks == 2 and pol.identity(2) == W and pol.identity(1) == B + 1
+    with pytest.raises(ValueError, match=r"mode must be one of \('fresh', 'withhold'\), got 'drop'"):
+        OutputIdentities(0.5, mode="drop")
 
 
 def test_p_min_zero_never_breaks_and_one_breaks_every_uncertain_episode():
@@ -72,6 +89,15 @@ def test_a_kept_swap_is_a_cross_tag_in_the_map_and_a_lost_track_in_the_policy():
     assert return_tallies(target, out, own)["cross_tags"] == 0
     assert id_switches(scans, target, out) == 2
     assert relabel([0, 3], [-1, 7], tab).tolist() == [-1, 7]  # none stays none; a label the table lacks is kept
+    # withheld: the swap's first scan (p 0.51) and the next (0.6) untagged, fresh identities from scan 4 on: no
+    # cross-tag, one switch per object (its label before, a fresh one after), 4 returns uncorrelated
+    out = relabel(scans, label, output_identities(marg, 0.8, base=B, mode="withhold"))
+    swapped = np.tile([B, B + 1, 3], 6)
+    assert out.tolist() == np.select([scans < 2, scans < 4], [target, np.where(target == 3, 3, -1)], swapped).tolist()
+    own = label_owners(target, out)
+    tal = return_tallies(target, out, own)
+    assert (tal["cross_tags"], tal["uncorrelated"]) == (0, 4)
+    assert id_switches(scans, target, out) == 2
 
 
 def test_ambiguity_sweep_by_hand():
@@ -79,8 +105,9 @@ def test_ambiguity_sweep_by_hand():
 
     cards = pd.DataFrame(dict(scenario="breakup", tracker="gnn", seed=[2, 3], cross_tags_per_1e4=[2.0, 4.0],
                               id_switches_per_1e4=[10.0, 20.0]))
-    sweep = pd.DataFrame(dict(scenario="breakup", tracker="homht_kbest_amb", seed=[2, 3, 2, 3], p_min=[0.8, 0.8, 0.9, 0.9],
-                              cross_tags_per_1e4=[1.0, 4.0, 0.0, 2.0], id_switches_per_1e4=[5.0, 30.0, 12.0, 24.0]))
+    sweep = pd.DataFrame(dict(scenario="breakup", tracker="homht_kbest_amb", mode="withhold", seed=[2, 3, 2, 3],
+                              p_min=[0.8, 0.8, 0.9, 0.9], cross_tags_per_1e4=[1.0, 4.0, 0.0, 2.0],
+                              id_switches_per_1e4=[5.0, 30.0, 12.0, 24.0], uncorrelated_per_1e4=[3.0, 5.0, 6.0, 8.0]))
     t = ambiguity_sweep(sweep, cards, "gnn", 0.5).set_index("p_min")
     # p_min 0.8: cross-tag ratios 0.5 and 1.0 -> 0.75 +- 0.25 (not met); switches 0.5 and 1.5 -> 1.0 +- 0.5
     assert t.loc[0.8, ["xtag_ratio", "xtag_ratio_se", "idsw_ratio", "idsw_ratio_se"]].tolist() == pytest.approx(
@@ -89,5 +116,5 @@ def test_ambiguity_sweep_by_hand():
     # p_min 0.9: cross-tags 0 and 0.5 -> 0.25 +- 0.25 (met); switches 1.2 and 1.2 (not met)
     assert t.loc[0.9, ["xtag_ratio", "xtag_ratio_se", "idsw_ratio"]].tolist() == pytest.approx([0.25, 0.25, 1.2])
     assert t.loc[0.9, "xtag_meets_goal"] and not t.loc[0.9, "idsw_meets_goal"]
-    assert t.loc[0.9, ["cross_tags_per_1e4", "n_seeds"]].tolist() == pytest.approx([1.0, 2])
+    assert t.loc[0.9, ["cross_tags_per_1e4", "uncorrelated_per_1e4", "n_seeds"]].tolist() == pytest.approx([1.0, 7.0, 2])
     assert ambiguity_sweep(sweep.iloc[:0], cards).empty

@@ -263,17 +263,21 @@ def test_ambiguity_output_from_the_same_run(small_cfg):
 
     cfg, cat = small_cfg
     cfg = copy.deepcopy(cfg)
-    cfg.update(scenarios=["breakup"], ambiguity={"p_min": 0.9, "p_min_sweep": [0.5, 0.9]})
+    cfg.update(scenarios=["breakup"], ambiguity={"mode": "withhold", "p_min": 0.9, "p_min_sweep": [0.5, 0.9]},
+               window={"obs_start_s": 7200.0, "obs_end_s": 7800.0})  # half the pass: two runs of the tracker
     cards, sweep = score_tracker_outputs("glmb_murty", cfg, cat)
     assert cards["tracker"].tolist() == ["glmb_murty", "glmb_murty_amb"]
     same = ["n_objects", "object_returns", "completeness", "reacquisitions", "reacq_within_km", "gospa_loc_per_object",
             "false_per_1000", "duplicate_per_1000"]
     same = [c for c in same if c in cards]
     pd.testing.assert_frame_equal(cards.iloc[[0]][same].reset_index(drop=True), cards.iloc[[1]][same].reset_index(drop=True))
-    assert sweep["p_min"].tolist() == [0.5, 0.9] and set(sweep["tracker"]) == {"glmb_murty_amb"}
-    at = sweep[sweep["p_min"] == 0.9].iloc[0]
+    assert sweep[["mode", "p_min"]].values.tolist() == [["fresh", 0.5], ["fresh", 0.9], ["withhold", 0.5],
+                                                          ["withhold", 0.9]]
+    assert set(sweep["tracker"]) == {"glmb_murty_amb"}
+    at = sweep[(sweep["p_min"] == 0.9) & (sweep["mode"] == "withhold")].iloc[0]
     assert at["cross_tags_per_1e4"] == cards.iloc[1]["cross_tags_per_1e4"]
     assert at["id_switches"] == cards.iloc[1]["id_switches"]
+    assert at["uncorrelated_per_1e4"] == cards.iloc[1]["uncorrelated_per_1e4"]
     scen = build("breakup", cfg, cat, 5)
     run = run_scored("glmb_murty", cfg, scen, 5, count_hypotheses=False)
     m = run.marginals
@@ -281,7 +285,7 @@ def test_ambiguity_output_from_the_same_run(small_cfg):
     in_view = m[m["in_view"]].groupby("scan").size().reindex(run.per_scan["scan"], fill_value=0)
     assert in_view.tolist() == run.per_scan["n_estimates"].tolist()
     assert ((m["p"] > 0) & (m["p"] <= 1)).all() and m["in_view"].dtype == bool
-    zero = run.with_output(0.0)
+    zero = run.with_output(0.0, "withhold")
     assert zero.returns["label"].tolist() == run.returns["label"].tolist()
     assert identity_row(zero)["cross_tags"] == cards.iloc[0]["cross_tags"]
     g_cards, g_sweep = score_tracker_outputs("gnn", cfg, cat)

@@ -137,6 +137,16 @@ def _seeds(n) -> str:
     return f"{int(n)} seed{'' if int(n) == 1 else 's'}"
 
 
+def _withheld_note(summary: pd.DataFrame, r) -> str:
+    """For an ambiguity output's row: its uncorrelated returns per 10⁴ against its plain output's (the difference is
+    what it withheld while ambiguous); empty otherwise."""
+    if r.tracker not in AMBIGUITY_TRACKERS or "uncorrelated_per_1e4" not in summary:
+        return ""
+    base = summary[(summary["scenario"] == r.scenario) & (summary["tracker"] == r.tracker.removesuffix("_amb"))]
+    plain = f" against {_f(base['uncorrelated_per_1e4'].iloc[0])} for the plain output" if len(base) else ""
+    return f"; uncorrelated {_f(r.uncorrelated_per_1e4)} per 10^4 returns{plain} (withheld while ambiguous)"
+
+
 def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame, reference: str = "gnn") -> list:
     """Ledger rows (status *extension*): per scenario, each tracker's cross-tags per 10⁴ returns; the ratios to
     GNN against the goal; the share of ``reference``'s re-acquisitions with another object inside the gate; the
@@ -147,7 +157,9 @@ def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
                          f"{SCENARIO_NAMES[r.scenario]}", SOURCE, "--",
                          f"{_f(r.cross_tags_per_1e4)} ± {_f(r.cross_tags_per_1e4_se, 2)}", "--", "extension",
                          f"mean ± s.e. over {_seeds(r.n_seeds)}; completeness {_f(r.completeness)}, duplicates "
-                         f"{_f(r.duplicate_per_1000)} and false {_f(r.false_per_1000)} per 1,000 estimates",
+                         f"{_f(r.duplicate_per_1000)} and false {_f(r.false_per_1000)} per 1,000 estimates"
+                         # the price of an output that withholds ambiguous correlations
+                         + _withheld_note(summary, r),
                          "measurement", key=f"crosstags_{r.scenario}_{r.tracker}"))
     for r in ratios.itertuples(index=False):
         what, pre = _RATIO_METRICS[getattr(r, "metric", "cross_tags_per_1e4")]

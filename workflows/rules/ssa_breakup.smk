@@ -9,6 +9,7 @@ SB_TRACKERS = config["ssa_breakup"]["trackers_run"]
 rule ssa_breakup_run:
     output:
         cards=f"{SB_DIR}/runs/{{tracker}}_scorecard_timing.csv",
+        sweep=f"{SB_DIR}/runs/{{tracker}}_ambiguity_sweep.csv",
     wildcard_constraints:
         tracker="|".join(SB_TRACKERS),
     params:
@@ -32,6 +33,7 @@ rule ssa_breakup_density:
 rule ssa_breakup_table:
     input:
         cards=expand(f"{SB_DIR}/runs/{{tracker}}_scorecard_timing.csv", tracker=SB_TRACKERS),
+        sweeps=expand(f"{SB_DIR}/runs/{{tracker}}_ambiguity_sweep.csv", tracker=SB_TRACKERS),
         density=f"{SB_DIR}/density.csv",
         distances=f"{SB_DIR}/nn_distances.csv",
     output:
@@ -39,6 +41,7 @@ rule ssa_breakup_table:
         summary=report_table(f"{SB_DIR}/summary.csv", "ssa_breakup", "summary"),
         timing=f"{SB_DIR}/summary_timing.csv",
         ratios=report_table(f"{SB_DIR}/ratios.csv", "ssa_breakup", "ratios"),
+        ambiguity=report_table(f"{SB_DIR}/ambiguity_sweep.csv", "ssa_breakup", "ambiguity_sweep"),
         claims=f"{SB_DIR}/claims.csv",
         macros=f"{SB_DIR}/macros.csv",
         fig_pdf=f"{SB_DIR}/crosstags.pdf",

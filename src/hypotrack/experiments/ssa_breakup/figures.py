@@ -17,8 +17,12 @@ _STYLE = {"font.size": 8, "axes.labelsize": 8, "xtick.labelsize": 8, "ytick.labe
 _COLOURS = {"breakup": "tab:red", "catalogue": "tab:blue"}
 
 
-_SHORT = {"glmb": "δ-GLMB\n(Gibbs)", "glmb_murty": "δ-GLMB\n(Murty)", "homht_kbest": "HOMHT\nk-best"}
-_ONE_LINE = {"glmb": "δ-GLMB Gibbs", "glmb_murty": "δ-GLMB Murty", "homht_kbest": "HOMHT"}
+_SHORT = {"glmb": "δ-GLMB\n(Gibbs)", "glmb_murty": "δ-GLMB\n(Murty)", "homht_kbest": "HOMHT\nk-best",
+          "glmb_amb": "δ-GLMB G.\n+ambig.", "glmb_murty_amb": "δ-GLMB M.\n+ambig.", "homht_kbest_amb": "HOMHT\n+ambig.",
+          "rfisst_amb": "R-FISST\n+ambig."}
+_ONE_LINE = {"glmb": "δ-GLMB Gibbs", "glmb_murty": "δ-GLMB Murty", "homht_kbest": "HOMHT",
+             "glmb_amb": "δ-GLMB Gibbs +amb.", "glmb_murty_amb": "δ-GLMB Murty +amb.", "homht_kbest_amb": "HOMHT +amb.",
+             "rfisst_amb": "R-FISST +amb."}
 
 
 def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, png, ratios: pd.DataFrame | None = None):

@@ -1,6 +1,9 @@
 """The pipeline jobs of the ``ssa_breakup`` experiment as library calls (the Snakemake scripts only read and write).
 
 * :func:`score_tracker` — one tracker on every (scenario, seed): the scorecard rows (:mod:`.scorecard`);
+  :func:`score_tracker_outputs` adds, for a factored filter, the rows of its ambiguity output (:mod:`.identities`,
+  tracker ``<name>_amb``, at ``ambiguity.p_min`` in ``ambiguity.mode``) scored from the same run, and the sweep of
+  both modes and ``p_min`` over ``ambiguity.p_min_sweep`` (:func:`.scorecard.identity_row` per value);
 * :func:`density` — per (scenario, seed) the nearest-neighbour density rows and distances (:mod:`.summary`).
 
 Seeds: ``seeds`` of the section; scenario ``s`` of seed ``k`` is built from ``k`` alone (:func:`.run.build`), so
@@ -15,11 +18,12 @@ from scipy.stats import chi2
 
 from ...scenarios.catalogue.breakup import gate_radius_km
 from ..ssa_catalogue.run import make_motion
+from .identities import MODES
 from .run import build, control_radar, run_scored
-from .scorecard import scorecard_row
+from .scorecard import identity_row, scorecard_row
 from .summary import density_rows
 
-__all__ = ["score_tracker", "density", "smallest_gate_km"]
+__all__ = ["score_tracker", "score_tracker_outputs", "SWEEP_COLUMNS", "density", "smallest_gate_km"]
 
 
 def _section(cfg, scenario: str, cfg_catalogue):
@@ -43,15 +47,39 @@ def smallest_gate_km(cfg) -> float:
 
 
 def score_tracker(name: str, cfg, cfg_catalogue) -> pd.DataFrame:
-    """Scorecard rows of tracker ``name`` on every scenario of ``cfg['scenarios']`` and seed of ``cfg['seeds']``."""
-    rows = []
+    """Scorecard rows of tracker ``name`` on every scenario of ``cfg['scenarios']`` and seed of ``cfg['seeds']``
+    (with an ``ambiguity`` block, a factored filter's ambiguity output rows after each run's own:
+    :func:`score_tracker_outputs`)."""
+    return score_tracker_outputs(name, cfg, cfg_catalogue)[0]
+
+
+SWEEP_COLUMNS = ["scenario", "seed", "mode", "p_min", "tracker", "object_returns", "cross_tags", "cross_tags_per_1e4",
+                 "id_switches", "id_switches_per_1e4", "uncorrelated_per_1e4"]
+
+
+def score_tracker_outputs(name: str, cfg, cfg_catalogue) -> tuple[pd.DataFrame, pd.DataFrame]:
+    """``(cards, sweep)``: the scorecard rows of :func:`score_tracker` — per (scenario, seed) the run's row and, for
+    a factored filter with an ``ambiguity`` block in ``cfg``, its ambiguity output's row (tracker ``<name>_amb``,
+    ``p_min``) from the same run — and the sweep rows (:data:`SWEEP_COLUMNS`; none for GNN/JPDA)."""
+    amb = cfg.get("ambiguity")
+    rows, sweep = [], []
     for scen in cfg["scenarios"]:
         sec = _section(cfg, scen, cfg_catalogue)
         for seed in cfg["seeds"]:
             scenario = build(scen, cfg, cfg_catalogue, int(seed))
             run = run_scored(name, sec, scenario, int(seed))
-            rows.append(dict(scenario=scen, seed=int(seed), **scorecard_row(run, scenario, sec, make_motion(sec))))
-    return pd.DataFrame(rows)
+            motion = make_motion(sec)
+            rows.append(dict(scenario=scen, seed=int(seed), **scorecard_row(run, scenario, sec, motion)))
+            if amb is None or run.marginals is None:
+                continue
+            mode = amb.get("mode", "fresh")
+            out = run.with_output(float(amb["p_min"]), mode)
+            rows.append(dict(scenario=scen, seed=int(seed), **scorecard_row(out, scenario, sec, motion)))
+            for m in MODES:
+                for p in amb.get("p_min_sweep", []):
+                    sweep.append(dict(scenario=scen, seed=int(seed), mode=m, p_min=float(p),
+                                      **identity_row(run.with_output(float(p), m))))
+    return pd.DataFrame(rows), pd.DataFrame(sweep, columns=SWEEP_COLUMNS)
 
 
 def density(cfg, cfg_catalogue) -> tuple[pd.DataFrame, pd.DataFrame]:

@@ -19,7 +19,12 @@ its first observations); a seeded ``unknown_share`` of them must be born from th
 (:mod:`.scorecard`): the returns with their origin and the track each correlates to, the assignment of
 estimates to the truths in view, purity counts, GOSPA's parts, the CPU seconds of the step, the MAP tracks
 that fail the plausibility test (:func:`hypotrack.models.plausibility.plausible_orbits`), and each object's
-track (mean, covariance) at the end of each of its passes and at the last scan.
+track (mean, covariance) at the end of each of its passes and at the last scan. For a factored filter it also
+records, per scan, every MAP label's marginal probability (the total weight of the hypotheses holding the MAP's
+association history for it, :func:`hypotrack.hypotheses.factored.marginals.map_label_marginals`) and whether its
+track is in view: :meth:`ScoredRun.with_output` then reports the same run under the ambiguity output policy
+(:mod:`.identities`: a label whose MAP track is ambiguous at a scan in view takes a fresh output identity instead of
+being carried onto a neighbour), scored as tracker ``<name>_amb`` — no second tracker run.
 
 Diagnosis of the cross-tags at the catalogue's process noise (q = 1e-9 km²/s³)
 ------------------------------------------------------------------------------
@@ -75,6 +80,7 @@ import pandas as pd
 from scipy.optimize import linear_sum_assignment
 
 from ...hypotheses.factored import FactoredFilter
+from ...hypotheses.factored.marginals import map_label_marginals
 from ...metrics import gospa
 from ...metrics_scorecard import correlate_returns, purity_counts
 from ...models.plausibility import plausible_orbits
@@ -82,16 +88,19 @@ from ...scenarios.catalogue.breakup import BreakupEvent, simulate_breakup
 from ...association import gate_threshold
 from ...scenarios.catalogue.radar_model import RadarTrackerSensor
 from ..ssa_catalogue.physics import attach_tracker_snr
+from .identities import output_identities, relabel
 from ..ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem, make_radar, make_tracker,
                                  tracker_sensor)
 
 __all__ = ["SCENARIOS", "MEASUREMENT_KEYS", "control_radar", "build_breakup", "build_control", "build", "pass_ends", "ScoredRun", "run_scored", "correlate_in_sensor_frame",
-           "PASS_GAP_S"]
+           "PASS_GAP_S", "AMBIGUITY_SUFFIX"]
 
 SCENARIOS = ("breakup", "catalogue")
 #: An object's scans in view more than this apart (s) belong to different passes (5 min: longer than any flicker
 #: at the edge of the field of view, shorter than the gap between two passes of a LEO object).
 PASS_GAP_S = 300.0
+#: The tracker name of a run's ambiguity output (:meth:`ScoredRun.with_output`): ``glmb_murty`` → ``glmb_murty_amb``.
+AMBIGUITY_SUFFIX = "_amb"
 
 
 def build_breakup(cfg, seed: int):
@@ -205,6 +214,20 @@ class ScoredRun:
     returns: pd.DataFrame
     assign: pd.DataFrame
     ends: list = field(default_factory=list)
+    #: a factored filter's MAP labels per scan with their marginals (scan, label, p, in_view), else None
+    marginals: pd.DataFrame | None = None
+
+    def with_output(self, p_min: float, mode: str = "fresh", suffix: str = AMBIGUITY_SUFFIX) -> "ScoredRun":
+        """This run as the ambiguity output policy reports it (:mod:`.identities`): the returns' and assignments'
+        labels replaced by their output identities at ``p_min`` in ``mode`` (withheld: −1, no label), tracker
+        ``<name><suffix>``; the tracks' states (``ends``, ``per_scan``) are the same. Needs :attr:`marginals`."""
+        if self.marginals is None:
+            raise ValueError(f"run of {self.tracker!r} has no marginals (not a factored filter)")
+        tab = output_identities(self.marginals, p_min, mode=mode)
+        return ScoredRun(self.tracker + suffix, self.per_scan,
+                         self.returns.assign(label=relabel(self.returns["scan"], self.returns["label"], tab)),
+                         self.assign.assign(label=relabel(self.assign["scan"], self.assign["label"], tab)),
+                         self.ends, self.marginals)
 
 
 def _unphysical(tracker, X) -> tuple[int, float]:
@@ -243,7 +266,7 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
     ends_at: dict = {}
     for r in pass_ends(sc.truth).itertuples(index=False):
         ends_at.setdefault(r.last_scan, []).append((r.target, r.pass_no))
-    rows, ret_rows, assign, ends = [], [], [], []
+    rows, ret_rows, assign, ends, marg = [], [], [], [], []
     last_label: dict = {}
     known = set(int(x) for x in labels)  # a known object's initial track carries its own id as label
     for k, scan in enumerate(scans):
@@ -260,6 +283,10 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
         lab_all, X_all = np.asarray(e.labels, np.int64), np.asarray(e.x)
         inv = problem.in_view(X_all) if len(X_all) else np.zeros(0, bool)
         lab, EX = lab_all[inv], X_all[inv, :3]
+        if isinstance(tracker, FactoredFilter):  # how sure the MAP is of each label's track (the ambiguity output)
+            ml, mp = map_label_marginals(tracker.state())
+            p_of = dict(zip(ml.tolist(), mp.tolist()))
+            marg.append(pd.DataFrame(dict(scan=k, label=lab_all, p=[p_of[a] for a in lab_all.tolist()], in_view=inv)))
         g = by_scan.get(k)
         TX = g[["state_0", "state_1", "state_2"]].to_numpy() if g is not None else np.zeros((0, 3))
         tid = g["target"].to_numpy(np.int64) if g is not None else np.zeros(0, np.int64)
@@ -297,4 +324,5 @@ def run_scored(name: str, cfg, scenario, seed: int, *, count_hypotheses: bool = 
                     x, P, t_x = held[lb]
                     ends.append(dict(target=int(t), pass_no=int(p), time=float(t_k), label=lb, x=x, P=P, t_x=t_x))
     return ScoredRun(name, pd.DataFrame(rows), pd.concat(ret_rows, ignore_index=True) if ret_rows else pd.DataFrame(),
-                     pd.concat(assign, ignore_index=True) if assign else pd.DataFrame(), ends)
+                     pd.concat(assign, ignore_index=True) if assign else pd.DataFrame(), ends,
+                     pd.concat(marg, ignore_index=True) if marg else None)

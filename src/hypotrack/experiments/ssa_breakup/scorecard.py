@@ -31,7 +31,7 @@ from ...scenarios.catalogue.propagation import time_grid_jd
 from .custody import first_return_own, reacquired_same_label
 from .run import pass_ends
 
-__all__ = ["predict", "reacquisitions", "next_pass", "completeness", "scorecard_row"]
+__all__ = ["predict", "reacquisitions", "next_pass", "completeness", "scorecard_row", "identity_row"]
 
 
 def predict(motion, x, P, dt):
@@ -168,3 +168,18 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
                reacquired_same_label=reacquired_same_label(A, pass_ends(sc.truth)))
     row.update(gospa_parts_per_object(ps["gospa_loc"], ps["gospa_missed"], ps["gospa_false"], ps["n_in_view"]))
     return row
+
+
+def identity_row(run) -> dict:
+    """The scorecard's identity columns of one run alone (no prediction: the cheap part of :func:`scorecard_row`, for a
+    sweep of the output policy, :meth:`.run.ScoredRun.with_output`): cross-tags per 10⁴ object returns and identity
+    switches per 10⁴ object-scans in view, with their counts, and the uncorrelated returns per 10⁴ (those the policy
+    withholds among them)."""
+    owners = label_owners(run.assign["target"], run.assign["label"])
+    tal = return_tallies(run.returns["origin"], run.returns["label"], owners)
+    A, n_view = run.assign, int(run.per_scan["n_in_view"].sum())
+    switches = id_switches(A["scan"], A["target"], A["label"])
+    return dict(tracker=run.tracker, object_returns=tal["n_returns"], cross_tags=tal["cross_tags"],
+                cross_tags_per_1e4=per(tal["cross_tags"], tal["n_returns"], 1e4), id_switches=switches,
+                id_switches_per_1e4=per(switches, n_view, 1e4),
+                uncorrelated_per_1e4=per(tal["uncorrelated"], tal["n_returns"], 1e4))

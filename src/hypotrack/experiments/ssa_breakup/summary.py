@@ -7,6 +7,8 @@
   the goal ``ratio ≤ goal`` (default ½); with ``column="id_switches_per_1e4"`` the same ratio of the
   standard crediting, CLEAR-MOT's identity switches (:mod:`hypotrack.metrics_scorecard`), column ``metric``
   says which;
+* :func:`ambiguity_sweep` — per (scenario, factored tracker, mode, ``p_min``) the ambiguity output's cross-tags and
+  identity switches (mean ± s.e.) and both ratios to the reference's (:func:`cross_tag_ratios`), against the goal;
 * :func:`density_table` — per (scenario, seed): the nearest-neighbour distances of the objects in view (median)
   and the share inside the smallest gate (:func:`hypotrack.scenarios.catalogue.breakup.gate_radius_km`);
 * :func:`breakup_claims`, :func:`breakup_macros` — ledger rows (status *extension*) and macros.
@@ -23,15 +25,20 @@ from ...metrics_scorecard import mean_se
 from ...reporting.ledger import Claim
 from ...scenarios.catalogue.breakup import nearest_neighbour_km
 
-__all__ = ["EXPERIMENT", "TRACKER_NAMES", "RATIO_TRACKERS", "SCENARIO_NAMES", "TIMING_COLUMNS", "scorecard_summary", "cross_tag_ratios",
+__all__ = ["EXPERIMENT", "TRACKER_NAMES", "RATIO_TRACKERS", "AMBIGUITY_TRACKERS", "SCENARIO_NAMES", "TIMING_COLUMNS", "scorecard_summary", "cross_tag_ratios",
+           "ambiguity_sweep",
            "density_rows", "density_table", "breakup_claims", "breakup_macros"]
 
 EXPERIMENT = "ssa_breakup"
 SOURCE = "extension (a fresh breakup cloud)"
 TRACKER_NAMES = {"glmb": "δ-GLMB", "glmb_murty": "δ-GLMB (Murty)", "homht_kbest": "HOMHT k-best", "rfisst": "R-FISST",
-                 "gnn": "GNN", "jpda": "JPDA"}
+                 "gnn": "GNN", "jpda": "JPDA", "glmb_amb": "δ-GLMB, ambiguity output",
+                 "glmb_murty_amb": "δ-GLMB (Murty), ambiguity output", "homht_kbest_amb": "HOMHT k-best, ambiguity output",
+                 "rfisst_amb": "R-FISST, ambiguity output"}
 #: The trackers whose cross-tags are compared with the reference's (those of a run's ``trackers_run``).
 RATIO_TRACKERS = ("glmb", "glmb_murty", "homht_kbest")
+#: Their ambiguity outputs (:meth:`.run.ScoredRun.with_output`), compared with the reference too (rows after theirs).
+AMBIGUITY_TRACKERS = ("glmb_amb", "glmb_murty_amb", "homht_kbest_amb", "rfisst_amb")
 SCENARIO_NAMES = {"breakup": "breakup cloud", "catalogue": "sparse catalogue"}
 TIMING_COLUMNS = ("cpu_s",)
 _KEYS = ("scenario", "tracker")
@@ -74,6 +81,31 @@ def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glm
                                        "meets_goal", "metric"])
 
 
+def ambiguity_sweep(sweep: pd.DataFrame, cards: pd.DataFrame, reference: str = "gnn",
+                    goal: float = 0.5) -> pd.DataFrame:
+    """Per (scenario, tracker, mode, ``p_min``) of the sweep rows (:func:`.jobs.score_tracker_outputs`): the number of
+    seeds, cross-tags and uncorrelated returns per 10⁴ returns and identity switches per 10⁴ object-scans (mean,
+    s.e.), and the cross-tags' and identity switches' ratios to ``reference``'s in ``cards`` (:func:`cross_tag_ratios`: ``xtag_ratio``, ``idsw_ratio`` with s.e. and verdict)."""
+    cols = ["scenario", "tracker", "mode", "p_min", "n_seeds", "cross_tags_per_1e4", "cross_tags_per_1e4_se",
+            "id_switches_per_1e4", "id_switches_per_1e4_se", "uncorrelated_per_1e4", "uncorrelated_per_1e4_se",
+            "xtag_ratio", "xtag_ratio_se", "xtag_meets_goal",
+            "idsw_ratio", "idsw_ratio_se", "idsw_meets_goal", "goal"]
+    if sweep.empty:
+        return pd.DataFrame(columns=cols)
+    ref = cards[cards["tracker"] == reference]
+    rows = []
+    for (scen, name, mode, p), g in sweep.groupby(["scenario", "tracker", "mode", "p_min"], sort=False):
+        both = pd.concat([g, ref[ref["scenario"] == scen]], ignore_index=True)
+        r = dict(scenario=scen, tracker=name, mode=mode, p_min=float(p), n_seeds=int(g["seed"].nunique()))
+        for c in ("cross_tags_per_1e4", "id_switches_per_1e4", "uncorrelated_per_1e4"):
+            r[c], r[f"{c}_se"] = mean_se(g[c])
+        for pre, c in (("xtag", "cross_tags_per_1e4"), ("idsw", "id_switches_per_1e4")):
+            q = cross_tag_ratios(both, reference, (name,), goal, c).iloc[0]
+            r[f"{pre}_ratio"], r[f"{pre}_ratio_se"], r[f"{pre}_meets_goal"] = q["ratio"], q["ratio_se"], q["meets_goal"]
+        rows.append(dict(r, goal=goal))
+    return pd.DataFrame(rows, columns=cols)
+
+
 def density_rows(truth: pd.DataFrame, scenario: str, seed: int, gate_km: float) -> tuple[dict, np.ndarray]:
     """One density row of a scenario's truth (median nearest-neighbour distance of the objects in view, share
     inside ``gate_km`` and inside 5 ``gate_km``) and the finite distances (for the figure)."""
@@ -105,6 +137,16 @@ def _seeds(n) -> str:
     return f"{int(n)} seed{'' if int(n) == 1 else 's'}"
 
 
+def _withheld_note(summary: pd.DataFrame, r) -> str:
+    """For an ambiguity output's row: its uncorrelated returns per 10⁴ against its plain output's (the difference is
+    what it withheld while ambiguous); empty otherwise."""
+    if r.tracker not in AMBIGUITY_TRACKERS or "uncorrelated_per_1e4" not in summary:
+        return ""
+    base = summary[(summary["scenario"] == r.scenario) & (summary["tracker"] == r.tracker.removesuffix("_amb"))]
+    plain = f" against {_f(base['uncorrelated_per_1e4'].iloc[0])} for the plain output" if len(base) else ""
+    return f"; uncorrelated {_f(r.uncorrelated_per_1e4)} per 10^4 returns{plain} (withheld while ambiguous)"
+
+
 def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame, reference: str = "gnn") -> list:
     """Ledger rows (status *extension*): per scenario, each tracker's cross-tags per 10⁴ returns; the ratios to
     GNN against the goal; the share of ``reference``'s re-acquisitions with another object inside the gate; the
@@ -115,7 +157,9 @@ def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
                          f"{SCENARIO_NAMES[r.scenario]}", SOURCE, "--",
                          f"{_f(r.cross_tags_per_1e4)} ± {_f(r.cross_tags_per_1e4_se, 2)}", "--", "extension",
                          f"mean ± s.e. over {_seeds(r.n_seeds)}; completeness {_f(r.completeness)}, duplicates "
-                         f"{_f(r.duplicate_per_1000)} and false {_f(r.false_per_1000)} per 1,000 estimates",
+                         f"{_f(r.duplicate_per_1000)} and false {_f(r.false_per_1000)} per 1,000 estimates"
+                         # the price of an output that withholds ambiguous correlations
+                         + _withheld_note(summary, r),
                          "measurement", key=f"crosstags_{r.scenario}_{r.tracker}"))
     for r in ratios.itertuples(index=False):
         what, pre = _RATIO_METRICS[getattr(r, "metric", "cross_tags_per_1e4")]
@@ -176,7 +220,7 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
             for key in ("crosstags", "crosstags_se", "duplicates", "completeness", "realism", "idsw", "firstown",
                         "reacqkept"):
                 vals.setdefault(f"{key}_{scen}_{name}", float("nan"))
-        for name in RATIO_TRACKERS:
+        for name in (*RATIO_TRACKERS, *AMBIGUITY_TRACKERS):
             for pre in ("", "idsw_"):
                 vals.setdefault(f"{pre}ratio_{scen}_{name}", float("nan"))
                 vals.setdefault(f"{pre}ratio_se_{scen}_{name}", float("nan"))

@@ -126,7 +126,8 @@ def test_every_claim_row_is_placed_in_the_extension_group():
 
     doc = yaml.safe_load((CONFIG.parents[2] / "src" / "hypotrack" / "reporting" / "document_claims.yaml").read_text())
     placed = {r for g in doc["extensions"] if g["id"] == "extension.breakup" for r in g["rows"]}
-    names = ["glmb", "glmb_murty", "homht_kbest", "rfisst", "gnn", "jpda"]
+    # the default's factored trackers also report their ambiguity outputs (rows <name>_amb of the same runs)
+    names = ["glmb", "glmb_murty", "homht_kbest", "rfisst", "gnn", "jpda", "glmb_murty_amb", "homht_kbest_amb"]
     cards = pd.DataFrame([dict(scenario=s, tracker=t, seed=k, cross_tags_per_1e4=float(k), completeness=0.5,
                                duplicate_per_1000=1.0, false_per_1000=1.0, nn_in_gate_share=0.5, reacquisitions=3.0,
                                id_switches_per_1e4=float(k))
@@ -134,11 +135,11 @@ def test_every_claim_row_is_placed_in_the_extension_group():
     acc, _ = scorecard_summary(cards)
     dens = density_table([dict(scenario=s, seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0, share_in_gate=0.5,
                                share_in_5_gates=1.0) for s in ("breakup", "catalogue")])
-    ratios = pd.concat([cross_tag_ratios(cards, "gnn", RATIO_TRACKERS, column=c)
+    ratios = pd.concat([cross_tag_ratios(cards, "gnn", (*RATIO_TRACKERS, "glmb_murty_amb", "homht_kbest_amb"), column=c)
                         for c in ("cross_tags_per_1e4", "id_switches_per_1e4")])
     rows = breakup_claims(acc, ratios, dens)
     keys = {f"ssa_breakup/{c.key}" for c in rows}
-    assert len(keys) == len(rows) == 12 + 6 + 6 + 2 + 2
+    assert len(keys) == len(rows) == 16 + 10 + 10 + 2 + 2
     # R-FISST and the Gibbs δ-GLMB run in full.yaml (and the quick wiring) only: their rows are reported unplaced there
     full_only = {k for k in keys if k.endswith(("_rfisst", "_glmb"))}
     assert len(full_only) == 6 + 2  # the Gibbs δ-GLMB: cross-tags and both ratios; R-FISST: cross-tags
@@ -250,3 +251,42 @@ def test_macros_of_a_tracker_not_run_are_dashes():
                 "idsw_ratio_se_breakup_glmb", "realism_breakup_rfisst"):
         assert np.isnan(m[key]), key
     assert not any(k.endswith("_catalogue_glmb") for k in m)  # no scenario the cards do not hold
+
+
+def test_ambiguity_output_from_the_same_run(small_cfg):
+    """A factored tracker's run records its MAP labels' marginals; its ambiguity output is scored from that run (one
+    tracker run: the tracks' columns equal), p_min = 0 reports the MAP itself, and the sweep's row at the
+    configured p_min is the output row's identity columns. GNN has no marginals: no output row, no sweep."""
+    from hypotrack.experiments.ssa_breakup.jobs import score_tracker_outputs
+    from hypotrack.experiments.ssa_breakup.run import build, run_scored
+    from hypotrack.experiments.ssa_breakup.scorecard import identity_row
+
+    cfg, cat = small_cfg
+    cfg = copy.deepcopy(cfg)
+    cfg.update(scenarios=["breakup"], ambiguity={"mode": "withhold", "p_min": 0.9, "p_min_sweep": [0.5, 0.9]},
+               window={"obs_start_s": 7200.0, "obs_end_s": 7800.0})  # half the pass: two runs of the tracker
+    cards, sweep = score_tracker_outputs("glmb_murty", cfg, cat)
+    assert cards["tracker"].tolist() == ["glmb_murty", "glmb_murty_amb"]
+    same = ["n_objects", "object_returns", "completeness", "reacquisitions", "reacq_within_km", "gospa_loc_per_object",
+            "false_per_1000", "duplicate_per_1000"]
+    same = [c for c in same if c in cards]
+    pd.testing.assert_frame_equal(cards.iloc[[0]][same].reset_index(drop=True), cards.iloc[[1]][same].reset_index(drop=True))
+    assert sweep[["mode", "p_min"]].values.tolist() == [["fresh", 0.5], ["fresh", 0.9], ["withhold", 0.5],
+                                                          ["withhold", 0.9]]
+    assert set(sweep["tracker"]) == {"glmb_murty_amb"}
+    at = sweep[(sweep["p_min"] == 0.9) & (sweep["mode"] == "withhold")].iloc[0]
+    assert at["cross_tags_per_1e4"] == cards.iloc[1]["cross_tags_per_1e4"]
+    assert at["id_switches"] == cards.iloc[1]["id_switches"]
+    assert at["uncorrelated_per_1e4"] == cards.iloc[1]["uncorrelated_per_1e4"]
+    scen = build("breakup", cfg, cat, 5)
+    run = run_scored("glmb_murty", cfg, scen, 5, count_hypotheses=False)
+    m = run.marginals
+    # one row per MAP label and scan; those in view are the scan's estimates
+    in_view = m[m["in_view"]].groupby("scan").size().reindex(run.per_scan["scan"], fill_value=0)
+    assert in_view.tolist() == run.per_scan["n_estimates"].tolist()
+    assert ((m["p"] > 0) & (m["p"] <= 1)).all() and m["in_view"].dtype == bool
+    zero = run.with_output(0.0, "withhold")
+    assert zero.returns["label"].tolist() == run.returns["label"].tolist()
+    assert identity_row(zero)["cross_tags"] == cards.iloc[0]["cross_tags"]
+    g_cards, g_sweep = score_tracker_outputs("gnn", cfg, cat)
+    assert g_cards["tracker"].tolist() == ["gnn"] and g_sweep.empty

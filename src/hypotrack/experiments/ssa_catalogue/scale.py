@@ -14,7 +14,7 @@ fresh process compiles each numba kernel on its first call, ~0.1 s of CPU in the
 engine step, which over a few timed scans would swamp the steady cost), and from them µs per
 object in view per scan, per catalogued object per scan and per return; the **real-time factor**
 (simulated seconds per CPU second: above 1 the tracker keeps up with the radar on one core); the
-load average of the machine before and after. :func:`scale_summary`: per (tracker, N) the median of the
+load average of the machine before and after; ``blas_threads``, the ``OPENBLAS_NUM_THREADS`` the process started with (one in :func:`run_isolated`: :data:`ONE_THREAD`). :func:`scale_summary`: per (tracker, N) the median of the
 runs with its spread (min, max), and per tracker the log-log slope of CPU per scan against ``N``.
 """
 
@@ -34,7 +34,7 @@ from ...scenarios.catalogue import load_catalogue
 from ...scenarios.catalogue.clones import simulate_clones
 from .run import initial_tracks, make_motion, make_problem, make_radar, make_tracker, tracker_sensor
 
-__all__ = ["FIGURES", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
+__all__ = ["FIGURES", "ONE_THREAD", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
 
 #: The per-run figures :func:`scale_summary` takes the median and spread of.
 FIGURES = ("cpu_s_per_scan", "us_per_object_in_view", "us_per_object", "us_per_return", "real_time_factor",
@@ -90,7 +90,8 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
                 returns_per_scan=returns / max(timed, 1), cpu_s=cpu, cpu_s_per_scan=cpu / max(timed, 1),
                 us_per_object_in_view=1e6 * cpu / view if view else np.nan, us_per_object=1e6 * cpu / max(n * timed, 1),
                 us_per_return=1e6 * cpu / returns if returns else np.nan, real_time_factor=sim_s / max(cpu, 1e-12),
-                peak_rss_mb=rss, wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0])
+                peak_rss_mb=rss, wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0],
+                blas_threads=os.environ.get("OPENBLAS_NUM_THREADS", "default"))
 
 
 def _child():
@@ -99,13 +100,20 @@ def _child():
     print(json.dumps(measure_run(req["cfg"], req["tracker"], req["n"], req["seed"])))
 
 
+#: The child's environment: BLAS and OpenMP on one thread. The figures are of one core (the real-time factor is
+#: simulated seconds per CPU second), and a multi-threaded BLAS spends CPU on nothing here: the tracker's large
+#: products are (n, 3) by (3, 3), and on a shared machine the library's threads spin waiting for a core (measured:
+#: a (10⁶, 3) @ (3, 3) product ~250 ms of CPU with two OpenBLAS threads on the loaded 2-core machine, ~3 ms on one).
+ONE_THREAD = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
 def run_isolated(cfg, tracker: str, n: int, seed: int) -> dict:
-    """:func:`measure_run` in a fresh Python process (its own peak memory); a failed run raises
-    ``RuntimeError`` with the process's error output."""
+    """:func:`measure_run` in a fresh Python process (its own peak memory; BLAS on one thread,
+    :data:`ONE_THREAD`); a failed run raises ``RuntimeError`` with the process's error output."""
     code = "from hypotrack.experiments.ssa_catalogue.scale import _child; _child()"
     res = subprocess.run([sys.executable, "-c", code], input=json.dumps(dict(cfg=cfg, tracker=tracker, n=int(n),
                                                                              seed=int(seed))),
-                         capture_output=True, text=True)
+                         capture_output=True, text=True, env={**os.environ, **ONE_THREAD})
     if res.returncode != 0:
         raise RuntimeError(f"scale run {tracker} at N = {n} failed:\n{res.stderr[-3000:]}")
     return json.loads(res.stdout.strip().splitlines()[-1])

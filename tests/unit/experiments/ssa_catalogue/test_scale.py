@@ -48,6 +48,14 @@ def test_isolated_runs_are_deterministic_but_for_the_clock(cfg):
     for k in ("n_scans", "in_view_per_scan", "returns_per_scan"):
         assert a[k] == b[k]
     assert a["peak_rss_mb"] > 50
+    assert a["blas_threads"] == b["blas_threads"] == "1"  # the child's BLAS on one thread (scale.ONE_THREAD)
+
+
+def test_an_in_process_run_reports_the_blas_threads_it_had(cfg, monkeypatch):
+    monkeypatch.delenv("OPENBLAS_NUM_THREADS", raising=False)
+    assert measure_run(cfg, "gnn", 60, 3)["blas_threads"] == "default"
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "2")
+    assert measure_run(cfg, "gnn", 60, 3)["blas_threads"] == "2"
 
 
 def test_summary_medians_spreads_and_slopes():

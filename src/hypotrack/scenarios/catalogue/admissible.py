@@ -208,14 +208,20 @@ class AdmissibleRegionBirth:
         e_edges = np.linspace(-e_max, e_max, N + 1, axis=1)
         ac, ec = (a_edges[:, :-1] + a_edges[:, 1:]) / 2, (e_edges[:, :-1] + e_edges[:, 1:]) / 2
         n_corner, n_centre = (N + 1) ** 2, N * N
-        Y = np.empty((m, n_corner + n_centre, 6))
-        Y[:, :, :4] = Z[:, None, :]
-        Y[:, :n_corner, 4] = np.repeat(a_edges, N + 1, axis=1)
-        Y[:, :n_corner, 5] = np.tile(e_edges, (1, N + 1))
-        Y[:, n_corner:, 4] = np.repeat(ac, N, axis=1)
-        Y[:, n_corner:, 5] = np.tile(ec, (1, N))
-        good = plausible_orbits(attributable_to_state(Y.reshape(-1, 6), site, theta),
-                                min_perigee_km=self.min_perigee_km).reshape(m, -1)
+        rates = np.empty((m, n_corner + n_centre, 2))
+        rates[:, :n_corner, 0] = np.repeat(a_edges, N + 1, axis=1)
+        rates[:, :n_corner, 1] = np.tile(e_edges, (1, N + 1))
+        rates[:, n_corner:, 0] = np.repeat(ac, N, axis=1)
+        rates[:, n_corner:, 1] = np.tile(ec, (1, N))
+        # step 1 is affine in the rates at a fixed return: x = x(z, 0, 0) + α̇ ∂x/∂α̇ + ε̇ ∂x/∂ε̇ (only the velocity
+        # moves), so each return's three attributables give every cell's state (to rounding)
+        base = attributable_to_state(np.column_stack([np.repeat(Z, 3, axis=0), np.tile(np.eye(3)[:, 1:], (m, 1))]),
+                                     site, theta).reshape(m, 3, 6)
+        X = np.empty((m, n_corner + n_centre, 6))
+        X[:, :, :3] = base[:, None, 0, :3]
+        X[:, :, 3:] = (base[:, None, 0, 3:] + rates[:, :, :1] * (base[:, None, 1, 3:] - base[:, None, 0, 3:])
+                       + rates[:, :, 1:] * (base[:, None, 2, 3:] - base[:, None, 0, 3:]))
+        good = plausible_orbits(X, min_perigee_km=self.min_perigee_km)
         corner = good[:, :n_corner].reshape(m, N + 1, N + 1)
         ok = (good[:, n_corner:].reshape(m, N, N) & corner[:, :-1, :-1] & corner[:, 1:, :-1] & corner[:, :-1, 1:]
               & corner[:, 1:, 1:])

@@ -137,7 +137,7 @@ def scale_runs(cfg, seed: int, *, log=print) -> pd.DataFrame:
 
 def scale_summary(runs: pd.DataFrame) -> pd.DataFrame:
     """Per (tracker, N): runs, objects in view and returns per scan, and for each of :data:`FIGURES` the
-    median, min and max over the runs; the mean load average; per tracker ``slope_cpu_vs_n``, the
+    median, min and max over the runs; the mean load average; the runs' ``blas_threads``; per tracker ``slope_cpu_vs_n``, the
     least-squares slope of log median CPU per scan against log N (NaN with one size)."""
     out = []
     for (name, n), g in runs.groupby(["tracker", "n_objects"], sort=False):
@@ -146,6 +146,8 @@ def scale_summary(runs: pd.DataFrame) -> pd.DataFrame:
         for f in FIGURES:
             r[f"{f}_median"], r[f"{f}_min"], r[f"{f}_max"] = g[f].median(), g[f].min(), g[f].max()
         r["load_mean"] = float(np.mean(np.r_[g["load_before"], g["load_after"]]))
+        if "blas_threads" in g:  # runs from before the harness recorded it lack it
+            r["blas_threads"] = "/".join(sorted(set(g["blas_threads"].astype(str))))
         out.append(r)
     table = pd.DataFrame(out)
     slopes = {}

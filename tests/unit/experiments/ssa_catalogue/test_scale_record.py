@@ -150,3 +150,20 @@ def test_macros_round_to_three_figures():
     runs = _runs()
     runs["us_per_object_in_view"] = np.where(runs["tracker"] == "glmb", 123.456, runs["us_per_object_in_view"])
     assert scale_record_macros(scale_summary(runs))["ScaleUsglmb"] == "123"
+
+
+def test_a_tracker_stopped_at_the_largest_size_is_said_so_and_has_no_macros_there():
+    runs = _runs(trackers=("jpda", "glmb"))
+    big = (runs["tracker"] == "jpda") & (runs["n_objects"] == 1000000)
+    runs.loc[big, "status"] = ["timed_out", "skipped", "skipped"]
+    runs.loc[big, ["cpu_s_per_scan", "us_per_object_in_view", "real_time_factor", "peak_rss_mb"]] = np.nan
+    runs["status"] = runs["status"].fillna("done")
+    table = scale_summary(runs)
+    v = scale_record_macros(table)
+    assert "ScaleRtfjpda" not in v and "ScalePeakGBjpda" not in v and "ScaleSlopejpda" not in v
+    assert v["ScaleUsjpda"] == "100" and v["ScaleRtfglmb"] == "10.9" and v["ScaleRuns"] == 3
+    text = scale_record_markdown(table)
+    assert "| JPDA | 100 [80, 120] | not finished (1 timed out) | not finished (1 timed out) | — |" in text
+    assert "was stopped, and its tracker not run again at that N or above" in text
+    scale = dict(sizes=[10855, 1000000], trackers=["glmb", "jpda"], runs=3, n_scans=12, warm_scans=2)
+    assert scale_config_differences(table, scale) == []  # finished + timed out + skipped = the planned runs

@@ -16,6 +16,12 @@ object in view per scan, per catalogued object per scan and per return; the **re
 (simulated seconds per CPU second: above 1 the tracker keeps up with the radar on one core); the
 load average of the machine before and after; ``blas_threads``, the ``OPENBLAS_NUM_THREADS`` the process started with (one in :func:`run_isolated`: :data:`ONE_THREAD`). :func:`scale_summary`: per (tracker, N) the median of the
 runs with its spread (min, max), and per tracker the log-log slope of CPU per scan against ``N``.
+
+A run not finished within ``scale.timeout_s`` seconds of wall time (when set) is stopped and recorded as
+``timed_out``; its tracker is not run again at that ``N`` or above (``skipped``), and the summary takes the
+finished runs only. Each run's process has BLAS on one thread (:data:`ONE_THREAD`). A numba kernel a tracker
+first calls after the untimed scans (e.g. JPDA's first large cluster) is compiled inside a timed scan when the
+kernel cache is cold: a fresh checkout's first run can be seconds dearer than the next.
 """
 
 from __future__ import annotations

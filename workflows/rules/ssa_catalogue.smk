@@ -127,11 +127,13 @@ SC_TARGETS.extend(rules.ssa_catalogue_single_event.output)
 # hypotrack.experiments.ssa_catalogue.record <results>`): its macros let the report quote it. Read only;
 # absent, the report says it is not recorded.
 SC_FULL_RECORD = "paper/record/ssa_catalogue_full.csv"
+SC_SCALE_RECORD = "paper/record/ssa_catalogue_scale.csv"  # its timing at scale, when recorded
 if Path(SC_FULL_RECORD).exists():
 
     rule ssa_catalogue_full_record:
         input:
             SC_FULL_RECORD,
+            scale=[SC_SCALE_RECORD] if Path(SC_SCALE_RECORD).exists() else [],
         output:
             macros=f"{SC_DIR}/full_record_macros.csv",
         params:

@@ -61,7 +61,8 @@ class AdaptiveBirth:
         -> (weights (K,), means (K, d), covs (K, d, d))`` (``K = 0``: no state can give ``z``), e.g. the
         admissible region of a radar return (:class:`hypotrack.scenarios.catalogue.admissible.AdmissibleRegionBirth`).
         Each component is a term of weight ``weights[k]`` (existence ``r_birth × weights[k]``), predicted
-        over the scan interval like a one-point term.
+        over the scan interval like a one-point term. A mixture with ``components_batch(Z) -> (weights, means,
+        covs, owner)`` (every return's components in one pass, in the order of the returns) is asked once per scan.
 
     With a nonlinear measurement model (``measurement`` of :meth:`terms`, e.g. a radar's range, angles and
     range-rate in the sensor frame) the one-point initiation is the model's own ``one_point(Z, position_std,
@@ -110,6 +111,10 @@ class AdaptiveBirth:
         components of its mixture (``K = 0``: none); ``weights`` is ``None`` for one-point terms."""
         Z = np.atleast_2d(np.asarray(Z, dtype=float))
         nonlinear = measurement is not None and not measurement.linear
+        if self.mixture is not None and hasattr(self.mixture, "components_batch"):
+            # all returns' mixtures in one vectorised pass, in the order of the per-return list below
+            w, x0, P0, _ = self.mixture.components_batch(Z)
+            return x0, P0, w
         if self.mixture is not None:
             parts = [p for p in (self.mixture.components(z) for z in Z) if len(p[0])]
             if not parts:

@@ -131,13 +131,17 @@ class ExtendedMeasurement:
 
     def hessian(self, means) -> np.ndarray:
         """``∂²h_a/∂x_k∂x_l`` ``(n, p, d, d)`` by central differences of :meth:`jacobian` (steps :attr:`hessian_steps`)."""
-        n, d = np.shape(means)
-        out = np.empty((n, self.dim, d, d))
-        for k, h in enumerate(self.hessian_steps):
-            xp, xm = np.array(means, dtype=float), np.array(means, dtype=float)
-            xp[:, k] += h
-            xm[:, k] -= h
-            out[:, :, :, k] = (self.jacobian(xp) - self.jacobian(xm)) / (2 * h)
+        X = np.asarray(means, dtype=float)
+        n, d = X.shape
+        steps = np.asarray(self.hessian_steps, dtype=float)
+        # all 2d shifted copies of the means in one call of the Jacobian (row by row the same arithmetic as
+        # one call per step): X[0, k] = means + h_k e_k, X[1, k] = means − h_k e_k
+        shifted = np.broadcast_to(X, (2, d, n, d)).copy()
+        k = np.arange(d)
+        shifted[0, k, :, k] += steps[:, None]
+        shifted[1, k, :, k] -= steps[:, None]
+        J = self.jacobian(shifted.reshape(-1, d)).reshape(2, d, n, self.dim, d)
+        out = np.moveaxis((J[0] - J[1]) / (2 * steps[:, None, None, None]), 0, -1)  # (n, p, d, d): [..., l, k]
         return 0.5 * (out + np.swapaxes(out, 2, 3))
 
     def _moments(self, means, covs):

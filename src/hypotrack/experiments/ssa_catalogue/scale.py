@@ -14,8 +14,14 @@ fresh process compiles each numba kernel on its first call, ~0.1 s of CPU in the
 engine step, which over a few timed scans would swamp the steady cost), and from them µs per
 object in view per scan, per catalogued object per scan and per return; the **real-time factor**
 (simulated seconds per CPU second: above 1 the tracker keeps up with the radar on one core); the
-load average of the machine before and after. :func:`scale_summary`: per (tracker, N) the median of the
+load average of the machine before and after; ``blas_threads``, the ``OPENBLAS_NUM_THREADS`` the process started with (one in :func:`run_isolated`: :data:`ONE_THREAD`). :func:`scale_summary`: per (tracker, N) the median of the
 runs with its spread (min, max), and per tracker the log-log slope of CPU per scan against ``N``.
+
+A run not finished within ``scale.timeout_s`` seconds of wall time (when set) is stopped and recorded as
+``timed_out``; its tracker is not run again at that ``N`` or above (``skipped``), and the summary takes the
+finished runs only. Each run's process has BLAS on one thread (:data:`ONE_THREAD`). A numba kernel a tracker
+first calls after the untimed scans (e.g. JPDA's first large cluster) is compiled inside a timed scan when the
+kernel cache is cold: a fresh checkout's first run can be seconds dearer than the next.
 """
 
 from __future__ import annotations
@@ -34,7 +40,7 @@ from ...scenarios.catalogue import load_catalogue
 from ...scenarios.catalogue.clones import simulate_clones
 from .run import initial_tracks, make_motion, make_problem, make_radar, make_tracker, tracker_sensor
 
-__all__ = ["FIGURES", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
+__all__ = ["FIGURES", "ONE_THREAD", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
 
 #: The per-run figures :func:`scale_summary` takes the median and spread of.
 FIGURES = ("cpu_s_per_scan", "us_per_object_in_view", "us_per_object", "us_per_return", "real_time_factor",
@@ -90,7 +96,8 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
                 returns_per_scan=returns / max(timed, 1), cpu_s=cpu, cpu_s_per_scan=cpu / max(timed, 1),
                 us_per_object_in_view=1e6 * cpu / view if view else np.nan, us_per_object=1e6 * cpu / max(n * timed, 1),
                 us_per_return=1e6 * cpu / returns if returns else np.nan, real_time_factor=sim_s / max(cpu, 1e-12),
-                peak_rss_mb=rss, wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0])
+                peak_rss_mb=rss, wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0],
+                blas_threads=os.environ.get("OPENBLAS_NUM_THREADS", "default"))
 
 
 def _child():
@@ -99,13 +106,24 @@ def _child():
     print(json.dumps(measure_run(req["cfg"], req["tracker"], req["n"], req["seed"])))
 
 
-def run_isolated(cfg, tracker: str, n: int, seed: int) -> dict:
-    """:func:`measure_run` in a fresh Python process (its own peak memory); a failed run raises
-    ``RuntimeError`` with the process's error output."""
+#: The child's environment: BLAS and OpenMP on one thread. The figures are of one core (the real-time factor is
+#: simulated seconds per CPU second), and a multi-threaded BLAS spends CPU on nothing here: the tracker's large
+#: products are (n, 3) by (3, 3), and on a shared machine the library's threads spin waiting for a core (measured:
+#: a (10⁶, 3) @ (3, 3) product ~250 ms of CPU with two OpenBLAS threads on the loaded 2-core machine, ~3 ms on one).
+ONE_THREAD = {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "1", "MKL_NUM_THREADS": "1"}
+
+
+def run_isolated(cfg, tracker: str, n: int, seed: int, timeout: float | None = None) -> dict | None:
+    """:func:`measure_run` in a fresh Python process (its own peak memory; BLAS on one thread,
+    :data:`ONE_THREAD`); ``None`` when it has not finished after ``timeout`` seconds of wall time (the process
+    is killed); a failed run raises ``RuntimeError`` with the process's error output."""
     code = "from hypotrack.experiments.ssa_catalogue.scale import _child; _child()"
-    res = subprocess.run([sys.executable, "-c", code], input=json.dumps(dict(cfg=cfg, tracker=tracker, n=int(n),
-                                                                             seed=int(seed))),
-                         capture_output=True, text=True)
+    try:
+        res = subprocess.run([sys.executable, "-c", code], input=json.dumps(dict(cfg=cfg, tracker=tracker, n=int(n),
+                                                                                 seed=int(seed))),
+                             capture_output=True, text=True, env={**os.environ, **ONE_THREAD}, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return None
     if res.returncode != 0:
         raise RuntimeError(f"scale run {tracker} at N = {n} failed:\n{res.stderr[-3000:]}")
     return json.loads(res.stdout.strip().splitlines()[-1])
@@ -113,14 +131,31 @@ def run_isolated(cfg, tracker: str, n: int, seed: int) -> dict:
 
 def scale_runs(cfg, seed: int, *, log=print) -> pd.DataFrame:
     """Every run of ``cfg["scale"]``: for each repetition, each size and each tracker (repetitions
-    outermost, so that a change of the machine's load spreads over all); one row per run."""
+    outermost, so that a change of the machine's load spreads over all); one row per run, its ``status``
+    ``done``, ``timed_out`` (not finished within ``scale.timeout_s`` seconds of wall time, when set) or
+    ``skipped``: a tracker that timed out at N is not run again at N or above (a run there would only
+    time out again), its figures NaN."""
     s = cfg["scale"]
-    rows = []
+    timeout = s.get("timeout_s")
+    if timeout is not None and not float(timeout) > 0:
+        raise ValueError(f"scale.timeout_s must be > 0 (seconds of wall time per run) or absent, got {timeout!r}")
+    rows, gave_up = [], {}  # tracker -> the smallest N at which one of its runs timed out
     for rep in range(s["runs"]):
         for n in s["sizes"]:
             for name in s["trackers"]:
-                r = run_isolated(cfg, name, n, seed)
-                r["run"] = rep
+                if n >= gave_up.get(name, np.inf):
+                    rows.append(dict(tracker=name, n_objects=int(n), run=rep, status="skipped"))
+                    log(f"{name} N={n} run {rep}: skipped (timed out at N={gave_up[name]})")
+                    continue
+                load0 = os.getloadavg()[0]
+                r = run_isolated(cfg, name, n, seed, timeout=timeout)
+                if r is None:
+                    gave_up[name] = min(gave_up.get(name, np.inf), n)
+                    rows.append(dict(tracker=name, n_objects=int(n), run=rep, status="timed_out", load_before=load0,
+                                     load_after=os.getloadavg()[0], wall_s=float(timeout)))
+                    log(f"{name} N={n} run {rep}: not finished within {timeout} s of wall time")
+                    continue
+                r["run"], r["status"] = rep, "done"
                 rows.append(r)
                 log(f"{name} N={n} run {rep}: {r['us_per_object_in_view']:.1f} µs/object in view, RTF "
                     f"{r['real_time_factor']:.1f}, peak {r['peak_rss_mb']:.0f} MB, load {r['load_before']:.2f}")
@@ -128,20 +163,30 @@ def scale_runs(cfg, seed: int, *, log=print) -> pd.DataFrame:
 
 
 def scale_summary(runs: pd.DataFrame) -> pd.DataFrame:
-    """Per (tracker, N): runs, objects in view and returns per scan, and for each of :data:`FIGURES` the
-    median, min and max over the runs; the mean load average; per tracker ``slope_cpu_vs_n``, the
+    """Per (tracker, N): runs finished (``runs``), timed out and skipped, objects in view and returns per scan, and
+    for each of :data:`FIGURES` the median, min and max over the finished runs (NaN when none finished); the mean load average; the runs' ``blas_threads``; per tracker ``slope_cpu_vs_n``, the
     least-squares slope of log median CPU per scan against log N (NaN with one size)."""
     out = []
-    for (name, n), g in runs.groupby(["tracker", "n_objects"], sort=False):
-        r = dict(tracker=name, n_objects=int(n), runs=len(g), n_scans=int(g["n_scans"].iloc[0]),
-                 in_view_per_scan=g["in_view_per_scan"].iloc[0], returns_per_scan=g["returns_per_scan"].iloc[0])
+    for (name, n), g_all in runs.groupby(["tracker", "n_objects"], sort=False):
+        status = g_all["status"] if "status" in g_all else pd.Series("done", index=g_all.index)
+        g = g_all[status == "done"]
+        r = dict(tracker=name, n_objects=int(n), runs=len(g), runs_timed_out=int((status == "timed_out").sum()),
+                 runs_skipped=int((status == "skipped").sum()),
+                 n_scans=int(g["n_scans"].iloc[0]) if len(g) else np.nan,
+                 in_view_per_scan=g["in_view_per_scan"].iloc[0] if len(g) else np.nan,
+                 returns_per_scan=g["returns_per_scan"].iloc[0] if len(g) else np.nan)
         for f in FIGURES:
-            r[f"{f}_median"], r[f"{f}_min"], r[f"{f}_max"] = g[f].median(), g[f].min(), g[f].max()
-        r["load_mean"] = float(np.mean(np.r_[g["load_before"], g["load_after"]]))
+            x = g[f] if f in g else pd.Series(dtype=float)
+            r[f"{f}_median"], r[f"{f}_min"], r[f"{f}_max"] = x.median(), x.min(), x.max()
+        ran = g_all[status != "skipped"]
+        r["load_mean"] = float(np.mean(np.r_[ran["load_before"], ran["load_after"]])) if len(ran) else np.nan
+        if "blas_threads" in g:  # runs from before the harness recorded it lack it
+            r["blas_threads"] = "/".join(sorted(set(g["blas_threads"].dropna().astype(str))))
         out.append(r)
     table = pd.DataFrame(out)
     slopes = {}
     for name, g in table.groupby("tracker", sort=False):
+        g = g[np.isfinite(g["cpu_s_per_scan_median"])]  # the sizes at which some run finished
         if g["n_objects"].nunique() > 1:
             slopes[name] = float(np.polyfit(np.log(g["n_objects"]), np.log(g["cpu_s_per_scan_median"]), 1)[0])
     table["slope_cpu_vs_n"] = table["tracker"].map(slopes).astype(float)

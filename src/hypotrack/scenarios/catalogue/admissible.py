@@ -44,7 +44,7 @@ from ..._validation import check_finite_array, check_int, check_positive
 from ...models.orbit import MU_EARTH
 from ...models.plausibility import MIN_PERIGEE_ALTITUDE, plausible_orbits
 from .frames import EARTH_ROTATION
-from .radar_model import RadarTrackerSensor, attributable_jacobian, attributable_to_state
+from .radar_model import _H_STEP, RadarTrackerSensor, attributable_jacobian, attributable_to_state
 
 __all__ = ["attributable_to_state", "attributable_jacobian", "AdmissibleRegionBirth", "StateMixture", "SeededAdmissibleBirth"]
 
@@ -178,6 +178,81 @@ class AdmissibleRegionBirth:
             P = J @ Cy @ J.T
             covs[k] = 0.5 * (P + P.T)
         return StateMixture(counts / counts.sum(), means, covs, rate_means, rate_covs, float(ok.sum() * da * de))
+
+    def components_batch(self, Z, theta=None):
+        """Every return's mixture in one vectorised pass: ``(weights (K,), means (K, 6), covs (K, 6, 6), owner
+        (K,))`` for returns ``Z`` ``(m, 4)`` at GMST ``theta`` (default the sensor's), the components of
+        :meth:`mixture` of return 0, then of return 1, ... (``owner[k]`` the return of component ``k``; a return
+        with no admissible cell has none, where :meth:`mixture` raises). Equal to :meth:`mixture` return by
+        return to rounding (the tests compare every weight, mean and covariance to 1e-12).
+
+        Steps 2-5 of the module docstring on arrays over all returns: one rate box per return, all their
+        cells' corners and centres in one plausibility test, each block's centroid and scatter as masked sums
+        over its ``cells × cells`` cells, and all components' complex-step Jacobians in one call of
+        :func:`attributable_to_state` (``6 K`` perturbed attributables)."""
+        Z = np.asarray(Z, dtype=float)
+        Z = check_finite_array(Z.reshape(0, 4) if Z.size == 0 else Z, "Z", shape=(None, 4))
+        theta = self.sensor.theta if theta is None else float(theta)
+        site, m, nb, c = self.sensor.radar.site, len(Z), self.n_blocks, self.cells
+        N = nb * c
+        if m == 0:
+            return np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6)), np.zeros(0, dtype=np.int64)
+        # step 2 for every return (rate_box's arithmetic, one row per return)
+        r = attributable_to_state(np.column_stack([Z, np.zeros((m, 2))]), site, theta)[:, :3]
+        rn = np.sqrt(np.sum(r * r, axis=1))
+        V2 = (np.sqrt(2 * MU_EARTH / rn) + EARTH_ROTATION * np.hypot(r[:, 0], r[:, 1])) ** 2 - Z[:, 3] ** 2
+        V = np.sqrt(np.maximum(V2, 0.0))
+        a_max, e_max = V / (Z[:, 0] * np.maximum(np.cos(Z[:, 2]), 1e-6)), V / Z[:, 0]
+        # step 3: (m, N + 1) edges, (m, N) centres; corners and centres of all returns in one test
+        a_edges = np.linspace(-a_max, a_max, N + 1, axis=1)
+        e_edges = np.linspace(-e_max, e_max, N + 1, axis=1)
+        ac, ec = (a_edges[:, :-1] + a_edges[:, 1:]) / 2, (e_edges[:, :-1] + e_edges[:, 1:]) / 2
+        n_corner, n_centre = (N + 1) ** 2, N * N
+        rates = np.empty((m, n_corner + n_centre, 2))
+        rates[:, :n_corner, 0] = np.repeat(a_edges, N + 1, axis=1)
+        rates[:, :n_corner, 1] = np.tile(e_edges, (1, N + 1))
+        rates[:, n_corner:, 0] = np.repeat(ac, N, axis=1)
+        rates[:, n_corner:, 1] = np.tile(ec, (1, N))
+        # step 1 is affine in the rates at a fixed return: x = x(z, 0, 0) + α̇ ∂x/∂α̇ + ε̇ ∂x/∂ε̇ (only the velocity
+        # moves), so each return's three attributables give every cell's state (to rounding)
+        base = attributable_to_state(np.column_stack([np.repeat(Z, 3, axis=0), np.tile(np.eye(3)[:, 1:], (m, 1))]),
+                                     site, theta).reshape(m, 3, 6)
+        X = np.empty((m, n_corner + n_centre, 6))
+        X[:, :, :3] = base[:, None, 0, :3]
+        X[:, :, 3:] = (base[:, None, 0, 3:] + rates[:, :, :1] * (base[:, None, 1, 3:] - base[:, None, 0, 3:])
+                       + rates[:, :, 1:] * (base[:, None, 2, 3:] - base[:, None, 0, 3:]))
+        good = plausible_orbits(X, min_perigee_km=self.min_perigee_km)
+        corner = good[:, :n_corner].reshape(m, N + 1, N + 1)
+        ok = (good[:, n_corner:].reshape(m, N, N) & corner[:, :-1, :-1] & corner[:, 1:, :-1] & corner[:, :-1, 1:]
+              & corner[:, 1:, 1:])
+        # step 4: blocks (m, nb, nb, c, c) of cells, the azimuth rate along the first cell axis
+        okb = ok.reshape(m, nb, c, nb, c).transpose(0, 1, 3, 2, 4).astype(float)
+        Ab = np.broadcast_to(ac.reshape(m, nb, 1, c, 1), okb.shape)
+        Eb = np.broadcast_to(ec.reshape(m, 1, nb, 1, c), okb.shape)
+        counts = okb.sum(axis=(3, 4))
+        ret, bi, bj = np.nonzero(counts)
+        okk, Ak, Ek, cnt = okb[ret, bi, bj], Ab[ret, bi, bj], Eb[ret, bi, bj], counts[ret, bi, bj]
+        mu_a = (Ak * okk).sum(axis=(1, 2)) / cnt
+        mu_e = (Ek * okk).sum(axis=(1, 2)) / cnt
+        da, de = (Ak - mu_a[:, None, None]) * okk, (Ek - mu_e[:, None, None]) * okk
+        cell_a, cell_e = (2 * a_max[ret] / N) ** 2 / 12.0, (2 * e_max[ret] / N) ** 2 / 12.0
+        K = len(ret)
+        rate_covs = np.empty((K, 2, 2))
+        rate_covs[:, 0, 0] = (np.sum(da * da, axis=(1, 2)) / cnt + cell_a) * self.spread**2
+        rate_covs[:, 1, 1] = (np.sum(de * de, axis=(1, 2)) / cnt + cell_e) * self.spread**2
+        rate_covs[:, 0, 1] = rate_covs[:, 1, 0] = np.sum(da * de, axis=(1, 2)) / cnt * self.spread**2
+        totals = np.bincount(ret, weights=cnt, minlength=m)
+        # step 5: the means and all K complex-step Jacobians (6 perturbed attributables each) in two calls
+        y = np.column_stack([Z[ret], mu_a, mu_e])
+        means = attributable_to_state(y, site, theta)
+        Yc = np.repeat(y[:, None, :], 6, axis=1).astype(complex)
+        Yc[:, np.arange(6), np.arange(6)] += 1j * _H_STEP
+        J = np.swapaxes((attributable_to_state(Yc.reshape(-1, 6), site, theta).imag / _H_STEP).reshape(K, 6, 6), 1, 2)
+        Cy = np.zeros((K, 6, 6))
+        Cy[:, :4, :4] = self.sensor.R
+        Cy[:, 4:, 4:] = rate_covs
+        P = J @ Cy @ np.swapaxes(J, 1, 2)
+        return cnt / totals[ret], means, 0.5 * (P + np.swapaxes(P, 1, 2)), ret.astype(np.int64)
 
     def components(self, z):
         """``(weights (K,), means (K, 6), covs (K, 6, 6))`` of :meth:`mixture` at the sensor's current GMST, and

@@ -9,7 +9,7 @@ import pytest
 import yaml
 
 from hypotrack.experiments.ssa_catalogue.lazy_sht import lazy_sht_timing
-from hypotrack.experiments.ssa_catalogue.scale import measure_run, run_isolated, scale_summary
+from hypotrack.experiments.ssa_catalogue.scale import measure_run, run_isolated, scale_runs, scale_summary
 
 
 @pytest.fixture(scope="module")
@@ -48,6 +48,14 @@ def test_isolated_runs_are_deterministic_but_for_the_clock(cfg):
     for k in ("n_scans", "in_view_per_scan", "returns_per_scan"):
         assert a[k] == b[k]
     assert a["peak_rss_mb"] > 50
+    assert a["blas_threads"] == b["blas_threads"] == "1"  # the child's BLAS on one thread (scale.ONE_THREAD)
+
+
+def test_an_in_process_run_reports_the_blas_threads_it_had(cfg, monkeypatch):
+    monkeypatch.delenv("OPENBLAS_NUM_THREADS", raising=False)
+    assert measure_run(cfg, "gnn", 60, 3)["blas_threads"] == "default"
+    monkeypatch.setenv("OPENBLAS_NUM_THREADS", "2")
+    assert measure_run(cfg, "gnn", 60, 3)["blas_threads"] == "2"
 
 
 def test_summary_medians_spreads_and_slopes():
@@ -77,3 +85,35 @@ def test_lazy_gnn_jpda_on_the_catalogue_scans_hold_the_eager_posterior(cfg):
         assert lazy["max_x_diff"] <= 1e-10 and lazy["max_P_diff"] <= 1e-10
         # out-of-view tracks were really deferred: far fewer predicted per scan than held
         assert lazy["predicted_per_scan"] < 0.2 * df.loc[(name, "eager_in_view")]["predicted_per_scan"]
+
+
+def test_a_run_over_the_time_limit_is_stopped_and_its_tracker_skipped_at_that_n_and_above(cfg):
+    """``timeout_s`` far below a process's start-up: the first run of each tracker at the smallest size times
+    out, every later run of it (larger N, later repetitions) is skipped; the summary counts them and gives NaN
+    figures; a bad limit is refused by name."""
+    c = dict(cfg, scale=dict(cfg["scale"], sizes=[60, 100], runs=2, trackers=["gnn", "glmb"], timeout_s=0.01))
+    runs = scale_runs(c, 3, log=lambda s: None)
+    assert list(zip(runs["tracker"], runs["n_objects"], runs["run"], runs["status"])) == [
+        ("gnn", 60, 0, "timed_out"), ("glmb", 60, 0, "timed_out"), ("gnn", 100, 0, "skipped"),
+        ("glmb", 100, 0, "skipped"), ("gnn", 60, 1, "skipped"), ("glmb", 60, 1, "skipped"),
+        ("gnn", 100, 1, "skipped"), ("glmb", 100, 1, "skipped")]
+    t = scale_summary(runs).set_index(["tracker", "n_objects"])
+    assert t.loc[("gnn", 60), ["runs", "runs_timed_out", "runs_skipped"]].tolist() == [0, 1, 1]
+    assert t.loc[("gnn", 100), ["runs", "runs_timed_out", "runs_skipped"]].tolist() == [0, 0, 2]
+    assert np.isnan(t.loc[("glmb", 60), "real_time_factor_median"]) and np.isnan(t.loc[("glmb", 60), "slope_cpu_vs_n"])
+    assert np.isfinite(t.loc[("glmb", 60), "load_mean"]) and np.isnan(t.loc[("glmb", 100), "load_mean"])
+    with pytest.raises(ValueError, match=r"^scale\.timeout_s must be > 0"):
+        scale_runs(dict(c, scale=dict(c["scale"], timeout_s=0)), 3)
+
+
+def test_a_summary_with_some_runs_stopped_takes_the_finished_ones():
+    rows = [dict(tracker="a", n_objects=n, run=k, status="done", n_scans=10, in_view_per_scan=n / 100,
+                 returns_per_scan=n / 110, cpu_s_per_scan=1e-4 * n * f, us_per_object_in_view=1.0,
+                 us_per_object=1.0, us_per_return=1.0, real_time_factor=10 / (1e-4 * n * f), peak_rss_mb=100.0,
+                 load_before=1.0, load_after=3.0) for n in (1000, 10000) for k, f in enumerate((1.0, 2.0))]
+    rows.append(dict(tracker="a", n_objects=100000, run=0, status="timed_out", load_before=5.0, load_after=7.0))
+    rows.append(dict(tracker="a", n_objects=100000, run=1, status="skipped"))
+    t = scale_summary(pd.DataFrame(rows)).set_index("n_objects")
+    np.testing.assert_allclose(t.loc[1000, "cpu_s_per_scan_median"], 0.15)  # median of 0.1 and 0.2
+    np.testing.assert_allclose(t["slope_cpu_vs_n"], 1.0)  # over the two sizes that finished
+    assert t.loc[100000, "runs"] == 0 and t.loc[100000, "load_mean"] == 6.0

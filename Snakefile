@@ -10,7 +10,14 @@
 # Figures and main tables are marked for the report with report_figure / report_table below
 # (captions in workflows/report/<experiment>/, see workflows/report/README.md).
 import glob
+import os
 from pathlib import Path
+
+# One BLAS thread per job (a job may set its own): the jobs already fill the cores Snakemake is given, and on a
+# busy machine OpenBLAS's extra threads only spin (a (10^6, 3) @ (3, 3) product measured at ~250 ms of CPU with
+# the default threads against ~3 ms with one). Set before any import that loads NumPy; the jobs inherit it.
+for _blas in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_blas, "1")
 
 from hypotrack.config import validate_config
 from hypotrack.registry import TrackerSpec

@@ -187,6 +187,7 @@ def breakup_claims(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
 
 def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.DataFrame) -> dict:
     """Macros: per (scenario, tracker) cross-tags per 10⁴ returns (and s.e.), duplicates per 1,000 estimates,
+    uncorrelated returns per 10⁴,
     completeness and covariance realism, identity switches per 10⁴ object-scans, the shares of first returns to
     the object's own label and of re-acquisitions that kept the label; the ratios with their s.e. and the verdict (``met``/``not met``); the density shares; the seeds and objects. A tracker of :data:`TRACKER_NAMES` (or
     ratio of :data:`RATIO_TRACKERS`) the cards do not hold gets NaN (written ``--``) under each of its names."""
@@ -195,6 +196,7 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
         vals[f"crosstags_{r.scenario}_{r.tracker}"] = r.cross_tags_per_1e4
         vals[f"crosstags_se_{r.scenario}_{r.tracker}"] = r.cross_tags_per_1e4_se
         vals[f"duplicates_{r.scenario}_{r.tracker}"] = r.duplicate_per_1000
+        vals[f"uncorrelated_{r.scenario}_{r.tracker}"] = getattr(r, "uncorrelated_per_1e4", float("nan"))
         vals[f"completeness_{r.scenario}_{r.tracker}"] = r.completeness
         vals[f"realism_{r.scenario}_{r.tracker}"] = r.realism_95
         # the standard crediting and where labels change objects (:mod:`.custody`)
@@ -217,8 +219,8 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
     # paper can leave its sentence out (\htifvalue) instead of failing on an undefined macro
     for scen in summary["scenario"].unique():
         for name in TRACKER_NAMES:
-            for key in ("crosstags", "crosstags_se", "duplicates", "completeness", "realism", "idsw", "firstown",
-                        "reacqkept"):
+            for key in ("crosstags", "crosstags_se", "duplicates", "uncorrelated", "completeness", "realism", "idsw",
+                        "firstown", "reacqkept"):
                 vals.setdefault(f"{key}_{scen}_{name}", float("nan"))
         for name in (*RATIO_TRACKERS, *AMBIGUITY_TRACKERS):
             for pre in ("", "idsw_"):

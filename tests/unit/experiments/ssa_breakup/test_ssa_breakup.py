@@ -232,7 +232,7 @@ def test_macros_of_a_tracker_not_run_are_dashes():
     run = ["glmb_murty", "homht_kbest", "gnn", "jpda"]
     cards = pd.DataFrame([dict(scenario="breakup", tracker=t, seed=k, cross_tags_per_1e4=10.0 * (i + 1) * k,
                                completeness=0.5, duplicate_per_1000=1.0, realism_95=0.9, id_switches_per_1e4=2.0 * k,
-                               n_objects=500)
+                               uncorrelated_per_1e4=5.0 * k + i, n_objects=500)
                           for i, t in enumerate(run) for k in (1, 2)])
     acc, _ = scorecard_summary(cards)
     ratios = pd.concat([cross_tag_ratios(cards, "gnn", ("glmb_murty", "homht_kbest"), column=c)
@@ -242,6 +242,7 @@ def test_macros_of_a_tracker_not_run_are_dashes():
     m = breakup_macros(acc, ratios, dens)
     # gnn: 30 and 60 -> 45; homht over gnn: 20/30 and 40/60 -> 2/3 each
     assert m["crosstags_breakup_gnn"] == pytest.approx(45.0)
+    assert m["uncorrelated_breakup_gnn"] == pytest.approx(7.5 + 2) and np.isnan(m["uncorrelated_breakup_rfisst"])
     assert m["ratio_breakup_homht_kbest"] == pytest.approx(2 / 3) and m["ratio_se_breakup_homht_kbest"] == 0.0
     # identity switches 2 and 4 for every tracker: ratio 1 -> not met either
     assert m["goal_breakup_homht_kbest"] == "not met" and m["idsw_ratio_breakup_homht_kbest"] == pytest.approx(1.0)

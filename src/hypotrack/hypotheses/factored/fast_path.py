@@ -117,7 +117,8 @@ class FastRule:
         (an invalid one is not kept, nor counted in the normalisation); ``extra`` (n,): the log-weight of one
         more alternative per track, relative to the others' base (a Bernoulli singleton's "not" child,
         ``log(1 − r p_S) − log(r p_S)``: the δ-GLMB row's children all carry ``r p_S`` but this one; it holds
-        no track, so it is always valid)."""
+        no track, so it is always valid), the return's clutter factor added (``alt_offsets``, without the
+        ``1 − p_D`` of a missed track: 0 for δ-GLMB, ``−log V`` for H-FISST, ``log λ_C`` for Reid)."""
         ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik)
         p = np.where(ok, p_detect, 0.5)
         det = np.log(p) + np.where(ok, loglik, 0.0) - self.det_offset
@@ -125,7 +126,7 @@ class FastRule:
         if valid is not None:
             alt = np.where(valid, alt, -np.inf)
         if extra is not None:
-            alt = np.concatenate([alt, np.asarray(extra, dtype=float)[:, None]], axis=1)
+            alt = np.concatenate([alt, np.asarray(extra, dtype=float)[:, None] + self.alt_offsets[None, :]], axis=1)
         total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
         return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
 
@@ -298,6 +299,8 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
         with np.errstate(divide="ignore"):
             rp = np.asarray(lane_exist, dtype=float)[j]
             extra = np.log1p(-rp) - np.log(rp)
+        if rule.n_new:  # Reid's seeded births: the "not" child's own seeded birth, a new label: the general path
+            sure = rp == 1.0
     if rule.validity is None:
         take = rule.takes(loglik, p_detect, extra=extra) & sure
         x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)

@@ -74,7 +74,7 @@ def survival_lane(population) -> bool:
     a lane track out of view as surviving surely until it is next predicted (its ``p_S`` is not evaluated
     at the scans it sleeps through): exact when ``p_S`` stays 1 along the prediction, as a confirmed track's
     velocity spread (``UnconfirmedDecay``) does over an orbit's gap with the catalogue's process noise."""
-    return (type(population) is LabeledMultiBernoulliPopulation and population.p_survive == 1.0
+    return (type(population) in _BERNOULLI_POPULATIONS and population.p_survive == 1.0
             and population.survival is not None)
 
 
@@ -86,14 +86,22 @@ def admitted(population, store: TrackStore) -> np.ndarray:
     return population.track_survival(store) == 1.0
 
 
+#: the populations whose lone track's posterior is exactly one Bernoulli (module docstring): the labeled
+#: multi-Bernoulli and document 001's binomial one — with one object and no birth term in the group the binomial
+#: population's "at most one death per child" loses nothing, and its children are the labeled problem's
+#: ("missed" ``p_S (1 − p_D)``, "died" ``1 − p_S``, "not" ``1 − r``; the H-FISST and Reid weights' other factors
+#: — count term, clutter — are those of the scan's returns, common to the three)
+_BERNOULLI_POPULATIONS = (LabeledMultiBernoulliPopulation, BinomialPopulation)
+
+
 def bernoulli_lane(population, requested: bool) -> bool:
     """Whether the lane holds Bernoulli singletons (module docstring): ``requested`` (the ``bernoulli_lane``
-    option) with a labeled multi-Bernoulli population that is not :func:`silent`."""
-    return bool(requested) and type(population) is LabeledMultiBernoulliPopulation and not silent(population)
+    option) with a labeled multi-Bernoulli or binomial population that is not :func:`silent`."""
+    return bool(requested) and type(population) in _BERNOULLI_POPULATIONS and not silent(population)
 
 
 def lane_survival(population, store: TrackStore) -> np.ndarray:
-    """Per-scan ``p_S`` ``(n,)`` of the tracks of ``store`` (labeled multi-Bernoulli): its ``survival`` of their
+    """Per-scan ``p_S`` ``(n,)`` of the tracks of ``store`` (labeled multi-Bernoulli or binomial): its ``survival`` of their
     moments, else its one ``p_survive`` (:meth:`~..population_lmb.LabeledMultiBernoulliPopulation.log_existence`)."""
     p = population.track_survival(store)
     return np.full(len(store), float(population.p_survive)) if p is None else p
@@ -119,12 +127,16 @@ def bernoulli_prune(r, min_weight: float):
 
 def bernoulli(store: TrackStore, j, r: float) -> FilterState:
     """The group of store entry ``j`` of existence ``r``: :func:`singleton` for ``r = 1``, else the two
-    hypotheses the general engine holds for it, "exists" (``log r``, the track) and "not" (``log(1 − r)``)."""
+    hypotheses the general engine holds for it, "exists" (``log r``, the track) and "not" (``log(1 − r)``), the
+    heavier first as the engine orders them (its step makes the children parent by parent: with Reid's births
+    seeded at the returns each takes new labels in that order)."""
     if r == 1.0:
         return singleton(store, j)
+    exists, nothing = (np.log(r), np.zeros(1, dtype=np.int64), ("lane", 1)), (np.log1p(-r), np.zeros(0, dtype=np.int64),
+                                                                            ("lane", 0))
+    hyps = (exists, nothing) if r >= 0.5 else (nothing, exists)
     return FilterState(TrackStore(store.means[[j]], store.covs[[j]], store.labels[[j]]),
-                       np.array([np.log(r), np.log1p(-r)]),
-                       [np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64)], [("lane", 1), ("lane", 0)])
+                       np.array([h[0] for h in hyps]), [h[1] for h in hyps], [h[2] for h in hyps])
 
 
 def bernoulli_existence(state: FilterState) -> float | None:

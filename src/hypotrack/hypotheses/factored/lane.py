@@ -17,7 +17,10 @@ the track) and "not" (``1 − r``, no track) (:func:`bernoulli`). A scan in whic
 reaches it is the engine's empty-scan step (Vo, Vo & Hoang 2017, Eq. 12; the labeled problem's
 rows, :mod:`..population_lmb`): children "exists, missed" ``r p_S (1 − p_D)``, "died" ``r (1 − p_S)`` and
 "not" ``1 − r``, the last two the same hypothesis (no track: merged), so the posterior is again
-one Bernoulli,
+one Bernoulli. Document 001's binomial population (R-FISST's, HOMHT's deaths; Eq. 59, per-track ``p_S``
+allowed) gives a group of one track and no birth term the same three children (its "at most one death per
+child" loses nothing with one object; the H-FISST and Reid weights' clutter and count factors are the
+scan's, common to the three), so the lane holds its lone tracks alike,
 
     ``r' = r p_S (1 − p_D) / (1 − r p_S p_D)``                 (:func:`missed`)
 

@@ -66,7 +66,7 @@ def _gumbel_keys(lw, rng):
     return lw if rng is None else lw + rng.gumbel(size=lw.shape)
 
 
-def _twins_never_heavier(pop, ctx, p, in_view, tracks) -> bool:
+def _twins_never_heavier(pop, ctx, p, in_view, p_survive=None) -> bool:
     """Whether every twin weighs at most its association child, for the twins actually made.
 
     Then a child outside a parent's best ``keep`` association children cannot have a twin
@@ -83,8 +83,7 @@ def _twins_never_heavier(pop, ctx, p, in_view, tracks) -> bool:
             return False
     elig = pop.death_eligible(in_view)
     if M and elig.any():
-        ps = None if ctx.p_survive is None else ctx.p_survive[tracks]
-        de = np.max(pop.death_log_ratio(n_view, M, ps)) - np.min(np.log1p(-p[elig]))
+        de = np.max(pop.death_log_ratio(n_view, M, p_survive)) - np.min(np.log1p(-p[elig]))
         if de > 0:
             return False
     return True
@@ -378,7 +377,7 @@ class HypothesisFilter:
         pop_lp = pop.log_event_prob(n_view, len(tr), ps) if pop is not None else None
         problem = self.weights.problem(ctx, tr, float(state.log_w[h]), pop_lp)
         gen_keep = None
-        if keep is not None and keys_rng is None and (pop is None or _twins_never_heavier(pop, ctx, p, in_view, tr)):
+        if keep is not None and keys_rng is None and (pop is None or _twins_never_heavier(pop, ctx, p, in_view, ps)):
             gen_keep = keep
         events, lw = generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
@@ -434,7 +433,6 @@ class HypothesisFilter:
             rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
         arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
         return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
-
 
     def expand(self, Z, dt=None) -> ChildSet:
         """All children of the current hypotheses for scan ``Z``, unnormalised, nothing kept.

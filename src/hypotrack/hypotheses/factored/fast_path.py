@@ -45,8 +45,8 @@ term's undetected prior — and normalises over the valid children only.
 The rule holds for the engine itself (not a subclass that overrides its extension points), the four
 weight models above with a silent population (no population, or labeled multi-Bernoulli / binomial
 with ``p_S = 1``: the lane's condition; or the lane's Bernoulli singletons, whose "not" child, weight
-``1 − r p_S`` against the others' ``r p_S``, is one more alternative), a cap that keeps every child (``H∞`` ≥ the number of
-children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
+``1 − r p_S`` against the others' ``r p_S``, is one more alternative per clutter or seeded-birth one), a cap that
+keeps every child (``H∞`` ≥ the number of children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
 two samplers with certainty only up to the chance that they never leave the alternative
 (``< min_weight^n_sweeps``). With seeded births the generator must make all three children
 (exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts; a mixture birth density

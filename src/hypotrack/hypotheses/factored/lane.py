@@ -130,16 +130,12 @@ def bernoulli_prune(r, min_weight: float):
 
 def bernoulli(store: TrackStore, j, r: float) -> FilterState:
     """The group of store entry ``j`` of existence ``r``: :func:`singleton` for ``r = 1``, else the two
-    hypotheses the general engine holds for it, "exists" (``log r``, the track) and "not" (``log(1 − r)``), the
-    heavier first as the engine orders them (its step makes the children parent by parent: with Reid's births
-    seeded at the returns each takes new labels in that order)."""
+    hypotheses the general engine holds for it, "exists" (``log r``, the track) and "not" (``log(1 − r)``)."""
     if r == 1.0:
         return singleton(store, j)
-    exists, nothing = (np.log(r), np.zeros(1, dtype=np.int64), ("lane", 1)), (np.log1p(-r), np.zeros(0, dtype=np.int64),
-                                                                            ("lane", 0))
-    hyps = (exists, nothing) if r >= 0.5 else (nothing, exists)
     return FilterState(TrackStore(store.means[[j]], store.covs[[j]], store.labels[[j]]),
-                       np.array([h[0] for h in hyps]), [h[1] for h in hyps], [h[2] for h in hyps])
+                       np.array([np.log(r), np.log1p(-r)]),
+                       [np.zeros(1, dtype=np.int64), np.zeros(0, dtype=np.int64)], [("lane", 1), ("lane", 0)])
 
 
 def bernoulli_existence(state: FilterState) -> float | None:

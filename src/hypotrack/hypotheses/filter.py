@@ -66,7 +66,7 @@ def _gumbel_keys(lw, rng):
     return lw if rng is None else lw + rng.gumbel(size=lw.shape)
 
 
-def _twins_never_heavier(pop, ctx, p, in_view) -> bool:
+def _twins_never_heavier(pop, ctx, p, in_view, p_survive=None) -> bool:
     """Whether every twin weighs at most its association child, for the twins actually made.
 
     Then a child outside a parent's best ``keep`` association children cannot have a twin
@@ -83,7 +83,7 @@ def _twins_never_heavier(pop, ctx, p, in_view) -> bool:
             return False
     elig = pop.death_eligible(in_view)
     if M and elig.any():
-        de = np.max(pop.death_log_ratio(n_view, M)) - np.min(np.log1p(-p[elig]))
+        de = np.max(pop.death_log_ratio(n_view, M, p_survive)) - np.min(np.log1p(-p[elig]))
         if de > 0:
             return False
     return True
@@ -373,10 +373,11 @@ class HypothesisFilter:
         p = ctx.p_detect[tr]
         in_view = p > 0
         n_view = int(in_view.sum())
-        pop_lp = pop.log_event_prob(n_view, len(tr)) if pop is not None else None
+        ps = None if ctx.p_survive is None else ctx.p_survive[tr]  # per-track survival (population's survival)
+        pop_lp = pop.log_event_prob(n_view, len(tr), ps) if pop is not None else None
         problem = self.weights.problem(ctx, tr, float(state.log_w[h]), pop_lp)
         gen_keep = None
-        if keep is not None and keys_rng is None and (pop is None or _twins_never_heavier(pop, ctx, p, in_view)):
+        if keep is not None and keys_rng is None and (pop is None or _twins_never_heavier(pop, ctx, p, in_view, ps)):
             gen_keep = keep
         events, lw = generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
@@ -399,11 +400,11 @@ class HypothesisFilter:
                     parts.append(self._candidates(ev, tw, ChildSet.UNDETECTED_BIRTH, keep, keys_rng, mass))
             elig = pop.death_eligible(in_view)
             if M and elig.any():
-                de = pop.death_log_ratio(n_view, M)[b]
+                de = pop.death_log_ratio(n_view, M, ps)[b]  # (E,) or, per track, (E, M)
                 for start in range(0, len(lw), _CHUNK):
                     sl = slice(start, start + _CHUNK)
                     ev = events[sl]
-                    tw = (lw[sl] + de[sl])[:, None] - np.log1p(-p)[None, :]
+                    tw = (lw[sl, None] + de[sl].reshape(len(ev), -1)) - np.log1p(-p)[None, :]
                     tw = np.where(problem.detected(ev) | ~elig[None, :], -np.inf, tw)
                     parts.append(self._candidates(ev, tw, ChildSet.DEATH, keep, keys_rng, mass))
         ev_all, kind, arg, lw_all, keys = (np.concatenate([q[f] for q in parts]) for f in range(5))
@@ -432,7 +433,6 @@ class HypothesisFilter:
             rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
         arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
         return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
-
 
     def expand(self, Z, dt=None) -> ChildSet:
         """All children of the current hypotheses for scan ``Z``, unnormalised, nothing kept.

@@ -129,6 +129,18 @@ class _Population:
         new.clear_cache()
         return new
 
+    def track_survival(self, store):
+        """``p_S`` ``(n,)`` of the predicted tracks of ``store`` (a :class:`~.tracks.TrackStore`) from the
+        population's ``survival`` callable, or ``None`` when it has none (every track survives with its one
+        ``p_survive``, or the model's own death probability)."""
+        survival = getattr(self, "survival", None)
+        if survival is None:
+            return None
+        p = np.asarray(survival(store.means, store.covs), dtype=float)
+        if p.shape != (len(store),) or not np.all((p > 0) & (p <= 1)):
+            raise ValueError(f"survival must return one p_S in (0, 1] per track, shape ({len(store)},)")
+        return p
+
     def birth_loglik(self, Z) -> np.ndarray:
         """(m, B) log-likelihood of each return under each birth pdf."""
         return _region_loglik(self.birth_densities, Z)
@@ -174,7 +186,7 @@ class SingleEventPopulation(_Population):
                 f"got {len(self.birth_densities)}"
             )
 
-    def log_event_prob(self, n_in_view: int, n_objects: int) -> np.ndarray:
+    def log_event_prob(self, n_in_view: int, n_objects: int, p_survive=None) -> np.ndarray:
         """Over ``b = 0 .. M_b``: log P(no event) for b = 0, log α for one detected birth in a
         given region, ``-inf`` for more (Eq. 30)."""
         out = np.full(self.n_birth_regions + 1, -np.inf)
@@ -189,8 +201,9 @@ class SingleEventPopulation(_Population):
         out[0] = self.model.log_birth_prob - self.model.log_p_no_event(n_in_view)
         return out
 
-    def death_log_ratio(self, n_in_view: int, n_objects: int) -> np.ndarray:
-        """Over ``b``: log of β / P(no event), only for children without a detected birth."""
+    def death_log_ratio(self, n_in_view: int, n_objects: int, p_survive=None) -> np.ndarray:
+        """Over ``b``: log of β / P(no event), only for children without a detected birth (``p_survive``:
+        unused, this model has no per-track survival)."""
         out = np.full(self.n_birth_regions + 1, -np.inf)
         out[0] = self.model.log_death_prob - self.model.log_p_no_event(n_in_view)
         return out
@@ -215,18 +228,27 @@ class BinomialPopulation(_Population):
     poisson_limit : bool
         Use ``α^b (1 − α)^{M_b−b} ≈ e^{−M_b α} α^b`` (Eq. 33) — with it the undetected-birth
         ratio is exactly ``(1 − p_D) α`` (Eq. 39).
+    survival : callable, optional
+        ``survival(means (n, d), covs (n, d, d)) -> p_S (n,)`` in (0, 1] of each predicted track, in place of
+        ``p_survive`` (e.g. :class:`~.population_lmb.UnconfirmedDecay`): Eq. 59's survival per object, each
+        with its own ``p_S,j`` — the no-event term ``Π_j p_S,j`` and the death twin of object ``j``
+        ``(1 − p_S,j) / (p_S,j (1 − p_D,j))`` (still at most one death per child).
     """
 
     birth_densities: tuple = ()
     alpha: float = 0.0
     p_survive: float = 1.0
     poisson_limit: bool = False
+    survival: object = None
     undetected_cache: dict = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self):
         self.birth_densities = tuple(self.birth_densities)
         self.alpha = check_probability(self.alpha, "alpha", high_open=True)
         self.p_survive = check_probability(self.p_survive, "p_survive", low_open=True)
+        if self.survival is not None and not callable(self.survival):
+            raise TypeError(f"survival must be callable (means, covs -> p_S per track) or None, "
+                            f"got {type(self.survival).__name__}")
 
     def _log_birth(self, b):
         B = self.n_birth_regions
@@ -238,10 +260,14 @@ class BinomialPopulation(_Population):
             return births - B * self.alpha
         return births + (B - b) * np.log1p(-self.alpha)
 
-    def log_event_prob(self, n_in_view: int, n_objects: int) -> np.ndarray:
+    def log_event_prob(self, n_in_view: int, n_objects: int, p_survive=None) -> np.ndarray:
+        """Over ``b``: the births' term (Eq. 31–33) times every object's survival, ``p_S^M`` (Eq. 59), or
+        ``Π_j p_S,j`` with the parent's tracks' own ``p_survive`` (``(n_objects,)``, :attr:`survival`)."""
         n_objects = check_int(n_objects, "n_objects", minimum=0)
         b = np.arange(self.n_birth_regions + 1)
-        return self._log_birth(b) + n_objects * np.log(self.p_survive)
+        if p_survive is None:
+            return self._log_birth(b) + n_objects * np.log(self.p_survive)
+        return self._log_birth(b) + float(np.sum(np.log(_per_track(p_survive, n_objects))))
 
     def undetected_birth_log_ratio(self, n_in_view: int, n_objects: int) -> np.ndarray:
         b = np.arange(self.n_birth_regions + 1)
@@ -251,10 +277,22 @@ class BinomialPopulation(_Population):
             out[free] = self._log_birth(b[free] + 1) - self._log_birth(b[free])
         return out
 
-    def death_log_ratio(self, n_in_view: int, n_objects: int) -> np.ndarray:
+    def death_log_ratio(self, n_in_view: int, n_objects: int, p_survive=None) -> np.ndarray:
+        """Over ``b``: ``log((1 − p_S) / p_S)``, the death twin's factor apart from the dead object's
+        ``1 − p_D`` (Eq. 59); with the tracks' own ``p_survive`` ``(n_objects,)`` one column per object,
+        ``(M_b + 1, n_objects)``."""
         with np.errstate(divide="ignore"):
-            r = np.log1p(-self.p_survive) - np.log(self.p_survive)
-        return np.full(self.n_birth_regions + 1, r)
+            if p_survive is None:
+                return np.full(self.n_birth_regions + 1, np.log1p(-self.p_survive) - np.log(self.p_survive))
+            p = _per_track(p_survive, n_objects)
+            return np.repeat((np.log1p(-p) - np.log(p))[None, :], self.n_birth_regions + 1, axis=0)
 
     def death_eligible(self, in_view: np.ndarray) -> np.ndarray:
         return np.ones(len(in_view), dtype=bool)
+
+
+def _per_track(p_survive, n_objects: int) -> np.ndarray:
+    p = np.asarray(p_survive, dtype=float)
+    if p.shape != (n_objects,):
+        raise ValueError(f"p_survive must hold one p_S per object, shape ({n_objects},), got {p.shape}")
+    return p

@@ -172,16 +172,6 @@ class LabeledMultiBernoulliPopulation(_Population):
             raise TypeError(f"survival must be callable (means, covs -> p_S per track) or None, "
                             f"got {type(self.survival).__name__}")
 
-    def track_survival(self, store):
-        """``p_S`` ``(n,)`` of the predicted tracks of ``store`` (a :class:`~.tracks.TrackStore`) from
-        :attr:`survival`, or ``None`` when every track survives with :attr:`p_survive`."""
-        if self.survival is None:
-            return None
-        p = np.asarray(self.survival(store.means, store.covs), dtype=float)
-        if p.shape != (len(store),) or not np.all((p > 0) & (p <= 1)):
-            raise ValueError(f"survival must return one p_S in (0, 1] per track, shape ({len(store)},)")
-        return p
-
     def restricted_to(self, regions):
         """This population with only birth terms ``regions`` and their ``r_B`` (see the base class)."""
         sub = super().restricted_to(regions)

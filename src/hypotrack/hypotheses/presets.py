@@ -21,7 +21,9 @@ association problem of a global hypothesis is the δ-GLMB preset's object-indexe
 :class:`~.AssociationProblem`, and the child generators are the engine's.
 
 The HOMHT presets take Reid's births seeded at returns (``birth_intensity``) or a population model
-(``population``: document 000 Eq. 30 or document 001's binomial), never both (:class:`~.weights.ReidWeights`).
+(``population``: document 000 Eq. 30 or document 001's binomial), never two birth models
+(:class:`~.weights.ReidWeights`); seeded births with a population of no birth term give the population's deaths
+only (e.g. a binomial population with per-track ``survival``).
 
 The ``glmb`` presets need a :class:`~.population_lmb.LabeledMultiBernoulliPopulation` (per-object
 survival, labeled-Bernoulli births): with it a hypothesis is a δ-GLMB component (label set and

@@ -67,7 +67,7 @@ def build(spec, problem: TrackingProblem | MultiSensorProblem, *, seed=None, whe
         if not isinstance(tracker, HypothesisFilter):
             raise ValueError(f"{where or spec.kind}.factored: kind {spec.kind!r} does not build a hypothesis "
                              "filter, so it cannot run on the factored engine")
-        adaptive = problem.adaptive_birth() if tracker.population is not None else None
+        adaptive = problem.adaptive_birth() if _takes_adaptive(tracker) else None
         tracker = FactoredFilter.from_filter(tracker, adaptive_birth=adaptive, **factored)
     return tracker
 
@@ -114,5 +114,11 @@ def build_fused(spec, problem: MultiSensorProblem, *, seed=None, where: str = ""
         trackers.append(t)
     if p.family == "single":
         return MultiSensorSHT.from_trackers(trackers)
-    births = [sp.adaptive_birth() if t.population is not None else None for sp, t in zip(problem.problems, trackers)]
+    births = [sp.adaptive_birth() if _takes_adaptive(t) else None for sp, t in zip(problem.problems, trackers)]
     return MultiSensorFactored.from_filters(trackers, births, **factored)
+
+
+def _takes_adaptive(tracker) -> bool:
+    """Whether a preset's filter takes the problem's adaptive birth terms: it has a population and no births
+    seeded at the returns (HOMHT's population then only holds the tracks' survival, :meth:`TrackingProblem.reid_births`)."""
+    return tracker.population is not None and not getattr(tracker.weights, "seeded_births", False)

@@ -55,8 +55,10 @@ class MeasurementBirths:
     survival : callable, optional
         ``survival(means, covs) -> p_S (n,)`` of each predicted track (e.g.
         :class:`hypotrack.hypotheses.UnconfirmedDecay`: a track never confirmed loses existence each scan),
-        the death model of the δ-GLMB presets (:meth:`TrackingProblem.labeled_population`). The FISST and
-        HOMHT presets have no per-track death model and do not use it. ``None``: ``p_S = 1``.
+        the death model of every preset: the δ-GLMB presets' labeled multi-Bernoulli survival
+        (:meth:`TrackingProblem.labeled_population`), the FISST presets' and HOMHT's binomial survival of
+        document 001 (Eq. 59 with each track's own ``p_S``; at most one death per child:
+        :meth:`~TrackingProblem.event_population`, :meth:`~TrackingProblem.reid_births`). ``None``: ``p_S = 1``.
     """
 
     adaptive: AdaptiveBirth
@@ -163,7 +165,8 @@ class TrackingProblem:
         Document 000's Eq. 30 as it is; labeled-Bernoulli terms as document 001's binomial
         population with ``α = r_B`` and the same survival (at most one death or undetected birth
         per child: :mod:`hypotrack.hypotheses.population_lmb`); measurement births as a binomial
-        population with no terms of its own (the factored engine's adaptive terms fill it).
+        population with no terms of its own (the factored engine's adaptive terms fill it) and the
+        births' per-track ``survival`` (``None``: ``p_S = 1``).
         """
         b = self.births
         if b is None or isinstance(b, SingleEventBirthDeath):
@@ -171,7 +174,7 @@ class TrackingProblem:
         if isinstance(b, LabeledMultiBernoulliPopulation):
             return BinomialPopulation(list(b.birth_densities), alpha=_scalar(b.r_birth, "r_birth"),
                                       p_survive=b.p_survive)
-        return BinomialPopulation([], alpha=b.r_birth, p_survive=1.0)
+        return BinomialPopulation([], alpha=b.r_birth, p_survive=1.0, survival=b.survival)
 
     def labeled_population(self) -> LabeledMultiBernoulliPopulation:
         """The birth model as the δ-GLMB presets take it (a labeled multi-Bernoulli population).
@@ -193,10 +196,15 @@ class TrackingProblem:
 
     def reid_births(self) -> dict:
         """The birth model as Reid's HOMHT presets take it: ``population``, or ``birth_intensity`` and
-        ``birth_density`` for births seeded at the returns (measurement births)."""
+        ``birth_density`` for births seeded at the returns (measurement births) — with the births' per-track
+        ``survival``, also a binomial population with no birth term of its own that holds it (deaths only:
+        document 001's Eq. 59, each track with its own ``p_S``; the seeded births stay the only births)."""
         b = self.births
         if isinstance(b, MeasurementBirths):
-            return {"birth_intensity": b.seeded_intensity, "birth_density": b.seeded_density}
+            out = {"birth_intensity": b.seeded_intensity, "birth_density": b.seeded_density}
+            if b.survival is not None:
+                out["population"] = BinomialPopulation([], alpha=0.0, p_survive=1.0, survival=b.survival)
+            return out
         return {"population": self.event_population()}
 
     def adaptive_birth(self):

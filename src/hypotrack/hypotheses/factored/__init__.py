@@ -77,7 +77,7 @@ callable, e.g. :class:`~..population_lmb.UnconfirmedDecay`) the lane holds the s
 surely survives (``p_S = 1``: no "died" child, so the singleton is again exactly its Gaussian); a candidate
 whose predicted ``p_S`` is below 1 takes its step on the empty scan and leaves the lane, and the groups are
 predicted every scan (:func:`.lane.survival_lane`, which states what lazy prediction assumes there).
-With ``bernoulli_lane`` (any labeled multi-Bernoulli population whose tracks may die) the lane holds every
+With ``bernoulli_lane`` (any labeled multi-Bernoulli or binomial population whose tracks may die) the lane holds every
 lone track as a Bernoulli instead: its existence ``r`` beside its moments, ``r ← p_S r`` a scan out of view,
 ``r ← r p_S (1 − p_D) / (1 − r p_S p_D)`` a scan in view with no return for it, and the engine's own two
 hypotheses (exists / not) when a return or birth term reaches it — the general engine's posterior

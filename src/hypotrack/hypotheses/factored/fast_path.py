@@ -45,8 +45,8 @@ term's undetected prior — and normalises over the valid children only.
 The rule holds for the engine itself (not a subclass that overrides its extension points), the four
 weight models above with a silent population (no population, or labeled multi-Bernoulli / binomial
 with ``p_S = 1``: the lane's condition; or the lane's Bernoulli singletons, whose "not" child, weight
-``1 − r p_S`` against the others' ``r p_S``, is one more alternative), a cap that keeps every child (``H∞`` ≥ the number of
-children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
+``1 − r p_S`` against the others' ``r p_S``, is one more alternative per clutter or seeded-birth one), a cap that
+keeps every child (``H∞`` ≥ the number of children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
 two samplers with certainty only up to the chance that they never leave the alternative
 (``< min_weight^n_sweeps``). With seeded births the generator must make all three children
 (exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts; a mixture birth density
@@ -90,6 +90,7 @@ class FastRule:
     p_detect_birth: float
     validity: object = None
     seeded_density: object = None
+    bernoulli_children: bool = True  #: the cap keeps every child of a Bernoulli singleton's two hypotheses
 
     def takes_births(self, r_birth, valid=None) -> np.ndarray:
         """Whether each lone birth term (its existence ``r_B``; whether its born-undetected track is
@@ -117,7 +118,11 @@ class FastRule:
         (an invalid one is not kept, nor counted in the normalisation); ``extra`` (n,): the log-weight of one
         more alternative per track, relative to the others' base (a Bernoulli singleton's "not" child,
         ``log(1 − r p_S) − log(r p_S)``: the δ-GLMB row's children all carry ``r p_S`` but this one; it holds
-        no track, so it is always valid)."""
+        no track, so it is always valid), the return's clutter factor added (``alt_offsets``, without the
+        ``1 − p_D`` of a missed track: 0 for δ-GLMB, ``−log V`` for H-FISST, ``log λ_C`` for Reid); with Reid's
+        seeded births also "died"/"not" with the return a new object (``log λ_B``; valid as the newborn track is),
+        whose newborn is the missed child's — one (source, return) pair, one label (:meth:`~..filter.HypothesisFilter.
+        advance`)."""
         ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik)
         p = np.where(ok, p_detect, 0.5)
         det = np.log(p) + np.where(ok, loglik, 0.0) - self.det_offset
@@ -125,7 +130,10 @@ class FastRule:
         if valid is not None:
             alt = np.where(valid, alt, -np.inf)
         if extra is not None:
-            alt = np.concatenate([alt, np.asarray(extra, dtype=float)[:, None]], axis=1)
+            ext = np.asarray(extra, dtype=float)[:, None] + self.alt_offsets[None, :]
+            if valid is not None and ext.shape[1] > 1:  # "died"/"not" with the seeded birth holds the newborn track
+                ext[:, 1:] = np.where(valid[:, 1:], ext[:, 1:], -np.inf)
+            alt = np.concatenate([alt, ext], axis=1)
         total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
         return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
 
@@ -191,8 +199,9 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         return None
     if not np.all(np.isfinite(alt)) or engine.max_hypotheses < 1 + len(alt):
         return None
+    # a Bernoulli singleton's children: its track's 1 + len(alt) and "died" with each alternative, "not"'s len(alt)
     return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)), float(engine.p_D),
-                    engine.validity, w.birth_density if n_new else None)
+                    engine.validity, w.birth_density if n_new else None, engine.max_hypotheses >= 1 + 3 * len(alt))
 
 
 def birth_existence(population) -> np.ndarray | None:
@@ -298,6 +307,8 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
         with np.errstate(divide="ignore"):
             rp = np.asarray(lane_exist, dtype=float)[j]
             extra = np.log1p(-rp) - np.log(rp)
+        if not rule.bernoulli_children:  # the cap would drop children of r < 1: the general path
+            sure = rp == 1.0
     if rule.validity is None:
         take = rule.takes(loglik, p_detect, extra=extra) & sure
         x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)

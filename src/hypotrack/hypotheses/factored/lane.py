@@ -17,7 +17,10 @@ the track) and "not" (``1 − r``, no track) (:func:`bernoulli`). A scan in whic
 reaches it is the engine's empty-scan step (Vo, Vo & Hoang 2017, Eq. 12; the labeled problem's
 rows, :mod:`..population_lmb`): children "exists, missed" ``r p_S (1 − p_D)``, "died" ``r (1 − p_S)`` and
 "not" ``1 − r``, the last two the same hypothesis (no track: merged), so the posterior is again
-one Bernoulli,
+one Bernoulli. Document 001's binomial population (R-FISST's, HOMHT's deaths; Eq. 59, per-track ``p_S``
+allowed) gives a group of one track and no birth term the same three children (its "at most one death per
+child" loses nothing with one object; the H-FISST and Reid weights' clutter and count factors are the
+scan's, common to the three), so the lane holds its lone tracks alike,
 
     ``r' = r p_S (1 − p_D) / (1 − r p_S p_D)``                 (:func:`missed`)
 
@@ -74,7 +77,7 @@ def survival_lane(population) -> bool:
     a lane track out of view as surviving surely until it is next predicted (its ``p_S`` is not evaluated
     at the scans it sleeps through): exact when ``p_S`` stays 1 along the prediction, as a confirmed track's
     velocity spread (``UnconfirmedDecay``) does over an orbit's gap with the catalogue's process noise."""
-    return (type(population) is LabeledMultiBernoulliPopulation and population.p_survive == 1.0
+    return (type(population) in _BERNOULLI_POPULATIONS and population.p_survive == 1.0
             and population.survival is not None)
 
 
@@ -86,14 +89,22 @@ def admitted(population, store: TrackStore) -> np.ndarray:
     return population.track_survival(store) == 1.0
 
 
+#: the populations whose lone track's posterior is exactly one Bernoulli (module docstring): the labeled
+#: multi-Bernoulli and document 001's binomial one — with one object and no birth term in the group the binomial
+#: population's "at most one death per child" loses nothing, and its children are the labeled problem's
+#: ("missed" ``p_S (1 − p_D)``, "died" ``1 − p_S``, "not" ``1 − r``; the H-FISST and Reid weights' other factors
+#: — count term, clutter — are those of the scan's returns, common to the three)
+_BERNOULLI_POPULATIONS = (LabeledMultiBernoulliPopulation, BinomialPopulation)
+
+
 def bernoulli_lane(population, requested: bool) -> bool:
     """Whether the lane holds Bernoulli singletons (module docstring): ``requested`` (the ``bernoulli_lane``
-    option) with a labeled multi-Bernoulli population that is not :func:`silent`."""
-    return bool(requested) and type(population) is LabeledMultiBernoulliPopulation and not silent(population)
+    option) with a labeled multi-Bernoulli or binomial population that is not :func:`silent`."""
+    return bool(requested) and type(population) in _BERNOULLI_POPULATIONS and not silent(population)
 
 
 def lane_survival(population, store: TrackStore) -> np.ndarray:
-    """Per-scan ``p_S`` ``(n,)`` of the tracks of ``store`` (labeled multi-Bernoulli): its ``survival`` of their
+    """Per-scan ``p_S`` ``(n,)`` of the tracks of ``store`` (labeled multi-Bernoulli or binomial): its ``survival`` of their
     moments, else its one ``p_survive`` (:meth:`~..population_lmb.LabeledMultiBernoulliPopulation.log_existence`)."""
     p = population.track_survival(store)
     return np.full(len(store), float(population.p_survive)) if p is None else p

@@ -101,7 +101,10 @@ def _hand_wrapped(name, cfg, scenario, tsensors, seed):
     trackers = [build(TrackerSpec.from_config(own), p, seed=seed) for p in problems]
     if factored is None:
         return MultiSensorSHT.from_trackers(trackers)
-    births = [p.adaptive_birth() if t.population is not None else None for p, t in zip(problems, trackers)]
+    # adaptive births for a preset with a population and no births seeded at the returns (HOMHT's population, with
+    # the model's survival, holds only its deaths)
+    births = [p.adaptive_birth() if t.population is not None and not t.weights.seeded_births else None
+              for p, t in zip(problems, trackers)]
     return MultiSensorFactored.from_filters(trackers, births, **factored)
 
 

@@ -93,3 +93,19 @@ def sgp4_in_view(n_objects: int, span_s: float, step_s: float):
         if isinstance(a, np.ndarray):
             a.setflags(write=False)
     return cat, start, p, theta, vis
+
+
+def hypotheses_by_label(f) -> dict:
+    """Per label of a factored filter (its ``groups``), the ``(weight, mean, cov)`` of every hypothesis holding it,
+    heaviest first: what the lane-against-general-engine tests compare."""
+    out = {}
+    for g in f.groups:
+        for w, t in zip(np.exp(g.log_w), g.tracks):
+            for j in t:
+                out.setdefault(int(g.store.labels[j]), []).append((float(w), g.store.means[j], g.store.covs[j]))
+    return {lab: sorted(v, key=lambda e: -e[0]) for lab, v in out.items()}
+
+
+def label_existence(f, label) -> float:
+    """The total weight of a factored filter's hypotheses holding ``label`` (its existence probability)."""
+    return sum(w for w, _, _ in hypotheses_by_label(f).get(label, []))

@@ -17,7 +17,7 @@ from hypotrack.hypotheses.factored.lane import bernoulli, bernoulli_existence, b
 from hypotrack.hypotheses.tracks import TrackStore
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.sensors import Box
-from scenes import position_sensor
+from scenes import position_sensor, hypotheses_by_label, label_existence
 
 VIEW = Box([-100.0, -100.0], [100.0, 100.0])
 MOTION = ConstantVelocity(0.01)
@@ -64,22 +64,8 @@ def _filter(bern, population, means=X0, covs=None, lazy=True, min_weight=1e-3, p
                                       gate_out_of_view=False, bernoulli_lane=bern, fast_path=fast)
 
 
-def _by_label(f):
-    """Per label: the (weight, mean, cov) of every hypothesis holding it, heaviest first."""
-    out = {}
-    for g in f.groups:
-        for w, t in zip(np.exp(g.log_w), g.tracks):
-            for j in t:
-                out.setdefault(int(g.store.labels[j]), []).append((float(w), g.store.means[j], g.store.covs[j]))
-    return {lab: sorted(v, key=lambda e: -e[0]) for lab, v in out.items()}
-
-
-def _existence(f, label):
-    return sum(w for w, _, _ in _by_label(f).get(label, []))
-
-
 def _assert_same(a, b):
-    la, lb = _by_label(a), _by_label(b)
+    la, lb = hypotheses_by_label(a), hypotheses_by_label(b)
     assert sorted(la) == sorted(lb)
     for lab in la:
         assert len(la[lab]) == len(lb[lab])
@@ -132,10 +118,10 @@ def test_bernoulli_lane_is_the_general_engine(pop, lazy, use_fast):
     # the check has power: r < 1 in the lane, singletons asleep, lone tracks the fast path took
     assert n_unsure >= 20 and (n_asleep_low >= 10 or not lazy) and (n_fast >= 15 or not use_fast)
     # C and F (nothing behind them) were deleted, the newborn (label 7) is held, D (asleep) decays as p_S^12
-    assert 2 not in _by_label(fast) and 5 not in _by_label(fast)
+    assert 2 not in hypotheses_by_label(fast) and 5 not in hypotheses_by_label(fast)
     assert sorted(fast.estimates().labels.tolist()) == [0, 1, 3, 4, 7]
     p_s = 0.95 if pop == "p_S 0.95" else 0.97
-    assert _existence(fast, 3) == pytest.approx(p_s**12, rel=1e-12)
+    assert label_existence(fast, 3) == pytest.approx(p_s**12, rel=1e-12)
 
 
 def _south_west(means):
@@ -156,7 +142,7 @@ def test_a_track_failing_the_validity_test_leaves_as_in_the_general_engine(lazy,
         fast.step(Z, float(k))
         general.step(Z, float(k))
         _assert_same(fast, general)
-        assert 2 not in _by_label(fast) and 3 not in _by_label(fast)
+        assert 2 not in hypotheses_by_label(fast) and 3 not in hypotheses_by_label(fast)
     assert sorted(fast.estimates().labels.tolist()) == [0, 1, 4, 6]  # (the clutter return's newborn failed it too)
 
 
@@ -176,9 +162,9 @@ def test_the_recursion_over_a_gap_hand_computed():
     hand_s = [0.64285714, 0.21542553, 0.04589524, 0.00854346, 0.00154734, 0.0]
     for k in range(1, 8):
         f.step(np.zeros((0, 2)), float(k))
-        assert _existence(f, 0) == pytest.approx(hand_o[k - 1], abs=1e-8)
+        assert label_existence(f, 0) == pytest.approx(hand_o[k - 1], abs=1e-8)
         if k <= 6:
-            assert _existence(f, 1) == pytest.approx(hand_s[k - 1], abs=1e-8)
+            assert label_existence(f, 1) == pytest.approx(hand_s[k - 1], abs=1e-8)
         # both stay lane singletons (no group) until S leaves at scan 6; O predicted only from scan 6 on
         assert (f.last_stats["n_singletons"], len(f.state().groups)) == (1 + (k <= 5), 0)
         assert f.last_stats["n_predicted"] == (k >= 6) + (k <= 6)
@@ -199,7 +185,7 @@ def test_a_track_with_nothing_behind_it_is_deleted_when_the_recursion_says():
             f.step(np.zeros((0, 2)), float(k))
             assert f.n_objects_held == (k < 7)
             if k < 7:
-                assert _existence(f, 0) == pytest.approx(hand[k - 1], abs=1e-8)
+                assert label_existence(f, 0) == pytest.approx(hand[k - 1], abs=1e-8)
                 assert (len(f.state().lane), len(f.state().groups)) == ((1, 0) if bern else (0, 1))
         assert len(f.estimates().labels) == 0
     pop_out = LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=0.9)
@@ -209,7 +195,7 @@ def test_a_track_with_nothing_behind_it_is_deleted_when_the_recursion_says():
             f.step(np.zeros((0, 2)), float(k))
             assert f.n_objects_held == (k < 66)
             if k < 66:
-                assert _existence(f, 0) == pytest.approx(0.9**k, rel=1e-12)
+                assert label_existence(f, 0) == pytest.approx(0.9**k, rel=1e-12)
             if bern:
                 assert f.last_stats["n_predicted"] == 0  # asleep throughout: r decays without a prediction
 

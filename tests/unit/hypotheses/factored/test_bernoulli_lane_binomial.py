@@ -20,7 +20,7 @@ from hypotrack.hypotheses.factored import AdaptiveBirth, FactoredFilter
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import UniformBirthDensity
 from hypotrack.models.sensors import Box
-from scenes import position_sensor
+from scenes import position_sensor, hypotheses_by_label, label_existence
 
 VIEW = Box([-100.0, -100.0], [100.0, 100.0])
 MOTION = ConstantVelocity(0.01)
@@ -84,25 +84,12 @@ def _rfisst(bern, fast=False, seed=0):
                                       gate_out_of_view=False, bernoulli_lane=bern, fast_path=fast)
 
 
-def _by_label(f):
-    out = {}
-    for g in f.groups:
-        for w, t in zip(np.exp(g.log_w), g.tracks):
-            for j in t:
-                out.setdefault(int(g.store.labels[j]), []).append((float(w), g.store.means[j], g.store.covs[j]))
-    return {lab: sorted(v, key=lambda e: -e[0]) for lab, v in out.items()}
-
-
-def _existence(f, label):
-    return sum(w for w, _, _ in _by_label(f).get(label, []))
-
-
 def _assert_same(a, b):
     """Every label's hypotheses (weight, mean, covariance) the same to 1e-12: the catalogued labels 0-4 as they are;
     the labels born during the run up to their numbering (with Reid's births seeded at the returns each component's
     step takes new labels in plan order, in which the lane's singletons and the groups come apart), matched by
     their hypotheses."""
-    la, lb = _by_label(a), _by_label(b)
+    la, lb = hypotheses_by_label(a), hypotheses_by_label(b)
     assert sorted(k for k in la if k < 5) == sorted(k for k in lb if k < 5) and len(la) == len(lb)
 
     def key(v):
@@ -152,8 +139,8 @@ def test_bernoulli_lane_is_the_general_engine(kind, use_fast):
         assert lane.last_stats["n_singletons"] >= 3
     assert n_unsure >= 20 and n_asleep >= 10
     assert n_fast >= 10 or not use_fast
-    assert 2 not in _by_label(lane)  # C deleted
-    assert _existence(lane, 3) == pytest.approx(0.97**12, rel=1e-12)
+    assert 2 not in hypotheses_by_label(lane)  # C deleted
+    assert label_existence(lane, 3) == pytest.approx(0.97**12, rel=1e-12)
     assert {0, 1, 3, 4} <= set(lane.estimates().labels.tolist())
 
 

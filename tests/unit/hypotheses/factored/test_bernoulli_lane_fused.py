@@ -14,7 +14,7 @@ from hypotrack.hypotheses.factored import AdaptiveBirth
 from hypotrack.hypotheses.factored.multisensor import MultiSensorFactored
 from hypotrack.models.motion import ConstantVelocity
 from hypotrack.models.sensors import Box
-from scenes import position_sensor
+from scenes import position_sensor, hypotheses_by_label
 
 MOTION = ConstantVelocity(q=0.02)
 SENSOR_A = position_sensor(np.eye(2) * 0.3, 0.85, Box([-10.0, -10.0], [1.0, 10.0]), 1.0)  # sees x <= 1
@@ -55,15 +55,6 @@ def _fused(weights, population, bern):
                                             lazy=True, replay=True, gate_out_of_view=False, bernoulli_lane=bern)
 
 
-def _by_label(f):
-    out = {}
-    for g in f.groups:
-        for w, t in zip(np.exp(g.log_w), g.tracks):
-            for j in t:
-                out.setdefault(int(g.store.labels[j]), []).append((float(w), g.store.means[j], g.store.covs[j]))
-    return {lab: sorted(v, key=lambda e: -e[0]) for lab, v in out.items()}
-
-
 CASES = {
     "glmb p_S 0.95": (GLMBWeights(), LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=0.95)),
     "glmb decay": (GLMBWeights(), LabeledMultiBernoulliPopulation([], r_birth=0.5, p_survive=1.0, survival=DECAY)),
@@ -80,7 +71,7 @@ def test_fused_bernoulli_lane_is_the_fused_general_engine(case):
     for t, s, Z in _scans():
         lane.step(Z, t, sensor=s)
         general.step(Z, t, sensor=s)
-        la, lb = _by_label(lane), _by_label(general)
+        la, lb = hypotheses_by_label(lane), hypotheses_by_label(general)
         assert sorted(la) == sorted(lb)
         for lab in la:
             assert len(la[lab]) == len(lb[lab])
@@ -93,6 +84,6 @@ def test_fused_bernoulli_lane_is_the_fused_general_engine(case):
         assert sorted(lane.estimates().labels.tolist()) == sorted(general.estimates().labels.tolist())
         n_unsure += int(np.sum(lane.state().lane.r < 1))
     assert n_unsure >= 10  # the lane held Bernoulli singletons of r < 1
-    assert 3 not in _by_label(lane)  # d (nothing behind it, in both views) deleted
-    e = sum(w for w, _, _ in _by_label(lane)[4])  # e (in neither view) decays as p_S per sensor scan: 14 scans
+    assert 3 not in hypotheses_by_label(lane)  # d (nothing behind it, in both views) deleted
+    e = sum(w for w, _, _ in hypotheses_by_label(lane)[4])  # e (in neither view) decays as p_S per sensor scan: 14 scans
     assert e == pytest.approx(0.95**14, rel=1e-12)

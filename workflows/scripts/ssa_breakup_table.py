@@ -3,9 +3,9 @@ import pandas as pd
 
 from hypotrack.experiments.ssa_breakup.figures import plot_breakup
 from hypotrack.experiments.ssa_breakup.jobs import smallest_gate_km
-from hypotrack.experiments.ssa_breakup.summary import (AMBIGUITY_TRACKERS, EXPERIMENT, RATIO_TRACKERS, TIMING_COLUMNS,
-                                                        ambiguity_sweep, breakup_claims, breakup_macros,
-                                                        cross_tag_ratios, density_table, scorecard_summary)
+from hypotrack.experiments.ssa_breakup.summary import (EXPERIMENT, TIMING_COLUMNS, ambiguity_sweep, breakup_claims,
+                                                        breakup_macros, breakup_ratios, density_table,
+                                                        merged_sweeps, scorecard_summary)
 from hypotrack.reporting.joblog import prefix_output
 from hypotrack.reporting.ledger import write_claims, write_macros
 from hypotrack.scenarios.tables import write_table
@@ -19,18 +19,9 @@ summary, timing = scorecard_summary(cards)
 write_table(summary, out.summary)
 write_table(timing, out.timing)
 # the operator's cross-tags (the goal's), then the standard crediting's identity switches
-compared = tuple(t for t in RATIO_TRACKERS if t in cfg["trackers_run"])
-ratios = pd.concat([cross_tag_ratios(cards, cfg["reference_tracker"], compared, goal=cfg["ratio_goal"], column=c)
-                    for c in ("cross_tags_per_1e4", "id_switches_per_1e4")], ignore_index=True)
-# the factored trackers' ambiguity outputs (same runs), after every row of the plain outputs
-amb = tuple(t for t in AMBIGUITY_TRACKERS if t in set(cards["tracker"]))
-if amb:
-    ratios = pd.concat([ratios, *[cross_tag_ratios(cards, cfg["reference_tracker"], amb, goal=cfg["ratio_goal"],
-                                                   column=c) for c in ("cross_tags_per_1e4", "id_switches_per_1e4")]],
-                       ignore_index=True)
+ratios = breakup_ratios(cards, cfg["trackers_run"], cfg["reference_tracker"], cfg["ratio_goal"])
 write_table(ratios, out.ratios)
-sweeps = [pd.read_csv(p) for p in snakemake.input.sweeps]  # noqa: F821
-sweep = pd.concat([t for t in sweeps if len(t)], ignore_index=True) if any(len(t) for t in sweeps) else sweeps[0]
+sweep = merged_sweeps([pd.read_csv(p) for p in snakemake.input.sweeps])  # noqa: F821
 write_table(ambiguity_sweep(sweep, cards, cfg["reference_tracker"], cfg["ratio_goal"]), out.ambiguity)
 density = density_table(pd.read_csv(snakemake.input.density).to_dict("records"))  # noqa: F821
 dist = pd.read_csv(snakemake.input.distances)  # noqa: F821

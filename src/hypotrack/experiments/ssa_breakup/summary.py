@@ -26,7 +26,7 @@ from ...reporting.ledger import Claim
 from ...scenarios.catalogue.breakup import nearest_neighbour_km
 
 __all__ = ["EXPERIMENT", "TRACKER_NAMES", "RATIO_TRACKERS", "AMBIGUITY_TRACKERS", "SCENARIO_NAMES", "TIMING_COLUMNS", "scorecard_summary", "cross_tag_ratios",
-           "ambiguity_sweep",
+           "ambiguity_sweep", "breakup_ratios", "merged_sweeps",
            "density_rows", "density_table", "breakup_claims", "breakup_macros"]
 
 EXPERIMENT = "ssa_breakup"
@@ -79,6 +79,24 @@ def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glm
                              goal=goal, meets_goal=bool(np.isfinite(m) and m <= goal), metric=column))
     return pd.DataFrame(rows, columns=["scenario", "tracker", "reference", "n_ratio", "ratio", "ratio_se", "goal",
                                        "meets_goal", "metric"])
+
+
+def breakup_ratios(cards: pd.DataFrame, trackers_run, reference: str = "gnn", goal: float = 0.5) -> pd.DataFrame:
+    """The ratios table: :func:`cross_tag_ratios` of the cross-tags and of the identity switches for the
+    :data:`RATIO_TRACKERS` in ``trackers_run``, then the same for the :data:`AMBIGUITY_TRACKERS` outputs ``cards``
+    holds (scored from the same runs), after every row of the plain outputs."""
+    metrics = ("cross_tags_per_1e4", "id_switches_per_1e4")
+    compared = tuple(t for t in RATIO_TRACKERS if t in trackers_run)
+    amb = tuple(t for t in AMBIGUITY_TRACKERS if t in set(cards["tracker"]))
+    parts = [cross_tag_ratios(cards, reference, names, goal=goal, column=c)
+             for names in (compared, amb) if names for c in metrics]
+    return pd.concat(parts, ignore_index=True)
+
+
+def merged_sweeps(sweeps) -> pd.DataFrame:
+    """The per-tracker sweep tables of :func:`.jobs.score_tracker_outputs` as one (GNN's and JPDA's are empty)."""
+    filled = [t for t in sweeps if len(t)]
+    return pd.concat(filled, ignore_index=True) if filled else sweeps[0]
 
 
 def ambiguity_sweep(sweep: pd.DataFrame, cards: pd.DataFrame, reference: str = "gnn",

@@ -291,3 +291,25 @@ def test_ambiguity_output_from_the_same_run(small_cfg):
     assert identity_row(zero)["cross_tags"] == cards.iloc[0]["cross_tags"]
     g_cards, g_sweep = score_tracker_outputs("gnn", cfg, cat)
     assert g_cards["tracker"].tolist() == ["gnn"] and g_sweep.empty
+
+
+def test_breakup_ratios_put_the_ambiguity_outputs_after_the_plain_ones_and_merge_the_sweeps():
+    """Cross-tags over GNN's per seed, by hand: glmb_murty 4/2 and 6/3 -> 2; its ambiguity output 1/2 and 3/3 -> 0.75
+    (s.e. 0.25); the Gibbs δ-GLMB, not in trackers_run, has no row; identity switches likewise after the cross-tags.
+    The sweeps: GNN's empty table is dropped, the others stacked."""
+    from hypotrack.experiments.ssa_breakup.summary import breakup_ratios, merged_sweeps
+
+    xt = {"gnn": (2.0, 3.0), "glmb_murty": (4.0, 6.0), "glmb_murty_amb": (1.0, 3.0), "glmb": (9.0, 9.0)}
+    cards = pd.DataFrame([dict(scenario="breakup", tracker=t, seed=k, cross_tags_per_1e4=v[k],
+                               id_switches_per_1e4=2.0 * v[k]) for t, v in xt.items() for k in (0, 1)])
+    r = breakup_ratios(cards, ["glmb_murty", "gnn"], "gnn", 0.5)
+    assert list(zip(r["tracker"], r["metric"])) == [("glmb_murty", "cross_tags_per_1e4"),
+                                                    ("glmb_murty", "id_switches_per_1e4"),
+                                                    ("glmb_murty_amb", "cross_tags_per_1e4"),
+                                                    ("glmb_murty_amb", "id_switches_per_1e4")]
+    np.testing.assert_allclose(r["ratio"], [2.0, 2.0, 0.75, 0.75])
+    np.testing.assert_allclose(r["ratio_se"], [0.0, 0.0, 0.25, 0.25])
+    assert r["meets_goal"].tolist() == [False, False, False, False]
+    a, b = pd.DataFrame({"p_min": [0.7]}), pd.DataFrame({"p_min": [0.8, 0.9]})
+    assert merged_sweeps([pd.DataFrame(columns=["p_min"]), a, b])["p_min"].tolist() == [0.7, 0.8, 0.9]
+    assert merged_sweeps([pd.DataFrame(columns=["p_min"])]).empty

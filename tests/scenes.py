@@ -109,3 +109,25 @@ def hypotheses_by_label(f) -> dict:
 def label_existence(f, label) -> float:
     """The total weight of a factored filter's hypotheses holding ``label`` (its existence probability)."""
     return sum(w for w, _, _ in hypotheses_by_label(f).get(label, []))
+
+
+def fake_catalogue_run(results) -> None:
+    """A whole-catalogue run's tables as the ``ssa_catalogue`` table job writes them, under ``results``: two sizes of
+    δ-GLMB (300 and 10,855 objects), and the configuration of ``full.yaml`` with the seed its runs use (the section's
+    evaluated one). The record tests feed it to the record step."""
+    import json
+    from pathlib import Path
+
+    from hypotrack.experiments.ssa_catalogue.run import evaluated_on
+    from hypotrack.reporting.record import full_config
+
+    full = full_config()
+    src = Path(results) / "ssa_catalogue"
+    src.mkdir(parents=True)
+    (src / "summary.csv").write_text("tracker,n_objects,n_scans,mean_in_view,gospa_km,born,unknown_in_view\n"
+                                     "glmb,300,60,2.0,1.5,1,1\nglmb,10855,60,105.7,52.0,34,39\n")
+    (src / "summary_timing.csv").write_text(
+        "tracker,n_objects,cpu_s_per_scan,cpu_ms_per_object_in_view,peak_bytes,mean_in_view\n"
+        "glmb,10855,0.0709,0.67,40031470,105.7\nglmb,300,0.0066,3.3,1283569,2.0\n")
+    seed = evaluated_on(full["ssa_catalogue"], full["seed"])[0]
+    (src / "run_config.json").write_text(json.dumps({"seed": seed, "ssa_catalogue": full["ssa_catalogue"]}))

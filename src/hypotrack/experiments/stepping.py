@@ -141,7 +141,7 @@ class SHTStepper:
         if algorithm not in ("gnn", "jpda"):
             raise ValueError(f"algorithm must be 'gnn' or 'jpda', got {algorithm!r}")
         self.tracker = SingleHypothesisTracker(motion, model, association=algorithm, gnn_score="mahalanobis",
-                                               max_misses=10**9)
+                                               max_misses=10**9, block_pairs=None)  # record() reads last_gated
         self.tracker.initialise(initial_states, initial_covs, time=start_time)
         self.scans = scans
         self.clusters = clusters

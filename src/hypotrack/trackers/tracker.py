@@ -34,6 +34,7 @@ from .._validation import (
 from ..protocol import TrackEstimates
 from ._sht_common import ScanModel, _gate_scan, _ScanPredictor, with_track_p_D
 from .gnn import _associate, gnn_gains, gnn_update, mahalanobis_gains
+from .blocks import SPARSE_PAIRS, gate_blocks
 from .deferred import ScanTimes, predict_gap, replay
 from .initiation import MOfNInitiator
 from .jpda import jpda_log_weights, jpda_probabilities, pda_update, pdaf_probabilities
@@ -98,6 +99,11 @@ class SingleHypothesisTracker:
         ``p_detect(x) -> (n,)`` detection probabilities in (0, 1] of the predicted tracks (a sensor's
         ``detection.p_D_of``, e.g. the SNR p_D at each predicted range), used in place of the scan model's
         ``p_D`` in the scores (:func:`~._sht_common.with_track_p_D`). ``None``: the model's ``p_D``.
+    block_pairs : int or None
+        A scan with more (return, track) pairs than this is solved block by block, each block whole components
+        of the gate graph (:mod:`.blocks`: the same association and updates, without the ``(m, n)`` matrices;
+        ``last_gated`` is then ``None`` and JPDA/PDAF's ``last_association`` too). Default
+        :data:`~.blocks.SPARSE_PAIRS`; ``None``: always the whole matrices.
 
     The tracker follows :class:`hypotrack.protocol.Tracker`: :meth:`initialise` with known objects
     and their labels, :meth:`step` with each scan's returns and time, :meth:`estimates`.
@@ -105,7 +111,8 @@ class SingleHypothesisTracker:
     Attributes
     ----------
     last_gated : GatedTracks or None
-        Gating of the confirmed tracks at the last scan (with ``gate_out_of_view=False``: of those in view).
+        Gating of the confirmed tracks at the last scan (with ``gate_out_of_view=False``: of those in view);
+        ``None`` after a scan solved in blocks (``block_pairs``).
     last_association : ndarray or None
         The last scan's association: the event vector (GNN) or ``β`` (JPDA/PDAF).
     last_predicted : int
@@ -133,6 +140,7 @@ class SingleHypothesisTracker:
         lazy_prediction: str = "replay",
         validity=None,
         p_detect=None,
+        block_pairs: int | None = SPARSE_PAIRS,
     ):
         if not isinstance(model, ScanModel):
             raise TypeError(f"model must be a ScanModel, got {type(model).__name__}")
@@ -196,6 +204,7 @@ class SingleHypothesisTracker:
         self._next_id = 0
         self.last_gated = None
         self.last_association = None
+        self.block_pairs = None if block_pairs is None else check_int(block_pairs, "block_pairs", minimum=0)
         self.last_predicted = 0
 
     def initialise(self, means, covs, labels=None, *, time: float = 0.0) -> np.ndarray:
@@ -338,6 +347,21 @@ class SingleHypothesisTracker:
             if not inside.all():
                 g = np.flatnonzero(inside)
         xg, Pg = (x, P) if g is None else (x[g], P[g])
+        if self.block_pairs is not None and len(xg) * len(Z) > self.block_pairs:
+            xg, Pg, det, gated, unused, association = self._solve_blocks(Z, xg, Pg)
+        else:
+            xg, Pg, det, gated, unused, association = self._solve(Z, xg, Pg)
+        if g is None:
+            return xg, Pg, det, gated, unused, association
+        x, P = x.copy(), P.copy()
+        x[g], P[g] = xg, Pg
+        detected = np.zeros(len(x), dtype=bool)
+        detected[g] = det
+        return x, P, detected, gated, unused, association
+
+    def _solve(self, Z, xg, Pg):
+        """Gate, associate and update the tracks ``xg, Pg`` against returns ``Z`` (the whole matrices):
+        ``(x, P, detected, gated, unused returns, association)``."""
         gated = _gate_scan(xg, Pg, Z, self.model, logdet=self.association != "gnn" or self.gnn_score == "lecture")
         model = self.model if self.p_detect is None or not len(xg) else with_track_p_D(self.model, self.p_detect(xg))
         if self.association == "gnn":
@@ -358,13 +382,23 @@ class SingleHypothesisTracker:
             xg, Pg = pda_update(gated, association, self.model)
             det = gated.valid.any(axis=0)
             unused = ~gated.valid.any(axis=1)
-        if g is None:
-            return xg, Pg, det, gated, unused, association
-        x, P = x.copy(), P.copy()
-        x[g], P[g] = xg, Pg
-        detected = np.zeros(len(x), dtype=bool)
-        detected[g] = det
-        return x, P, detected, gated, unused, association
+        return xg, Pg, det, gated, unused, association
+
+    def _solve_blocks(self, Z, xg, Pg):
+        """:meth:`_solve` block by block (:func:`~.blocks.gate_blocks`: whole components of the gate graph, so
+        the same association and updates as the whole matrices, which a large scan never builds). A track in no
+        block is missed and keeps its prediction; a return in no block is unused. ``gated`` is ``None`` and
+        GNN's ``association`` (return -> track, -1) covers the whole scan; JPDA/PDAF's is ``None`` (its
+        ``(n, m + 1)`` probabilities are the matrix avoided)."""
+        x, P = xg.copy(), Pg.copy()
+        det, unused = np.zeros(len(xg), dtype=bool), np.ones(len(Z), dtype=bool)
+        association = np.full(len(Z), -1, dtype=np.int64) if self.association == "gnn" else None
+        for t, r in gate_blocks(xg, Pg, Z, self.model):
+            xb, Pb, db, _, ub, ab = self._solve(Z[r], xg[t], Pg[t])
+            x[t], P[t], det[t], unused[r] = xb, Pb, db, ub
+            if association is not None:
+                association[r] = np.where(ab >= 0, t[np.maximum(ab, 0)], -1)
+        return x, P, det, None, unused, association
 
     def estimates(self, *, covariances: bool = True) -> TrackEstimates:
         """The confirmed tracks now (copies).

@@ -187,6 +187,8 @@ def tracker_class():
                                   self.clutter_rate, region, means, covs, options)
             family = preset(self.algorithm).family
             self._single = family == "single"
+            if self._single:  # _step_single reads every scan's whole gating (last_gated), so no scan is cut in blocks
+                self.tracker.block_pairs = None
             self._stepper = (self._step_single if family == "single" else
                              self._step_pmbm if family == "poisson_mb" else self._step_filter)
             self._tracks = {}

@@ -19,6 +19,7 @@ import numpy as np
 
 from hypotrack.hypotheses.population_events import SingleEventPopulation
 from hypotrack.models.population import SingleEventBirthDeath, UniformBirthDensity
+from hypotrack.models.measurement import ExtendedMeasurement
 from hypotrack.models.sensors import Box, DetectionModel, LinearPositionSensor, PoissonClutter, Sensor
 
 #: Measurement matrix of a position sensor on ``(x, y, vx, vy)``.
@@ -131,3 +132,36 @@ def fake_catalogue_run(results) -> None:
         "glmb,10855,0.0709,0.67,40031470,105.7\nglmb,300,0.0066,3.3,1283569,2.0\n")
     seed = evaluated_on(full["ssa_catalogue"], full["seed"])[0]
     (src / "run_config.json").write_text(json.dumps({"seed": seed, "ssa_catalogue": full["ssa_catalogue"]}))
+
+
+class RangeBearing(ExtendedMeasurement):
+    """``(√(x² + y²), atan2(y, x))`` of a state ``(x, y, vx, vy)``; :meth:`one_point` the polar-to-Cartesian
+    initiation, ``J R Jᵀ + position_std² I`` on the position and ``velocity_std² I`` on the velocity."""
+
+    wrapped = (1,)
+    ndim_state = 4
+
+    def __init__(self):
+        self.R = np.diag([0.04, 1e-4])
+
+    def h(self, means):
+        return np.column_stack([np.hypot(means[:, 0], means[:, 1]), np.arctan2(means[:, 1], means[:, 0])])
+
+    def jacobian(self, means):
+        x, y = means[:, 0], means[:, 1]
+        r2 = x * x + y * y
+        r = np.sqrt(r2)
+        J = np.zeros((len(means), 2, 4))
+        J[:, 0, 0], J[:, 0, 1] = x / r, y / r
+        J[:, 1, 0], J[:, 1, 1] = -y / r2, x / r2
+        return J
+
+    def one_point(self, Z, position_std=0.0, velocity_std=8.0):
+        Z = np.atleast_2d(np.asarray(Z, dtype=float))
+        x0, P0 = np.zeros((len(Z), 4)), np.zeros((len(Z), 4, 4))
+        for i, (r, b) in enumerate(Z):
+            x0[i, :2] = r * np.cos(b), r * np.sin(b)
+            J = np.array([[np.cos(b), -r * np.sin(b)], [np.sin(b), r * np.cos(b)]])
+            P0[i, :2, :2] = J @ self.R @ J.T + position_std**2 * np.eye(2)
+            P0[i, 2:, 2:] = velocity_std**2 * np.eye(2)
+        return x0, P0

@@ -11,7 +11,7 @@ import pytest
 
 import hypotrack.trackers.blocks as blocks
 from hypotrack.models import ConstantVelocity
-from hypotrack.models.measurement import ExtendedMeasurement
+from scenes import RangeBearing
 from hypotrack.trackers._sht_common import ScanModel, gate_tracks
 from hypotrack.trackers.blocks import candidate_pairs, gate_blocks
 from hypotrack.trackers.initiation import MOfNInitiator
@@ -19,41 +19,6 @@ from hypotrack.trackers.tracker import SingleHypothesisTracker
 
 H = np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]])
 MOTION = ConstantVelocity(0.05)
-
-
-class _RangeBearing(ExtendedMeasurement):
-    """``(√(x² + y²), atan2(y, x))`` of a state ``(x, y, vx, vy)``, the bearing wrapped."""
-
-    wrapped = (1,)
-    ndim_state = 4
-
-    def __init__(self):
-        self.R = np.diag([0.04, 1e-4])
-
-    def h(self, means):
-        return np.column_stack([np.hypot(means[:, 0], means[:, 1]), np.arctan2(means[:, 1], means[:, 0])])
-
-    def jacobian(self, means):
-        x, y = means[:, 0], means[:, 1]
-        r2 = x * x + y * y
-        r = np.sqrt(r2)
-        J = np.zeros((len(means), 2, 4))
-        J[:, 0, 0], J[:, 0, 1] = x / r, y / r
-        J[:, 1, 0], J[:, 1, 1] = -y / r2, x / r2
-        return J
-
-    def one_point(self, Z, position_std=0.0, velocity_std=1.0):
-        """The return's position at rest, its polar covariance mapped to Cartesian, ``velocity_std²`` on the
-        velocities (the initiator's one-point track)."""
-        r, b = Z[:, 0], Z[:, 1]
-        x = np.zeros((len(Z), 4))
-        x[:, 0], x[:, 1] = r * np.cos(b), r * np.sin(b)
-        J = np.zeros((len(Z), 2, 2))
-        J[:, 0, 0], J[:, 0, 1], J[:, 1, 0], J[:, 1, 1] = np.cos(b), -r * np.sin(b), np.sin(b), r * np.cos(b)
-        P = np.zeros((len(Z), 4, 4))
-        P[:, :2, :2] = J @ self.R @ np.swapaxes(J, 1, 2) + position_std**2 * np.eye(2)
-        P[:, 2, 2] = P[:, 3, 3] = velocity_std**2
-        return x, P
 
 
 def _objects(rng):
@@ -89,7 +54,7 @@ def _scans(X, model, n_scans, seed, p_D=0.85, clutter=6):
 def _model(kind):
     if kind == "linear":
         return ScanModel(H, 0.3 * np.eye(2), 0.85, 0.999, 1e-3)
-    m = _RangeBearing()
+    m = RangeBearing()
     return ScanModel(None, m.R, 0.85, 0.999, 1e-3, measurement=m)
 
 

@@ -10,47 +10,14 @@ import pytest
 
 from hypotrack.gaussian import predict_with
 from hypotrack.models import ConstantVelocity
-from hypotrack.models.measurement import ExtendedMeasurement
+from scenes import RangeBearing
 from hypotrack.trackers import MOfNInitiator, ScanModel
 
 MOTION = ConstantVelocity(0.0)
 
 
-class _RangeBearing(ExtendedMeasurement):
-    """``(√(x² + y²), atan2(y, x))`` of a state ``(x, y, vx, vy)``; :meth:`one_point` the polar-to-Cartesian
-    initiation, ``J R Jᵀ + position_std² I`` on the position and ``velocity_std² I`` on the velocity."""
-
-    wrapped = (1,)
-    ndim_state = 4
-
-    def __init__(self):
-        self.R = np.diag([0.04, 1e-4])
-
-    def h(self, means):
-        return np.column_stack([np.hypot(means[:, 0], means[:, 1]), np.arctan2(means[:, 1], means[:, 0])])
-
-    def jacobian(self, means):
-        x, y = means[:, 0], means[:, 1]
-        r2 = x * x + y * y
-        r = np.sqrt(r2)
-        J = np.zeros((len(means), 2, 4))
-        J[:, 0, 0], J[:, 0, 1] = x / r, y / r
-        J[:, 1, 0], J[:, 1, 1] = -y / r2, x / r2
-        return J
-
-    def one_point(self, Z, position_std=0.0, velocity_std=8.0):
-        Z = np.atleast_2d(np.asarray(Z, dtype=float))
-        x0, P0 = np.zeros((len(Z), 4)), np.zeros((len(Z), 4, 4))
-        for i, (r, b) in enumerate(Z):
-            x0[i, :2] = r * np.cos(b), r * np.sin(b)
-            J = np.array([[np.cos(b), -r * np.sin(b)], [np.sin(b), r * np.cos(b)]])
-            P0[i, :2, :2] = J @ self.R @ J.T + position_std**2 * np.eye(2)
-            P0[i, 2:, 2:] = velocity_std**2 * np.eye(2)
-        return x0, P0
-
-
 def test_tentative_tracks_are_the_one_point_initiation_then_the_ekf():
-    m = _RangeBearing()
+    m = RangeBearing()
     model = ScanModel(None, m.R, 0.9, 0.999, 1e-3, measurement=m)
     init = MOfNInitiator(MOTION, model, m=2, n=3, initial_velocity_std=2.0)
     assert init.P0 is None
@@ -76,7 +43,7 @@ def test_tentative_tracks_are_the_one_point_initiation_then_the_ekf():
 def test_a_return_across_the_bearing_wrap_updates_by_the_wrapped_residual():
     """A tentative track at bearing π − 0.01 takes a return at −π + 0.015: the residual is 0.025 rad, not −2π + 0.025,
     so the confirmed state is the measurement model's own (wrapping) EKF update."""
-    m = _RangeBearing()
+    m = RangeBearing()
     model = ScanModel(None, m.R, 0.9, 0.999, 1e-3, measurement=m)
     init = MOfNInitiator(MOTION, model, m=2, n=3, initial_velocity_std=0.5)
     init.step(0.0, [[10.0, np.pi - 0.01]])
@@ -93,7 +60,7 @@ def test_scan_model_of_a_nonlinear_sensor():
     """``from_sensor`` of a sensor with a nonlinear measurement: no ``H``, the measurement's ``R``, the sensor's
     ``p_D`` and clutter, the given gate and new-target density; a nonlinear model ignores an ``H``/``R`` given to it
     and checks the measurement's ``R`` under that name."""
-    m = _RangeBearing()
+    m = RangeBearing()
     sensor = SimpleNamespace(measurement=m, detection=SimpleNamespace(p_D=0.8), clutter=SimpleNamespace(intensity=2e-3))
     model = ScanModel.from_sensor(sensor, p_gate=0.95, new_target_density=1e-4)
     assert model.measurement is m and model.H is None
@@ -102,7 +69,7 @@ def test_scan_model_of_a_nonlinear_sensor():
     given = ScanModel(np.eye(2, 4), 5.0 * np.eye(2), 0.9, 0.99, 1e-3, measurement=m)
     assert given.H is None
     np.testing.assert_array_equal(given.R, m.R)
-    bad = _RangeBearing()
+    bad = RangeBearing()
     bad.R = np.array([[1.0, 2.0], [0.0, 1.0]])
     with pytest.raises(ValueError, match=r"^measurement\.R must be symmetric"):
         ScanModel(None, None, 0.9, 0.99, 1e-3, measurement=bad)

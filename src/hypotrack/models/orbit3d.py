@@ -350,6 +350,14 @@ class J2Orbit3D(TwoBodyOrbit3D):
             mean, phi = self._transition_rows(X, np.full(len(X), dt))
         return self._finite(X, mean), self._finite(X, phi)
 
+    def replay_each(self, x, P, h, k):
+        """EKF predictions of states ``(n, 6)`` and covariances ``(n, 6, 6)``, row ``i`` in ``k[i]`` steps of ``h[i]``
+        s (each :meth:`transition`, ``P ← sym(Φ P Φᵀ + Q(h))``), all rows in one compiled pass
+        (:func:`~.orbit3d_replay.replay_j2`: the same means bit for bit, covariances to rounding)."""
+        from .orbit3d_replay import replay_j2
+
+        return replay_j2(self, x, P, h, k)
+
     def transition_each(self, x, dt):
         """:meth:`transition` with an interval per state, ``dt`` ``(n,)``, in one batch."""
         X = _states(x, ndim=self.ndim)

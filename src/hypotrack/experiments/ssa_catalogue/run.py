@@ -179,9 +179,9 @@ def build_scenario(cfg, n: int, seed: int):
     return objects, unknown, sc, init_seed
 
 
-def initial_tracks(sc, unknown, cfg, init_seed):
-    """Known objects: SGP4 state at scan 0 plus a seeded error, with its covariance."""
-    X, valid = sc.states(np.array([0.0]))
+def initial_tracks(sc, unknown, cfg, init_seed, at: float = 0.0):
+    """Known objects: SGP4 state at scan 0 (or ``at`` seconds from it) plus a seeded error, with its covariance."""
+    X, valid = sc.states(np.array([float(at)]))
     X, valid = X[:, 0], valid[:, 0]
     norad = sc.catalogue["norad"].to_numpy(np.int64)
     known = valid & ~np.isin(norad, unknown)

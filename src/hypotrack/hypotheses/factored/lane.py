@@ -213,9 +213,12 @@ def predict_each(motion, x, P, dt, step=None):
     predicted one after the other, ``P ← sym(Φ P Φᵀ + Q(dt / k))`` — the predictions an eager filter
     scanning every ``step`` makes (``Σ Φ Q Φᵀ``), where one step over the interval adds ``Q(dt)``
     (package docstring: far apart over an orbit's gap between passes). All tracks take their ``j``-th
-    step in one batch."""
+    step in one batch; with a motion model that has ``replay_each`` (:class:`~...models.orbit3d.J2Orbit3D`: a
+    compiled kernel) every track takes all its steps in one call (the same means, covariances to rounding)."""
     if step is not None and len(dt):
         k = np.where(dt > 0, np.maximum(np.rint(np.asarray(dt) / float(step)), 1), 0).astype(np.int64)
+        if hasattr(motion, "replay_each"):
+            return motion.replay_each(x, P, np.where(k > 0, dt / np.maximum(k, 1), 0.0), k)
         if k.max() > 1:
             h = np.where(k > 0, dt / np.maximum(k, 1), 0.0)
             xo, Po = x.copy(), P.copy()

@@ -217,7 +217,7 @@ def predict_each(motion, x, P, dt, step=None):
     compiled kernel) every track takes all its steps in one call (the same means, covariances to rounding)."""
     if step is not None and len(dt):
         k = np.where(dt > 0, np.maximum(np.rint(np.asarray(dt) / float(step)), 1), 0).astype(np.int64)
-        if hasattr(motion, "replay_each"):
+        if getattr(motion, "replay_each", None) is not None:
             return motion.replay_each(x, P, np.where(k > 0, dt / np.maximum(k, 1), 0.0), k)
         if k.max() > 1:
             h = np.where(k > 0, dt / np.maximum(k, 1), 0.0)

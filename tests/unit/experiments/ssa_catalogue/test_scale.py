@@ -117,3 +117,26 @@ def test_a_summary_with_some_runs_stopped_takes_the_finished_ones():
     np.testing.assert_allclose(t.loc[1000, "cpu_s_per_scan_median"], 0.15)  # median of 0.1 and 0.2
     np.testing.assert_allclose(t["slope_cpu_vs_n"], 1.0)  # over the two sizes that finished
     assert t.loc[100000, "runs"] == 0 and t.loc[100000, "load_mean"] == 6.0
+
+
+def test_a_steady_state_start_keeps_the_priors_at_the_epoch_and_shifts_the_scans(cfg):
+    """``start_after_s``: the population simulated from that many seconds after the epoch (its first scan is the
+    epoch-started run's scan 2 at 20 s, same SGP4 instant), the priors the same states at the epoch (same seeded
+    errors), so a tracker predicts each object over the whole gap; a negative value is refused."""
+    from hypotrack.experiments.ssa_catalogue.run import initial_tracks
+    from hypotrack.experiments.ssa_catalogue.scale import clone_scenario
+
+    _, unk0, sc0, seed0 = clone_scenario(cfg, 60, 3, n_scans=4, chunk=25)
+    _, unk1, sc1, seed1 = clone_scenario(cfg, 60, 3, n_scans=4, chunk=25, start_after_s=20.0)
+    assert seed0 == seed1 and np.array_equal(unk0, unk1)
+    np.testing.assert_allclose(sc1.states(np.array([0.0]))[0], sc0.states(np.array([20.0]))[0], rtol=0, atol=1e-6)
+    m0, P0, l0 = initial_tracks(sc0, unk0, cfg, seed0)
+    m1, P1, l1 = initial_tracks(sc1, unk1, cfg, seed1, at=-20.0)
+    np.testing.assert_array_equal(l0, l1)
+    np.testing.assert_array_equal(P0, P1)
+    np.testing.assert_allclose(m1, m0, rtol=0, atol=1e-6)
+    assert not np.allclose(sc1.states(np.array([0.0]))[0], sc0.states(np.array([0.0]))[0], atol=1.0)  # 20 s apart
+    r = measure_run(dict(cfg, scale=dict(cfg["scale"], start_after_s=600.0)), "gnn", 60, 3)
+    assert r["start_after_s"] == 600.0 and r["n_scans"] == 3
+    with pytest.raises(ValueError, match=r"^scale\.start_after_s must be >= 0 .*got -1\.0$"):
+        measure_run(dict(cfg, scale=dict(cfg["scale"], start_after_s=-1.0)), "gnn", 60, 3)

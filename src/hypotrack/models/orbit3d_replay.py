@@ -13,9 +13,13 @@ six copies of the state, copy ``j`` perturbed by ``i·h`` in component ``j``, th
 their imaginary parts over ``h``), written out on (real, imaginary) pairs with numpy's complex formulas —
 product ``(ac − bd, ad + bc)``, quotient by Smith's scaling (``rat = d/c``, ``scl = 1/(c + d·rat)``, as numpy's
 loop), square root ``t = sqrt((a + hypot(a, b))/2)``, ``b/(2t)`` — and the mean is the real part of the first copy,
-as there. What differs from the array passes is rounding only: numpy's vectorised complex loops and OpenBLAS's
-6 × 6 products may fuse multiply-adds where this kernel does not, so the moments agree to rounding (the
-tests hold them to 1e-12 of their scale after hundreds of steps), not bit for bit.
+as there. The imaginary parts are ~1e-30 of the real ones, so they never reach a real part (``bd``, ``d·rat`` and
+``b`` in ``hypot(a, b)`` are below half an ulp of what they are added to): the six copies share one real part,
+computed once per RK4 stage, and only their imaginary parts are carried six times — the same numbers as six
+full complex runs (a third of their cost: ~0.4 µs per EKF step on this machine). The means come out bit for bit
+those of the array passes; what differs is rounding only in ``Φ`` and ``P``: numpy's vectorised complex loops and
+OpenBLAS's 6 × 6 products may fuse multiply-adds where this kernel does not, so the covariances agree to
+rounding (the tests hold them to 1e-12 of their scale after hundreds of steps), not bit for bit.
 """
 
 from __future__ import annotations
@@ -29,76 +33,77 @@ __all__ = ["replay_j2"]
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _cmul(ar, ai, br, bi):
-    return ar * br - ai * bi, ar * bi + ai * br
+def _acc_re(xr, yr, zr, mu, c_j2):
+    """Real parts of :func:`~.orbit3d._j2_acceleration` at a complex position of real part ``(xr, yr, zr)`` (module
+    docstring: the imaginary parts do not reach them) and the real intermediates :func:`_acc_im` needs."""
+    dr = (xr * xr + yr * yr) + zr * zr
+    ir2r = (1.0 + 0.0) * (1.0 / dr)
+    t = math.sqrt((ir2r + ir2r) * 0.5)  # sqrt((a + hypot(a, b)) / 2), hypot(a, b) = a for |b| <= 2^-60 |a|
+    ir3r = ir2r * t
+    kjr = c_j2 * ir2r
+    a5 = 5.0 * zr * zr
+    s_r = a5 * ir2r
+    A1 = kjr * (s_r - 1.0) - mu
+    A3 = kjr * (s_r - 3.0) - mu
+    fr, gr = ir3r * A1, ir3r * A3
+    return (xr * fr, yr * fr, zr * gr), (dr, ir2r, t, ir3r, kjr, a5, s_r, A1, A3, fr, gr)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _acc(xr, xi, yr, yi, zr, zi, mu, c_j2):
-    """:func:`~.orbit3d._j2_acceleration` of one complex position, operation for operation."""
-    a, b = _cmul(xr, xi, xr, xi)
-    c, d = _cmul(yr, yi, yr, yi)
-    a, b = a + c, b + d
-    c, d = _cmul(zr, zi, zr, zi)
-    dr, di = a + c, b + d
-    # 1 / (dr + i di), numpy's complex quotient (Smith), numerator 1 + 0i
-    if abs(dr) >= abs(di):
-        rat = di / dr
-        scl = 1.0 / (dr + di * rat)
-        ir2r, ir2i = (1.0 + 0.0 * rat) * scl, (0.0 - 1.0 * rat) * scl
-    else:
-        rat = dr / di
-        scl = 1.0 / (di + dr * rat)
-        ir2r, ir2i = (1.0 * rat + 0.0) * scl, (0.0 * rat - 1.0) * scl
-    # sqrt(ir2), principal branch (ir2 has a positive real part here)
-    t = math.sqrt((ir2r + math.hypot(ir2r, ir2i)) * 0.5)
-    sr, si = t, ir2i / (2.0 * t)
-    ir3r, ir3i = _cmul(ir2r, ir2i, sr, si)
-    kjr, kji = c_j2 * ir2r, c_j2 * ir2i
-    a, b = _cmul(5.0 * zr, 5.0 * zi, zr, zi)
-    s_r, s_i = _cmul(a, b, ir2r, ir2i)
-    a, b = _cmul(kjr, kji, s_r - 1.0, s_i)
-    fr, fi = _cmul(ir3r, ir3i, a - mu, b)
-    a, b = _cmul(kjr, kji, s_r - 3.0, s_i)
-    a, b = _cmul(ir3r, ir3i, a - mu, b)
-    axr, axi = _cmul(xr, xi, fr, fi)
-    ayr, ayi = _cmul(yr, yi, fr, fi)
-    azr, azi = _cmul(zr, zi, a, b)
-    return axr, axi, ayr, ayi, azr, azi
+def _acc_im(xr, yr, zr, xi, yi, zi, q, c_j2):
+    """Imaginary parts of :func:`~.orbit3d._j2_acceleration` at ``(xr + i xi, …)``, numpy's complex formulas term for
+    term: a product's ``ad + bc``, the quotient's ``(0 − 1·rat)·scl`` (``rat = d/c``), the root's ``b/(2t)``;
+    ``q`` the real intermediates (:func:`_acc_re`)."""
+    dr, ir2r, t, ir3r, kjr, a5, s_r, A1, A3, fr, gr = q
+    di = ((xr * xi + xi * xr) + (yr * yi + yi * yr)) + (zr * zi + zi * zr)
+    ir2i = (0.0 - 1.0 * (di / dr)) * ir2r
+    si = ir2i / (2.0 * t)
+    ir3i = ir2r * si + ir2i * t
+    kji = c_j2 * ir2i
+    s_i = a5 * ir2i + (5.0 * zr * zi + 5.0 * zi * zr) * ir2r
+    fi = ir3r * (kjr * s_i + kji * (s_r - 1.0)) + ir3i * A1
+    gi = ir3r * (kjr * s_i + kji * (s_r - 3.0)) + ir3i * A3
+    return xr * fi + xi * fr, yr * fi + yi * fr, zr * gi + zi * gr
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _rk4(Zr, Zi, c, hk, mu, c_j2):
-    """One RK4 step of ``hk`` of complex copy ``c`` (rows of ``Zr``, ``Zi``), in place: the array passes'
-    :func:`~.orbit3d._rk4_j2_arrays` step, the real scalars ``hk/2``, ``hk/6`` scaling both parts."""
+def _rk4(R, I, hk, mu, c_j2):
+    """One RK4 step of ``hk`` (:func:`~.orbit3d._rk4_j2_arrays`'s) of the six complex copies, in place: their common
+    real part ``R`` ``(6,)`` once, each copy's imaginary part (rows of ``I`` ``(6, 6)``) with the same real
+    intermediates."""
     hk2, hk6 = hk / 2, hk / 6
-    rx, rxi, ry, ryi, rz, rzi = Zr[c, 0], Zi[c, 0], Zr[c, 1], Zi[c, 1], Zr[c, 2], Zi[c, 2]
-    vx, vxi, vy, vyi, vz, vzi = Zr[c, 3], Zi[c, 3], Zr[c, 4], Zi[c, 4], Zr[c, 5], Zi[c, 5]
-    a1x, a1xi, a1y, a1yi, a1z, a1zi = _acc(rx, rxi, ry, ryi, rz, rzi, mu, c_j2)
-    v2x, v2xi, v2y, v2yi, v2z, v2zi = (vx + hk2 * a1x, vxi + hk2 * a1xi, vy + hk2 * a1y, vyi + hk2 * a1yi,
-                                       vz + hk2 * a1z, vzi + hk2 * a1zi)
-    a2x, a2xi, a2y, a2yi, a2z, a2zi = _acc(rx + hk2 * vx, rxi + hk2 * vxi, ry + hk2 * vy, ryi + hk2 * vyi,
-                                           rz + hk2 * vz, rzi + hk2 * vzi, mu, c_j2)
-    v3x, v3xi, v3y, v3yi, v3z, v3zi = (vx + hk2 * a2x, vxi + hk2 * a2xi, vy + hk2 * a2y, vyi + hk2 * a2yi,
-                                       vz + hk2 * a2z, vzi + hk2 * a2zi)
-    a3x, a3xi, a3y, a3yi, a3z, a3zi = _acc(rx + hk2 * v2x, rxi + hk2 * v2xi, ry + hk2 * v2y, ryi + hk2 * v2yi,
-                                           rz + hk2 * v2z, rzi + hk2 * v2zi, mu, c_j2)
-    v4x, v4xi, v4y, v4yi, v4z, v4zi = (vx + hk * a3x, vxi + hk * a3xi, vy + hk * a3y, vyi + hk * a3yi,
-                                       vz + hk * a3z, vzi + hk * a3zi)
-    a4x, a4xi, a4y, a4yi, a4z, a4zi = _acc(rx + hk * v3x, rxi + hk * v3xi, ry + hk * v3y, ryi + hk * v3yi,
-                                           rz + hk * v3z, rzi + hk * v3zi, mu, c_j2)
-    Zr[c, 0] = rx + hk6 * ((vx + 2 * (v2x + v3x)) + v4x)
-    Zi[c, 0] = rxi + hk6 * ((vxi + 2 * (v2xi + v3xi)) + v4xi)
-    Zr[c, 1] = ry + hk6 * ((vy + 2 * (v2y + v3y)) + v4y)
-    Zi[c, 1] = ryi + hk6 * ((vyi + 2 * (v2yi + v3yi)) + v4yi)
-    Zr[c, 2] = rz + hk6 * ((vz + 2 * (v2z + v3z)) + v4z)
-    Zi[c, 2] = rzi + hk6 * ((vzi + 2 * (v2zi + v3zi)) + v4zi)
-    Zr[c, 3] = vx + hk6 * ((a1x + 2 * (a2x + a3x)) + a4x)
-    Zi[c, 3] = vxi + hk6 * ((a1xi + 2 * (a2xi + a3xi)) + a4xi)
-    Zr[c, 4] = vy + hk6 * ((a1y + 2 * (a2y + a3y)) + a4y)
-    Zi[c, 4] = vyi + hk6 * ((a1yi + 2 * (a2yi + a3yi)) + a4yi)
-    Zr[c, 5] = vz + hk6 * ((a1z + 2 * (a2z + a3z)) + a4z)
-    Zi[c, 5] = vzi + hk6 * ((a1zi + 2 * (a2zi + a3zi)) + a4zi)
+    rx, ry, rz, vx, vy, vz = R[0], R[1], R[2], R[3], R[4], R[5]
+    (a1x, a1y, a1z), q1 = _acc_re(rx, ry, rz, mu, c_j2)
+    v2x, v2y, v2z = vx + hk2 * a1x, vy + hk2 * a1y, vz + hk2 * a1z
+    p2x, p2y, p2z = rx + hk2 * vx, ry + hk2 * vy, rz + hk2 * vz
+    (a2x, a2y, a2z), q2 = _acc_re(p2x, p2y, p2z, mu, c_j2)
+    v3x, v3y, v3z = vx + hk2 * a2x, vy + hk2 * a2y, vz + hk2 * a2z
+    p3x, p3y, p3z = rx + hk2 * v2x, ry + hk2 * v2y, rz + hk2 * v2z
+    (a3x, a3y, a3z), q3 = _acc_re(p3x, p3y, p3z, mu, c_j2)
+    v4x, v4y, v4z = vx + hk * a3x, vy + hk * a3y, vz + hk * a3z
+    p4x, p4y, p4z = rx + hk * v3x, ry + hk * v3y, rz + hk * v3z
+    (a4x, a4y, a4z), q4 = _acc_re(p4x, p4y, p4z, mu, c_j2)
+    for c in range(6):
+        rxi, ryi, rzi, vxi, vyi, vzi = I[c, 0], I[c, 1], I[c, 2], I[c, 3], I[c, 4], I[c, 5]
+        b1x, b1y, b1z = _acc_im(rx, ry, rz, rxi, ryi, rzi, q1, c_j2)
+        w2x, w2y, w2z = vxi + hk2 * b1x, vyi + hk2 * b1y, vzi + hk2 * b1z
+        b2x, b2y, b2z = _acc_im(p2x, p2y, p2z, rxi + hk2 * vxi, ryi + hk2 * vyi, rzi + hk2 * vzi, q2, c_j2)
+        w3x, w3y, w3z = vxi + hk2 * b2x, vyi + hk2 * b2y, vzi + hk2 * b2z
+        b3x, b3y, b3z = _acc_im(p3x, p3y, p3z, rxi + hk2 * w2x, ryi + hk2 * w2y, rzi + hk2 * w2z, q3, c_j2)
+        w4x, w4y, w4z = vxi + hk * b3x, vyi + hk * b3y, vzi + hk * b3z
+        b4x, b4y, b4z = _acc_im(p4x, p4y, p4z, rxi + hk * w3x, ryi + hk * w3y, rzi + hk * w3z, q4, c_j2)
+        I[c, 0] = rxi + hk6 * ((vxi + 2 * (w2x + w3x)) + w4x)
+        I[c, 1] = ryi + hk6 * ((vyi + 2 * (w2y + w3y)) + w4y)
+        I[c, 2] = rzi + hk6 * ((vzi + 2 * (w2z + w3z)) + w4z)
+        I[c, 3] = vxi + hk6 * ((b1x + 2 * (b2x + b3x)) + b4x)
+        I[c, 4] = vyi + hk6 * ((b1y + 2 * (b2y + b3y)) + b4y)
+        I[c, 5] = vzi + hk6 * ((b1z + 2 * (b2z + b3z)) + b4z)
+    R[0] = rx + hk6 * ((vx + 2 * (v2x + v3x)) + v4x)
+    R[1] = ry + hk6 * ((vy + 2 * (v2y + v3y)) + v4y)
+    R[2] = rz + hk6 * ((vz + 2 * (v2z + v3z)) + v4z)
+    R[3] = vx + hk6 * ((a1x + 2 * (a2x + a3x)) + a4x)
+    R[4] = vy + hk6 * ((a1y + 2 * (a2y + a3y)) + a4y)
+    R[5] = vz + hk6 * ((a1z + 2 * (a2z + a3z)) + a4z)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
@@ -107,7 +112,7 @@ def _replay(X, P, h, k, max_step, q, mu, c_j2, hstep):
     Returns ``(x, P, bad)``: ``bad`` the first row whose prediction is not finite (−1: none)."""
     n = X.shape[0]
     xo, Po = X.copy(), P.copy()
-    Zr, Zi = np.empty((6, 6)), np.empty((6, 6))
+    R, Zi = np.empty(6), np.empty((6, 6))
     F, A, B = np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 6))
     for i in range(n):
         hi = h[i]
@@ -117,15 +122,14 @@ def _replay(X, P, h, k, max_step, q, mu, c_j2, hstep):
         h1 = q * hi
         for _ in range(k[i]):
             for c in range(6):
+                R[c] = xo[i, c]
                 for j in range(6):
-                    Zr[c, j] = xo[i, j]
                     Zi[c, j] = 0.0
                 Zi[c, c] = hstep
-            for c in range(6):
-                for _s in range(m):
-                    _rk4(Zr, Zi, c, hs, mu, c_j2)
+            for _s in range(m):
+                _rk4(R, Zi, hs, mu, c_j2)
             for a in range(6):
-                xo[i, a] = Zr[0, a]
+                xo[i, a] = R[a]
                 for b in range(6):
                     F[a, b] = Zi[b, a] / hstep
             for a in range(6):  # B = F P

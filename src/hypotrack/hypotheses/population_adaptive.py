@@ -132,10 +132,5 @@ class AdaptiveBirth:
         sensor: ``H``, ``R`` or a nonlinear ``measurement`` (its own ``R``). Another sensor than the one whose
         returns made the states may observe them (:mod:`.factored.multisensor`)."""
         if measurement is not None and not measurement.linear:
-            w = np.ones(len(x)) if weights is None else weights
-            return [GaussianBirthTerm(x[i], P[i], None, measurement.R, self.gate_probability, measurement=measurement,
-                                      weight=float(w[i])) for i in range(len(x))]
-        if weights is not None:
-            return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability, weight=float(weights[i]))
-                    for i in range(len(x))]
-        return [GaussianBirthTerm(x[i], P[i], H, R, self.gate_probability) for i in range(len(x))]
+            return GaussianBirthTerm.many(x, P, None, measurement.R, self.gate_probability, measurement, weights)
+        return GaussianBirthTerm.many(x, P, H, R, self.gate_probability, None, weights)

@@ -204,6 +204,8 @@ def scale_summary(runs: pd.DataFrame) -> pd.DataFrame:
         for f in FIGURES:
             x = g[f] if f in g else pd.Series(dtype=float)
             r[f"{f}_median"], r[f"{f}_min"], r[f"{f}_max"] = x.median(), x.min(), x.max()
+        if "start_after_s" in g:  # runs from before the harness recorded it started at the epoch
+            r["start_after_s"] = float(g["start_after_s"].iloc[0]) if len(g) else np.nan
         ran = g_all[status != "skipped"]
         r["load_mean"] = float(np.mean(np.r_[ran["load_before"], ran["load_after"]])) if len(ran) else np.nan
         if "blas_threads" in g:  # runs from before the harness recorded it lack it

@@ -27,7 +27,8 @@ __all__ = ["scale_config_differences", "scale_record_macros", "scale_record_mark
 
 def scale_config_differences(table: pd.DataFrame, scale: dict) -> list[str]:
     """What in the summary ``table`` differs from the ``scale`` config block it should be a run of: its sizes,
-    trackers, runs per (tracker, N) and timed scans per run (``n_scans − warm_scans``); empty when none."""
+    trackers, runs per (tracker, N), timed scans per run (``n_scans − warm_scans``) and the start after the priors'
+    epoch (``start_after_s``, 0 for a table without it); empty when none."""
     out = []
     if sorted(int(n) for n in table["n_objects"].unique()) != sorted(int(float(n)) for n in scale["sizes"]):
         out.append(f"sizes {sorted(table['n_objects'].unique().tolist())} (config {scale['sizes']})")
@@ -39,6 +40,10 @@ def scale_config_differences(table: pd.DataFrame, scale: dict) -> list[str]:
     timed = int(scale["n_scans"]) - int(scale.get("warm_scans", 1))
     if not (table["n_scans"].dropna() == timed).all():
         out.append(f"timed scans {sorted(table['n_scans'].unique().tolist())} (config {timed})")
+    after = float(scale.get("start_after_s", 0.0))  # tables from before the harness recorded it started at the epoch
+    had = table["start_after_s"].dropna().unique().tolist() if "start_after_s" in table else [0.0]
+    if had != [after]:
+        out.append(f"start_after_s {had} (config {after:g})")
     return out
 
 

@@ -80,6 +80,13 @@ def test_config_differences_name_what_differs():
     assert scale_config_differences(table, dict(scale, warm_scans=1)) == ["timed scans [10] (config 11)"]
     d = scale_config_differences(scale_summary(_runs(sizes=(10855,), trackers=("glmb",), runs=2)), scale)
     assert [x.split()[0] for x in d] == ["sizes", "trackers", "runs"]
+    # the start after the priors' epoch (scale.start_after_s): a table from before the harness recorded it is of
+    # runs started at the epoch
+    assert scale_config_differences(table, dict(scale, start_after_s=5700)) == ["start_after_s [0.0] (config 5700)"]
+    steady = scale_summary(_runs().assign(start_after_s=5700.0))
+    assert (steady["start_after_s"] == 5700.0).all()
+    assert scale_config_differences(steady, dict(scale, start_after_s=5700)) == []
+    assert scale_config_differences(steady, scale) == ["start_after_s [5700.0] (config 0)"]
 
 
 def _write_scale(folder, runs: pd.DataFrame):
@@ -92,7 +99,7 @@ def test_the_scale_record_is_written_from_a_full_run_and_refused_from_another(tm
     s = full_config()["ssa_catalogue"]["scale"]
     timed = s["n_scans"] - s.get("warm_scans", 1)
     full_runs = _runs(sizes=tuple(int(n) for n in s["sizes"]), trackers=tuple(s["trackers"]), runs=s["runs"],
-                      timed=timed)
+                      timed=timed).assign(start_after_s=float(s.get("start_after_s", 0.0)))
     src = tmp_path / "results" / "ssa_catalogue"
     _write_scale(src, full_runs)
     record, readme = tmp_path / "record", tmp_path / "README.md"
@@ -126,7 +133,7 @@ def test_the_whole_catalogue_record_takes_the_scale_tables_along_and_renders_bot
     assert SCALE not in names and (record / BLOCK).read_text().startswith("Whole catalogue")
     s = full["ssa_catalogue"]["scale"]
     _write_scale(src, _runs(sizes=tuple(int(n) for n in s["sizes"]), trackers=tuple(s["trackers"]), runs=s["runs"],
-                            timed=s["n_scans"] - s.get("warm_scans", 1)))
+                            timed=s["n_scans"] - s.get("warm_scans", 1)).assign(start_after_s=float(s.get("start_after_s", 0.0))))
     names = sorted(p.name for p in update_catalogue_record(tmp_path / "results", record=record, readme=readme))
     assert SCALE in names and SCALE_RUNS in names
     block = (record / BLOCK).read_text()

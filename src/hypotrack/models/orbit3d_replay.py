@@ -16,10 +16,14 @@ loop), square root ``t = sqrt((a + hypot(a, b))/2)``, ``b/(2t)`` — and the mea
 as there. The imaginary parts are ~1e-30 of the real ones, so they never reach a real part (``bd``, ``d·rat`` and
 ``b`` in ``hypot(a, b)`` are below half an ulp of what they are added to): the six copies share one real part,
 computed once per RK4 stage, and only their imaginary parts are carried six times — the same numbers as six
-full complex runs (a third of their cost: ~0.4 µs per EKF step on this machine). The means come out bit for bit
-those of the array passes; what differs is rounding only in ``Φ`` and ``P``: numpy's vectorised complex loops and
-OpenBLAS's 6 × 6 products may fuse multiply-adds where this kernel does not, so the covariances agree to
-rounding (the tests hold them to 1e-12 of their scale after hundreds of steps), not bit for bit.
+full complex runs (a third of their cost: ~0.4 µs per EKF step on this machine).
+
+Rounding. numpy's vectorised complex product rounds ``ad + bc`` as one fused multiply-add ``fma(a, d, b·c)``, and
+OpenBLAS's 6 × 6 product accumulates ``Σ_k a_ik b_kj`` as a chain of fused multiply-adds in ``k`` order; the kernel
+does the same (:func:`_fma`), so on a machine where numpy and its BLAS take those paths (x86-64 with FMA: measured
+here, AVX-512) the means, ``Φ`` and the covariances are bit for bit the array passes' (:func:`rounds_as_numpy` tells;
+the tests assert it then). Elsewhere (another BLAS, no FMA) they agree to rounding: the means still bit for bit,
+the covariances to ~1e-13 of their scale after hundreds of steps.
 """
 
 from __future__ import annotations
@@ -28,8 +32,25 @@ import math
 
 import numba
 import numpy as np
+from llvmlite import ir
+from numba.core import cgutils, types
+from numba.extending import intrinsic
 
-__all__ = ["replay_j2"]
+__all__ = ["replay_j2", "rounds_as_numpy"]
+
+
+@intrinsic
+def _fma(typingctx, a, b, c):
+    """``a·b + c`` rounded once (LLVM's ``llvm.fma.f64``): the fused multiply-add numpy's vectorised complex product
+    and OpenBLAS's small-matrix product use (module docstring)."""
+    sig = types.float64(types.float64, types.float64, types.float64)
+
+    def codegen(context, builder, signature, args):
+        d = ir.DoubleType()
+        return builder.call(cgutils.get_or_insert_function(builder.module, ir.FunctionType(d, [d, d, d]), "llvm.fma.f64"),
+                            args)
+
+    return sig, codegen
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -55,15 +76,15 @@ def _acc_im(xr, yr, zr, xi, yi, zi, q, c_j2):
     term: a product's ``ad + bc``, the quotient's ``(0 − 1·rat)·scl`` (``rat = d/c``), the root's ``b/(2t)``;
     ``q`` the real intermediates (:func:`_acc_re`)."""
     dr, ir2r, t, ir3r, kjr, a5, s_r, A1, A3, fr, gr = q
-    di = ((xr * xi + xi * xr) + (yr * yi + yi * yr)) + (zr * zi + zi * zr)
+    di = (_fma(xr, xi, xi * xr) + _fma(yr, yi, yi * yr)) + _fma(zr, zi, zi * zr)
     ir2i = (0.0 - 1.0 * (di / dr)) * ir2r
     si = ir2i / (2.0 * t)
-    ir3i = ir2r * si + ir2i * t
+    ir3i = _fma(ir2r, si, ir2i * t)
     kji = c_j2 * ir2i
-    s_i = a5 * ir2i + (5.0 * zr * zi + 5.0 * zi * zr) * ir2r
-    fi = ir3r * (kjr * s_i + kji * (s_r - 1.0)) + ir3i * A1
-    gi = ir3r * (kjr * s_i + kji * (s_r - 3.0)) + ir3i * A3
-    return xr * fi + xi * fr, yr * fi + yi * fr, zr * gi + zi * gr
+    s_i = _fma(a5, ir2i, _fma(5.0 * zr, zi, 5.0 * zi * zr) * ir2r)
+    fi = _fma(ir3r, _fma(kjr, s_i, kji * (s_r - 1.0)), ir3i * A1)
+    gi = _fma(ir3r, _fma(kjr, s_i, kji * (s_r - 3.0)), ir3i * A3)
+    return _fma(xr, fi, xi * fr), _fma(yr, fi, yi * fr), _fma(zr, gi, zi * gr)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
@@ -136,13 +157,13 @@ def _replay(X, P, h, k, max_step, q, mu, c_j2, hstep):
                 for b in range(6):
                     s = 0.0
                     for j in range(6):
-                        s += F[a, j] * Po[i, j, b]
+                        s = _fma(F[a, j], Po[i, j, b], s)
                     B[a, b] = s
             for a in range(6):  # A = B Fᵀ + Q
                 for b in range(6):
                     s = 0.0
                     for j in range(6):
-                        s += B[a, j] * F[b, j]
+                        s = _fma(B[a, j], F[b, j], s)
                     A[a, b] = s
             for a in range(3):
                 A[a, a] += h3
@@ -178,3 +199,30 @@ def replay_j2(model, x, P, h, k):
         raise ValueError(f"x: state {bad} (position radius {r:.6g} km) propagates to a non-finite state: it is at or "
                          "falls through the Earth's centre, where the two-body + J2 acceleration is singular")
     return xo, Po
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _fma_products(ar, ai, br, bi, F, P):
+    """The imaginary parts of ``(ar + i ai)(br + i bi)`` and the products ``F P`` as the kernel rounds them."""
+    im = np.empty(len(ar))
+    for i in range(len(ar)):
+        im[i] = _fma(ar[i], bi[i], ai[i] * br[i])
+    out = np.empty_like(F)
+    for n in range(F.shape[0]):
+        for a in range(6):
+            for b in range(6):
+                s = 0.0
+                for j in range(6):
+                    s = _fma(F[n, a, j], P[n, j, b], s)
+                out[n, a, b] = s
+    return im, out
+
+
+def rounds_as_numpy() -> bool:
+    """Whether this machine's numpy complex product and stacked 6 × 6 matrix product round as the kernel does
+    (module docstring), so that :func:`replay_j2` is bit for bit the array passes: checked on seeded random numbers."""
+    rng = np.random.default_rng(0)
+    a, b = rng.normal(size=(2, 4096)) + 1j * rng.normal(size=(2, 4096))
+    F, P = rng.normal(size=(2, 256, 6, 6))
+    im, FP = _fma_products(a.real.copy(), a.imag.copy(), b.real.copy(), b.imag.copy(), F, P)
+    return bool(np.array_equal(im, (a * b).imag) and np.array_equal(FP, F @ P))

@@ -138,7 +138,11 @@ def predict(x, P, F, Q):
 
 
 def predict_with_unchecked(model, x, P, dt):
-    """Unchecked batched (E)KF prediction through a motion model."""
+    """Unchecked batched (E)KF prediction through a motion model; one with ``replay_each`` (the J2 orbit's compiled
+    EKF step, :mod:`hypotrack.models.orbit3d_replay`: the same arithmetic) takes it for ``dt >= 0``."""
+    if getattr(model, "replay_each", None) is not None and len(x) and dt >= 0:
+        n = len(x)
+        return model.replay_each(x, P, np.full(n, float(dt)), np.ones(n, dtype=np.int64))
     x_pred, F = model.transition(x, dt)
     return x_pred, symmetrize(F @ P @ np.swapaxes(F, -1, -2) + model.Q(dt))
 

@@ -36,6 +36,8 @@ from llvmlite import ir
 from numba.core import cgutils, types
 from numba.extending import intrinsic
 
+from .._validation import check_finite_array
+
 __all__ = ["replay_j2", "rounds_as_numpy"]
 
 
@@ -189,6 +191,8 @@ def replay_j2(model, x, P, h, k):
     from .orbit import _H_STEP
 
     X = np.ascontiguousarray(x, dtype=float)
+    if not np.all(np.isfinite(X)):
+        check_finite_array(X, "x")  # raises, naming x
     if len(X) == 0:
         return X.copy(), np.array(P, dtype=float)
     xo, Po, bad = _replay(X, np.ascontiguousarray(P, dtype=float), np.ascontiguousarray(h, dtype=float),

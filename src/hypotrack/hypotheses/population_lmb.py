@@ -42,7 +42,7 @@ coincides with the others only when neither a birth nor a death is possible. Tes
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import InitVar, dataclass, field
 
 import numpy as np
 
@@ -86,8 +86,12 @@ class GaussianBirthTerm:
     gate_probability: float | None = None
     measurement: object = None
     weight: float = 1.0
+    #: the moments and the model already checked and converted, in one batch (:meth:`many` alone passes it)
+    _checked: InitVar[bool] = False
 
-    def __post_init__(self):
+    def __post_init__(self, _checked=False):
+        if _checked:
+            return
         mean = check_finite_array(self.mean, "mean", ndim=1)
         object.__setattr__(self, "mean", mean)
         object.__setattr__(self, "cov", check_covariance(self.cov, "cov", dim=len(mean)))
@@ -138,15 +142,8 @@ class GaussianBirthTerm:
         bad = ~((w > 0) & (w <= 1))
         if bad.any():
             raise ValueError(f"weight must lie in (0, 1], got {float(w[np.argmax(bad)])!r}")
-        out = [first]
-        for i in range(1, n):
-            t = object.__new__(cls)
-            for name, v in (("mean", means[i]), ("cov", sym[i]), ("H", first.H), ("R", first.R),
-                            ("gate_probability", first.gate_probability), ("measurement", first.measurement),
-                            ("weight", float(w[i]))):
-                object.__setattr__(t, name, v)
-            out.append(t)
-        return out
+        return [first] + [cls(means[i], sym[i], first.H, first.R, first.gate_probability, first.measurement, float(w[i]),
+                              _checked=True) for i in range(1, n)]
 
     def loglik(self, Z) -> np.ndarray:
         """``log ∫ N(z; H x, R) N(x; mean, cov) dx = log N(z; H mean, H cov Hᵀ + R)`` per return."""

@@ -175,14 +175,16 @@ def scan_existence(lane: "Lane", cand, view, quiet, pred: TrackStore, p_detect, 
     out = missed(r, p_s, p_detect)
     ok = None
     if validity is not None:
-        if len(pred):
-            stepped = (r < 1) | (p_s < 1)
-            out = np.where(stepped & ~np.asarray(validity(pred.means), dtype=bool), 0.0, out)
         check = (lane.r < 1) | (lane.p_s < 1)
         check[cand] = False
-        if view is not None and check.any():
-            ok = np.ones(len(lane))
-            ok[check] = np.asarray(validity(view[check]), dtype=bool)
+        asleep = view is not None and bool(check.any())
+        if len(pred) or asleep:  # one call of the test (row by row) for the quiet candidates and the asleep ones
+            v = np.asarray(validity(np.concatenate([pred.means, view[check]]) if asleep else pred.means), dtype=bool)
+            if len(pred):
+                out = np.where(((r < 1) | (p_s < 1)) & ~v[:len(pred)], 0.0, out)
+            if asleep:
+                ok = np.ones(len(lane))
+                ok[check] = v[len(pred):]
     return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight, ok
 
 

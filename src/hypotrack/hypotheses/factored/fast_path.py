@@ -314,12 +314,13 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
         x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
     else:  # every child's tracks tested, as the general step tests them
         x, P = lone_update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
-        valid = np.repeat(_valid(rule.validity, pred.means[cols])[:, None], len(rule.alt_offsets), axis=1)
+        v = _valid(rule.validity, np.concatenate([pred.means[cols], x]))  # one call, row by row: prior and update
+        valid = np.repeat(v[:len(cols), None], len(rule.alt_offsets), axis=1)
         if rule.n_new:  # the seeded birth child also holds the newborn track
             born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
             valid[:, -1] &= _valid(rule.validity, born)
             n_new = valid[:, -1].astype(np.int64)
-        take = _valid(rule.validity, x) & rule.takes(loglik, p_detect, valid, extra) & sure
+        take = v[len(cols):] & rule.takes(loglik, p_detect, valid, extra) & sure
         x, P = x[take], P[take]
     j, cols, n_new = j[take], cols[take], n_new[take]
     keys = (G + j).astype(np.int64)

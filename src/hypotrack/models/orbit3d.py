@@ -353,7 +353,8 @@ class J2Orbit3D(TwoBodyOrbit3D):
     def replay_each(self, x, P, h, k):
         """EKF predictions of states ``(n, 6)`` and covariances ``(n, 6, 6)``, row ``i`` in ``k[i]`` steps of ``h[i]``
         s (each :meth:`transition`, ``P ← sym(Φ P Φᵀ + Q(h))``), all rows in one compiled pass
-        (:func:`~.orbit3d_replay.replay_j2`: the same means bit for bit, covariances to rounding)."""
+        (:func:`~.orbit3d_replay.replay_j2`: bit for bit the array passes where
+        :func:`~.orbit3d_replay.rounds_as_numpy`, else the means bit for bit and the covariances to rounding)."""
         from .orbit3d_replay import replay_j2
 
         return replay_j2(self, x, P, h, k)

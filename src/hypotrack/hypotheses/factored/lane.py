@@ -216,7 +216,8 @@ def predict_each(motion, x, P, dt, step=None):
     scanning every ``step`` makes (``Σ Φ Q Φᵀ``), where one step over the interval adds ``Q(dt)``
     (package docstring: far apart over an orbit's gap between passes). All tracks take their ``j``-th
     step in one batch; with a motion model that has ``replay_each`` (:class:`~...models.orbit3d.J2Orbit3D`: a
-    compiled kernel) every track takes all its steps in one call (the same means, covariances to rounding)."""
+    compiled kernel) every track takes all its steps in one call (the same numbers: bit for bit where numpy and its BLAS
+    round with fused multiply-adds, :func:`~...models.orbit3d_replay.rounds_as_numpy`; else to rounding)."""
     if step is not None and len(dt):
         k = np.where(dt > 0, np.maximum(np.rint(np.asarray(dt) / float(step)), 1), 0).astype(np.int64)
         if getattr(motion, "replay_each", None) is not None:

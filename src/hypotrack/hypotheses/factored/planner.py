@@ -15,6 +15,7 @@ import numpy as np
 
 from ..factored_groups import SplitRecord, compact, components, factorise, product
 from ..scan_context import ScanContext
+from ..seeded import prime_scan
 from ..state import FilterState
 from ..tracks import TrackStore
 from .lane import GroupSet, bernoulli, empty_state, singleton, take
@@ -68,7 +69,10 @@ def scorable(S) -> np.ndarray:
 def score_scorable(engine, pred, Z, *, gate_out_of_view: bool, survival) -> Scores:
     """:func:`~.scores.score_tracks` of the tracks whose innovation covariance is finite and positive definite
     (:func:`scorable`); a track whose prediction diverged takes no return and is not missed (``p_D = 0``,
-    ``p_S = 1``): the scan goes on without it. Every track scorable: :func:`~.scores.score_tracks` itself."""
+    ``p_S = 1``): the scan goes on without it. Every track scorable: :func:`~.scores.score_tracks` itself.
+    A mixture birth density's per-return mixtures (Reid's seeded births) are computed here for all the scan's
+    returns in one batch (:func:`~..seeded.prime_scan`), before the steps ask for those of their gates."""
+    prime_scan(engine.weights, Z)
     if len(pred):
         with np.errstate(invalid="ignore", over="ignore"):
             ok = scorable(innovation_covariances(engine.measurement, pred.means, pred.covs))

@@ -515,16 +515,16 @@ class HypothesisFilter:
                                                          ctx.n_birth_regions)
         else:
             all_keys, n_dup = np.concatenate(all_keys), 0
-        n_invalid, memo = 0, PairMemo(lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions),
-                                      lambda src, ret: self.pair_moments(pred, ctx, src, ret), pred.ndim)
+        n_invalid, memo = 0, PairMemo(lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions))
         if self.validity is None:
             sel = top_k(all_keys, self.max_hypotheses)
         else:
-            sel, n_invalid = valid_top_k(all_keys, self.max_hypotheses, memo.pairs, memo.moments, self.validity)
+            sel, n_invalid = valid_top_k(all_keys, self.max_hypotheses, memo.pairs,
+                                         lambda src, ret: self.pair_moments(pred, ctx, src, ret), self.validity)
             if len(sel) == 0:
                 raise RuntimeError("no child hypothesis is valid: every child holds a track that fails validity")
         kept = children.take(sel)
-        new, sources, n_updates = self._materialise(state, kept, memo, sel, pred)
+        new, sources, n_updates = self._materialise(state, kept, memo, sel, pred, ctx)
         log_total = logsumexp(masses)
         stats = {
             "n_parents": len(parts), "n_association_children": n_gen, "n_twin_children": n_twins,
@@ -535,9 +535,9 @@ class HypothesisFilter:
         }
         return StepResult(new, sources, kept, stats, new.next_label - state.next_label)
 
-    def _materialise(self, state: FilterState, kept: ChildSet, memo: PairMemo, sel, pred: TrackStore):
-        """The new state from the kept children (``kept``: children ``sel`` of the step's, whose pairs and moments
-        ``memo`` holds); returns ``(state, track sources, Kalman updates)``."""
+    def _materialise(self, state: FilterState, kept: ChildSet, memo: PairMemo, sel, pred: TrackStore, ctx: ScanContext):
+        """The new state from the kept children (``kept``: children ``sel`` of the step's, whose pairs ``memo``
+        holds); returns ``(state, track sources, Kalman updates)``."""
         pair_index, pairs, new_lists = {}, [], []
         for c in range(len(kept)):
             idx = []
@@ -552,7 +552,7 @@ class HypothesisFilter:
         ret = np.array([r for _, r in pairs], dtype=np.int64)
         old = src >= 0
         n_updates = int(np.sum(old & (ret >= 0)))
-        means, covs = memo.moments(src, ret)
+        means, covs = self.pair_moments(pred, ctx, src, ret)
         labels[old] = pred.labels[src[old]]
         next_label = state.next_label
         for q in np.flatnonzero(~old):

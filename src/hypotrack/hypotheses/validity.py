@@ -70,35 +70,23 @@ def valid_top_k(keys, k: int, pairs_of, moments_of, validity):
     return np.asarray(sel, dtype=np.int64), n_invalid
 
 
+
 class PairMemo:
-    """One engine step's child pairs and pair moments, each computed once: the validity test visits the best
-    children (:func:`valid_top_k`) and the kept ones are then materialised from the same pairs and moments
-    (:meth:`~.filter.HypothesisFilter._materialise`) — without it every kept pair's Kalman update was done twice.
+    """One engine step's child pairs, each child's computed once: the validity test visits the best children
+    (:func:`valid_top_k`) and the kept ones are then materialised from the same pairs
+    (:meth:`~.filter.HypothesisFilter._materialise`). ``pairs_of(c)``: the store pairs of child ``c``
+    (:func:`.child_pairs`).
 
-    ``pairs_of(c)``: the store pairs of child ``c`` (:func:`.child_pairs`); ``moments_of(sources, returns)``: the
-    moments of distinct pairs (:meth:`~.filter.HypothesisFilter.pair_moments`, row by row: each pair's update
-    depends on that pair alone); ``ndim``: the state dimension."""
+    The pairs' moments are not kept from the test to the materialisation: the radar's EKF (its batched
+    matrix products) rounds a pair's update differently in a different batch, and a newborn's ill-conditioned
+    track turns one rounding into ~1e-11 of its hypotheses' log-weights scans later — the kept pairs are
+    updated in one batch, as they always were, so the posterior is the same to the bit."""
 
-    def __init__(self, pairs_of, moments_of, ndim: int):
-        self._pairs_of, self._moments_of, self._ndim = pairs_of, moments_of, int(ndim)
-        self._pairs, self._moments = {}, {}
+    def __init__(self, pairs_of):
+        self._pairs_of, self._pairs = pairs_of, {}
 
     def pairs(self, c: int) -> list:
         """The store pairs of child ``c``."""
         if c not in self._pairs:
             self._pairs[c] = self._pairs_of(c)
         return self._pairs[c]
-
-    def moments(self, src, ret):
-        """``(means (P, d), covs (P, d, d))`` of pairs ``(src[i], ret[i])``, the ones not seen yet computed in one call."""
-        keys = list(zip(np.asarray(src, dtype=np.int64).tolist(), np.asarray(ret, dtype=np.int64).tolist()))
-        new = list(dict.fromkeys(k for k in keys if k not in self._moments))
-        if new:
-            means, covs = self._moments_of(np.array([k[0] for k in new], dtype=np.int64),
-                                           np.array([k[1] for k in new], dtype=np.int64))
-            self._moments.update(zip(new, zip(means, covs)))
-        d = self._ndim
-        if not keys:
-            return np.zeros((0, d)), np.zeros((0, d, d))
-        return (np.array([self._moments[k][0] for k in keys]).reshape(len(keys), d),
-                np.array([self._moments[k][1] for k in keys]).reshape(len(keys), d, d))

@@ -71,10 +71,12 @@ def mixture_takes(rule, loglik, p_detect, pred_means, Z, extra=None, updated_ok=
     offsets = np.full((n, A), -np.inf)
     offsets[:, 0] = rule.alt_offsets[0]
     seed_ok = np.zeros((n, A), dtype=bool)  # column 1 + c: component c exists (and its mean passes the test)
-    for i, (w, means, _) in enumerate(comps):
-        with np.errstate(divide="ignore"):
-            offsets[i, 1:1 + len(w)] = rule.alt_offsets[1] + np.log(w)
-        seed_ok[i, 1:1 + len(w)] = True if rule.validity is None or not len(w) else _valid(rule.validity, means)
+    rows = np.repeat(np.arange(n), K)
+    cols = 1 + np.arange(len(rows)) - np.repeat(np.cumsum(K) - K, K)
+    if len(rows):
+        offsets[rows, cols] = rule.alt_offsets[1] + np.log(np.concatenate([c[0] for c in comps]))
+        seed_ok[rows, cols] = True if rule.validity is None else _valid(
+            rule.validity, np.concatenate([c[1] for c in comps]))  # all components' means in one test
     pred_ok = np.ones(n, dtype=bool) if rule.validity is None else _valid(rule.validity, pred_means)
     ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik) & (True if updated_ok is None else updated_ok)
     p = np.where(ok, p_detect, 0.5)

@@ -306,9 +306,11 @@ class SeededAdmissibleBirth:
         w, means, covs = self._cache[key]
         return w.copy(), means.copy(), covs.copy()
 
-    def _kept(self, w, means, covs):
-        """The components whose mean passes :meth:`admissible`, weights renormalised (class docstring)."""
-        ok = self.admissible(means) if len(w) else np.zeros(0, dtype=bool)
+    def _kept(self, w, means, covs, ok=None):
+        """The components whose mean passes :meth:`admissible` (``ok``, when already tested), weights
+        renormalised (class docstring)."""
+        if ok is None:
+            ok = self.admissible(means) if len(w) else np.zeros(0, dtype=bool)
         w = w[ok]
         return w / w.sum() if len(w) else w, means[ok], covs[ok]
 
@@ -333,8 +335,9 @@ class SeededAdmissibleBirth:
             return 0
         new = np.frombuffer(b"".join(keys), dtype=float).reshape(len(keys), 4)
         w, means, covs, owner = self.region.components_batch(new, theta)
+        ok = self.admissible(means)  # every component's mean in one test (one verdict per state)
         cut = np.searchsorted(owner, np.arange(len(keys) + 1))
         for i, key in enumerate(keys):
             s = slice(cut[i], cut[i + 1])
-            self._cache[key] = self._kept(w[s], means[s], covs[s])
+            self._cache[key] = self._kept(w[s], means[s], covs[s], ok[s])
         return len(keys)

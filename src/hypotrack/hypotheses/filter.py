@@ -54,8 +54,8 @@ from ..protocol import TrackEstimates
 from .scan_context import ScanContext
 from .state import FilterState, StepResult, scan_interval
 from .tracks import TrackStore, update_pairs
-from .validity import valid_top_k
-from .weights import WeightModel, seeded_state
+from .validity import PairMemo, valid_top_k
+from .weights import WeightModel, prime_scan, seeded_state
 
 __all__ = ["HypothesisFilter"]
 
@@ -477,6 +477,7 @@ class HypothesisFilter:
         t0 = _clock.perf_counter()
         interval, now = scan_interval(self.time, time, dt, self.dt)
         Z = check_measurements(Z, "Z", self.meas_dim)
+        prime_scan(self.weights, Z)  # a mixture birth density's per-return mixtures, in one batch
         pred = self.predict(self._state.store, interval)
         result = self.advance(self._state, pred, self.scan_context(pred, Z))
         result.stats["time_total"] = _clock.perf_counter() - t0
@@ -514,18 +515,16 @@ class HypothesisFilter:
                                                          ctx.n_birth_regions)
         else:
             all_keys, n_dup = np.concatenate(all_keys), 0
-        n_invalid = 0
+        n_invalid, memo = 0, PairMemo(lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions))
         if self.validity is None:
             sel = top_k(all_keys, self.max_hypotheses)
         else:
-            sel, n_invalid = valid_top_k(
-                all_keys, self.max_hypotheses,
-                lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions),
-                lambda src, ret: self.pair_moments(pred, ctx, src, ret), self.validity)
+            sel, n_invalid = valid_top_k(all_keys, self.max_hypotheses, memo.pairs,
+                                         lambda src, ret: self.pair_moments(pred, ctx, src, ret), self.validity)
             if len(sel) == 0:
                 raise RuntimeError("no child hypothesis is valid: every child holds a track that fails validity")
         kept = children.take(sel)
-        new, sources, n_updates = self._materialise(state, kept, pred, ctx)
+        new, sources, n_updates = self._materialise(state, kept, memo, sel, pred, ctx)
         log_total = logsumexp(masses)
         stats = {
             "n_parents": len(parts), "n_association_children": n_gen, "n_twin_children": n_twins,
@@ -536,15 +535,13 @@ class HypothesisFilter:
         }
         return StepResult(new, sources, kept, stats, new.next_label - state.next_label)
 
-    def _materialise(self, state: FilterState, kept: ChildSet, pred: TrackStore, ctx: ScanContext):
-        """The new state from the kept children; returns ``(state, track sources, Kalman updates)``."""
-        pair_index = {}
-        pairs = []
-        new_lists = []
-        B = ctx.n_birth_regions
+    def _materialise(self, state: FilterState, kept: ChildSet, memo: PairMemo, sel, pred: TrackStore, ctx: ScanContext):
+        """The new state from the kept children (``kept``: children ``sel`` of the step's, whose pairs ``memo``
+        holds); returns ``(state, track sources, Kalman updates)``."""
+        pair_index, pairs, new_lists = {}, [], []
         for c in range(len(kept)):
             idx = []
-            for key in child_pairs(kept, c, state.tracks[kept.parent[c]], B):
+            for key in memo.pairs(int(sel[c])):
                 if key not in pair_index:
                     pair_index[key] = len(pairs)
                     pairs.append(key)

@@ -34,12 +34,22 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["is_mixture", "seeded_option_scores", "seeded_state"]
+__all__ = ["is_mixture", "prime_scan", "seeded_option_scores", "seeded_state"]
 
 
 def is_mixture(density) -> bool:
     """Whether ``density`` is a mixture birth density (has ``components(z)``)."""
     return hasattr(density, "components")
+
+
+def prime_scan(weights, Z) -> None:
+    """Before a scan's steps: let a mixture birth density with ``prime(Z)`` compute the mixtures of all the
+    scan's returns ``Z`` at once (e.g. :meth:`hypotrack.scenarios.catalogue.admissible.SeededAdmissibleBirth.prime`,
+    one vectorised pass in place of one per return, the factored engine's steps each asking for the returns
+    of their gate). Nothing for weights without seeded births or a density without ``prime``."""
+    density = getattr(weights, "birth_density", None)
+    if getattr(weights, "seeded_births", False) and hasattr(density, "prime") and len(Z):
+        density.prime(Z)
 
 
 def seeded_option_scores(density, Z, log_intensity: float) -> np.ndarray:

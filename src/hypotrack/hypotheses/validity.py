@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["valid_top_k"]
+__all__ = ["PairMemo", "valid_top_k"]
 
 
 def valid_top_k(keys, k: int, pairs_of, moments_of, validity):
@@ -68,3 +68,25 @@ def valid_top_k(keys, k: int, pairs_of, moments_of, validity):
         else:
             n_invalid += 1
     return np.asarray(sel, dtype=np.int64), n_invalid
+
+
+
+class PairMemo:
+    """One engine step's child pairs, each child's computed once: the validity test visits the best children
+    (:func:`valid_top_k`) and the kept ones are then materialised from the same pairs
+    (:meth:`~.filter.HypothesisFilter._materialise`). ``pairs_of(c)``: the store pairs of child ``c``
+    (:func:`.child_pairs`).
+
+    The pairs' moments are not kept from the test to the materialisation: the radar's EKF (its batched
+    matrix products) rounds a pair's update differently in a different batch, and a newborn's ill-conditioned
+    track turns one rounding into ~1e-11 of its hypotheses' log-weights scans later — the kept pairs are
+    updated in one batch, as they always were, so the posterior is the same to the bit."""
+
+    def __init__(self, pairs_of):
+        self._pairs_of, self._pairs = pairs_of, {}
+
+    def pairs(self, c: int) -> list:
+        """The store pairs of child ``c``."""
+        if c not in self._pairs:
+            self._pairs[c] = self._pairs_of(c)
+        return self._pairs[c]

@@ -23,7 +23,7 @@ from scipy.special import gammaln
 
 from .._validation import check_nonnegative, check_positive
 from .association_problem import AssociationProblem
-from .seeded import is_mixture, seeded_option_scores, seeded_state  # noqa: F401 (seeded_state: filter's import)
+from .seeded import is_mixture, prime_scan, seeded_option_scores, seeded_state  # noqa: F401 (filter's imports)
 
 __all__ = ["WeightModel", "HFISSTWeights", "FISSTPoissonWeights", "ReidWeights", "make_weight_model"]
 

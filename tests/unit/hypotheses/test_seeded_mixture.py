@@ -115,7 +115,8 @@ def test_the_factored_engine_keeps_a_returns_components_in_one_object():
     normalised); the component newborns are one object (never two in one joint hypothesis)."""
     f = FactoredFilter.from_filter(_filter(MurtyGenerator(k=50), max_hypotheses=50, gate_probability=0.9),
                                    lazy=True, min_weight=1e-12)
-    assert fast_rule(f.engine, True, 1e-3) is None  # the fast path declines mixture seeded births
+    rule = fast_rule(f.engine, True, 1e-3)  # a lone track's mixture children (hypotheses.factored.fast_mixture)
+    assert rule.seeded_children == 50 and rule.max_hypotheses == 50  # Murty's k, the cap
     f.step(Z, 1.0)
     F, Q = MOTION.F(1.0), MOTION.Q(1.0)
     x, P = F @ X0[0], F @ P0[0] @ F.T + Q

@@ -7,7 +7,9 @@ import warnings
 import numpy as np
 import pytest
 
-from hypotrack.models.plausibility import orbit_energy, perigee_apogee_radius, plausible_orbits
+from hypotrack.models.orbit import MU_EARTH
+from hypotrack.models.plausibility import (EARTH_RADIUS_PLAUSIBILITY, orbit_energy, perigee_apogee_radius,
+                                          plausible_orbits)
 
 MU = 2.0
 
@@ -47,3 +49,31 @@ def test_degenerate_states_are_implausible_without_warnings():
     assert ok.tolist() == [False, False, False, False] and ra[3] == np.inf
     with pytest.raises(ValueError, match="^min_perigee_km must be"):
         plausible_orbits(X, min_perigee_km=-0.5)
+
+
+def test_the_one_pass_test_is_orbit_energy_and_perigee_radius_bit_for_bit():
+    """``plausible_orbits`` computes ε and r_p in one pass for arrays of states: the same bits as
+    :func:`orbit_energy` and :func:`perigee_apogee_radius` (states around LEO of every energy, some NaN, one on the
+    floor), for (n, 6) and (m, n, 6) arrays, and the mask is theirs; a single state goes the long way."""
+    from hypotrack.models.plausibility import _energy_perigee  # noqa: PLC0415 (the private one-pass form)
+
+    rng = np.random.default_rng(11)
+    n = 4000
+    r = rng.standard_normal((n, 3))
+    r *= (6400.0 + rng.exponential(2000.0, (n, 1))) / np.linalg.norm(r, axis=1, keepdims=True)
+    t = np.cross(r, rng.standard_normal((n, 3)))  # near-circular speeds across the line of sight, and noise
+    v = (t / np.linalg.norm(t, axis=1, keepdims=True) * np.sqrt(MU_EARTH / np.linalg.norm(r, axis=1, keepdims=True))
+         * rng.uniform(0.7, 1.5, (n, 1)) + rng.standard_normal((n, 3)) * rng.uniform(0.0, 3.0, (n, 1)))
+    X = np.hstack([r, v])
+    X[rng.random(n) < 0.02] = np.nan
+    X[0] = [EARTH_RADIUS_PLAUSIBILITY + 100.0, 0, 0, 0, np.sqrt(MU_EARTH / (EARTH_RADIUS_PLAUSIBILITY + 100.0)), 0]
+    for states in (X, X.reshape(8, n // 8, 6), X[:3]):
+        eps, rp = _energy_perigee(states, MU_EARTH)
+        np.testing.assert_array_equal(eps, orbit_energy(states))
+        np.testing.assert_array_equal(rp, perigee_apogee_radius(states)[0])
+        with np.errstate(invalid="ignore"):
+            want = (orbit_energy(states) < 0) & (perigee_apogee_radius(states)[0] >= EARTH_RADIUS_PLAUSIBILITY + 100.0)
+        np.testing.assert_array_equal(plausible_orbits(states), want)
+    mask = plausible_orbits(X)
+    assert 0.2 < mask.mean() < 0.8  # both verdicts are common in the sample
+    assert [bool(plausible_orbits(x)) for x in X[:50]] == mask[:50].tolist()

@@ -98,9 +98,12 @@ streams and the labels the skipped steps would have used are counted; with the e
 forms (without a validity test): a quiet group of one object whose empty-scan step would leave no
 object after the pruning (an undetected newborn fading out) is dropped without a step, and a lone
 birth term whose two children are both kept is stepped from one engine step of such a term of its
-``r_B`` (the same hypotheses and weights; the term's prior as the born track). The posterior is the general
-path's, bit for bit (``tests/unit/hypotheses/factored/test_fast_path.py``,
-``test_fast_path_catalogue.py``). ``last_stats`` counts ``n_fast_path`` (lone tracks),
+``r_B`` (the same hypotheses and weights; the term's prior as the born track). Reid's births seeded as a
+mixture (one child per component, HOMHT's admissible regions) have their lone tracks' closed form in
+:mod:`.fast_mixture`, and a quiet group of one-track hypotheses under per-track deaths takes its empty-scan
+step in closed form (:mod:`.sleeping`). The posterior is the general path's, bit for bit (to 1e-12 with the
+radar's sensor-frame EKF, whose batches round differently: ``tests/unit/hypotheses/factored/test_fast_path.py``,
+``test_fast_path_catalogue.py``, ``test_fast_mixture.py``, ``test_sleeping.py``). ``last_stats`` counts ``n_fast_path`` (lone tracks),
 ``n_fast_births``, ``n_fast_clutter``, ``n_fast_quiet`` and ``n_fast_born``.
 
 When the factored posterior equals the unfactored one

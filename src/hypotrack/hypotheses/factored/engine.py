@@ -388,7 +388,7 @@ class FactoredFilter:
                 cols = np.arange(bounds[key], bounds[key + 1])
                 state = scan.groups[key]
                 plan = quiet_plan(E, self._silent, self._objects, state, take(scan.pred, cols),
-                                  scan.scores.block(np.zeros(0, np.int64), cols), Z, scan.birth_ll, stats)
+                                  scan.scores.block(np.zeros(0, np.int64), cols), Z, scan.birth_ll, stats, rule)
                 if (plan[0] == "quiet" and rule is not None and self._silent and len(np.unique(self._objects.of(state.labels))) == 1
                         and rule.quiet_group_dies(state.log_w, state.tracks, scan.scores.p_detect[cols])):
                     # the fast path: its step would keep no object (one object: no split, no record)
@@ -427,8 +427,8 @@ class FactoredFilter:
         n_fast = 0 if fast is None else len(fast)
         # a dropped quiet group (the fast path's) keeps its step's place: it draws its stream, unused
         steps = np.array([p[0] != "done" for p in plans], dtype=bool)
-        run = np.array([p[0] not in ("done", "dropped", "born") for p in plans], dtype=bool)
-        jobs = [p for p in plans if p[0] not in ("done", "dropped", "born")]
+        run = np.array([p[0] not in ("done", "dropped", "born", "slept") for p in plans], dtype=bool)
+        jobs = [p for p in plans if p[0] not in ("done", "dropped", "born", "slept")]  # (slept: a closed-form step)
         # each step's place among the steps and the fast components (both in key order)
         fast_before = np.searchsorted(fast.keys, keys) if n_fast else np.zeros(len(plans), np.int64)
         slot = (np.cumsum(steps) - 1 + fast_before)[run]
@@ -446,7 +446,7 @@ class FactoredFilter:
                 counted = before
             if plan[0] == "dropped":
                 continue
-            if plan[0] == "done":
+            if plan[0] in ("done", "slept"):
                 state, parts = plan[1], plan[2]
             elif plan[0] == "born":
                 state, parts = self._born(plan[1], plan[2], stats)

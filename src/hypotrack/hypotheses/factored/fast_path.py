@@ -49,8 +49,8 @@ with ``p_S = 1``: the lane's condition; or the lane's Bernoulli singletons, whos
 keeps every child (``H∞`` ≥ the number of children) and a generator that finds the detected child: exhaustive, Murty, Gibbs, MCMC — for the
 two samplers with certainty only up to the chance that they never leave the alternative
 (``< min_weight^n_sweeps``). With seeded births the generator must make all three children
-(exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts; a mixture birth density
-(one seeded child per component, :mod:`..seeded`) takes the general path.
+(exhaustive, or Murty with ``k ≥ 3``), since the birth child's label counts; a mixture birth density (one
+seeded child per component, :mod:`..seeded`) has its own closed form, :mod:`.fast_mixture`.
 """
 
 from __future__ import annotations
@@ -70,6 +70,7 @@ from ..state import FilterState
 from ..tracks import TrackStore
 from ..weights import FISSTPoissonWeights, HFISSTWeights, ReidWeights
 from ..weights_glmb import GLMBWeights
+from .fast_mixture import mixture_takes
 
 __all__ = ["FastRule", "FastBatch", "fast_rule", "fast_components", "lone_update", "born_template", "born_state"]
 
@@ -91,6 +92,8 @@ class FastRule:
     validity: object = None
     seeded_density: object = None
     bernoulli_children: bool = True  #: the cap keeps every child of a Bernoulli singleton's two hypotheses
+    max_hypotheses: int = 0  #: ``H∞`` (a mixture's children: :mod:`.fast_mixture`)
+    seeded_children: float = np.inf  #: association children the generator makes per parent (a mixture's)
 
     def takes_births(self, r_birth, valid=None) -> np.ndarray:
         """Whether each lone birth term (its existence ``r_B``; whether its born-undetected track is
@@ -172,7 +175,7 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
     if not (rate > 0 and volume > 0):  # (the general path refuses a zero clutter intensity)
         return None
     kappa = rate / volume
-    n_new, tw = 0, type(w)
+    n_new, tw, seeded_children = 0, type(w), np.inf
     if tw is GLMBWeights:
         if type(pop) is not LabeledMultiBernoulliPopulation:
             return None
@@ -184,12 +187,12 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         lam_c = kappa if w.clutter_intensity is None else w.clutter_intensity
         det, alt = 0.0, [float(np.log(lam_c))]
         if w.seeded_births:
-            if is_mixture(w.birth_density):  # one child per component: not the three children of the rule
-                return None
             alt.append(float(np.log(w.birth_intensity)))
             n_new = 1
             if not (type(gen) is ExhaustiveGenerator or (type(gen) is MurtyGenerator and gen.k >= 3)):
                 return None
+            if is_mixture(w.birth_density):  # one child per component: how many each track's gets, :mod:`.fast_mixture`
+                seeded_children = np.inf if type(gen) is ExhaustiveGenerator else min(gen.k, engine.max_hypotheses)
     elif tw is HFISSTWeights:
         det, alt = 0.0, [-float(np.log(volume))]
     elif tw is FISSTPoissonWeights:
@@ -201,7 +204,8 @@ def fast_rule(engine, lane_on: bool, min_weight: float) -> FastRule | None:
         return None
     # a Bernoulli singleton's children: its track's 1 + len(alt) and "died" with each alternative, "not"'s len(alt)
     return FastRule(det, np.array(alt), n_new, float(np.log(min_weight) + np.log1p(-MARGIN)), float(engine.p_D),
-                    engine.validity, w.birth_density if n_new else None, engine.max_hypotheses >= 1 + 3 * len(alt))
+                    engine.validity, w.birth_density if n_new else None, engine.max_hypotheses >= 1 + 3 * len(alt),
+                    engine.max_hypotheses, seeded_children)
 
 
 def birth_existence(population) -> np.ndarray | None:
@@ -309,7 +313,13 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
             extra = np.log1p(-rp) - np.log(rp)
         if not rule.bernoulli_children:  # the cap would drop children of r < 1: the general path
             sure = rp == 1.0
-    if rule.validity is None:
+    if rule.seeded_density is not None and is_mixture(rule.seeded_density):  # (HOMHT's admissible-region births)
+        x, P = lone_update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
+        take, n_new = mixture_takes(rule, loglik, p_detect, pred.means[cols], Z[rows], extra,
+                                    None if rule.validity is None else _valid(rule.validity, x))
+        take &= sure
+        x, P = x[take], P[take]
+    elif rule.validity is None:
         take = rule.takes(loglik, p_detect, extra=extra) & sure
         x, P = lone_update(pred.means[cols[take]], pred.covs[cols[take]], Z[rows[take]], H, R)
     else:  # every child's tracks tested, as the general step tests them

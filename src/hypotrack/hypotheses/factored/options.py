@@ -86,7 +86,9 @@ class FactoredOptions:
         general step would keep only the detected child (every alternative below ``min_weight``),
         in one batch instead of one engine step each (:mod:`.fast_path`); also drops the quiet groups
         whose empty-scan step keeps no object and steps the lone birth terms keeping both children
-        from a template: the same posterior, the same random streams and labels for the other steps.
+        from a template, and steps the quiet groups of one-track hypotheses under per-track deaths in
+        closed form (:mod:`.sleeping`): the same posterior, the same random streams and labels for the
+        other steps.
         ``False`` (the default) steps every component through the engine. Takes nothing with
         ``min_weight = 0``.
     bernoulli_lane : bool

@@ -15,10 +15,12 @@ import numpy as np
 
 from ..factored_groups import SplitRecord, compact, components, factorise, product
 from ..scan_context import ScanContext
+from ..seeded import prime_scan
 from ..state import FilterState
 from ..tracks import TrackStore
 from .lane import GroupSet, bernoulli, empty_state, singleton, take
 from .scores import Scores, score_tracks
+from .sleeping import sleeping_step
 
 __all__ = ["Scores", "MAX_SCALED_CONDITION", "scorable", "innovation_covariances", "score_scorable", "ScanData",
            "ScanGraph", "scan_graph", "component_context",
@@ -68,7 +70,10 @@ def scorable(S) -> np.ndarray:
 def score_scorable(engine, pred, Z, *, gate_out_of_view: bool, survival) -> Scores:
     """:func:`~.scores.score_tracks` of the tracks whose innovation covariance is finite and positive definite
     (:func:`scorable`); a track whose prediction diverged takes no return and is not missed (``p_D = 0``,
-    ``p_S = 1``): the scan goes on without it. Every track scorable: :func:`~.scores.score_tracks` itself."""
+    ``p_S = 1``): the scan goes on without it. Every track scorable: :func:`~.scores.score_tracks` itself.
+    A mixture birth density's per-return mixtures (Reid's seeded births) are computed here for all the scan's
+    returns in one batch (:func:`~..seeded.prime_scan`), before the steps ask for those of their gates."""
+    prime_scan(engine.weights, Z)
     if len(pred):
         with np.errstate(invalid="ignore", over="ignore"):
             ok = scorable(innovation_covariances(engine.measurement, pred.means, pred.covs))
@@ -216,10 +221,11 @@ def touched_plan(engine, rng, members, regions, rows, groups, bounds, pred, scor
     return ("touched", state, take(pred, cols), component_context(engine, Z, rows, sc, birth_ll, regions), regions)
 
 
-def quiet_plan(engine, lane_on: bool, objects, state, pred, sc, Z, birth_ll, stats):
+def quiet_plan(engine, lane_on: bool, objects, state, pred, sc, Z, birth_ll, stats, fast=None):
     """A group no return or birth term reaches (package docstring, step 3): only predicted when
     that is exact (a silent population, ``lane_on``, and the same ``Π (1 − p_D)`` in all its
-    hypotheses), else the plan of an engine step on an empty scan."""
+    hypotheses), else the plan of an engine step on an empty scan — or, the fast path on (``fast``:
+    its rule), that step itself, ``("slept", state, parts)``, when it has a closed form (:mod:`.sleeping`)."""
     log_miss = np.log1p(-sc[2])
     miss = np.array([log_miss[t].sum() for t in state.tracks])
     if lane_on and np.ptp(miss) <= 1e-12:
@@ -227,7 +233,12 @@ def quiet_plan(engine, lane_on: bool, objects, state, pred, sc, Z, birth_ll, sta
         new = state.with_store(pred)
         return ("done", new, objects.of(new.store.labels))  # no interaction: every object its own part
     none = np.zeros(0, dtype=np.int64)
-    return ("quiet", state, pred, component_context(engine, Z, none, sc, birth_ll, none), none)
+    ctx = component_context(engine, Z, none, sc, birth_ll, none)
+    slept = None if fast is None else sleeping_step(engine, state, pred, ctx)  # one-track hypotheses: closed form
+    if slept is not None:
+        stats["n_duplicates_merged"] += slept[1]
+        return ("slept", slept[0], objects.of(slept[0].store.labels))
+    return ("quiet", state, pred, ctx, none)
 
 
 def interaction_parts(pred_objects, ctx, sources, n_regions):

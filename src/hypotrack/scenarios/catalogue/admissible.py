@@ -302,9 +302,42 @@ class SeededAdmissibleBirth:
             self._theta, self._cache = theta, {}
         key = z.tobytes()
         if key not in self._cache:
-            w, means, covs = self.region.components(z)
-            ok = self.admissible(means) if len(w) else np.zeros(0, dtype=bool)
-            w = w[ok]
-            self._cache[key] = (w / w.sum() if len(w) else w, means[ok], covs[ok])
+            self._cache[key] = self._kept(*self.region.components(z))
         w, means, covs = self._cache[key]
         return w.copy(), means.copy(), covs.copy()
+
+    def _kept(self, w, means, covs, ok=None):
+        """The components whose mean passes :meth:`admissible` (``ok``, when already tested), weights
+        renormalised (class docstring)."""
+        if ok is None:
+            ok = self.admissible(means) if len(w) else np.zeros(0, dtype=bool)
+        w = w[ok]
+        return w / w.sum() if len(w) else w, means[ok], covs[ok]
+
+    def prime(self, Z) -> int:
+        """Put the mixtures of a scan's returns ``Z`` ``(m, 4)`` into the cache in one batch
+        (:meth:`AdmissibleRegionBirth.components_batch`, at the sensor's current GMST), so that the engine's
+        steps, each asking for the few returns of its gate, find them there. Returns the number computed.
+
+        The batch equals :meth:`AdmissibleRegionBirth.mixture` return by return to rounding (the region's
+        tests compare every weight, mean and covariance to 1e-12; on the catalogue's returns the largest
+        relative difference is ~3e-15 and the admissible cells are the same): the component means are
+        tested and the weights renormalised as for one return (:meth:`components`). Returns already cached
+        at this GMST, or past the cache's room, are left to :meth:`components`."""
+        Z = np.asarray(Z, dtype=float)
+        Z = check_finite_array(Z.reshape(0, 4) if Z.size == 0 else Z, "Z", shape=(None, 4))
+        theta = float(self.region.sensor.theta)
+        if theta != self._theta:
+            self._theta, self._cache = theta, {}
+        keys = list(dict.fromkeys(z.tobytes() for z in Z if z.tobytes() not in self._cache))
+        keys = keys[:max(0, self.cache_size - 1 - len(self._cache))]  # components() clears a full cache
+        if not keys:
+            return 0
+        new = np.frombuffer(b"".join(keys), dtype=float).reshape(len(keys), 4)
+        w, means, covs, owner = self.region.components_batch(new, theta)
+        ok = self.admissible(means)  # every component's mean in one test (one verdict per state)
+        cut = np.searchsorted(owner, np.arange(len(keys) + 1))
+        for i, key in enumerate(keys):
+            s = slice(cut[i], cut[i + 1])
+            self._cache[key] = self._kept(w[s], means[s], covs[s], ok[s])
+        return len(keys)

@@ -77,3 +77,31 @@ def test_bad_parameters_are_refused_by_name():
     with pytest.raises(ValueError, match=r"^cache_size must be an integer in \[1, inf\]"):
         SeededAdmissibleBirth(_region(), cache_size=0)
     assert SeededAdmissibleBirth(_region(), cache_size=1).cache_size == 1
+
+
+def test_prime_puts_the_batch_in_the_cache_equal_to_each_return_s_own_mixture():
+    """A scan of five returns — one with a dropped centroid, one above escape speed (no component), one twice —
+    primed in one batch: each return's cached mixture is its own (:meth:`components` of a fresh instance, one
+    region each) to 1e-12 with the same number of components; nothing is recomputed for a cached return; a new
+    GMST starts a new cache."""
+    region = _region(0.4, n_blocks=3, cells=6)
+    scan = np.array([Z_DROP, Z, np.r_[Z[:3], 15.0], [900.0, C - 0.1, np.deg2rad(25.0), -0.5], Z])
+    seeded = SeededAdmissibleBirth(region)
+    assert seeded.prime(scan) == 4  # the repeated return once
+    batch = [seeded.components(z) for z in scan]
+    assert seeded.prime(scan[:2]) == 0  # all cached at this GMST
+    for z, (w, m, c) in zip(scan, batch):
+        w0, m0, c0 = SeededAdmissibleBirth(region).components(z)  # one return, the region's own mixture
+        assert len(w) == len(w0)
+        np.testing.assert_allclose(w, w0, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(m, m0, rtol=1e-12, atol=0)
+        np.testing.assert_allclose(c, c0, rtol=1e-12, atol=1e-12 * np.abs(c0).max(initial=0))
+    assert [len(b[0]) for b in batch] == [2, len(batch[1][0]), 0, len(batch[3][0]), len(batch[1][0])]
+    assert len(batch[1][0]) > 1 and len(batch[3][0]) > 1
+    region.sensor.at(1.1)
+    assert seeded.prime(scan[1:2]) == 1  # a new GMST: a new cache
+    np.testing.assert_allclose(seeded.components(Z)[1], SeededAdmissibleBirth(_region(1.1, n_blocks=3, cells=6))
+                               .components(Z)[1], rtol=1e-12)
+    assert seeded.prime(np.zeros((0, 4))) == 0
+    with pytest.raises(ValueError, match="Z"):
+        seeded.prime(np.array([[1.0, 2.0, np.nan, 0.0]]))

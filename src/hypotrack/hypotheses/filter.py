@@ -47,6 +47,7 @@ from ..association import gate_threshold, validation_matrix
 from ..models.measurement import LinearMeasurement
 from .detection import state_p_detect
 from .duplicates import child_pairs, merge_duplicates
+from .children import gumbel_keys, twins_never_heavier, with_null_event
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
 from .posterior import summarise
@@ -59,34 +60,13 @@ from .weights import WeightModel, prime_scan, seeded_state
 
 __all__ = ["HypothesisFilter"]
 
+
+class _NoValidChild(RuntimeError):
+    """Every generated child fails the validity test (:meth:`HypothesisFilter.advance` retries with the null
+    associations)."""
+
+
 _CHUNK = 1 << 15
-
-
-def _gumbel_keys(lw, rng):
-    return lw if rng is None else lw + rng.gumbel(size=lw.shape)
-
-
-def _twins_never_heavier(pop, ctx, p, in_view, p_survive=None) -> bool:
-    """Whether every twin weighs at most its association child, for the twins actually made.
-
-    Then a child outside a parent's best ``keep`` association children cannot have a twin
-    inside the best ``keep`` children overall, and asking the generator for the best ``keep``
-    only (pre-trimming) is exact. The twins' full log-ratios are checked, with the detection
-    factors the twin changes: an undetected birth adds ``log(1 − p_D)``; a death removes the
-    dead object's miss factor, i.e. adds ``−log(1 − p_D,j)`` > 0 (e.g. β = 0.2, p_D = 0.99:
-    the population ratio is < 0 but the twin outweighs its child).
-    """
-    n_view, M = int(in_view.sum()), len(p)
-    if pop.n_birth_regions:
-        ub = np.max(pop.undetected_birth_log_ratio(n_view, M)) + np.log1p(-ctx.p_detect_birth)
-        if ub > 0:
-            return False
-    elig = pop.death_eligible(in_view)
-    if M and elig.any():
-        de = np.max(pop.death_log_ratio(n_view, M, p_survive)) - np.min(np.log1p(-p[elig]))
-        if de > 0:
-            return False
-    return True
 
 
 class HypothesisFilter:
@@ -349,13 +329,16 @@ class HypothesisFilter:
         (:class:`hypotrack.experiments.glmb_benchmark.reference.SqrtAllocationFilter`)."""
         return [self.generator] * len(state.log_w)
 
-    def children_of(self, ctx: ScanContext, state: FilterState, h: int, keep, keys_rng, generator=None):
+    def children_of(self, ctx: ScanContext, state: FilterState, h: int, keep, keys_rng, generator=None,
+                    with_null: bool = False):
         """Extension point: association children and twins of parent ``h`` of ``state``, reduced to the best ``keep``.
 
         "Best" is by log-weight, or by Gumbel-perturbed log-weight (``keys_rng`` given) for the
         weighted sample; the keys are returned so that the global cap uses the same draw. Returns
         ``(ChildSet, keys, n_generated, log mass generated, n_twins)``. ``generator``: the parent's
-        child generator (default the filter's; see :meth:`parent_generators`).
+        child generator (default the filter's; see :meth:`parent_generators`). ``with_null``: the
+        generated events include the null association (every return clutter) when it is feasible
+        (:meth:`advance`'s fallback).
         """
         generator = self.generator if generator is None else generator
         tr = state.tracks[h]
@@ -364,7 +347,7 @@ class HypothesisFilter:
             # Population models that generate whole children themselves (labeled multi-Bernoulli).
             ev, kind, arg, lw = pop.children(self.weights, generator, ctx, tr, float(state.log_w[h]), self.rng,
                                              keep=keep if keys_rng is None else None)
-            keys = _gumbel_keys(lw, keys_rng)
+            keys = gumbel_keys(lw, keys_rng)
             mass = np.logaddexp.reduce(lw) if len(lw) else -np.inf
             if keep is not None and len(lw) > keep:
                 sel = top_k(keys, keep)
@@ -377,10 +360,12 @@ class HypothesisFilter:
         pop_lp = pop.log_event_prob(n_view, len(tr), ps) if pop is not None else None
         problem = self.weights.problem(ctx, tr, float(state.log_w[h]), pop_lp)
         gen_keep = None
-        if keep is not None and keys_rng is None and (pop is None or _twins_never_heavier(pop, ctx, p, in_view, ps)):
+        if keep is not None and keys_rng is None and (pop is None or twins_never_heavier(pop, ctx, p, in_view, ps)):
             gen_keep = keep
         events, lw = generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
+        if with_null:
+            events, lw = with_null_event(problem, events, lw)
         n_generated = len(lw)
         mass = [np.logaddexp.reduce(lw)] if len(lw) else []
         parts = [self._candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]
@@ -427,7 +412,7 @@ class HypothesisFilter:
         vals = tw[rows, cols]
         if mass is not None and len(vals):
             mass.append(np.logaddexp.reduce(vals))  # diagnostics only; ufunc, no per-call overhead
-        keys = _gumbel_keys(vals, keys_rng)
+        keys = gumbel_keys(vals, keys_rng)
         if keep is not None and len(vals) > keep:
             sel = top_k(keys, keep)
             rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
@@ -493,14 +478,28 @@ class HypothesisFilter:
 
         Draws from the filter's random generator and changes nothing else: the filter's own state
         is the :meth:`step`'s business. Newborn tracks are labelled from ``state.next_label``.
+
+        With a validity test, a generator that searches (MCMC, Gibbs, k-best) may return only children
+        holding an unphysical track (a return that pulls a widely spread track onto an impossible orbit,
+        the other children too light to be found). The step is then taken again with each parent's null
+        association (every return clutter, its death twins with it) added to the generated children, so
+        the valid children of the whole child set are not lost to the search; only when no child of that
+        set is valid either does the step raise ``RuntimeError``.
         """
+        try:
+            return self._advance(state, pred, ctx, False)
+        except _NoValidChild:
+            return self._advance(state, pred, ctx, True)
+
+    def _advance(self, state: FilterState, pred: TrackStore, ctx: ScanContext, with_null: bool) -> StepResult:
         t0 = _clock.perf_counter()
         keys_rng = self.rng if self.cap == "sample" else None
         gens = self.parent_generators(state)
         parts, all_keys, n_gen, n_twins, masses = [], [], 0, 0, []
         t1 = _clock.perf_counter()
         for h in range(len(state.log_w)):
-            cs, keys, ng, mass, nt = self.children_of(ctx, state, h, self.max_hypotheses, keys_rng, gens[h])
+            cs, keys, ng, mass, nt = self.children_of(ctx, state, h, self.max_hypotheses, keys_rng, gens[h],
+                                                      **({"with_null": True} if with_null else {}))
             parts.append(cs)
             all_keys.append(keys)
             n_gen += ng
@@ -522,7 +521,8 @@ class HypothesisFilter:
             sel, n_invalid = valid_top_k(all_keys, self.max_hypotheses, memo.pairs,
                                          lambda src, ret: self.pair_moments(pred, ctx, src, ret), self.validity)
             if len(sel) == 0:
-                raise RuntimeError("no child hypothesis is valid: every child holds a track that fails validity")
+                raise (RuntimeError if with_null else _NoValidChild)(
+                    "no child hypothesis is valid: every child holds a track that fails validity")
         kept = children.take(sel)
         new, sources, n_updates = self._materialise(state, kept, memo, sel, pred, ctx)
         log_total = logsumexp(masses)

@@ -107,3 +107,37 @@ def test_with_options_carries_or_replaces_the_hook():
     f = _filter(plausible_orbits)
     assert f.with_options(merge_duplicates=False).validity is plausible_orbits
     assert f.with_options(validity=None).validity is None
+
+
+def _searched_filter(validity, generator):
+    """Reid's weights without a population, a generator that returns the heaviest child only."""
+    from hypotrack.hypotheses import ReidWeights
+
+    return HypothesisFilter(MOTION, SENSOR, ReidWeights(), generator, dt=DT, max_hypotheses=10, means=X0, covs=P0,
+                            seed=1, validity=validity)
+
+
+@pytest.mark.parametrize("generator", ["murty", "mcmc"])
+def test_a_search_that_finds_only_invalid_children_falls_back_to_the_null_association(generator):
+    """The return 2 km off the prediction pulls the updated track past a wall the prediction is inside; the search
+    finds only that child (the missed one is ~10^12 times lighter). The step is taken again with the null association
+    added: the missed child, the prediction itself, alone and of weight 1."""
+    from hypotrack.hypotheses import MCMCGenerator, MurtyGenerator
+
+    x_pred = MOTION.propagate(X0[0], DT)
+    wall = x_pred[0] + 0.3
+    Z = (x_pred[:3] + [2.0, 0.0, 0.0])[None]
+    gen = MurtyGenerator(k=1) if generator == "murty" else MCMCGenerator(n_steps=50, init="best", completion_rounds=0)
+    unchecked = _searched_filter(None, gen)
+    unchecked.step(Z)
+    assert len(unchecked.log_weights) == 1 and unchecked.store.means[0, 0] > wall  # the search's only child
+    f = _searched_filter(lambda m: m[:, 0] < wall, gen)
+    f.step(Z)
+    assert len(f.log_weights) == 1 and f.log_weights[0] == pytest.approx(0.0, abs=1e-12)
+    x_p, F = MOTION.transition(X0, DT)
+    np.testing.assert_allclose(f.store.means, x_p, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(f.store.covs[0], F[0] @ P0[0] @ F[0].T + MOTION.Q(DT), rtol=1e-9, atol=1e-15)
+    # nothing valid in the whole child set either (the prediction outside the wall too): the step raises
+    g = _searched_filter(lambda m: m[:, 0] < x_pred[0] - 1.0, gen)
+    with pytest.raises(RuntimeError, match="no child hypothesis is valid"):
+        g.step(Z)

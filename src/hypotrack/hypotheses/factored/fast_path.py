@@ -330,7 +330,8 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
         valid = np.repeat(v[:len(cols), None], len(rule.alt_offsets), axis=1)
         ext_valid = None if extra is None else np.ones_like(valid)  # "died"/"not" with clutter: no track
         if rule.n_new:  # the seeded birth children also hold the newborn track: "died"/"not" it alone
-            born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), pred.means.shape[1])
+            born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]])
+            born = born.reshape(len(rows), pred.means.shape[1])  # (no rows: an empty (0, d), not -1)
             born_ok = _valid(rule.validity, born)
             valid[:, -1] &= born_ok
             died = np.zeros(len(cols), dtype=bool)

@@ -115,7 +115,7 @@ class FastRule:
         born = np.log(r) + np.log1p(-self.p_detect_birth)
         return bool(born - np.logaddexp(born, np.log1p(-r)) > self.log_threshold - 2 * np.log1p(-MARGIN))
 
-    def takes(self, loglik, p_detect, valid=None, extra=None) -> np.ndarray:
+    def takes(self, loglik, p_detect, valid=None, extra=None, extra_valid=None) -> np.ndarray:
         """Whether each lone track (its return's log-likelihood, its ``p_D``) keeps only its detected
         child; ``valid`` (n, alternatives): whether each alternative child passes the validity test
         (an invalid one is not kept, nor counted in the normalisation); ``extra`` (n,): the log-weight of one
@@ -123,9 +123,11 @@ class FastRule:
         ``log(1 − r p_S) − log(r p_S)``: the δ-GLMB row's children all carry ``r p_S`` but this one; it holds
         no track, so it is always valid), the return's clutter factor added (``alt_offsets``, without the
         ``1 − p_D`` of a missed track: 0 for δ-GLMB, ``−log V`` for H-FISST, ``log λ_C`` for Reid); with Reid's
-        seeded births also "died"/"not" with the return a new object (``log λ_B``; valid as the newborn track is),
-        whose newborn is the missed child's — one (source, return) pair, one label (:meth:`~..filter.HypothesisFilter.
-        advance`)."""
+        seeded births also "died"/"not" with the return a new object (``log λ_B``), whose newborn is the missed
+        child's — one (source, return) pair, one label (:meth:`~..filter.HypothesisFilter.advance`).
+        ``extra_valid`` (n, alternatives): whether each of these "died"/"not" children passes the test — its own
+        tracks only: none with clutter, the newborn alone with the seeded birth, so not the missed child's verdict,
+        which also needs the predicted track (``None``: all valid)."""
         ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik)
         p = np.where(ok, p_detect, 0.5)
         det = np.log(p) + np.where(ok, loglik, 0.0) - self.det_offset
@@ -134,8 +136,8 @@ class FastRule:
             alt = np.where(valid, alt, -np.inf)
         if extra is not None:
             ext = np.asarray(extra, dtype=float)[:, None] + self.alt_offsets[None, :]
-            if valid is not None and ext.shape[1] > 1:  # "died"/"not" with the seeded birth holds the newborn track
-                ext[:, 1:] = np.where(valid[:, 1:], ext[:, 1:], -np.inf)
+            if extra_valid is not None:
+                ext = np.where(extra_valid, ext, -np.inf)
             alt = np.concatenate([alt, ext], axis=1)
         total = np.logaddexp(det, np.logaddexp.reduce(alt, axis=1))
         return ok & np.all(alt - total[:, None] < self.log_threshold, axis=1)
@@ -326,11 +328,19 @@ def fast_components(rule: FastRule, graph, scores, pred: TrackStore, first_lane_
         x, P = lone_update(pred.means[cols], pred.covs[cols], Z[rows], H, R)
         v = _valid(rule.validity, np.concatenate([pred.means[cols], x]))  # one call, row by row: prior and update
         valid = np.repeat(v[:len(cols), None], len(rule.alt_offsets), axis=1)
-        if rule.n_new:  # the seeded birth child also holds the newborn track
-            born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]]).reshape(len(rows), -1)
-            valid[:, -1] &= _valid(rule.validity, born)
-            n_new = valid[:, -1].astype(np.int64)
-        take = v[len(cols):] & rule.takes(loglik, p_detect, valid, extra) & sure
+        ext_valid = None if extra is None else np.ones_like(valid)  # "died"/"not" with clutter: no track
+        if rule.n_new:  # the seeded birth children also hold the newborn track: "died"/"not" it alone
+            born = np.array([rule.seeded_density.initial_state(z, R)[0] for z in Z[rows]])
+            born = born.reshape(len(rows), pred.means.shape[1])  # (no rows: an empty (0, d), not -1)
+            born_ok = _valid(rule.validity, born)
+            valid[:, -1] &= born_ok
+            died = np.zeros(len(cols), dtype=bool)
+            if extra is not None:
+                ext_valid[:, -1] = born_ok
+                died = extra > -np.inf  # r p_S < 1: the "died"/"not" children exist
+            # the newborn's label is used when a kept child holds it: the missed one (predicted track valid) or "died"
+            n_new = (born_ok & (v[:len(cols)] | died)).astype(np.int64)
+        take = v[len(cols):] & rule.takes(loglik, p_detect, valid, extra, ext_valid) & sure
         x, P = x[take], P[take]
     j, cols, n_new = j[take], cols[take], n_new[take]
     keys = (G + j).astype(np.int64)

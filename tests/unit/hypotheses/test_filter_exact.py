@@ -36,7 +36,7 @@ from hypotrack.hypotheses import (
     ScanContext,
     SingleEventPopulation,
 )
-from hypotrack.hypotheses.filter import _twins_never_heavier
+from hypotrack.hypotheses.children import twins_never_heavier
 from hypotrack.hypotheses.generators import top_k
 from hypotrack.hypotheses.state import FilterState
 from hypotrack.models import ConstantVelocity
@@ -644,7 +644,7 @@ def _twin_check(model, p_D, alpha=0.0, beta=0.0, p_s=1.0, p_view=(True, True, Fa
     p = np.where(in_view, p_D, 0.0)
     ctx = ScanContext(Z=Z, loglik=np.zeros((3, 3)), allowed=np.ones((3, 3), bool), p_detect=p,
                       birth_loglik=np.zeros((3, 2)), p_detect_birth=p_D, clutter_rate=1.0, clutter_volume=V)
-    return _twins_never_heavier(pop, ctx, p, in_view)
+    return twins_never_heavier(pop, ctx, p, in_view)
 
 
 @pytest.mark.parametrize("case, exact", [

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["gumbel_keys", "twins_never_heavier", "with_null_event"]
+__all__ = ["gumbel_keys", "twins_never_heavier", "with_events", "with_null_event"]
 
 
 def gumbel_keys(lw, rng):
@@ -37,13 +37,23 @@ def twins_never_heavier(pop, ctx, p, in_view, p_survive=None) -> bool:
     return True
 
 
+def with_events(problem, events, lw, extra):
+    """``(events, lw)`` with the rows of ``extra`` (events of ``problem``, int) appended that are feasible (finite
+    log-weight under ``problem.log_weights``) and not among ``events`` already."""
+    events = np.asarray(events)
+    extra = np.asarray(extra, dtype=events.dtype).reshape(-1, events.shape[1] if events.ndim == 2 else len(extra[0]))
+    if extra.shape[1] == 0:
+        return events, lw
+    lw_extra = problem.log_weights(extra)
+    new = [i for i in range(len(extra)) if np.isfinite(lw_extra[i])
+           and not (len(events) and np.any(np.all(events == extra[i], axis=1)))]
+    if not new:
+        return events, lw
+    return np.concatenate([events.reshape(-1, extra.shape[1]), extra[new]]), \
+        np.concatenate([np.asarray(lw, dtype=float), lw_extra[new]])
+
+
 def with_null_event(problem, events, lw):
     """``(events, lw)`` with the null association (every return clutter) appended when it is feasible and not
     among ``events`` already (``(E, m)`` int32 events of association problem ``problem``, log-weights ``lw``)."""
-    if problem.n_returns == 0:
-        return events, lw
-    null = np.full((1, problem.n_returns), -1, dtype=np.int32)
-    lw0 = problem.log_weights(null)
-    if not np.isfinite(lw0[0]) or np.any(np.all(events == null, axis=1)):
-        return events, lw
-    return np.concatenate([events, null]), np.concatenate([np.asarray(lw, dtype=float), lw0])
+    return with_events(problem, events, lw, np.full((1, problem.n_returns), -1, dtype=np.int32))

@@ -346,7 +346,8 @@ class HypothesisFilter:
         if hasattr(pop, "children"):
             # Population models that generate whole children themselves (labeled multi-Bernoulli).
             ev, kind, arg, lw = pop.children(self.weights, generator, ctx, tr, float(state.log_w[h]), self.rng,
-                                             keep=keep if keys_rng is None else None)
+                                             keep=keep if keys_rng is None else None,
+                                             **({"with_null": True} if with_null else {}))
             keys = gumbel_keys(lw, keys_rng)
             mass = np.logaddexp.reduce(lw) if len(lw) else -np.inf
             if keep is not None and len(lw) > keep:
@@ -483,8 +484,9 @@ class HypothesisFilter:
         holding an unphysical track (a return that pulls a widely spread track onto an impossible orbit,
         the other children too light to be found). The step is then taken again with each parent's null
         association (every return clutter, its death twins with it) added to the generated children, so
-        the valid children of the whole child set are not lost to the search; only when no child of that
-        set is valid either does the step raise ``RuntimeError``.
+        the valid children of the whole child set are not lost to the search (no parent's children trimmed
+        before the validity test then); only when no child of that set is valid either does the step raise
+        ``RuntimeError``.
         """
         try:
             return self._advance(state, pred, ctx, False)
@@ -498,8 +500,8 @@ class HypothesisFilter:
         parts, all_keys, n_gen, n_twins, masses = [], [], 0, 0, []
         t1 = _clock.perf_counter()
         for h in range(len(state.log_w)):
-            cs, keys, ng, mass, nt = self.children_of(ctx, state, h, self.max_hypotheses, keys_rng, gens[h],
-                                                      **({"with_null": True} if with_null else {}))
+            cs, keys, ng, mass, nt = self.children_of(ctx, state, h, None if with_null else self.max_hypotheses,
+                                                      keys_rng, gens[h], **({"with_null": True} if with_null else {}))
             parts.append(cs)
             all_keys.append(keys)
             n_gen += ng

@@ -50,6 +50,7 @@ from .._validation import check_covariance, check_finite_array, check_probabilit
 from ..association import gate_threshold
 from ..gaussian import innovation_unchecked, update
 from .association_problem import CLUTTER
+from .children import with_events
 from .hypothesis import ChildSet
 from .population_events import _Population
 
@@ -236,14 +237,15 @@ class LabeledMultiBernoulliPopulation(_Population):
         with np.errstate(divide="ignore"):
             return np.log(r), np.log1p(-r)
 
-    def children(self, weights, generator, ctx, tracks, log_weight, rng, keep=None):
+    def children(self, weights, generator, ctx, tracks, log_weight, rng, keep=None, with_null: bool = False):
         """The parent's children: events, kind, arg and exact log-weights.
 
         The weight model builds the object-indexed problem (:meth:`GLMBWeights.labeled_problem`),
         the generator (exhaustive, Murty, Gibbs, MCMC) picks association maps ``γ``, and each is
         turned into the engine's return-indexed event plus a bit mask of its silent events
         (``ChildSet.POPULATION_SET``: bit ``j < M`` object ``j`` died, bit ``M + b`` birth term
-        ``b`` born undetected).
+        ``b`` born undetected). ``with_null``: the maps "every object missed, no birth" and "every object
+        died, no birth" are added where feasible (the engine's fallback when a search found no valid child).
         """
         if not hasattr(weights, "labeled_problem"):
             raise ValueError(f"a labeled multi-Bernoulli population needs GLMB weights, got {type(weights).__name__}")
@@ -252,6 +254,10 @@ class LabeledMultiBernoulliPopulation(_Population):
         log_r, log_not = self.log_existence(M, None if ctx.p_survive is None else ctx.p_survive[tracks])
         problem = weights.labeled_problem(ctx, tracks, log_r, log_not, log_weight)
         gammas, lw = generator.generate(problem, rng, keep=keep)
+        if with_null:
+            nulls = np.full((2, M + ctx.n_birth_regions), DIED, dtype=np.int64)
+            nulls[0, :M] = MISSED
+            gammas, lw = with_events(problem, np.asarray(gammas, dtype=np.int64).reshape(len(lw), -1), lw, nulls)
         events, masks = self.to_events(np.asarray(gammas), M, ctx.n_returns)
         kind = np.full(len(lw), ChildSet.POPULATION_SET, np.int64)
         return events, kind, masks, np.asarray(lw, dtype=float)

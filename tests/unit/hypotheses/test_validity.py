@@ -141,3 +141,24 @@ def test_a_search_that_finds_only_invalid_children_falls_back_to_the_null_associ
     g = _searched_filter(lambda m: m[:, 0] < x_pred[0] - 1.0, gen)
     with pytest.raises(RuntimeError, match="no child hypothesis is valid"):
         g.step(Z)
+
+
+def test_the_labeled_multi_bernoulli_fallback_adds_every_object_missed_and_every_object_died():
+    """δ-GLMB (labeled multi-Bernoulli, p_S = 0.9, no birth term) whose search returns only the detected map, past
+    the wall: the fallback's maps are "the object missed" (the prediction, valid) and "the object died" (no track),
+    weighted p_S (1 − p_D) against 1 − p_S."""
+    from hypotrack.hypotheses import MurtyGenerator
+
+    x_pred = MOTION.propagate(X0[0], DT)
+    wall = x_pred[0] + 0.3
+    Z = (x_pred[:3] + [2.0, 0.0, 0.0])[None]
+    pop = LabeledMultiBernoulliPopulation([], r_birth=0.1, p_survive=0.9)
+    f = HypothesisFilter(MOTION, SENSOR, GLMBWeights(), MurtyGenerator(k=1), population=pop, dt=DT, max_hypotheses=10,
+                         means=X0, covs=P0, seed=1, validity=lambda m: m[:, 0] < wall)
+    f.step(Z)
+    n_tracks = np.array([len(t) for t in f.track_lists])
+    assert sorted(n_tracks.tolist()) == [0, 1]
+    w = np.exp(f.log_weights)
+    np.testing.assert_allclose(w[n_tracks == 1], [0.9 * (1 - P_D) / (0.9 * (1 - P_D) + 0.1)], rtol=1e-12)
+    np.testing.assert_allclose(f.store.means[f.track_lists[int(np.flatnonzero(n_tracks == 1)[0])]],
+                               MOTION.transition(X0, DT)[0], rtol=0, atol=1e-9)

@@ -1,0 +1,127 @@
+"""The ambiguity output's tuning protocol: the rule on hand-made sweeps, the tuning section, the evaluated rows at
+the tuned p_min, and a small end-to-end run scoring every candidate p_min from one tracker run."""
+
+import copy
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import pytest
+import yaml
+
+from hypotrack.experiments.ssa_breakup.tuning import (chosen_p_min, output_p_mins, select_output, tuning_section,
+                                                      tuning_table, used_p_min)
+
+CONFIG = Path(__file__).resolve().parents[4] / "workflows" / "config" / "default.yaml"
+
+
+def _sweep(values):
+    """Sweep rows (breakup, withhold) from ``{(tracker, seed, p_min): (cross-tags, untagged)}`` plus fresh-mode
+    rows that would win if the mode were ignored."""
+    rows = [dict(scenario="breakup", seed=k, mode="withhold", p_min=p, tracker=t, cross_tags_per_1e4=x,
+                 uncorrelated_per_1e4=u) for (t, k, p), (x, u) in values.items()]
+    rows += [dict(scenario="breakup", seed=k, mode="fresh", p_min=p, tracker=t, cross_tags_per_1e4=0.0,
+                  uncorrelated_per_1e4=0.0) for (t, k, p) in values]
+    return pd.DataFrame(rows)
+
+
+def _gnn(xt):
+    return pd.DataFrame([dict(scenario="breakup", seed=k, tracker="gnn", cross_tags_per_1e4=v) for k, v in xt.items()])
+
+
+# two trackers, two tuning seeds, three candidates. Scores X + 0.1 U by hand:
+#   p=0.6: a: 10+4=14, 12+4=16; b: 8+4=12, 10+4=14  -> mean 14.0
+#   p=0.7: a:  4+6=10,  6+6=12; b: 5+6=11,  5+6=11  -> mean 11.0  (least)
+#   p=0.9: a:  1+12=13, 1+12=13; b: 1+12=13, 1+12=13 -> mean 13.0
+# and with lambda = 0.01: 0.6 -> 10.4, 0.7 -> 5.6, 0.9 -> 2.2: 0.9 wins (cross-tags alone decide).
+HAND = {("a", 1, 0.6): (10.0, 40.0), ("a", 12, 0.6): (12.0, 40.0), ("b", 1, 0.6): (8.0, 40.0),
+        ("b", 12, 0.6): (10.0, 40.0), ("a", 1, 0.7): (4.0, 60.0), ("a", 12, 0.7): (6.0, 60.0),
+        ("b", 1, 0.7): (5.0, 60.0), ("b", 12, 0.7): (5.0, 60.0), ("a", 1, 0.9): (1.0, 120.0),
+        ("a", 12, 0.9): (1.0, 120.0), ("b", 1, 0.9): (1.0, 120.0), ("b", 12, 0.9): (1.0, 120.0)}
+
+
+def test_rule_picks_the_least_mean_cost_by_hand():
+    t = tuning_table(_sweep(HAND), _gnn({1: 8.0, 12: 0.0}), "withhold", 0.1)
+    assert chosen_p_min(t) == 0.7
+    allp = t[(t["tracker"] == "all") & (t["seed"] == -1)].set_index("p_min")
+    np.testing.assert_allclose(allp["score"].to_numpy(), [14.0, 11.0, 13.0])
+    a = t[(t["tracker"] == "a") & (t["seed"] == -1)].set_index("p_min")
+    np.testing.assert_allclose(a["score"].to_numpy(), [15.0, 11.0, 13.0])
+    one = t[(t["tracker"] == "b") & (t["seed"] == 1) & (t["p_min"] == 0.7)].iloc[0]
+    assert one["score"] == pytest.approx(11.0) and one["xtag_ratio"] == pytest.approx(5.0 / 8.0)
+    # GNN with no cross-tags on seed 12: no ratio there, and the per-tracker mean is over seed 1 alone
+    assert np.isnan(t[(t["tracker"] == "b") & (t["seed"] == 12)]["xtag_ratio"]).all()
+    assert a.loc[0.7, "xtag_ratio"] == pytest.approx(4.0 / 8.0)
+    assert t.loc[t["chosen"], "p_min"].unique().tolist() == [0.7]
+    assert len(t) == 12 + 3 * 3  # per seed, then per tracker and over all
+
+
+def test_rule_follows_lambda_and_breaks_ties_to_the_smallest_p_min():
+    assert chosen_p_min(tuning_table(_sweep(HAND), _gnn({1: 8.0, 12: 4.0}), "withhold", 0.01)) == 0.9
+    # lambda = 0: cross-tags alone; the fresh rows (all zero) are another mode and never enter
+    assert chosen_p_min(tuning_table(_sweep(HAND), _gnn({1: 8.0}), "withhold", 0.0)) == 0.9
+    tie = {(t, k, p): (10.0 - 10 * p, 100 * p) for t in ("a", "b") for k in (1, 12) for p in (0.6, 0.8)}
+    # X + 0.1 U = 10 - 10p + 10p = 10 at both: the smaller p_min (withholds less)
+    assert chosen_p_min(tuning_table(_sweep(tie), _gnn({1: 1.0}), "withhold", 0.1)) == 0.6
+    with pytest.raises(ValueError, match="untagged_weight"):
+        tuning_table(_sweep(HAND), _gnn({1: 8.0}), "withhold", -1.0)
+    with pytest.raises(ValueError, match="mode 'other'"):
+        tuning_table(_sweep(HAND), _gnn({1: 8.0}), "other", 0.1)
+
+
+def _section(tuning):
+    return dict(seeds=[2, 3], scenarios=["breakup", "catalogue"],
+                ambiguity=dict(mode="withhold", p_min=0.7, p_min_sweep=[0.8, 0.6, 0.9], **tuning))
+
+
+def test_tuning_section_and_the_p_min_used():
+    sec = _section(dict(tuning=dict(seeds=[1, 12], trackers=["glmb_murty", "gnn"], untagged_weight=0.1)))
+    t = tuning_section(sec)
+    assert t["seeds"] == [1, 12] and t["scenarios"] == ["breakup"] and sec["seeds"] == [2, 3]
+    assert output_p_mins(sec["ambiguity"]) == [0.6, 0.8, 0.9]  # every candidate, the fixed 0.7 not among them
+    table = tuning_table(_sweep(HAND), _gnn({1: 8.0}), "withhold", 0.1)
+    assert used_p_min(sec, table) == 0.7 and used_p_min(sec, table.assign(chosen=table["p_min"] == 0.9)) == 0.9
+    with pytest.raises(ValueError, match="tuning table"):
+        used_p_min(sec)
+    with pytest.raises(ValueError, match=r"disjoint from ssa_breakup.seeds.*\[3\]"):
+        tuning_section(_section(dict(tuning=dict(seeds=[1, 3], trackers=["gnn"], untagged_weight=0.1))))
+    off = _section({})
+    assert output_p_mins(off["ambiguity"]) == [0.7] and used_p_min(off) == 0.7
+    with pytest.raises(ValueError, match="tuning.seeds"):
+        tuning_section(off)
+    with pytest.raises(ValueError, match="p_min_sweep"):
+        output_p_mins(dict(p_min=0.7, tuning=dict(seeds=[1])))
+    with pytest.raises(ValueError, match="exactly one"):
+        chosen_p_min(table.assign(chosen=False))
+
+
+def test_select_output_keeps_the_plain_rows_and_the_tuned_ones():
+    cards = pd.DataFrame(dict(tracker=["glmb_murty", "glmb_murty_amb", "glmb_murty_amb", "gnn"], seed=2,
+                              p_min=[np.nan, 0.7, 0.8, np.nan], cross_tags_per_1e4=[5.0, 2.0, 1.0, 3.0]))
+    out = select_output(cards, 0.8)
+    assert out["tracker"].tolist() == ["glmb_murty", "glmb_murty_amb", "gnn"] and "p_min" not in out
+    assert out["cross_tags_per_1e4"].tolist() == [5.0, 1.0, 3.0]
+    with pytest.raises(ValueError, match="glmb_murty_amb"):
+        select_output(cards, 0.9)
+    assert select_output(cards.drop(columns="p_min"), 0.9).equals(cards.drop(columns="p_min"))
+
+
+def test_every_candidate_scored_in_full_from_one_run():
+    """With a tuning block, a factored run's cards hold one ambiguity row per candidate p_min, each equal on the
+    identity columns to the sweep's row of the configured mode (one tracker run)."""
+    from hypotrack.experiments.ssa_breakup.jobs import score_tracker_outputs
+
+    full = yaml.safe_load(CONFIG.read_text())
+    cfg = copy.deepcopy(full["ssa_breakup"])
+    cfg.update(seeds=[5], scenarios=["breakup"], window={"obs_start_s": 7200.0, "obs_end_s": 7800.0})
+    cfg["event"]["lc_min_m"] = 0.2
+    cfg["ambiguity"] = dict(mode="withhold", p_min=0.7, p_min_sweep=[0.5, 0.9],
+                            tuning=dict(seeds=[1], trackers=["glmb_murty", "gnn"], untagged_weight=0.1))
+    cards, sweep = score_tracker_outputs("glmb_murty", cfg, full["ssa_catalogue"])
+    assert cards["tracker"].tolist() == ["glmb_murty", "glmb_murty_amb", "glmb_murty_amb"]
+    assert np.isnan(cards["p_min"].iloc[0]) and cards["p_min"].iloc[1:].tolist() == [0.5, 0.9]
+    w = sweep[sweep["mode"] == "withhold"].set_index("p_min")
+    for p in (0.5, 0.9):
+        row = select_output(cards, p).iloc[1]
+        for c in ("cross_tags_per_1e4", "uncorrelated_per_1e4", "id_switches"):
+            assert row[c] == w.loc[p, c]

@@ -52,6 +52,11 @@ rule ssa_breakup_tuning:
         "../scripts/ssa_breakup_tuning.py"
 
 
+# The committed ten-seed record (experiments/ssa_breakup/record.py: full.yaml + breakup_record.yaml), read back for
+# the ledger's record rows and the paper's record macros when it exists.
+SB_RECORD = [p for p in ["paper/record/ssa_breakup_record.csv"] if Path(p).exists()]
+
+
 rule ssa_breakup_density:
     output:
         density=f"{SB_DIR}/density.csv",
@@ -70,6 +75,7 @@ rule ssa_breakup_table:
         density=f"{SB_DIR}/density.csv",
         distances=f"{SB_DIR}/nn_distances.csv",
         tuning=SB_TUNE,
+        record=SB_RECORD,
     output:
         scorecard=report_table(f"{SB_DIR}/scorecard.csv", "ssa_breakup", "scorecard"),
         summary=report_table(f"{SB_DIR}/summary.csv", "ssa_breakup", "summary"),

@@ -32,7 +32,7 @@ import pandas as pd
 from ...metrics_scorecard import mean_se
 
 __all__ = ["TUNING_COLUMNS", "tuning_section", "output_p_mins", "tuning_table", "chosen_p_min", "used_p_min",
-           "select_output"]
+           "select_output", "evaluated_cards"]
 
 TUNING_COLUMNS = ["tracker", "seed", "mode", "p_min", "cross_tags_per_1e4", "uncorrelated_per_1e4",
                   "untagged_weight", "score", "xtag_ratio", "chosen"]
@@ -139,3 +139,13 @@ def select_output(cards: pd.DataFrame, p_min: float) -> pd.DataFrame:
     if missing:
         raise ValueError(f"p_min {p_min} is not among the scored ambiguity outputs of {sorted(missing)}")
     return cards[keep].drop(columns="p_min").reset_index(drop=True)
+
+
+def evaluated_cards(cards: pd.DataFrame, cfg, table: pd.DataFrame | None = None) -> tuple[pd.DataFrame, float | None]:
+    """``(cards, p_min)``: the evaluated seeds' cards with the ambiguity outputs at the ``p_min`` of the verdict
+    (:func:`used_p_min`: the tuning ``table``'s choice, or ``ambiguity.p_min`` without tuning;
+    :func:`select_output`), and that ``p_min`` (None, cards unchanged, without an ``ambiguity`` block)."""
+    if not cfg.get("ambiguity"):
+        return cards, None
+    p = used_p_min(cfg, table)
+    return select_output(cards, p), p

@@ -125,3 +125,34 @@ def test_every_candidate_scored_in_full_from_one_run():
         row = select_output(cards, p).iloc[1]
         for c in ("cross_tags_per_1e4", "uncorrelated_per_1e4", "id_switches"):
             assert row[c] == w.loc[p, c]
+
+
+def test_the_evaluated_ledger_row_uses_the_tuned_p_min():
+    """The evaluated seeds' ambiguity outputs at every candidate; the tuning table (other seeds) chooses 0.9 where
+    ambiguity.p_min says 0.7: the ratio row and the ledger's row are the 0.9 output's, by hand: per seed
+    glmb_murty_amb cross-tags over GNN's, 1/2 and 2/4 -> 0.5 (s.e. 0), meeting the goal (0.7's: 3/2, 6/4 -> 1.5)."""
+    from hypotrack.experiments.ssa_breakup.summary import breakup_claims, breakup_ratios, scorecard_summary
+    from hypotrack.experiments.ssa_breakup.tuning import evaluated_cards
+
+    xt = {("gnn", None): (2.0, 4.0), ("glmb_murty", None): (5.0, 8.0), ("glmb_murty_amb", 0.7): (3.0, 6.0),
+          ("glmb_murty_amb", 0.9): (1.0, 2.0)}
+    cards = pd.DataFrame([dict(scenario="breakup", seed=k, tracker=t, p_min=np.nan if p is None else p,
+                               cross_tags_per_1e4=v[j], id_switches_per_1e4=1.0, uncorrelated_per_1e4=10.0 * v[j])
+                          for (t, p), v in xt.items() for j, k in enumerate((2, 3))])
+    sec = _section(dict(tuning=dict(seeds=[1, 12], trackers=["glmb_murty", "gnn"], untagged_weight=0.1)))
+    sec["ambiguity"]["p_min_sweep"] = [0.7, 0.9]
+    table = tuning_table(_sweep(HAND), _gnn({1: 8.0}), "withhold", 0.01)  # the hand table at lambda 0.01: 0.9
+    out, p = evaluated_cards(cards, sec, table)
+    assert p == 0.9
+    r = breakup_ratios(out, ["glmb_murty", "gnn"], "gnn", 0.5)
+    amb = r[(r["tracker"] == "glmb_murty_amb") & (r["metric"] == "cross_tags_per_1e4")].iloc[0]
+    assert amb["ratio"] == pytest.approx(0.5) and amb["ratio_se"] == pytest.approx(0.0) and amb["meets_goal"]
+    cards_off, p_off = evaluated_cards(cards, _section({}))  # no tuning: ambiguity.p_min, 0.7
+    r_off = breakup_ratios(cards_off, ["glmb_murty", "gnn"], "gnn", 0.5)
+    assert p_off == 0.7 and r_off.loc[r_off["tracker"] == "glmb_murty_amb", "ratio"].iloc[0] == pytest.approx(1.5)
+    summary, _ = scorecard_summary(out.assign(cpu_s=1.0, completeness=1.0, duplicate_per_1000=0.0,
+                                              false_per_1000=0.0, nn_in_gate_share=0.0, reacquisitions=1.0))
+    claims = {c.key: c for c in breakup_claims(summary, r, pd.DataFrame(dict(seed=[])), "gnn")}
+    assert claims["ratio_breakup_glmb_murty_amb"].reproduced.startswith("0.5 ± 0")
+    with pytest.raises(ValueError, match="tuning table"):
+        evaluated_cards(cards, sec)

@@ -156,3 +156,81 @@ def test_the_evaluated_ledger_row_uses_the_tuned_p_min():
     assert claims["ratio_breakup_glmb_murty_amb"].reproduced.startswith("0.5 ± 0")
     with pytest.raises(ValueError, match="tuning table"):
         evaluated_cards(cards, sec)
+
+
+def _results(tmp_path, seeds=(2, 3), tuning_seeds=(1, 12)):
+    """A record run's tables by hand: GNN 2 and 4 cross-tags per 1e4, the δ-GLMB's ambiguity output 1 and 1."""
+    src = tmp_path / "res" / "ssa_breakup"
+    src.mkdir(parents=True)
+    xt = {"gnn": (2.0, 4.0), "glmb_murty": (4.0, 4.0), "glmb_murty_amb": (1.0, 1.0)}
+    unc = {"gnn": 40.0, "glmb_murty": 30.0, "glmb_murty_amb": 70.0}
+    cards = pd.DataFrame([dict(scenario="breakup", tracker=t, seed=k, cross_tags_per_1e4=v[j], id_switches_per_1e4=2.0,
+                               uncorrelated_per_1e4=unc[t], completeness=0.9)
+                          for t, v in xt.items() for j, k in enumerate(seeds)])
+    from hypotrack.experiments.ssa_breakup.summary import breakup_ratios, scorecard_summary
+    summary, _ = scorecard_summary(cards)
+    summary.to_csv(src / "summary.csv", index=False)
+    breakup_ratios(cards, ["glmb_murty", "gnn"], "gnn", 0.5).to_csv(src / "ratios.csv", index=False)
+    cards.to_csv(src / "scorecard.csv", index=False)
+    hand = {(t, k, p): v for (t, k, p), v in HAND.items()}
+    hand = {(t, dict(zip((1, 12), tuning_seeds))[k], p): v for (t, k, p), v in hand.items()}
+    tuning_table(_sweep(hand), _gnn({tuning_seeds[0]: 8.0}), "withhold", 0.1).to_csv(src / "tuning.csv", index=False)
+    return tmp_path / "res"
+
+
+def _workflow(tmp_path, seeds, tuning_seeds):
+    """A workflow folder whose record overlay names ``seeds`` and ``tuning_seeds`` (the repository's configs
+    otherwise)."""
+    import shutil
+    root = Path(__file__).resolve().parents[4] / "workflows" / "config"
+    wf = tmp_path / "wf"
+    shutil.copytree(root, wf / "config")
+    over = yaml.safe_load((root / "breakup_record.yaml").read_text())
+    over["ssa_breakup"]["seeds"] = list(seeds)
+    over["ssa_breakup"]["ambiguity"] = dict(tuning=dict(seeds=list(tuning_seeds), trackers=["glmb_murty", "gnn"],
+                                                        untagged_weight=0.1))
+    over["ssa_breakup"]["trackers_run"] = ["glmb_murty", "gnn"]
+    (wf / "config" / "breakup_record.yaml").write_text(yaml.safe_dump(over))
+    return wf
+
+
+def test_record_table_claims_and_macros_by_hand(tmp_path):
+    from hypotrack.experiments.ssa_breakup.record import (record_claims, record_config, record_macros,
+                                                          update_breakup_record)
+
+    wf = _workflow(tmp_path, (2, 3), (1, 12))
+    assert record_config(wf)["ambiguity"]["p_min"] == 0.7  # the default's and full.yaml's keys merged under it
+    paths = update_breakup_record(_results(tmp_path), tmp_path / "record", wf)
+    table = pd.read_csv(paths[0])
+    assert table["tracker"].tolist() == ["gnn", "glmb_murty", "glmb_murty_amb"]
+    amb = table.set_index("tracker").loc["glmb_murty_amb"]
+    # per seed 1/2 and 1/4: mean 0.375, s.e. 0.125; the plain output 4/2, 4/4: 1.5 ± 0.5
+    assert amb["ratio"] == pytest.approx(0.375) and amb["ratio_se"] == pytest.approx(0.125) and amb["meets_goal"]
+    assert amb["p_min"] == 0.7 and amb["tuning_seeds"] == "1 12" and amb["seeds"] == "2 3"
+    assert pd.read_csv(paths[1])["chosen"].any()
+    keys = {c.key: c for c in record_claims(table)}
+    assert set(keys) == {"record_pmin", "record_ratio_glmb_murty", "record_ratio_glmb_murty_amb"}
+    assert keys["record_pmin"].reproduced == "0.7" and "tuning seeds 1 and 12" in keys["record_pmin"].note
+    assert keys["record_ratio_glmb_murty_amb"].reproduced == "0.375 ± 0.12"
+    assert "untagged 70 per 10^4 returns against 30 for the MAP output and 40 for GNN" in \
+        keys["record_ratio_glmb_murty_amb"].note
+    assert "misses" in keys["record_ratio_glmb_murty"].note
+    m = record_macros(table)
+    assert m["record_pmin"] == 0.7 and m["record_tuning_seeds"] == "1 and 12" and m["record_n_seeds"] == 2
+    assert m["record_goal_glmb_murty_amb"] == "met" and m["record_goal_glmb_murty"] == "not met"
+    assert "record_goal_gnn" not in m and m["record_uncorrelated_gnn"] == 40.0
+    assert record_claims(pd.DataFrame()) == [] and record_macros(pd.DataFrame()) == {}
+
+
+def test_record_refuses_another_runs_tables(tmp_path):
+    from hypotrack.experiments.ssa_breakup.record import update_breakup_record
+
+    res = _results(tmp_path, seeds=(2, 3), tuning_seeds=(1, 12))
+    with pytest.raises(ValueError, match=r"evaluated seeds \[2, 3\] for \[2, 3, 4\]"):
+        update_breakup_record(res, tmp_path / "record", _workflow(tmp_path / "a", (2, 3, 4), (1, 12)))
+    with pytest.raises(ValueError, match=r"tuning seeds \[1, 12\] for \[1, 13\]"):
+        update_breakup_record(res, tmp_path / "record", _workflow(tmp_path / "b", (2, 3), (1, 13)))
+    assert update_breakup_record(res, tmp_path / "record", _workflow(tmp_path / "c", (2, 3, 4), (1, 12)), force=True)
+    with pytest.raises(FileNotFoundError, match="tuning.csv"):
+        (res / "ssa_breakup" / "tuning.csv").unlink()
+        update_breakup_record(res, tmp_path / "record", _workflow(tmp_path / "d", (2, 3), (1, 12)))

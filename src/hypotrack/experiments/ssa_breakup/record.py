@@ -9,7 +9,8 @@ own: :mod:`.tuning`), longer than the default budget. After it::
 writes ``ssa_breakup_record.csv`` (:func:`record_table`: per tracker of the breakup cloud its cross-tags, untagged
 returns and identity switches, mean ± s.e. over the evaluated seeds, and its ratios to GNN's against the goal, the
 ambiguity outputs at the tuned ``p_min``), copies the tuning table (``ssa_breakup_tuning.csv``) and writes the
-configuration section it checked the tables against (``ssa_breakup_record_config.json``). It refuses tables whose
+configuration section it checked the tables against (``ssa_breakup_record_config.json``), renders the README's
+block (``ssa_breakup_record.md``, :func:`record_markdown`) and regenerates the README. It refuses tables whose
 evaluated or tuning seeds, or trackers, are not the record configuration's (``--force`` records them anyway).
 
 The default pipeline's table job reads the committed record back (:func:`record_claims`, :func:`record_macros`):
@@ -29,16 +30,18 @@ import yaml
 
 from ...config import validate_config
 from ...reporting.ledger import Claim
-from ...reporting.record import RECORD, ROOT
+from ...reporting.readme import BREAKUP_RECORD
+from ...reporting.record import RECORD, ROOT, rewrite_readme, run_step
 from .summary import EXPERIMENT, TRACKER_NAMES
 from .tuning import chosen_p_min
 
-__all__ = ["TABLE", "TUNING", "CONFIG", "record_config", "record_table", "update_breakup_record", "record_claims",
-           "record_macros"]
+__all__ = ["TABLE", "TUNING", "CONFIG", "BLOCK", "record_config", "record_table", "record_markdown",
+           "update_breakup_record", "record_claims", "record_macros"]
 
 TABLE = "ssa_breakup_record.csv"
 TUNING = "ssa_breakup_tuning.csv"
 CONFIG = "ssa_breakup_record_config.json"
+BLOCK = BREAKUP_RECORD  # ssa_breakup_record.md, read by the README's generation
 OVERLAYS = ("default.yaml", "full.yaml", "breakup_record.yaml")
 _STATS = ("cross_tags_per_1e4", "uncorrelated_per_1e4", "id_switches_per_1e4", "completeness")
 
@@ -103,7 +106,43 @@ def _check(sec: dict, scorecard: pd.DataFrame, tuning: pd.DataFrame) -> list[str
     return out
 
 
-def update_breakup_record(results, record=RECORD, workflow_dir=ROOT / "workflows", force: bool = False) -> list[Path]:
+def _pm(x, se=None, d=3) -> str:
+    if not np.isfinite(x):
+        return "--"
+    return f"{x:.{d}g}" if se is None or not np.isfinite(se) else f"{x:.{d}g} ± {se:.2g}"
+
+
+def record_markdown(table: pd.DataFrame, tuning: pd.DataFrame) -> str:
+    """The README's block: the protocol in one sentence, the tuning table's means over the tuning seeds (every
+    tracker) per ``p_min``, and the evaluated seeds' verdict per tracker."""
+    first = table.iloc[0]
+    seeds = first["seeds"].split()
+    names = [TRACKER_NAMES.get(t, t) for t in dict.fromkeys(tuning["tracker"]) if t != "all"]
+    lines = [f"Ten-seed record (`paper/record/{TABLE}`, `{TUNING}`; `full.yaml` with `breakup_record.yaml`): the "
+             f"ambiguity output's `p_min` = {first['p_min']:g}, chosen on tuning seeds "
+             f"{_seed_words(first['tuning_seeds'])} as the least mean cross-tags + {first['untagged_weight']:g} × "
+             f"untagged returns (per 10⁴) of {', '.join(names)}: then evaluated on seeds "
+             f"{seeds[0]}–{seeds[-1]} ({len(seeds)} seeds). Tuning (mean over the tuning seeds and both trackers):",
+             "", "| p_min | cross-tags /10⁴ | untagged /10⁴ | cost | chosen |", "|---|---|---|---|---|"]
+    allp = tuning[(tuning["tracker"] == "all") & (tuning["seed"] < 0)].sort_values("p_min")
+    for r in allp.itertuples(index=False):
+        lines.append(f"| {r.p_min:g} | {_pm(r.cross_tags_per_1e4)} | {_pm(r.uncorrelated_per_1e4)} | {_pm(r.score)} "
+                     f"| {'yes' if r.chosen else ''} |")
+    lines += ["", "Evaluated seeds (mean ± s.e.; ratios per seed to GNN's, over the seeds where GNN cross-tags):", "",
+              "| tracker | cross-tags /10⁴ | ratio to GNN | goal ≤ 0.5 | untagged /10⁴ | id-switch ratio |",
+              "|---|---|---|---|---|---|"]
+    for r in table.itertuples(index=False):
+        has = np.isfinite(r.ratio)
+        goal = ("met" if r.meets_goal else "not met") if has else ""
+        lines.append(f"| {TRACKER_NAMES[r.tracker]} | {_pm(r.cross_tags_per_1e4, r.cross_tags_per_1e4_se)} | "
+                     f"{_pm(r.ratio, r.ratio_se) if has else ''} | {goal} | "
+                     f"{_pm(r.uncorrelated_per_1e4, r.uncorrelated_per_1e4_se)} | "
+                     f"{_pm(r.idsw_ratio, r.idsw_ratio_se) if has else ''} |")
+    return "\n".join(lines) + "\n"
+
+
+def update_breakup_record(results, record=RECORD, workflow_dir=ROOT / "workflows", force: bool = False,
+                          readme=None) -> list[Path]:
     """``record/ssa_breakup_record.csv``, ``ssa_breakup_tuning.csv`` and ``ssa_breakup_record_config.json`` from a
     record run's ``<results>/ssa_breakup`` (module docstring). Raises ``FileNotFoundError`` when the run has not
     written its tables, ``ValueError`` when they are not the record configuration's (``force``: record anyway)."""
@@ -126,7 +165,9 @@ def update_breakup_record(results, record=RECORD, workflow_dir=ROOT / "workflows
     table.to_csv(record / TABLE, index=False, float_format="%.6g")
     tuning.to_csv(record / TUNING, index=False, float_format="%.6g")
     (record / CONFIG).write_text(json.dumps(sec, indent=1, sort_keys=True) + "\n")
-    return [record / TABLE, record / TUNING, record / CONFIG]
+    (record / BLOCK).write_text(record_markdown(table, tuning))
+    written = [record / TABLE, record / TUNING, record / CONFIG, record / BLOCK]
+    return written + ([rewrite_readme(readme, record)] if readme is not None else [])
 
 
 def _seed_words(seeds: str) -> str:
@@ -175,6 +216,7 @@ def record_macros(table: pd.DataFrame) -> dict:
         vals[f"record_ratio_{r.tracker}"] = r.ratio
         vals[f"record_ratio_se_{r.tracker}"] = r.ratio_se
         vals[f"record_idsw_ratio_{r.tracker}"] = r.idsw_ratio
+        vals[f"record_n_ratio_{r.tracker}"] = int(r.n_ratio)
         if np.isfinite(r.ratio):
             vals[f"record_goal_{r.tracker}"] = "met" if r.meets_goal else "not met"
     return vals
@@ -186,9 +228,7 @@ def main(argv=None) -> int:
     parser.add_argument("results", help="the record run's results folder")
     parser.add_argument("--force", action="store_true", help="record tables of another config")
     args = parser.parse_args(argv)
-    for p in update_breakup_record(args.results, force=args.force):
-        print(p)
-    return 0
+    return run_step(lambda: update_breakup_record(args.results, force=args.force, readme=ROOT / "README.md"))
 
 
 if __name__ == "__main__":

@@ -1,4 +1,5 @@
-"""The committed breakup record — the ten-seed verdict with a tuned ``p_min`` — and the only step that writes it.
+"""The committed breakup record — the evaluated seeds' verdict with a tuned ``p_min`` — and the only step that
+writes it.
 
 The record run is ``ssa_breakup`` under ``workflows/config/full.yaml`` overlaid with
 ``workflows/config/breakup_record.yaml`` (ten evaluated seeds, the ambiguity output's tuning protocol on seeds of its
@@ -118,23 +119,24 @@ def record_markdown(table: pd.DataFrame, tuning: pd.DataFrame) -> str:
     first = table.iloc[0]
     seeds = first["seeds"].split()
     names = [TRACKER_NAMES.get(t, t) for t in dict.fromkeys(tuning["tracker"]) if t != "all"]
-    lines = [f"Ten-seed record (`paper/record/{TABLE}`, `{TUNING}`; `full.yaml` with `breakup_record.yaml`): the "
+    lines = [f"Record (`paper/record/{TABLE}`, `{TUNING}`; `full.yaml` with `breakup_record.yaml`): the "
              f"ambiguity output's `p_min` = {first['p_min']:g}, chosen on tuning seeds "
              f"{_seed_words(first['tuning_seeds'])} as the least mean cross-tags + {first['untagged_weight']:g} × "
              f"untagged returns (per 10⁴) of {', '.join(names)}: then evaluated on seeds "
-             f"{seeds[0]}–{seeds[-1]} ({len(seeds)} seeds). Tuning (mean over the tuning seeds and both trackers):",
+             f"{_seed_words(first['seeds'])} ({len(seeds)} seeds). Tuning (mean over the tuning seeds and both "
+             f"trackers):",
              "", "| p_min | cross-tags /10⁴ | untagged /10⁴ | cost | chosen |", "|---|---|---|---|---|"]
     allp = tuning[(tuning["tracker"] == "all") & (tuning["seed"] < 0)].sort_values("p_min")
     for r in allp.itertuples(index=False):
         lines.append(f"| {r.p_min:g} | {_pm(r.cross_tags_per_1e4)} | {_pm(r.uncorrelated_per_1e4)} | {_pm(r.score)} "
                      f"| {'yes' if r.chosen else ''} |")
     lines += ["", "Evaluated seeds (mean ± s.e.; ratios per seed to GNN's, over the seeds where GNN cross-tags):", "",
-              "| tracker | cross-tags /10⁴ | ratio to GNN | goal ≤ 0.5 | untagged /10⁴ | id-switch ratio |",
-              "|---|---|---|---|---|---|"]
+              "| tracker | seeds | cross-tags /10⁴ | ratio to GNN | goal ≤ 0.5 | untagged /10⁴ | id-switch ratio |",
+              "|---|---|---|---|---|---|---|"]
     for r in table.itertuples(index=False):
         has = np.isfinite(r.ratio)
         goal = ("met" if r.meets_goal else "not met") if has else ""
-        lines.append(f"| {TRACKER_NAMES[r.tracker]} | {_pm(r.cross_tags_per_1e4, r.cross_tags_per_1e4_se)} | "
+        lines.append(f"| {TRACKER_NAMES[r.tracker]} | {int(r.n_seeds)} | {_pm(r.cross_tags_per_1e4, r.cross_tags_per_1e4_se)} | "
                      f"{_pm(r.ratio, r.ratio_se) if has else ''} | {goal} | "
                      f"{_pm(r.uncorrelated_per_1e4, r.uncorrelated_per_1e4_se)} | "
                      f"{_pm(r.idsw_ratio, r.idsw_ratio_se) if has else ''} |")
@@ -158,8 +160,10 @@ def update_breakup_record(results, record=RECORD, workflow_dir=ROOT / "workflows
     if differ and not force:
         raise ValueError("the results are not the breakup record's run (" + "; ".join(differ) + ")")
     tun = sec["ambiguity"]["tuning"]
+    cards = pd.read_csv(source / "scorecard.csv")
+    ran = sorted(set(cards.loc[cards["scenario"] == "breakup", "seed"].astype(int)))  # the seeds the tables hold
     table = record_table(pd.read_csv(source / "summary.csv"), pd.read_csv(source / "ratios.csv"),
-                         chosen_p_min(tuning), tun["seeds"], tun["untagged_weight"], sec["seeds"])
+                         chosen_p_min(tuning), tun["seeds"], tun["untagged_weight"], ran)
     record = Path(record)
     record.mkdir(parents=True, exist_ok=True)
     table.to_csv(record / TABLE, index=False, float_format="%.6g")

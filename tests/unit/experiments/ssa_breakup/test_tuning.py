@@ -209,9 +209,9 @@ def test_record_table_claims_and_macros_by_hand(tmp_path):
     assert amb["p_min"] == 0.7 and amb["tuning_seeds"] == "1 12" and amb["seeds"] == "2 3"
     assert pd.read_csv(paths[1])["chosen"].any()
     md = paths[3].read_text()
-    assert "`p_min` = 0.7, chosen on tuning seeds 1 and 12" in md and "untagged returns (per 10⁴) of a, b:" in md and "evaluated on seeds 2–3 (2 seeds)" in md
+    assert "`p_min` = 0.7, chosen on tuning seeds 1 and 12" in md and "untagged returns (per 10⁴) of a, b:" in md and "evaluated on seeds 2 and 3 (2 seeds)" in md
     assert "| 0.7 | 5 | 60 | 11 | yes |" in md and "| 0.6 | 10 | 40 | 14 |  |" in md  # the hand table's means
-    assert "| δ-GLMB (Murty), ambiguity output | 1 ± 0 | 0.375 ± 0.12 | met | 70 ± 0 |" in md
+    assert "| δ-GLMB (Murty), ambiguity output | 2 | 1 ± 0 | 0.375 ± 0.12 | met | 70 ± 0 |" in md
     keys = {c.key: c for c in record_claims(table)}
     assert set(keys) == {"record_pmin", "record_ratio_glmb_murty", "record_ratio_glmb_murty_amb"}
     assert keys["record_pmin"].reproduced == "0.7" and "tuning seeds 1 and 12" in keys["record_pmin"].note

@@ -118,11 +118,13 @@ def record_markdown(table: pd.DataFrame, tuning: pd.DataFrame) -> str:
     tracker) per ``p_min``, and the evaluated seeds' verdict per tracker."""
     first = table.iloc[0]
     seeds = first["seeds"].split()
-    names = [TRACKER_NAMES.get(t, t) for t in dict.fromkeys(tuning["tracker"]) if t != "all"]
+    names = [TRACKER_NAMES.get(t.removesuffix("_amb"), t.removesuffix("_amb")) for t in dict.fromkeys(tuning["tracker"])
+             if t != "all"]
+    names = names[0] if len(names) == 1 else f"{', '.join(names[:-1])} and {names[-1]}"
     lines = [f"Record (`paper/record/{TABLE}`, `{TUNING}`; `full.yaml` with `breakup_record.yaml`): the "
              f"ambiguity output's `p_min` = {first['p_min']:g}, chosen on tuning seeds "
              f"{_seed_words(first['tuning_seeds'])} as the least mean cross-tags + {first['untagged_weight']:g} × "
-             f"untagged returns (per 10⁴) of {', '.join(names)}: then evaluated on seeds "
+             f"untagged returns (per 10⁴) of the ambiguity outputs of {names}, then evaluated on seeds "
              f"{_seed_words(first['seeds'])} ({len(seeds)} seeds). Tuning (mean over the tuning seeds and both "
              f"trackers):",
              "", "| p_min | cross-tags /10⁴ | untagged /10⁴ | cost | chosen |", "|---|---|---|---|---|"]
@@ -206,14 +208,15 @@ def record_claims(table: pd.DataFrame, reference: str = "gnn") -> list:
 
 
 def record_macros(table: pd.DataFrame) -> dict:
-    """Macros of the committed record: ``record_pmin``, ``record_lambda``, ``record_tuning_seeds`` (words),
-    ``record_n_seeds``, and per tracker ``record_{crosstags,uncorrelated,ratio,ratio_se,idsw_ratio}_<tracker>``
+    """Macros of the committed record: ``record_pmin``, ``record_lambda``, ``record_tuning_seeds`` and
+    ``record_seeds`` (words), ``record_n_seeds``, and per tracker ``record_{crosstags,uncorrelated,ratio,ratio_se,idsw_ratio}_<tracker>``
     and ``record_goal_<tracker>`` (``met``/``not met`` where a ratio was measured)."""
     if table.empty:
         return {}
     first = table.iloc[0]
     vals = dict(record_pmin=float(first["p_min"]), record_lambda=float(first["untagged_weight"]),
-                record_tuning_seeds=_seed_words(first["tuning_seeds"]), record_n_seeds=int(first["n_seeds"]))
+                record_tuning_seeds=_seed_words(first["tuning_seeds"]), record_n_seeds=int(first["n_seeds"]),
+                record_seeds=_seed_words(first["seeds"]))
     for r in table.itertuples(index=False):
         vals[f"record_crosstags_{r.tracker}"] = r.cross_tags_per_1e4
         vals[f"record_uncorrelated_{r.tracker}"] = r.uncorrelated_per_1e4

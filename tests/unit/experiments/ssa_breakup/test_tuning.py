@@ -209,7 +209,7 @@ def test_record_table_claims_and_macros_by_hand(tmp_path):
     assert amb["p_min"] == 0.7 and amb["tuning_seeds"] == "1 12" and amb["seeds"] == "2 3"
     assert pd.read_csv(paths[1])["chosen"].any()
     md = paths[3].read_text()
-    assert "`p_min` = 0.7, chosen on tuning seeds 1 and 12" in md and "untagged returns (per 10⁴) of a, b:" in md and "evaluated on seeds 2 and 3 (2 seeds)" in md
+    assert "`p_min` = 0.7, chosen on tuning seeds 1 and 12" in md and "untagged returns (per 10⁴) of the ambiguity outputs of a and b, then" in md and "evaluated on seeds 2 and 3 (2 seeds)" in md
     assert "| 0.7 | 5 | 60 | 11 | yes |" in md and "| 0.6 | 10 | 40 | 14 |  |" in md  # the hand table's means
     assert "| δ-GLMB (Murty), ambiguity output | 2 | 1 ± 0 | 0.375 ± 0.12 | met | 70 ± 0 |" in md
     keys = {c.key: c for c in record_claims(table)}
@@ -221,6 +221,7 @@ def test_record_table_claims_and_macros_by_hand(tmp_path):
     assert "misses" in keys["record_ratio_glmb_murty"].note
     m = record_macros(table)
     assert m["record_pmin"] == 0.7 and m["record_tuning_seeds"] == "1 and 12" and m["record_n_seeds"] == 2
+    assert m["record_seeds"] == "2 and 3"
     assert m["record_goal_glmb_murty_amb"] == "met" and m["record_goal_glmb_murty"] == "not met"
     assert "record_goal_gnn" not in m and m["record_uncorrelated_gnn"] == 40.0
     assert record_claims(pd.DataFrame()) == [] and record_macros(pd.DataFrame()) == {}

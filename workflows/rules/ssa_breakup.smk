@@ -19,6 +19,44 @@ rule ssa_breakup_run:
         "../scripts/ssa_breakup_run.py"
 
 
+# The ambiguity output's p_min tuned on seeds of its own (ambiguity.tuning; experiments/ssa_breakup/tuning.py): the
+# factored trackers and the reference run on the tuning seeds, the rule's table picks p_min, the table job keeps the
+# evaluated seeds' outputs at that p_min. Without a tuning block ambiguity.p_min is used as given (the default's).
+SB_TUNING = (config["ssa_breakup"].get("ambiguity") or {}).get("tuning") or {}
+SB_TUNE_TRACKERS = SB_TUNING.get("trackers", []) if SB_TUNING.get("seeds") else []
+SB_TUNE = [f"{SB_DIR}/tuning.csv"] if SB_TUNE_TRACKERS else []
+
+
+rule ssa_breakup_tuning_run:
+    output:
+        cards=f"{SB_DIR}/tuning/{{tracker}}_scorecard_timing.csv",
+        sweep=f"{SB_DIR}/tuning/{{tracker}}_ambiguity_sweep.csv",
+    wildcard_constraints:
+        tracker="|".join(SB_TUNE_TRACKERS) or "^$",
+    params:
+        cfg=config["ssa_breakup"],
+        catalogue=config["ssa_catalogue"],
+    script:
+        "../scripts/ssa_breakup_tuning_run.py"
+
+
+rule ssa_breakup_tuning:
+    input:
+        cards=expand(f"{SB_DIR}/tuning/{{tracker}}_scorecard_timing.csv", tracker=SB_TUNE_TRACKERS),
+        sweeps=expand(f"{SB_DIR}/tuning/{{tracker}}_ambiguity_sweep.csv", tracker=SB_TUNE_TRACKERS),
+    output:
+        table=report_table(f"{SB_DIR}/tuning.csv", "ssa_breakup", "tuning"),
+    params:
+        cfg=config["ssa_breakup"],
+    script:
+        "../scripts/ssa_breakup_tuning.py"
+
+
+# The committed ten-seed record (experiments/ssa_breakup/record.py: full.yaml + breakup_record.yaml), read back for
+# the ledger's record rows and the paper's record macros when it exists.
+SB_RECORD = [p for p in ["paper/record/ssa_breakup_record.csv"] if Path(p).exists()]
+
+
 rule ssa_breakup_density:
     output:
         density=f"{SB_DIR}/density.csv",
@@ -36,6 +74,8 @@ rule ssa_breakup_table:
         sweeps=expand(f"{SB_DIR}/runs/{{tracker}}_ambiguity_sweep.csv", tracker=SB_TRACKERS),
         density=f"{SB_DIR}/density.csv",
         distances=f"{SB_DIR}/nn_distances.csv",
+        tuning=SB_TUNE,
+        record=SB_RECORD,
     output:
         scorecard=report_table(f"{SB_DIR}/scorecard.csv", "ssa_breakup", "scorecard"),
         summary=report_table(f"{SB_DIR}/summary.csv", "ssa_breakup", "summary"),

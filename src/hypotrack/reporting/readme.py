@@ -16,7 +16,9 @@ byte-identical for one config and seed) are read with it. The quick start's run 
 beside the ledger (the last full run's wall clock and CPU time per rule, :mod:`hypotrack.reporting.pipeline_time`),
 and the whole-catalogue table, between :data:`CATALOGUE_BEGIN` and :data:`CATALOGUE_END`, is the text of
 ``ssa_catalogue_full.md`` beside it (rendered by its own recording step,
-:mod:`hypotrack.experiments.ssa_catalogue.record`). Why a committed
+:mod:`hypotrack.experiments.ssa_catalogue.record`), as the breakup cloud's ten-seed verdict between
+:data:`BREAKUP_BEGIN` and :data:`BREAKUP_END` is ``ssa_breakup_record.md``'s
+(:mod:`hypotrack.experiments.ssa_breakup.record`). Why a committed
 ledger and a developer command rather than a pipeline rule: the README is a source file, and no
 rule may write outside ``results``; the ledger it quotes is the default run's evidence, tracked in
 git (``paper/record/``, apart from the outputs of whatever run a user makes) so a reader (and the
@@ -51,6 +53,11 @@ CATALOGUE_END = "<!-- catalogue:end -->"
 CATALOGUE_RECORD = "ssa_catalogue_full.md"  # the whole-catalogue block, beside the ledger
 NO_CATALOGUE = ("The whole-catalogue run (`full.yaml`) is not recorded yet: run it, then "
                 "`python -m hypotrack.experiments.ssa_catalogue.record <results>`.")
+BREAKUP_BEGIN = "<!-- breakup:begin -->"
+BREAKUP_END = "<!-- breakup:end -->"
+BREAKUP_RECORD = "ssa_breakup_record.md"  # the breakup cloud's ten-seed verdict, beside the ledger
+NO_BREAKUP = ("The breakup cloud's ten-seed record is not committed yet: run `ssa_breakup` under `full.yaml` and "
+              "`breakup_record.yaml`, then `python -m hypotrack.experiments.ssa_breakup.record <results>`.")
 NO_RUNTIME = "run time not measured yet: no paper/record/pipeline_timing.csv is committed"
 NO_LEDGER = ("No ledger is recorded yet. Run the pipeline (`snakemake -c2`), then "
              "`python -m hypotrack.reporting.record` and commit README.md with `paper/record/`.")
@@ -138,6 +145,15 @@ def catalogue_text(ledger) -> str:
     return record.read_text()
 
 
+def breakup_text(ledger) -> str:
+    """The breakup record's block: ``ssa_breakup_record.md`` beside the ledger, as the experiment rendered it
+    (:mod:`hypotrack.experiments.ssa_breakup.record`)."""
+    record = None if ledger is None else Path(ledger).with_name(BREAKUP_RECORD)
+    if record is None or not record.exists():
+        return NO_BREAKUP + "\n"
+    return record.read_text()
+
+
 def generated_readme(text: str, ledger) -> str:
     """``text`` with its generated parts (run time, whole-catalogue table, ledger block) rewritten
     from ``ledger``'s directory."""
@@ -145,6 +161,8 @@ def generated_readme(text: str, ledger) -> str:
         text = replace_block(text, runtime_text(ledger), RUNTIME_BEGIN, RUNTIME_END, newline="")
     if CATALOGUE_BEGIN in text or CATALOGUE_END in text:
         text = replace_block(text, catalogue_text(ledger), CATALOGUE_BEGIN, CATALOGUE_END)
+    if BREAKUP_BEGIN in text or BREAKUP_END in text:
+        text = replace_block(text, breakup_text(ledger), BREAKUP_BEGIN, BREAKUP_END)
     return replace_block(text, readme_block(*_load(ledger)))
 
 

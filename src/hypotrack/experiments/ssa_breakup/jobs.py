@@ -22,6 +22,7 @@ from .identities import MODES
 from .run import build, control_radar, run_scored
 from .scorecard import identity_row, scorecard_row
 from .summary import density_rows
+from .tuning import output_p_mins
 
 __all__ = ["score_tracker", "score_tracker_outputs", "SWEEP_COLUMNS", "density", "smallest_gate_km"]
 
@@ -59,8 +60,9 @@ SWEEP_COLUMNS = ["scenario", "seed", "mode", "p_min", "tracker", "object_returns
 
 def score_tracker_outputs(name: str, cfg, cfg_catalogue) -> tuple[pd.DataFrame, pd.DataFrame]:
     """``(cards, sweep)``: the scorecard rows of :func:`score_tracker` — per (scenario, seed) the run's row and, for
-    a factored filter with an ``ambiguity`` block in ``cfg``, its ambiguity output's row (tracker ``<name>_amb``,
-    ``p_min``) from the same run — and the sweep rows (:data:`SWEEP_COLUMNS`; none for GNN/JPDA)."""
+    a factored filter with an ``ambiguity`` block in ``cfg``, its ambiguity output's rows (tracker ``<name>_amb``,
+    one per ``p_min`` of :func:`.tuning.output_p_mins`, column ``p_min``; NaN on the plain rows) from the same run —
+    and the sweep rows (:data:`SWEEP_COLUMNS`; none for GNN/JPDA)."""
     amb = cfg.get("ambiguity")
     rows, sweep = [], []
     for scen in cfg["scenarios"]:
@@ -73,8 +75,9 @@ def score_tracker_outputs(name: str, cfg, cfg_catalogue) -> tuple[pd.DataFrame, 
             if amb is None or run.marginals is None:
                 continue
             mode = amb.get("mode", "fresh")
-            out = run.with_output(float(amb["p_min"]), mode)
-            rows.append(dict(scenario=scen, seed=int(seed), **scorecard_row(out, scenario, sec, motion)))
+            for p in output_p_mins(amb):
+                out = run.with_output(p, mode)
+                rows.append(dict(scenario=scen, seed=int(seed), p_min=p, **scorecard_row(out, scenario, sec, motion)))
             for m in MODES:
                 for p in amb.get("p_min_sweep", []):
                     sweep.append(dict(scenario=scen, seed=int(seed), mode=m, p_min=float(p),

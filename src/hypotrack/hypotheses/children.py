@@ -1,6 +1,6 @@
 """Helpers of :meth:`HypothesisFilter.children_of <.filter.HypothesisFilter.children_of>`: the keys the cap ranks
-children by, whether pre-trimming a parent's association children is exact, and the null association added when a
-search found no valid child (:meth:`~.filter.HypothesisFilter.advance`)."""
+children by, whether pre-trimming a parent's association children is exact, and the null association used when a
+search found no valid child (:meth:`~.filter.HypothesisFilter.advance`'s fallback)."""
 
 from __future__ import annotations
 

@@ -336,8 +336,8 @@ class HypothesisFilter:
         "Best" is by log-weight, or by Gumbel-perturbed log-weight (``keys_rng`` given) for the
         weighted sample; the keys are returned so that the global cap uses the same draw. Returns
         ``(ChildSet, keys, n_generated, log mass generated, n_twins)``. ``generator``: the parent's
-        child generator (default the filter's; see :meth:`parent_generators`). ``with_null``: the
-        generated events include the null association (every return clutter) when it is feasible
+        child generator (default the filter's; see :meth:`parent_generators`). ``with_null``: the null
+        association (every return clutter) alone in place of the generator's events, when it is feasible
         (:meth:`advance`'s fallback).
         """
         generator = self.generator if generator is None else generator
@@ -365,8 +365,8 @@ class HypothesisFilter:
             gen_keep = keep
         events, lw = generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
-        if with_null:
-            events, lw = with_null_event(problem, events, lw)
+        if with_null:  # the fallback: the null association alone
+            events, lw = with_null_event(problem, events[:0], np.zeros(0))
         n_generated = len(lw)
         mass = [np.logaddexp.reduce(lw)] if len(lw) else []
         parts = [self._candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]
@@ -482,10 +482,10 @@ class HypothesisFilter:
 
         With a validity test, a generator that searches (MCMC, Gibbs, k-best) may return only children
         holding an unphysical track (a return that pulls a widely spread track onto an impossible orbit,
-        the other children too light to be found). The step is then taken again with each parent's null
-        association (every return clutter, its death twins with it) added to the generated children, so
-        the valid children of the whole child set are not lost to the search (no parent's children trimmed
-        before the validity test then); only when no child of that set is valid either does the step raise
+        the other children too light to be found). The step then falls back to each parent's null
+        association alone (every return clutter, with its population twins: deaths; a labeled
+        multi-Bernoulli parent's "every object missed" and "every object died") — a bounded child set whose
+        children hold only predicted tracks; only when none of those is valid either does the step raise
         ``RuntimeError``.
         """
         try:
@@ -500,8 +500,8 @@ class HypothesisFilter:
         parts, all_keys, n_gen, n_twins, masses = [], [], 0, 0, []
         t1 = _clock.perf_counter()
         for h in range(len(state.log_w)):
-            cs, keys, ng, mass, nt = self.children_of(ctx, state, h, None if with_null else self.max_hypotheses,
-                                                      keys_rng, gens[h], **({"with_null": True} if with_null else {}))
+            cs, keys, ng, mass, nt = self.children_of(ctx, state, h, self.max_hypotheses, keys_rng, gens[h],
+                                                      **({"with_null": True} if with_null else {}))
             parts.append(cs)
             all_keys.append(keys)
             n_gen += ng

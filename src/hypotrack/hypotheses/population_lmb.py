@@ -245,7 +245,7 @@ class LabeledMultiBernoulliPopulation(_Population):
         turned into the engine's return-indexed event plus a bit mask of its silent events
         (``ChildSet.POPULATION_SET``: bit ``j < M`` object ``j`` died, bit ``M + b`` birth term
         ``b`` born undetected). ``with_null``: the maps "every object missed, no birth" and "every object
-        died, no birth" are added where feasible (the engine's fallback when a search found no valid child).
+        died, no birth" alone, where feasible (the engine's fallback when a search found no valid child).
         """
         if not hasattr(weights, "labeled_problem"):
             raise ValueError(f"a labeled multi-Bernoulli population needs GLMB weights, got {type(weights).__name__}")
@@ -257,7 +257,7 @@ class LabeledMultiBernoulliPopulation(_Population):
         if with_null:
             nulls = np.full((2, M + ctx.n_birth_regions), DIED, dtype=np.int64)
             nulls[0, :M] = MISSED
-            gammas, lw = with_events(problem, np.asarray(gammas, dtype=np.int64).reshape(len(lw), -1), lw, nulls)
+            gammas, lw = with_events(problem, np.zeros((0, M + ctx.n_birth_regions), np.int64), np.zeros(0), nulls)
         events, masks = self.to_events(np.asarray(gammas), M, ctx.n_returns)
         kind = np.full(len(lw), ChildSet.POPULATION_SET, np.int64)
         return events, kind, masks, np.asarray(lw, dtype=float)

@@ -120,8 +120,8 @@ def _searched_filter(validity, generator):
 @pytest.mark.parametrize("generator", ["murty", "mcmc"])
 def test_a_search_that_finds_only_invalid_children_falls_back_to_the_null_association(generator):
     """The return 2 km off the prediction pulls the updated track past a wall the prediction is inside; the search
-    finds only that child (the missed one is ~10^12 times lighter). The step is taken again with the null association
-    added: the missed child, the prediction itself, alone and of weight 1."""
+    finds only that child (the missed one is ~10^12 times lighter). The step falls back to the null association
+    alone: the missed child, the prediction itself, of weight 1."""
     from hypotrack.hypotheses import MCMCGenerator, MurtyGenerator
 
     x_pred = MOTION.propagate(X0[0], DT)

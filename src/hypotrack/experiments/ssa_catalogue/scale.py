@@ -18,7 +18,8 @@ load average of the machine before and after; ``blas_threads``, the ``OPENBLAS_N
 runs with its spread (min, max), and per tracker the log-log slope of CPU per scan against ``N``.
 
 A run not finished within ``scale.timeout_s`` seconds of wall time (when set) is stopped and recorded as
-``timed_out``; its tracker is not run again at that ``N`` or above (``skipped``), and the summary takes the
+``timed_out``, a run whose process fails (e.g. out of memory) as ``failed`` with its reason; either way its
+tracker is not run again at that ``N`` or above (``skipped``), and the summary takes the
 finished runs only. Each run's process has BLAS on one thread (:data:`ONE_THREAD`). A numba kernel a tracker
 first calls after the untimed scans (e.g. JPDA's first large cluster) is compiled inside a timed scan when the
 kernel cache is cold: a fresh checkout's first run can be seconds dearer than the next.
@@ -56,7 +57,16 @@ from ...scenarios.catalogue import load_catalogue, reference_epoch
 from ...scenarios.catalogue.clones import simulate_clones
 from .run import initial_tracks, make_motion, make_problem, make_radar, make_tracker, tracker_sensor
 
-__all__ = ["FIGURES", "ONE_THREAD", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
+__all__ = ["FIGURES", "ONE_THREAD", "ScaleRunFailed", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
+
+class ScaleRunFailed(RuntimeError):
+    """A run's process ended with an error (``reason``: its last line of error output, or the signal that killed
+    it: an out-of-memory kill has none)."""
+
+    def __init__(self, message: str, reason: str):
+        super().__init__(message)
+        self.reason = reason
+
 
 #: The per-run figures :func:`scale_summary` takes the median and spread of.
 FIGURES = ("cpu_s_per_scan", "us_per_object_in_view", "us_per_object", "us_per_return", "real_time_factor",
@@ -151,14 +161,17 @@ def run_isolated(cfg, tracker: str, n: int, seed: int, timeout: float | None = N
     except subprocess.TimeoutExpired:
         return None
     if res.returncode != 0:
-        raise RuntimeError(f"scale run {tracker} at N = {n} failed:\n{res.stderr[-3000:]}")
+        why = res.stderr.strip().splitlines()[-1] if res.stderr.strip() else f"killed by signal {-res.returncode}" \
+            if res.returncode < 0 else f"exit status {res.returncode}"
+        raise ScaleRunFailed(f"scale run {tracker} at N = {n} failed: {why}", why)
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
 def scale_runs(cfg, seed: int, *, log=print) -> pd.DataFrame:
     """Every run of ``cfg["scale"]``: for each repetition, each size and each tracker (repetitions
     outermost, so that a change of the machine's load spreads over all); one row per run, its ``status``
-    ``done``, ``timed_out`` (not finished within ``scale.timeout_s`` seconds of wall time, when set) or
+    ``done``, ``timed_out`` (not finished within ``scale.timeout_s`` seconds of wall time, when set), ``failed``
+    (the process ended with an error, ``error`` its reason) or
     ``skipped``: a tracker that timed out at N is not run again at N or above (a run there would only
     time out again), its figures NaN."""
     s = cfg["scale"]
@@ -174,7 +187,14 @@ def scale_runs(cfg, seed: int, *, log=print) -> pd.DataFrame:
                     log(f"{name} N={n} run {rep}: skipped (timed out at N={gave_up[name]})")
                     continue
                 load0 = os.getloadavg()[0]
-                r = run_isolated(cfg, name, n, seed, timeout=timeout)
+                try:
+                    r = run_isolated(cfg, name, n, seed, timeout=timeout)
+                except ScaleRunFailed as e:  # e.g. out of memory: recorded, the tracker not run again at N or above
+                    gave_up[name] = min(gave_up.get(name, np.inf), n)
+                    rows.append(dict(tracker=name, n_objects=int(n), run=rep, status="failed", error=e.reason,
+                                     load_before=load0, load_after=os.getloadavg()[0]))
+                    log(f"{name} N={n} run {rep}: failed ({e.reason})")
+                    continue
                 if r is None:
                     gave_up[name] = min(gave_up.get(name, np.inf), n)
                     rows.append(dict(tracker=name, n_objects=int(n), run=rep, status="timed_out", load_before=load0,
@@ -197,6 +217,7 @@ def scale_summary(runs: pd.DataFrame) -> pd.DataFrame:
         status = g_all["status"] if "status" in g_all else pd.Series("done", index=g_all.index)
         g = g_all[status == "done"]
         r = dict(tracker=name, n_objects=int(n), runs=len(g), runs_timed_out=int((status == "timed_out").sum()),
+                 runs_failed=int((status == "failed").sum()),
                  runs_skipped=int((status == "skipped").sum()),
                  n_scans=int(g["n_scans"].iloc[0]) if len(g) else np.nan,
                  in_view_per_scan=g["in_view_per_scan"].iloc[0] if len(g) else np.nan,

@@ -34,7 +34,7 @@ def scale_config_differences(table: pd.DataFrame, scale: dict) -> list[str]:
         out.append(f"sizes {sorted(table['n_objects'].unique().tolist())} (config {scale['sizes']})")
     if sorted(table["tracker"].unique()) != sorted(scale["trackers"]):
         out.append(f"trackers {sorted(table['tracker'].unique())} (config {scale['trackers']})")
-    planned = table["runs"] + table.get("runs_timed_out", 0) + table.get("runs_skipped", 0)
+    planned = table["runs"] + table.get("runs_timed_out", 0) + table.get("runs_failed", 0) + table.get("runs_skipped", 0)
     if not (planned == int(scale["runs"])).all():
         out.append(f"runs {sorted(planned.unique().tolist())} (config {scale['runs']})")
     timed = int(scale["n_scans"]) - int(scale.get("warm_scans", 1))
@@ -56,7 +56,11 @@ def _three(r, figure: str, scale: float = 1.0, fmt: str = ".3g"):
 
 def _cell(three, r) -> str:
     if three is None:
-        return f"not finished ({int(r.get('runs_timed_out', 0))} timed out)"
+        failed = int(r.get("runs_failed", 0)) if np.isfinite(r.get("runs_failed", 0)) else 0
+        timed_out = int(r.get("runs_timed_out", 0))
+        if not failed and not timed_out and int(r.get("runs_skipped", 0)):
+            return "not run (stopped at a smaller N)"
+        return f"not finished ({f'{failed} failed' if failed else f'{timed_out} timed out'})"
     return f"{three[0]} [{three[1]}, {three[2]}]"
 
 
@@ -106,8 +110,11 @@ def scale_record_markdown(table: pd.DataFrame) -> str:
     load_s = table.loc[table["n_objects"] == small, "load_mean"].mean()
     load_b = table.loc[table["n_objects"] == large, "load_mean"].mean()
     stopped = ("runs_timed_out" in table) and bool(table["runs_timed_out"].sum())
+    failed = ("runs_failed" in table) and bool(table["runs_failed"].fillna(0).sum())
     lines += ["", ("A run not finished within the wall-time limit (`timeout_s`) was stopped, and its tracker not run "
                    "again at that N or above. " if stopped else "") +
+              ("A run whose process failed (e.g. out of memory) is recorded as failed, and its "
+               "tracker not run again at that N or above. " if failed else "") +
               f"Real-time factor: simulated seconds per CPU second (above 1 the tracker keeps up with the radar); "
               f"slopes over N ∈ {{{sizes}}}; the machine's load average over the runs {load_s:.2g} at N = {small:,} "
               f"and {load_b:.2g} at N = {large:,} (a shared 2-core machine)."]

@@ -140,3 +140,34 @@ def test_a_steady_state_start_keeps_the_priors_at_the_epoch_and_shifts_the_scans
     assert r["start_after_s"] == 600.0 and r["n_scans"] == 3
     with pytest.raises(ValueError, match=r"^scale\.start_after_s must be >= 0 .*got -1\.0$"):
         measure_run(dict(cfg, scale=dict(cfg["scale"], start_after_s=-1.0)), "gnn", 60, 3)
+
+
+def test_a_failed_run_is_recorded_with_its_reason_and_its_tracker_skipped_at_that_n_and_above(cfg, monkeypatch):
+    """A run whose process fails (here glmb at N = 100: a stand-in for an out-of-memory kill) is a ``failed`` row with
+    the reason, later runs of that tracker at N = 100 and above are skipped, the other tracker runs on; the summary
+    counts the failure and the scale record's cell says so."""
+    import hypotrack.experiments.ssa_catalogue.scale as scale
+    from hypotrack.experiments.ssa_catalogue.scale_record import scale_record_markdown
+
+    def fake(cfg, tracker, n, seed, timeout=None):
+        if tracker == "glmb" and n >= 100:
+            raise scale.ScaleRunFailed(f"scale run {tracker} at N = {n} failed: killed by signal 9", "killed by signal 9")
+        return dict(tracker=tracker, n_objects=n, n_scans=2, in_view_per_scan=1.0, returns_per_scan=1.0, cpu_s=0.2,
+                    cpu_s_per_scan=0.1 * n / 60, us_per_object_in_view=1.0, us_per_object=1.0, us_per_return=1.0,
+                    real_time_factor=100.0, peak_rss_mb=100.0, wall_s=1.0, load_before=1.0, load_after=1.0,
+                    blas_threads="1")
+
+    monkeypatch.setattr(scale, "run_isolated", fake)
+    c = dict(cfg, scale=dict(cfg["scale"], sizes=[60, 100, 1000], runs=2, trackers=["gnn", "glmb"]))
+    runs = scale_runs(c, 3, log=lambda s: None)
+    got = {(t, n, r): s for t, n, r, s in zip(runs["tracker"], runs["n_objects"], runs["run"], runs["status"])}
+    assert got[("glmb", 100, 0)] == "failed" and got[("glmb", 60, 0)] == got[("glmb", 60, 1)] == "done"
+    assert got[("glmb", 1000, 0)] == got[("glmb", 100, 1)] == got[("glmb", 1000, 1)] == "skipped"
+    assert all(got[("gnn", n, r)] == "done" for n in (60, 100, 1000) for r in (0, 1))
+    assert runs.loc[runs["status"] == "failed", "error"].tolist() == ["killed by signal 9"]
+    t = scale_summary(runs).set_index(["tracker", "n_objects"])
+    assert t.loc[("glmb", 100), ["runs", "runs_failed", "runs_skipped"]].tolist() == [0, 1, 1]
+    assert t.loc[("glmb", 1000), ["runs", "runs_failed", "runs_skipped"]].tolist() == [0, 0, 2]
+    md = scale_record_markdown(scale_summary(runs))
+    assert "not run (stopped at a smaller N)" in md  # glmb at the largest N: skipped after its failure at 100
+    assert "recorded as failed" in md

@@ -139,6 +139,9 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
 def _child():
     """Entry of :func:`run_isolated`'s process: a JSON request on stdin, the run's JSON on stdout."""
     req = json.load(sys.stdin)
+    limit = req["cfg"]["scale"].get("memory_limit_gb")
+    if limit is not None:  # an allocation past it fails with MemoryError (the run: failed) instead of the machine's OOM kill
+        resource.setrlimit(resource.RLIMIT_AS, (int(float(limit) * 2**30), resource.RLIM_INFINITY))
     print(json.dumps(measure_run(req["cfg"], req["tracker"], req["n"], req["seed"])))
 
 

@@ -114,7 +114,7 @@ def update_catalogue_record(results, record=RECORD, readme=ROOT / "README.md", w
     differ = config_differences(run, want)
     if differ and not force:
         raise ValueError("the run's ssa_catalogue config is not workflows/config/full.yaml's (differs at "
-                         + ", ".join(differ[:8]) + "); the catalogue record is the full run")
+                         + ", ".join(differ) + "); the catalogue record is the full run")
     acc = pd.read_csv(source / "summary.csv")
     tim = pd.read_csv(source / "summary_timing.csv")
     table = acc.merge(tim.drop(columns=[c for c in ("mean_in_view",) if c in tim]), on=["tracker", "n_objects"])

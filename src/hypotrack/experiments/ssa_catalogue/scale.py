@@ -187,7 +187,7 @@ def scale_runs(cfg, seed: int, *, log=print) -> pd.DataFrame:
             for name in s["trackers"]:
                 if n >= gave_up.get(name, np.inf):
                     rows.append(dict(tracker=name, n_objects=int(n), run=rep, status="skipped"))
-                    log(f"{name} N={n} run {rep}: skipped (timed out at N={gave_up[name]})")
+                    log(f"{name} N={n} run {rep}: skipped (stopped at N={gave_up[name]})")
                     continue
                 load0 = os.getloadavg()[0]
                 try:

@@ -93,7 +93,8 @@ def scale_record_markdown(table: pd.DataFrame) -> str:
     """The README's scale block: per tracker the macros' figures as a Markdown table (median [min, max])."""
     small, large = int(table["n_objects"].min()), int(table["n_objects"].max())
     runs, scans = int(table["runs"].max()), int(table["n_scans"].min())
-    threads = set(table["blas_threads"].astype(str)) if "blas_threads" in table else {"default"}
+    threads = ({f"{t:g}" if isinstance(t, float) else str(t) for t in table["blas_threads"].dropna()} - {""}
+               if "blas_threads" in table else {"default"})  # read back from CSV, "1" is 1.0
     blas = "BLAS on one thread" if threads == {"1"} else f"BLAS threads: {', '.join(sorted(threads))}"
     lines = [f"Timing at scale (the catalogue cloned to N objects, `full.yaml`'s `ssa_catalogue.scale`, recorded in "
              f"`paper/record/ssa_catalogue_scale.csv`): median [min, max] of {runs} runs of {scans} timed scans each, "

@@ -63,9 +63,9 @@ def config_differences(run: dict, default: dict, prefix: str = "") -> list[str]:
     return out
 
 
-def full_config(workflow_dir=ROOT / "workflows") -> dict:
-    """``default.yaml`` overlaid with ``full.yaml`` (dictionaries merged key by key, as Snakemake
-    merges a ``--configfile``), validated."""
+def overlaid_config(names, workflow_dir=ROOT / "workflows") -> dict:
+    """The config files ``names`` of ``workflows/config`` overlaid in order (dictionaries merged key by key, as
+    Snakemake merges several ``--configfile``s), validated."""
     def merge(a, b):
         out = dict(a)
         for k, v in b.items():
@@ -73,8 +73,15 @@ def full_config(workflow_dir=ROOT / "workflows") -> dict:
         return out
 
     cfg = Path(workflow_dir) / "config"
-    config = merge(yaml.safe_load((cfg / "default.yaml").read_text()), yaml.safe_load((cfg / "full.yaml").read_text()))
+    config = {}
+    for name in names:
+        config = merge(config, yaml.safe_load((cfg / name).read_text()))
     return validate_config(config, cfg / "schema")
+
+
+def full_config(workflow_dir=ROOT / "workflows") -> dict:
+    """``default.yaml`` overlaid with ``full.yaml`` (:func:`overlaid_config`)."""
+    return overlaid_config(("default.yaml", "full.yaml"), workflow_dir)
 
 
 def update_record(results="results", record=RECORD, readme=ROOT / "README.md", workflow_dir=ROOT / "workflows",

@@ -27,12 +27,10 @@ from pathlib import Path
 
 import numpy as np
 import pandas as pd
-import yaml
 
-from ...config import validate_config
 from ...reporting.ledger import Claim
 from ...reporting.readme import BREAKUP_RECORD
-from ...reporting.record import RECORD, ROOT, rewrite_readme, run_step
+from ...reporting.record import RECORD, ROOT, overlaid_config, rewrite_readme, run_step
 from .summary import EXPERIMENT, TRACKER_NAMES
 from .tuning import chosen_p_min
 
@@ -49,18 +47,8 @@ _STATS = ("cross_tags_per_1e4", "uncorrelated_per_1e4", "id_switches_per_1e4", "
 
 def record_config(workflow_dir=ROOT / "workflows") -> dict:
     """The ``ssa_breakup`` section of ``default.yaml`` overlaid with ``full.yaml`` then ``breakup_record.yaml``
-    (dictionaries merged key by key, as Snakemake merges ``--configfile``s), validated."""
-    def merge(a, b):
-        out = dict(a)
-        for k, v in b.items():
-            out[k] = merge(a[k], v) if isinstance(v, dict) and isinstance(a.get(k), dict) else v
-        return out
-
-    cfg = Path(workflow_dir) / "config"
-    config = {}
-    for name in OVERLAYS:
-        config = merge(config, yaml.safe_load((cfg / name).read_text()))
-    return validate_config(config, cfg / "schema")["ssa_breakup"]
+    (:func:`~hypotrack.reporting.record.overlaid_config`)."""
+    return overlaid_config(OVERLAYS, workflow_dir)["ssa_breakup"]
 
 
 def record_table(summary: pd.DataFrame, ratios: pd.DataFrame, p_min: float, tuning_seeds, untagged_weight: float,

@@ -31,7 +31,7 @@ from .._validation import (
 )
 from ..gaussian import mahalanobis2_matrix
 
-__all__ = ["gate_threshold", "validation_matrix", "gate_measurements"]
+__all__ = ["gate_threshold", "validation_matrix", "gate_measurements", "box_candidates"]
 
 
 def gate_threshold(p_gate: float, dim: int) -> float:
@@ -120,3 +120,25 @@ def gate_measurements(Z, z_pred, S, p_gate: float) -> tuple[np.ndarray, np.ndarr
     gamma = gate_threshold(p_gate, p)
     d2, _ = mahalanobis2_matrix(Z, z_pred, S)
     return validation_matrix(d2, gamma), d2
+
+
+def box_candidates(Z, z_pred, half, residual_rows) -> tuple[np.ndarray, np.ndarray]:
+    """``(rows, cols)`` of the (return, track) pairs whose every innovation component lies within the track's
+    half-widths: ``|ν_a| ≤ half[j, a]`` with ``ν = residual_rows(Z[i], z_pred[j])``, rows sorted by the first
+    component within each track (tracks in order).
+
+    With ``half[j, a] = √(γ S_j,aa)`` (a margin for rounding) every pair in the gate ``νᵀ S⁻¹ ν ≤ γ`` is among them:
+    ``νᵀ S⁻¹ ν ≥ ν_a² / S_aa`` for every component (Cauchy–Schwarz in the ``S⁻¹`` inner product). The first
+    component's band is found by binary search on the sorted returns, the others checked on the band's pairs, so
+    the cost is that of the band's pairs, not of all ``m n``. ``residual_rows`` may wrap angles; the band uses
+    the first component's plain difference, so that component must not be an angle.
+    """
+    half = np.asarray(half, dtype=float)
+    order = np.argsort(Z[:, 0], kind="stable")
+    z0 = Z[order, 0]
+    lo = np.searchsorted(z0, z_pred[:, 0] - half[:, 0], side="left")
+    cnt = np.maximum(np.searchsorted(z0, z_pred[:, 0] + half[:, 0], side="right") - lo, 0)
+    k = np.repeat(np.arange(len(z_pred)), cnt)  # candidate pairs: each track's band of returns
+    r = order[lo[k] + np.arange(len(k)) - np.repeat(np.cumsum(cnt) - cnt, cnt)]
+    box = np.all(np.abs(residual_rows(Z[r], z_pred[k])) <= half[k], axis=1)
+    return r[box].astype(np.int64), k[box].astype(np.int64)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["gumbel_keys", "twins_never_heavier", "with_events", "with_null_event"]
+__all__ = ["feasible_events", "gumbel_keys", "null_event", "twins_never_heavier"]
 
 
 def gumbel_keys(lw, rng):
@@ -37,23 +37,16 @@ def twins_never_heavier(pop, ctx, p, in_view, p_survive=None) -> bool:
     return True
 
 
-def with_events(problem, events, lw, extra):
-    """``(events, lw)`` with the rows of ``extra`` (events of ``problem``, int) appended that are feasible (finite
-    log-weight under ``problem.log_weights``) and not among ``events`` already."""
+def feasible_events(problem, events):
+    """``(events, lw)``: the rows of ``events`` (int events of association problem ``problem``) whose log-weight
+    under ``problem.log_weights`` is finite, and those log-weights."""
     events = np.asarray(events)
-    extra = np.asarray(extra, dtype=events.dtype).reshape(-1, events.shape[1] if events.ndim == 2 else len(extra[0]))
-    if extra.shape[1] == 0:
-        return events, lw
-    lw_extra = problem.log_weights(extra)
-    new = [i for i in range(len(extra)) if np.isfinite(lw_extra[i])
-           and not (len(events) and np.any(np.all(events == extra[i], axis=1)))]
-    if not new:
-        return events, lw
-    return np.concatenate([events.reshape(-1, extra.shape[1]), extra[new]]), \
-        np.concatenate([np.asarray(lw, dtype=float), lw_extra[new]])
+    lw = np.asarray(problem.log_weights(events), dtype=float)
+    ok = np.isfinite(lw)
+    return events[ok], lw[ok]
 
 
-def with_null_event(problem, events, lw):
-    """``(events, lw)`` with the null association (every return clutter) appended when it is feasible and not
-    among ``events`` already (``(E, m)`` int32 events of association problem ``problem``, log-weights ``lw``)."""
-    return with_events(problem, events, lw, np.full((1, problem.n_returns), -1, dtype=np.int32))
+def null_event(problem):
+    """``(events, lw)`` of the null association alone (every return clutter; none on an empty scan), when it is
+    feasible (:meth:`~.filter.HypothesisFilter.advance`'s fallback)."""
+    return feasible_events(problem, np.full((1, problem.n_returns), -1, dtype=np.int32))

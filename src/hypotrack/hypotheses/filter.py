@@ -47,7 +47,7 @@ from ..association import gate_threshold, validation_matrix
 from ..models.measurement import LinearMeasurement
 from .detection import state_p_detect
 from .duplicates import child_pairs, merge_duplicates
-from .children import gumbel_keys, twins_never_heavier, with_null_event
+from .children import gumbel_keys, null_event, twins_never_heavier
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
 from .posterior import summarise
@@ -363,10 +363,9 @@ class HypothesisFilter:
         gen_keep = None
         if keep is not None and keys_rng is None and (pop is None or twins_never_heavier(pop, ctx, p, in_view, ps)):
             gen_keep = keep
-        events, lw = generator.generate(problem, self.rng, keep=gen_keep)
+        # the fallback (advance): the null association alone, no search
+        events, lw = null_event(problem) if with_null else generator.generate(problem, self.rng, keep=gen_keep)
         events = np.asarray(events, dtype=np.int32)
-        if with_null:  # the fallback: the null association alone
-            events, lw = with_null_event(problem, events[:0], np.zeros(0))
         n_generated = len(lw)
         mass = [np.logaddexp.reduce(lw)] if len(lw) else []
         parts = [self._candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]

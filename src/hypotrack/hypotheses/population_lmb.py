@@ -50,7 +50,7 @@ from .._validation import check_covariance, check_finite_array, check_probabilit
 from ..association import gate_threshold
 from ..gaussian import innovation_unchecked, update
 from .association_problem import CLUTTER
-from .children import with_events
+from .children import feasible_events
 from .hypothesis import ChildSet
 from .population_events import _Population
 
@@ -253,11 +253,12 @@ class LabeledMultiBernoulliPopulation(_Population):
         M = len(tracks)
         log_r, log_not = self.log_existence(M, None if ctx.p_survive is None else ctx.p_survive[tracks])
         problem = weights.labeled_problem(ctx, tracks, log_r, log_not, log_weight)
-        gammas, lw = generator.generate(problem, rng, keep=keep)
-        if with_null:
+        if with_null:  # the engine's fallback: "every object missed" and "every object died", no search
             nulls = np.full((2, M + ctx.n_birth_regions), DIED, dtype=np.int64)
             nulls[0, :M] = MISSED
-            gammas, lw = with_events(problem, np.zeros((0, M + ctx.n_birth_regions), np.int64), np.zeros(0), nulls)
+            gammas, lw = feasible_events(problem, nulls)
+        else:
+            gammas, lw = generator.generate(problem, rng, keep=keep)
         events, masks = self.to_events(np.asarray(gammas), M, ctx.n_returns)
         kind = np.full(len(lw), ChildSet.POPULATION_SET, np.int64)
         return events, kind, masks, np.asarray(lw, dtype=float)

@@ -25,6 +25,8 @@ import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
+from ..association.gating import box_candidates
+
 __all__ = ["candidate_pairs", "gate_blocks", "SPARSE_PAIRS", "BLOCK_TRACKS"]
 
 #: Scans with more (return, track) pairs than this are solved block by block (:func:`gate_blocks`); smaller
@@ -53,15 +55,7 @@ def candidate_pairs(x, P, Z, model) -> tuple[np.ndarray, np.ndarray]:
     if n == 0 or m == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     z_pred, S_diag = _innovation_moments(x, P, model)
-    half = np.sqrt(model.gate * S_diag) * (1.0 + 1e-6)
-    order = np.argsort(Z[:, 0], kind="stable")
-    z0 = Z[order, 0]
-    lo = np.searchsorted(z0, z_pred[:, 0] - half[:, 0], side="left")
-    cnt = np.maximum(np.searchsorted(z0, z_pred[:, 0] + half[:, 0], side="right") - lo, 0)
-    k = np.repeat(np.arange(n), cnt)
-    r = order[lo[k] + np.arange(len(k)) - np.repeat(np.cumsum(cnt) - cnt, cnt)]
-    box = np.all(np.abs(model.residual_rows(Z[r], z_pred[k])) <= half[k], axis=1)
-    return r[box].astype(np.int64), k[box].astype(np.int64)
+    return box_candidates(Z, z_pred, np.sqrt(model.gate * S_diag) * (1.0 + 1e-6), model.residual_rows)
 
 
 def gate_blocks(x, P, Z, model, *, block_tracks: int | None = None) -> list[tuple[np.ndarray, np.ndarray]]:

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.spatial import cKDTree
 
-from ...association.gating import gate_threshold
+from ...association.gating import box_candidates, gate_threshold
 from ...gaussian import innovation_unchecked
 from ...models.measurement import ExtendedMeasurement
 from ..detection import state_p_detect
@@ -172,14 +172,8 @@ def sensor_frame_pairs(engine, pred, Z, *, gate_out_of_view: bool, p_survive=Non
     gamma = gate_threshold(engine.gate_probability, engine.meas_dim)
     cols = np.arange(n) if gate_out_of_view else np.flatnonzero(p_detect > 0)
     half = np.sqrt(gamma * np.diagonal(S[cols], axis1=1, axis2=2)) * (1 + 1e-6)  # a margin for rounding
-    order = np.argsort(Z[:, 0], kind="stable")
-    z0 = Z[order, 0]
-    lo = np.searchsorted(z0, z_pred[cols, 0] - half[:, 0], side="left")
-    cnt = np.maximum(np.searchsorted(z0, z_pred[cols, 0] + half[:, 0], side="right") - lo, 0)
-    k = np.repeat(np.arange(len(cols)), cnt)  # candidate pairs: each track's band of returns
-    r = order[lo[k] + np.arange(len(k)) - np.repeat(np.cumsum(cnt) - cnt, cnt)]
-    box = np.all(np.abs(meas.residual_rows(Z[r], z_pred[cols[k]])) <= half[k], axis=1)
-    r, c = r[box], cols[k[box]]
+    r, k = box_candidates(Z, z_pred[cols], half, meas.residual_rows)
+    c = cols[k]
     # the dense path's arithmetic per pair: the residual, u = L⁻¹ν summed over k in order (as the dense einsum
     # over (m, n, p) sums; the einsum of a (pairs, p) layout may pair the terms differently), d² its squared norm
     nu, Li = meas.residual_rows(Z[r], z_pred[c]), Linv[c]

@@ -75,6 +75,7 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
     else:
         b.set_xticks(x, [_SHORT.get(t, TRACKER_NAMES[t]) for t in names])
     b.set_ylabel("cross-tags per 10$^4$ object returns")
+    b.set_ylim(bottom=0.0)  # counts: an axis below zero (all bars zero) reads as an error
     b.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=1)
     if ratios is not None:
         _plot_ratios(c, ratios)
@@ -95,8 +96,14 @@ def _plot_ratios(ax, ratios: pd.DataFrame):
     for i, m in enumerate(metrics):
         g = r[r["metric"] == m].set_index("tracker").reindex(names)
         label, colour = _METRIC_STYLE[m]
-        ax.bar(x + (i - (len(metrics) - 1) / 2) * w, g["ratio"], w, yerr=g["ratio_se"].fillna(0.0), color=colour,
-               capsize=2, label=label)
+        xs = x + (i - (len(metrics) - 1) / 2) * w
+        ax.bar(xs, g["ratio"], w, yerr=g["ratio_se"].fillna(0.0), color=colour, capsize=2, label=label)
+        for xi, v in zip(xs, g["ratio"]):
+            # a missing bar (no seed where the reference made one) and a zero (off a log axis) would read alike
+            if not np.isfinite(v) or v == 0:
+                ax.annotate("0" if v == 0 else "none: GNN\nhas zero", (xi, 0.0), xycoords=("data", "axes fraction"),
+                            xytext=(0, 3), textcoords="offset points", ha="center", va="bottom", color=colour,
+                            fontsize=7)
     goal = float(r["goal"].iloc[0]) if len(r) else 0.5
     ax.axhline(goal, color="k", ls="--", lw=1, label=f"goal {goal:g}")
     ax.axhline(1.0, color="k", ls=":", lw=0.8, label="parity")

@@ -240,3 +240,28 @@ def test_lazy_prediction_is_checked():
     model = ScanModel(np.array([[1.0, 0, 0, 0], [0, 1.0, 0, 0]]), np.eye(2), 0.9, 0.99, 1e-3)
     with pytest.raises(ValueError, match="lazy_prediction must be one of"):
         SingleHypothesisTracker(motion, model, lazy=True, lazy_prediction="once", in_view=lambda x: x[:, 0] < 1)
+
+
+@pytest.mark.parametrize("association", ["gnn", "jpda"])
+def test_reading_the_estimates_does_not_change_the_run(scene, association):
+    """``estimates()`` predicts the deferred tracks to now; a run read every scan must end with the tracks of a run
+    never read, bit for bit. (The catalogue's scored and timed passes of GNN once differed by six label switches at
+    N = 10,855 because reading rounded a near tie the other way; this small scene does not reach such a tie, so it
+    guards the property, not that case.)"""
+    motion, scans, truth = scene
+    read, unread = make(motion, association, lazy=True), make(motion, association, lazy=True)
+    known = np.arange(10)
+    P0 = np.broadcast_to(np.diag([1.0, 1.0, 1.0, 1e-6, 1e-6, 1e-6]), (10, 6, 6))
+    for tr in (read, unread):
+        tr.initialise(truth[0, known], P0, known + 100, time=0.0)
+    n_deferred = 0
+    for t, Z in scans:
+        read.step(Z, t)
+        unread.step(Z, t)
+        n_deferred += read.last_predicted < len(read.estimates(covariances=False))
+        read.estimates()
+    assert n_deferred > 50  # the reads did predict deferred tracks
+    a, b = read.estimates(), unread.estimates()
+    np.testing.assert_array_equal(a.labels, b.labels)
+    np.testing.assert_array_equal(a.x, b.x)
+    np.testing.assert_array_equal(a.P, b.P)

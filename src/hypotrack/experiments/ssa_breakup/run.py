@@ -162,20 +162,33 @@ def pass_ends(truth: pd.DataFrame, gap_s: float = PASS_GAP_S) -> pd.DataFrame:
 
 def correlate_in_sensor_frame(measurement, Z, labels, X, gate_probability: float) -> np.ndarray:
     """The sensor-frame counterpart of :func:`hypotrack.metrics_scorecard.correlate_returns` (the documented radar):
-    each return's track is the estimate (means ``X``) of smallest ``d² = νᵀ R⁻¹ ν`` — ``ν`` the return's
-    (azimuth-wrapped) residual from the estimate's predicted return ``h(x̂)``, ``R`` the radar's noise — within
-    the ``χ²₄(gate_probability)`` gate, −1 when none. As the stand-in's Euclidean gate (``√χ²₃(0.999) σ``), the
-    99.9 % gate of the measurement noise alone (the estimates' own errors are smaller); a Euclidean km gate on the
-    radar's returns would drop half of them (their cross-beam error is 1.2–2.6 km at 1,400–3,000 km)."""
+    the scan's returns correlated one-to-one with the estimates (means ``X``) by ``d² = νᵀ R⁻¹ ν`` — ``ν`` the
+    return's (azimuth-wrapped) residual from the estimate's predicted return ``h(x̂)``, ``R`` the radar's noise —
+    within the ``χ²₄(gate_probability)`` gate ``γ``; −1 for a return correlated with none. As the stand-in's
+    Euclidean gate (``√χ²₃(0.999) σ``), the 99.9 % gate of the measurement noise alone (the estimates' own errors
+    are smaller); a Euclidean km gate on the radar's returns would drop half of them (their cross-beam error is
+    1.2–2.6 km at 1,400–3,000 km).
+
+    One-to-one, because an object makes at most one return a scan and every tracker scored updates a track with at
+    most one return a scan: the assignment of least ``Σ (d² − γ)`` over the gated pairs (a return left
+    uncorrelated costs the gate: :mod:`hypotrack.trackers.gnn`'s assignment, lecture 004, with the radar noise alone), so a
+    neighbour's return nearer the estimate than its own object's return is no longer charged to it as well.
+    Correlating each return with its nearest estimate independently would give one estimate two returns of one
+    scan, and charge a cross-tag for a return no tracker associated with that track. (The ENU stand-in's
+    ``correlate_returns``, which no configured breakup radar uses, still takes each return's nearest estimate.)"""
     out = np.full(len(Z), -1, np.int64)
     if len(Z) == 0 or len(X) == 0:
         return out
     z_pred = measurement.h(np.asarray(X, dtype=float))
     S = np.broadcast_to(measurement.R, (len(z_pred), *measurement.R.shape))
     d2, _ = measurement.mahalanobis2(np.asarray(Z, dtype=float), z_pred, S)
-    j = np.argmin(d2, axis=1)
-    ok = d2[np.arange(len(Z)), j] <= gate_threshold(gate_probability, measurement.dim)
-    out[ok] = np.asarray(labels, dtype=np.int64)[j[ok]]
+    gamma = gate_threshold(gate_probability, measurement.dim)
+    gated = d2 <= gamma
+    # a pair outside the gate gains nothing over leaving both unassigned: the rectangular assignment's optimum is
+    # the one with a dummy "uncorrelated" column of cost γ per return
+    r, j = linear_sum_assignment(np.where(gated, d2 - gamma, 0.0))
+    ok = gated[r, j]
+    out[r[ok]] = np.asarray(labels, dtype=np.int64)[j[ok]]
     return out
 
 

@@ -224,6 +224,38 @@ def test_sensor_frame_correlation_by_hand():
     np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z2, [7, 9], X, 0.999), [-1])
 
 
+def test_sensor_frame_correlation_is_one_to_one():
+    """A neighbour's return nearer an estimate than its own object's return is not charged to that estimate too:
+    estimates A (az 0) and B (az 0.3), σ_az = 0.1. Return zA at az 0.2 (d² 4 to A, 1 to B) and zB at az 0.3 (9 to A,
+    0 to B): nearest-estimate correlation gives both to B; the one-to-one assignment costs 4 + 0 against 1 + 9 and
+    gives zA to A, zB to B. Alone, zA goes to B (its nearest); of three returns about A alone (d² 0.25, 1, 4) only
+    the nearest is correlated; a return outside every gate never is, even when an estimate is free."""
+    from hypotrack.experiments.ssa_breakup.run import correlate_in_sensor_frame
+    from hypotrack.models.measurement import ExtendedMeasurement
+
+    class _Identity(ExtendedMeasurement):
+        wrapped = (1,)
+        ndim_state = 4
+        R = np.diag([1.0, 0.01, 0.01, 1.0])
+
+        def h(self, x):
+            return np.array(x, dtype=float)
+
+        def jacobian(self, x):
+            return np.broadcast_to(np.eye(4), (len(x), 4, 4)).copy()
+
+    m = _Identity()
+    X = np.array([[100.0, 0.0, 0.3, 0.0], [100.0, 0.3, 0.3, 0.0]])
+    zA, zB = [100.0, 0.2, 0.3, 0.0], [100.0, 0.3, 0.3, 0.0]
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, np.array([zA, zB]), [7, 9], X, 0.999), [7, 9])
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, np.array([zB, zA]), [7, 9], X, 0.999), [9, 7])
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, np.array([zA]), [7, 9], X, 0.999), [9])
+    Z3 = np.array([[100.0, -0.1, 0.3, 0.0], [100.0, 0.0, 0.3, 0.5], [100.0, 0.0, 0.3, -2.0]])  # d² 1, 0.25, 4 to A
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, Z3, [7], X[:1], 0.999), [-1, 7, -1])
+    far = np.array([[100.0, 0.0, 0.3, 0.1], [100.0, 1.5, 0.3, 0.0]])  # the second: 12σ from B, outside every gate
+    np.testing.assert_array_equal(correlate_in_sensor_frame(m, far, [7, 9], X, 0.999), [7, -1])
+
+
 def test_macros_of_a_tracker_not_run_are_dashes():
     """A configuration without the Gibbs δ-GLMB and R-FISST (the default) still defines their macros, as NaN
     (written "--"), while the trackers it runs keep their measured values: the paper leaves the sentence out."""

@@ -104,7 +104,8 @@ k-best gave the same counts (HOMHT's group was at the cap of 20 where the δ-GLM
   its children fell to 1.5e-9 at the engine step; the marginal of the swap read 1 from there on. A hard gate's
   cost, a modelling choice (the gate probability; measured below).
 * Acquisitions: a label's first return was its neighbour's while the neighbour's own track was not a candidate
-  (its predicted mean outside the field of view: a track is detectable only where its mean is in view) or lay
+  (its predicted mean outside the field of view — seed 12: elevation 9.993 deg against the object's 10.016, the
+  limit 10 — and a track is detectable only where its mean is in view) or lay
   several km off among closer neighbours (seed 13: eleven labels and nine returns at one scan, the group at the
   cap, the hypothesis with both labels on their own objects held at 0.018). The one confident swap with the alternative held (seed 1, scan
   988, one scan): an object first seen on its second pass, its track's sigma 24 km, lost its first return to a

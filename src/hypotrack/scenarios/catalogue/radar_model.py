@@ -45,6 +45,7 @@ from dataclasses import dataclass
 from ..._validation import check_finite_array, check_positive
 from ...models.measurement import ExtendedMeasurement
 from .frames import EARTH_ROTATION, wrap_angle
+from .radar_kernels import INNOVATION, MOMENTS, UPDATE, radar_moments
 from .sensors import GroundRadar, GroundSite
 from .tracking import _Clutter, _Region  # the clutter record the engine reads of either tracker sensor
 
@@ -170,10 +171,34 @@ class RadarMeasurement(ExtendedMeasurement):
     ndim_state = 6
     hessian_steps = (1e-2,) * 3 + (1e-3,) * 3  # km, km/s: the Jacobian is linear in v, smooth over 10 m in r
 
-    def __init__(self, sensor: "RadarTrackerSensor", second_order: bool = True):
+    def __init__(self, sensor: "RadarTrackerSensor", second_order: bool = True, compiled: bool = True):
         self.sensor = sensor
         self.R = sensor.R
         self.second_order = bool(second_order)
+        #: the moments, innovation and update by the compiled kernel (:mod:`.radar_kernels`, one pass for the batch),
+        #: else by the array passes of :class:`~...models.measurement.ExtendedMeasurement` (the same formulas)
+        self.compiled = bool(compiled)
+
+    def _kernel(self, means, covs, Z, mode):
+        site, theta = self.sensor.radar.site, self.sensor.theta
+        s, sdot = site_teme(site, theta)
+        return radar_moments(means, covs, Z, s, sdot, site.enu @ _r3(theta), self.hessian_steps, self.R,
+                             self.sensor.az_center, self.second_order, mode)
+
+    def _moments(self, means, covs):
+        if not self.compiled:
+            return super()._moments(means, covs)
+        return self._kernel(means, covs, None, MOMENTS)
+
+    def innovation(self, means, covs):
+        if not self.compiled or len(means) == 0:
+            return super().innovation(means, covs)
+        return self._kernel(means, covs, None, INNOVATION)
+
+    def update(self, means, covs, Z_rows):
+        if not self.compiled or len(means) == 0:
+            return super().update(means, covs, Z_rows)
+        return self._kernel(means, covs, Z_rows, UPDATE)
 
     def h(self, means) -> np.ndarray:
         return self.sensor.h(means)

@@ -29,7 +29,7 @@ import numpy as np
 
 from ...models.orbit3d_replay import fused_multiply_add as _fma
 
-__all__ = ["radar_moments", "MOMENTS", "INNOVATION", "UPDATE"]
+__all__ = ["radar_moments", "teme_near", "MOMENTS", "INNOVATION", "UPDATE"]
 
 #: what :func:`radar_moments` returns: ``(z_pred, H, R_eff)``, ``(z_pred, S, K, H)`` or ``(x⁺, P⁺)``
 MOMENTS, INNOVATION, UPDATE = 0, 1, 2
@@ -296,3 +296,33 @@ def radar_moments(X, P, Z, site_teme, sdot, M, steps, R, az_center, second_order
     if mode == INNOVATION:
         return z_pred, S, K, H
     return xo, Po
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _near(X, R3, site_ef, enu, r2_max, above):
+    n = X.shape[0]
+    loc = np.empty((n, 3))
+    near = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        x0, x1, x2 = X[i, 0], X[i, 1], X[i, 2]
+        # r_ef = r R3ᵀ, then r_ef − s_ef
+        d0 = _fma(x2, R3[0, 2], _fma(x1, R3[0, 1], x0 * R3[0, 0])) - site_ef[0]
+        d1 = _fma(x2, R3[1, 2], _fma(x1, R3[1, 1], x0 * R3[1, 0])) - site_ef[1]
+        d2 = _fma(x2, R3[2, 2], _fma(x1, R3[2, 1], x0 * R3[2, 0])) - site_ef[2]
+        e = _fma(d2, enu[0, 2], _fma(d1, enu[0, 1], d0 * enu[0, 0]))  # loc = (r_ef − s_ef) Eᵀ
+        nn = _fma(d2, enu[1, 2], _fma(d1, enu[1, 1], d0 * enu[1, 0]))
+        u = _fma(d2, enu[2, 2], _fma(d1, enu[2, 1], d0 * enu[2, 0]))
+        loc[i, 0], loc[i, 1], loc[i, 2] = e, nn, u
+        near[i] = (e * e + nn * nn) + u * u <= r2_max and (u > 0.0 or not above)
+    return loc, near
+
+
+def teme_near(X, R3, site_ef, enu, r_max_km, above_horizon):
+    """``(loc (n, 3), near (n,))`` of TEME positions ``X`` (n, ≥ 3): the site's local east-north-up coordinates
+    ``loc = (X R3ᵀ − s_ef) Eᵀ`` (``R3 = R3(θ)``, ``E`` the site's ENU rows; the products rounded as numpy's BLAS
+    rounds them, :mod:`~...models.orbit3d_replay`) and whether each is within ``r_max_km`` (``|loc|² ≤ (r_max (1 +
+    1e-9))²``) and, with ``above_horizon``, above the horizon: the points whose angles
+    :meth:`~.sensors.GroundRadar.in_view` then tests, the same decisions in one pass over the rows."""
+    f = np.ascontiguousarray
+    return _near(f(X, dtype=float), f(R3, dtype=float), f(site_ef, dtype=float), f(enu, dtype=float),
+                 float((r_max_km * (1 + 1e-9)) ** 2), bool(above_horizon))

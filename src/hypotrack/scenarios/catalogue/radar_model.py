@@ -45,7 +45,7 @@ from dataclasses import dataclass
 from ..._validation import check_finite_array, check_positive
 from ...models.measurement import ExtendedMeasurement
 from .frames import EARTH_ROTATION, wrap_angle
-from .radar_kernels import INNOVATION, MOMENTS, UPDATE, radar_moments
+from .radar_kernels import INNOVATION, MOMENTS, UPDATE, radar_moments, teme_near
 from .sensors import GroundRadar, GroundSite
 from .tracking import _Clutter, _Region  # the clutter record the engine reads of either tracker sensor
 
@@ -155,7 +155,11 @@ class _Detection:
         r = np.atleast_2d(np.asarray(x_teme, dtype=float))
         if len(r) == 0:
             return np.zeros(0, dtype=bool)
-        return self._owner.radar.in_view(r[:, :3] @ _r3(self._owner.theta).T)
+        # GroundRadar.in_view of r R3(θ)ᵀ, its range and horizon test in one compiled pass (the same decisions)
+        radar = self._owner.radar
+        loc, near = teme_near(r, _r3(self._owner.theta), radar.site.ef, radar.site.enu, radar.fov.r_max_km,
+                              radar.fov.el_min_deg > 0)
+        return radar.in_view_local(loc, near)
 
 
 class RadarMeasurement(ExtendedMeasurement):

@@ -192,7 +192,8 @@ class RadarMeasurement(ExtendedMeasurement):
     def _moments(self, means, covs):
         if not self.compiled:
             return super()._moments(means, covs)
-        return self._kernel(means, covs, None, MOMENTS)
+        z_pred, H, R = self._kernel(means, covs, None, MOMENTS)
+        return z_pred, H, (R if self.second_order else self.R)  # first order: the one R, as the array passes
 
     def innovation(self, means, covs):
         if not self.compiled or len(means) == 0:

@@ -3,7 +3,8 @@
 Jacobian and the first-order return bit for bit, the second-order moments, gain and Joseph update to 1e-12 of their
 scale on tracks from tight to kilometres wide; the in-view prefilter bit for bit; and the δ-GLMB over the real
 catalogue (default configuration: admissible-region births, decaying Bernoulli singletons, the fast path), stepped
-once with each, holding the same groups, labels and hypotheses at every scan with weights, means and covariances
+once with the array passes and once with the compiled kernels (these and the birth mixtures',
+:mod:`~hypotrack.scenarios.catalogue.admissible_kernels`), holding the same groups, labels and hypotheses at every scan with weights, means and covariances
 to 1e-12, through births, deaths and objects out of view."""
 
 import numpy as np
@@ -13,6 +14,7 @@ import yaml
 from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
                                                     make_tracker, tracker_sensor)
 from hypotrack.scenarios.catalogue import DEFAULT_RADAR
+from hypotrack.scenarios.catalogue.admissible import AdmissibleRegionBirth
 from hypotrack.scenarios.catalogue.radar_kernels import teme_near
 from hypotrack.scenarios.catalogue.radar_model import RadarTrackerSensor, _r3, site_teme
 
@@ -112,16 +114,19 @@ def test_the_glmb_over_the_catalogue_is_the_same_with_the_array_passes():
     problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
     meas = tsensor.measurement
     ref, new = (make_tracker("glmb", cfg, problem, 1, fast_path=True) for _ in range(2))
+    mixtures = [tr.options.adaptive_birth.mixture for tr in (ref, new)]
+    assert all(isinstance(x, AdmissibleRegionBirth) for x in mixtures)
     label0 = ref.next_label
     seen = dict(fast=0, general=0, out_of_view=0, dropped=0)
     for k, (t, Z) in enumerate(sc.scan_list(0)):
         tsensor.at(sc.theta[k])
         Z = tsensor.returns(Z)
         before = ref.n_objects_held
-        meas.compiled = False
-        ref.step(Z, float(t))
-        meas.compiled = True
-        new.step(Z, float(t))
+        for on in (False, True):  # the array passes, then the compiled kernels (the birth mixtures' too)
+            meas.compiled = on
+            for x in mixtures:
+                object.__setattr__(x, "compiled", on)
+            (new if on else ref).step(Z, float(t))
         ga, gb = ref.groups, new.groups
         assert len(ga) == len(gb) and ref.next_label == new.next_label
         for s, u in zip(ga, gb):

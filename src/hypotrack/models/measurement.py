@@ -232,12 +232,14 @@ def _pair_distances(Z, z_pred, Linv, wrapped):
             for k in range(p):
                 v = Z[i, k] - z_pred[j, k]
                 if wrapped[k]:
-                    x = np.fmod(v + np.pi, two_pi)
-                    if x != 0.0:
-                        if x < 0.0:
-                            x += two_pi
-                    else:
-                        x = 0.0
+                    x = v + np.pi
+                    if not 0.0 <= x < two_pi:  # (inside, fmod leaves x as it is)
+                        x = np.fmod(x, two_pi)
+                        if x != 0.0:
+                            if x < 0.0:
+                                x += two_pi
+                        else:
+                            x = 0.0
                     v = x - np.pi
                 r[k] = v
             s = 0.0

@@ -276,19 +276,20 @@ def _batch(X, P, Zr, s, sdot, M, steps, R, az_center, second, mode):
     return z_pred, H, Re, S, K, xo, Po, bad
 
 
+_NO_RETURNS = np.zeros((0, 4))
+
+
 def radar_moments(X, P, Z, site_teme, sdot, M, steps, R, az_center, second_order, mode):
     """The radar's EKF moments of tracks ``X`` (n, 6), ``P`` (n, 6, 6) (module docstring): ``mode``
     :data:`MOMENTS` ``(z_pred, H, R_eff)``, :data:`INNOVATION` ``(z_pred, S, K, H)`` or :data:`UPDATE` ``(x⁺, P⁺)``
     with returns ``Z`` (n, 4); the site's TEME position ``site_teme`` and velocity ``sdot``, ``M = E R3(θ)``
     (:func:`~.radar_model.site_teme`), the Hessian's ``steps`` (6,), ``R`` (4, 4) and the azimuth's centre.
     Raises ``numpy.linalg.LinAlgError`` for a singular innovation covariance, as the array passes' solve does."""
-    X = np.ascontiguousarray(X, dtype=float)
-    P = np.ascontiguousarray(P, dtype=float)
-    Zr = np.zeros((0, 4)) if Z is None else np.ascontiguousarray(Z, dtype=float)
     f = np.ascontiguousarray
-    z_pred, H, Re, S, K, xo, Po, bad = _batch(X, P, Zr, f(site_teme, dtype=float), f(sdot, dtype=float),
-                                              f(M, dtype=float), f(steps, dtype=float), f(R, dtype=float),
-                                              float(az_center), bool(second_order), int(mode))
+    Zr = _NO_RETURNS if Z is None else f(Z, dtype=float)
+    z_pred, H, Re, S, K, xo, Po, bad = _batch(f(X, dtype=float), f(P, dtype=float), Zr, f(site_teme, dtype=float),
+                                              f(sdot, dtype=float), f(M, dtype=float), f(steps, dtype=float),
+                                              f(R, dtype=float), float(az_center), bool(second_order), int(mode))
     if bad >= 0:
         raise np.linalg.LinAlgError("Singular matrix")
     if mode == MOMENTS:

@@ -183,11 +183,19 @@ class RadarMeasurement(ExtendedMeasurement):
         #: else by the array passes of :class:`~...models.measurement.ExtendedMeasurement` (the same formulas)
         self.compiled = bool(compiled)
 
-    def _kernel(self, means, covs, Z, mode):
+    def _geometry(self):
+        """``(s, ṡ, M)`` of the sensor's current GMST (:func:`site_teme`, ``M = E R3(θ)``), kept for the scan."""
         site, theta = self.sensor.radar.site, self.sensor.theta
-        s, sdot = site_teme(site, theta)
-        return radar_moments(means, covs, Z, s, sdot, site.enu @ _r3(theta), self.hessian_steps, self.R,
-                             self.sensor.az_center, self.second_order, mode)
+        key = (theta, id(site))
+        if getattr(self, "_geo_key", None) != key:
+            s, sdot = site_teme(site, theta)
+            self._geo = (s, sdot, np.ascontiguousarray(site.enu @ _r3(theta)), np.asarray(self.hessian_steps, dtype=float))
+            self._geo_key = key
+        return self._geo
+
+    def _kernel(self, means, covs, Z, mode):
+        s, sdot, M, steps = self._geometry()
+        return radar_moments(means, covs, Z, s, sdot, M, steps, self.R, self.sensor.az_center, self.second_order, mode)
 
     def _moments(self, means, covs):
         if not self.compiled:

@@ -177,14 +177,13 @@ def scan_existence(lane: "Lane", cand, view, quiet, pred: TrackStore, p_detect, 
     if validity is not None:
         check = (lane.r < 1) | (lane.p_s < 1)
         check[cand] = False
-        asleep = view is not None and bool(check.any())
-        if len(pred) or asleep:  # one call of the test (row by row) for the quiet candidates and the asleep ones
-            v = np.asarray(validity(np.concatenate([pred.means, view[check]]) if asleep else pred.means), dtype=bool)
-            if len(pred):
-                out = np.where(((r < 1) | (p_s < 1)) & ~v[:len(pred)], 0.0, out)
-            if asleep:
-                ok = np.ones(len(lane))
-                ok[check] = v[len(pred):]
+        if len(pred):
+            v = np.asarray(validity(pred.means), dtype=bool)
+            out = np.where(((r < 1) | (p_s < 1)) & ~v, 0.0, out)
+        if view is not None and bool(check.any()):
+            # the test is row by row: every singleton's mean at the scan in one call (the few candidates' verdicts
+            # unused), not a copy of the asleep ones (nearly all of the lane: a decaying p_S is below 1 for every track)
+            ok = np.where(check & ~np.asarray(validity(view), dtype=bool), 0.0, 1.0)
     return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight, ok
 
 

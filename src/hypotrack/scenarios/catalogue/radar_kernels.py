@@ -29,7 +29,7 @@ import numpy as np
 
 from ...models.orbit3d_replay import fused_multiply_add as _fma
 
-__all__ = ["radar_moments", "teme_near", "MOMENTS", "INNOVATION", "UPDATE"]
+__all__ = ["radar_moments", "radar_jacobian", "teme_near", "MOMENTS", "INNOVATION", "UPDATE"]
 
 #: what :func:`radar_moments` returns: ``(z_pred, H, R_eff)``, ``(z_pred, S, K, H)`` or ``(x⁺, P⁺)``
 MOMENTS, INNOVATION, UPDATE = 0, 1, 2
@@ -277,6 +277,20 @@ def _batch(X, P, Zr, s, sdot, M, steps, R, az_center, second, mode):
 
 
 _NO_RETURNS = np.zeros((0, 4))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _jacobians(X, s, sdot, M):
+    out = np.empty((X.shape[0], 4, 6))
+    for i in range(X.shape[0]):
+        _jacobian(X[i], s, sdot, M, out[i])
+    return out
+
+
+def radar_jacobian(X, site_teme, sdot, M):
+    """``∂h/∂x`` ``(n, 4, 6)`` of TEME states ``X`` ``(n, 6)`` (:func:`~.radar_model.rae_rate_jacobian`, bit for bit)."""
+    f = np.ascontiguousarray
+    return _jacobians(f(X, dtype=float).reshape(-1, 6), f(site_teme, dtype=float), f(sdot, dtype=float), f(M, dtype=float))
 
 
 def radar_moments(X, P, Z, site_teme, sdot, M, steps, R, az_center, second_order, mode):

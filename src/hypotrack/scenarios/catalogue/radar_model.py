@@ -45,7 +45,7 @@ from dataclasses import dataclass
 from ..._validation import check_finite_array, check_positive
 from ...models.measurement import ExtendedMeasurement
 from .frames import EARTH_ROTATION, wrap_angle
-from .radar_kernels import INNOVATION, MOMENTS, UPDATE, radar_moments, teme_near
+from .radar_kernels import INNOVATION, MOMENTS, UPDATE, radar_jacobian, radar_moments, teme_near
 from .sensors import GroundRadar, GroundSite
 from .tracking import _Clutter, _Region  # the clutter record the engine reads of either tracker sensor
 
@@ -217,7 +217,10 @@ class RadarMeasurement(ExtendedMeasurement):
         return self.sensor.h(means)
 
     def jacobian(self, means) -> np.ndarray:
-        return self.sensor.jacobian(means)
+        if not self.compiled:
+            return self.sensor.jacobian(means)
+        s, sdot, M, _ = self._geometry()
+        return radar_jacobian(means, s, sdot, M)
 
     def one_point(self, Z, position_std: float = 0.0, velocity_std: float = 8.0):
         """One-point initiation ``(x₀ (m, 6), P₀ (m, 6, 6))`` of returns ``Z`` ``(m, 4)`` in the sensor frame: the

@@ -52,7 +52,9 @@ def test_the_compiled_moments_are_the_array_passes(theta):
     got1 = meas._moments(X, P)
     meas.second_order = True
     got = meas._moments(X, P), meas.innovation(X, P), meas.update(X, P, Z)
-    assert np.array_equal(got1[1], ref1[1]) and np.array_equal(got1[1], meas.jacobian(X))  # the Jacobian, bit for bit
+    J = meas.sensor.jacobian(X)  # rae_rate_jacobian's array passes
+    assert np.array_equal(got1[1], ref1[1]) and np.array_equal(got1[1], J)  # the Jacobian, bit for bit
+    assert np.array_equal(meas.jacobian(X), J) and meas.jacobian(X[:0]).shape == (0, 4, 6)
     assert np.array_equal(got1[2], meas.R)
     np.testing.assert_allclose(got1[0], ref1[0], rtol=1e-15, atol=0)  # h: atan2 may round differently (an ulp)
     for g, r in zip(got, ref):

@@ -18,6 +18,11 @@ Hessian's differences of nearly equal Jacobians would magnify any other rounding
 LU factorisation with partial pivoting (LAPACK's ``gesv`` algorithm, not its operation order), the einsum of ``S₂``
 summed in its own order: the moments agree with the array passes to rounding (tests: ~1e-15 of their scale), not bit
 for bit. Every row is computed alone, so a row's numbers do not depend on the batch it is in.
+
+Two more passes over rows: :func:`radar_jacobian` (the Jacobian alone, bit for bit
+:func:`~.radar_model.rae_rate_jacobian`) and :func:`teme_near`, the range and horizon test with which
+:meth:`~.sensors.GroundRadar.in_view` first narrows the points whose angles it computes (the factored filter asks it
+of every singleton's mean every scan: 10⁴-10⁶ points), bit for bit the array passes' decisions.
 """
 
 from __future__ import annotations

@@ -29,6 +29,7 @@ object that already is one is returned, anything with ``H`` and ``R`` attributes
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from .._validation import check_covariance, check_finite_array
@@ -191,8 +192,12 @@ class ExtendedMeasurement:
                 np.log(np.diagonal(np.linalg.cholesky(S), axis1=-2, axis2=-1)), axis=-1))
         L = np.linalg.cholesky(S)
         logdet = 2.0 * np.sum(np.log(np.diagonal(L, axis1=-2, axis2=-1)), axis=-1)
-        u = np.einsum("njk,mnk->mnj", np.linalg.inv(L), self.residual(Z, z_pred))
-        return np.sum(u * u, axis=-1), logdet
+        # u = L⁻¹ν and |u|² of every pair in one compiled pass: the residual wrapped as numpy wraps it, u summed over
+        # k in order and |u|² left to right, as the einsum over (m, n, p) and np.sum round them (bit for bit)
+        wrapped = np.zeros(self.dim, dtype=np.bool_)
+        wrapped[list(self.wrapped)] = True
+        return _pair_distances(np.ascontiguousarray(Z, dtype=float), np.ascontiguousarray(z_pred, dtype=float),
+                               np.linalg.inv(L), wrapped), logdet
 
     def update(self, means, covs, Z_rows):
         """EKF update of each track with its own return (Joseph form, residual wrapped)."""
@@ -211,6 +216,40 @@ class ExtendedMeasurement:
     def view_points(self, means, z_pred=None) -> np.ndarray:
         """The state's position ``(n, 3)``: what ``detection.in_view`` of a position sensor tests."""
         return np.asarray(means)[:, :3]
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _pair_distances(Z, z_pred, Linv, wrapped):
+    """``d²[i, j] = |L_j⁻¹ ν_ij|²`` with ``ν_ij = Z_i − ẑ_j`` (the ``wrapped`` components into ``[−π, π)`` as
+    :func:`wrap_pi`: numpy's floating remainder), :meth:`ExtendedMeasurement.mahalanobis2`'s pairs."""
+    m, p = Z.shape
+    n = z_pred.shape[0]
+    out = np.empty((m, n))
+    r = np.empty(p)
+    two_pi = 2.0 * np.pi
+    for i in range(m):
+        for j in range(n):
+            for k in range(p):
+                v = Z[i, k] - z_pred[j, k]
+                if wrapped[k]:
+                    x = v + np.pi
+                    if not 0.0 <= x < two_pi:  # (inside, fmod leaves x as it is)
+                        x = np.fmod(x, two_pi)
+                        if x != 0.0:
+                            if x < 0.0:
+                                x += two_pi
+                        else:
+                            x = 0.0
+                    v = x - np.pi
+                r[k] = v
+            s = 0.0
+            for a in range(p):
+                u = Linv[j, a, 0] * r[0]
+                for k in range(1, p):
+                    u = u + Linv[j, a, k] * r[k]
+                s = s + u * u
+            out[i, j] = s
+    return out
 
 
 def as_measurement(m):

@@ -38,7 +38,7 @@ from numba.extending import intrinsic
 
 from .._validation import check_finite_array
 
-__all__ = ["replay_j2", "rounds_as_numpy"]
+__all__ = ["replay_j2", "rounds_as_numpy", "fused_multiply_add"]
 
 
 @intrinsic
@@ -53,6 +53,10 @@ def _fma(typingctx, a, b, c):
                             args)
 
     return sig, codegen
+
+
+#: :func:`_fma` for the other compiled kernels that round as numpy's BLAS (e.g. the radar's EKF moments)
+fused_multiply_add = _fma
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")

@@ -27,6 +27,7 @@ Examples
 
 from __future__ import annotations
 
+import numba
 import numpy as np
 
 from .._validation import check_nonnegative
@@ -98,14 +99,30 @@ def plausible_orbits(states, *, min_perigee_km: float = MIN_PERIGEE_ALTITUDE, mu
 
 def _energy_perigee(X, mu):
     """:func:`orbit_energy` and the perigee radius of :func:`perigee_apogee_radius` of states ``(..., 6)`` (at least
-    two axes) in one pass of a dozen array operations — the same operations in the same order, so the same bits
-    (``np.sum`` over a last axis of 3 adds left to right, ``np.cross`` is ``a₁b₂ − a₂b₁``, ... ; the tests compare
-    bit for bit): the engine's validity test calls it on a few states per hypothesis, where the numpy calls'
-    overhead, not the arithmetic, is the cost."""
-    rx, ry, rz, vx, vy, vz = (X[..., k] for k in range(6))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        eps = 0.5 * ((vx * vx + vy * vy) + vz * vz) - mu / np.sqrt((rx * rx + ry * ry) + rz * rz)
+    two axes) in one compiled pass over the rows — the same operations in the same order, so the same bits
+    (``np.sum`` over a last axis of 3 adds left to right, ``np.cross`` is ``a₁b₂ − a₂b₁``, ``np.maximum`` keeps a NaN,
+    no fused multiply-add; the tests compare bit for bit): the engine's validity test calls it on a few states per
+    hypothesis, and on every asleep Bernoulli singleton each scan, where array passes' overhead and memory traffic, not
+    the arithmetic, would be the cost."""
+    Y = np.ascontiguousarray(np.asarray(X, dtype=float).reshape(-1, 6).T)  # columns: the rows side by side
+    eps, rp = _energy_perigee_columns(Y, float(mu), float(mu**2))
+    return eps.reshape(X.shape[:-1]), rp.reshape(X.shape[:-1])
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _energy_perigee_columns(T, mu, mu2):
+    """ε and the perigee radius of the states given as columns ``T`` (6, n), the rows' loop vectorised by the
+    compiler (each lane a row's own arithmetic)."""
+    n = T.shape[1]
+    eps, rp = np.empty(n), np.empty(n)
+    rxa, rya, rza, vxa, vya, vza = T[0], T[1], T[2], T[3], T[4], T[5]
+    for i in range(n):
+        rx, ry, rz, vx, vy, vz = rxa[i], rya[i], rza[i], vxa[i], vya[i], vza[i]
+        ep = 0.5 * ((vx * vx + vy * vy) + vz * vz) - mu / np.sqrt((rx * rx + ry * ry) + rz * rz)
         hx, hy, hz = ry * vz - rz * vy, rz * vx - rx * vz, rx * vy - ry * vx
         h2 = (hx * hx + hy * hy) + hz * hz
-        e = np.sqrt(np.maximum(0.0, 1.0 + 2.0 * eps * h2 / mu**2))
-        return eps, h2 / (mu * (1.0 + e))
+        t = 1.0 + 2.0 * ep * h2 / mu2
+        t = 0.0 if t <= 0.0 else t  # np.maximum(0.0, t): a NaN stays NaN
+        eps[i] = ep
+        rp[i] = h2 / (mu * (1.0 + np.sqrt(t)))
+    return eps, rp

@@ -259,9 +259,9 @@ def test_components_of_the_bipartite_graph():
     assert lab.tolist() == [0, 0, 1, 0, 2, 1]
 
 
-@pytest.mark.parametrize("size", [(12, 9, 14), (150, 140, 180)])  # union–find (≤ 256 vertices) and scipy
+@pytest.mark.parametrize("size", [(12, 9, 14), (150, 140, 180)])  # a few dozen and hundreds of vertices
 def test_components_equal_scipy_labels_on_random_graphs(size):
-    """Both code paths give scipy's ``connected_components`` labels (numbered by smallest vertex),
+    """The union–find gives scipy's ``connected_components`` labels (numbered by smallest vertex),
     on graphs with isolated nodes, isolated returns and repeated edges."""
     rng = np.random.default_rng(7)
     n_nodes, n_ret, n_edges = size

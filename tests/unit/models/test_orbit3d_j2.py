@@ -293,3 +293,33 @@ def test_the_compiled_real_pass_is_the_array_passes_bit_for_bit():
     assert np.array_equal(np.isfinite(compiled), np.isfinite(arrays))
     assert not np.array_equal(compiled[dt == 10.0], X[dt == 10.0])  # the rows moved
     np.testing.assert_array_equal(compiled[dt == 0.0], X[dt == 0.0])
+
+
+def test_rows_of_one_interval_run_side_by_side_bit_for_bit():
+    """Rows that all take the same interval (``propagate``: the lane's one-scan advance) run in the columns kernel,
+    the rows' loop innermost: on 3,000 LEO-to-MEO states and intervals of 10, 30, 95 and −45 s (one to four steps,
+    either sign) the same bits as the row-by-row pass and as the array passes; the centre's row non-finite alike, and
+    ``propagate`` refuses it as before."""
+    from hypotrack.models.orbit3d import _rk4_j2, _rk4_j2_arrays, _rk4_j2_real
+
+    rng = np.random.default_rng(8)
+    r = rng.normal(size=(3000, 3))
+    r *= rng.uniform(6600.0, 26000.0, size=(3000, 1)) / np.linalg.norm(r, axis=1, keepdims=True)
+    v = np.cross(r, rng.normal(size=(3000, 3)))
+    v *= rng.uniform(3.0, 8.0, size=(3000, 1)) / np.linalg.norm(v, axis=1, keepdims=True)
+    X = np.hstack([r, v])
+    X[7] = 0.0
+    c_j2 = 1.5 * J2 * MU * R_E**2
+    for dt in (10.0, 30.0, 95.0, -45.0):
+        n = int(np.ceil(abs(dt) / 30.0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            side = _rk4_j2(X, np.full(3000, dt), MU, c_j2, 30.0)
+            rows = _rk4_j2_real(X, np.full(3000, dt / n), np.full(3000, n), MU, c_j2)
+            arrays = _rk4_j2_arrays(X, np.full(3000, dt), MU, c_j2, np.full(3000, n))
+        np.testing.assert_array_equal(side, rows)
+        ok = np.all(np.isfinite(arrays), axis=1)
+        assert ok.sum() == 2999 and not np.isfinite(side[7]).all()
+        np.testing.assert_array_equal(side[ok], arrays[ok])
+        assert side.flags.c_contiguous and not np.array_equal(side[ok], X[ok])
+    with pytest.raises(ValueError, match="state 7"):
+        J2Orbit3D().propagate(X, 10.0)

@@ -177,15 +177,29 @@ def scan_existence(lane: "Lane", cand, view, quiet, pred: TrackStore, p_detect, 
     if validity is not None:
         check = (lane.r < 1) | (lane.p_s < 1)
         check[cand] = False
-        asleep = view is not None and bool(check.any())
-        if len(pred) or asleep:  # one call of the test (row by row) for the quiet candidates and the asleep ones
-            v = np.asarray(validity(np.concatenate([pred.means, view[check]]) if asleep else pred.means), dtype=bool)
-            if len(pred):
-                out = np.where(((r < 1) | (p_s < 1)) & ~v[:len(pred)], 0.0, out)
-            if asleep:
-                ok = np.ones(len(lane))
-                ok[check] = v[len(pred):]
+        if len(pred):
+            v = np.asarray(validity(pred.means), dtype=bool)
+            out = np.where(((r < 1) | (p_s < 1)) & ~v, 0.0, out)
+        if view is not None and bool(check.any()):
+            # the test is row by row: every singleton's mean at the scan in one call (the few candidates' verdicts
+            # unused), not a copy of the asleep ones (nearly all of the lane: a decaying p_S is below 1 for every track)
+            ok = np.where(check & ~np.asarray(validity(view), dtype=bool), 0.0, 1.0)
     return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight, ok
+
+
+def _gather(src, idx, out):
+    """``out[:] = src[idx]`` for ascending row indices ``idx``: the runs of consecutive rows as slice copies when there
+    are few (a scan removes a few singletons from a lane of ~10⁴: a copy, not a gather row by row), else one take."""
+    if len(idx) == 0:
+        return
+    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
+    if len(breaks) > 64:
+        # mode="clip": the indices are in range, and numpy buffers ``out`` in its default mode (a second copy of
+        # the whole lane: 3x slower at 10^6 singletons)
+        np.take(src, idx, axis=0, out=out, mode="clip")
+        return
+    for a, b in zip(np.concatenate([[0], breaks]), np.concatenate([breaks, [len(idx)]])):
+        out[a:b] = src[idx[a]:idx[a] + (b - a)]
 
 
 def sort_out(states, mode: str, population, ndim: int):
@@ -359,37 +373,45 @@ class Lane:
         :func:`scan_existence`); the singletons not predicted take ``r ← p_S r`` (0 failing it), and every
         existence the engine's pruning (:func:`bernoulli_prune`: a singleton whose track it drops leaves)."""
         # one pass over the lane's arrays: the kept singletons (the quiet candidates replaced by their
-        # prediction), then the new ones
+        # prediction), then the new ones; with Bernoulli singletons only those the pruning keeps (the same rows
+        # as building every row and then dropping the pruned ones)
         keep = np.ones(len(self), dtype=bool)
         keep[cand] = False
         keep[cand[quiet]] = True
         idx = np.flatnonzero(keep)
         n_keep, d = len(idx), self.store.ndim
-        pos = np.cumsum(keep) - 1  # each kept singleton's row in the new lane
+        pos = np.cumsum(keep) - 1  # each kept singleton's row among the kept ones
         moved = cand[quiet]
-        means = np.empty((n_keep + len(new), d))
-        covs = np.empty((n_keep + len(new), d, d))
-        # mode="clip": the indices are in range, and numpy buffers ``out`` in its default mode (a second copy of
-        # the whole lane: 3x slower at 10^6 singletons)
-        np.take(self.store.means, idx, axis=0, out=means[:n_keep], mode="clip")
-        np.take(self.store.covs, idx, axis=0, out=covs[:n_keep], mode="clip")
-        means[pos[moved]], covs[pos[moved]] = pred.means[quiet], pred.covs[quiet]
-        means[n_keep:], covs[n_keep:] = new.means, new.covs
+        from_pred = np.full(n_keep, -1, dtype=np.int64)  # the prediction row of a quiet candidate, else -1
+        from_pred[pos[moved]] = np.flatnonzero(quiet)
+        alive = r = p_s = None
+        if exist is not None:
+            r_quiet, p_quiet, r_new, p_new, min_weight, ok = exist
+            r = self.r[idx] * self.p_s[idx] if ok is None else self.r[idx] * self.p_s[idx] * ok[idx]
+            r = np.concatenate([r, r_new])  # out of view: r <- p_S r (p_D = 0); 0 if its mean fails the validity test
+            p_s = np.concatenate([self.p_s[idx], p_new])
+            r[pos[moved]], p_s[pos[moved]] = r_quiet, p_quiet
+            alive, r = bernoulli_prune(r, min_weight)
+            if alive.all():
+                alive = None
+            else:
+                r, p_s = r[alive], p_s[alive]
+                idx, from_pred, new = idx[alive[:n_keep]], from_pred[alive[:n_keep]], take(new, alive[n_keep:])
+        n_old = len(idx)
+        at = np.flatnonzero(from_pred >= 0)  # the quiet candidates' rows in the new lane
+        rows = from_pred[at]
+        means = np.empty((n_old + len(new), d))
+        covs = np.empty((n_old + len(new), d, d))
+        lane_view = np.empty((n_old + len(new), d))
+        _gather(self.store.means, idx, means[:n_old])
+        _gather(self.store.covs, idx, covs[:n_old])
+        _gather(self.store.means if view is None else view, idx, lane_view[:n_old])
+        means[at], covs[at], lane_view[at] = pred.means[rows], pred.covs[rows], pred.means[rows]
+        means[n_old:], covs[n_old:], lane_view[n_old:] = new.means, new.covs, new.means
         times = np.concatenate([self.times[idx], np.full(len(new), now)])
-        times[pos[moved]] = now
-        lane_view = np.concatenate([(self.store.means if view is None else view)[idx], new.means])
-        lane_view[pos[moved]] = pred.means[quiet]
+        times[at] = now
         labels = np.concatenate([self.store.labels[idx], new.labels])
-        if exist is None:
-            return Lane(TrackStore(means, covs, labels), times, lane_view), n_keep
-        r_quiet, p_quiet, r_new, p_new, min_weight, ok = exist
-        r = self.r[idx] * self.p_s[idx] if ok is None else self.r[idx] * self.p_s[idx] * ok[idx]
-        r = np.concatenate([r, r_new])  # out of view: r <- p_S r (p_D = 0); 0 if its mean fails the validity test
-        p_s = np.concatenate([self.p_s[idx], p_new])
-        r[pos[moved]], p_s[pos[moved]] = r_quiet, p_quiet
-        alive, r = bernoulli_prune(r, min_weight)
-        lane = Lane(TrackStore(means, covs, labels), times, lane_view, r, p_s)
-        return (lane, n_keep) if alive.all() else (lane.where(alive), n_keep)
+        return Lane(TrackStore(means, covs, labels), times, lane_view, r, p_s), n_keep
 
     def same_as(self, other: "Lane") -> bool:
         """Bit-for-bit the same singletons, times and means at the scan."""

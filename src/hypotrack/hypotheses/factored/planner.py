@@ -301,8 +301,8 @@ class ObjectIds:
             ks = np.fromiter(self.mapping, dtype=np.int64, count=len(self.mapping))
             held = np.asarray(held, dtype=np.int64)
             # only the held labels in the mapping's range can match (a scan's few newborns among 10⁶ objects)
-            held = held[(held >= ks.min()) & (held <= ks.max())]
-            self.mapping = {int(k): self.mapping[int(k)] for k in ks[np.isin(ks, held)]}
+            held = set(held[(held >= ks.min()) & (held <= ks.max())].tolist())  # (few: np.isin's set-up costs more)
+            self.mapping = {k: v for k, v in self.mapping.items() if k in held}
 
 
 def split_group(state, parts, split: str, tol: float, scan: int, records: list, stats: dict) -> list:

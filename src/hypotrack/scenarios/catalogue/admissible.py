@@ -42,9 +42,10 @@ import numpy as np
 
 from ..._validation import check_finite_array, check_int, check_positive
 from ...models.orbit import MU_EARTH
-from ...models.plausibility import MIN_PERIGEE_ALTITUDE, plausible_orbits
+from ...models.plausibility import EARTH_RADIUS_PLAUSIBILITY, MIN_PERIGEE_ALTITUDE, plausible_orbits
+from .admissible_kernels import admissible_components
 from .frames import EARTH_ROTATION
-from .radar_model import _H_STEP, RadarTrackerSensor, attributable_jacobian, attributable_to_state
+from .radar_model import _H_STEP, RadarTrackerSensor, _r3, attributable_jacobian, attributable_to_state, site_teme
 
 __all__ = ["attributable_to_state", "attributable_jacobian", "AdmissibleRegionBirth", "StateMixture", "SeededAdmissibleBirth"]
 
@@ -90,6 +91,9 @@ class AdmissibleRegionBirth:
         Scale of each component's rate covariance, > 0; default 0.7 (keeps the mass inside the region).
     min_perigee_km : float
         Perigee floor (km) of an admissible orbit; default 100.
+    compiled : bool
+        :meth:`components_batch` in one compiled pass (:mod:`.admissible_kernels`; the same components to
+        rounding), else in array passes; default true.
     """
 
     sensor: RadarTrackerSensor
@@ -97,6 +101,8 @@ class AdmissibleRegionBirth:
     cells: int = 8
     spread: float = 0.7
     min_perigee_km: float = MIN_PERIGEE_ALTITUDE
+    #: :meth:`components_batch` by the compiled kernel (:mod:`.admissible_kernels`), else in array passes
+    compiled: bool = True
 
     def __post_init__(self):
         if not isinstance(self.sensor, RadarTrackerSensor):
@@ -197,6 +203,10 @@ class AdmissibleRegionBirth:
         N = nb * c
         if m == 0:
             return np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6)), np.zeros(0, dtype=np.int64)
+        if self.compiled:
+            return admissible_components(Z, site_teme(site, theta)[0], site.enu @ _r3(theta), self.sensor.R, EARTH_ROTATION,
+                                         MU_EARTH, MU_EARTH, EARTH_RADIUS_PLAUSIBILITY + self.min_perigee_km, nb, c,
+                                         self.spread)
         # step 2 for every return (rate_box's arithmetic, one row per return)
         r = attributable_to_state(np.column_stack([Z, np.zeros((m, 2))]), site, theta)[:, :3]
         rn = np.sqrt(np.sum(r * r, axis=1))

@@ -45,6 +45,7 @@ from dataclasses import dataclass
 from ..._validation import check_finite_array, check_positive
 from ...models.measurement import ExtendedMeasurement
 from .frames import EARTH_ROTATION, wrap_angle
+from .radar_kernels import INNOVATION, MOMENTS, UPDATE, radar_jacobian, radar_moments, teme_near
 from .sensors import GroundRadar, GroundSite
 from .tracking import _Clutter, _Region  # the clutter record the engine reads of either tracker sensor
 
@@ -154,7 +155,11 @@ class _Detection:
         r = np.atleast_2d(np.asarray(x_teme, dtype=float))
         if len(r) == 0:
             return np.zeros(0, dtype=bool)
-        return self._owner.radar.in_view(r[:, :3] @ _r3(self._owner.theta).T)
+        # GroundRadar.in_view of r R3(θ)ᵀ, its range and horizon test in one compiled pass (the same decisions)
+        radar = self._owner.radar
+        loc, near = teme_near(r, _r3(self._owner.theta), radar.site.ef, radar.site.enu, radar.fov.r_max_km,
+                              radar.fov.el_min_deg > 0)
+        return radar.in_view_local(loc, near)
 
 
 class RadarMeasurement(ExtendedMeasurement):
@@ -170,16 +175,52 @@ class RadarMeasurement(ExtendedMeasurement):
     ndim_state = 6
     hessian_steps = (1e-2,) * 3 + (1e-3,) * 3  # km, km/s: the Jacobian is linear in v, smooth over 10 m in r
 
-    def __init__(self, sensor: "RadarTrackerSensor", second_order: bool = True):
+    def __init__(self, sensor: "RadarTrackerSensor", second_order: bool = True, compiled: bool = True):
         self.sensor = sensor
         self.R = sensor.R
         self.second_order = bool(second_order)
+        #: the moments, innovation and update by the compiled kernel (:mod:`.radar_kernels`, one pass for the batch),
+        #: else by the array passes of :class:`~...models.measurement.ExtendedMeasurement` (the same formulas)
+        self.compiled = bool(compiled)
+
+    def _geometry(self):
+        """``(s, ṡ, M)`` of the sensor's current GMST (:func:`site_teme`, ``M = E R3(θ)``), kept for the scan."""
+        site, theta = self.sensor.radar.site, self.sensor.theta
+        key = (theta, id(site))
+        if getattr(self, "_geo_key", None) != key:
+            s, sdot = site_teme(site, theta)
+            self._geo = (s, sdot, np.ascontiguousarray(site.enu @ _r3(theta)), np.asarray(self.hessian_steps, dtype=float))
+            self._geo_key = key
+        return self._geo
+
+    def _kernel(self, means, covs, Z, mode):
+        s, sdot, M, steps = self._geometry()
+        return radar_moments(means, covs, Z, s, sdot, M, steps, self.R, self.sensor.az_center, self.second_order, mode)
+
+    def _moments(self, means, covs):
+        if not self.compiled:
+            return super()._moments(means, covs)
+        z_pred, H, R = self._kernel(means, covs, None, MOMENTS)
+        return z_pred, H, (R if self.second_order else self.R)  # first order: the one R, as the array passes
+
+    def innovation(self, means, covs):
+        if not self.compiled or len(means) == 0:
+            return super().innovation(means, covs)
+        return self._kernel(means, covs, None, INNOVATION)
+
+    def update(self, means, covs, Z_rows):
+        if not self.compiled or len(means) == 0:
+            return super().update(means, covs, Z_rows)
+        return self._kernel(means, covs, Z_rows, UPDATE)
 
     def h(self, means) -> np.ndarray:
         return self.sensor.h(means)
 
     def jacobian(self, means) -> np.ndarray:
-        return self.sensor.jacobian(means)
+        if not self.compiled:
+            return self.sensor.jacobian(means)
+        s, sdot, M, _ = self._geometry()
+        return radar_jacobian(means, s, sdot, M)
 
     def one_point(self, Z, position_std: float = 0.0, velocity_std: float = 8.0):
         """One-point initiation ``(x₀ (m, 6), P₀ (m, 6, 6))`` of returns ``Z`` ``(m, 4)`` in the sensor frame: the

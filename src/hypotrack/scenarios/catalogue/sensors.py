@@ -284,7 +284,13 @@ class GroundRadar:
         near = np.sum(loc * loc, axis=-1) <= (f.r_max_km * (1 + 1e-9)) ** 2
         if f.el_min_deg > 0:
             near &= loc[..., 2] > 0
-        out = np.zeros(r_ef.shape[:-1], dtype=bool)
+        return self.in_view_local(loc, near)
+
+    def in_view_local(self, loc, near) -> np.ndarray:
+        """:meth:`in_view` of local east-north-up points ``loc`` ``(..., 3)`` of which only ``near`` (bool) may be
+        inside (below the maximum range, and above the horizon when the field of view is): their angles alone tested."""
+        f = self.fov
+        out = np.zeros(loc.shape[:-1], dtype=bool)
         out[near] = f.contains(local_to_rae(loc[near], f.az_center))
         return out
 

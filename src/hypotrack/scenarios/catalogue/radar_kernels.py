@@ -1,0 +1,348 @@
+"""Compiled EKF moments of the radar (:class:`~.radar_model.RadarMeasurement`): a batch of tracks in one call.
+
+The second-order EKF of the ``(ρ, az, el, ρ̇)`` radar (:class:`~...models.measurement.ExtendedMeasurement`, Bar-Shalom,
+Li & Kirubarajan 2001, Sec. 10.3.3) linearises every track at its mean: ``h(x)`` (:func:`~.radar_model.rae_rate`), the
+analytic Jacobian ``H = ∂h/∂x`` (:func:`~.radar_model.rae_rate_jacobian`), the Hessian ``∂²h_a/∂x²`` by central
+differences of the Jacobian (steps ``hessian_steps``, symmetrised), the predicted return's bias ``½ tr(∂²h_a P)`` and
+the extra covariance ``S₂ = ½ tr(∂²h_a P ∂²h_b P)``; then the innovation covariance ``S = sym(H P Hᵀ + R + sym(S₂))``,
+the gain ``K = P Hᵀ S⁻¹`` and the Joseph update ``P⁺ = sym((I − K H) P (I − K H)ᵀ + K R_eff Kᵀ)``,
+``x⁺ = x + K ν`` (``ν`` the residual, azimuth wrapped into ``[−π, π)``). In array passes that is ~60 numpy calls per
+batch (twelve shifted copies of every state for the Hessian), whatever the batch's size, and every birth term and
+engine step calls it on one to a few tracks. :func:`radar_moments` runs the same formulas row by row in one compiled
+pass.
+
+The same formulas, written out term for term as the array passes evaluate them; the 3 × 3 and 6 × 6 products as a
+chain of fused multiply-adds in the inner index's order (as OpenBLAS's small products round,
+:mod:`~...models.orbit3d_replay`), so that ``h``, the Jacobian and the Hessian are those of the array passes (the
+Hessian's differences of nearly equal Jacobians would magnify any other rounding). The 4 × 4 solve of the gain is an
+LU factorisation with partial pivoting (LAPACK's ``gesv`` algorithm, not its operation order), the einsum of ``S₂``
+summed in its own order: the moments agree with the array passes to rounding (tests: ~1e-15 of their scale), not bit
+for bit. Every row is computed alone, so a row's numbers do not depend on the batch it is in.
+
+Two more passes over rows: :func:`radar_jacobian` (the Jacobian alone, bit for bit
+:func:`~.radar_model.rae_rate_jacobian`) and :func:`teme_near`, the range and horizon test with which
+:meth:`~.sensors.GroundRadar.in_view` first narrows the points whose angles it computes (the factored filter asks it
+of every singleton's mean every scan: 10⁴-10⁶ points), bit for bit the array passes' decisions.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import numpy as np
+
+from ...models.orbit3d_replay import fused_multiply_add as _fma
+
+__all__ = ["radar_moments", "radar_jacobian", "teme_near", "MOMENTS", "INNOVATION", "UPDATE"]
+
+#: what :func:`radar_moments` returns: ``(z_pred, H, R_eff)``, ``(z_pred, S, K, H)`` or ``(x⁺, P⁺)``
+MOMENTS, INNOVATION, UPDATE = 0, 1, 2
+
+_TWO_PI = 2.0 * math.pi
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wrap(a, center):
+    """``np.mod(a − center + π, 2π) − π + center`` (:func:`~.frames.wrap_angle`), numpy's floating ``mod``."""
+    x = a - center + math.pi
+    m = np.fmod(x, _TWO_PI)
+    if m != 0.0:
+        if m < 0.0:
+            m += _TWO_PI
+    else:
+        m = 0.0
+    return m - math.pi + center
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wrap_pi(a):
+    """``(a + π) % 2π − π`` (:func:`~...models.measurement.wrap_pi`)."""
+    return _wrap(a, 0.0)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _jacobian(x, s, sdot, M, J):
+    """:func:`~.radar_model.rae_rate_jacobian` of one state ``x`` (6,) into ``J`` (4, 6)."""
+    d0, d1, d2 = x[0] - s[0], x[1] - s[1], x[2] - s[2]
+    w0, w1, w2 = x[3] - sdot[0], x[4] - sdot[1], x[5] - sdot[2]
+    e = _fma(d2, M[0, 2], _fma(d1, M[0, 1], d0 * M[0, 0]))  # d @ M.T
+    nn = _fma(d2, M[1, 2], _fma(d1, M[1, 1], d0 * M[1, 0]))
+    u = _fma(d2, M[2, 2], _fma(d1, M[2, 1], d0 * M[2, 0]))
+    rho2 = d0 * d0 + d1 * d1 + d2 * d2
+    rho = math.sqrt(rho2)
+    hz2 = e * e + nn * nn
+    hz = math.sqrt(hz2)
+    rdot = (d0 * w0 + d1 * w1 + d2 * w2) / rho
+    a0, a1 = nn / hz2, -e / hz2
+    den = rho2 * hz
+    b0, b1, b2 = (-e * u) / den, (-nn * u) / den, hz2 / den
+    dd = (d0, d1, d2)
+    ww = (w0, w1, w2)
+    for j in range(3):
+        J[0, j] = dd[j] / rho
+        J[0, 3 + j] = 0.0
+        J[1, j] = _fma(0.0, M[2, j], _fma(a1, M[1, j], a0 * M[0, j]))
+        J[1, 3 + j] = 0.0
+        J[2, j] = _fma(b2, M[2, j], _fma(b1, M[1, j], b0 * M[0, j]))
+        J[2, 3 + j] = 0.0
+        J[3, j] = (ww[j] - rdot * dd[j] / rho) / rho
+        J[3, 3 + j] = dd[j] / rho
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _h(x, s, sdot, M, az_center, z):
+    """:func:`~.radar_model.rae_rate` of one state ``x`` into ``z`` (4,)."""
+    d0, d1, d2 = x[0] - s[0], x[1] - s[1], x[2] - s[2]
+    w0, w1, w2 = x[3] - sdot[0], x[4] - sdot[1], x[5] - sdot[2]
+    e = _fma(d2, M[0, 2], _fma(d1, M[0, 1], d0 * M[0, 0]))
+    nn = _fma(d2, M[1, 2], _fma(d1, M[1, 1], d0 * M[1, 0]))
+    u = _fma(d2, M[2, 2], _fma(d1, M[2, 1], d0 * M[2, 0]))
+    rho = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    z[0] = rho
+    z[1] = _wrap(math.atan2(e, nn), az_center)
+    z[2] = math.atan2(u, math.hypot(e, nn))
+    z[3] = (d0 * w0 + d1 * w1 + d2 * w2) / rho
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _row(x, P, s, sdot, M, steps, R, az_center, second, z, H, Re, Jp, Jm, Hxx, A, xs):
+    """``(z_pred, H, R_eff)`` of one track into ``z``, ``H``, ``Re`` (the scratch ``Jp``, ``Jm``, ``Hxx``, ``A``,
+    ``xs``): :meth:`~...models.measurement.ExtendedMeasurement._moments`."""
+    _jacobian(x, s, sdot, M, H)
+    _h(x, s, sdot, M, az_center, z)
+    for a in range(4):
+        for b in range(4):
+            Re[a, b] = R[a, b]
+    if not second:
+        return
+    for k in range(6):  # central differences of the Jacobian: Hxx[a, l, k] before symmetrising
+        for c in range(6):
+            xs[c] = x[c]
+        xs[k] = x[k] + steps[k]
+        _jacobian(xs, s, sdot, M, Jp)
+        xs[k] = x[k] - steps[k]
+        _jacobian(xs, s, sdot, M, Jm)
+        two = 2.0 * steps[k]
+        for a in range(4):
+            for l in range(6):
+                A[a, l, k] = (Jp[a, l] - Jm[a, l]) / two
+    for a in range(4):
+        for l in range(6):
+            for k in range(6):
+                Hxx[a, l, k] = 0.5 * (A[a, l, k] + A[a, k, l])
+    for a in range(4):  # A_a = Hxx_a P (the 6 x 6 product's fused chain)
+        for i in range(6):
+            for j in range(6):
+                acc = 0.0
+                for l in range(6):
+                    acc = _fma(Hxx[a, i, l], P[l, j], acc)
+                A[a, i, j] = acc
+    for a in range(4):
+        tr = A[a, 0, 0]
+        for i in range(1, 6):
+            tr += A[a, i, i]
+        z[a] = z[a] + 0.5 * tr
+    for a in range(4):  # S2[a, b] = ½ Σ_kl A_a[k, l] A_b[l, k], symmetrised
+        for b in range(a, 4):
+            sab = 0.0
+            sba = 0.0
+            for k in range(6):
+                for l in range(6):
+                    sab += A[a, k, l] * A[b, l, k]
+                    sba += A[b, k, l] * A[a, l, k]
+            v = 0.5 * (0.5 * sab + 0.5 * sba)
+            Re[a, b] = R[a, b] + v
+            Re[b, a] = R[b, a] + v
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _gain(P, H, Re, S, PHt, K, LU, piv, y):
+    """``S = sym(H P Hᵀ + R_eff)`` and ``K = P Hᵀ S⁻¹`` (LU with partial pivoting) of one track; ``False`` when ``S``
+    is singular."""
+    for i in range(6):  # PHt = P Hᵀ
+        for a in range(4):
+            acc = 0.0
+            for l in range(6):
+                acc = _fma(P[i, l], H[a, l], acc)
+            PHt[i, a] = acc
+    for a in range(4):  # H PHt + R_eff
+        for b in range(4):
+            acc = 0.0
+            for l in range(6):
+                acc = _fma(H[a, l], PHt[l, b], acc)
+            LU[a, b] = acc + Re[a, b]
+    for a in range(4):
+        for b in range(4):
+            S[a, b] = 0.5 * (LU[a, b] + LU[b, a])
+    for a in range(4):
+        for b in range(4):
+            LU[a, b] = S[a, b]
+    for c in range(4):  # LU = P S, partial pivoting
+        p = c
+        for r in range(c + 1, 4):
+            if abs(LU[r, c]) > abs(LU[p, c]):
+                p = r
+        piv[c] = p
+        if LU[p, c] == 0.0:
+            return False
+        if p != c:
+            for b in range(4):
+                LU[c, b], LU[p, b] = LU[p, b], LU[c, b]
+        for r in range(c + 1, 4):
+            LU[r, c] /= LU[c, c]
+            for b in range(c + 1, 4):
+                LU[r, b] -= LU[r, c] * LU[c, b]
+    for i in range(6):  # row i of K solves S k = PHt[i] (S symmetric: K = P Hᵀ S⁻¹ = (S⁻¹ H P)ᵀ)
+        for a in range(4):
+            y[a] = PHt[i, a]
+        for c in range(4):
+            p = piv[c]
+            if p != c:
+                y[c], y[p] = y[p], y[c]
+        for a in range(4):
+            for b in range(a):
+                y[a] -= LU[a, b] * y[b]
+        for a in range(3, -1, -1):
+            for b in range(a + 1, 4):
+                y[a] -= LU[a, b] * y[b]
+            y[a] /= LU[a, a]
+        for a in range(4):
+            K[i, a] = y[a]
+    return True
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _batch(X, P, Zr, s, sdot, M, steps, R, az_center, second, mode):
+    n = X.shape[0]
+    z_pred = np.empty((n, 4))
+    H = np.empty((n, 4, 6))
+    Re = np.empty((n, 4, 4))
+    S = np.empty((n, 4, 4))
+    K = np.empty((n, 6, 4))
+    xo = np.empty((n, 6))
+    Po = np.empty((n, 6, 6))
+    Jp, Jm = np.empty((4, 6)), np.empty((4, 6))
+    Hxx, A = np.empty((4, 6, 6)), np.empty((4, 6, 6))
+    xs, PHt, LU, y = np.empty(6), np.empty((6, 4)), np.empty((4, 4)), np.empty(4)
+    piv = np.empty(4, np.int64)
+    IKH, B, KR = np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 4))
+    nu = np.empty(4)
+    bad = -1
+    for i in range(n):
+        _row(X[i], P[i], s, sdot, M, steps, R, az_center, second, z_pred[i], H[i], Re[i], Jp, Jm, Hxx, A, xs)
+        if mode == MOMENTS:
+            continue
+        if not _gain(P[i], H[i], Re[i], S[i], PHt, K[i], LU, piv, y):
+            bad = i
+            break
+        if mode == INNOVATION:
+            continue
+        for a in range(4):
+            nu[a] = Zr[i, a] - z_pred[i, a]
+        nu[1] = _wrap_pi(nu[1])
+        for r in range(6):
+            acc = 0.0
+            for a in range(4):
+                acc += K[i, r, a] * nu[a]
+            xo[i, r] = X[i, r] + acc
+        for r in range(6):  # IKH = I - K H
+            for c in range(6):
+                acc = 0.0
+                for a in range(4):
+                    acc = _fma(K[i, r, a], H[i, a, c], acc)
+                IKH[r, c] = (1.0 if r == c else 0.0) - acc
+        for r in range(6):  # B = IKH P
+            for c in range(6):
+                acc = 0.0
+                for l in range(6):
+                    acc = _fma(IKH[r, l], P[i, l, c], acc)
+                B[r, c] = acc
+        for r in range(6):  # KR = K R_eff
+            for c in range(4):
+                acc = 0.0
+                for l in range(4):
+                    acc = _fma(K[i, r, l], Re[i, l, c], acc)
+                KR[r, c] = acc
+        for r in range(6):  # B IKHᵀ + KR Kᵀ
+            for c in range(6):
+                acc = 0.0
+                for l in range(6):
+                    acc = _fma(B[r, l], IKH[c, l], acc)
+                acc2 = 0.0
+                for l in range(4):
+                    acc2 = _fma(KR[r, l], K[i, c, l], acc2)
+                Po[i, r, c] = acc + acc2
+        for r in range(6):
+            for c in range(r, 6):
+                v = 0.5 * (Po[i, r, c] + Po[i, c, r])
+                Po[i, r, c] = v
+                Po[i, c, r] = v
+    return z_pred, H, Re, S, K, xo, Po, bad
+
+
+_NO_RETURNS = np.zeros((0, 4))
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _jacobians(X, s, sdot, M):
+    out = np.empty((X.shape[0], 4, 6))
+    for i in range(X.shape[0]):
+        _jacobian(X[i], s, sdot, M, out[i])
+    return out
+
+
+def radar_jacobian(X, site_teme, sdot, M):
+    """``∂h/∂x`` ``(n, 4, 6)`` of TEME states ``X`` ``(n, 6)`` (:func:`~.radar_model.rae_rate_jacobian`, bit for bit)."""
+    f = np.ascontiguousarray
+    return _jacobians(f(X, dtype=float).reshape(-1, 6), f(site_teme, dtype=float), f(sdot, dtype=float), f(M, dtype=float))
+
+
+def radar_moments(X, P, Z, site_teme, sdot, M, steps, R, az_center, second_order, mode):
+    """The radar's EKF moments of tracks ``X`` (n, 6), ``P`` (n, 6, 6) (module docstring): ``mode``
+    :data:`MOMENTS` ``(z_pred, H, R_eff)``, :data:`INNOVATION` ``(z_pred, S, K, H)`` or :data:`UPDATE` ``(x⁺, P⁺)``
+    with returns ``Z`` (n, 4); the site's TEME position ``site_teme`` and velocity ``sdot``, ``M = E R3(θ)``
+    (:func:`~.radar_model.site_teme`), the Hessian's ``steps`` (6,), ``R`` (4, 4) and the azimuth's centre.
+    Raises ``numpy.linalg.LinAlgError`` for a singular innovation covariance, as the array passes' solve does."""
+    f = np.ascontiguousarray
+    Zr = _NO_RETURNS if Z is None else f(Z, dtype=float)
+    z_pred, H, Re, S, K, xo, Po, bad = _batch(f(X, dtype=float), f(P, dtype=float), Zr, f(site_teme, dtype=float),
+                                              f(sdot, dtype=float), f(M, dtype=float), f(steps, dtype=float),
+                                              f(R, dtype=float), float(az_center), bool(second_order), int(mode))
+    if bad >= 0:
+        raise np.linalg.LinAlgError("Singular matrix")
+    if mode == MOMENTS:
+        return z_pred, H, Re
+    if mode == INNOVATION:
+        return z_pred, S, K, H
+    return xo, Po
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _near(X, R3, site_ef, enu, r2_max, above):
+    n = X.shape[0]
+    loc = np.empty((n, 3))
+    near = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        x0, x1, x2 = X[i, 0], X[i, 1], X[i, 2]
+        # r_ef = r R3ᵀ, then r_ef − s_ef
+        d0 = _fma(x2, R3[0, 2], _fma(x1, R3[0, 1], x0 * R3[0, 0])) - site_ef[0]
+        d1 = _fma(x2, R3[1, 2], _fma(x1, R3[1, 1], x0 * R3[1, 0])) - site_ef[1]
+        d2 = _fma(x2, R3[2, 2], _fma(x1, R3[2, 1], x0 * R3[2, 0])) - site_ef[2]
+        e = _fma(d2, enu[0, 2], _fma(d1, enu[0, 1], d0 * enu[0, 0]))  # loc = (r_ef − s_ef) Eᵀ
+        nn = _fma(d2, enu[1, 2], _fma(d1, enu[1, 1], d0 * enu[1, 0]))
+        u = _fma(d2, enu[2, 2], _fma(d1, enu[2, 1], d0 * enu[2, 0]))
+        loc[i, 0], loc[i, 1], loc[i, 2] = e, nn, u
+        near[i] = (e * e + nn * nn) + u * u <= r2_max and (u > 0.0 or not above)
+    return loc, near
+
+
+def teme_near(X, R3, site_ef, enu, r_max_km, above_horizon):
+    """``(loc (n, 3), near (n,))`` of TEME positions ``X`` (n, ≥ 3): the site's local east-north-up coordinates
+    ``loc = (X R3ᵀ − s_ef) Eᵀ`` (``R3 = R3(θ)``, ``E`` the site's ENU rows; the products rounded as numpy's BLAS
+    rounds them, :mod:`~...models.orbit3d_replay`) and whether each is within ``r_max_km`` (``|loc|² ≤ (r_max (1 +
+    1e-9))²``) and, with ``above_horizon``, above the horizon: the points whose angles
+    :meth:`~.sensors.GroundRadar.in_view` then tests, the same decisions in one pass over the rows."""
+    f = np.ascontiguousarray
+    return _near(f(X, dtype=float), f(R3, dtype=float), f(site_ef, dtype=float), f(enu, dtype=float),
+                 float((r_max_km * (1 + 1e-9)) ** 2), bool(above_horizon))

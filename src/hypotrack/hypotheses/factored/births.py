@@ -65,17 +65,25 @@ def birth_loglik(population, Z) -> np.ndarray:
     z0 = Z[order, 0]
     lo = np.searchsorted(z0, z_pred[:, 0] - half[:, 0], side="left")
     hi = np.searchsorted(z0, z_pred[:, 0] + half[:, 0], side="right")
+    hit, hit_rows, hit_resid = [], [], []
     for b in np.flatnonzero(hi > lo):
         rows = order[lo[b]:hi[b]]
         resid = meas.residual(Z[rows], z_pred[b][None])[:, 0]
-        rows = rows[np.all(np.abs(resid) <= half[b], axis=1)]
-        if len(rows) == 0:
-            continue
-        resid = meas.residual(Z[rows], z_pred[b][None])[:, 0]
-        # the term's own arithmetic (GaussianBirthTerm.loglik) on the rows the bound left
-        L = np.linalg.cholesky(S[b])
+        ok = np.all(np.abs(resid) <= half[b], axis=1)
+        if ok.any():  # (a residual is row by row: the rows kept are theirs alone)
+            hit.append(b)
+            hit_rows.append(rows[ok])
+            hit_resid.append(resid[ok])
+    if not hit:
+        return out
+    # the term's own arithmetic (GaussianBirthTerm.loglik) on the rows the bound left; the Cholesky factors of
+    # every term hit in one batched call (LAPACK's factorisation matrix by matrix: the same factors)
+    chol = np.linalg.cholesky(S[hit])
+    const = 0.5 * z_pred.shape[1] * _LOG_2PI
+    for b, L, rows, resid in zip(hit, chol, hit_rows, hit_resid):
         r = np.linalg.solve(L, resid.T)
         d2 = np.sum(r * r, axis=0)
-        ll = -0.5 * d2 - np.sum(np.log(np.diag(L))) - 0.5 * len(z_pred[b]) * _LOG_2PI
+        # (the log-determinant summed as the term sums it: a batched row sum may associate differently)
+        ll = -0.5 * d2 - np.sum(np.log(np.diag(L))) - const
         out[rows, b] = np.where(d2 <= gate, ll, -np.inf)
     return out

@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import time as _clock
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
@@ -15,8 +16,9 @@ from ..filter import HypothesisFilter
 from ..posterior import HypothesisEstimate, summarise
 from ..state import scan_interval
 from ..tracks import TrackStore
+from .born_detected import birth_step, born_detected_applies, born_detected_plan
 from .births import birth_loglik
-from .fast_path import FastBatch, birth_existence, born_state, born_template, fast_components, fast_rule
+from .fast_path import FastBatch, birth_existence, born_template, fast_components, fast_rule
 from .lane import (GroupSet, Lane, admitted, bernoulli_existence, bernoulli_lane, cat, is_singleton, lane_existence,
                    lane_survival, one_hypothesis_lane, predict_each, scan_existence, silent, singleton, sort_out,
                    survival_lane, take)
@@ -28,6 +30,9 @@ from .scores import Scores
 from .summary import FactoredPosterior
 
 __all__ = ["FactoredFilter", "FactoredState"]
+
+_BIRTHS = ("born", "born_detected")  # closed-form birth steps
+_NO_JOB = ("done", "dropped", "slept") + _BIRTHS  # plans with no engine step to run (slept: a closed form)
 
 
 @dataclass(frozen=True, eq=False)
@@ -51,7 +56,7 @@ class FactoredState:
 
 _STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
                n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0,
-               n_fast_births=0, n_fast_clutter=0, n_fast_quiet=0, n_fast_born=0)
+               n_fast_births=0, n_fast_clutter=0, n_fast_quiet=0, n_fast_born=0, n_fast_born_detected=0)
 
 
 class FactoredFilter:
@@ -161,7 +166,8 @@ class FactoredFilter:
         self._options = options
         self._engine = engine  # the template of every group's step: models, population, settings; no hypotheses
         self._pool = WorkerPool()
-        self._born_templates = {}  # r_B -> the fast path's lone birth term step (:meth:`_born`)
+        self._born_templates = {}  # r_B -> the fast path's lone birth term step (:func:`.born_detected.birth_step`)
+        self._detected = {}  # the kept key of a born-detected step, once checked (:func:`.born_detected.born_detected_plan`)
         self.rng = engine.rng
         self.ndim = engine.state_dim
         # singletons are exactly their Gaussian when a quiet group takes no population event, or (per-track
@@ -381,9 +387,12 @@ class FactoredFilter:
         E, plans, keys, bounds = self._engine, [], [], scan.bounds
         lane_r = self._lane.r[scan.cand] if self._bern else None  # a woken Bernoulli enters as its two hypotheses
         rule = self._fast_rule()
+        born_det = born_detected_applies(E, rule, self._mode)
         r_birth = None if rule is None or E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         for key, c, members, regions, rows in graph.components(skip):
             keys.append(key)
+            general = partial(touched_plan, E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
+                              scan.scores, Z, scan.birth_ll, stats, lane_r)  # the plan of the component's engine step
             if c is None:
                 cols = np.arange(bounds[key], bounds[key + 1])
                 state = scan.groups[key]
@@ -401,18 +410,18 @@ class FactoredFilter:
                 # association, nothing drawn) is the template of every term of its r_B (FastRule.keeps_born)
                 r_b = float(r_birth[regions[0]])
                 if r_b not in self._born_templates:
-                    plan = touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                        scan.scores, Z, scan.birth_ll, stats, lane_r)
-                    self._born_templates[r_b] = born_template(engine_step(E, *plan[1:], 0, 0))
+                    self._born_templates[r_b] = born_template(engine_step(E, *general()[1:], 0, 0))
                 if self._born_templates[r_b] is None:
-                    plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                              scan.scores, Z, scan.birth_ll, stats, lane_r))
+                    plans.append(general())
                 else:
                     plans.append(("born", int(regions[0]), self._born_templates[r_b]))
                     stats["n_fast_born"] += 1
             else:
-                plans.append(touched_plan(E, self.rng, members, regions, rows, scan.groups, bounds, scan.pred,
-                                          scan.scores, Z, scan.birth_ll, stats, lane_r))
+                plan = None
+                if born_det and len(members) == 0 and len(rows) == 1 and len(regions) == 1:  # a birth term, its return
+                    plan = born_detected_plan(E, rule, self._options.min_weight, int(regions[0]), int(rows[0]), Z,
+                                              scan.birth_ll, self._detected, general)
+                plans.append(plan or general())
         return plans, np.array(keys, dtype=np.int64)
 
     def _run_plans(self, plans, keys, fast, stats) -> list:
@@ -427,8 +436,8 @@ class FactoredFilter:
         n_fast = 0 if fast is None else len(fast)
         # a dropped quiet group (the fast path's) keeps its step's place: it draws its stream, unused
         steps = np.array([p[0] != "done" for p in plans], dtype=bool)
-        run = np.array([p[0] not in ("done", "dropped", "born", "slept") for p in plans], dtype=bool)
-        jobs = [p for p in plans if p[0] not in ("done", "dropped", "born", "slept")]  # (slept: a closed-form step)
+        run = np.array([p[0] not in _NO_JOB for p in plans], dtype=bool)
+        jobs = [p for p, r in zip(plans, run) if r]
         # each step's place among the steps and the fast components (both in key order)
         fast_before = np.searchsorted(fast.keys, keys) if n_fast else np.zeros(len(plans), np.int64)
         slot = (np.cumsum(steps) - 1 + fast_before)[run]
@@ -448,8 +457,9 @@ class FactoredFilter:
                 continue
             if plan[0] in ("done", "slept"):
                 state, parts = plan[1], plan[2]
-            elif plan[0] == "born":
-                state, parts = self._born(plan[1], plan[2], stats)
+            elif plan[0] in _BIRTHS:  # a closed-form birth step (:mod:`.born_detected`)
+                state, parts, used = birth_step(plan, self._engine, self._next_label, self._objects, stats, self.ndim)
+                self._next_label += used
             else:
                 state, parts = self._finish(plan, next(results), base, stats)
             new_groups.extend((key, s) for s in split_group(state, parts, opts.split, opts.factor_tol,
@@ -476,18 +486,6 @@ class FactoredFilter:
         stats["n_kalman_updates"] += st["n_kalman_updates"]
         self._objects.register_births(new.store, sources, len(regions))
         return new, interaction_parts(self._objects.of(pred.labels), ctx, sources, len(regions))
-
-    def _born(self, b: int, template, stats):
-        """The step of lone birth term ``b`` from its ``r_B``'s template (:func:`~.fast_path.born_state`)."""
-        E = self._engine
-        new = born_state(template, E.population, b, E.R, self._next_label, self.ndim)
-        self._next_label += 1
-        st = template[-1]
-        stats["n_duplicates_merged"] += st["n_duplicates_merged"]
-        stats["n_touched"] += 1
-        stats["mass_retained_min"] = min(stats["mass_retained_min"], st["mass_retained"])
-        self._objects.register_births(new.store, np.array([[-1, -1]], dtype=np.int64), 1)
-        return new, np.zeros(1, dtype=np.int64)
 
     def _keep(self, scan, graph, new_groups, fast, now, stats):
         """Step 4's end: singletons back to the lane — the untouched candidates predicted, then those

@@ -97,7 +97,8 @@ class FactoredFilter:
         (components the fast path took: lone tracks updated, lone birth terms and returns dropped;
         they count in ``n_touched``, not in ``n_jobs``), ``n_fast_quiet`` (quiet groups the fast path
         found to keep no object after their empty-scan step: dropped, not in ``n_jobs``), ``n_fast_born`` (lone
-        birth terms keeping both children, stepped from a template: in ``n_touched``, not in ``n_jobs``), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        birth terms keeping both children, stepped from a template: in ``n_touched``, not in ``n_jobs``), ``n_fast_born_detected``
+        (birth terms with one return, born detected in closed form, :mod:`.born_detected`: likewise), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
         pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
         ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.

@@ -224,8 +224,9 @@ class LabeledMultiBernoulliPopulation(_Population):
             raise ValueError("r_birth is required: the existence probability of each new birth term")
         new = super().with_birth_terms(terms)
         r = np.broadcast_to(np.asarray(r_birth, dtype=float), (new.n_birth_regions,)).copy()
-        for x in r:
-            check_probability(x, "r_birth", low_open=True, high_open=True)
+        if not np.all((r > 0) & (r < 1)):  # (one test over the terms; the first bad one named, as one by one)
+            for x in r:
+                check_probability(x, "r_birth", low_open=True, high_open=True)
         new.r_birth = r
         return new
 

@@ -40,9 +40,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validation import check_finite_array, check_int, check_positive
+from ..._validation import check_finite_array, check_int, check_nonnegative, check_positive
 from ...models.orbit import MU_EARTH
-from ...models.plausibility import MIN_PERIGEE_ALTITUDE, plausible_orbits
+from ...models.plausibility import EARTH_RADIUS_PLAUSIBILITY, MIN_PERIGEE_ALTITUDE, plausible_orbits
+from .admissible_grid import block_sums
 from .frames import EARTH_ROTATION
 from .radar_model import _H_STEP, RadarTrackerSensor, attributable_jacobian, attributable_to_state
 
@@ -207,40 +208,22 @@ class AdmissibleRegionBirth:
         a_edges = np.linspace(-a_max, a_max, N + 1, axis=1)
         e_edges = np.linspace(-e_max, e_max, N + 1, axis=1)
         ac, ec = (a_edges[:, :-1] + a_edges[:, 1:]) / 2, (e_edges[:, :-1] + e_edges[:, 1:]) / 2
-        n_corner, n_centre = (N + 1) ** 2, N * N
-        rates = np.empty((m, n_corner + n_centre, 2))
-        rates[:, :n_corner, 0] = np.repeat(a_edges, N + 1, axis=1)
-        rates[:, :n_corner, 1] = np.tile(e_edges, (1, N + 1))
-        rates[:, n_corner:, 0] = np.repeat(ac, N, axis=1)
-        rates[:, n_corner:, 1] = np.tile(ec, (1, N))
         # step 1 is affine in the rates at a fixed return: x = x(z, 0, 0) + α̇ ∂x/∂α̇ + ε̇ ∂x/∂ε̇ (only the velocity
-        # moves), so each return's three attributables give every cell's state (to rounding)
+        # moves), so each return's three attributables give every cell's state (to rounding); steps 3-4 point by
+        # point in one compiled pass, numpy's arithmetic in numpy's order (admissible_grid)
         base = attributable_to_state(np.column_stack([np.repeat(Z, 3, axis=0), np.tile(np.eye(3)[:, 1:], (m, 1))]),
                                      site, theta).reshape(m, 3, 6)
-        X = np.empty((m, n_corner + n_centre, 6))
-        X[:, :, :3] = base[:, None, 0, :3]
-        X[:, :, 3:] = (base[:, None, 0, 3:] + rates[:, :, :1] * (base[:, None, 1, 3:] - base[:, None, 0, 3:])
-                       + rates[:, :, 1:] * (base[:, None, 2, 3:] - base[:, None, 0, 3:]))
-        good = plausible_orbits(X, min_perigee_km=self.min_perigee_km)
-        corner = good[:, :n_corner].reshape(m, N + 1, N + 1)
-        ok = (good[:, n_corner:].reshape(m, N, N) & corner[:, :-1, :-1] & corner[:, 1:, :-1] & corner[:, :-1, 1:]
-              & corner[:, 1:, 1:])
-        # step 4: blocks (m, nb, nb, c, c) of cells, the azimuth rate along the first cell axis
-        okb = ok.reshape(m, nb, c, nb, c).transpose(0, 1, 3, 2, 4).astype(float)
-        Ab = np.broadcast_to(ac.reshape(m, nb, 1, c, 1), okb.shape)
-        Eb = np.broadcast_to(ec.reshape(m, 1, nb, 1, c), okb.shape)
-        counts = okb.sum(axis=(3, 4))
-        ret, bi, bj = np.nonzero(counts)
-        okk, Ak, Ek, cnt = okb[ret, bi, bj], Ab[ret, bi, bj], Eb[ret, bi, bj], counts[ret, bi, bj]
-        mu_a = (Ak * okk).sum(axis=(1, 2)) / cnt
-        mu_e = (Ek * okk).sum(axis=(1, 2)) / cnt
-        da, de = (Ak - mu_a[:, None, None]) * okk, (Ek - mu_e[:, None, None]) * okk
+        sums = block_sums(base, a_edges, e_edges, ac, ec, nb, c, MU_EARTH, MU_EARTH**2,
+                          EARTH_RADIUS_PLAUSIBILITY + check_nonnegative(self.min_perigee_km, "min_perigee_km"))
+        ret, bi, bj = np.nonzero(sums[..., 0])
+        cnt, s = sums[ret, bi, bj, 0], sums[ret, bi, bj]
+        mu_a, mu_e = s[:, 1] / cnt, s[:, 2] / cnt
         cell_a, cell_e = (2 * a_max[ret] / N) ** 2 / 12.0, (2 * e_max[ret] / N) ** 2 / 12.0
         K = len(ret)
         rate_covs = np.empty((K, 2, 2))
-        rate_covs[:, 0, 0] = (np.sum(da * da, axis=(1, 2)) / cnt + cell_a) * self.spread**2
-        rate_covs[:, 1, 1] = (np.sum(de * de, axis=(1, 2)) / cnt + cell_e) * self.spread**2
-        rate_covs[:, 0, 1] = rate_covs[:, 1, 0] = np.sum(da * de, axis=(1, 2)) / cnt * self.spread**2
+        rate_covs[:, 0, 0] = (s[:, 3] / cnt + cell_a) * self.spread**2
+        rate_covs[:, 1, 1] = (s[:, 4] / cnt + cell_e) * self.spread**2
+        rate_covs[:, 0, 1] = rate_covs[:, 1, 0] = s[:, 5] / cnt * self.spread**2
         totals = np.bincount(ret, weights=cnt, minlength=m)
         # step 5: the means and all K complex-step Jacobians (6 perturbed attributables each) in two calls
         y = np.column_stack([Z[ret], mu_a, mu_e])

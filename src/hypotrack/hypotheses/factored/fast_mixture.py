@@ -36,6 +36,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..seeded import mixture_weights
+
 __all__ = ["mixture_takes"]
 
 
@@ -65,7 +67,7 @@ def mixture_takes(rule, loglik, p_detect, pred_means, Z, extra=None, updated_ok=
     n = len(Z)
     if n == 0:
         return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64)
-    comps = [rule.seeded_density.components(z) for z in Z]
+    comps = [mixture_weights(rule.seeded_density, z) for z in Z]  # (no covariance: no track is made here)
     K = np.array([len(c[0]) for c in comps], dtype=np.int64)
     A = 1 + int(K.max(initial=0))
     offsets = np.full((n, A), -np.inf)

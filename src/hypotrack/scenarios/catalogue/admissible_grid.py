@@ -14,11 +14,14 @@ point, and **the same operations in the same order**, so it gives the same bits:
   same for every rate of one return and computed once;
 * a block's sums ``Σ α̇ ok``, ``Σ ok``, ``Σ (α̇ − μ_α) ok (ε̇ − μ_ε) ok``, ... are numpy's pairwise summation of the
   block's ``cells²`` products in row-major order (:func:`_pairwise`: numpy's ``pairwise_sum``, eight partial sums
-  up to 128 terms, halves beyond), which is what ``np.sum(·, axis=(1, 2))`` of a contiguous ``(K, c, c)`` array
-  does.
+  up to 128 terms, halves beyond), which is what ``np.sum(·, axis=(1, 2))`` of a C-ordered ``(K, c, c)`` array
+  does. (The numpy construction's ``Σ d_ε²`` is not always C-ordered: its operands' memory layout, which numpy
+  picks by heuristics, turns it column-major past ~512 components in a batch, so that construction's values
+  already depended on the batch to rounding. Here every sum is row-major, whatever the batch.)
 
-The tests compare the result with the numpy construction bit for bit on the catalogue's returns and on random
-grids (``tests/unit/scenarios/catalogue/test_admissible_grid.py``).
+The verdicts and counts are therefore exactly numpy's, and the sums the same bits wherever numpy's operands are
+C-ordered (else equal to rounding, ~1e-16 relative); the tests compare with the numpy construction on the catalogue's returns
+and on random grids (``tests/unit/scenarios/catalogue/test_admissible_grid.py``).
 """
 
 from __future__ import annotations

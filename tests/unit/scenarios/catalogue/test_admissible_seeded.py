@@ -105,3 +105,32 @@ def test_prime_puts_the_batch_in_the_cache_equal_to_each_return_s_own_mixture():
     assert seeded.prime(np.zeros((0, 4))) == 0
     with pytest.raises(ValueError, match="Z"):
         seeded.prime(np.array([[1.0, 2.0, np.nan, 0.0]]))
+
+
+def test_a_primed_return_maps_its_covariances_only_when_its_track_is_asked_for():
+    """After :meth:`prime`, :meth:`component_weights` hands out the weights and means with no covariance mapped
+    (the fast path's decision and the births' scores need no more); the first :meth:`components` maps them, equal
+    to the batch's own :meth:`AdmissibleRegionBirth.components_batch` (kept components) to 1e-12, and keeps them."""
+    region = _region(0.4, n_blocks=3, cells=6)
+    scan = np.array([Z_DROP, Z, np.r_[Z[:3], 15.0], [900.0, C - 0.1, np.deg2rad(25.0), -0.5]])
+    seeded = SeededAdmissibleBirth(region)
+    seeded.prime(scan)
+    w_all, m_all, c_all, owner = region.components_batch(scan)
+    ok = plausible_orbits(m_all)
+    for i, z in enumerate(scan):
+        w, m = seeded.component_weights(z)
+        entry = seeded._cache[z.tobytes()]
+        assert entry[2] is None  # no covariance mapped yet
+        sel = (owner == i) & ok
+        np.testing.assert_array_equal(m, m_all[sel])
+        np.testing.assert_allclose(w, w_all[sel] / w_all[sel].sum() if sel.any() else w_all[sel], rtol=1e-15)
+        w2, m2, c2 = seeded.components(z)
+        np.testing.assert_array_equal(w2, w)
+        np.testing.assert_array_equal(m2, m)
+        np.testing.assert_allclose(c2, c_all[sel], rtol=1e-12, atol=1e-12 * np.abs(c_all).max())
+        assert seeded._cache[z.tobytes()][2] is not None and c2.shape == (sel.sum(), 6, 6)
+    # a return never primed: its whole mixture at once, the same numbers by either call
+    fresh = SeededAdmissibleBirth(region)
+    w, m = fresh.component_weights(Z)
+    for u, v in zip((w, m), seeded.components(Z)):
+        np.testing.assert_allclose(u, v, rtol=1e-12)

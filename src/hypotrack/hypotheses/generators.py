@@ -190,7 +190,8 @@ class MurtyGenerator(ChildGenerator):
             sols = murty_k_best(score, request)
             if not sols:
                 return np.zeros((0, problem.n_returns), dtype=np.int32), np.zeros(0)
-            events = np.array([columns_to_event(cols, n_cols) for _, cols in sols], dtype=np.int32)
+            cols = np.array([np.asarray(c) for _, c in sols], dtype=np.int64).reshape(len(sols), problem.n_returns)
+            events = np.where(cols < n_cols, cols, -1).astype(np.int32)  # columns_to_event of each, in one pass
             events = _decode_enumerated(events, problem)
             lw = problem.log_weights(events)
             events, lw = events[np.isfinite(lw)], lw[np.isfinite(lw)]

@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["is_mixture", "mixture_weights", "prime_scan", "seeded_option_scores", "seeded_state"]
+__all__ = ["is_mixture", "mixture_table", "mixture_weights", "prime_scan", "seeded_option_scores", "seeded_state"]
 
 
 def is_mixture(density) -> bool:
@@ -50,6 +50,18 @@ def mixture_weights(density, z):
     if hasattr(density, "component_weights"):
         return density.component_weights(z)
     return density.components(z)[:2]
+
+
+def mixture_table(density, Z):
+    """:func:`mixture_weights` of every return ``Z`` ``(n, p)``: ``(K (n,) int64, w (ΣK,), means (ΣK, d))``, return 0's
+    components first; the density's ``component_table(Z)`` when it has one (one call for a scan's returns)."""
+    if hasattr(density, "component_table"):
+        return density.component_table(Z)
+    parts = [mixture_weights(density, z) for z in Z]
+    K = np.array([len(p[0]) for p in parts], dtype=np.int64)
+    if not parts:
+        return K, np.zeros(0), None
+    return K, np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
 def prime_scan(weights, Z) -> None:

@@ -307,6 +307,16 @@ class SeededAdmissibleBirth:
         w, means, _, _ = self._entry(z, covs=False)
         return w.copy(), means.copy()
 
+    def component_table(self, Z):
+        """:meth:`component_weights` of every return ``Z`` ``(n, 4)`` at once: ``(K (n,) int64, weights (ΣK,), means
+        (ΣK, 6))``, return 0's components first (the fast path's decision over a scan's lone tracks)."""
+        Z = np.asarray(Z, dtype=float).reshape(-1, 4)
+        entries = [self._entry(z, covs=False) for z in Z]
+        K = np.array([len(e[0]) for e in entries], dtype=np.int64)
+        if not len(entries):
+            return K, np.zeros(0), np.zeros((0, 6))
+        return K, np.concatenate([e[0] for e in entries]), np.concatenate([e[1] for e in entries])
+
     def _entry(self, z, covs: bool):
         """The cached ``[w, means, covs or None, (y, rate_covs) or None]`` of return ``z``, the covariances mapped
         now when ``covs`` and not yet (:meth:`AdmissibleRegionBirth.state_covs` of the kept components, the same

@@ -134,3 +134,31 @@ def test_a_primed_return_maps_its_covariances_only_when_its_track_is_asked_for()
     w, m = fresh.component_weights(Z)
     for u, v in zip((w, m), seeded.components(Z)):
         np.testing.assert_allclose(u, v, rtol=1e-12)
+
+
+def test_a_primed_scan_larger_than_the_cache_is_kept_whole(monkeypatch):
+    """A cache of two returns primed with a scan of four: all four stay (no return is rebuilt one by one when the
+    engine asks for it, however often), equal to a fresh instance's mixtures to 1e-12; a new GMST starts again
+    with the stated room, and a miss with the cache full starts it afresh (the asked return is computed)."""
+    region = _region(0.4, n_blocks=3, cells=6)
+    scan = np.array([Z_DROP, Z, np.r_[Z[:3], 15.0], [900.0, C - 0.1, np.deg2rad(25.0), -0.5]])
+    seeded = SeededAdmissibleBirth(region, cache_size=2)
+    assert seeded.prime(scan) == 4
+    fresh = [SeededAdmissibleBirth(_region(0.4, n_blocks=3, cells=6)).components(z) for z in scan]
+    calls = []
+    original = AdmissibleRegionBirth.components
+    monkeypatch.setattr(AdmissibleRegionBirth, "components", lambda self, z: calls.append(1) or original(self, z))
+    for _ in range(3):
+        for z, (w0, m0, _) in zip(scan, fresh):
+            w, m = seeded.component_weights(z)
+            np.testing.assert_allclose(w, w0, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(m, m0, rtol=1e-12)
+            seeded.components(z)
+    assert calls == [] and len(seeded._cache) == 4
+    seeded.components(np.array([2000.0, C, np.deg2rad(30.0), 0.5]))  # a return of no scan: computed, the scan kept
+    assert len(calls) == 1 and len(seeded._cache) == 5
+    calls.clear()
+    region.sensor.at(0.5)
+    for z in scan[:3]:  # not primed at this GMST: one by one, in a cache of two
+        seeded.components(z)
+    assert len(calls) == 3 and len(seeded._cache) == 1

@@ -23,13 +23,10 @@ __all__ = ["Visited", "clear_table", "contains", "insert_rows", "lookup_or_inser
 
 
 @numba.njit(cache=True, nogil=True)
-def lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
-    """Insert ``state`` (hash ``h``, log-weight ``lw``) in the visited set unless present; return
-    the new number of recorded events (``n_found`` unchanged when ``state`` was already there).
-
-    ``table`` is the open-addressing table (a power-of-two length, ``-1`` empty, else an index
-    into ``rows``/``hashes``/``logw``), probed linearly from ``h & (len - 1)``.
-    """
+def _probe(h, state, table, hashes, rows):
+    """``(slot, found)``: the open-addressing table's slot of ``state`` (hash ``h``) — its own when ``found``, else
+    the empty slot where it would go. ``table`` has a power-of-two length (``-1`` empty, else an index into
+    ``rows``/``hashes``) and is probed linearly from ``h & (len - 1)``."""
     mask = table.shape[0] - 1
     pos = h & mask
     m = state.shape[0]
@@ -42,11 +39,21 @@ def lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
                     same = False
                     break
             if same:
-                return n_found
+                return pos, True
         pos = (pos + 1) & mask
+    return pos, False
+
+
+@numba.njit(cache=True, nogil=True)
+def lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
+    """Insert ``state`` (hash ``h``, log-weight ``lw``) in the visited set unless present (:func:`_probe`); return
+    the new number of recorded events (``n_found`` unchanged when ``state`` was already there)."""
+    pos, found = _probe(h, state, table, hashes, rows)
+    if found:
+        return n_found
     table[pos] = n_found
     hashes[n_found] = h
-    for i in range(m):
+    for i in range(state.shape[0]):
         rows[n_found, i] = state[i]
     logw[n_found] = lw
     return n_found + 1
@@ -54,22 +61,8 @@ def lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
 
 @numba.njit(cache=True, nogil=True)
 def contains(h, state, table, hashes, rows):
-    """Whether ``state`` (hash ``h``) is in the visited set (the probe of :func:`lookup_or_insert`, no insertion)."""
-    mask = table.shape[0] - 1
-    pos = h & mask
-    m = state.shape[0]
-    while table[pos] != -1:
-        idx = table[pos]
-        if hashes[idx] == h:
-            same = True
-            for i in range(m):
-                if rows[idx, i] != state[i]:
-                    same = False
-                    break
-            if same:
-                return True
-        pos = (pos + 1) & mask
-    return False
+    """Whether ``state`` (hash ``h``) is in the visited set (:func:`_probe`, no insertion)."""
+    return _probe(h, state, table, hashes, rows)[1]
 
 
 @numba.njit(cache=True, nogil=True)

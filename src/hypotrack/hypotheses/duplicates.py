@@ -63,15 +63,18 @@ def child_pairs(children: ChildSet, c: int, tracks, n_birth: int) -> list:
     birth density (HOMHT; ``c = 0`` for one Gaussian, :mod:`.seeded`). The order is the
     order of the child's tracks in the next store list.
     """
-    ev = children.events[c]
+    # on Python ints: a child has a few tracks and returns, where numpy's per-call overhead is the cost
+    ev = children.events[c].tolist()
     M = len(tracks)
-    ret = np.full(M, -1, dtype=np.int64)
-    on_obj = np.flatnonzero((ev >= 0) & (ev < M))
-    ret[ev[on_obj]] = on_obj
+    ret = [-1] * M
+    for i, a in enumerate(ev):
+        if 0 <= a < M:
+            ret[a] = i
     dead, unseen_births = children.silent_events(c, M)
-    keys = [(int(tracks[j]), int(ret[j])) for j in range(M) if j not in dead]
-    keys += [(-1 - int(ev[i] - M), int(i)) for i in np.flatnonzero(ev >= M)]
-    keys += [(-1 - n_birth - int(SEEDED_BIRTH - ev[i]), int(i)) for i in np.flatnonzero(ev <= SEEDED_BIRTH)]
+    tr = tracks.tolist() if isinstance(tracks, np.ndarray) else [int(t) for t in tracks]
+    keys = [(tr[j], ret[j]) for j in range(M) if j not in dead]
+    keys += [(-1 - (a - M), i) for i, a in enumerate(ev) if a >= M]
+    keys += [(-1 - n_birth - (SEEDED_BIRTH - a), i) for i, a in enumerate(ev) if a <= SEEDED_BIRTH]
     keys += [(-1 - int(r), -1) for r in unseen_births]
     return keys
 

@@ -484,13 +484,31 @@ class HypothesisFilter:
         the other children too light to be found). The step then falls back to each parent's null
         association alone (every return clutter, with its population twins: deaths; a labeled
         multi-Bernoulli parent's "every object missed" and "every object died") — a bounded child set whose
-        children hold only predicted tracks; only when none of those is valid either does the step raise
-        ``RuntimeError``.
+        children hold only predicted tracks. When a prediction itself fails the test (a state that passed it
+        when last updated can fail it later: the test reads two-body elements from a state the J2 motion moves,
+        whose osculating perigee oscillates by kilometres) and no child without it exists (no death), every
+        track whose prediction fails is deleted from every parent, as a single-hypothesis tracker deletes an
+        unphysical track, and the step is taken again from those parents, search then null association
+        (``stats["n_invalid_deleted"]``).
         """
         try:
             return self._advance(state, pred, ctx, False)
         except _NoValidChild:
+            pass
+        try:
             return self._advance(state, pred, ctx, True)
+        except _NoValidChild:
+            ok = np.asarray(self.validity(pred.means), dtype=bool) if len(pred) else np.zeros(0, dtype=bool)
+            if ok.all():
+                raise RuntimeError("no child hypothesis is valid: every child holds a track that fails validity") from None
+            kept = FilterState(state.store, state.log_w, [t[ok[t]] for t in state.tracks], state.keys,
+                               state.next_label)
+            try:
+                result = self._advance(kept, pred, ctx, False)
+            except _NoValidChild:
+                result = self._advance(kept, pred, ctx, True)
+            result.stats["n_invalid_deleted"] = int(np.sum(~ok))
+            return result
 
     def _advance(self, state: FilterState, pred: TrackStore, ctx: ScanContext, with_null: bool) -> StepResult:
         t0 = _clock.perf_counter()
@@ -522,8 +540,7 @@ class HypothesisFilter:
             sel, n_invalid = valid_top_k(all_keys, self.max_hypotheses, memo.pairs,
                                          lambda src, ret: self.pair_moments(pred, ctx, src, ret), self.validity)
             if len(sel) == 0:
-                raise (RuntimeError if with_null else _NoValidChild)(
-                    "no child hypothesis is valid: every child holds a track that fails validity")
+                raise _NoValidChild("no child hypothesis is valid: every child holds a track that fails validity")
         kept = children.take(sel)
         new, sources, n_updates = self._materialise(state, kept, memo, sel, pred, ctx)
         log_total = logsumexp(masses)

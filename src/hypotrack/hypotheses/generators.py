@@ -43,7 +43,7 @@ from ..association import (
     murty_k_best,
 )
 from ..association.cardinality_assignment import cardinality_k_best
-from ..association.samplers import MCMC_VARIANTS, checked_search, state_log_weight, to_state
+from ..association.samplers import MCMC_VARIANTS, checked_search, completion_limit, state_log_weight, to_state
 from .association_problem import SEEDED_BIRTH, AssociationProblem
 
 __all__ = ["ChildGenerator", "ExhaustiveGenerator", "MurtyGenerator", "MCMCGenerator", "top_k"]
@@ -190,7 +190,8 @@ class MurtyGenerator(ChildGenerator):
             sols = murty_k_best(score, request)
             if not sols:
                 return np.zeros((0, problem.n_returns), dtype=np.int32), np.zeros(0)
-            events = np.array([columns_to_event(cols, n_cols) for _, cols in sols], dtype=np.int32)
+            cols = np.array([np.asarray(c) for _, c in sols], dtype=np.int64).reshape(len(sols), problem.n_returns)
+            events = np.where(cols < n_cols, cols, -1).astype(np.int32)  # columns_to_event of each, in one pass
             events = _decode_enumerated(events, problem)
             lw = problem.log_weights(events)
             events, lw = events[np.isfinite(lw)], lw[np.isfinite(lw)]
@@ -231,6 +232,11 @@ class MCMCGenerator(ChildGenerator):
         :func:`hypotrack.association.samplers.neighbour_completion`). ``0`` rounds is the paper's
         search alone. The chain finds the modes; the completion finds the light children next
         to them that a 10⁵-step chain meets too rarely (tests: every child above 10⁻⁶ found).
+    completion_memory_mb : float
+        The completion's memory bound (MiB, > 0; default 2048): it holds at most
+        :func:`~hypotrack.association.samplers.completion_limit` events, keeping the heaviest (near the mode of a
+        group of hundreds of returns the single moves above ``completion_threshold`` number tens of millions;
+        unbounded they outgrew 16 GB). Below the bound nothing changes.
     """
 
     n_steps: int = 100_000
@@ -240,6 +246,7 @@ class MCMCGenerator(ChildGenerator):
     temperature: float = 1.0
     completion_rounds: int = 2
     completion_threshold: float = 1e-9
+    completion_memory_mb: float = 2048.0
     name = "mcmc"
 
     def __post_init__(self):
@@ -250,6 +257,7 @@ class MCMCGenerator(ChildGenerator):
             raise ValueError(f"variant must be one of {MCMC_VARIANTS}, got {self.variant!r}")
         check_positive(self.temperature, "temperature")
         check_int(self.completion_rounds, "completion_rounds", minimum=0)
+        check_positive(self.completion_memory_mb, "completion_memory_mb")
         if not 0 < self.completion_threshold < 1:
             raise ValueError(f"completion_threshold must lie in (0, 1), got {self.completion_threshold!r}")
         if self.init not in ("random", "clutter", "best"):
@@ -289,6 +297,7 @@ class MCMCGenerator(ChildGenerator):
             n_steps=self.n_steps, burn_in=burn_in, seed=int(rng.integers(2**63 - 1)),
             variant=self.variant, temperature=float(self.temperature),
             completion_rounds=self.completion_rounds, completion_threshold=float(self.completion_threshold),
+            completion_max_events=completion_limit(problem.n_returns, self.completion_memory_mb),
         )
         lw = lw + problem.constant
         sel = top_k(lw, keep)

@@ -34,12 +34,34 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["is_mixture", "prime_scan", "seeded_option_scores", "seeded_state"]
+__all__ = ["is_mixture", "mixture_table", "mixture_weights", "prime_scan", "seeded_option_scores", "seeded_state"]
 
 
 def is_mixture(density) -> bool:
     """Whether ``density`` is a mixture birth density (has ``components(z)``)."""
     return hasattr(density, "components")
+
+
+def mixture_weights(density, z):
+    """``(w (K,), means (K, d))`` of a mixture density's components at return ``z``: its ``component_weights(z)``
+    when it has one (the mixture without the covariances: e.g.
+    :meth:`hypotrack.scenarios.catalogue.admissible.SeededAdmissibleBirth.component_weights`, whose covariances
+    are mapped only for the births a kept child holds), else the first two of ``components(z)``."""
+    if hasattr(density, "component_weights"):
+        return density.component_weights(z)
+    return density.components(z)[:2]
+
+
+def mixture_table(density, Z):
+    """:func:`mixture_weights` of every return ``Z`` ``(n, p)``: ``(K (n,) int64, w (ΣK,), means (ΣK, d))``, return 0's
+    components first; the density's ``component_table(Z)`` when it has one (one call for a scan's returns)."""
+    if hasattr(density, "component_table"):
+        return density.component_table(Z)
+    parts = [mixture_weights(density, z) for z in Z]
+    K = np.array([len(p[0]) for p in parts], dtype=np.int64)
+    if not parts:
+        return K, np.zeros(0), None
+    return K, np.concatenate([p[0] for p in parts]), np.concatenate([p[1] for p in parts])
 
 
 def prime_scan(weights, Z) -> None:
@@ -59,7 +81,7 @@ def seeded_option_scores(density, Z, log_intensity: float) -> np.ndarray:
     Z = np.asarray(Z, dtype=float)
     if not is_mixture(density):
         return np.full((len(Z), 1), float(log_intensity))
-    weights = [np.asarray(density.components(z)[0], dtype=float) for z in Z]
+    weights = [np.asarray(mixture_weights(density, z)[0], dtype=float) for z in Z]
     out = np.full((len(Z), max((len(w) for w in weights), default=0)), -np.inf)
     for i, w in enumerate(weights):
         with np.errstate(divide="ignore"):

@@ -16,7 +16,9 @@ option (:class:`~.filter.HypothesisFilter`) applies the test before the cap:
    renormalised over the valid children only.
 
 Only the children visited are tested: about ``H∞`` plus the invalid ones among the best, not the
-whole child set. If no child passes, the step raises (``RuntimeError``; the filter is left as it
+whole child set. Every one of the next ``H∞ − kept`` children is visited (each is kept or rejected), so their
+new pairs are updated and tested in one batch (one call of each per round, not one per child: a round per
+rejection streak, the same children and verdicts). If no child passes, the step raises (``RuntimeError``; the filter is left as it
 was, :meth:`~.filter.HypothesisFilter.step`). Without the option nothing changes.
 """
 
@@ -48,22 +50,25 @@ def valid_top_k(keys, k: int, pairs_of, moments_of, validity):
     """
     keys = np.asarray(keys, dtype=float)
     order = np.argsort(-keys, kind="stable")
+    finite = np.isfinite(keys[order])
+    order = order[:len(order) if finite.all() else int(np.argmin(finite))]  # the visit stops at the first non-finite
     verdict: dict = {}
-    sel, n_invalid = [], 0
-    for c in order:
-        if len(sel) == k or not np.isfinite(keys[c]):
+    sel, n_invalid, tested = [], 0, 0
+    for i, c in enumerate(order):
+        if len(sel) == k:
             break
-        pairs = pairs_of(int(c))
-        new = list(dict.fromkeys(p for p in pairs if p not in verdict))
-        if new:
-            src = np.array([p[0] for p in new], dtype=np.int64)
-            ret = np.array([p[1] for p in new], dtype=np.int64)
-            means, _ = moments_of(src, ret)
-            ok = np.asarray(validity(means), dtype=bool)
-            if ok.shape != (len(new),):
-                raise ValueError(f"validity must return one bool per track, shape ({len(new)},), got {ok.shape}")
-            verdict.update(zip(new, ok.tolist()))
-        if all(verdict[p] for p in pairs):
+        if i == tested:  # the next k − |sel| children are all visited (each is kept or rejected): test them at once
+            tested = i + k - len(sel)
+            new = list(dict.fromkeys(p for d in order[i:tested] for p in pairs_of(int(d)) if p not in verdict))
+            if new:
+                src = np.array([p[0] for p in new], dtype=np.int64)
+                ret = np.array([p[1] for p in new], dtype=np.int64)
+                means, _ = moments_of(src, ret)
+                ok = np.asarray(validity(means), dtype=bool)
+                if ok.shape != (len(new),):
+                    raise ValueError(f"validity must return one bool per track, shape ({len(new)},), got {ok.shape}")
+                verdict.update(zip(new, ok.tolist()))
+        if all(verdict[p] for p in pairs_of(int(c))):
             sel.append(int(c))
         else:
             n_invalid += 1

@@ -76,17 +76,26 @@ def test_a_validity_that_accepts_everything_changes_nothing():
     assert plain.configuration()["validity"] is None
 
 
-def test_no_valid_child_raises_and_leaves_the_filter_as_it_was():
+def test_a_prediction_failing_the_test_is_deleted_and_a_failed_step_leaves_the_filter_as_it_was():
+    """A test no state passes: the known object's prediction fails it and no child lacks it (p_S = 1), so the track
+    is deleted, as a single-hypothesis tracker deletes an unphysical track; every newborn fails too, leaving one
+    empty hypothesis of weight 1. Before, the step raised."""
     f = _filter(lambda m: np.zeros(len(m), bool))
-    before = f.log_weights.copy(), f.time
-    with pytest.raises(RuntimeError, match="no child hypothesis is valid"):
-        f.step(_scan())
-    np.testing.assert_array_equal(f.log_weights, before[0])
-    assert f.time == before[1]
+    f.step(_scan())
+    assert [len(t) for t in f.track_lists] == [0] and f.log_weights[0] == pytest.approx(0.0, abs=1e-12)
+    assert f.last_stats["n_invalid_deleted"] == 1
+    assert f.posterior().expected_number == 0.0
+    g = _filter(plausible_orbits)
+    g.step(_scan())
+    assert "n_invalid_deleted" not in g.last_stats  # a valid prediction is never deleted
     with pytest.raises(TypeError, match="validity must be callable"):
         _filter(validity=3)
+    h = _filter(lambda m: np.ones(len(m) + 1, bool))
+    before = h.log_weights.copy(), h.time
     with pytest.raises(ValueError, match="one bool per track"):
-        _filter(lambda m: np.ones(len(m) + 1, bool)).step(_scan())
+        h.step(_scan())
+    np.testing.assert_array_equal(h.log_weights, before[0])
+    assert h.time == before[1]
 
 
 def test_the_factored_engine_applies_the_same_hook():
@@ -137,10 +146,10 @@ def test_a_search_that_finds_only_invalid_children_falls_back_to_the_null_associ
     x_p, F = MOTION.transition(X0, DT)
     np.testing.assert_allclose(f.store.means, x_p, rtol=0, atol=1e-9)
     np.testing.assert_allclose(f.store.covs[0], F[0] @ P0[0] @ F[0].T + MOTION.Q(DT), rtol=1e-9, atol=1e-15)
-    # nothing valid in the whole child set either (the prediction outside the wall too): the step raises
+    # the prediction outside the wall too: no child is valid, so the track is deleted and the return is clutter
     g = _searched_filter(lambda m: m[:, 0] < x_pred[0] - 1.0, gen)
-    with pytest.raises(RuntimeError, match="no child hypothesis is valid"):
-        g.step(Z)
+    g.step(Z)
+    assert [len(t) for t in g.track_lists] == [0] and g.last_stats["n_invalid_deleted"] == 1
 
 
 def test_the_labeled_multi_bernoulli_fallback_adds_every_object_missed_and_every_object_died():

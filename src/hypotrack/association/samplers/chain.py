@@ -43,9 +43,9 @@ from ..._validation import check_int, check_positive, check_probability
 from ..mt19937 import N_DOUBLES, fill_doubles, seed_state
 from .events import check_problem, count_delta, gather_sum, owners_and_counts, state_log_weight, to_events, to_state
 from .gibbs import gibbs_draw, move_row
-from .visited import Visited, insert_rows, lookup_or_insert
+from .visited import Visited, contains, insert_rows, lookup_or_insert
 
-__all__ = ["MCMC_VARIANTS", "checked_search", "mcmc_search", "neighbour_completion"]
+__all__ = ["MCMC_VARIANTS", "checked_search", "completion_limit", "mcmc_search", "neighbour_completion"]
 
 MCMC_VARIANTS = ("paper", "symmetric", "gibbs")
 _VARIANT_CODE = {v: i for i, v in enumerate(MCMC_VARIANTS)}
@@ -54,6 +54,14 @@ _VARIANT_CODE = {v: i for i, v in enumerate(MCMC_VARIANTS)}
 # the same decisions as the logarithm without computing it (most proposals of a chain that has found
 # its mode are far below the threshold).
 _LOG_U_FLOOR = -40.0
+
+
+def completion_limit(m: int, memory_mb: float) -> int:
+    """The events a visited set of ``m`` returns holds in ``memory_mb`` MiB: ``4 m + 32`` bytes an event (an int32 row,
+    its log-weight and hash, two table slots; :mod:`.visited`), at least 2."""
+    m = check_int(m, "m", minimum=0)
+    memory_mb = check_positive(memory_mb, "memory_mb")
+    return max(2, int(memory_mb * 2**20 // (4 * m + 32)))
 
 
 @numba.njit(cache=True, nogil=True)
@@ -186,16 +194,16 @@ def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_i
 
 @numba.njit(cache=True, nogil=True)
 def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, zobrist, table, hashes, rows, logw,
-                      n_found):
+                      n_found, cap):
     """Expand visited events ``start .. stop-1``: add every single move of the paper's proposal
     (return ``i`` to column ``c``, a conflicting return to clutter) reaching ``threshold``.
 
-    Returns ``(n_found, overflow)``; on overflow the buffers must grow and the round be re-run
-    (events already added are recognised as visited).
+    Returns ``(n_found, overflow)``; on overflow (a new event and ``cap`` events already held) the buffers must grow
+    (or, at the bound, the lightest events go: :func:`_complete`) and the round be re-run (events already
+    added are recognised as visited).
     """
     m = rows.shape[1]
     n_col = score.shape[1]
-    cap = rows.shape[0]
     state = np.empty(m, dtype=np.int64)
     for q in range(start, stop):
         lw = logw[q]
@@ -222,13 +230,13 @@ def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, 
                 new = lw + delta + count_term[k + dk, b + db] - count_term[k, b]
                 if not new >= threshold:
                     continue
-                if n_found >= cap:
-                    return n_found, True
                 h = h0 ^ zobrist[i, cur] ^ zobrist[i, c]
                 state[i] = c
                 if i2 != -1:
                     h ^= zobrist[i2, c] ^ zobrist[i2, n_excl]
                     state[i2] = n_excl
+                if n_found >= cap and not contains(h, state, table, hashes, rows):
+                    return n_found, True  # a new event and no room (an event already held needs none)
                 n_found = lookup_or_insert(h, state, table, hashes, rows, logw, new, n_found)
                 state[i] = cur
                 if i2 != -1:
@@ -236,27 +244,57 @@ def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, 
     return n_found, False
 
 
-def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_threshold):
-    """Run ``rounds`` completion rounds on ``visited`` (growing it on overflow)."""
+def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_threshold, max_events=None):
+    """Run ``rounds`` completion rounds on ``visited`` (growing it on overflow), holding at most ``max_events``
+    events (``None``: no bound).
+
+    **The bound.** A round adds every single move reaching ``τ = max + log(relative_threshold)`` from the events
+    above ``τ``; near the mode of a large group these number many times the group's returns per event, and the
+    visited set (``4 m + 32`` bytes an event) can outgrow the memory. At ``max_events`` events the completion
+    keeps the heaviest: the lightest events go — all those at or below the weight ``w*`` of the
+    ``(max_events // 2 + 1)``-th heaviest held, so that at most half the bound is held after it — and ``τ``
+    rises above ``w*`` (it only rises: no event that went can come back), and the round goes on from where
+    the kept events stand. What is held is then every event found above the final ``τ``, in order of first
+    visit: only events of the unbounded completion (its thresholds are never higher, so it expands every event
+    this one does, in the same round or earlier), with their weights, and at least those the completion finds
+    when run at the final ``τ`` from the start (the tests check both on brute-force problems). While the bound
+    is not reached nothing changes (the same events, weights and order). The chain's own visits, when more than
+    ``max_events``, are held until the completion's first overflow. Ties at the top beyond the bound (more than
+    ``max_events // 2`` events of the very best weight) keep the first visited of them."""
     start = 0
+    raised = -np.inf
+    limit = visited.rows.shape[0] if max_events is None else int(max_events)
     for _ in range(rounds):
         stop = visited.n
         if stop == start:
             break
-        threshold = float(visited.logw[:stop].max()) + np.log(relative_threshold)
+        threshold = max(float(visited.logw[:stop].max()) + np.log(relative_threshold), raised)
         while True:
+            cap = visited.rows.shape[0] if max_events is None else min(visited.rows.shape[0], limit)
             n, overflow = _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold,
                                             visited.zobrist, visited.table, visited.hashes, visited.rows,
-                                            visited.logw, visited.n)
+                                            visited.logw, visited.n, cap)
             visited.n = n
             if not overflow:
                 break
-            visited.grow()
+            if max_events is None or visited.rows.shape[0] < limit:
+                visited.grow(None if max_events is None else limit)
+                continue
+            # at the bound: the lightest go, the threshold rises past them (the docstring)
+            lw = visited.logw[:visited.n]
+            half = max(int(max_events) // 2, 1)
+            w_star = np.sort(lw)[::-1][min(half, len(lw) - 1)]
+            kept = np.flatnonzero(lw > w_star)
+            if len(kept) == 0:  # more than half the bound tied at the best: the first visited of them
+                kept = np.flatnonzero(lw >= w_star)[:half]
+            raised = threshold = max(threshold, float(np.nextafter(w_star, np.inf)))
+            start, stop = int(np.searchsorted(kept, start)), int(np.searchsorted(kept, stop))
+            visited.keep(kept)
         start = stop
 
 
 def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, burn_in=0, variant="paper",
-                init=None, temperature=1.0, completion_rounds=0, completion_threshold=1e-9):
+                init=None, temperature=1.0, completion_rounds=0, completion_threshold=1e-9, completion_max_events=None):
     """Search the association events of one parent with an MCMC chain.
 
     Parameters
@@ -287,6 +325,9 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
         returned weights are exact whatever ``T``.
     completion_rounds, completion_threshold : optional
         After the chain, :func:`neighbour_completion` (0 rounds: the chain's visits only).
+    completion_max_events : int, optional
+        The completion's bound: it never holds more events than this, keeping the heaviest (:func:`_complete`;
+        e.g. :func:`completion_limit` of a memory budget); ``None`` (default): no bound.
 
     Returns
     -------
@@ -306,6 +347,8 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
     completion_rounds = check_int(completion_rounds, "completion_rounds", minimum=0)
     completion_threshold = check_probability(completion_threshold, "completion_threshold", low_open=True,
                                              high_open=True)
+    if completion_max_events is not None:
+        completion_max_events = check_int(completion_max_events, "completion_max_events", minimum=1)
     m, n_col = score.shape
     if init is None:
         state = np.full(m, n_excl, dtype=np.int64)
@@ -323,11 +366,11 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
             raise ValueError("init assigns two returns to the same exclusive column")
     return checked_search(score, n_obj, n_excl, count_term, state, n_steps=n_steps, burn_in=burn_in, seed=seed,
                           variant=variant, temperature=temperature, completion_rounds=completion_rounds,
-                          completion_threshold=completion_threshold)
+                          completion_threshold=completion_threshold, completion_max_events=completion_max_events)
 
 
 def checked_search(score, n_obj, n_excl, count_term, state, *, n_steps, burn_in, seed, variant, temperature,
-                   completion_rounds, completion_threshold):
+                   completion_rounds, completion_threshold, completion_max_events=None):
     """:func:`mcmc_search` from a validated problem (:func:`.events.check_problem`), validated options
     and a starting ``state`` in internal column codes (:func:`.events.to_state`): the per-parent path
     of :class:`hypotrack.hypotheses.MCMCGenerator`, which builds these once per problem."""
@@ -338,13 +381,13 @@ def checked_search(score, n_obj, n_excl, count_term, state, *, n_steps, burn_in,
     _, chain_seed = ss.generate_state(2, dtype=np.uint32)  # the first word once seeded the Zobrist keys
     visited = Visited(m, n_col, n_steps - burn_in + 1)
     found = _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, variant, chain_seed,
-                    temperature, completion_rounds, completion_threshold)
+                    temperature, completion_rounds, completion_threshold, completion_max_events)
     visited.release()
     return found
 
 
 def _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, variant, chain_seed, temperature,
-            completion_rounds, completion_threshold):
+            completion_rounds, completion_threshold, completion_max_events=None):
     tempered = temperature != 1.0
     visited.n = _run_chain(score / temperature if tempered else score, n_obj, n_excl,
                            count_term / temperature if tempered else count_term, state, visited.zobrist, n_steps,
@@ -354,12 +397,13 @@ def _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, 
         gather_sum(score, to_events(visited.rows[: visited.n], n_excl), n_obj, n_excl, count_term,
                    visited.logw[: visited.n])
     if completion_rounds:
-        _complete(visited, score, n_obj, n_excl, count_term, completion_rounds, completion_threshold)
+        _complete(visited, score, n_obj, n_excl, count_term, completion_rounds, completion_threshold,
+                  completion_max_events)
     return to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()
 
 
 def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_weights, *, rounds=2,
-                         relative_threshold=1e-9):
+                         relative_threshold=1e-9, max_events=None):
     """Add the heavy single-move neighbours of found events (a deterministic local search).
 
     A Metropolis chain visits a child of relative weight ``r`` next to the mode only about
@@ -371,11 +415,17 @@ def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_
     ``rounds`` repeats this from the newly added events. Compiled; duplicates are recognised
     through the same Zobrist-hashed visited set as the chain's.
 
+    ``max_events`` (optional, default ``None``: none) bounds the events held: at the bound the lightest go and
+    the threshold rises past them (:func:`_complete`), so what is returned is every event found above the final
+    threshold, the heaviest; below the bound nothing changes.
+
     Returns the augmented ``(events, log_weights)``, the given (distinct) events first.
     """
     score, n_obj, n_excl, count_term = check_problem(score, n_objects, n_exclusive, count_term)
     rounds = check_int(rounds, "rounds", minimum=0)
     tau = check_probability(relative_threshold, "relative_threshold", low_open=True, high_open=True)
+    if max_events is not None:
+        max_events = check_int(max_events, "max_events", minimum=1)
     events = np.asarray(events)
     lw = np.asarray(log_weights, dtype=float)
     m, n_col = score.shape
@@ -385,5 +435,5 @@ def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_
     visited.rows[: len(lw)] = to_state(events, n_excl)
     visited.logw[: len(lw)] = lw
     visited.n = insert_rows(visited.rows, visited.logw, len(lw), visited.zobrist, visited.table, visited.hashes)
-    _complete(visited, score, n_obj, n_excl, count_term, rounds, tau)
+    _complete(visited, score, n_obj, n_excl, count_term, rounds, tau, max_events)
     return to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()

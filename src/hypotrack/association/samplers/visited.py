@@ -7,8 +7,8 @@ set is an open-addressing hash table keyed by an incrementally updated Zobrist h
 return updates it with two XORs), with an exact row comparison on every hash hit, so two
 different events are never merged.
 
-:class:`Visited` holds the growable buffers (rows in state codes, exact log-weights, hashes, the
-table); the compiled kernels :func:`lookup_or_insert`, :func:`insert_rows` and
+:class:`Visited` holds the growable buffers (rows in state codes as int32 — a column index, far below 2³¹ —,
+exact log-weights, hashes, the table: ``4 m + 32`` bytes an event, the table's two slots included); the compiled kernels :func:`lookup_or_insert`, :func:`insert_rows` and
 :func:`clear_table` work on them inside the samplers' loops.
 """
 
@@ -19,17 +19,14 @@ import threading
 import numba
 import numpy as np
 
-__all__ = ["Visited", "clear_table", "insert_rows", "lookup_or_insert", "zobrist_keys"]
+__all__ = ["Visited", "clear_table", "contains", "insert_rows", "lookup_or_insert", "zobrist_keys"]
 
 
 @numba.njit(cache=True, nogil=True)
-def lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
-    """Insert ``state`` (hash ``h``, log-weight ``lw``) in the visited set unless present; return
-    the new number of recorded events (``n_found`` unchanged when ``state`` was already there).
-
-    ``table`` is the open-addressing table (a power-of-two length, ``-1`` empty, else an index
-    into ``rows``/``hashes``/``logw``), probed linearly from ``h & (len - 1)``.
-    """
+def _probe(h, state, table, hashes, rows):
+    """``(slot, found)``: the open-addressing table's slot of ``state`` (hash ``h``) — its own when ``found``, else
+    the empty slot where it would go. ``table`` has a power-of-two length (``-1`` empty, else an index into
+    ``rows``/``hashes``) and is probed linearly from ``h & (len - 1)``."""
     mask = table.shape[0] - 1
     pos = h & mask
     m = state.shape[0]
@@ -42,14 +39,30 @@ def lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
                     same = False
                     break
             if same:
-                return n_found
+                return pos, True
         pos = (pos + 1) & mask
+    return pos, False
+
+
+@numba.njit(cache=True, nogil=True)
+def lookup_or_insert(h, state, table, hashes, rows, logw, lw, n_found):
+    """Insert ``state`` (hash ``h``, log-weight ``lw``) in the visited set unless present (:func:`_probe`); return
+    the new number of recorded events (``n_found`` unchanged when ``state`` was already there)."""
+    pos, found = _probe(h, state, table, hashes, rows)
+    if found:
+        return n_found
     table[pos] = n_found
     hashes[n_found] = h
-    for i in range(m):
+    for i in range(state.shape[0]):
         rows[n_found, i] = state[i]
     logw[n_found] = lw
     return n_found + 1
+
+
+@numba.njit(cache=True, nogil=True)
+def contains(h, state, table, hashes, rows):
+    """Whether ``state`` (hash ``h``) is in the visited set (:func:`_probe`, no insertion)."""
+    return _probe(h, state, table, hashes, rows)[1]
 
 
 @numba.njit(cache=True, nogil=True)
@@ -124,7 +137,7 @@ class Visited:
             _, flat, self.logw, self.hashes, self.table = pool
             _BUFFERS.pool = None
         else:
-            flat = np.empty(capacity * max(m, 1), dtype=np.int64)
+            flat = np.empty(capacity * max(m, 1), dtype=np.int32)  # state codes: columns, far below 2³¹
             self.logw = np.empty(capacity)
             self.hashes = np.empty(capacity, dtype=np.int64)
             self.table = np.full(1 << int(2 * capacity - 1).bit_length(), -1, dtype=np.int64)
@@ -137,9 +150,19 @@ class Visited:
         _BUFFERS.pool = (self.rows.shape[0], self._flat, self.logw, self.hashes, self.table)
         self.n = 0
 
-    def grow(self):
-        """Double the capacity, keeping the recorded events in their order."""
-        rows, logw, n = self.rows[: self.n].copy(), self.logw[: self.n].copy(), self.n
-        self._alloc(rows.shape[1], 2 * self.rows.shape[0])
+    def grow(self, limit=None):
+        """Double the capacity (at most ``limit`` events), keeping the recorded events in their order."""
+        capacity = 2 * self.rows.shape[0] if limit is None else min(2 * self.rows.shape[0], max(int(limit), 1))
+        self.keep(np.arange(self.n), capacity)
+
+    def keep(self, idx, capacity=None):
+        """Keep only the recorded events ``idx`` (increasing indices: their order is kept), in buffers of
+        ``capacity`` events (default the current), the table rebuilt."""
+        rows, logw = self.rows[idx].copy(), self.logw[idx].copy()
+        capacity = self.rows.shape[0] if capacity is None else int(capacity)
+        clear_table(self.table, self.hashes, self.n)
+        if capacity != self.rows.shape[0]:
+            self._alloc(rows.shape[1], capacity)
+        n = len(rows)
         self.rows[:n], self.logw[:n] = rows, logw
         self.n = insert_rows(self.rows, self.logw, n, self.zobrist, self.table, self.hashes)

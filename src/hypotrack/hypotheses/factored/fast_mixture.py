@@ -36,6 +36,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..seeded import mixture_table
+
 __all__ = ["mixture_takes"]
 
 
@@ -65,8 +67,7 @@ def mixture_takes(rule, loglik, p_detect, pred_means, Z, extra=None, updated_ok=
     n = len(Z)
     if n == 0:
         return np.zeros(0, dtype=bool), np.zeros(0, dtype=np.int64)
-    comps = [rule.seeded_density.components(z) for z in Z]
-    K = np.array([len(c[0]) for c in comps], dtype=np.int64)
+    K, w_all, means_all = mixture_table(rule.seeded_density, Z)  # (no covariance: no track is made here)
     A = 1 + int(K.max(initial=0))
     offsets = np.full((n, A), -np.inf)
     offsets[:, 0] = rule.alt_offsets[0]
@@ -74,9 +75,8 @@ def mixture_takes(rule, loglik, p_detect, pred_means, Z, extra=None, updated_ok=
     rows = np.repeat(np.arange(n), K)
     cols = 1 + np.arange(len(rows)) - np.repeat(np.cumsum(K) - K, K)
     if len(rows):
-        offsets[rows, cols] = rule.alt_offsets[1] + np.log(np.concatenate([c[0] for c in comps]))
-        seed_ok[rows, cols] = True if rule.validity is None else _valid(
-            rule.validity, np.concatenate([c[1] for c in comps]))  # all components' means in one test
+        offsets[rows, cols] = rule.alt_offsets[1] + np.log(w_all)
+        seed_ok[rows, cols] = True if rule.validity is None else _valid(rule.validity, means_all)  # one test
     pred_ok = np.ones(n, dtype=bool) if rule.validity is None else _valid(rule.validity, pred_means)
     ok = (p_detect > 0) & (p_detect < 1) & np.isfinite(loglik) & (True if updated_ok is None else updated_ok)
     p = np.where(ok, p_detect, 0.5)

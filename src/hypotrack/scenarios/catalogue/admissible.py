@@ -40,9 +40,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..._validation import check_finite_array, check_int, check_positive
+from ..._validation import check_finite_array, check_int, check_nonnegative, check_positive
 from ...models.orbit import MU_EARTH
 from ...models.plausibility import EARTH_RADIUS_PLAUSIBILITY, MIN_PERIGEE_ALTITUDE, plausible_orbits
+from .admissible_grid import block_sums, segment_sums
 from .admissible_kernels import admissible_components
 from .frames import EARTH_ROTATION
 from .radar_model import _H_STEP, RadarTrackerSensor, _r3, attributable_jacobian, attributable_to_state, site_teme
@@ -192,21 +193,39 @@ class AdmissibleRegionBirth:
         with no admissible cell has none, where :meth:`mixture` raises). Equal to :meth:`mixture` return by
         return to rounding (the tests compare every weight, mean and covariance to 1e-12).
 
-        Steps 2-5 of the module docstring on arrays over all returns: one rate box per return, all their
-        cells' corners and centres in one plausibility test, each block's centroid and scatter as masked sums
-        over its ``cells × cells`` cells, and all components' complex-step Jacobians in one call of
-        :func:`attributable_to_state` (``6 K`` perturbed attributables)."""
+        With ``compiled`` one compiled pass (:func:`.admissible_kernels.admissible_components`), else
+        :meth:`batch_parts` (steps 2-4 and the means) and :meth:`state_covs` (step 5's covariances)."""
+        theta = self.sensor.theta if theta is None else float(theta)
+        if self.compiled:
+            Z = np.asarray(Z, dtype=float)
+            Z = check_finite_array(Z.reshape(0, 4) if Z.size == 0 else Z, "Z", shape=(None, 4))
+            if len(Z) == 0:
+                return np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6)), np.zeros(0, dtype=np.int64)
+            site = self.sensor.radar.site
+            return admissible_components(Z, site_teme(site, theta)[0], site.enu @ _r3(theta), self.sensor.R,
+                                         EARTH_ROTATION, MU_EARTH, MU_EARTH,
+                                         EARTH_RADIUS_PLAUSIBILITY + self.min_perigee_km, self.n_blocks, self.cells,
+                                         self.spread)
+        w, means, owner, y, rate_covs = self.batch_parts(Z, theta)
+        return w, means, self.state_covs(y, rate_covs, theta), owner
+
+    def batch_parts(self, Z, theta=None):
+        """:meth:`components_batch` but the covariances: ``(weights (K,), means (K, 6), owner (K,), y (K, 6),
+        rate_covs (K, 2, 2))``, ``y`` each component's mean attributable ``(z, α̇, ε̇)`` and ``rate_covs`` its rate
+        covariance, from which :meth:`state_covs` maps the covariances (a tracker that needs only the weights and
+        the means, e.g. to decide which births can survive, skips their Jacobians).
+
+        Steps 2-4 of the module docstring on arrays over all returns: one rate box per return, all their
+        cells' corners and centres in one compiled pass (:func:`.admissible_grid.block_sums`, numpy's
+        arithmetic in numpy's order: the same bits as :func:`plausible_orbits` of every grid state and
+        numpy's sums over each block), and the components' means in one call of :func:`attributable_to_state`."""
         Z = np.asarray(Z, dtype=float)
         Z = check_finite_array(Z.reshape(0, 4) if Z.size == 0 else Z, "Z", shape=(None, 4))
         theta = self.sensor.theta if theta is None else float(theta)
         site, m, nb, c = self.sensor.radar.site, len(Z), self.n_blocks, self.cells
         N = nb * c
         if m == 0:
-            return np.zeros(0), np.zeros((0, 6)), np.zeros((0, 6, 6)), np.zeros(0, dtype=np.int64)
-        if self.compiled:
-            return admissible_components(Z, site_teme(site, theta)[0], site.enu @ _r3(theta), self.sensor.R, EARTH_ROTATION,
-                                         MU_EARTH, MU_EARTH, EARTH_RADIUS_PLAUSIBILITY + self.min_perigee_km, nb, c,
-                                         self.spread)
+            return np.zeros(0), np.zeros((0, 6)), np.zeros(0, dtype=np.int64), np.zeros((0, 6)), np.zeros((0, 2, 2))
         # step 2 for every return (rate_box's arithmetic, one row per return)
         r = attributable_to_state(np.column_stack([Z, np.zeros((m, 2))]), site, theta)[:, :3]
         rn = np.sqrt(np.sum(r * r, axis=1))
@@ -217,44 +236,32 @@ class AdmissibleRegionBirth:
         a_edges = np.linspace(-a_max, a_max, N + 1, axis=1)
         e_edges = np.linspace(-e_max, e_max, N + 1, axis=1)
         ac, ec = (a_edges[:, :-1] + a_edges[:, 1:]) / 2, (e_edges[:, :-1] + e_edges[:, 1:]) / 2
-        n_corner, n_centre = (N + 1) ** 2, N * N
-        rates = np.empty((m, n_corner + n_centre, 2))
-        rates[:, :n_corner, 0] = np.repeat(a_edges, N + 1, axis=1)
-        rates[:, :n_corner, 1] = np.tile(e_edges, (1, N + 1))
-        rates[:, n_corner:, 0] = np.repeat(ac, N, axis=1)
-        rates[:, n_corner:, 1] = np.tile(ec, (1, N))
         # step 1 is affine in the rates at a fixed return: x = x(z, 0, 0) + α̇ ∂x/∂α̇ + ε̇ ∂x/∂ε̇ (only the velocity
-        # moves), so each return's three attributables give every cell's state (to rounding)
+        # moves), so each return's three attributables give every cell's state (to rounding); steps 3-4 point by
+        # point in one compiled pass, numpy's arithmetic in numpy's order (admissible_grid)
         base = attributable_to_state(np.column_stack([np.repeat(Z, 3, axis=0), np.tile(np.eye(3)[:, 1:], (m, 1))]),
                                      site, theta).reshape(m, 3, 6)
-        X = np.empty((m, n_corner + n_centre, 6))
-        X[:, :, :3] = base[:, None, 0, :3]
-        X[:, :, 3:] = (base[:, None, 0, 3:] + rates[:, :, :1] * (base[:, None, 1, 3:] - base[:, None, 0, 3:])
-                       + rates[:, :, 1:] * (base[:, None, 2, 3:] - base[:, None, 0, 3:]))
-        good = plausible_orbits(X, min_perigee_km=self.min_perigee_km)
-        corner = good[:, :n_corner].reshape(m, N + 1, N + 1)
-        ok = (good[:, n_corner:].reshape(m, N, N) & corner[:, :-1, :-1] & corner[:, 1:, :-1] & corner[:, :-1, 1:]
-              & corner[:, 1:, 1:])
-        # step 4: blocks (m, nb, nb, c, c) of cells, the azimuth rate along the first cell axis
-        okb = ok.reshape(m, nb, c, nb, c).transpose(0, 1, 3, 2, 4).astype(float)
-        Ab = np.broadcast_to(ac.reshape(m, nb, 1, c, 1), okb.shape)
-        Eb = np.broadcast_to(ec.reshape(m, 1, nb, 1, c), okb.shape)
-        counts = okb.sum(axis=(3, 4))
-        ret, bi, bj = np.nonzero(counts)
-        okk, Ak, Ek, cnt = okb[ret, bi, bj], Ab[ret, bi, bj], Eb[ret, bi, bj], counts[ret, bi, bj]
-        mu_a = (Ak * okk).sum(axis=(1, 2)) / cnt
-        mu_e = (Ek * okk).sum(axis=(1, 2)) / cnt
-        da, de = (Ak - mu_a[:, None, None]) * okk, (Ek - mu_e[:, None, None]) * okk
+        sums = block_sums(base, a_edges, e_edges, ac, ec, nb, c, MU_EARTH, MU_EARTH**2,
+                          EARTH_RADIUS_PLAUSIBILITY + check_nonnegative(self.min_perigee_km, "min_perigee_km"))
+        ret, bi, bj = np.nonzero(sums[..., 0])
+        cnt, s = sums[ret, bi, bj, 0], sums[ret, bi, bj]
+        mu_a, mu_e = s[:, 1] / cnt, s[:, 2] / cnt
         cell_a, cell_e = (2 * a_max[ret] / N) ** 2 / 12.0, (2 * e_max[ret] / N) ** 2 / 12.0
         K = len(ret)
         rate_covs = np.empty((K, 2, 2))
-        rate_covs[:, 0, 0] = (np.sum(da * da, axis=(1, 2)) / cnt + cell_a) * self.spread**2
-        rate_covs[:, 1, 1] = (np.sum(de * de, axis=(1, 2)) / cnt + cell_e) * self.spread**2
-        rate_covs[:, 0, 1] = rate_covs[:, 1, 0] = np.sum(da * de, axis=(1, 2)) / cnt * self.spread**2
+        rate_covs[:, 0, 0] = (s[:, 3] / cnt + cell_a) * self.spread**2
+        rate_covs[:, 1, 1] = (s[:, 4] / cnt + cell_e) * self.spread**2
+        rate_covs[:, 0, 1] = rate_covs[:, 1, 0] = s[:, 5] / cnt * self.spread**2
         totals = np.bincount(ret, weights=cnt, minlength=m)
-        # step 5: the means and all K complex-step Jacobians (6 perturbed attributables each) in two calls
         y = np.column_stack([Z[ret], mu_a, mu_e])
-        means = attributable_to_state(y, site, theta)
+        return cnt / totals[ret], attributable_to_state(y, site, theta), ret.astype(np.int64), y, rate_covs
+
+    def state_covs(self, y, rate_covs, theta) -> np.ndarray:
+        """Step 5's covariances ``(K, 6, 6)`` of components of mean attributables ``y`` ``(K, 6)`` and rate
+        covariances ``rate_covs`` ``(K, 2, 2)`` at GMST ``theta``: ``J diag(R, C_rates) Jᵀ``, all ``K`` complex-step
+        Jacobians (6 perturbed attributables each) in one call of :func:`attributable_to_state`."""
+        y = np.asarray(y, dtype=float).reshape(-1, 6)
+        K, site = len(y), self.sensor.radar.site
         Yc = np.repeat(y[:, None, :], 6, axis=1).astype(complex)
         Yc[:, np.arange(6), np.arange(6)] += 1j * _H_STEP
         J = np.swapaxes((attributable_to_state(Yc.reshape(-1, 6), site, theta).imag / _H_STEP).reshape(K, 6, 6), 1, 2)
@@ -262,7 +269,7 @@ class AdmissibleRegionBirth:
         Cy[:, :4, :4] = self.sensor.R
         Cy[:, 4:, 4:] = rate_covs
         P = J @ Cy @ np.swapaxes(J, 1, 2)
-        return cnt / totals[ret], means, 0.5 * (P + np.swapaxes(P, 1, 2)), ret.astype(np.int64)
+        return 0.5 * (P + np.swapaxes(P, 1, 2))
 
     def components(self, z):
         """``(weights (K,), means (K, 6), covs (K, 6, 6))`` of :meth:`mixture` at the sensor's current GMST, and
@@ -285,12 +292,19 @@ class SeededAdmissibleBirth:
     centroid can fall outside a non-convex region; a newborn's mean is then always a bound orbit above
     the floor), cached per (GMST, return): an engine asks for the same return's mixture once per parent
     hypothesis and again for each kept child's track. :meth:`admissible` is the region's test.
+    :meth:`prime` fills the cache for a whole scan without the covariances, which the first :meth:`components`
+    of a return maps (:meth:`component_weights` and :meth:`component_table`, the births' scores and the fast
+    path's decision, need none): at scale most returns are a known object's, whose births no kept child holds.
 
     Parameters
     ----------
     region : AdmissibleRegionBirth
     cache_size : int
-        Returns kept in the cache (cleared when the GMST changes, i.e. every scan), >= 1; default 4096.
+        Returns kept in the cache (cleared when the GMST changes, i.e. every scan, and when a return not in it
+        is asked for with the cache full), >= 1; default 4096. A scan :meth:`prime` puts in the cache is kept
+        whole, however many its returns (the cache's room grows to them until the GMST changes): at 10⁶ objects
+        a scan has ~7,700 returns, and a cache of 4,096 cleared at every miss had most of them rebuilt one by
+        one, several times a scan.
     """
 
     def __init__(self, region: AdmissibleRegionBirth, cache_size: int = 4096):
@@ -298,7 +312,7 @@ class SeededAdmissibleBirth:
             raise TypeError(f"region must be an AdmissibleRegionBirth, got {type(region).__name__}")
         self.region = region
         self.cache_size = check_int(cache_size, "cache_size", minimum=1)
-        self._theta, self._cache = None, {}
+        self._theta, self._cache, self._room = None, {}, self.cache_size
 
     def admissible(self, states) -> np.ndarray:
         """Whether each state ``(n, 6)`` is a bound orbit with perigee above the region's floor."""
@@ -306,15 +320,44 @@ class SeededAdmissibleBirth:
 
     def components(self, z):
         """``(weights (K,), means (K, 6), covs (K, 6, 6))`` of return ``z`` ``(4,)`` (class docstring)."""
+        w, means, covs, _ = self._entry(z, covs=True)
+        return w.copy(), means.copy(), covs.copy()
+
+    def component_weights(self, z):
+        """``(weights (K,), means (K, 6))`` of :meth:`components` without the covariances: a return primed by
+        :meth:`prime` has its covariances mapped only when :meth:`components` asks for them (the scores of its
+        births and the test of their means need only these two; the engine asks for the track of a birth that a
+        kept child holds, a few returns a scan)."""
+        w, means, _, _ = self._entry(z, covs=False)
+        return w.copy(), means.copy()
+
+    def component_table(self, Z):
+        """:meth:`component_weights` of every return ``Z`` ``(n, 4)`` at once: ``(K (n,) int64, weights (ΣK,), means
+        (ΣK, 6))``, return 0's components first (the fast path's decision over a scan's lone tracks)."""
+        Z = np.asarray(Z, dtype=float).reshape(-1, 4)
+        entries = [self._entry(z, covs=False) for z in Z]
+        K = np.array([len(e[0]) for e in entries], dtype=np.int64)
+        if not len(entries):
+            return K, np.zeros(0), np.zeros((0, 6))
+        return K, np.concatenate([e[0] for e in entries]), np.concatenate([e[1] for e in entries])
+
+    def _entry(self, z, covs: bool):
+        """The cached ``[w, means, covs or None, (y, rate_covs) or None]`` of return ``z``, the covariances mapped
+        now when ``covs`` and not yet (:meth:`AdmissibleRegionBirth.state_covs` of the kept components, the same
+        map as the batch's; equal to it to rounding)."""
         z = np.asarray(z, dtype=float).reshape(4)
         theta = float(self.region.sensor.theta)
-        if theta != self._theta or len(self._cache) >= self.cache_size:
-            self._theta, self._cache = theta, {}
+        if theta != self._theta:
+            self._theta, self._cache, self._room = theta, {}, self.cache_size
         key = z.tobytes()
-        if key not in self._cache:
-            self._cache[key] = self._kept(*self.region.components(z))
-        w, means, covs = self._cache[key]
-        return w.copy(), means.copy(), covs.copy()
+        entry = self._cache.get(key)
+        if entry is None:
+            if len(self._cache) >= self._room:  # full: start again (a return asked for is never dropped)
+                self._cache = {}
+            entry = self._cache[key] = [*self._kept(*self.region.components(z)), None]
+        if covs and entry[2] is None:
+            entry[2] = self.region.state_covs(*entry[3], theta)
+        return entry
 
     def _kept(self, w, means, covs, ok=None):
         """The components whose mean passes :meth:`admissible` (``ok``, when already tested), weights
@@ -326,28 +369,33 @@ class SeededAdmissibleBirth:
 
     def prime(self, Z) -> int:
         """Put the mixtures of a scan's returns ``Z`` ``(m, 4)`` into the cache in one batch
-        (:meth:`AdmissibleRegionBirth.components_batch`, at the sensor's current GMST), so that the engine's
+        (:meth:`AdmissibleRegionBirth.batch_parts`, at the sensor's current GMST), so that the engine's
         steps, each asking for the few returns of its gate, find them there. Returns the number computed.
 
         The batch equals :meth:`AdmissibleRegionBirth.mixture` return by return to rounding (the region's
         tests compare every weight, mean and covariance to 1e-12; on the catalogue's returns the largest
         relative difference is ~3e-15 and the admissible cells are the same): the component means are
-        tested and the weights renormalised as for one return (:meth:`components`). Returns already cached
-        at this GMST, or past the cache's room, are left to :meth:`components`."""
+        tested and the weights renormalised as for one return (:meth:`components`; each return's kept weights
+        summed in numpy's order, :func:`.admissible_grid.segment_sums`). The covariances are left to the first
+        :meth:`components` of the return (:meth:`component_weights`). Returns already cached at this GMST are
+        not computed again; the cache's room grows to hold the whole scan (class docstring)."""
         Z = np.asarray(Z, dtype=float)
         Z = check_finite_array(Z.reshape(0, 4) if Z.size == 0 else Z, "Z", shape=(None, 4))
         theta = float(self.region.sensor.theta)
         if theta != self._theta:
-            self._theta, self._cache = theta, {}
-        keys = list(dict.fromkeys(z.tobytes() for z in Z if z.tobytes() not in self._cache))
-        keys = keys[:max(0, self.cache_size - 1 - len(self._cache))]  # components() clears a full cache
+            self._theta, self._cache, self._room = theta, {}, self.cache_size
+        cache = self._cache
+        keys = list(dict.fromkeys(k for k in (z.tobytes() for z in Z) if k not in cache))
+        self._room = max(self._room, 2 * (len(cache) + len(keys)))  # the scan is kept whole (class docstring)
         if not keys:
             return 0
         new = np.frombuffer(b"".join(keys), dtype=float).reshape(len(keys), 4)
-        w, means, covs, owner = self.region.components_batch(new, theta)
+        w, means, owner, y, rate_covs = self.region.batch_parts(new, theta)
         ok = self.admissible(means)  # every component's mean in one test (one verdict per state)
+        w, means, owner, y, rate_covs = w[ok], means[ok], owner[ok], y[ok], rate_covs[ok]
         cut = np.searchsorted(owner, np.arange(len(keys) + 1))
+        w = w / np.repeat(segment_sums(w, cut), np.diff(cut))  # (w / w.sum() of each return's kept components)
         for i, key in enumerate(keys):
             s = slice(cut[i], cut[i + 1])
-            self._cache[key] = self._kept(w[s], means[s], covs[s], ok[s])
+            cache[key] = [w[s], means[s], None, (y[s], rate_covs[s])]
         return len(keys)

@@ -3,6 +3,7 @@ no bound orbit above the floor dropped (a return whose three blocks give one cen
 whose single block's centroid falls in the region's hole) and the weights renormalised; the cache follows the
 sensor's GMST; the region's floor is the test's; bad parameters are refused by name."""
 
+import dataclasses
 import numpy as np
 import pytest
 
@@ -105,3 +106,61 @@ def test_prime_puts_the_batch_in_the_cache_equal_to_each_return_s_own_mixture():
     assert seeded.prime(np.zeros((0, 4))) == 0
     with pytest.raises(ValueError, match="Z"):
         seeded.prime(np.array([[1.0, 2.0, np.nan, 0.0]]))
+
+
+def test_a_primed_return_maps_its_covariances_only_when_its_track_is_asked_for():
+    """After :meth:`prime`, :meth:`component_weights` hands out the weights and means with no covariance mapped
+    (the fast path's decision and the births' scores need no more); the first :meth:`components` maps them, equal
+    to the batch's own :meth:`AdmissibleRegionBirth.components_batch` (kept components) to 1e-12, and keeps them."""
+    region = _region(0.4, n_blocks=3, cells=6)
+    scan = np.array([Z_DROP, Z, np.r_[Z[:3], 15.0], [900.0, C - 0.1, np.deg2rad(25.0), -0.5]])
+    seeded = SeededAdmissibleBirth(region)
+    seeded.prime(scan)
+    # prime runs the array passes (batch_parts), bit for bit those of components_batch without the kernel
+    w_all, m_all, c_all, owner = dataclasses.replace(region, compiled=False).components_batch(scan)
+    ok = plausible_orbits(m_all)
+    for i, z in enumerate(scan):
+        w, m = seeded.component_weights(z)
+        entry = seeded._cache[z.tobytes()]
+        assert entry[2] is None  # no covariance mapped yet
+        sel = (owner == i) & ok
+        np.testing.assert_array_equal(m, m_all[sel])
+        np.testing.assert_allclose(w, w_all[sel] / w_all[sel].sum() if sel.any() else w_all[sel], rtol=1e-15)
+        w2, m2, c2 = seeded.components(z)
+        np.testing.assert_array_equal(w2, w)
+        np.testing.assert_array_equal(m2, m)
+        np.testing.assert_allclose(c2, c_all[sel], rtol=1e-12, atol=1e-12 * np.abs(c_all).max())
+        assert seeded._cache[z.tobytes()][2] is not None and c2.shape == (sel.sum(), 6, 6)
+    # a return never primed: its whole mixture at once, the same numbers by either call
+    fresh = SeededAdmissibleBirth(region)
+    w, m = fresh.component_weights(Z)
+    for u, v in zip((w, m), seeded.components(Z)):
+        np.testing.assert_allclose(u, v, rtol=1e-12)
+
+
+def test_a_primed_scan_larger_than_the_cache_is_kept_whole(monkeypatch):
+    """A cache of two returns primed with a scan of four: all four stay (no return is rebuilt one by one when the
+    engine asks for it, however often), equal to a fresh instance's mixtures to 1e-12; a new GMST starts again
+    with the stated room, and a miss with the cache full starts it afresh (the asked return is computed)."""
+    region = _region(0.4, n_blocks=3, cells=6)
+    scan = np.array([Z_DROP, Z, np.r_[Z[:3], 15.0], [900.0, C - 0.1, np.deg2rad(25.0), -0.5]])
+    seeded = SeededAdmissibleBirth(region, cache_size=2)
+    assert seeded.prime(scan) == 4
+    fresh = [SeededAdmissibleBirth(_region(0.4, n_blocks=3, cells=6)).components(z) for z in scan]
+    calls = []
+    original = AdmissibleRegionBirth.components
+    monkeypatch.setattr(AdmissibleRegionBirth, "components", lambda self, z: calls.append(1) or original(self, z))
+    for _ in range(3):
+        for z, (w0, m0, _) in zip(scan, fresh):
+            w, m = seeded.component_weights(z)
+            np.testing.assert_allclose(w, w0, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(m, m0, rtol=1e-12)
+            seeded.components(z)
+    assert calls == [] and len(seeded._cache) == 4
+    seeded.components(np.array([2000.0, C, np.deg2rad(30.0), 0.5]))  # a return of no scan: computed, the scan kept
+    assert len(calls) == 1 and len(seeded._cache) == 5
+    calls.clear()
+    region.sensor.at(0.5)
+    for z in scan[:3]:  # not primed at this GMST: one by one, in a cache of two
+        seeded.components(z)
+    assert len(calls) == 3 and len(seeded._cache) == 1

@@ -55,15 +55,10 @@ from ..protocol import TrackEstimates
 from .scan_context import ScanContext
 from .state import FilterState, StepResult, scan_interval
 from .tracks import TrackStore, update_pairs
-from .validity import PairMemo, valid_top_k
+from .validity import NoValidChild, PairMemo, advance_with_fallbacks, valid_top_k
 from .weights import WeightModel, prime_scan, seeded_state
 
 __all__ = ["HypothesisFilter"]
-
-
-class _NoValidChild(RuntimeError):
-    """Every generated child fails the validity test (:meth:`HypothesisFilter.advance` retries with the null
-    associations)."""
 
 
 _CHUNK = 1 << 15
@@ -479,36 +474,11 @@ class HypothesisFilter:
         Draws from the filter's random generator and changes nothing else: the filter's own state
         is the :meth:`step`'s business. Newborn tracks are labelled from ``state.next_label``.
 
-        With a validity test, a generator that searches (MCMC, Gibbs, k-best) may return only children
-        holding an unphysical track (a return that pulls a widely spread track onto an impossible orbit,
-        the other children too light to be found). The step then falls back to each parent's null
-        association alone (every return clutter, with its population twins: deaths; a labeled
-        multi-Bernoulli parent's "every object missed" and "every object died") — a bounded child set whose
-        children hold only predicted tracks. When a prediction itself fails the test (a state that passed it
-        when last updated can fail it later: the test reads two-body elements from a state the J2 motion moves,
-        whose osculating perigee oscillates by kilometres) and no child without it exists (no death), every
-        track whose prediction fails is deleted from every parent, as a single-hypothesis tracker deletes an
-        unphysical track, and the step is taken again from those parents, search then null association
-        (``stats["n_invalid_deleted"]``).
+        With a validity test and no valid child, the fallbacks of :func:`.validity.advance_with_fallbacks`:
+        each parent's null association, then the deletion of predictions that fail the test.
         """
-        try:
-            return self._advance(state, pred, ctx, False)
-        except _NoValidChild:
-            pass
-        try:
-            return self._advance(state, pred, ctx, True)
-        except _NoValidChild:
-            ok = np.asarray(self.validity(pred.means), dtype=bool) if len(pred) else np.zeros(0, dtype=bool)
-            if ok.all():
-                raise RuntimeError("no child hypothesis is valid: every child holds a track that fails validity") from None
-            kept = FilterState(state.store, state.log_w, [t[ok[t]] for t in state.tracks], state.keys,
-                               state.next_label)
-            try:
-                result = self._advance(kept, pred, ctx, False)
-            except _NoValidChild:
-                result = self._advance(kept, pred, ctx, True)
-            result.stats["n_invalid_deleted"] = int(np.sum(~ok))
-            return result
+        return advance_with_fallbacks(lambda st, with_null: self._advance(st, pred, ctx, with_null), state, pred,
+                                      self.validity)
 
     def _advance(self, state: FilterState, pred: TrackStore, ctx: ScanContext, with_null: bool) -> StepResult:
         t0 = _clock.perf_counter()
@@ -540,7 +510,7 @@ class HypothesisFilter:
             sel, n_invalid = valid_top_k(all_keys, self.max_hypotheses, memo.pairs,
                                          lambda src, ret: self.pair_moments(pred, ctx, src, ret), self.validity)
             if len(sel) == 0:
-                raise _NoValidChild("no child hypothesis is valid: every child holds a track that fails validity")
+                raise NoValidChild("no child hypothesis is valid: every child holds a track that fails validity")
         kept = children.take(sel)
         new, sources, n_updates = self._materialise(state, kept, memo, sel, pred, ctx)
         log_total = logsumexp(masses)

@@ -18,7 +18,8 @@ option (:class:`~.filter.HypothesisFilter`) applies the test before the cap:
 Only the children visited are tested: about ``H∞`` plus the invalid ones among the best, not the
 whole child set. Every one of the next ``H∞ − kept`` children is visited (each is kept or rejected), so their
 new pairs are updated and tested in one batch (one call of each per round, not one per child: a round per
-rejection streak, the same children and verdicts). If no child passes, the step raises (``RuntimeError``; the filter is left as it
+rejection streak, the same children and verdicts). If no child passes, the step takes the fallbacks of
+:func:`advance_with_fallbacks`; if none is valid either, it raises (``RuntimeError``; the filter is left as it
 was, :meth:`~.filter.HypothesisFilter.step`). Without the option nothing changes.
 """
 
@@ -26,7 +27,44 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PairMemo", "valid_top_k"]
+from .state import FilterState
+
+__all__ = ["NoValidChild", "PairMemo", "advance_with_fallbacks", "valid_top_k"]
+
+
+class NoValidChild(RuntimeError):
+    """Every child of a step fails the validity test (:func:`advance_with_fallbacks` takes the fallbacks)."""
+
+
+def advance_with_fallbacks(advance, state, pred, validity):
+    """One step, ``advance(state, with_null) -> StepResult``, with the fallbacks for a step with no valid child.
+
+    A generator that searches (MCMC, Gibbs, k-best) may return only children holding an unphysical track (a return
+    that pulls a widely spread track onto an impossible orbit, the other children too light to be found). The step
+    then falls back to each parent's null association alone (``with_null``: every return clutter, with its
+    population twins, deaths; a labeled multi-Bernoulli parent's "every object missed" and "every object died"),
+    a bounded child set whose children hold only predicted tracks. When a prediction ``pred`` itself fails the test
+    (a state that passed it when last updated can fail it later: the test reads two-body elements from a state the
+    J2 motion moves, whose osculating perigee oscillates by kilometres) and no child lacks it (no death), every
+    track whose prediction fails is deleted from every parent of ``state``, as a single-hypothesis tracker deletes
+    an unphysical track, and the step is taken again from those parents, search then null association
+    (``stats["n_invalid_deleted"]``). Raises ``RuntimeError`` when no prediction fails and still no child is valid.
+    """
+    for with_null in (False, True):
+        try:
+            return advance(state, with_null)
+        except NoValidChild:
+            pass
+    ok = np.asarray(validity(pred.means), dtype=bool) if len(pred) else np.zeros(0, dtype=bool)
+    if ok.all():
+        raise RuntimeError("no child hypothesis is valid: every child holds a track that fails validity")
+    kept = FilterState(state.store, state.log_w, [t[ok[t]] for t in state.tracks], state.keys, state.next_label)
+    try:
+        result = advance(kept, False)
+    except NoValidChild:
+        result = advance(kept, True)
+    result.stats["n_invalid_deleted"] = int(np.sum(~ok))
+    return result
 
 
 def valid_top_k(keys, k: int, pairs_of, moments_of, validity):

@@ -66,7 +66,9 @@ def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glm
                      goal: float = 0.5, column: str = "cross_tags_per_1e4") -> pd.DataFrame:
     """Per (scenario, tracker): cross-tags per 10⁴ returns (or another ``column`` of the cards, named in
     ``metric``) over ``reference``'s, mean ± s.e. over the seeds with a nonzero reference (``n_ratio`` of them),
-    and whether the mean meets ``ratio ≤ goal``."""
+    and whether the mean meets ``ratio ≤ goal`` (the verdict's statistic). Beside it, how the per-seed ratios
+    spread: their median, the seeds whose own ratio meets the goal (``n_at_goal``), and the ratio of the two
+    trackers' means over the same seeds (``ratio_of_means``: a seed where the reference makes few weighs less)."""
     rows = []
     for scen, g in cards.groupby("scenario", sort=False):
         ref = g[g["tracker"] == reference].set_index("seed")[column]
@@ -75,10 +77,13 @@ def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glm
             seeds = own.index.intersection(ref.index[ref > 0])
             ratio = (own.loc[seeds] / ref.loc[seeds]).to_numpy(float)
             m, se = mean_se(ratio)
+            pooled = float(own.loc[seeds].sum() / ref.loc[seeds].sum()) if len(seeds) else np.nan
             rows.append(dict(scenario=scen, tracker=name, reference=reference, n_ratio=len(seeds), ratio=m, ratio_se=se,
-                             goal=goal, meets_goal=bool(np.isfinite(m) and m <= goal), metric=column))
+                             goal=goal, meets_goal=bool(np.isfinite(m) and m <= goal), metric=column,
+                             ratio_median=float(np.median(ratio)) if len(ratio) else np.nan,
+                             n_at_goal=int(np.sum(ratio <= goal)), ratio_of_means=pooled))
     return pd.DataFrame(rows, columns=["scenario", "tracker", "reference", "n_ratio", "ratio", "ratio_se", "goal",
-                                       "meets_goal", "metric"])
+                                       "meets_goal", "metric", "ratio_median", "n_at_goal", "ratio_of_means"])
 
 
 def breakup_ratios(cards: pd.DataFrame, trackers_run, reference: str = "gnn", goal: float = 0.5) -> pd.DataFrame:

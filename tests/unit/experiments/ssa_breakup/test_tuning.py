@@ -211,7 +211,12 @@ def test_record_table_claims_and_macros_by_hand(tmp_path):
     md = paths[3].read_text()
     assert "`p_min` = 0.7, chosen on tuning seeds 1 and 12" in md and "untagged returns (per 10⁴) of the ambiguity outputs of a and b, then" in md and "evaluated on seeds 2 and 3 (2 seeds)" in md
     assert "| 0.7 | 5 | 60 | 11 | yes |" in md and "| 0.6 | 10 | 40 | 14 |  |" in md  # the hand table's means
-    assert "| δ-GLMB (Murty), ambiguity output | 2 | 1 ± 0 | 0.375 ± 0.12 | met | 70 ± 0 |" in md
+    # the spread beside the verdict: median of 1/2 and 1/4, both at most 0.5, and (1 + 1) / (2 + 4)
+    assert "| δ-GLMB (Murty), ambiguity output | 2 | 1 ± 0 | 0.375 ± 0.12 | met | 0.375 | 2 of 2 | 0.333 | 70 ± 0 |" in md
+    assert amb["ratio_median"] == pytest.approx(0.375) and amb["n_at_goal"] == 2
+    assert amb["ratio_of_means"] == pytest.approx(1 / 3, rel=1e-5)  # the record CSV keeps 6 digits
+    plain = table.set_index("tracker").loc["glmb_murty"]
+    assert plain["n_at_goal"] == 0 and plain["ratio_of_means"] == pytest.approx(8 / 6, rel=1e-5)  # 4/2, 4/4: neither at 0.5
     keys = {c.key: c for c in record_claims(table)}
     assert set(keys) == {"record_pmin", "record_ratio_glmb_murty", "record_ratio_glmb_murty_amb"}
     assert keys["record_pmin"].reproduced == "0.7" and "tuning seeds 1 and 12" in keys["record_pmin"].note

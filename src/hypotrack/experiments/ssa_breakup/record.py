@@ -133,7 +133,7 @@ def record_markdown(table: pd.DataFrame, tuning: pd.DataFrame) -> str:
         goal = ("met" if r.meets_goal else "not met") if has else ""
         spread = (f"{_pm(getattr(r, 'ratio_median', np.nan))} | {int(r.n_at_goal)} of {int(r.n_ratio)} | "
                   f"{_pm(getattr(r, 'ratio_of_means', np.nan))}" if has and np.isfinite(getattr(r, "n_at_goal", np.nan))
-                  else " | ")
+                  else " |  | ")  # three empty cells
         lines.append(f"| {TRACKER_NAMES[r.tracker]} | {int(r.n_seeds)} | {_pm(r.cross_tags_per_1e4, r.cross_tags_per_1e4_se)} | "
                      f"{_pm(r.ratio, r.ratio_se) if has else ''} | {goal} | {spread} | "
                      f"{_pm(r.uncorrelated_per_1e4, r.uncorrelated_per_1e4_se)} | "
@@ -206,7 +206,8 @@ def record_claims(table: pd.DataFrame, reference: str = "gnn") -> list:
 def record_macros(table: pd.DataFrame) -> dict:
     """Macros of the committed record: ``record_pmin``, ``record_lambda``, ``record_tuning_seeds`` and
     ``record_seeds`` (words), ``record_n_seeds``, and per tracker ``record_{crosstags,uncorrelated,ratio,ratio_se,idsw_ratio}_<tracker>``
-    and ``record_goal_<tracker>`` (``met``/``not met`` where a ratio was measured)."""
+    and ``record_goal_<tracker>`` (``met``/``not met`` where a ratio was measured), with the per-seed ratios' spread
+    ``record_{ratio_median,n_at_goal,ratio_of_means}_<tracker>``."""
     if table.empty:
         return {}
     first = table.iloc[0]
@@ -222,6 +223,10 @@ def record_macros(table: pd.DataFrame) -> dict:
         vals[f"record_n_ratio_{r.tracker}"] = int(r.n_ratio)
         if np.isfinite(r.ratio):
             vals[f"record_goal_{r.tracker}"] = "met" if r.meets_goal else "not met"
+            for c in ("ratio_median", "n_at_goal", "ratio_of_means"):  # the per-seed ratios' spread
+                v = getattr(r, c, np.nan)
+                if np.isfinite(v):
+                    vals[f"record_{c}_{r.tracker}"] = int(v) if c == "n_at_goal" else float(v)
     return vals
 
 

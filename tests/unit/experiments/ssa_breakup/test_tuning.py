@@ -228,6 +228,7 @@ def test_record_table_claims_and_macros_by_hand(tmp_path):
     assert m["record_pmin"] == 0.7 and m["record_tuning_seeds"] == "1 and 12" and m["record_n_seeds"] == 2
     assert m["record_seeds"] == "2 and 3"
     assert m["record_goal_glmb_murty_amb"] == "met" and m["record_goal_glmb_murty"] == "not met"
+    assert m["record_n_at_goal_glmb_murty_amb"] == 2 and m["record_ratio_median_glmb_murty_amb"] == pytest.approx(0.375)
     assert "record_goal_gnn" not in m and m["record_uncorrelated_gnn"] == 40.0
     assert record_claims(pd.DataFrame()) == [] and record_macros(pd.DataFrame()) == {}
 

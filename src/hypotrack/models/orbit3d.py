@@ -145,7 +145,7 @@ def _rk4_j2(X, dt, mu, c_j2, max_step):
         return X.copy()
     if not np.iscomplexobj(X):  # the means alone (no complex step): one compiled pass, the same arithmetic
         h = np.asarray(dt, dtype=float) / np.maximum(n, 1)
-        if n.min() == n[0] and np.all(h == h[0]):  # one interval for all (propagate): the rows side by side
+        if np.all(n == n[0]) and np.all(h == h[0]):  # one interval for all (propagate): the rows side by side
             out = _rk4_j2_columns(np.ascontiguousarray(np.asarray(X, dtype=float).T), float(h[0]), int(n[0]), float(mu),
                                   float(c_j2))
             return np.ascontiguousarray(out.T)

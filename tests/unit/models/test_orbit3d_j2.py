@@ -323,3 +323,19 @@ def test_rows_of_one_interval_run_side_by_side_bit_for_bit():
         assert side.flags.c_contiguous and not np.array_equal(side[ok], X[ok])
     with pytest.raises(ValueError, match="state 7"):
         J2Orbit3D().propagate(X, 10.0)
+
+
+def test_rows_of_one_step_size_but_different_step_counts_take_their_own_counts():
+    """``propagate_each`` with intervals that share the RK4 step size but not the number of steps (5,730 s and
+    5,760 s: 191 and 192 steps of 30 s) is not one interval: each row takes its own steps. (Read as one interval,
+    every row took the first row's 191 steps, ~1,000 km off at the others' ends.)"""
+    rng = np.random.default_rng(3)
+    r = rng.uniform(6900.0, 7300.0, 5)
+    u = rng.uniform(0.0, 2 * np.pi, 5)
+    X = np.column_stack([r * np.cos(u), r * np.sin(u), np.zeros(5), -np.sqrt(MU / r) * np.sin(u),
+                         np.sqrt(MU / r) * np.cos(u), np.zeros(5)])
+    m = J2Orbit3D()
+    dt = np.array([5730.0, 5760.0, 5790.0, 5790.0, 5880.0])
+    each = m.propagate_each(X, dt)
+    np.testing.assert_array_equal(each, np.array([m.propagate(X[i], dt[i]) for i in range(5)]))
+    assert np.linalg.norm(each[1, :3] - m.propagate(X[1], 5730.0)[:3]) > 100.0  # 30 s of orbit apart

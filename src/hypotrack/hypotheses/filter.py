@@ -56,7 +56,7 @@ from .scan_context import ScanContext
 from .state import FilterState, StepResult, scan_interval
 from .tracks import TrackStore, update_pairs
 from .validity import NoValidChild, PairMemo, advance_with_fallbacks, valid_top_k
-from .weights import WeightModel, prime_scan, seeded_state
+from .weights import WeightModel, prime_scan, seeded_moments
 
 __all__ = ["HypothesisFilter"]
 
@@ -508,7 +508,7 @@ class HypothesisFilter:
             sel = top_k(all_keys, self.max_hypotheses)
         else:
             sel, n_invalid = valid_top_k(all_keys, self.max_hypotheses, memo.pairs,
-                                         lambda src, ret: self.pair_moments(pred, ctx, src, ret), self.validity)
+                                         lambda src, ret: self.pair_moments(pred, ctx, src, ret, False), self.validity)
             if len(sel) == 0:
                 raise NoValidChild("no child hypothesis is valid: every child holds a track that fails validity")
         kept = children.take(sel)
@@ -554,23 +554,35 @@ class HypothesisFilter:
         log_w = kept.log_weights - logsumexp(kept.log_weights)
         return FilterState(TrackStore(means, covs, labels), log_w, new_lists, keys, next_label), sources, n_updates
 
-    def pair_moments(self, pred: TrackStore, ctx: ScanContext, src, ret):
+    def pair_moments(self, pred: TrackStore, ctx: ScanContext, src, ret, covariances: bool = True):
         """Means ``(P, d)`` and covariances of next-store entries given as ``(source, return)`` pairs
         (:func:`.child_pairs`): a predicted track updated with a return (or missed), a birth term's first
-        update (or prior, born undetected), a seeded birth at its return."""
+        update (or prior, born undetected), a seeded birth at its return (:func:`.seeded.seeded_moments`). Without
+        ``covariances`` (the validity test reads the means) the covariances are ``None`` and a seeded birth's are
+        not mapped."""
         src, ret = np.asarray(src, dtype=np.int64), np.asarray(ret, dtype=np.int64)
         d = pred.ndim
-        means, covs = np.zeros((len(src), d)), np.zeros((len(src), d, d))
+        means = np.zeros((len(src), d))
+        covs = np.zeros((len(src), d, d)) if covariances else None
         old = src >= 0
         if old.any():
-            means[old], covs[old] = update_pairs(pred, ctx.Z, self.measurement, None, src[old], ret[old])
+            m_old, c_old = update_pairs(pred, ctx.Z, self.measurement, None, src[old], ret[old])
+            means[old] = m_old
+            if covariances:
+                covs[old] = c_old
         seeded_src = -1 - ctx.n_birth_regions
-        for q in np.flatnonzero(~old):
-            z = ctx.Z[ret[q]] if ret[q] >= 0 else None
-            if src[q] <= seeded_src:  # component seeded_src − src of a (mixture) seeded birth, :mod:`.seeded`
-                means[q], covs[q] = seeded_state(self.weights.birth_density, z, self.R, int(seeded_src - src[q]))
-            else:
-                means[q], covs[q] = self.population.birth_track(int(-1 - src[q]), z, self.R)
+        seeded = np.flatnonzero(src <= seeded_src)  # component seeded_src − src of a (mixture) seeded birth, :mod:`.seeded`
+        if len(seeded):
+            m_s, c_s = seeded_moments(self.weights.birth_density, ctx.Z, self.R, ret[seeded], seeded_src - src[seeded],
+                                      d, covariances)
+            means[seeded] = m_s
+            if covariances:
+                covs[seeded] = c_s
+        for q in np.flatnonzero(~old & (src > seeded_src)):
+            m_q, c_q = self.population.birth_track(int(-1 - src[q]), ctx.Z[ret[q]] if ret[q] >= 0 else None, self.R)
+            means[q] = m_q
+            if covariances:
+                covs[q] = c_q
         return means, covs
 
     # ------------------------------------------------------------------ output

@@ -34,7 +34,8 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["is_mixture", "mixture_table", "mixture_weights", "prime_scan", "seeded_option_scores", "seeded_state"]
+__all__ = ["is_mixture", "mixture_table", "mixture_weights", "prime_scan", "seeded_moments", "seeded_option_scores",
+           "seeded_state"]
 
 
 def is_mixture(density) -> bool:
@@ -100,3 +101,33 @@ def seeded_state(density, z, R, c: int = 0):
     if not 0 <= c < len(w):
         raise ValueError(f"component must lie in [0, {len(w) - 1}] for this return, got {c}")
     return means[c].copy(), covs[c].copy()
+
+
+def seeded_moments(density, Z, R, returns, comps, ndim: int, covariances: bool = True):
+    """``(means (n, d), covs (n, d, d) or None)`` of the tracks seeded at returns ``Z[returns]`` in components
+    ``comps`` (:func:`seeded_state` pair by pair, the same numbers): a mixture's components asked once per distinct
+    return (an engine step's children hold several components of the same return), and without ``covariances``
+    only its weights and means (:func:`mixture_weights`: the validity test reads the means alone, and a density
+    with ``component_weights`` then maps no covariance)."""
+    returns, comps = np.asarray(returns, dtype=np.int64), np.asarray(comps, dtype=np.int64)
+    means = np.zeros((len(returns), ndim))
+    covs = np.zeros((len(returns), ndim, ndim)) if covariances else None
+    if not is_mixture(density):
+        for q, (r, c) in enumerate(zip(returns.tolist(), comps.tolist())):
+            m, P = seeded_state(density, Z[r], R, c)
+            means[q] = m
+            if covariances:
+                covs[q] = P
+        return means, covs
+    for r in np.unique(returns).tolist():
+        rows = np.flatnonzero(returns == r)
+        z = np.asarray(Z[r], dtype=float)
+        parts = density.components(z) if covariances else mixture_weights(density, z)
+        c = comps[rows]
+        bad = (c < 0) | (c >= len(parts[0]))
+        if bad.any():
+            raise ValueError(f"component must lie in [0, {len(parts[0]) - 1}] for this return, got {int(c[bad][0])}")
+        means[rows] = parts[1][c]
+        if covariances:
+            covs[rows] = parts[2][c]
+    return means, covs

@@ -23,7 +23,7 @@ from scipy.special import gammaln
 
 from .._validation import check_nonnegative, check_positive
 from .association_problem import AssociationProblem
-from .seeded import is_mixture, prime_scan, seeded_option_scores, seeded_state  # noqa: F401 (filter's imports)
+from .seeded import is_mixture, prime_scan, seeded_moments, seeded_option_scores, seeded_state  # noqa: F401 (filter's imports)
 
 __all__ = ["WeightModel", "HFISSTWeights", "FISSTPoissonWeights", "ReidWeights", "make_weight_model"]
 
@@ -262,13 +262,23 @@ class ReidWeights(WeightModel):
         return super().problem(ctx, tracks, constant, population_log_prob)
 
     def option_scores(self, ctx) -> np.ndarray:
+        """``(m, T)``: ``log λ_C``, then the seeded births' ``log λ_B`` (+ ``log w_c``), read-only. Every parent of a
+        step asks for the same scan's; computed once per context and model (a mixture's weights return by return),
+        kept on the context as its cached properties are."""
+        memo = ctx.__dict__.get("_reid_option_scores")
+        if memo is not None and memo[0] is self:
+            return memo[1]
         lam_c = check_positive(ctx.clutter_intensity if self.clutter_intensity is None else self.clutter_intensity,
                                "clutter intensity")
         cols = [np.full(ctx.n_returns, np.log(lam_c))]
         if self.seeded_births:  # one column, or one per mixture component (:mod:`.seeded`)
-            return np.hstack([np.stack(cols, axis=1),
-                              seeded_option_scores(self.birth_density, ctx.Z, np.log(self.birth_intensity))])
-        return np.stack(cols, axis=1)
+            out = np.hstack([np.stack(cols, axis=1),
+                             seeded_option_scores(self.birth_density, ctx.Z, np.log(self.birth_intensity))])
+        else:
+            out = np.stack(cols, axis=1)
+        out.setflags(write=False)  # shared by the parents' problems
+        ctx.__dict__["_reid_option_scores"] = (self, out)
+        return out
 
     def count_term(self, ctx, n_objects, n_births):
         return np.zeros((n_objects + 1, n_births + 1))

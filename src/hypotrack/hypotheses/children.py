@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["feasible_events", "gumbel_keys", "null_event", "twins_never_heavier"]
+__all__ = ["feasible_events", "gumbel_keys", "heavy_entries", "null_event", "twins_never_heavier"]
 
 
 def gumbel_keys(lw, rng):
@@ -50,3 +50,21 @@ def null_event(problem):
     """``(events, lw)`` of the null association alone (every return clutter; none on an empty scan), when it is
     feasible (:meth:`~.filter.HypothesisFilter.advance`'s fallback)."""
     return feasible_events(problem, np.full((1, problem.n_returns), -1, dtype=np.int32))
+
+
+def heavy_entries(lists, log_w, n_entries: int, light: float) -> np.ndarray:
+    """Whether each of a step's ``n_entries`` new store entries weighs at least ``light`` in all: the sum of the
+    normalised weights ``exp(log_w)`` of the hypotheses whose track lists ``lists`` hold it (all True for
+    ``light <= 0``).
+
+    The factored engine prunes each group after its step (and split) at ``min_weight``, the heaviest hypothesis
+    always kept (:func:`~.factored.planner.prune`). A marginal hypothesis of a split holding an entry weighs at most
+    that entry's mass, and the heaviest weighs at least ``1/H∞``: an entry of mass below ``min(min_weight, 1/H∞)``
+    is in no hypothesis the pruning keeps, so the step need not compute its moments (a Kalman update, a seeded
+    birth's covariance mapping) — the factored engine passes that bound, less a relative margin, as ``light``."""
+    need = np.ones(n_entries, dtype=bool)
+    if light > 0 and n_entries:
+        idx = np.concatenate([np.asarray(t, dtype=np.int64) for t in lists]) if lists else np.zeros(0, np.int64)
+        w = np.repeat(np.exp(np.asarray(log_w, dtype=float)), [len(t) for t in lists])
+        need = np.bincount(idx, weights=w, minlength=n_entries) >= light
+    return need

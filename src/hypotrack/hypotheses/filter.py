@@ -47,7 +47,7 @@ from ..association import gate_threshold, validation_matrix
 from ..models.measurement import LinearMeasurement
 from .detection import state_p_detect
 from .duplicates import child_pairs, merge_duplicates
-from .children import gumbel_keys, null_event, twins_never_heavier
+from .children import gumbel_keys, heavy_entries, null_event, twins_never_heavier
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
 from .posterior import summarise
@@ -466,7 +466,7 @@ class HypothesisFilter:
         self.last_stats, self.last_kept, self.last_track_sources = result.stats, result.kept, result.sources
         return self.posterior()
 
-    def advance(self, state: FilterState, pred: TrackStore, ctx: ScanContext) -> StepResult:
+    def advance(self, state: FilterState, pred: TrackStore, ctx: ScanContext, light: float = 0.0) -> StepResult:
         """The state after one scan: children of every hypothesis of ``state`` for the scan of
         ``ctx`` (their tracks predicted in ``pred``, entry for entry of ``state.store``), duplicates
         merged, capped and materialised (module docstring, steps 3–5; document 000 Eq. 11, 19).
@@ -475,12 +475,13 @@ class HypothesisFilter:
         is the :meth:`step`'s business. Newborn tracks are labelled from ``state.next_label``.
 
         With a validity test and no valid child, the fallbacks of :func:`.validity.advance_with_fallbacks`:
-        each parent's null association, then the deletion of predictions that fail the test.
+        each parent's null association, then the deletion of predictions that fail the test. ``light`` (> 0): a store
+        entry whose kept children weigh less than it in all is left without moments (NaN; :func:`.children.heavy_entries`).
         """
-        return advance_with_fallbacks(lambda st, with_null: self._advance(st, pred, ctx, with_null), state, pred,
+        return advance_with_fallbacks(lambda st, with_null: self._advance(st, pred, ctx, with_null, light), state, pred,
                                       self.validity)
 
-    def _advance(self, state: FilterState, pred: TrackStore, ctx: ScanContext, with_null: bool) -> StepResult:
+    def _advance(self, state: FilterState, pred: TrackStore, ctx: ScanContext, with_null: bool, light=0.0) -> StepResult:
         t0 = _clock.perf_counter()
         keys_rng = self.rng if self.cap == "sample" else None
         gens = self.parent_generators(state)
@@ -512,7 +513,7 @@ class HypothesisFilter:
             if len(sel) == 0:
                 raise NoValidChild("no child hypothesis is valid: every child holds a track that fails validity")
         kept = children.take(sel)
-        new, sources, n_updates = self._materialise(state, kept, memo, sel, pred, ctx)
+        new, sources, n_updates = self._materialise(state, kept, memo, sel, pred, ctx, light)
         log_total = logsumexp(masses)
         stats = {
             "n_parents": len(parts), "n_association_children": n_gen, "n_twin_children": n_twins,
@@ -523,9 +524,11 @@ class HypothesisFilter:
         }
         return StepResult(new, sources, kept, stats, new.next_label - state.next_label)
 
-    def _materialise(self, state: FilterState, kept: ChildSet, memo: PairMemo, sel, pred: TrackStore, ctx: ScanContext):
+    def _materialise(self, state: FilterState, kept: ChildSet, memo: PairMemo, sel, pred: TrackStore, ctx: ScanContext,
+                     light=0.0):
         """The new state from the kept children (``kept``: children ``sel`` of the step's, whose pairs ``memo``
-        holds); returns ``(state, track sources, Kalman updates)``."""
+        holds); returns ``(state, track sources, Kalman updates)``; the moments of the entries lighter than ``light``
+        in all are NaN (:meth:`advance`)."""
         pair_index, pairs, new_lists = {}, [], []
         for c in range(len(kept)):
             idx = []
@@ -540,7 +543,10 @@ class HypothesisFilter:
         ret = np.array([r for _, r in pairs], dtype=np.int64)
         old = src >= 0
         n_updates = int(np.sum(old & (ret >= 0)))
-        means, covs = self.pair_moments(pred, ctx, src, ret)
+        log_w = kept.log_weights - logsumexp(kept.log_weights)
+        need = heavy_entries(new_lists, log_w, len(pairs), light)
+        means, covs = np.full((len(pairs), pred.ndim), np.nan), np.full((len(pairs), pred.ndim, pred.ndim), np.nan)
+        means[need], covs[need] = self.pair_moments(pred, ctx, src[need], ret[need])
         labels[old] = pred.labels[src[old]]
         next_label = state.next_label
         for q in np.flatnonzero(~old):
@@ -551,38 +557,27 @@ class HypothesisFilter:
         sources = np.stack([src, ret], axis=1) if len(pairs) else np.zeros((0, 2), np.int64)
         keys = [(state.keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())
                 for c in range(len(kept))]
-        log_w = kept.log_weights - logsumexp(kept.log_weights)
         return FilterState(TrackStore(means, covs, labels), log_w, new_lists, keys, next_label), sources, n_updates
 
     def pair_moments(self, pred: TrackStore, ctx: ScanContext, src, ret, covariances: bool = True):
         """Means ``(P, d)`` and covariances of next-store entries given as ``(source, return)`` pairs
         (:func:`.child_pairs`): a predicted track updated with a return (or missed), a birth term's first
         update (or prior, born undetected), a seeded birth at its return (:func:`.seeded.seeded_moments`). Without
-        ``covariances`` (the validity test reads the means) the covariances are ``None`` and a seeded birth's are
-        not mapped."""
+        ``covariances`` (the validity test reads the means) they are ``None`` and a seeded birth's are not mapped."""
         src, ret = np.asarray(src, dtype=np.int64), np.asarray(ret, dtype=np.int64)
-        d = pred.ndim
-        means = np.zeros((len(src), d))
-        covs = np.zeros((len(src), d, d)) if covariances else None
-        old = src >= 0
-        if old.any():
-            m_old, c_old = update_pairs(pred, ctx.Z, self.measurement, None, src[old], ret[old])
-            means[old] = m_old
-            if covariances:
-                covs[old] = c_old
-        seeded_src = -1 - ctx.n_birth_regions
-        seeded = np.flatnonzero(src <= seeded_src)  # component seeded_src − src of a (mixture) seeded birth, :mod:`.seeded`
-        if len(seeded):
-            m_s, c_s = seeded_moments(self.weights.birth_density, ctx.Z, self.R, ret[seeded], seeded_src - src[seeded],
-                                      d, covariances)
-            means[seeded] = m_s
-            if covariances:
-                covs[seeded] = c_s
-        for q in np.flatnonzero(~old & (src > seeded_src)):
-            m_q, c_q = self.population.birth_track(int(-1 - src[q]), ctx.Z[ret[q]] if ret[q] >= 0 else None, self.R)
-            means[q] = m_q
-            if covariances:
-                covs[q] = c_q
+        d, old, seeded_src = pred.ndim, src >= 0, -1 - ctx.n_birth_regions
+        seeded = np.flatnonzero(src <= seeded_src)  # component seeded_src − src of a (mixture) seeded birth
+        parts = [(old, update_pairs(pred, ctx.Z, self.measurement, None, src[old], ret[old]) if old.any() else None),
+                 (seeded, seeded_moments(self.weights.birth_density, ctx.Z, self.R, ret[seeded], seeded_src - src[seeded],
+                                         d, covariances) if len(seeded) else None)]
+        parts += [([q], self.population.birth_track(int(-1 - src[q]), ctx.Z[ret[q]] if ret[q] >= 0 else None, self.R))
+                  for q in np.flatnonzero(~old & (src > seeded_src))]
+        means, covs = np.zeros((len(src), d)), (np.zeros((len(src), d, d)) if covariances else None)
+        for rows, mc in parts:
+            if mc is not None:
+                means[rows] = mc[0]
+                if covariances:
+                    covs[rows] = mc[1]
         return means, covs
 
     # ------------------------------------------------------------------ output

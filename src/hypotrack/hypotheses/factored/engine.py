@@ -444,9 +444,9 @@ class FactoredFilter:
         slot = (np.cumsum(steps) - 1 + fast_before)[run]
         n_draw = int(steps.sum()) + n_fast
         seeds = self.rng.integers(0, 2**63 - 1, size=n_draw)[slot] if n_draw else np.zeros(0, np.int64)
-        base = self._next_label
-        results = iter(self._pool.run(self._engine, [(p[1], p[2], p[3], p[4], base, int(s)) for p, s in zip(jobs, seeds)],
-                                      self._options, stats))
+        base, light = self._next_label, min(self._options.min_weight, 1.0 / self._engine.max_hypotheses) * (1 - 1e-9)
+        results = iter(self._pool.run(self._engine, [(p[1], p[2], p[3], p[4], base, int(s), light) for p, s in zip(jobs, seeds)],
+                                      self._options, stats))  # (light: _keep's pruning drops it, children.heavy_entries)
         new_groups = []
         opts = self._options
         counted = 0

@@ -24,17 +24,19 @@ __all__ = ["engine_step", "run_jobs", "WorkerPool"]
 _STEP_STATS = ("n_duplicates_merged", "mass_retained", "n_kalman_updates")
 
 
-def engine_step(template, state, pred, ctx, regions, base, seed):
+def engine_step(template, state, pred, ctx, regions, base, seed, light=0.0):
     """One group's engine step (the unit of work of a scan, run in any worker).
 
     ``template``: the filter's engine without hypotheses (models, population); ``state``: the
     group's hypotheses; ``pred``: its predicted tracks; ``ctx``: the returns of its gate and their
     scores; ``regions``: its birth terms; new labels count from ``base``; ``seed`` seeds the step's
-    own random stream. Returns ``(new state, track sources, number of new labels, stats)``.
+    own random stream; ``light``: the mass below which a new store entry is left without moments (the pruning
+    drops it, :func:`~..children.heavy_entries`; 0: every entry's). Returns ``(new state, track sources, number of
+    new labels, stats)``.
     """
     engine = template.with_options(population=restrict_population(template.population, regions),
                                    seed=np.random.Generator(np.random.PCG64(seed)))
-    result = engine.advance(state.with_next_label(base), pred, ctx)
+    result = engine.advance(state.with_next_label(base), pred, ctx, light)
     new = result.state.with_next_label(0)
     return new, result.sources, result.n_new_labels, {k: result.stats[k] for k in _STEP_STATS}
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -28,6 +28,7 @@ class ScanContext:
     p_survive : (N,) survival probability of each predicted track, or ``None`` (the population's one
         ``p_S`` for every track): set when the population's survival depends on the track
         (:meth:`~.population_lmb.LabeledMultiBernoulliPopulation.track_survival`).
+    memo : dict, what a weight model computes from the scan once for every parent (e.g. Reid's option scores).
     """
 
     Z: np.ndarray
@@ -39,6 +40,8 @@ class ScanContext:
     clutter_rate: float
     clutter_volume: float
     p_survive: np.ndarray | None = None
+    #: what a weight model derives from the scan once for all the parents (its own keys; a new context, a new memo)
+    memo: dict = field(default_factory=dict, init=False, repr=False)
 
     @property
     def n_returns(self) -> int:

@@ -264,10 +264,11 @@ class ReidWeights(WeightModel):
     def option_scores(self, ctx) -> np.ndarray:
         """``(m, T)``: ``log λ_C``, then the seeded births' ``log λ_B`` (+ ``log w_c``), read-only. Every parent of a
         step asks for the same scan's; computed once per context and model (a mixture's weights return by return),
-        kept on the context as its cached properties are."""
-        memo = ctx.__dict__.get("_reid_option_scores")
-        if memo is not None and memo[0] is self:
-            return memo[1]
+        kept in the context's ``memo``."""
+        memo = getattr(ctx, "memo", {})
+        mine = memo.get("reid_option_scores")
+        if mine is not None and mine[0] is self:
+            return mine[1]
         lam_c = check_positive(ctx.clutter_intensity if self.clutter_intensity is None else self.clutter_intensity,
                                "clutter intensity")
         cols = [np.full(ctx.n_returns, np.log(lam_c))]
@@ -277,7 +278,7 @@ class ReidWeights(WeightModel):
         else:
             out = np.stack(cols, axis=1)
         out.setflags(write=False)  # shared by the parents' problems
-        ctx.__dict__["_reid_option_scores"] = (self, out)
+        memo["reid_option_scores"] = (self, out)
         return out
 
     def count_term(self, ctx, n_objects, n_births):

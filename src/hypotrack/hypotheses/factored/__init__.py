@@ -41,7 +41,10 @@ One ``step(Z)``
    approximation, whose KL and L1 losses are recorded (:attr:`split_records`, ``last_stats``);
    ``split="exact"`` splits off each part that is exactly independent of the rest of its group
    (one two-way check per part) and keeps the others together; ``split="never"`` keeps groups
-   merged.
+   merged. Every group is then pruned at ``min_weight``: a step leaves without moments the new
+   tracks its kept hypotheses hold with less than ``min(min_weight, 1/H∞)`` in all, which no
+   hypothesis the pruning keeps can hold (:func:`~..children.heavy_entries`; bit for bit the same
+   posterior, ``tests/unit/hypotheses/factored/test_light_entries.py``).
 
 Singletons and lazy prediction
 ------------------------------

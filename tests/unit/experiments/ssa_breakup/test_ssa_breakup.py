@@ -139,10 +139,10 @@ def test_every_claim_row_is_placed_in_the_extension_group():
                         for c in ("cross_tags_per_1e4", "id_switches_per_1e4")])
     rows = breakup_claims(acc, ratios, dens)
     keys = {f"ssa_breakup/{c.key}" for c in rows}
-    assert len(keys) == len(rows) == 16 + 10 + 10 + 2 + 2
+    assert len(keys) == len(rows) == 16 + 10 + 10 + 2 + 2 + 4  # + R-FISST's two ratios in both scenarios
     # R-FISST and the Gibbs δ-GLMB run in full.yaml (and the quick wiring) only: their rows are reported unplaced there
     full_only = {k for k in keys if k.endswith(("_rfisst", "_glmb"))}
-    assert len(full_only) == 6 + 2  # the Gibbs δ-GLMB: cross-tags and both ratios; R-FISST: cross-tags
+    assert len(full_only) == 6 + 6  # the Gibbs δ-GLMB and R-FISST: cross-tags and both ratios, in both scenarios
     assert keys - full_only == placed
     assert {c.status for c in rows} == {"extension"}
 

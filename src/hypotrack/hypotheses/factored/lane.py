@@ -52,6 +52,7 @@ from ..population_events import BinomialPopulation
 from ..population_lmb import LabeledMultiBernoulliPopulation
 from ..state import FilterState
 from ..tracks import TrackStore
+from .lane_kernels import rebuild
 
 __all__ = ["Lane", "GroupSet", "silent", "survival_lane", "admitted", "predict_each", "singleton", "is_singleton", "take", "cat", "empty_state",
            "one_hypothesis_lane", "bernoulli", "bernoulli_existence", "bernoulli_lane", "lane_survival", "missed",
@@ -185,21 +186,6 @@ def scan_existence(lane: "Lane", cand, view, quiet, pred: TrackStore, p_detect, 
             # unused), not a copy of the asleep ones (nearly all of the lane: a decaying p_S is below 1 for every track)
             ok = np.where(check & ~np.asarray(validity(view), dtype=bool), 0.0, 1.0)
     return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight, ok
-
-
-def _gather(src, idx, out):
-    """``out[:] = src[idx]`` for ascending row indices ``idx``: the runs of consecutive rows as slice copies when there
-    are few (a scan removes a few singletons from a lane of ~10⁴: a copy, not a gather row by row), else one take."""
-    if len(idx) == 0:
-        return
-    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
-    if len(breaks) > 64:
-        # mode="clip": the indices are in range, and numpy buffers ``out`` in its default mode (a second copy of
-        # the whole lane: 3x slower at 10^6 singletons)
-        np.take(src, idx, axis=0, out=out, mode="clip")
-        return
-    for a, b in zip(np.concatenate([[0], breaks]), np.concatenate([breaks, [len(idx)]])):
-        out[a:b] = src[idx[a]:idx[a] + (b - a)]
 
 
 def sort_out(states, mode: str, population, ndim: int):
@@ -372,46 +358,27 @@ class Lane:
         singletons' existences and survivals, whether each singleton passes the validity test (``None``: all,
         :func:`scan_existence`); the singletons not predicted take ``r ← p_S r`` (0 failing it), and every
         existence the engine's pruning (:func:`bernoulli_prune`: a singleton whose track it drops leaves)."""
-        # one pass over the lane's arrays: the kept singletons (the quiet candidates replaced by their
-        # prediction), then the new ones; with Bernoulli singletons only those the pruning keeps (the same rows
-        # as building every row and then dropping the pruned ones)
-        keep = np.ones(len(self), dtype=bool)
-        keep[cand] = False
-        keep[cand[quiet]] = True
-        idx = np.flatnonzero(keep)
-        n_keep, d = len(idx), self.store.ndim
-        pos = np.cumsum(keep) - 1  # each kept singleton's row among the kept ones
-        moved = cand[quiet]
-        from_pred = np.full(n_keep, -1, dtype=np.int64)  # the prediction row of a quiet candidate, else -1
-        from_pred[pos[moved]] = np.flatnonzero(quiet)
-        alive = r = p_s = None
-        if exist is not None:
+        # one compiled pass over the lane's rows (:mod:`.lane_kernels`): the kept singletons (the quiet candidates
+        # replaced by their prediction), then the new ones; with Bernoulli singletons only those the pruning keeps
+        # (the same rows as building every row and then dropping the pruned ones)
+        f8, no = np.float64, np.zeros(0)
+        r_quiet = p_quiet = r_new = p_new = ok = no
+        min_weight, bern = 0.0, exist is not None
+        if bern:
             r_quiet, p_quiet, r_new, p_new, min_weight, ok = exist
-            r = self.r[idx] * self.p_s[idx] if ok is None else self.r[idx] * self.p_s[idx] * ok[idx]
-            r = np.concatenate([r, r_new])  # out of view: r <- p_S r (p_D = 0); 0 if its mean fails the validity test
-            p_s = np.concatenate([self.p_s[idx], p_new])
-            r[pos[moved]], p_s[pos[moved]] = r_quiet, p_quiet
-            alive, r = bernoulli_prune(r, min_weight)
-            if alive.all():
-                alive = None
-            else:
-                r, p_s = r[alive], p_s[alive]
-                idx, from_pred, new = idx[alive[:n_keep]], from_pred[alive[:n_keep]], take(new, alive[n_keep:])
-        n_old = len(idx)
-        at = np.flatnonzero(from_pred >= 0)  # the quiet candidates' rows in the new lane
-        rows = from_pred[at]
-        means = np.empty((n_old + len(new), d))
-        covs = np.empty((n_old + len(new), d, d))
-        lane_view = np.empty((n_old + len(new), d))
-        _gather(self.store.means, idx, means[:n_old])
-        _gather(self.store.covs, idx, covs[:n_old])
-        _gather(self.store.means if view is None else view, idx, lane_view[:n_old])
-        means[at], covs[at], lane_view[at] = pred.means[rows], pred.covs[rows], pred.means[rows]
-        means[n_old:], covs[n_old:], lane_view[n_old:] = new.means, new.covs, new.means
-        times = np.concatenate([self.times[idx], np.full(len(new), now)])
-        times[at] = now
-        labels = np.concatenate([self.store.labels[idx], new.labels])
-        return Lane(TrackStore(means, covs, labels), times, lane_view, r, p_s), n_keep
+        use_ok = ok is not None
+        s, cand, quiet = self.store, np.asarray(cand, np.int64), np.asarray(quiet, np.bool_)
+        n_keep = len(self) - int(len(cand) - quiet.sum())
+        total, d = n_keep + len(new), s.ndim
+        out = (np.empty((total, d)), np.empty((total, d, d)), np.empty((total, d)), np.empty(total),
+               np.empty(total, s.labels.dtype), np.empty(total if bern else 0), np.empty(total if bern else 0))
+        m = rebuild(s.means, s.covs, s.means if view is None else view, self.times, s.labels,
+                    self.r if bern else no, self.p_s if bern else no, ok if use_ok else no, cand, quiet, pred.means,
+                    pred.covs, np.asarray(r_quiet, f8), np.asarray(p_quiet, f8), new.means, new.covs,
+                    np.asarray(new.labels, s.labels.dtype), np.asarray(r_new, f8), np.asarray(p_new, f8), float(now),
+                    float(min_weight), bern, use_ok, *out)
+        means, covs, lane_view, times, labels, r, p_s = (a[:m] if m < total else a for a in out)
+        return Lane(TrackStore(means, covs, labels), times, lane_view, r if bern else None, p_s if bern else None), n_keep
 
     def same_as(self, other: "Lane") -> bool:
         """Bit-for-bit the same singletons, times and means at the scan."""

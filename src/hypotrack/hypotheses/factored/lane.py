@@ -368,15 +368,17 @@ class Lane:
             r_quiet, p_quiet, r_new, p_new, min_weight, ok = exist
         use_ok = ok is not None
         s, cand, quiet = self.store, np.asarray(cand, np.int64), np.asarray(quiet, np.bool_)
+        order = np.argsort(cand, kind="stable")  # the rows in lane order (the candidates come ascending)
+        rank = np.cumsum(quiet) - 1  # a quiet candidate's place in r_quiet, p_quiet
         n_keep = len(self) - int(len(cand) - quiet.sum())
         total, d = n_keep + len(new), s.ndim
         out = (np.empty((total, d)), np.empty((total, d, d)), np.empty((total, d)), np.empty(total),
                np.empty(total, s.labels.dtype), np.empty(total if bern else 0), np.empty(total if bern else 0))
         m = rebuild(s.means, s.covs, s.means if view is None else view, self.times, s.labels,
-                    self.r if bern else no, self.p_s if bern else no, ok if use_ok else no, cand, quiet, pred.means,
-                    pred.covs, np.asarray(r_quiet, f8), np.asarray(p_quiet, f8), new.means, new.covs,
-                    np.asarray(new.labels, s.labels.dtype), np.asarray(r_new, f8), np.asarray(p_new, f8), float(now),
-                    float(min_weight), bern, use_ok, *out)
+                    self.r if bern else no, self.p_s if bern else no, ok if use_ok else no, cand[order], quiet[order],
+                    order, rank[order], pred.means, pred.covs, np.asarray(r_quiet, f8), np.asarray(p_quiet, f8),
+                    new.means, new.covs, np.asarray(new.labels, s.labels.dtype), np.asarray(r_new, f8),
+                    np.asarray(p_new, f8), float(now), float(min_weight), bern, use_ok, *out)
         means, covs, lane_view, times, labels, r, p_s = (a[:m] if m < total else a for a in out)
         return Lane(TrackStore(means, covs, labels), times, lane_view, r if bern else None, p_s if bern else None), n_keep
 

@@ -91,3 +91,31 @@ def test_after_scan_drops_a_pruned_singleton_and_keeps_order():
     assert got.times.tolist() == [10.0, 10.0] and got.r.tolist() == [1.0, 1.0]
     assert np.array_equal(got.store.covs[0], 2 * np.eye(6))
     assert len(take(got.store, np.array([0]))) == 1
+
+
+@pytest.mark.parametrize("bernoulli", [False, True])
+def test_candidates_in_any_order_are_the_plain_construction(bernoulli):
+    """The compiled pass walks the candidates in lane order: given in another order (their predictions and the quiet
+    ones' existences in that order), the rows are those of the plain construction, bit for bit."""
+    rng = np.random.default_rng(7 + bernoulli)
+    n = 40
+    for _ in range(5):
+        store = _store(rng, n, 0)
+        r = np.where(rng.random(n) < 0.5, 1.0, rng.uniform(1e-6, 1.0, n)) if bernoulli else None
+        p_s = np.where(rng.random(n) < 0.5, 1.0, rng.uniform(0.9, 1.0, n)) if bernoulli else None
+        lane = Lane(store, rng.uniform(0, 50, n), store.means + 1.0, r, p_s)
+        cand = rng.permutation(n)[:17].astype(np.int64)  # not ascending
+        assert np.any(np.diff(cand) < 0)
+        quiet = rng.random(len(cand)) < 0.5
+        pred = _store(rng, len(cand), 10_000)
+        pred = TrackStore(pred.means, pred.covs, store.labels[cand])
+        new = _store(rng, 2, 20_000)
+        exist = None
+        if bernoulli:
+            r_quiet = rng.choice([1e-4, 0.3, 1 - 1e-4, 1.0], size=int(quiet.sum()))
+            exist = (r_quiet, rng.uniform(0.9, 1, len(r_quiet)), np.array([0.5, 1e-4]), np.ones(2), 1e-3, None)
+        view = rng.normal(size=(n, 6))
+        got, n_got = lane.after_scan(cand, quiet, pred, 60.0, view, new, exist)
+        want, n_want = _reference(lane, cand, quiet, pred, 60.0, view, new, exist)
+        assert n_got == n_want
+        assert got.same_as(want)

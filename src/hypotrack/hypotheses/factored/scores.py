@@ -37,14 +37,10 @@ from ..detection import state_p_detect
 from ..filter import HypothesisFilter
 from ..tracks import TrackStore
 
-__all__ = ["Scores", "score_tracks", "sensor_frame_pairs", "DENSE_PAIRS", "FRAME_DENSE_PAIRS"]
+__all__ = ["Scores", "score_tracks", "sensor_frame_pairs", "DENSE_PAIRS"]
 
 #: pairs up to which a scan's scores are the engine's dense matrices
 DENSE_PAIRS = 200_000
-#: the same for an extended measurement model (:func:`sensor_frame_pairs`): its gated pairs cost less than the dense
-#: matrices from a few thousand pairs on (measured on the catalogue radar's scans: equal near 60 tracks x 60 returns,
-#: 0.29 against 0.37 ms at 118 x 107, the whole catalogue's scans)
-FRAME_DENSE_PAIRS = 4_000
 #: tracks whose candidate returns are scored in one block
 _BLOCK = 256
 
@@ -107,15 +103,13 @@ class Scores:
 def score_tracks(engine, pred, Z, *, gate_out_of_view: bool = True, survival=None, dense_pairs=None) -> Scores:
     """Every return ``Z`` (m, p) against the predicted tracks ``pred`` (module docstring): the engine's
     :meth:`~..filter.HypothesisFilter.track_scores` — dense up to ``dense_pairs`` pairs or without a gate,
-    else the gated pairs found through a k-d tree (``None``: :data:`DENSE_PAIRS`; an extended measurement model's
-    through :func:`sensor_frame_pairs`, ``None``: :data:`FRAME_DENSE_PAIRS`). ``gate_out_of_view=False``:
+    else the gated pairs found through a k-d tree (``None``: :data:`DENSE_PAIRS`). ``gate_out_of_view=False``:
     a track with ``p_D = 0`` gates nothing. ``survival``: the population's ``track_survival`` (or ``None``)."""
     n, m = len(pred), len(Z)
-    p_survive = None if survival is None else survival(pred)
-    frame = engine.gate_probability is not None and engine.H is None and _frame_model(engine)
-    if frame and m * n > (FRAME_DENSE_PAIRS if dense_pairs is None else dense_pairs):
-        return sensor_frame_pairs(engine, pred, Z, gate_out_of_view=gate_out_of_view, p_survive=p_survive)
     dense_pairs = DENSE_PAIRS if dense_pairs is None else dense_pairs
+    p_survive = None if survival is None else survival(pred)
+    if engine.gate_probability is not None and m * n > dense_pairs and engine.H is None and _frame_model(engine):
+        return sensor_frame_pairs(engine, pred, Z, gate_out_of_view=gate_out_of_view, p_survive=p_survive)
     # the k-d tree's balls compare plain differences of H x: another measurement model without a fixed H is
     # scored densely
     if engine.gate_probability is None or m * n <= dense_pairs or engine.H is None:

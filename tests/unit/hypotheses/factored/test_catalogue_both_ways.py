@@ -5,8 +5,8 @@ the fast path) on the real catalogue (N = 2,000) stepped both ways holds the sam
 objects out of view:
 
 * the scan's scores in the sensor frame as gated pairs (:func:`~hypotrack.hypotheses.factored.scores.sensor_frame_pairs`,
-  taken from :data:`~hypotrack.hypotheses.factored.scores.FRAME_DENSE_PAIRS` pairs on) or as the engine's dense
-  matrices at every scan;
+  taken from :data:`~hypotrack.hypotheses.factored.scores.DENSE_PAIRS` pairs on: at 10⁵–10⁶ objects) or as the
+  engine's dense matrices at every scan;
 * the lane's moments appended to scan after scan (:class:`~hypotrack.hypotheses.factored.lane.Lane`, compacted when
   their garbage passes the bound) or compacted at every scan (every row copied: the lane rebuilt)."""
 
@@ -49,10 +49,10 @@ def test_gated_pairs_and_dense_matrices_give_the_same_posterior(catalogue, monke
 
     monkeypatch.setattr(scores_module, "sensor_frame_pairs", counted)
     for t, Z in scans:
-        monkeypatch.setattr(scores_module, "FRAME_DENSE_PAIRS", 10**12)
+        monkeypatch.setattr(scores_module, "DENSE_PAIRS", 10**12)
         before = dense.n_objects_held
         dense.step(Z, t)
-        monkeypatch.setattr(scores_module, "FRAME_DENSE_PAIRS", -1)  # every scan's scores as gated pairs
+        monkeypatch.setattr(scores_module, "DENSE_PAIRS", -1)  # every scan's scores as gated pairs
         pairs.step(Z, t)
         assert dense.same_posterior(pairs)
         assert dense.next_label == pairs.next_label

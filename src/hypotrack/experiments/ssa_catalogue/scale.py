@@ -117,7 +117,7 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
     warm = int(s.get("warm_scans", 1))
     if not 1 <= warm < s["n_scans"]:
         raise ValueError(f"scale.warm_scans must lie in [1, n_scans = {s['n_scans']}), got {warm}")
-    cpu, view, returns, timed = 0.0, 0, 0, 0
+    cpu, view, returns, timed, per_scan = 0.0, 0, 0, 0, []
     for k, (t_k, Z) in enumerate(sc.scan_list(0)):
         tsensor.at(sc.theta[k])
         Zt = tsensor.returns(Z)
@@ -126,6 +126,7 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
         c = time.process_time() - c0
         if k >= warm:  # scan 0 is at the priors' epoch (an update without prediction); first compiled calls
             cpu += c
+            per_scan.append(c)
             view += int(in_view.get(k, 0))
             returns += len(Z)
             timed += 1
@@ -137,7 +138,10 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
                 returns_per_scan=returns / max(timed, 1), cpu_s=cpu, cpu_s_per_scan=cpu / max(timed, 1),
                 us_per_object_in_view=1e6 * cpu / view if view else np.nan, us_per_object=1e6 * cpu / max(n * timed, 1),
                 us_per_return=1e6 * cpu / returns if returns else np.nan, real_time_factor=sim_s / max(cpu, 1e-12),
-                start_after_s=after, peak_rss_mb=rss, wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0],
+                start_after_s=after, peak_rss_mb=rss,
+                # the dearest timed scan over the median one: near 1, no start-up burst left in the timed scans
+                slowest_scan_ratio=max(per_scan) / max(float(np.median(per_scan)), 1e-12) if per_scan else np.nan,
+                wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0],
                 blas_threads=os.environ.get("OPENBLAS_NUM_THREADS", "default"))
 
 

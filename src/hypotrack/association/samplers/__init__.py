@@ -20,7 +20,7 @@ each with its exact log-weight, never visit counts. The child generators of
 :mod:`hypotrack.hypotheses` (``MCMCGenerator``, ``GibbsGenerator``) are adapters over these.
 """
 
-from .chain import MCMC_VARIANTS, checked_search, completion_limit, mcmc_search, neighbour_completion
+from .chain import MCMC_VARIANTS, checked_search, completion_limit, mcmc_search, neighbour_completion, top_k_first
 from .events import (
     check_problem,
     checked_event_log_weights,
@@ -41,6 +41,7 @@ __all__ = [
     "checked_search",
     "neighbour_completion",
     "completion_limit",
+    "top_k_first",
     "sweep_search",
     "checked_sweep_search",
     "gibbs_draw",

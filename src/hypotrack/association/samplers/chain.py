@@ -197,7 +197,7 @@ def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_i
 
 @numba.njit(cache=True, nogil=True)
 def _completion_round(score, ptr, cols, n_obj, n_excl, count_term, start, stop, threshold, zobrist, table, hashes,
-                      rows, logw, n_found, cap, heap, n_heap):
+                      rows, logw, n_found, cap, heap, n_heap, slack):
     """Expand visited events ``start .. stop-1``: add every single move of the paper's proposal
     (return ``i`` to column ``c``, a conflicting return to clutter) reaching ``threshold``.
 
@@ -205,8 +205,8 @@ def _completion_round(score, ptr, cols, n_obj, n_excl, count_term, start, stop, 
     are tried: a move to a ``−inf`` column weighs ``−inf`` and never reaches the threshold, so the events added and
     their order are those of trying every column. ``heap`` (length ``K``, ``0``: none) is a min-heap of the ``K``
     heaviest weights held (its first ``n_heap`` entries): with ``K > 0`` a move lighter than the ``K``-th heaviest
-    held is not added — none of the ``K`` heaviest, in the last round (:func:`_complete`) — and each event added
-    enters the heap.
+    held by more than ``slack`` is not added — none of the ``K`` heaviest, in the last round (:func:`_complete`) —
+    and each event added enters the heap.
 
     Returns ``(n_found, overflow, n_heap)``; on overflow (a new event and ``cap`` events already held) the buffers
     must grow (or, at the bound, the lightest events go: :func:`_complete`) and the round be re-run (events already
@@ -241,7 +241,7 @@ def _completion_round(score, ptr, cols, n_obj, n_excl, count_term, start, stop, 
                 new = lw + delta + count_term[k + dk, b + db] - count_term[k, b]
                 if not new >= threshold:
                     continue
-                if n_top and n_heap == n_top and new < heap[0]:
+                if n_top and n_heap == n_top and new < heap[0] - slack:
                     continue  # lighter than the K-th heaviest held: never among the K heaviest
                 h = h0 ^ zobrist[i, cur] ^ zobrist[i, c]
                 state[i] = c
@@ -286,6 +286,21 @@ def _finite_columns(score):
     return ptr, np.nonzero(finite)[1].astype(np.int64)
 
 
+def _rounding_slack(score, count_term):
+    """How much lighter than the ``K``-th heaviest held a move may be and still be added in the last round.
+
+    A weight is found by sums along a path (the chain's moves, the rounds' single moves: ``lw + Δ``), so the same
+    event met from two parents can carry weights a few rounding errors apart. A move skipped at its first meeting
+    must stay below the ``K``-th heaviest when met again, or the later (slightly different) weight would stand in
+    for the first one the completion without ``keep`` records. Every partial sum is bounded by
+    ``S = Σ_i max_c |score[i, c]| + max |φ|`` (finite entries), each move rounds at most 8 times, so two paths of
+    fewer than 10⁸ moves differ by less than ``10⁸ · 16 · 2⁻⁵³ S < 2·10⁻⁷ S``: a slack of ``10⁻⁶ (S + 1)`` covers
+    them (and adds only the few moves that close to the ``K``-th, never among the ``K`` heaviest)."""
+    a = np.abs(np.where(np.isfinite(score), score, 0.0)).max(axis=1).sum() if score.size else 0.0
+    phi = count_term[np.isfinite(count_term)]
+    return 1e-6 * (float(a) + (float(np.abs(phi).max()) if phi.size else 0.0) + 1.0)
+
+
 def _heaviest_heap(logw, k):
     """A min-heap (an ascending array is one) of the ``k`` heaviest of ``logw``, in a buffer of length ``k``,
     and how many it holds."""
@@ -319,10 +334,12 @@ def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_thresh
 
     **keep.** The last round's events are not expanded, so one lighter than the ``keep``-th heaviest held when it is
     met (a weight that only rises) can never be among the ``keep`` heaviest found: the last round adds none of them
-    (:func:`_completion_round`'s heap). Every event at least as heavy as the final ``keep``-th is added as without
-    ``keep``, from the same parent at the same point (the rounds before are unchanged), so it has the same weight and
-    the same order among the events held: the ``keep`` heaviest (:func:`top_k_first`) are those of the completion
-    without ``keep``, exactly (tests: brute-force problems). Near the mode of a group of hundreds of returns the last
+    (:func:`_completion_round`'s heap; lighter by more than :func:`_rounding_slack`, so that an event skipped when
+    first met is, when met again, still below the ``keep``-th). Every event at least as heavy as the final
+    ``keep``-th is added as without ``keep``, from the same parent at the same point (the rounds before are
+    unchanged), so it has the same weight and the same order among the events held: the ``keep`` heaviest
+    (:func:`top_k_first`) are those of the completion without ``keep``, exactly (tests: brute-force problems, with
+    exact ties and weights one rounding apart at the ``keep``-th). Near the mode of a group of hundreds of returns the last
     round's single moves above the threshold number hundreds of thousands; ``keep`` of them are held.
 
     **The bound.** A round adds every single move reaching ``τ = max + log(relative_threshold)`` from the events
@@ -343,6 +360,7 @@ def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_thresh
     limit = visited.rows.shape[0] if max_events is None else int(max_events)
     ptr, cols = _finite_columns(score)
     no_heap = np.empty(0)
+    slack = _rounding_slack(score, count_term) if keep is not None else 0.0
     for r in range(rounds):
         stop = visited.n
         if stop == start:
@@ -354,7 +372,8 @@ def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_thresh
             cap = visited.rows.shape[0] if max_events is None else min(visited.rows.shape[0], limit)
             n, overflow, n_heap = _completion_round(score, ptr, cols, n_obj, n_excl, count_term, start, stop,
                                                     threshold, visited.zobrist, visited.table, visited.hashes,
-                                                    visited.rows, visited.logw, visited.n, cap, heap, n_heap)
+                                                    visited.rows, visited.logw, visited.n, cap, heap, n_heap,
+                                                    slack)
             visited.n = n
             if not overflow:
                 break

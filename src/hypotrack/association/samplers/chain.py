@@ -19,7 +19,9 @@ proposals are offered:
 Whatever the proposal, the chain is used as a *search* (DESIGN.md §4.3): the distinct events it
 visits after burn-in (:mod:`.visited`) are returned with their exact log-weights; the caller
 normalises those. Visit counts are never returned. :func:`neighbour_completion` then adds the
-heavy single-move neighbours of what was found (a deterministic local search).
+heavy single-move neighbours of what was found (a deterministic local search). Asked for the ``keep`` heaviest
+only (the filter's cap), the search holds only what can be among them in the completion's last round and returns
+exactly the ``keep`` heaviest of the search without ``keep`` (:func:`_complete`, :func:`top_k_first`).
 
 The inner loops are compiled with numba (``cache=True``). The paper and symmetric chains read
 numba's ``np.random`` stream from a local buffer (:mod:`hypotrack.association.mt19937`) and

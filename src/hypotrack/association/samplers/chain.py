@@ -45,9 +45,10 @@ from ..._validation import check_int, check_positive, check_probability
 from ..mt19937 import N_DOUBLES, fill_doubles, seed_state
 from .events import check_problem, count_delta, gather_sum, owners_and_counts, state_log_weight, to_events, to_state
 from .gibbs import gibbs_draw, move_row
+from .selection import heaviest_heap, top_k_first
 from .visited import Visited, contains, insert_rows, lookup_or_insert
 
-__all__ = ["MCMC_VARIANTS", "checked_search", "completion_limit", "mcmc_search", "neighbour_completion", "top_k_first"]
+__all__ = ["MCMC_VARIANTS", "checked_search", "completion_limit", "mcmc_search", "neighbour_completion"]
 
 MCMC_VARIANTS = ("paper", "symmetric", "gibbs")
 _VARIANT_CODE = {v: i for i, v in enumerate(MCMC_VARIANTS)}
@@ -303,33 +304,6 @@ def _rounding_slack(score, count_term):
     return 1e-6 * (float(a) + (float(np.abs(phi).max()) if phi.size else 0.0) + 1.0)
 
 
-def _heaviest_heap(logw, k):
-    """A min-heap (an ascending array is one) of the ``k`` heaviest of ``logw``, in a buffer of length ``k``,
-    and how many it holds."""
-    heap = np.empty(k)
-    top = np.sort(logw if len(logw) <= k else np.partition(logw, len(logw) - k)[len(logw) - k:])
-    heap[: len(top)] = top
-    return heap, len(top)
-
-
-def top_k_first(log_weights, k):
-    """Indices of the ``k`` largest log-weights, best first; ties (at the ``k``-th weight too) keep the first.
-
-    Unlike an ``argpartition``, which of several events tied at the ``k``-th weight are kept is defined: the
-    lowest indices (for a search, the first visited), so that the ``k`` best of a set and of any subset holding
-    every event at least as heavy as its ``k``-th are the same indices of the same events."""
-    lw = np.asarray(log_weights, dtype=float)
-    if k is None or k >= len(lw):
-        return np.argsort(-lw, kind="stable")
-    k = check_int(k, "k", minimum=0)
-    if k == 0:
-        return np.zeros(0, dtype=np.int64)
-    kth = np.partition(lw, len(lw) - k)[len(lw) - k]
-    above = np.flatnonzero(lw > kth)
-    idx = np.sort(np.concatenate([above, np.flatnonzero(lw == kth)[: k - len(above)]]))
-    return idx[np.argsort(-lw[idx], kind="stable")]
-
-
 def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_threshold, max_events=None, keep=None):
     """Run ``rounds`` completion rounds on ``visited`` (growing it on overflow), holding at most ``max_events``
     events (``None``: no bound); with ``keep``, only what can be among the ``keep`` heaviest in the last round.
@@ -369,7 +343,7 @@ def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_thresh
             break
         threshold = max(float(visited.logw[:stop].max()) + np.log(relative_threshold), raised)
         last = keep is not None and r == rounds - 1
-        heap, n_heap = _heaviest_heap(visited.logw[:visited.n], keep) if last else (no_heap, 0)
+        heap, n_heap = heaviest_heap(visited.logw[:visited.n], keep) if last else (no_heap, 0)
         while True:
             cap = visited.rows.shape[0] if max_events is None else min(visited.rows.shape[0], limit)
             n, overflow, n_heap = _completion_round(score, ptr, cols, n_obj, n_excl, count_term, start, stop,
@@ -393,7 +367,7 @@ def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_thresh
             start, stop = int(np.searchsorted(kept, start)), int(np.searchsorted(kept, stop))
             visited.keep(kept)
             if last:  # the heap again, of the events still held
-                heap, n_heap = _heaviest_heap(visited.logw[:visited.n], keep)
+                heap, n_heap = heaviest_heap(visited.logw[:visited.n], keep)
         start = stop
 
 

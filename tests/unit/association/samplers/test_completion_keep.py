@@ -9,8 +9,8 @@ for 1-3 rounds and ``keep`` 1-40, also with two objects of identical scores (exa
 kept the first visited); their weights are the brute-force weights (1e-12) and the ``keep`` heaviest of every event
 above the threshold that the completion reaches. Through the MCMC search and the generator the same holds; on a
 problem whose unbounded completion holds ~10⁵ events the ``keep`` search allocates a small fraction of the memory
-(tracemalloc). :func:`top_k_first` on hand-computed ties; the int32 conversion; the budget counting the copy
-returned (hand-computed); bad ``keep`` refused by name."""
+(tracemalloc). The int32 conversion; the budget counting the copy
+returned (hand-computed); bad ``keep`` refused by name. :func:`top_k_first` itself: test_selection.py."""
 
 import itertools
 import tracemalloc
@@ -155,20 +155,6 @@ def test_keep_holds_a_fraction_of_the_memory_and_the_same_result():
     np.testing.assert_array_equal(ev_k, ev[sel])
     np.testing.assert_array_equal(lw_k, lw[sel])
     assert peak_keep < peak_all / 4
-
-
-def test_top_k_first_hand_computed():
-    lw = np.array([1.0, 3.0, 3.0, 2.0, 3.0])
-    assert top_k_first(lw, 2).tolist() == [1, 2]  # three tied at 3: the first two
-    assert top_k_first(lw, 4).tolist() == [1, 2, 4, 3]
-    assert top_k_first(lw, 0).tolist() == []
-    assert top_k_first(lw, None).tolist() == [1, 2, 4, 3, 0]
-    assert top_k_first(lw, 9).tolist() == [1, 2, 4, 3, 0]
-    # the same events from any subset holding every event at least as heavy as the k-th
-    sub = np.array([1, 2, 3, 4])
-    assert sub[top_k_first(lw[sub], 2)].tolist() == top_k_first(lw, 2).tolist()
-    with pytest.raises(ValueError, match="k"):
-        top_k_first(lw, -1)
 
 
 def test_to_events_converts_in_int32_and_the_budget_counts_the_copy_returned():

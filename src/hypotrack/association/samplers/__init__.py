@@ -1,6 +1,6 @@
 """The association samplers: searches over the association events of one parent hypothesis.
 
-One floor, four modules, read in this order:
+One floor, five modules, read in this order:
 
 :mod:`.events`
     An event's two encodings (public codes, the samplers' state codes), the problem's
@@ -8,12 +8,15 @@ One floor, four modules, read in this order:
 :mod:`.visited`
     The visited set: the distinct events met, in order of first visit, with their weights
     (Zobrist-hashed open addressing, exact row comparison on a hash hit).
+:mod:`.selection`
+    The ``k`` heaviest of a search's events, ties at the ``k``-th decided by order of first visit.
 :mod:`.gibbs`
     The exact conditional draw of one row, and the systematic-scan Gibbs sweeps of the δ-GLMB
     filter (Vo, Vo & Hoang 2017).
 :mod:`.chain`
     R-FISST's MCMC chain (document 000 Sec. III-B) with its symmetric and random-scan Gibbs
-    variants, and the neighbour completion that follows it.
+    variants, and the neighbour completion that follows it (asked for the ``keep`` heaviest, it holds only what
+    can be among them).
 
 Every sampler is used as a *search* (DESIGN.md §4.3): it returns the distinct events visited,
 each with its exact log-weight, never visit counts. The child generators of
@@ -33,6 +36,7 @@ from .events import (
     to_state,
 )
 from .gibbs import checked_sweep_search, gibbs_draw, move_row, sweep_search
+from .selection import heaviest_heap, top_k_first
 from .visited import Visited, clear_table, insert_rows, lookup_or_insert, zobrist_keys
 
 __all__ = [
@@ -41,6 +45,8 @@ __all__ = [
     "checked_search",
     "neighbour_completion",
     "completion_limit",
+    "top_k_first",
+    "heaviest_heap",
     "sweep_search",
     "checked_sweep_search",
     "gibbs_draw",

@@ -19,7 +19,9 @@ proposals are offered:
 Whatever the proposal, the chain is used as a *search* (DESIGN.md §4.3): the distinct events it
 visits after burn-in (:mod:`.visited`) are returned with their exact log-weights; the caller
 normalises those. Visit counts are never returned. :func:`neighbour_completion` then adds the
-heavy single-move neighbours of what was found (a deterministic local search).
+heavy single-move neighbours of what was found (a deterministic local search). Asked for the ``keep`` heaviest
+only (the filter's cap), the search holds only what can be among them in the completion's last round and returns
+exactly the ``keep`` heaviest of the search without ``keep`` (:func:`_complete`, :func:`top_k_first`).
 
 The inner loops are compiled with numba (``cache=True``). The paper and symmetric chains read
 numba's ``np.random`` stream from a local buffer (:mod:`hypotrack.association.mt19937`) and
@@ -43,6 +45,7 @@ from ..._validation import check_int, check_positive, check_probability
 from ..mt19937 import N_DOUBLES, fill_doubles, seed_state
 from .events import check_problem, count_delta, gather_sum, owners_and_counts, state_log_weight, to_events, to_state
 from .gibbs import gibbs_draw, move_row
+from .selection import heaviest_heap, top_k_first
 from .visited import Visited, contains, insert_rows, lookup_or_insert
 
 __all__ = ["MCMC_VARIANTS", "checked_search", "completion_limit", "mcmc_search", "neighbour_completion"]
@@ -56,12 +59,15 @@ _VARIANT_CODE = {v: i for i, v in enumerate(MCMC_VARIANTS)}
 _LOG_U_FLOOR = -40.0
 
 
-def completion_limit(m: int, memory_mb: float) -> int:
+def completion_limit(m: int, memory_mb: float, returned: bool = False) -> int:
     """The events a visited set of ``m`` returns holds in ``memory_mb`` MiB: ``4 m + 32`` bytes an event (an int32 row,
-    its log-weight and hash, two table slots; :mod:`.visited`), at least 2."""
+    its log-weight and hash, two table slots; :mod:`.visited`), at least 2. ``returned``: every event held is also
+    returned (no ``keep``), a copy of ``4 m + 8`` bytes more an event (its int32 row in public codes, its
+    log-weight: :func:`.events.to_events`), which the budget then holds too."""
     m = check_int(m, "m", minimum=0)
     memory_mb = check_positive(memory_mb, "memory_mb")
-    return max(2, int(memory_mb * 2**20 // (4 * m + 32)))
+    per_event = 4 * m + 32 + (4 * m + 8 if returned else 0)
+    return max(2, int(memory_mb * 2**20 // per_event))
 
 
 @numba.njit(cache=True, nogil=True)
@@ -193,17 +199,24 @@ def _run_chain(score, n_obj, n_excl, count_term, state, zobrist, n_steps, burn_i
 
 
 @numba.njit(cache=True, nogil=True)
-def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, zobrist, table, hashes, rows, logw,
-                      n_found, cap):
+def _completion_round(score, ptr, cols, n_obj, n_excl, count_term, start, stop, threshold, zobrist, table, hashes,
+                      rows, logw, n_found, cap, heap, n_heap, slack):
     """Expand visited events ``start .. stop-1``: add every single move of the paper's proposal
     (return ``i`` to column ``c``, a conflicting return to clutter) reaching ``threshold``.
 
-    Returns ``(n_found, overflow)``; on overflow (a new event and ``cap`` events already held) the buffers must grow
-    (or, at the bound, the lightest events go: :func:`_complete`) and the round be re-run (events already
+    Only the columns ``cols[ptr[i]:ptr[i+1]]`` of return ``i`` (its finite scores, ascending: :func:`_finite_columns`)
+    are tried: a move to a ``−inf`` column weighs ``−inf`` and never reaches the threshold, so the events added and
+    their order are those of trying every column. ``heap`` (length ``K``, ``0``: none) is a min-heap of the ``K``
+    heaviest weights held (its first ``n_heap`` entries): with ``K > 0`` a move lighter than the ``K``-th heaviest
+    held by more than ``slack`` is not added — none of the ``K`` heaviest, in the last round (:func:`_complete`) —
+    and each event added enters the heap.
+
+    Returns ``(n_found, overflow, n_heap)``; on overflow (a new event and ``cap`` events already held) the buffers
+    must grow (or, at the bound, the lightest events go: :func:`_complete`) and the round be re-run (events already
     added are recognised as visited).
     """
     m = rows.shape[1]
-    n_col = score.shape[1]
+    n_top = heap.shape[0]
     state = np.empty(m, dtype=np.int64)
     for q in range(start, stop):
         lw = logw[q]
@@ -215,7 +228,8 @@ def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, 
         h0 = hashes[q]
         for i in range(m):
             cur = state[i]
-            for c in range(n_col):
+            for j in range(ptr[i], ptr[i + 1]):
+                c = cols[j]
                 if c == cur:
                     continue
                 delta = score[i, c] - score[i, cur]
@@ -230,23 +244,79 @@ def _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold, 
                 new = lw + delta + count_term[k + dk, b + db] - count_term[k, b]
                 if not new >= threshold:
                     continue
+                if n_top and n_heap == n_top and new < heap[0] - slack:
+                    continue  # lighter than the K-th heaviest held: never among the K heaviest
                 h = h0 ^ zobrist[i, cur] ^ zobrist[i, c]
                 state[i] = c
                 if i2 != -1:
                     h ^= zobrist[i2, c] ^ zobrist[i2, n_excl]
                     state[i2] = n_excl
                 if n_found >= cap and not contains(h, state, table, hashes, rows):
-                    return n_found, True  # a new event and no room (an event already held needs none)
-                n_found = lookup_or_insert(h, state, table, hashes, rows, logw, new, n_found)
+                    return n_found, True, n_heap  # a new event and no room (an event already held needs none)
+                added = lookup_or_insert(h, state, table, hashes, rows, logw, new, n_found)
+                if n_top and added > n_found:  # the heap takes the new weight (sift up, or replace the root)
+                    if n_heap < n_top:
+                        p = n_heap
+                        n_heap += 1
+                        while p > 0 and heap[(p - 1) // 2] > new:
+                            heap[p] = heap[(p - 1) // 2]
+                            p = (p - 1) // 2
+                        heap[p] = new
+                    elif new > heap[0]:
+                        p = 0
+                        while 2 * p + 1 < n_top:
+                            ch = 2 * p + 1
+                            if ch + 1 < n_top and heap[ch + 1] < heap[ch]:
+                                ch += 1
+                            if heap[ch] >= new:
+                                break
+                            heap[p] = heap[ch]
+                            p = ch
+                        heap[p] = new
+                n_found = added
                 state[i] = cur
                 if i2 != -1:
                     state[i2] = c
-    return n_found, False
+    return n_found, False, n_heap
 
 
-def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_threshold, max_events=None):
+def _finite_columns(score):
+    """``(ptr, cols)``: the columns of each return's finite scores, ascending (CSR: return ``i``'s are
+    ``cols[ptr[i]:ptr[i+1]]``), the only moves :func:`_completion_round` can add."""
+    finite = np.isfinite(score)
+    ptr = np.zeros(score.shape[0] + 1, dtype=np.int64)
+    np.cumsum(finite.sum(axis=1), out=ptr[1:])
+    return ptr, np.nonzero(finite)[1].astype(np.int64)
+
+
+def _rounding_slack(score, count_term):
+    """How much lighter than the ``K``-th heaviest held a move may be and still be added in the last round.
+
+    A weight is found by sums along a path (the chain's moves, the rounds' single moves: ``lw + Δ``), so the same
+    event met from two parents can carry weights a few rounding errors apart. A move skipped at its first meeting
+    must stay below the ``K``-th heaviest when met again, or the later (slightly different) weight would stand in
+    for the first one the completion without ``keep`` records. Every partial sum is bounded by
+    ``S = Σ_i max_c |score[i, c]| + max |φ|`` (finite entries), each move rounds at most 8 times, so two paths of
+    fewer than 10⁸ moves differ by less than ``10⁸ · 16 · 2⁻⁵³ S < 2·10⁻⁷ S``: a slack of ``10⁻⁶ (S + 1)`` covers
+    them (and adds only the few moves that close to the ``K``-th, never among the ``K`` heaviest)."""
+    a = np.abs(np.where(np.isfinite(score), score, 0.0)).max(axis=1).sum() if score.size else 0.0
+    phi = count_term[np.isfinite(count_term)]
+    return 1e-6 * (float(a) + (float(np.abs(phi).max()) if phi.size else 0.0) + 1.0)
+
+
+def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_threshold, max_events=None, keep=None):
     """Run ``rounds`` completion rounds on ``visited`` (growing it on overflow), holding at most ``max_events``
-    events (``None``: no bound).
+    events (``None``: no bound); with ``keep``, only what can be among the ``keep`` heaviest in the last round.
+
+    **keep.** The last round's events are not expanded, so one lighter than the ``keep``-th heaviest held when it is
+    met (a weight that only rises) can never be among the ``keep`` heaviest found: the last round adds none of them
+    (:func:`_completion_round`'s heap; lighter by more than :func:`_rounding_slack`, so that an event skipped when
+    first met is, when met again, still below the ``keep``-th). Every event at least as heavy as the final
+    ``keep``-th is added as without ``keep``, from the same parent at the same point (the rounds before are
+    unchanged), so it has the same weight and the same order among the events held: the ``keep`` heaviest
+    (:func:`top_k_first`) are those of the completion without ``keep``, exactly (tests: brute-force problems, with
+    exact ties and weights one rounding apart at the ``keep``-th). Near the mode of a group of hundreds of returns the last
+    round's single moves above the threshold number hundreds of thousands; ``keep`` of them are held.
 
     **The bound.** A round adds every single move reaching ``τ = max + log(relative_threshold)`` from the events
     above ``τ``; near the mode of a large group these number many times the group's returns per event, and the
@@ -264,16 +334,22 @@ def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_thresh
     start = 0
     raised = -np.inf
     limit = visited.rows.shape[0] if max_events is None else int(max_events)
-    for _ in range(rounds):
+    ptr, cols = _finite_columns(score)
+    no_heap = np.empty(0)
+    slack = _rounding_slack(score, count_term) if keep is not None else 0.0
+    for r in range(rounds):
         stop = visited.n
         if stop == start:
             break
         threshold = max(float(visited.logw[:stop].max()) + np.log(relative_threshold), raised)
+        last = keep is not None and r == rounds - 1
+        heap, n_heap = heaviest_heap(visited.logw[:visited.n], keep) if last else (no_heap, 0)
         while True:
             cap = visited.rows.shape[0] if max_events is None else min(visited.rows.shape[0], limit)
-            n, overflow = _completion_round(score, n_obj, n_excl, count_term, start, stop, threshold,
-                                            visited.zobrist, visited.table, visited.hashes, visited.rows,
-                                            visited.logw, visited.n, cap)
+            n, overflow, n_heap = _completion_round(score, ptr, cols, n_obj, n_excl, count_term, start, stop,
+                                                    threshold, visited.zobrist, visited.table, visited.hashes,
+                                                    visited.rows, visited.logw, visited.n, cap, heap, n_heap,
+                                                    slack)
             visited.n = n
             if not overflow:
                 break
@@ -290,11 +366,14 @@ def _complete(visited, score, n_obj, n_excl, count_term, rounds, relative_thresh
             raised = threshold = max(threshold, float(np.nextafter(w_star, np.inf)))
             start, stop = int(np.searchsorted(kept, start)), int(np.searchsorted(kept, stop))
             visited.keep(kept)
+            if last:  # the heap again, of the events still held
+                heap, n_heap = heaviest_heap(visited.logw[:visited.n], keep)
         start = stop
 
 
 def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, burn_in=0, variant="paper",
-                init=None, temperature=1.0, completion_rounds=0, completion_threshold=1e-9, completion_max_events=None):
+                init=None, temperature=1.0, completion_rounds=0, completion_threshold=1e-9, completion_max_events=None,
+                keep=None):
     """Search the association events of one parent with an MCMC chain.
 
     Parameters
@@ -328,12 +407,16 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
     completion_max_events : int, optional
         The completion's bound: it never holds more events than this, keeping the heaviest (:func:`_complete`;
         e.g. :func:`completion_limit` of a memory budget); ``None`` (default): no bound.
+    keep : int, optional
+        Return only the ``keep`` heaviest events found, best first (ties: the first visited, :func:`top_k_first`):
+        the same events and weights as the ``keep`` heaviest of the search without ``keep``, held without the
+        light events of the completion's last round (:func:`_complete`). ``None`` (default): every event.
 
     Returns
     -------
     events : (K, m) int32 array
         Distinct events visited after burn-in, in order of first visit (public codes), then
-        those added by the completion.
+        those added by the completion (with ``keep``: the ``keep`` heaviest, best first).
     log_weights : (K,) array
         Their exact log-weights.
     """
@@ -349,6 +432,8 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
                                              high_open=True)
     if completion_max_events is not None:
         completion_max_events = check_int(completion_max_events, "completion_max_events", minimum=1)
+    if keep is not None:
+        keep = check_int(keep, "keep", minimum=1)
     m, n_col = score.shape
     if init is None:
         state = np.full(m, n_excl, dtype=np.int64)
@@ -366,14 +451,16 @@ def mcmc_search(score, n_objects, n_exclusive, count_term, *, n_steps, seed, bur
             raise ValueError("init assigns two returns to the same exclusive column")
     return checked_search(score, n_obj, n_excl, count_term, state, n_steps=n_steps, burn_in=burn_in, seed=seed,
                           variant=variant, temperature=temperature, completion_rounds=completion_rounds,
-                          completion_threshold=completion_threshold, completion_max_events=completion_max_events)
+                          completion_threshold=completion_threshold, completion_max_events=completion_max_events,
+                          keep=keep)
 
 
 def checked_search(score, n_obj, n_excl, count_term, state, *, n_steps, burn_in, seed, variant, temperature,
-                   completion_rounds, completion_threshold, completion_max_events=None):
+                   completion_rounds, completion_threshold, completion_max_events=None, keep=None):
     """:func:`mcmc_search` from a validated problem (:func:`.events.check_problem`), validated options
-    and a starting ``state`` in internal column codes (:func:`.events.to_state`): the per-parent path
-    of :class:`hypotrack.hypotheses.MCMCGenerator`, which builds these once per problem."""
+    (``keep`` ``None`` or a positive int) and a starting ``state`` in internal column codes
+    (:func:`.events.to_state`): the per-parent path of :class:`hypotrack.hypotheses.MCMCGenerator`, which builds
+    these once per problem."""
     m, n_col = score.shape
     if not np.isfinite(state_log_weight(score, state, n_obj, n_excl, count_term)):
         raise ValueError("init must have a finite log-weight (a feasible event)")
@@ -381,13 +468,13 @@ def checked_search(score, n_obj, n_excl, count_term, state, *, n_steps, burn_in,
     _, chain_seed = ss.generate_state(2, dtype=np.uint32)  # the first word once seeded the Zobrist keys
     visited = Visited(m, n_col, n_steps - burn_in + 1)
     found = _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, variant, chain_seed,
-                    temperature, completion_rounds, completion_threshold, completion_max_events)
+                    temperature, completion_rounds, completion_threshold, completion_max_events, keep)
     visited.release()
     return found
 
 
 def _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, variant, chain_seed, temperature,
-            completion_rounds, completion_threshold, completion_max_events=None):
+            completion_rounds, completion_threshold, completion_max_events=None, keep=None):
     tempered = temperature != 1.0
     visited.n = _run_chain(score / temperature if tempered else score, n_obj, n_excl,
                            count_term / temperature if tempered else count_term, state, visited.zobrist, n_steps,
@@ -398,12 +485,21 @@ def _search(visited, score, n_obj, n_excl, count_term, state, n_steps, burn_in, 
                    visited.logw[: visited.n])
     if completion_rounds:
         _complete(visited, score, n_obj, n_excl, count_term, completion_rounds, completion_threshold,
-                  completion_max_events)
-    return to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()
+                  completion_max_events, keep)
+    return _found(visited, n_excl, keep)
+
+
+def _found(visited, n_excl, keep):
+    """The events held (public codes) and their log-weights: all, in order of first visit, or the ``keep``
+    heaviest, best first (:func:`top_k_first`); only those rows are converted."""
+    if keep is None:
+        return to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()
+    sel = top_k_first(visited.logw[: visited.n], keep)
+    return to_events(visited.rows[sel], n_excl), visited.logw[sel]
 
 
 def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_weights, *, rounds=2,
-                         relative_threshold=1e-9, max_events=None):
+                         relative_threshold=1e-9, max_events=None, keep=None):
     """Add the heavy single-move neighbours of found events (a deterministic local search).
 
     A Metropolis chain visits a child of relative weight ``r`` next to the mode only about
@@ -417,23 +513,29 @@ def neighbour_completion(score, n_objects, n_exclusive, count_term, events, log_
 
     ``max_events`` (optional, default ``None``: none) bounds the events held: at the bound the lightest go and
     the threshold rises past them (:func:`_complete`), so what is returned is every event found above the final
-    threshold, the heaviest; below the bound nothing changes.
+    threshold, the heaviest; below the bound nothing changes. ``keep`` (optional): return only the ``keep``
+    heaviest, best first — those of the completion without ``keep``, the last round's lighter events never held
+    (:func:`_complete`).
 
-    Returns the augmented ``(events, log_weights)``, the given (distinct) events first.
+    Returns the augmented ``(events, log_weights)``, the given (distinct) events first (with ``keep``: the ``keep``
+    heaviest, best first, ties the first visited).
     """
     score, n_obj, n_excl, count_term = check_problem(score, n_objects, n_exclusive, count_term)
     rounds = check_int(rounds, "rounds", minimum=0)
     tau = check_probability(relative_threshold, "relative_threshold", low_open=True, high_open=True)
     if max_events is not None:
         max_events = check_int(max_events, "max_events", minimum=1)
+    if keep is not None:
+        keep = check_int(keep, "keep", minimum=1)
     events = np.asarray(events)
     lw = np.asarray(log_weights, dtype=float)
     m, n_col = score.shape
     if rounds == 0 or len(lw) == 0 or m == 0:
-        return events.astype(np.int32), lw
+        sel = slice(None) if keep is None else top_k_first(lw, keep)
+        return events.astype(np.int32)[sel], lw[sel]
     visited = Visited(m, n_col, 4 * len(lw) + 64)
     visited.rows[: len(lw)] = to_state(events, n_excl)
     visited.logw[: len(lw)] = lw
     visited.n = insert_rows(visited.rows, visited.logw, len(lw), visited.zobrist, visited.table, visited.hashes)
-    _complete(visited, score, n_obj, n_excl, count_term, rounds, tau, max_events)
-    return to_events(visited.rows[: visited.n], n_excl), visited.logw[: visited.n].copy()
+    _complete(visited, score, n_obj, n_excl, count_term, rounds, tau, max_events, keep)
+    return _found(visited, n_excl, keep)

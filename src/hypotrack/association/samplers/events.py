@@ -60,8 +60,11 @@ def to_state(events, n_excl):
 def to_events(states, n_excl):
     """State codes (columns of ``score``) back to the public event codes, as int32: the inverse
     of :func:`to_state`."""
-    st = np.asarray(states, dtype=np.int64)
-    return np.where(st >= n_excl, n_excl - 1 - st, st).astype(np.int32)
+    # One int32 copy, rewritten in place: the visited set's rows of a large group are gigabytes, and an int64
+    # intermediate (np.where over int64) would double, then triple, them.
+    out = np.array(states, dtype=np.int32)  # column indices, far below 2³¹
+    np.subtract(np.int32(n_excl - 1), out, out=out, where=out >= n_excl)
+    return out
 
 
 @numba.njit(cache=True, nogil=True)

@@ -90,6 +90,7 @@ def insert_rows(rows, logw, n, zobrist, table, hashes):
 
 
 _BUFFERS = threading.local()
+_BLOCK_ROWS = 1 << 14  # rows moved at a time by Visited.keep
 _ZOBRIST_CACHE_SIZE = 256
 
 
@@ -157,12 +158,20 @@ class Visited:
 
     def keep(self, idx, capacity=None):
         """Keep only the recorded events ``idx`` (increasing indices: their order is kept), in buffers of
-        ``capacity`` events (default the current), the table rebuilt."""
-        rows, logw = self.rows[idx].copy(), self.logw[idx].copy()
+        ``capacity`` events (default the current), the table rebuilt. Growing holds the old buffers and the new ones
+        at once (1.5 times the new ones when doubling), no third copy; keeping in the same buffers, no second."""
+        idx = np.asarray(idx, dtype=np.int64)
         capacity = self.rows.shape[0] if capacity is None else int(capacity)
         clear_table(self.table, self.hashes, self.n)
-        if capacity != self.rows.shape[0]:
+        rows, logw = self.rows, self.logw
+        if capacity != rows.shape[0]:
             self._alloc(rows.shape[1], capacity)
-        n = len(rows)
-        self.rows[:n], self.logw[:n] = rows, logw
+        # A block at a time, not a copy of every kept row first: near the memory bound that copy was the peak. In
+        # place (same buffers) each block's rows come from at or after where it goes (idx increases), and from after
+        # every block before it, so nothing is read after it is overwritten.
+        n = len(idx)
+        for s in range(0, n, _BLOCK_ROWS):
+            block = idx[s:s + _BLOCK_ROWS]
+            self.rows[s:s + len(block)] = rows[block]
+            self.logw[s:s + len(block)] = logw[block]
         self.n = insert_rows(self.rows, self.logw, n, self.zobrist, self.table, self.hashes)

@@ -31,12 +31,12 @@ __all__ = ["EXPERIMENT", "TRACKER_NAMES", "RATIO_TRACKERS", "AMBIGUITY_TRACKERS"
 
 EXPERIMENT = "ssa_breakup"
 SOURCE = "extension (a fresh breakup cloud)"
-TRACKER_NAMES = {"glmb": "δ-GLMB", "glmb_murty": "δ-GLMB (Murty)", "homht_kbest": "HOMHT k-best", "rfisst": "R-FISST",
-                 "gnn": "GNN", "jpda": "JPDA", "glmb_amb": "δ-GLMB, ambiguity output",
+TRACKER_NAMES = {"glmb": "δ-GLMB (Gibbs)", "glmb_murty": "δ-GLMB (Murty)", "homht_kbest": "HOMHT k-best", "rfisst": "R-FISST",
+                 "gnn": "GNN", "jpda": "JPDA", "glmb_amb": "δ-GLMB (Gibbs), ambiguity output",
                  "glmb_murty_amb": "δ-GLMB (Murty), ambiguity output", "homht_kbest_amb": "HOMHT k-best, ambiguity output",
                  "rfisst_amb": "R-FISST, ambiguity output"}
 #: The trackers whose cross-tags are compared with the reference's (those of a run's ``trackers_run``).
-RATIO_TRACKERS = ("glmb", "glmb_murty", "homht_kbest")
+RATIO_TRACKERS = ("glmb", "glmb_murty", "homht_kbest", "rfisst")
 #: Their ambiguity outputs (:meth:`.run.ScoredRun.with_output`), compared with the reference too (rows after theirs).
 AMBIGUITY_TRACKERS = ("glmb_amb", "glmb_murty_amb", "homht_kbest_amb", "rfisst_amb")
 SCENARIO_NAMES = {"breakup": "breakup cloud", "catalogue": "sparse catalogue"}

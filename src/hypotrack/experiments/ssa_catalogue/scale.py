@@ -11,7 +11,8 @@ Python process (:func:`run_isolated`), so that its peak resident memory (``ru_ma
 whole run: simulation included) is its own. Per run: CPU seconds of the tracker's steps
 (``time.process_time``; the first ``warm_scans`` scans stepped untimed: scan 0 is at the priors' epoch, and a
 fresh process compiles each numba kernel on its first call, ~0.1 s of CPU in the first scan with a general
-engine step, which over a few timed scans would swamp the steady cost), and from them µs per
+engine step, which over a few timed scans would swamp the steady cost; the association samplers' kernels are loaded
+before the first scan, untimed, since a tracker's first Gibbs or MCMC step may fall in a timed scan), and from them µs per
 object in view per scan, per catalogued object per scan and per return; the **real-time factor**
 (simulated seconds per CPU second: above 1 the tracker keeps up with the radar on one core); the
 load average of the machine before and after; ``blas_threads``, the ``OPENBLAS_NUM_THREADS`` the process started with (one in :func:`run_isolated`: :data:`ONE_THREAD`). :func:`scale_summary`: per (tracker, N) the median of the
@@ -55,6 +56,7 @@ import pandas as pd
 from ...hypotheses.factored.lane import predict_each
 from ...scenarios.catalogue import load_catalogue, reference_epoch
 from ...scenarios.catalogue.clones import simulate_clones
+from ..samplers.run import warm_up as warm_samplers
 from .run import initial_tracks, make_motion, make_problem, make_radar, make_tracker, tracker_sensor
 
 __all__ = ["FIGURES", "ONE_THREAD", "ScaleRunFailed", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]
@@ -109,10 +111,13 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
     kw = factored if is_factored else {}
     tr = make_tracker(tracker, cfg, problem, int(seed), **kw)
     in_view = sc.truth.groupby("scan").size()
+    # the association samplers' compiled kernels loaded now, untimed: a tracker's first Gibbs or MCMC step may come
+    # after the warm scans, and loading its kernels from numba's cache (~10 ms) would then be timed as a scan's work
+    warm_samplers()
     warm = int(s.get("warm_scans", 1))
     if not 1 <= warm < s["n_scans"]:
         raise ValueError(f"scale.warm_scans must lie in [1, n_scans = {s['n_scans']}), got {warm}")
-    cpu, view, returns, timed = 0.0, 0, 0, 0
+    cpu, view, returns, timed, per_scan = 0.0, 0, 0, 0, []
     for k, (t_k, Z) in enumerate(sc.scan_list(0)):
         tsensor.at(sc.theta[k])
         Zt = tsensor.returns(Z)
@@ -121,6 +126,7 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
         c = time.process_time() - c0
         if k >= warm:  # scan 0 is at the priors' epoch (an update without prediction); first compiled calls
             cpu += c
+            per_scan.append(c)
             view += int(in_view.get(k, 0))
             returns += len(Z)
             timed += 1
@@ -132,7 +138,10 @@ def measure_run(cfg, tracker: str, n: int, seed: int) -> dict:
                 returns_per_scan=returns / max(timed, 1), cpu_s=cpu, cpu_s_per_scan=cpu / max(timed, 1),
                 us_per_object_in_view=1e6 * cpu / view if view else np.nan, us_per_object=1e6 * cpu / max(n * timed, 1),
                 us_per_return=1e6 * cpu / returns if returns else np.nan, real_time_factor=sim_s / max(cpu, 1e-12),
-                start_after_s=after, peak_rss_mb=rss, wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0],
+                start_after_s=after, peak_rss_mb=rss,
+                # the dearest timed scan over the median one: near 1, no start-up burst left in the timed scans
+                slowest_scan_ratio=max(per_scan) / max(float(np.median(per_scan)), 1e-12) if per_scan else np.nan,
+                wall_s=time.perf_counter() - wall0, load_before=load0, load_after=os.getloadavg()[0],
                 blas_threads=os.environ.get("OPENBLAS_NUM_THREADS", "default"))
 
 

@@ -325,7 +325,7 @@ class FactoredFilter:
         new_groups = self._run_plans(plans, keys, fast, stats)
         self._keep(scan, graph, new_groups, fast, now, stats)
         self.time = now
-        self._objects.keep_held(np.concatenate([s.store.labels for s in self._groups.states] + [self._lane.store.labels]))
+        self._objects.keep_held(np.concatenate([s.store.labels for s in self._groups.states] + [self._lane.labels]))
         self.scan_index += 1
         sizes = [len(np.unique(self._objects.of(s.labels))) for s in self._groups.states]
         states = self._groups.states
@@ -348,7 +348,7 @@ class FactoredFilter:
         bounds = np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64)
         cand, view = self._lane.candidates(lazy, interval, self._advance_view)
         lane = self._lane
-        prior = cat([s.store for s in groups] + [take(lane.store, cand)], self.ndim)
+        prior = cat([s.store for s in groups] + [lane.take(cand)], self.ndim)
         pm, pP = predict_each(E.motion, prior.means, prior.covs,
                               np.concatenate([np.repeat(group_gap, sizes), (now - lane.times)[cand]]),
                               step=(interval or E.dt) if self._options.replay else None)
@@ -571,7 +571,7 @@ class FactoredFilter:
         lane = self._lane
         if lane.r is not None:  # a Bernoulli singleton is in the MAP when "exists" is the heavier (first on a tie)
             lane = lane.where(lane.r >= 1.0 - lane.r)
-        return (np.concatenate([e.labels for e in maps] + [lane.store.labels]).astype(np.int64),
+        return (np.concatenate([e.labels for e in maps] + [lane.labels]).astype(np.int64),
                 np.concatenate([e.means for e in maps] + [lane.view]).reshape(-1, self.ndim))
 
     def estimates(self) -> TrackEstimates:

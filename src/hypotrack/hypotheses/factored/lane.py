@@ -52,6 +52,7 @@ from ..population_events import BinomialPopulation
 from ..population_lmb import LabeledMultiBernoulliPopulation
 from ..state import FilterState
 from ..tracks import TrackStore
+from .lane_kernels import rebuild
 
 __all__ = ["Lane", "GroupSet", "silent", "survival_lane", "admitted", "predict_each", "singleton", "is_singleton", "take", "cat", "empty_state",
            "one_hypothesis_lane", "bernoulli", "bernoulli_existence", "bernoulli_lane", "lane_survival", "missed",
@@ -187,21 +188,6 @@ def scan_existence(lane: "Lane", cand, view, quiet, pred: TrackStore, p_detect, 
     return out, p_s, np.asarray(r_new, dtype=float), lane_survival(population, new), min_weight, ok
 
 
-def _gather(src, idx, out):
-    """``out[:] = src[idx]`` for ascending row indices ``idx``: the runs of consecutive rows as slice copies when there
-    are few (a scan removes a few singletons from a lane of ~10⁴: a copy, not a gather row by row), else one take."""
-    if len(idx) == 0:
-        return
-    breaks = np.flatnonzero(np.diff(idx) != 1) + 1
-    if len(breaks) > 64:
-        # mode="clip": the indices are in range, and numpy buffers ``out`` in its default mode (a second copy of
-        # the whole lane: 3x slower at 10^6 singletons)
-        np.take(src, idx, axis=0, out=out, mode="clip")
-        return
-    for a, b in zip(np.concatenate([[0], breaks]), np.concatenate([breaks, [len(idx)]])):
-        out[a:b] = src[idx[a]:idx[a] + (b - a)]
-
-
 def sort_out(states, mode: str, population, ndim: int):
     """``(groups, lane store, r)``: the singletons of ``states`` moved to a lane store — ``mode`` ``"off"`` (none),
     ``"silent"`` (every singleton), ``"survival"`` (those whose track surely survives, :func:`admitted`) or
@@ -297,18 +283,54 @@ def empty_state(ndim: int) -> FilterState:
                        [np.zeros(0, dtype=np.int64)], [()])
 
 
-@dataclass(frozen=True, eq=False)
+class _Moments:
+    """The lane's moments (:class:`Lane`): ``means`` ``(capacity, d)``, ``covs`` ``(capacity, d, d)``, of which the first
+    ``used`` rows are written; rows are only ever appended, so a lane's rows stay as they were."""
+
+    __slots__ = ("means", "covs", "used")
+
+    def __init__(self, means, covs, used: int):
+        self.means, self.covs, self.used = means, covs, int(used)
+
+
+#: garbage (rows no lane of the newest scan holds) up to which :meth:`Lane.after_scan` appends to its moments before it
+#: compacts them: ``COMPACT_SHARE`` of the rows held plus ``COMPACT_ROWS``
+COMPACT_SHARE, COMPACT_ROWS = 0.25, 4096
+
+
 class Lane:
     """The singletons: ``store`` (each at its own time ``times``) and ``view``, their means at the
     current scan (with ``lazy``, advanced a scan at a time); with Bernoulli singletons (module docstring)
     ``r``, each one's existence after the last scan, and ``p_s``, its per-scan survival while not
-    predicted (both ``None``: every singleton exists surely)."""
+    predicted (both ``None``: every singleton exists surely); ``labels``, the store's.
 
-    store: TrackStore
-    times: np.ndarray
-    view: np.ndarray
-    r: np.ndarray | None = None
-    p_s: np.ndarray | None = None
+    The moments are held as rows of an append-only :class:`_Moments` (``_rows``: each singleton's row, in lane
+    order) and ``store`` is gathered from them when first read. A scan changes a few hundred of ~10⁴–10⁶ singletons:
+    :meth:`after_scan` appends the changed and new moments and writes the lane's 1-D arrays (rows, times, labels,
+    existences) and means at the scan, where rebuilding the moments would copy every covariance each scan (the
+    lane's bulk: 36 of its 43 numbers a row). It compacts the moments when their garbage passes ``COMPACT_SHARE``
+    of the rows held (plus ``COMPACT_ROWS``), when they are full, or when another lane appended to them since this one
+    was made (a lane restored after a failed step, or two lanes stepped from one): appending is the newest lane's."""
+
+    def __init__(self, store: TrackStore | None, times, view, r=None, p_s=None, *, moments: _Moments | None = None,
+                 rows=None, labels=None):
+        # (``moments``, ``rows``, ``labels``: a lane of rows of existing moments, its store gathered when read)
+        if moments is None:
+            moments, rows, labels = _Moments(store.means, store.covs, len(store)), np.arange(len(store)), store.labels
+        self._buf, self._rows, self._end, self._store = moments, rows, moments.used, store
+        self.labels, self.times, self.view, self.r, self.p_s = labels, times, view, r, p_s
+
+    @property
+    def store(self) -> TrackStore:
+        if self._store is None:
+            rows = self._rows
+            self._store = TrackStore(self._buf.means[rows], self._buf.covs[rows], self.labels)
+        return self._store
+
+    def take(self, idx) -> TrackStore:
+        """The singletons ``idx`` (as :func:`take` of :attr:`store`, without gathering the whole store)."""
+        rows = self._rows[idx]
+        return TrackStore(self._buf.means[rows], self._buf.covs[rows], self.labels[idx])
 
     @classmethod
     def empty(cls, ndim: int, bernoulli: bool = False) -> "Lane":
@@ -323,8 +345,9 @@ class Lane:
     def where(self, keep) -> "Lane":
         """The singletons ``keep`` (bool mask), in order."""
         idx = np.flatnonzero(keep)
-        return Lane(take(self.store, idx), self.times[idx], self.view[idx],
-                    None if self.r is None else self.r[idx], None if self.p_s is None else self.p_s[idx])
+        return Lane(None, self.times[idx], self.view[idx], None if self.r is None else self.r[idx],
+                    None if self.p_s is None else self.p_s[idx], moments=self._buf, rows=self._rows[idx],
+                    labels=self.labels[idx])
 
     def summary_parts(self, groups, time: float, motion):
         """``(states, singles, n_singles, n_unsure)`` for :class:`~.summary.FactoredPosterior`: ``groups()`` (the
@@ -343,7 +366,7 @@ class Lane:
         return [bernoulli(store, j, float(r)) for j, r in enumerate(self.r)]
 
     def __len__(self) -> int:
-        return len(self.store)
+        return len(self._rows)
 
     def now(self, time: float, motion) -> TrackStore:
         """The singletons predicted to ``time`` (only lazy ones move)."""
@@ -372,46 +395,52 @@ class Lane:
         singletons' existences and survivals, whether each singleton passes the validity test (``None``: all,
         :func:`scan_existence`); the singletons not predicted take ``r ← p_S r`` (0 failing it), and every
         existence the engine's pruning (:func:`bernoulli_prune`: a singleton whose track it drops leaves)."""
-        # one pass over the lane's arrays: the kept singletons (the quiet candidates replaced by their
-        # prediction), then the new ones; with Bernoulli singletons only those the pruning keeps (the same rows
-        # as building every row and then dropping the pruned ones)
-        keep = np.ones(len(self), dtype=bool)
-        keep[cand] = False
-        keep[cand[quiet]] = True
-        idx = np.flatnonzero(keep)
-        n_keep, d = len(idx), self.store.ndim
-        pos = np.cumsum(keep) - 1  # each kept singleton's row among the kept ones
-        moved = cand[quiet]
-        from_pred = np.full(n_keep, -1, dtype=np.int64)  # the prediction row of a quiet candidate, else -1
-        from_pred[pos[moved]] = np.flatnonzero(quiet)
-        alive = r = p_s = None
-        if exist is not None:
+        # one compiled pass over the lane's rows (:mod:`.lane_kernels`): the kept singletons (the quiet candidates
+        # replaced by their prediction, appended to the moments), then the new ones; with Bernoulli singletons only
+        # those the pruning keeps (the same rows as building every row and then dropping the pruned ones)
+        f8, no = np.float64, np.zeros(0)
+        r_quiet = p_quiet = r_new = p_new = ok = no
+        min_weight, bern = 0.0, exist is not None
+        if bern:
             r_quiet, p_quiet, r_new, p_new, min_weight, ok = exist
-            r = self.r[idx] * self.p_s[idx] if ok is None else self.r[idx] * self.p_s[idx] * ok[idx]
-            r = np.concatenate([r, r_new])  # out of view: r <- p_S r (p_D = 0); 0 if its mean fails the validity test
-            p_s = np.concatenate([self.p_s[idx], p_new])
-            r[pos[moved]], p_s[pos[moved]] = r_quiet, p_quiet
-            alive, r = bernoulli_prune(r, min_weight)
-            if alive.all():
-                alive = None
-            else:
-                r, p_s = r[alive], p_s[alive]
-                idx, from_pred, new = idx[alive[:n_keep]], from_pred[alive[:n_keep]], take(new, alive[n_keep:])
-        n_old = len(idx)
-        at = np.flatnonzero(from_pred >= 0)  # the quiet candidates' rows in the new lane
-        rows = from_pred[at]
-        means = np.empty((n_old + len(new), d))
-        covs = np.empty((n_old + len(new), d, d))
-        lane_view = np.empty((n_old + len(new), d))
-        _gather(self.store.means, idx, means[:n_old])
-        _gather(self.store.covs, idx, covs[:n_old])
-        _gather(self.store.means if view is None else view, idx, lane_view[:n_old])
-        means[at], covs[at], lane_view[at] = pred.means[rows], pred.covs[rows], pred.means[rows]
-        means[n_old:], covs[n_old:], lane_view[n_old:] = new.means, new.covs, new.means
-        times = np.concatenate([self.times[idx], np.full(len(new), now)])
-        times[at] = now
-        labels = np.concatenate([self.store.labels[idx], new.labels])
-        return Lane(TrackStore(means, covs, labels), times, lane_view, r, p_s), n_keep
+        use_ok = ok is not None
+        cand, quiet = np.asarray(cand, np.int64), np.asarray(quiet, np.bool_)
+        order = np.argsort(cand, kind="stable")  # the rows in lane order (the candidates come ascending)
+        rank = np.cumsum(quiet) - 1  # a quiet candidate's place in r_quiet, p_quiet and among the appended rows
+        n, n_quiet, d = len(self), int(quiet.sum()), self._buf.means.shape[1]
+        n_keep = n - (len(cand) - n_quiet)
+        total, extra = n_keep + len(new), n_quiet + len(new)
+        buf, rows = self._appendable(extra)
+        if buf.used + extra > len(buf.means):  # (the compiled pass writes there unchecked)
+            raise RuntimeError(f"the lane's moments hold {len(buf.means)} rows, {buf.used + extra} needed")
+        out = (np.empty(total, np.int64), np.empty((total, d)), np.empty(total), np.empty(total, self.labels.dtype),
+               np.empty(total if bern else 0), np.empty(total if bern else 0))
+        m = rebuild(rows, self.view if view is None else view, view is not None, self.times, self.labels,
+                    self.r if bern else no, self.p_s if bern else no, ok if use_ok else no, cand[order], quiet[order],
+                    order, rank[order], pred.means, pred.covs, np.asarray(r_quiet, f8), np.asarray(p_quiet, f8),
+                    new.means, new.covs, np.asarray(new.labels, self.labels.dtype), np.asarray(r_new, f8),
+                    np.asarray(p_new, f8), float(now), float(min_weight), bern, use_ok, buf.means, buf.covs, buf.used,
+                    *out)
+        buf.used += extra
+        o_rows, lane_view, times, labels, r, p_s = (a[:m] if m < total else a for a in out)
+        return Lane(None, times, lane_view, r if bern else None, p_s if bern else None, moments=buf, rows=o_rows,
+                    labels=labels), n_keep
+
+    def _appendable(self, extra: int):
+        """``(moments, rows)`` to which ``extra`` rows may be appended: this lane's own, unless another lane appended
+        to them since, they lack the room, or their garbage passed the bound (class docstring); then the rows held,
+        compacted into new moments with room for ``extra`` and the garbage of the scans to come."""
+        buf, n = self._buf, len(self)
+        fits = buf.used == self._end and buf.used + extra <= len(buf.means)
+        if fits and buf.used + extra - n <= COMPACT_SHARE * n + COMPACT_ROWS:
+            return buf, self._rows
+        cap = n + extra + max(int(COMPACT_SHARE * n) + COMPACT_ROWS, 0)
+        d = buf.means.shape[1]
+        means, covs = np.empty((cap, d)), np.empty((cap, d, d))
+        # mode="clip": the rows are in range, and numpy buffers ``out`` in its default mode (a second copy)
+        np.take(buf.means, self._rows, axis=0, out=means[:n], mode="clip")
+        np.take(buf.covs, self._rows, axis=0, out=covs[:n], mode="clip")
+        return _Moments(means, covs, n), np.arange(n)
 
     def same_as(self, other: "Lane") -> bool:
         """Bit-for-bit the same singletons, times and means at the scan."""

@@ -3,7 +3,7 @@ first-visit order, whatever the hashes; reusable tables; growth keeping the orde
 
 import numpy as np
 
-from hypotrack.association.samplers.visited import Visited, clear_table, insert_rows, lookup_or_insert
+from hypotrack.association.samplers.visited import Visited, clear_table, contains, insert_rows, lookup_or_insert
 
 
 def _buffers(capacity, m, table_size=8):
@@ -60,3 +60,26 @@ def test_visited_grows_keeping_its_events_in_order():
     assert lookup_or_insert(h, np.array([2, 2]), v.table, v.hashes, v.rows, v.logw, 0.0, v.n) == 2
     v.release()
     assert v.n == 0
+
+
+def test_keep_in_place_and_into_new_buffers_moves_every_kept_row_over_several_blocks():
+    """Rows kept a block at a time (2¹⁴ rows): in the same buffers (sources at or after their destinations) and into
+    doubled ones, the kept rows and weights in order, each still found by its hash, the others not."""
+    m, n = 3, 50_000
+    rng = np.random.default_rng(0)
+    every = np.stack([np.arange(n) % 40, (np.arange(n) // 40) % 40, np.arange(n) // 1600], axis=1)  # distinct
+    idx = np.sort(rng.choice(n, 30_000, replace=False))
+    idx[:100] = np.arange(100)  # a run kept where it stands
+    idx = np.unique(idx)
+    for capacity in (None, 2 * n):
+        w = Visited(m, 40, capacity=n)
+        w.rows[:n], w.logw[:n] = every, -np.arange(n, dtype=float)
+        w.n = insert_rows(w.rows, w.logw, n, w.zobrist, w.table, w.hashes)
+        w.keep(idx, capacity)
+        assert w.n == len(idx) and w.rows.shape[0] == (n if capacity is None else capacity)
+        np.testing.assert_array_equal(w.rows[: w.n], every[idx])
+        np.testing.assert_array_equal(w.logw[: w.n], -idx.astype(float))
+        gone = np.setdiff1d(np.arange(n), idx)[:50]
+        for q, held in [(q, True) for q in idx[:50]] + [(q, False) for q in gone]:
+            h = np.bitwise_xor.reduce(w.zobrist[np.arange(m), every[q]])
+            assert contains(h, every[q].astype(np.int64), w.table, w.hashes, w.rows) is held

@@ -10,7 +10,8 @@ import yaml
 from hypotrack.experiments.ssa_breakup.jobs import density, score_tracker
 from hypotrack.experiments.ssa_breakup.run import pass_ends
 from hypotrack.experiments.ssa_breakup.scorecard import predict
-from hypotrack.experiments.ssa_breakup.summary import RATIO_TRACKERS, cross_tag_ratios, density_table, scorecard_summary
+from hypotrack.experiments.ssa_breakup.summary import (AMBIGUITY_TRACKERS, RATIO_TRACKERS, cross_tag_ratios, density_table,
+                                                       scorecard_summary)
 from hypotrack.models.orbit3d import J2Orbit3D
 from hypotrack.scenarios.tables import truth_table
 
@@ -127,7 +128,7 @@ def test_every_claim_row_is_placed_in_the_extension_group():
     doc = yaml.safe_load((CONFIG.parents[2] / "src" / "hypotrack" / "reporting" / "document_claims.yaml").read_text())
     placed = {r for g in doc["extensions"] if g["id"] == "extension.breakup" for r in g["rows"]}
     # the default's factored trackers also report their ambiguity outputs (rows <name>_amb of the same runs)
-    names = ["glmb", "glmb_murty", "homht_kbest", "rfisst", "gnn", "jpda", "glmb_murty_amb", "homht_kbest_amb"]
+    names = ["glmb", "glmb_murty", "homht_kbest", "rfisst", "gnn", "jpda", *AMBIGUITY_TRACKERS]
     cards = pd.DataFrame([dict(scenario=s, tracker=t, seed=k, cross_tags_per_1e4=float(k), completeness=0.5,
                                duplicate_per_1000=1.0, false_per_1000=1.0, nn_in_gate_share=0.5, reacquisitions=3.0,
                                id_switches_per_1e4=float(k))
@@ -135,15 +136,14 @@ def test_every_claim_row_is_placed_in_the_extension_group():
     acc, _ = scorecard_summary(cards)
     dens = density_table([dict(scenario=s, seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0, share_in_gate=0.5,
                                share_in_5_gates=1.0) for s in ("breakup", "catalogue")])
-    ratios = pd.concat([cross_tag_ratios(cards, "gnn", (*RATIO_TRACKERS, "glmb_murty_amb", "homht_kbest_amb"), column=c)
+    ratios = pd.concat([cross_tag_ratios(cards, "gnn", (*RATIO_TRACKERS, *AMBIGUITY_TRACKERS), column=c)
                         for c in ("cross_tags_per_1e4", "id_switches_per_1e4")])
     rows = breakup_claims(acc, ratios, dens)
     keys = {f"ssa_breakup/{c.key}" for c in rows}
-    assert len(keys) == len(rows) == 16 + 10 + 10 + 2 + 2
-    # R-FISST and the Gibbs δ-GLMB run in full.yaml (and the quick wiring) only: their rows are reported unplaced there
-    full_only = {k for k in keys if k.endswith(("_rfisst", "_glmb"))}
-    assert len(full_only) == 6 + 2  # the Gibbs δ-GLMB: cross-tags and both ratios; R-FISST: cross-tags
-    assert keys - full_only == placed
+    # per scenario: cross-tags of the 10 outputs, the cross-tag and identity-switch ratios of the 8 compared with
+    # GNN, the two density rows and the two re-acquisition gates
+    assert len(keys) == len(rows) == 2 * (10 + 8 + 8 + 1 + 1)
+    assert keys == placed  # every tracker runs in the default: every row is placed
     assert {c.status for c in rows} == {"extension"}
 
 

@@ -29,6 +29,8 @@ def test_a_run_reports_consistent_figures(cfg):
     np.testing.assert_allclose(r["us_per_return"] * r["returns_per_scan"] * 3, 1e6 * r["cpu_s"])
     np.testing.assert_allclose(r["real_time_factor"], 30.0 / r["cpu_s"])  # 3 scans of 10 s simulated
     assert r["peak_rss_mb"] > 50  # numpy, pandas and the scenario are resident
+    # the dearest of the three timed scans over their median
+    assert r["slowest_scan_ratio"] >= 1.0
 
 
 def test_warm_scans_are_stepped_untimed_and_a_bad_value_is_refused(cfg):

@@ -243,7 +243,7 @@ def _replay(X, P, h, k, max_step, q, mu, c_j2, hstep):
 LANES = 8
 
 #: a group's step in lanes costs about this many steps of one track alone (:func:`_replay_row`;
-#: measured ~0.53 against ~0.18 µs): a group whose steps ``Σ k`` are fewer than this times its longest ``k`` is
+#: measured ~0.4–0.5 against ~0.18 µs): a group whose steps ``Σ k`` are fewer than this times its longest ``k`` is
 #: replayed track by track (the same numbers either way)
 LANE_GROUP_COST = 3
 

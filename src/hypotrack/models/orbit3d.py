@@ -45,6 +45,8 @@ re-acquire objects after an orbit out of view.
 
 from __future__ import annotations
 
+import math
+
 from dataclasses import dataclass
 
 import numba
@@ -363,8 +365,16 @@ class J2Orbit3D(TwoBodyOrbit3D):
         single = np.ndim(x) == 1
         X = _states(x, ndim=self.ndim)
         dt = _check_dt(dt)
+        # one interval for every row: _rk4_j2's side-by-side pass, its step count and step (the same IEEE operations
+        # on the one dt) computed once, not per row (the lane's means each scan: ~40% of the call at 10⁴ rows)
+        n = int(math.ceil(abs(dt) / self.max_step))
         with np.errstate(divide="ignore", invalid="ignore"):  # the centre is refused below, not warned about
-            out = self._finite(X, self._integrate(X, np.full(len(X), dt)))
+            if n == 0 or len(X) == 0:
+                out = X.copy()
+            else:
+                out = np.ascontiguousarray(_rk4_j2_columns(np.ascontiguousarray(X.T), dt / max(n, 1), n, float(self.mu),
+                                                           float(1.5 * self.j2 * self.mu * self.radius**2)).T)
+            out = self._finite(X, out)
         return out[0] if single else out
 
     def propagate_each(self, x, dt) -> np.ndarray:

@@ -321,6 +321,17 @@ def test_rows_of_one_interval_run_side_by_side_bit_for_bit():
         assert ok.sum() == 2999 and not np.isfinite(side[7]).all()
         np.testing.assert_array_equal(side[ok], arrays[ok])
         assert side.flags.c_contiguous and not np.array_equal(side[ok], X[ok])
+        # propagate (its step count and step computed once for all rows) is the array passes' bits too
+        model = J2Orbit3D(mu=MU, j2=J2, radius=R_E)
+        out = model.propagate(X[ok], dt)
+        np.testing.assert_array_equal(out, arrays[ok])
+        assert out.flags.c_contiguous
+        np.testing.assert_array_equal(model.propagate(X[8], dt), arrays[8])  # one state (6,)
+    model = J2Orbit3D(mu=MU, j2=J2, radius=R_E)
+    np.testing.assert_array_equal(model.propagate(X[:6], 0.0), X[:6])  # no step: the states as they are
+    tiny = _rk4_j2_arrays(X[:6], np.full(6, 1e-3), MU, c_j2, np.ones(6, dtype=np.int64))
+    np.testing.assert_array_equal(model.propagate(X[:6], 1e-3), tiny)
+    assert model.propagate(np.zeros((0, 6)), 10.0).shape == (0, 6)
     with pytest.raises(ValueError, match="state 7"):
         J2Orbit3D().propagate(X, 10.0)
 

@@ -94,3 +94,20 @@ def test_a_state_through_the_centre_is_refused_and_no_rows_work():
         replay_j2(model, X, P, np.array([10.0, 10.0]), np.array([2, 2]))
     x, P0 = replay_j2(model, np.zeros((0, 6)), np.zeros((0, 6, 6)), np.zeros(0), np.zeros(0, dtype=np.int64))
     assert x.shape == (0, 6) and P0.shape == (0, 6, 6)
+
+
+def test_the_first_row_predicted_to_a_non_finite_state_is_named_and_a_row_left_as_is_is_not_tested():
+    # row 0 at the centre but given no step (left as it is, as the array passes leave it); rows 2 and 3 at the
+    # centre with steps: the first of them named, whatever the rows after it
+    model = J2Orbit3D()
+    X, P = leo(4, 4)
+    X[0] = X[2] = X[3] = 0.0
+    with pytest.raises(ValueError, match="x: state 2 .* non-finite"):
+        replay_j2(model, X, P, np.full(4, 10.0), np.array([0, 3, 1, 2]))
+    x, Po = replay_j2(model, X[:2], P[:2], np.full(2, 10.0), np.array([0, 3]))
+    np.testing.assert_array_equal(x[0], X[0])
+    np.testing.assert_array_equal(Po[0], P[0])
+    ref = predict_each(array_passes(model), X[1:2], P[1:2], np.array([30.0]), step=10.0)
+    np.testing.assert_array_equal(x[1:], ref[0])
+    if BITWISE:
+        np.testing.assert_array_equal(Po[1:], ref[1])

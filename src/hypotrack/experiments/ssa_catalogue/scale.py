@@ -56,7 +56,7 @@ import pandas as pd
 from ...hypotheses.factored.lane import predict_each
 from ...scenarios.catalogue import load_catalogue, reference_epoch
 from ...scenarios.catalogue.clones import simulate_clones
-from ..samplers.run import warm_up as warm_samplers
+from ...hypotheses.warm import warm_samplers
 from .run import initial_tracks, make_motion, make_problem, make_radar, make_tracker, tracker_sensor
 
 __all__ = ["FIGURES", "ONE_THREAD", "ScaleRunFailed", "clone_scenario", "measure_run", "run_isolated", "scale_runs", "scale_summary"]

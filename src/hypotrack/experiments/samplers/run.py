@@ -28,9 +28,10 @@ import pandas as pd
 
 from ...hypotheses import AssociationProblem, ExhaustiveGenerator, GibbsGenerator, MCMCGenerator, MurtyGenerator
 from ...hypotheses.problems import synthetic_problem
+from ...hypotheses.warm import warm_samplers
 from .recorded import run_recorded_problem
 
-__all__ = ["object_indexed", "to_return_indexed", "SAMPLERS", "run_problem", "timed_run", "samplers_sweep", "summarise", "warm_up"]
+__all__ = ["object_indexed", "to_return_indexed", "SAMPLERS", "run_problem", "timed_run", "samplers_sweep", "summarise"]
 
 SAMPLERS = ("rfisst_chain", "rfisst_completion", "gibbs", "murty")
 
@@ -109,7 +110,7 @@ def samplers_sweep(cfg, seed_seq, recorded=None) -> pd.DataFrame:
     """Every difficulty × problem × budget × sampler; one seed stream per difficulty. ``recorded``
     (problems recorded from the GLMB benchmark, :mod:`.recorded`) adds the difficulty
     ``recorded`` with ``cfg["recorded"]``'s ``max_events`` and ``reference_k``."""
-    warm_up()
+    warm_samplers()  # every sampler's kernels compiled once, so the first timed problem does not pay for it
     parts = []
     streams = seed_seq.spawn(len(cfg["difficulties"]) + 1)
     for difficulty, ss in zip(cfg["difficulties"], streams[:-1]):
@@ -147,9 +148,3 @@ def summarise(raw: pd.DataFrame):
     timing = g.agg(time_mean_s=("time_s", "mean"), distinct_mean=("n_distinct", "mean")).reset_index()
     timing["children_per_s"] = timing.distinct_mean / timing.time_mean_s
     return det, timing
-
-
-def warm_up():
-    """Compile every sampler's numba kernels once, so the first timed problem does not pay for it."""
-    sp = synthetic_problem(3, difficulty="2sigma", seed=0, weights="reid")
-    run_problem(sp, [10], np.random.default_rng(0))

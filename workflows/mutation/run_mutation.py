@@ -79,6 +79,9 @@ SOURCES = {
     "scenarios.catalogue.admissible": ["src/hypotrack/scenarios/catalogue/admissible.py"],
     "scenarios.catalogue.snr": ["src/hypotrack/scenarios/catalogue/snr.py"],
     "trackers.deferred": ["src/hypotrack/trackers/deferred.py"],
+    "metrics_scorecard": ["src/hypotrack/metrics_scorecard.py"],
+    "metrics_trajectory": ["src/hypotrack/metrics_trajectory.py"],
+    "scenarios.catalogue.sbm": ["src/hypotrack/scenarios/catalogue/sbm.py"],
 }
 CATALOGUE = "tests/unit/test_bad_input_catalogue.py"  # bad input at every public entry point
 STEPS = "tests/unit/test_protocol_transactional.py"  # every tracker's step is all-or-nothing
@@ -93,6 +96,7 @@ EXTRA_TESTS = {
                     "tests/crosscheck/test_cardinality_assignment.py", "tests/crosscheck/test_equivalence_glmb_gibbs.py",
                     CATALOGUE],
     "trackers": ["tests/crosscheck/test_stonesoup_sht.py", STEPS, CATALOGUE],
+    "scenarios.catalogue.sbm": ["tests/unit/scenarios/catalogue/test_breakup.py"],
 }
 # Imported by the tests (``from scenes import ...``; the scratch pyproject puts tests/ on the path).
 TEST_HELPERS = ["tests/scenes.py"]

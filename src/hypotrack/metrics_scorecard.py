@@ -53,6 +53,17 @@ def _pos(a, name):
     return a
 
 
+def _ids(a, name):
+    """Object ids or track labels as a flat int64 array: integers, or floats of whole value (``3.0``). A
+    fractional or non-finite id is refused: the int64 cast would truncate 2.5 to another object's id 2."""
+    a = np.asarray(a).reshape(-1)
+    if a.dtype.kind in "iu":
+        return a.astype(np.int64)
+    if a.dtype.kind == "f" and np.all(np.isfinite(a)) and np.all(a == np.round(a)):
+        return a.astype(np.int64)
+    raise ValueError(f"{name} must be integer ids, got {a.tolist()!r}")
+
+
 def correlate_returns(returns, est_labels, est_pos, gate_km: float) -> np.ndarray:
     """The label of the estimate nearest to each return within ``gate_km`` (Euclidean), −1 when none.
 
@@ -60,7 +71,7 @@ def correlate_returns(returns, est_labels, est_pos, gate_km: float) -> np.ndarra
     """
     g = check_positive(gate_km, "gate_km")
     Z, E = _pos(returns, "returns"), _pos(est_pos, "est_pos")
-    lab = np.asarray(est_labels, dtype=np.int64).reshape(-1)
+    lab = _ids(est_labels, "est_labels")
     if len(lab) != len(E):
         raise ValueError(f"est_labels must have one label per estimate ({len(E)}), got {len(lab)}")
     out = np.full(len(Z), -1, np.int64)
@@ -76,8 +87,7 @@ def correlate_returns(returns, est_labels, est_pos, gate_km: float) -> np.ndarra
 def label_owners(targets, labels) -> dict:
     """``{label: target}``: the target each label was assigned to most often (ties: the smallest target id),
     from parallel arrays of (target, label) assignments; labels < 0 (unassigned) are ignored."""
-    t = np.asarray(targets, dtype=np.int64).reshape(-1)
-    lab = np.asarray(labels, dtype=np.int64).reshape(-1)
+    t, lab = _ids(targets, "targets"), _ids(labels, "labels")
     if len(t) != len(lab):
         raise ValueError(f"targets and labels must have the same length, got {len(t)} and {len(lab)}")
     keep = lab >= 0
@@ -97,13 +107,12 @@ def return_tallies(origin, correlated, owners: dict) -> dict:
     """Counts over the returns of real objects (``origin >= 0``): ``n_returns``; ``correct`` (correlated to a
     track its origin owns); ``cross_tags`` (to a track another object owns); ``orphan`` (to a track no object
     owns: a false or duplicate track); ``uncorrelated`` (``correlated == −1``). They add up to ``n_returns``."""
-    o = np.asarray(origin, dtype=np.int64).reshape(-1)
-    c = np.asarray(correlated, dtype=np.int64).reshape(-1)
+    o, c = _ids(origin, "origin"), _ids(correlated, "correlated")
     if len(o) != len(c):
         raise ValueError(f"origin and correlated must have the same length, got {len(o)} and {len(c)}")
     real = o >= 0
     o, c = o[real], c[real]
-    own = np.array([owners.get(int(x), -1) for x in c], dtype=np.int64) if len(c) else np.zeros(0, np.int64)
+    own = np.array([owners.get(int(x), -1) for x in c], dtype=np.int64)
     unc = c < 0
     return dict(n_returns=int(len(o)), correct=int((~unc & (own == o)).sum()),
                 cross_tags=int((~unc & (own >= 0) & (own != o)).sum()), orphan=int((~unc & (own < 0)).sum()),
@@ -114,9 +123,7 @@ def id_switches(scans, targets, labels) -> int:
     """CLEAR-MOT identity switches (module docstring): from parallel arrays of per-scan assignments
     (scan, target, label; label < 0: the target had no estimate that scan, skipped), per target in scan order,
     the number of times its label differs from its previous assigned label. Exact integer."""
-    s = np.asarray(scans, dtype=np.int64).reshape(-1)
-    t = np.asarray(targets, dtype=np.int64).reshape(-1)
-    lab = np.asarray(labels, dtype=np.int64).reshape(-1)
+    s, t, lab = _ids(scans, "scans"), _ids(targets, "targets"), _ids(labels, "labels")
     if not len(s) == len(t) == len(lab):
         raise ValueError(f"scans, targets and labels must have the same length, got {len(s)}, {len(t)} and {len(lab)}")
     keep = lab >= 0
@@ -147,17 +154,15 @@ def cross_tag_causes(scan, origin, correlated, owners: dict, assign_scans, assig
     ``scan, origin, correlated``: the returns (as :func:`return_tallies`, with their scan); ``assign_*``: the
     per-scan assignment (scan, target, label; label < 0 none); ``catalogued``: the catalogued labels.
     """
-    sc = np.asarray(scan, dtype=np.int64).reshape(-1)
-    o = np.asarray(origin, dtype=np.int64).reshape(-1)
-    c = np.asarray(correlated, dtype=np.int64).reshape(-1)
+    sc, o, c = _ids(scan, "scan"), _ids(origin, "origin"), _ids(correlated, "correlated")
     if not len(sc) == len(o) == len(c):
         raise ValueError(f"scan, origin and correlated must have the same length, got {len(sc)}, {len(o)} and {len(c)}")
-    own = np.array([owners.get(int(x), -1) for x in c], dtype=np.int64) if len(c) else np.zeros(0, np.int64)
+    own = np.array([owners.get(int(x), -1) for x in c], dtype=np.int64)
     x = (o >= 0) & (c >= 0) & (own >= 0) & (own != o)
-    on = {(int(a), int(b)): int(t) for a, b, t in zip(np.asarray(assign_scans).reshape(-1),
-                                                     np.asarray(assign_labels).reshape(-1),
-                                                     np.asarray(assign_targets).reshape(-1)) if b >= 0}
-    cat_set = set(int(v) for v in np.asarray(catalogued).reshape(-1))
+    on = {(int(a), int(b)): int(t) for a, b, t in zip(_ids(assign_scans, "assign_scans"),
+                                                     _ids(assign_labels, "assign_labels"),
+                                                     _ids(assign_targets, "assign_targets")) if b >= 0}
+    cat_set = set(_ids(catalogued, "catalogued").tolist())
     out = dict.fromkeys(CROSS_TAG_CAUSES, 0)
     for s_, o_, c_ in zip(sc[x], o[x], c[x]):
         if int(c_) not in cat_set:
@@ -264,9 +269,9 @@ def time_to_orbit(det_target, det_time, pass_target, pass_end, pass_ok) -> tuple
     Returns ``(objects, seconds)``, sorted by object id; objects never detected or without such a pass are
     left out (the caller counts them against the objects it asks about).
     """
-    dt_ = np.asarray(det_target, dtype=np.int64).reshape(-1)
+    dt_ = _ids(det_target, "det_target")
     dtime = np.asarray(det_time, dtype=float).reshape(-1)
-    pt = np.asarray(pass_target, dtype=np.int64).reshape(-1)
+    pt = _ids(pass_target, "pass_target")
     pe = np.asarray(pass_end, dtype=float).reshape(-1)
     ok = np.asarray(pass_ok, dtype=bool).reshape(-1)
     if len(dt_) != len(dtime):

@@ -14,7 +14,7 @@ from hypotrack.metrics import gospa
 from hypotrack.metrics_scorecard import (CHI2_95_3D, CROSS_TAG_CAUSES, chi2_share, correlate_returns, cross_tag_causes,
                                          gospa_parts_per_object, id_switches,
                                          label_owners, mahalanobis2, mean_se, per, purity_counts, return_tallies,
-                                         ric_error, time_to_orbit, within)
+                                         ric_error, ric_frame, time_to_orbit, within)
 
 TRUTH = np.array([[0.0, 0, 0], [10.0, 0, 0], [100.0, 0, 0]])
 EST_LAB = np.array([10, 20, 30, 40, 50])
@@ -155,3 +155,220 @@ def test_time_to_orbit_bad_input():
         time_to_orbit([1], [0.0], [1], [5.0, 6.0], [True])
     with pytest.raises(ValueError, match="finite"):
         time_to_orbit([1], [np.nan], [1], [5.0], [True])
+
+
+# --- cases where a near-miss of the definitions gives another number (ids 0, ties at the bounds, one element) ---
+
+def test_correlation_edges_by_hand():
+    # a return exactly on the gate (3-4-5 triangle: 5.0 km) is correlated; 5.0 + 1e-9 is not
+    assert correlate_returns([[3.0, 4, 0]], [7], [[0.0, 0, 0]], 5.0).tolist() == [7]
+    assert correlate_returns([[3.0, 4, 0]], [7], [[0.0, 0, 0]], 5.0 - 1e-9).tolist() == [-1]
+    # one return, one estimate, label 0: a real label, returned as is
+    assert correlate_returns([[1.0, 0, 0]], [0], [[0.0, 0, 0]], 2.0).tolist() == [0]
+    # returns but no estimates: every return uncorrelated; no returns: nothing
+    assert correlate_returns(RET, [], np.zeros((0, 3)), 2.0).tolist() == [-1] * 5
+    assert correlate_returns(np.zeros((0, 3)), EST_LAB, EST, 2.0).tolist() == []
+    # labels beyond 2^53 come back exactly (a float round trip would turn 2^60 + 1 into 2^60)
+    big = 2**60 + 1
+    assert correlate_returns([[0.0, 0, 0]], [big], [[0.0, 0, 0]], 1.0).tolist() == [big]
+
+
+def test_owner_of_label_zero_and_object_zero():
+    # label 0 held by object 0 once (one row only), label 1 by objects 0 and 2 twice each: the smaller id 0
+    assert label_owners([0], [0]) == {0: 0}
+    assert label_owners([0, 2, 2, 0], [1, 1, 1, 1]) == {1: 0}
+    # object 0's return on label 0 (owned by 0) is correct; object 1's on label 0 a cross-tag; object 1's on
+    # label 5 (owned by nobody) an orphan; object 0's uncorrelated; a clutter return (-1) left out
+    t = return_tallies([0, 1, 1, 0, -1], [0, 0, 5, -1, 0], {0: 0, 3: 1})
+    assert t == dict(n_returns=4, correct=1, cross_tags=1, orphan=1, uncorrelated=1)
+    # object 2's return on label 3, owned by object 0: a cross-tag, not an orphan
+    assert return_tallies([2], [3], {3: 0}) == dict(n_returns=1, correct=0, cross_tags=1, orphan=0, uncorrelated=0)
+    assert return_tallies([], [], {}) == dict(n_returns=0, correct=0, cross_tags=0, orphan=0, uncorrelated=0)
+    assert return_tallies([-1, -1], [3, -1], {3: 0}) == dict(n_returns=0, correct=0, cross_tags=0, orphan=0,
+                                                             uncorrelated=0)
+
+
+def test_id_switch_counts_label_zero():
+    # object 0 held by labels 0, 0, 1, 0 over scans 0-3: two switches (0 -> 1 -> 0); label 0 is a label
+    assert id_switches([0, 1, 2, 3], [0, 0, 0, 0], [0, 0, 1, 0]) == 2
+    # the same as float scans and ids of whole value, and as (n, 1) columns
+    assert id_switches([0.0, 1.0, 2.0, 3.0], [0.0] * 4, [0.0, 0.0, 1.0, 0.0]) == 2
+    assert id_switches(np.array([[0], [1], [2], [3]]), np.zeros((4, 1)), np.array([[0], [0], [1], [0]])) == 2
+
+
+def test_cross_tag_causes_ids_zero_and_repeats():
+    # objects 0 and 1, catalogued labels 0 and 1; label 0 owned by object 1 (held by it at scans 1-3), label 1
+    # by object 0; labels 7 and 8 newborn, owned by object 1 and object 0.
+    owners = {0: 1, 1: 0, 7: 1, 8: 0}
+    assign = np.array([(0, 0, 0), (1, 1, 0), (1, 0, 1), (2, 1, 0), (3, 1, 0)])
+    s, t, lab = assign.T
+    # returns (scan, origin, label): object 0 on label 0 at scan 0 (assigned to it then: own label);
+    # object 0 on label 7 twice (newborn, two cross-tags); object 1 on label 8 (newborn); object 0 on label 5,
+    # owned by nobody (an orphan, no cross-tag); object 0 on label 0 at scan 2 (then on object 1: elsewhere)
+    rs = [0, 1, 2, 3, 1, 2]
+    ro = [0, 0, 0, 1, 0, 0]
+    rc = [0, 7, 7, 8, 5, 0]
+    causes = cross_tag_causes(rs, ro, rc, owners, s, t, lab, catalogued=[0, 1])
+    assert causes == dict(newborn=3, own_label=1, carried_label=0, elsewhere=1)
+    assert sum(causes.values()) == return_tallies(ro, rc, owners)["cross_tags"] == 5
+    # with label 0 also assigned to object 0 at scan 2, the last return is on its origin's own catalogued
+    # label, assigned to it at that scan: a second own_label (elsewhere drops to 0)
+    assign2 = np.vstack([assign, [(2, 0, 0)]])
+    s2, t2, lab2 = assign2.T
+    assert cross_tag_causes(rs, ro, rc, owners, s2, t2, lab2, catalogued=[0, 1]) == dict(
+        newborn=3, own_label=2, carried_label=0, elsewhere=0)
+    # object 1's return on label 1 (owned by object 0) at scan 1, where label 1 is on object 0: elsewhere; with
+    # label 1 on object 1 at scan 1 instead, the right association of object 1's own label: own_label
+    assert cross_tag_causes([1], [1], [1], owners, s, t, lab, [0, 1])["elsewhere"] == 1
+    assert cross_tag_causes([1], [1], [1], owners, [1], [1], [1], [0, 1])["own_label"] == 1
+    # nothing given: nothing counted
+    assert cross_tag_causes([], [], [], {}, [], [], [], []) == dict.fromkeys(CROSS_TAG_CAUSES, 0)
+
+
+def test_fractional_or_missing_ids_are_refused_by_name():
+    # 2.5 would be cast to object 2 and NaN to an arbitrary integer: each entry point names the argument
+    bad = [1, 2.5]
+    cases = [
+        ("est_labels", lambda: correlate_returns([[0.0, 0, 0]] * 2, bad, [[0.0, 0, 0]] * 2, 1.0)),
+        ("targets", lambda: label_owners(bad, [1, 2])),
+        ("labels", lambda: label_owners([1, 2], bad)),
+        ("origin", lambda: return_tallies(bad, [1, 2], {})),
+        ("correlated", lambda: return_tallies([1, 2], bad, {})),
+        ("scans", lambda: id_switches(bad, [1, 2], [1, 2])),
+        ("targets", lambda: id_switches([1, 2], bad, [1, 2])),
+        ("labels", lambda: id_switches([1, 2], [1, 2], bad)),
+        ("scan", lambda: cross_tag_causes(bad, [1, 2], [1, 2], {}, [], [], [], [])),
+        ("origin", lambda: cross_tag_causes([1, 2], bad, [1, 2], {}, [], [], [], [])),
+        ("correlated", lambda: cross_tag_causes([1, 2], [1, 2], bad, {}, [], [], [], [])),
+        ("assign_scans", lambda: cross_tag_causes([], [], [], {}, bad, [1, 2], [1, 2], [])),
+        ("assign_targets", lambda: cross_tag_causes([], [], [], {}, [1, 2], bad, [1, 2], [])),
+        ("assign_labels", lambda: cross_tag_causes([], [], [], {}, [1, 2], [1, 2], bad, [])),
+        ("catalogued", lambda: cross_tag_causes([], [], [], {}, [], [], [], bad)),
+        ("det_target", lambda: time_to_orbit(bad, [0.0, 1.0], [], [], [])),
+        ("pass_target", lambda: time_to_orbit([], [], bad, [0.0, 1.0], [True, True])),
+    ]
+    for name, call in cases:
+        with pytest.raises(ValueError, match=rf"^{name} must be integer ids, got \[1(\.0)?, 2\.5\]$"):
+            call()
+    for v in (np.nan, np.inf):
+        with pytest.raises(ValueError, match=r"^labels must be integer ids"):
+            label_owners([1, 2], [1, v])
+    with pytest.raises(ValueError, match=r"^labels must be integer ids"):
+        label_owners([1], ["a"])
+    # whole-valued floats are ids: the same owners as the integers
+    assert label_owners([1.0, 1.0, 2.0], [10.0, 10.0, 20.0]) == {10: 1, 20: 2}
+    # unsigned ids are ids too
+    assert label_owners(np.array([3], np.uint8), np.array([4], np.uint8)) == {4: 3}
+
+
+def test_shape_and_length_errors_name_the_arguments():
+    with pytest.raises(ValueError, match=r"^est_labels must have one label per estimate \(2\), got 1$"):
+        correlate_returns([[0.0, 0, 0]], [1], [[0.0, 0, 0]] * 2, 1.0)
+    with pytest.raises(ValueError, match=r"^origin and correlated must have the same length, got 1 and 2$"):
+        return_tallies([1], [1, 2], {})
+    for name, call in [("returns", lambda: correlate_returns([[np.nan, 0, 0]], [1], [[0.0, 0, 0]], 1.0)),
+                       ("est_pos", lambda: correlate_returns([[0.0, 0, 0]], [1], [[np.inf, 0, 0]], 1.0)),
+                       ("truth_pos", lambda: purity_counts([[np.nan, 0, 0]], [[0.0, 0, 0]], 1.0)),
+                       ("est_pos", lambda: purity_counts([[0.0, 0, 0]], [[np.nan, 0, 0]], 1.0)),
+                       ("pred_pos", lambda: within([[np.nan, 0, 0]], [[0.0, 0, 0]])),
+                       ("true_pos", lambda: within([[0.0, 0, 0]], [[np.nan, 0, 0]]))]:
+        with pytest.raises(ValueError, match=rf"^{name} must be finite positions \(n, 3\)$"):
+            call()
+    for name, call in [("gate_km", lambda: correlate_returns(RET, EST_LAB, EST, 0.0)),
+                       ("cutoff_km", lambda: purity_counts(TRUTH, EST, -1.0)),
+                       ("radius_km", lambda: within([[0.0, 0, 0]], [[0.0, 0, 0]], -2.0))]:
+        with pytest.raises(ValueError, match=rf"^{name} must be a finite number > 0"):
+            call()
+    with pytest.raises(ValueError, match=r"^prob must lie in \[0, 1\]"):
+        chi2_share([1.0], prob=1.5)
+    with pytest.raises(ValueError, match=r"^det_time and pass_end must be finite times \(s\)$"):
+        time_to_orbit([1], [0.0], [1], [np.inf], [True])
+
+
+def test_purity_edges_by_hand():
+    # one estimate 5 km from the only truth (3-4-5) with cut-off 5: not within c (strictly closer is
+    # assigned), so false; with cut-off 5.0001 it is assigned
+    assert purity_counts([[0.0, 0, 0]], [[3.0, 4, 0]], 5.0) == dict(n_estimates=1, false=1, duplicate=0)
+    assert purity_counts([[0.0, 0, 0]], [[3.0, 4, 0]], 5.0001) == dict(n_estimates=1, false=0, duplicate=0)
+    # two estimates on one truth, the second exactly at c: false, not a duplicate; at 4.9 km a duplicate
+    assert purity_counts([[0.0, 0, 0]], [[0.1, 0, 0], [3.0, 4, 0]], 5.0) == dict(n_estimates=2, false=1,
+                                                                                duplicate=0)
+    assert purity_counts([[0.0, 0, 0]], [[0.1, 0, 0], [4.9, 0, 0]], 5.0) == dict(n_estimates=2, false=0,
+                                                                                duplicate=1)
+    # two far estimates and one duplicate: false 2, duplicate 1 (the counts are not interchangeable)
+    assert purity_counts([[0.0, 0, 0]], [[0.0, 0, 0], [1.0, 0, 0], [50.0, 0, 0], [-50.0, 0, 0]], 5.0) == dict(
+        n_estimates=4, false=2, duplicate=1)
+
+
+def test_ric_frame_with_radial_velocity_and_integer_states():
+    # r = (3, 0, 0), v = (4, 5, 0): R = x (r alone, not the first four components), C = r x v = (0, 0, 15) -> z,
+    # I = C x R = y; integer states are accepted
+    F = ric_frame([[3, 0, 0, 4, 5, 0]])
+    assert F[0] == pytest.approx(np.eye(3))
+    # full six-component estimates: only the position is compared, error (1, 2, -3) in RIC = (1, 2, -3)
+    assert ric_error([[3, 0, 0, 4, 5, 0]], [[4.0, 2, -3, 9, 9, 9]]) == pytest.approx(np.array([[1.0, 2, -3]]))
+
+
+def test_mahalanobis_symmetric_part_and_empty():
+    # P = [[2, 1], [0, 2]] read as its symmetric part S = [[2, .5], [.5, 2]]: det 3.75,
+    # S^-1 = [[2, -.5], [-.5, 2]] / 3.75, e = (1, 1): (2 - .5 - .5 + 2) / 3.75 = 0.8
+    assert mahalanobis2([[1.0, 1.0]], [[[2.0, 1.0], [0.0, 2.0]]]) == pytest.approx([0.8])
+    out = mahalanobis2(np.zeros((0, 3)), np.zeros((0, 3, 3)))
+    assert out.shape == (0,)
+
+
+def test_chi2_share_bound_and_single_values():
+    # d2 exactly on the bound counts as inside; one value: share 1 or 0; a scalar is one value
+    assert chi2_share([CHI2_95_3D]) == 1.0
+    assert chi2_share([CHI2_95_3D + 1e-9]) == 0.0
+    assert chi2_share([3.0]) == 1.0
+    assert chi2_share(3.0) == 1.0
+    # 2-D bound: chi2_2(0.5) = 2 ln 2 = 1.386: one of (1.0, 2.0) inside
+    assert chi2_share([1.0, 2.0], prob=0.5, dim=2) == 0.5
+
+
+def test_within_default_radius_and_offset_positions():
+    # the default radius is 5 km: 4.9 km within, 5.1 km not
+    assert within([[0.0, 0, 0], [0.0, 0, 0]], [[4.9, 0, 0], [0, 5.1, 0]]).tolist() == [True, False]
+    # far from the origin, 1 km apart: within (the difference, not the sum, of the positions)
+    assert within([[7000.0, 0, 0]], [[7000.0, 1, 0]], 2.0).tolist() == [True]
+    assert within([], [], 5.0).tolist() == []
+
+
+def test_rates_and_means_by_hand():
+    # 3 cross-tags in 4 returns per 10^4: 7500
+    assert per(3, 4, 1e4) == 7500.0
+    # one value: its mean and no standard error, without a warning; two values 1, 3: s = sqrt(2), s.e. 1
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        m, se = mean_se([3.0])
+    assert m == 3.0 and np.isnan(se)
+    assert mean_se([1.0, 3.0]) == pytest.approx((2.0, 1.0))
+    m0, se0 = mean_se([])
+    assert np.isnan(m0) and np.isnan(se0)
+    assert mean_se([np.nan, 2.0, np.inf, 4.0]) == pytest.approx((3.0, 1.0))
+
+
+def test_gospa_parts_with_missed_and_no_objects():
+    # sums over two scans: localisation 1, missed 4, false 3, over 2 + 3 = 5 objects in view:
+    # 0.2, 0.8, 0.6 and 8 / 5 = 1.6 in all; no object in view: every part NaN
+    out = gospa_parts_per_object([0.5, 0.5], [4.0, 0.0], [1.0, 2.0], [2, 3])
+    assert out == pytest.approx(dict(gospa_localisation_per_object_km=0.2, gospa_missed_per_object_km=0.8,
+                                     gospa_false_per_object_km=0.6, gospa_per_object_km=1.6))
+    empty = gospa_parts_per_object([0.0], [0.0], [2.0], [0])
+    assert set(empty) == {"gospa_localisation_per_object_km", "gospa_missed_per_object_km",
+                          "gospa_false_per_object_km", "gospa_per_object_km"}
+    assert all(np.isnan(v) for v in empty.values())
+
+
+def test_time_to_orbit_pass_order_and_shapes():
+    # object 4 first detected at 10 s; good passes ending at 400 s then 900 s (in that order): 390 s
+    objs, secs = time_to_orbit([4], [10.0], [4, 4], [400.0, 900.0], [True, True])
+    assert objs.tolist() == [4] and secs.tolist() == [390.0]
+    # the same given as (n, 1) columns and with float ids of whole value
+    objs, secs = time_to_orbit(np.array([[4.0]]), np.array([[10.0]]), np.array([[4], [4]]),
+                               np.array([[400.0], [900.0]]), np.array([[True], [True]]))
+    assert objs.tolist() == [4] and secs.tolist() == [390.0]
+    o, _ = time_to_orbit([], [], [], [], [])
+    assert o.dtype == np.int64

@@ -167,11 +167,12 @@ def trajectories_from_estimates(estimates, components=None) -> tuple[np.ndarray,
     states = []
     for k, (e, lab) in enumerate(zip(steps, labels)):
         x = np.asarray(e.x, dtype=float)
-        # an empty step keeps its width ((0, d) cannot be reshaped with -1)
-        x = x.reshape(len(lab), -1) if x.size else x.reshape(len(lab), x.shape[-1] if x.ndim == 2 else 0)
+        # (m, 0) cannot be reshaped with -1; a step without estimates places nothing, so its width (its x
+        # may be (0, d) or (0,)) is not asked for
+        x = x.reshape(len(lab), -1) if x.size else x.reshape(len(lab), 0)
         if len(np.unique(lab)) != len(lab):
             raise ValueError(f"estimates[{k}] holds a label twice: {lab.tolist()}")
-        states.append(x if components is None else x[:, list(components)])
+        states.append(x if components is None or not len(lab) else x[:, list(components)])
     dims = {x.shape[1] for x, lab in zip(states, labels) if len(lab)}
     if len(dims) > 1:
         raise ValueError(f"estimates must have states of one dimension, got {sorted(dims)}")
@@ -179,7 +180,8 @@ def trajectories_from_estimates(estimates, components=None) -> tuple[np.ndarray,
     every = np.unique(np.concatenate(labels)) if labels else np.zeros(0, np.int64)
     X = np.full((every.size, len(steps), d), np.nan)
     for k, (x, lab) in enumerate(zip(states, labels)):
-        X[np.searchsorted(every, lab), k] = x
+        if len(lab):
+            X[np.searchsorted(every, lab), k] = x
     return every, X
 
 

@@ -320,3 +320,106 @@ def test_dynamic_programme_equals_enumeration():
     for _ in range(10):
         X, Y = random_trajectories(rng, 2, 3), random_trajectories(rng, 2, 3)
         assert brute_force(X, Y, 2.0, 1.0, 0.8, dp=True) == pytest.approx(brute_force(X, Y, 2.0, 1.0, 0.8), abs=1e-12)
+
+
+# --- cases where a near-miss of the definitions gives another number ---
+
+def test_no_time_steps_gives_zero_everywhere():
+    # T = 0 (trajectories over no step, d = 2): nothing to score; every field zero, weights (0, 3, 2)
+    r = trajectory_gospa(np.zeros((2, 0, 2)), np.zeros((1, 0, 2)), c=1.0)
+    assert (r.value, r.localisation, r.missed, r.false, r.switches, r.n_missed, r.n_false, r.n_switches) == (
+        0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+    assert r.integral is True and r.weights.shape == (0, 3, 2)
+
+
+def test_empty_sets_keep_their_time_steps():
+    # (0, 5, 2) against (0, 5, 2): five steps with nothing in them; [] against [] has no step
+    assert trajectory_cost_matrices(np.zeros((0, 5, 2)), np.zeros((0, 5, 2)), c=1.0).shape == (5, 1, 1)
+    assert trajectory_cost_matrices([], [], c=1.0).shape == (0, 1, 1)
+    # an empty set of another dimension takes the other's: (0, 3, 2) estimates against one 1-D truth over three
+    # steps, present at all three: three missed steps, c / 2 = 2 each (p = 1)
+    Y = np.array([[[0.0], [1.0], [2.0]]])
+    for empty in (np.zeros((0, 3, 2)), [], np.zeros((0, 0, 0))):
+        r = trajectory_gospa(empty, Y, c=4.0, p=1)
+        assert (r.value, r.n_missed, r.n_false) == (6.0, 3.0, 0.0)
+        # and the other way round: three false steps
+        r = trajectory_gospa(Y, empty, c=4.0, p=1)
+        assert (r.value, r.n_missed, r.n_false) == (6.0, 0.0, 3.0)
+        assert r.weights.shape == (3, 2, 1)
+
+
+def test_a_pair_at_exactly_the_cut_off_is_missed_plus_false():
+    # one truth at 0, one estimate 1 away at step 0 and exactly c = 2 away at step 1 (p = 1, gamma = 10):
+    # keeping the assignment costs 1 + 2 = 3; ending it costs 1 + (1 + 1) + gamma / 2 = 8. At step 1 the pair
+    # costs c^p = 2, reported (as GOSPA does) as one missed plus one false, c / 2 each, not as localisation
+    r = trajectory_gospa([[[1.0], [2.0]]], [[[0.0], [0.0]]], c=2.0, p=1, gamma=10.0)
+    assert r.value == pytest.approx(3.0, abs=1e-9)
+    assert (r.localisation, r.missed, r.false, r.switches) == pytest.approx((1.0, 1.0, 1.0, 0.0), abs=1e-9)
+    assert (r.n_missed, r.n_false) == pytest.approx((1.0, 1.0), abs=1e-9)
+
+
+def test_a_switch_over_two_steps():
+    # truths at 0 and 10 over two steps; one estimate at 0 then at 10 (c = 20, p = 1, gamma = 1). Following
+    # both truths: localisation 0, truth 2 missed at step 0 and truth 1 at step 1 (10 each), one full switch
+    # (gamma = 1): 21. Staying on truth 1: 10 + truth 2 missed twice (20) = 30.
+    r = trajectory_gospa([[[0.0], [10.0]]], [[[0.0], [0.0]], [[10.0], [10.0]]], c=20.0, p=1, gamma=1.0)
+    assert r.value == pytest.approx(21.0, abs=1e-9)
+    assert (r.switches, r.n_switches, r.n_missed, r.n_false) == pytest.approx((1.0, 1.0, 2.0, 0.0), abs=1e-9)
+
+
+def test_false_steps_are_counted():
+    # one truth over two steps, two estimates: one on it, one 50 away (c = 4, p = 1): two false steps
+    r = trajectory_gospa([[[0.0], [0.0]], [[50.0], [50.0]]], [[[0.0], [0.0]]], c=4.0, p=1)
+    assert (r.value, r.false, r.n_false, r.n_missed) == pytest.approx((4.0, 4.0, 2.0, 0.0), abs=1e-9)
+
+
+def test_order_defaults_to_one():
+    # one truth, one estimate 3 and then 4 away, c = 10: p = 1 gives 3 + 4 = 7 (p = 2 would give
+    # sqrt(9 + 16) = 5)
+    X, Y = [[[3.0], [4.0]]], [[[0.0], [0.0]]]
+    assert trajectory_gospa(X, Y, c=10.0).value == pytest.approx(7.0, abs=1e-9)
+    D = trajectory_cost_matrices(X, Y, c=10.0)
+    assert D[:, 0, 0].tolist() == [3.0, 4.0]  # p = 1: the distances themselves, not their squares
+
+
+def test_type_errors_name_the_offending_type():
+    with pytest.raises(TypeError, match=r"^p must be a real number in \[1, inf\), got str$"):
+        trajectory_gospa(np.zeros((1, 1, 1)), np.zeros((1, 1, 1)), c=1.0, p="2")
+    with pytest.raises(TypeError, match=r"^integral must be a bool, got int$"):
+        trajectory_gospa(np.zeros((1, 1, 1)), np.zeros((1, 1, 1)), c=1.0, integral=1)
+    with pytest.raises(TypeError, match=r"^X must be an \(n, T, d\) array of numbers \(NaN where absent\), got list "
+                                        r"that NumPy cannot convert"):
+        trajectory_gospa([[[0.0], [0.0, 1.0]]], np.zeros((1, 2, 1)), c=1.0)
+    with pytest.raises(ValueError, match=r"^X\[0, 1\] is partly NaN"):
+        trajectory_gospa([[[0.0, 0.0], [NAN, 1.0]]], np.zeros((1, 2, 2)), c=1.0)
+    with pytest.raises(ValueError, match=r"^Y\[0, 0\] is partly NaN"):
+        trajectory_gospa(np.zeros((1, 2, 2)), [[[NAN, 0.0], [0.0, 1.0]]], c=1.0)
+
+
+def test_estimates_without_components_and_odd_shapes():
+    from hypotrack.protocol import TrackEstimates
+
+    # no components: every state component kept
+    run = [TrackEstimates(0.0, np.array([3]), np.array([[0.0, 1.0]])),
+           TrackEstimates(1.0, np.array([5, 3]), np.array([[9.0, 0.0], [0.5, 1.0]]))]
+    labels, X = trajectories_from_estimates(run)
+    assert labels.tolist() == [3, 5]
+    np.testing.assert_array_equal(X[0], [[0.0, 1.0], [0.5, 1.0]])
+    assert np.isnan(X[1, 0]).all() and X[1, 1].tolist() == [9.0, 0.0]
+    # one label with its state given flat (d,), and labels as whole-valued floats: int64 labels
+    labels, X = trajectories_from_estimates([TrackEstimates(0.0, np.array([3.0]), np.array([0.0, 1.0]))])
+    assert labels.dtype == np.int64 and labels.tolist() == [3] and X.tolist() == [[[0.0, 1.0]]]
+    # a step without estimates given as a flat empty array leaves its step absent
+    gap = [run[0], TrackEstimates(1.0, np.zeros(0, np.int64), np.zeros(0))]
+    labels, X = trajectories_from_estimates(gap)
+    assert labels.tolist() == [3] and X[0, 0].tolist() == [0.0, 1.0] and np.isnan(X[0, 1]).all()
+    # only empty steps: no trajectory, the width of the components asked for
+    labels, X = trajectories_from_estimates([gap[1], gap[1]], components=[0, 1])
+    assert labels.dtype == np.int64 and X.shape == (0, 2, 2)
+    assert trajectories_from_estimates([])[0].dtype == np.int64
+    # steps of two different dimensions (2 and 3), in any order
+    mixed = [run[0], TrackEstimates(1.0, np.array([3]), np.array([[0.0, 1.0, 2.0]]))]
+    with pytest.raises(ValueError, match=r"^estimates must have states of one dimension, got \[2, 3\]$"):
+        trajectories_from_estimates(mixed)
+    with pytest.raises(ValueError, match=r"^estimates must have states of one dimension, got \[2, 3\]$"):
+        trajectories_from_estimates(mixed[::-1])

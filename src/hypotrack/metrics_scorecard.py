@@ -47,7 +47,7 @@ CHI2_95_3D = float(chi2.ppf(0.95, 3))
 
 
 def _pos(a, name):
-    a = np.asarray(a, dtype=float).reshape(-1, 3) if np.size(a) else np.zeros((0, 3))
+    a = np.asarray(a, dtype=float).reshape(-1, 3)  # an empty input, of any shape, becomes (0, 3)
     if not np.all(np.isfinite(a)):
         raise ValueError(f"{name} must be finite positions (n, 3)")
     return a
@@ -57,11 +57,11 @@ def _ids(a, name):
     """Object ids or track labels as a flat int64 array: integers, or floats of whole value (``3.0``). A
     fractional or non-finite id is refused: the int64 cast would truncate 2.5 to another object's id 2."""
     a = np.asarray(a).reshape(-1)
-    if a.dtype.kind in "iu":
-        return a.astype(np.int64)
-    if a.dtype.kind == "f" and np.all(np.isfinite(a)) and np.all(a == np.round(a)):
-        return a.astype(np.int64)
-    raise ValueError(f"{name} must be integer ids, got {a.tolist()!r}")
+    whole = np.issubdtype(a.dtype, np.integer) or (
+        np.issubdtype(a.dtype, np.floating) and bool(np.all(np.isfinite(a) & (a == np.round(a)))))
+    if not whole:
+        raise ValueError(f"{name} must be integer ids, got {a.tolist()!r}")
+    return a.astype(np.int64)
 
 
 def correlate_returns(returns, est_labels, est_pos, gate_km: float) -> np.ndarray:

@@ -253,8 +253,9 @@ def test_fractional_or_missing_ids_are_refused_by_name():
     for v in (np.nan, np.inf):
         with pytest.raises(ValueError, match=r"^labels must be integer ids"):
             label_owners([1, 2], [1, v])
-    with pytest.raises(ValueError, match=r"^labels must be integer ids"):
-        label_owners([1], ["a"])
+    for bad_kind in (["a"], [True]):  # strings and booleans are not ids
+        with pytest.raises(ValueError, match=r"^labels must be integer ids"):
+            label_owners([1], bad_kind)
     # whole-valued floats are ids: the same owners as the integers
     assert label_owners([1.0, 1.0, 2.0], [10.0, 10.0, 20.0]) == {10: 1, 20: 2}
     # unsigned ids are ids too
@@ -372,3 +373,11 @@ def test_time_to_orbit_pass_order_and_shapes():
     assert objs.tolist() == [4] and secs.tolist() == [390.0]
     o, _ = time_to_orbit([], [], [], [], [])
     assert o.dtype == np.int64
+    # pass_ok as a column too: the first pass (400 s) does not re-acquire, so the 900 s one counts: 890 s
+    objs, secs = time_to_orbit([4], [10.0], [4, 4], [400.0, 900.0], np.array([[False], [True]]))
+    assert objs.tolist() == [4] and secs.tolist() == [890.0]
+    # a missing time (None) is not a time
+    with pytest.raises(ValueError, match=r"^det_time and pass_end must be finite times \(s\)$"):
+        time_to_orbit([1], [None], [1], [5.0], [True])
+    with pytest.raises(ValueError, match=r"^det_time and pass_end must be finite times \(s\)$"):
+        time_to_orbit([1], [0.0], [1], [None], [True])

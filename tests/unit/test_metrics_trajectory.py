@@ -423,3 +423,31 @@ def test_estimates_without_components_and_odd_shapes():
         trajectories_from_estimates(mixed)
     with pytest.raises(ValueError, match=r"^estimates must have states of one dimension, got \[2, 3\]$"):
         trajectories_from_estimates(mixed[::-1])
+
+
+def test_weights_keep_the_fixed_entries_at_zero():
+    """The program fixes W[∅, ∅] = 0 and the pairs never both present and closer than c at W = 0
+    (module docstring): the weights returned are exactly 0 there, and every weight lies in [0, 1].
+    Freeing those entries leaves the value unchanged but lets the solver return another optimal vertex
+    with weight on a far pair (it did in about one case in five of these)."""
+    rng = np.random.default_rng(5)
+    for _ in range(60):
+        nx, ny, T = int(rng.integers(1, 4)), int(rng.integers(1, 4)), int(rng.integers(2, 6))
+        X, Y = random_trajectories(rng, nx, T, spread=6.0), random_trajectories(rng, ny, T, spread=6.0)
+        c = 1.5
+        W = trajectory_gospa(X, Y, c=c, gamma=1.0).weights
+        D = trajectory_cost_matrices(X, Y, c)
+        ex, ey = ~np.isnan(X[..., 0]).T, ~np.isnan(Y[..., 0]).T
+        active = (ex[:, :, None] & ey[:, None, :] & (D[:, :nx, :ny] < c)).any(axis=0)
+        assert np.all(W[:, nx, ny] == 0.0)
+        assert np.all(W[:, :nx, :ny][:, ~active] == 0.0)
+        assert np.all((W >= 0.0) & (W <= 1.0))
+
+
+def test_zero_dimensional_states():
+    from hypotrack.protocol import TrackEstimates
+
+    # states with no component, (m, 0): trajectories (n, T, 0) that exist wherever their label does
+    labels, X = trajectories_from_estimates([TrackEstimates(0.0, np.array([3]), np.zeros((1, 0))),
+                                             TrackEstimates(1.0, np.array([3, 4]), np.zeros((2, 0)))])
+    assert labels.tolist() == [3, 4] and X.shape == (2, 2, 0)

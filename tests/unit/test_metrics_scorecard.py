@@ -258,8 +258,9 @@ def test_fractional_or_missing_ids_are_refused_by_name():
             label_owners([1], bad_kind)
     # whole-valued floats are ids: the same owners as the integers
     assert label_owners([1.0, 1.0, 2.0], [10.0, 10.0, 20.0]) == {10: 1, 20: 2}
-    # unsigned ids are ids too
+    # unsigned ids and single-precision whole values are ids too
     assert label_owners(np.array([3], np.uint8), np.array([4], np.uint8)) == {4: 3}
+    assert label_owners(np.array([3.0], np.float32), np.array([4.0], np.float32)) == {4: 3}
 
 
 def test_shape_and_length_errors_name_the_arguments():

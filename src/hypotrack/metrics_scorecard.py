@@ -54,14 +54,19 @@ def _pos(a, name):
 
 
 def _ids(a, name):
-    """Object ids or track labels as a flat int64 array: integers, or floats of whole value (``3.0``). A
-    fractional or non-finite id is refused: the int64 cast would truncate 2.5 to another object's id 2."""
+    """Object ids or track labels as a flat int64 array: integers, or numbers of whole value (``3.0``, an
+    object column of ints, an empty column of any dtype). A fractional or non-finite id is refused: the
+    int64 cast would truncate 2.5 to another object's id 2."""
     a = np.asarray(a).reshape(-1)
-    whole = np.issubdtype(a.dtype, np.integer) or (
-        np.issubdtype(a.dtype, np.floating) and bool(np.all(np.isfinite(a) & (a == np.round(a)))))
-    if not whole:
+    if np.issubdtype(a.dtype, np.integer):
+        return a.astype(np.int64)
+    try:
+        f = a.astype(float)
+    except (TypeError, ValueError):
+        f = None
+    if a.dtype.kind == "b" or f is None or not np.all(np.isfinite(f) & (f == np.round(f))):
         raise ValueError(f"{name} must be integer ids, got {a.tolist()!r}")
-    return a.astype(np.int64)
+    return a.astype(np.int64)  # from a itself: an object array's Python ints beyond 2^53 stay exact
 
 
 def correlate_returns(returns, est_labels, est_pos, gate_km: float) -> np.ndarray:

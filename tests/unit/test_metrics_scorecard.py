@@ -253,7 +253,12 @@ def test_fractional_or_missing_ids_are_refused_by_name():
     for v in (np.nan, np.inf):
         with pytest.raises(ValueError, match=r"^labels must be integer ids"):
             label_owners([1, 2], [1, v])
-    for bad_kind in (["a"], [True]):  # strings and booleans are not ids
+    # object columns of ints (a pandas column), beyond 2^53 too, and empty columns of any dtype are ids
+    big = 2**60 + 1
+    assert label_owners(np.array([3, big], dtype=object), np.array([big, 4], dtype=object)) == {big: 3, 4: big}
+    assert label_owners(np.array([], dtype=object), np.array([], dtype=object)) == {}
+    assert time_to_orbit(np.array([], dtype=object), [], np.array([], dtype=object), [], [])[0].tolist() == []
+    for bad_kind in (["a"], [True], np.array([None], dtype=object)):  # strings, booleans, None are not ids
         with pytest.raises(ValueError, match=r"^labels must be integer ids"):
             label_owners([1], bad_kind)
     # whole-valued floats are ids: the same owners as the integers

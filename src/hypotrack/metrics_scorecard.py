@@ -58,10 +58,8 @@ def _ids(a, name):
     object column of ints, an empty column of any dtype). A fractional or non-finite id is refused: the
     int64 cast would truncate 2.5 to another object's id 2."""
     a = np.asarray(a).reshape(-1)
-    if np.issubdtype(a.dtype, np.integer):
-        return a.astype(np.int64)
     try:
-        f = a.astype(float)
+        f = a.astype(float)  # integers pass the test below as they are
     except (TypeError, ValueError):
         f = None
     if a.dtype.kind == "b" or f is None or not np.all(np.isfinite(f) & (f == np.round(f))):

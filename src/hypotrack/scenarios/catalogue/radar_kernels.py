@@ -343,6 +343,7 @@ def teme_near(X, R3, site_ef, enu, r_max_km, above_horizon):
     rounds them, :mod:`~...models.orbit3d_replay`) and whether each is within ``r_max_km`` (``|loc|² ≤ (r_max (1 +
     1e-9))²``) and, with ``above_horizon``, above the horizon: the points whose angles
     :meth:`~.sensors.GroundRadar.in_view` then tests, the same decisions in one pass over the rows."""
-    f = np.ascontiguousarray
-    return _near(f(X, dtype=float), f(R3, dtype=float), f(site_ef, dtype=float), f(enu, dtype=float),
+    f = np.ascontiguousarray  # X as given: the kernel reads its first three columns (a slice of means is not copied)
+    X = np.asarray(X, dtype=float)
+    return _near(X if X.ndim == 2 and X.strides[1] == X.itemsize else f(X), f(R3, dtype=float), f(site_ef, dtype=float), f(enu, dtype=float),
                  float((r_max_km * (1 + 1e-9)) ** 2), bool(above_horizon))

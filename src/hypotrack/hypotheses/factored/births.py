@@ -23,9 +23,11 @@ from __future__ import annotations
 import numpy as np
 
 from ...association import gate_threshold
+from ...models.measurement import ExtendedMeasurement
 from ..population_lmb import GaussianBirthTerm
+from .births_kernels import band_pairs_compiled
 
-__all__ = ["birth_loglik", "batchable"]
+__all__ = ["birth_loglik", "batchable", "band_pairs", "band_pairs_loop"]
 
 _LOG_2PI = float(np.log(2 * np.pi))
 
@@ -65,15 +67,7 @@ def birth_loglik(population, Z) -> np.ndarray:
     z0 = Z[order, 0]
     lo = np.searchsorted(z0, z_pred[:, 0] - half[:, 0], side="left")
     hi = np.searchsorted(z0, z_pred[:, 0] + half[:, 0], side="right")
-    hit, hit_rows, hit_resid = [], [], []
-    for b in np.flatnonzero(hi > lo):
-        rows = order[lo[b]:hi[b]]
-        resid = meas.residual(Z[rows], z_pred[b][None])[:, 0]
-        ok = np.all(np.abs(resid) <= half[b], axis=1)
-        if ok.any():  # (a residual is row by row: the rows kept are theirs alone)
-            hit.append(b)
-            hit_rows.append(rows[ok])
-            hit_resid.append(resid[ok])
+    hit, hit_rows, hit_resid = band_pairs(meas, Z, order, lo, hi, z_pred, half)
     if not hit:
         return out
     # the term's own arithmetic (GaussianBirthTerm.loglik) on the rows the bound left; the Cholesky factors of
@@ -87,3 +81,32 @@ def birth_loglik(population, Z) -> np.ndarray:
         ll = -0.5 * d2 - np.sum(np.log(np.diag(L))) - const
         out[rows, b] = np.where(d2 <= gate, ll, -np.inf)
     return out
+
+
+def band_pairs(meas, Z, order, lo, hi, z_pred, half):
+    """``(terms hit, rows of each, residuals of each)``: per birth term ``b`` with returns in its band
+    (``order[lo[b]:hi[b]]``), the returns whose residual passes the per-component bound ``|ν_i| ≤ half[b, i]``, in
+    band order, and their residuals (``meas.residual``). One compiled pass (:mod:`.births_kernels`: the residual
+    and its wrap as numpy rounds them, bit for bit) when ``meas`` keeps :class:`~...models.measurement.ExtendedMeasurement`'s
+    residual; else :func:`band_pairs_loop`."""
+    if not (isinstance(meas, ExtendedMeasurement) and type(meas).residual is ExtendedMeasurement.residual):
+        return band_pairs_loop(meas, Z, order, lo, hi, z_pred, half)
+    wrapped = np.zeros(Z.shape[1], dtype=np.bool_)
+    wrapped[list(meas.wrapped)] = True
+    terms, starts, rows, resid = band_pairs_compiled(Z, order, lo, hi, z_pred, half, wrapped)
+    return (terms.tolist(), [rows[a:b] for a, b in zip(starts[:-1], starts[1:])],
+            [resid[a:b] for a, b in zip(starts[:-1], starts[1:])])
+
+
+def band_pairs_loop(meas, Z, order, lo, hi, z_pred, half):
+    """:func:`band_pairs` term by term in array passes (any measurement model's own ``residual``)."""
+    hit, hit_rows, hit_resid = [], [], []
+    for b in np.flatnonzero(hi > lo):
+        rows = order[lo[b]:hi[b]]
+        resid = meas.residual(Z[rows], z_pred[b][None])[:, 0]
+        ok = np.all(np.abs(resid) <= half[b], axis=1)
+        if ok.any():  # (a residual is row by row: the rows kept are theirs alone)
+            hit.append(int(b))
+            hit_rows.append(rows[ok])
+            hit_resid.append(resid[ok])
+    return hit, hit_rows, hit_resid

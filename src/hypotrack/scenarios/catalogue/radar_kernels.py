@@ -298,22 +298,148 @@ def radar_jacobian(X, site_teme, sdot, M):
     return _jacobians(f(X, dtype=float).reshape(-1, 6), f(site_teme, dtype=float), f(sdot, dtype=float), f(M, dtype=float))
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _update_known(X, P, Zr, Xi, Pi, mX, mP, keys, order, mz, mH, mRe, mK, s, sdot, M, steps, R, az_center, second):
+    """:func:`_batch`'s update (mode ``UPDATE``) of rows ``X``, ``P`` with returns ``Zr``, taking a row's ``ẑ``, ``H``,
+    ``R_eff`` and ``K`` from the last innovation's batch (``mX``, ``mP``, ``mz``, ``mH``, ``mRe``, ``mK``; ``keys`` its
+    first components sorted, ``order`` their rows) when the row's bits (``Xi``, ``Pi``: ``X``, ``P`` as int64, and the
+    batch's as ``mX``, ``mP``) are the same — the same numbers :func:`_row` and :func:`_gain` would compute, a row's
+    moments depending on that row alone — else computing them; then the Joseph update, the same statements as
+    :func:`_batch`'s. Returns ``(x⁺, P⁺, bad, n_known)``."""
+    n = X.shape[0]
+    xo = np.empty((n, 6))
+    Po = np.empty((n, 6, 6))
+    z = np.empty(4)
+    H = np.empty((4, 6))
+    Re = np.empty((4, 4))
+    S = np.empty((4, 4))
+    K = np.empty((6, 4))
+    Jp, Jm = np.empty((4, 6)), np.empty((4, 6))
+    Hxx, A = np.empty((4, 6, 6)), np.empty((4, 6, 6))
+    xs, PHt, LU, y = np.empty(6), np.empty((6, 4)), np.empty((4, 4)), np.empty(4)
+    piv = np.empty(4, np.int64)
+    IKH, B, KR = np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 4))
+    nu = np.empty(4)
+    bad, n_known = -1, 0
+    for i in range(n):
+        found = -1
+        q = np.searchsorted(keys, X[i, 0])
+        while found < 0 and q < len(keys) and keys[q] == X[i, 0]:
+            j = order[q]
+            same = True
+            for a in range(6):
+                if Xi[i, a] != mX[j, a]:
+                    same = False
+            for a in range(6):
+                for b in range(6):
+                    if Pi[i, a, b] != mP[j, a, b]:
+                        same = False
+            if same:
+                found = j
+            q += 1
+        if found >= 0:
+            n_known += 1
+            z[:] = mz[found]
+            H[:, :] = mH[found]
+            Re[:, :] = mRe[found]
+            K[:, :] = mK[found]
+        else:
+            _row(X[i], P[i], s, sdot, M, steps, R, az_center, second, z, H, Re, Jp, Jm, Hxx, A, xs)
+            if not _gain(P[i], H, Re, S, PHt, K, LU, piv, y):
+                bad = i
+                break
+        for a in range(4):
+            nu[a] = Zr[i, a] - z[a]
+        nu[1] = _wrap_pi(nu[1])
+        for r in range(6):
+            acc = 0.0
+            for a in range(4):
+                acc += K[r, a] * nu[a]
+            xo[i, r] = X[i, r] + acc
+        for r in range(6):  # IKH = I - K H
+            for c in range(6):
+                acc = 0.0
+                for a in range(4):
+                    acc = _fma(K[r, a], H[a, c], acc)
+                IKH[r, c] = (1.0 if r == c else 0.0) - acc
+        for r in range(6):  # B = IKH P
+            for c in range(6):
+                acc = 0.0
+                for l in range(6):
+                    acc = _fma(IKH[r, l], P[i, l, c], acc)
+                B[r, c] = acc
+        for r in range(6):  # KR = K R_eff
+            for c in range(4):
+                acc = 0.0
+                for l in range(4):
+                    acc = _fma(K[r, l], Re[l, c], acc)
+                KR[r, c] = acc
+        for r in range(6):  # B IKHᵀ + KR Kᵀ
+            for c in range(6):
+                acc = 0.0
+                for l in range(6):
+                    acc = _fma(B[r, l], IKH[c, l], acc)
+                acc2 = 0.0
+                for l in range(4):
+                    acc2 = _fma(KR[r, l], K[c, l], acc2)
+                Po[i, r, c] = acc + acc2
+        for r in range(6):
+            for c in range(r, 6):
+                v = 0.5 * (Po[i, r, c] + Po[i, c, r])
+                Po[i, r, c] = v
+                Po[i, c, r] = v
+    return xo, Po, bad, n_known
+
+
+#: The last innovation batch of :func:`radar_moments` (its geometry, rows and moments), which an update of the same
+#: rows under the same geometry reuses (the fast path updates the tracks the scan's scores just linearised).
+_LAST_INNOVATION = [None]
+
+
+def _same_geometry(a, b) -> bool:
+    """The same site, rotation, steps, ``R``, centre and order (bit for bit: the arrays' bytes)."""
+    for x, y in zip(a, b):
+        if isinstance(x, np.ndarray):
+            if not (x.shape == y.shape and x.tobytes() == y.tobytes()):
+                return False
+        elif x != y:
+            return False
+    return True
+
+
 def radar_moments(X, P, Z, site_teme, sdot, M, steps, R, az_center, second_order, mode):
     """The radar's EKF moments of tracks ``X`` (n, 6), ``P`` (n, 6, 6) (module docstring): ``mode``
     :data:`MOMENTS` ``(z_pred, H, R_eff)``, :data:`INNOVATION` ``(z_pred, S, K, H)`` or :data:`UPDATE` ``(x⁺, P⁺)``
     with returns ``Z`` (n, 4); the site's TEME position ``site_teme`` and velocity ``sdot``, ``M = E R3(θ)``
     (:func:`~.radar_model.site_teme`), the Hessian's ``steps`` (6,), ``R`` (4, 4) and the azimuth's centre.
-    Raises ``numpy.linalg.LinAlgError`` for a singular innovation covariance, as the array passes' solve does."""
+    Raises ``numpy.linalg.LinAlgError`` for a singular innovation covariance, as the array passes' solve does.
+
+    An update reuses the linearisation (``ẑ``, ``H``, ``R_eff``, ``K``) of each row the last innovation batch held
+    with the same bits under the same geometry (:func:`_update_known`: the numbers it would compute again)."""
     f = np.ascontiguousarray
     Zr = _NO_RETURNS if Z is None else f(Z, dtype=float)
-    z_pred, H, Re, S, K, xo, Po, bad = _batch(f(X, dtype=float), f(P, dtype=float), Zr, f(site_teme, dtype=float),
-                                              f(sdot, dtype=float), f(M, dtype=float), f(steps, dtype=float),
-                                              f(R, dtype=float), float(az_center), bool(second_order), int(mode))
+    X, P = f(X, dtype=float), f(P, dtype=float)
+    geo = (f(site_teme, dtype=float), f(sdot, dtype=float), f(M, dtype=float), f(steps, dtype=float),
+           f(R, dtype=float), float(az_center), bool(second_order))
+    last = _LAST_INNOVATION[0]
+    if mode == UPDATE and last is not None and len(X) and X.shape[1:] == (6,) and _same_geometry(last[0], geo):
+        _, mX, mP, keys, order, mz, mH, mRe, mK = last
+        xo, Po, bad, _ = _update_known(X, P, Zr, X.view(np.int64), P.view(np.int64), mX, mP, keys, order, mz, mH,
+                                       mRe, mK, *geo)
+        if bad >= 0:
+            raise np.linalg.LinAlgError("Singular matrix")
+        return xo, Po
+    z_pred, H, Re, S, K, xo, Po, bad = _batch(X, P, Zr, *geo, int(mode))
     if bad >= 0:
         raise np.linalg.LinAlgError("Singular matrix")
     if mode == MOMENTS:
         return z_pred, H, Re
     if mode == INNOVATION:
+        if len(X) and X.shape[1:] == (6,):  # kept as copies: the caller may change what it is given
+            keys_order = np.argsort(X[:, 0], kind="stable")
+            _LAST_INNOVATION[0] = (tuple(g.copy() if isinstance(g, np.ndarray) else g for g in geo),
+                                   X.view(np.int64).copy(), P.view(np.int64).copy(), X[keys_order, 0].copy(),
+                                   keys_order, z_pred.copy(), H.copy(), Re.copy(), K.copy())
         return z_pred, S, K, H
     return xo, Po
 
@@ -343,6 +469,7 @@ def teme_near(X, R3, site_ef, enu, r_max_km, above_horizon):
     rounds them, :mod:`~...models.orbit3d_replay`) and whether each is within ``r_max_km`` (``|loc|² ≤ (r_max (1 +
     1e-9))²``) and, with ``above_horizon``, above the horizon: the points whose angles
     :meth:`~.sensors.GroundRadar.in_view` then tests, the same decisions in one pass over the rows."""
-    f = np.ascontiguousarray
-    return _near(f(X, dtype=float), f(R3, dtype=float), f(site_ef, dtype=float), f(enu, dtype=float),
+    f = np.ascontiguousarray  # X as given: the kernel reads its first three columns (a slice of means is not copied)
+    X = np.asarray(X, dtype=float)
+    return _near(X if X.ndim == 2 and X.strides[1] == X.itemsize else f(X), f(R3, dtype=float), f(site_ef, dtype=float), f(enu, dtype=float),
                  float((r_max_km * (1 + 1e-9)) ** 2), bool(above_horizon))

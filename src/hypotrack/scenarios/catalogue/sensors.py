@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..._validation import check_finite_array, check_nonnegative, check_positive, check_probability
+from .fov_kernels import fov_decide
 from .frames import ef_to_rae, enu_matrix, geodetic_to_ef, local_to_rae, rae_to_enu, wrap_angle
 from .snr import SnrModel
 
@@ -290,6 +291,14 @@ class GroundRadar:
         """:meth:`in_view` of local east-north-up points ``loc`` ``(..., 3)`` of which only ``near`` (bool) may be
         inside (below the maximum range, and above the horizon when the field of view is): their angles alone tested."""
         f = self.fov
+        if np.ndim(loc) == 2:  # one compiled pass decides all but the points at a bound (:mod:`.fov_kernels`)
+            code = fov_decide(loc, near, f.r_min_km, f.r_max_km, np.deg2rad(f.el_min_deg), np.deg2rad(f.el_max_deg),
+                              f.az_center, np.deg2rad(f.az_width_deg) / 2, f.az_width_deg >= 360)
+            out = code == 1
+            hard = np.flatnonzero(code == 2)
+            if len(hard):  # those the array passes decide themselves
+                out[hard] = f.contains(local_to_rae(np.asarray(loc, dtype=float)[hard], f.az_center))
+            return out
         out = np.zeros(loc.shape[:-1], dtype=bool)
         out[near] = f.contains(local_to_rae(loc[near], f.az_center))
         return out

@@ -14,6 +14,8 @@ test_sleeping_arrays.py``), itself the general engine step's to 1e-12.
 
 from __future__ import annotations
 
+from math import isfinite
+
 import numpy as np
 
 from ..._logspace import logsumexp
@@ -27,7 +29,7 @@ from ..weights import ReidWeights
 
 __all__ = ["sleeping_step"]
 
-_EMPTY = np.zeros(0, dtype=np.int64)
+ASSOCIATION, DEATH = int(ChildSet.ASSOCIATION), int(ChildSet.DEATH)
 
 
 def _applies(engine, state, ctx) -> bool:
@@ -49,78 +51,77 @@ def sleeping_step(engine, state: FilterState, pred: TrackStore, ctx):
     p = np.asarray(ctx.p_detect, dtype=float)
     if np.any(p >= 1):
         return None
-    n_pred, H = len(p), len(state.log_w)
+    n_pred = len(p)
     p_s = np.full(n_pred, engine.population.p_survive) if ctx.p_survive is None else np.asarray(ctx.p_survive, float)
     with np.errstate(divide="ignore"):
         log_ps = np.log(p_s)
         death = np.log1p(-p_s) - log_ps
     log_miss = np.log1p(-p)
-    th = np.array([tr[0] if len(tr) else -1 for tr in state.tracks], dtype=np.int64)  # each parent's track or -1
-    has = th >= 0
-    t = th[has]
-    w = np.asarray(state.log_w, dtype=float)
-    missed = (w[has] + log_miss[t]) + log_ps[t]
-    if not np.all(np.isfinite(missed)):
-        return None
-    died = (missed + death[t]) - log_miss[t]
-    # the children parent by parent: slot 2h its "missed" (or "nothing", w_h + 0.0), slot 2h + 1 its finite "died"
-    lw2 = np.empty(2 * H)
-    lw2[0::2] = w + 0.0
-    lw2[0::2][has] = missed
-    present = np.zeros(2 * H, dtype=bool)
-    present[0::2] = True
-    dslot = 2 * np.flatnonzero(has) + 1
-    fin = np.isfinite(died)
-    lw2[dslot[fin]] = died[fin]
-    present[dslot[fin]] = True
-    track2 = np.full(2 * H, -1, dtype=np.int64)
-    track2[0::2] = th
-    kind2 = np.full(2 * H, ChildSet.ASSOCIATION, dtype=np.int64)
-    kind2[1::2] = ChildSet.DEATH
-    pos = np.flatnonzero(present)
-    lw, track, kind = lw2[pos], track2[pos], kind2[pos]
-    parent = pos // 2
-    keys = lw.copy()
-    keep = np.ones(len(lw), dtype=bool)
+    # the same operations as the closed form's on Python floats (IEEE doubles: the same roundings), numpy only for
+    # the logarithms and log-sum-exps, which it computes as the closed form does
+    lm, lps, dth = log_miss.tolist(), log_ps.tolist(), death.tolist()
+    lw, parent, kind, track = [], [], [], []  # the children, parent by parent
+    for h, (w, tr) in enumerate(zip(state.log_w.tolist(), state.tracks)):
+        if len(tr) == 0:
+            lw.append(w + 0.0)
+            parent.append(h), kind.append(ASSOCIATION), track.append(-1)
+            continue
+        t = int(tr[0])
+        missed = (w + lm[t]) + lps[t]
+        if not isfinite(missed):
+            return None
+        lw.append(missed)
+        parent.append(h), kind.append(ASSOCIATION), track.append(t)
+        died = (missed + dth[t]) - lm[t]
+        if isfinite(died):
+            lw.append(died)
+            parent.append(h), kind.append(DEATH), track.append(-1)
+    keys = list(lw)
+    keep = [True] * len(lw)
     n_dup = 0
-    if fin.any():  # merge_duplicates: children holding the same tracks (a death twin is among them)
-        values, counts = np.unique(track, return_counts=True)
-        for v in values[counts > 1]:
-            members = np.flatnonzero(track == v)
-            rep = members[np.argmax(lw[members])]
-            total = float(logsumexp(lw[members]))
+    if DEATH in kind:  # merge_duplicates: children holding the same tracks, into the heaviest (the first of equals)
+        members = {}
+        for c, t in enumerate(track):
+            members.setdefault(t, []).append(c)
+        for ms in members.values():
+            if len(ms) < 2:
+                continue
+            rep = max(ms, key=lw.__getitem__)  # (max returns the first of equal maxima, as argmax)
+            total = float(logsumexp(np.array([lw[c] for c in ms])))
             keys[rep] += total - lw[rep]
             lw[rep] = total
-            keep[members[members != rep]] = False
-            n_dup += len(members) - 1
-    idx = np.flatnonzero(keep)
-    lw, keys, track = lw[idx], keys[idx], track[idx]
-    held = np.unique(track[track >= 0])
-    ok = np.ones(n_pred, dtype=bool)
-    if engine.validity is not None and len(held):
-        verdict = np.asarray(engine.validity(pred.means[held]), dtype=bool)
-        if verdict.shape != (len(held),):
-            return None
-        ok[held] = verdict
-    order = np.argsort(-keys, kind="stable")
-    finite = np.isfinite(keys[order])
-    if not finite.all():  # valid_top_k stops at the first key that is not finite
-        order = order[:int(np.argmin(finite))]
-    tr_o = track[order]
-    sel = order[(tr_o < 0) | ok[np.maximum(tr_o, 0)]][:engine.max_hypotheses]
-    if len(sel) == 0:
+            for c in ms:
+                if c != rep:
+                    keep[c] = False
+            n_dup += len(ms) - 1
+    idx = [c for c in range(len(lw)) if keep[c]]
+    ok = None
+    if engine.validity is not None:
+        held = sorted({track[c] for c in idx if track[c] >= 0})
+        if held:
+            verdict = np.asarray(engine.validity(pred.means[held]), dtype=bool)
+            if verdict.shape != (len(held),):
+                return None
+            ok = dict(zip(held, verdict.tolist()))
+    sel = []
+    for c in sorted(idx, key=lambda c: -keys[c]):  # valid_top_k: best key first (stable), the first H∞ valid
+        if len(sel) == engine.max_hypotheses or not isfinite(keys[c]):
+            break
+        if ok is None or track[c] < 0 or ok[track[c]]:
+            sel.append(c)
+    if not sel:
         return None
     # _materialise: the predicted tracks in order of first appearance, one store entry each
-    ts = track[sel]
-    src, first = np.unique(ts[ts >= 0], return_index=True)
-    src = src[np.argsort(first, kind="stable")]
-    slot = np.full(n_pred, -1, dtype=np.int64)
-    slot[src] = np.arange(len(src))
-    entry = np.where(ts >= 0, slot[np.maximum(ts, 0)], -1)
-    lists = [np.array([e], dtype=np.int64) if e >= 0 else _EMPTY.copy() for e in entry.tolist()]
-    store = TrackStore(pred.means[src].copy(), pred.covs[src].copy(), pred.labels[src].astype(np.int64))
+    slot, lists = {}, []
+    for c in sel:
+        t = track[c]
+        if t >= 0:
+            lists.append(np.array([slot.setdefault(t, len(slot))], dtype=np.int64))
+        else:
+            lists.append(np.zeros(0, dtype=np.int64))
+    src = np.array(list(slot), dtype=np.int64)
+    store = TrackStore(pred.means[src], pred.covs[src], pred.labels[src].astype(np.int64))
     sk = state.keys
-    hyp_keys = [(sk[h], k, a, b"") for h, k, a in zip(parent[idx][sel].tolist(), kind[idx][sel].tolist(),
-                                                         np.where(kind[idx][sel] == ChildSet.DEATH, 0, -1).tolist())]
-    log_w = lw[sel] - logsumexp(lw[sel])
-    return FilterState(store, log_w, lists, hyp_keys, 0), n_dup
+    hyp_keys = [(sk[parent[c]], kind[c], 0 if kind[c] == DEATH else -1, b"") for c in sel]
+    lw_sel = np.array([lw[c] for c in sel])
+    return FilterState(store, lw_sel - logsumexp(lw_sel), lists, hyp_keys, 0), n_dup

@@ -53,9 +53,13 @@ def sleeping_step(engine, state: FilterState, pred: TrackStore, ctx):
         return None
     n_pred = len(p)
     p_s = np.full(n_pred, engine.population.p_survive) if ctx.p_survive is None else np.asarray(ctx.p_survive, float)
-    with np.errstate(divide="ignore"):
+    if np.all((p_s > 0) & (p_s < 1)):  # (numpy's error-state context costs more than the logarithms)
         log_ps = np.log(p_s)
         death = np.log1p(-p_s) - log_ps
+    else:
+        with np.errstate(divide="ignore"):
+            log_ps = np.log(p_s)
+            death = np.log1p(-p_s) - log_ps
     log_miss = np.log1p(-p)
     # the same operations as the closed form's on Python floats (IEEE doubles: the same roundings), numpy only for
     # the logarithms and log-sum-exps, which it computes as the closed form does

@@ -10,7 +10,7 @@ Eq. 59's "missed" ``w_h + log(1 − p_D,t) + log p_S,t`` and its "died" twin), t
 test, cap and materialisation, with the same floating-point operations on the same operands (Python's float
 arithmetic is the same IEEE double arithmetic; the logarithms and log-sum-exps are numpy's calls on the same arrays)
 — so that the state is bit for bit that of :func:`.sleeping.sleeping_step`
-(``tests/unit/hypotheses/factored/test_sleeping_arrays.py``), itself the general engine step's to 1e-12.
+(``tests/unit/hypotheses/factored/test_sleeping_scalar.py``), itself the general engine step's to 1e-12.
 """
 
 from __future__ import annotations

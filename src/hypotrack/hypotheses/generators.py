@@ -185,11 +185,7 @@ class MurtyGenerator(ChildGenerator):
         if problem.n_returns == 1 and problem.count_term_is_constant:
             one = one_return_k_best(problem, k)  # Murty's k best of a one-row matrix, its tie order kept
             if one is not None:
-                events = one[0]
-                lw = problem.log_weights(events)
-                events, lw = events[np.isfinite(lw)], lw[np.isfinite(lw)]
-                sel = top_k(lw, k)
-                return events[sel], lw[sel]
+                return one
         score, n_cols = _murty_matrix(problem)
         finite_phi = problem.count_term[np.isfinite(problem.count_term)]
         phi_max = float(finite_phi.max()) if finite_phi.size else -np.inf

@@ -27,15 +27,17 @@ __all__ = ["one_return_k_best"]
 
 
 def one_return_k_best(problem, k: int):
-    """``(events (E, 1) int32, row totals)`` of the ``k`` best assignments of a one-return problem in
-    Murty's order (module docstring), or ``None`` when the solver's tie order would decide it."""
+    """``(events (E, 1) int32, log-weights (E,))`` of the ``k`` best children of a one-return problem whose count term
+    is constant, in Murty's order (module docstring) and weighed as :meth:`~.association_problem.AssociationProblem.
+    log_weights` weighs them (``constant + ((0.0 + score) + φ[k, b])``, its gather-sum's operations), the infeasible
+    dropped — :class:`~.generators.MurtyGenerator`'s answer; ``None`` when the solver's tie order would decide it or
+    the problem is malformed (the general path raises its error)."""
     ts, os_ = problem.target_scores[0], problem.option_scores[0]
     row = np.concatenate([ts, os_[1:], os_[:1]])  # the Murty matrix's columns: exclusive, seeded options, clutter
-    if np.isnan(row).any() or np.isposinf(row).any():
+    ct = problem.count_term
+    if np.isnan(row).any() or np.isposinf(row).any() or not os_[0] > -np.inf or not ct.flat[0] < np.inf:
         return None
     cols = np.flatnonzero(row > -np.inf)
-    if len(cols) == 0:
-        return None
     v = row[cols]
     order = np.argsort(-v, kind="stable")
     if len(cols) <= k:
@@ -46,7 +48,12 @@ def one_return_k_best(problem, k: int):
         if np.any(top[1:] == top[:-1]):
             return None  # the chain's next pick among equal entries is the solver's
         order = order[:k]
-    n_excl, n_opt = ts.shape[0], os_.shape[0]
-    codes = np.concatenate([np.arange(n_excl), -1 - np.arange(1, n_opt), [-1]]).astype(np.int32)
-    picked = cols[order]
-    return codes[picked][:, None], v[order]
+    n_excl, n_opt, n_obj = ts.shape[0], os_.shape[0], problem.n_objects
+    codes = np.concatenate([np.arange(n_excl), -1 - np.arange(1, n_opt), [-1]]).astype(np.int32)[cols[order]]
+    on_object = ((codes >= 0) & (codes < n_obj)).astype(np.int64)
+    on_birth = (codes >= n_obj).astype(np.int64)
+    lw = problem.constant + ((0.0 + v[order]) + ct[on_object, on_birth])
+    ok = np.isfinite(lw)
+    events, lw = codes[ok][:, None], lw[ok]
+    sel = np.argsort(-lw, kind="stable")  # the generator's top_k of at most k children
+    return events[sel], lw[sel]

@@ -14,9 +14,9 @@ from hypotrack.hypotheses.association_problem import AssociationProblem
 from hypotrack.hypotheses.one_return import one_return_k_best
 
 
-def _problem(ts, os_, n_obj, constant=-0.75):
+def _problem(ts, os_, n_obj, constant=-0.75, phi=0.0):
     ts, os_ = np.atleast_2d(np.asarray(ts, float)), np.atleast_2d(np.asarray(os_, float))
-    return AssociationProblem(ts, os_, n_obj, np.zeros((n_obj + 1, ts.shape[1] - n_obj + 1)), constant=constant)
+    return AssociationProblem(ts, os_, n_obj, np.full((n_obj + 1, ts.shape[1] - n_obj + 1), phi), constant=constant)
 
 
 def _general(problem, k, monkeypatch):
@@ -28,11 +28,11 @@ def _general(problem, k, monkeypatch):
 def test_hand_computed_row():
     # objects 0, 1 (1 gated out), a birth column 2; clutter -1.0; seeded components -2 (0.5), -3 (-3.0)
     p = _problem([[2.0, -np.inf, 0.25]], [[-1.0, 0.5, -3.0]], 2)
-    ev, tot = one_return_k_best(p, 10)
+    ev, lw = one_return_k_best(p, 10)
     assert ev.dtype == np.int32 and ev.shape == (5, 1)
     assert ev[:, 0].tolist() == [0, -2, 2, -1, -3]
-    assert tot.tolist() == [2.0, 0.5, 0.25, -1.0, -3.0]
-    ev, tot = one_return_k_best(p, 3)
+    assert lw.tolist() == [1.25, -0.25, -0.5, -1.75, -3.75]  # the entries plus the constant -0.75
+    ev, lw = one_return_k_best(p, 3)
     assert ev[:, 0].tolist() == [0, -2, 2]
     events, lw = MurtyGenerator(k=3).generate(p)
     assert events[:, 0].tolist() == [0, -2, 2] and np.allclose(lw, np.array([2.0, 0.5, 0.25]) - 0.75, rtol=0, atol=0)
@@ -50,6 +50,16 @@ def test_ties_hand_over_to_the_solver():
 
 def test_malformed_rows_decline():
     assert one_return_k_best(_problem([[np.nan, 0.0]], [[-1.0]], 2), 5) is None
+    assert one_return_k_best(_problem([[0.5, 0.0]], [[-np.inf, 1.0]], 2), 5) is None  # no clutter: the general error
+    assert one_return_k_best(_problem([[0.5, 0.0]], [[-1.0]], 2, phi=np.inf), 5) is None
+    with pytest.raises(ValueError, match="clutter"):
+        MurtyGenerator(k=5).generate(_problem([[0.5, 0.0]], [[-np.inf, 1.0]], 2))
+
+
+def test_an_infeasible_parent_has_no_child(monkeypatch):
+    p = _problem([[0.5, 0.0]], [[-1.0, 0.2]], 2, constant=-np.inf)
+    fast, ref = MurtyGenerator(k=5).generate(p), _general(p, 5, monkeypatch)
+    assert fast[0].shape == ref[0].shape == (0, 1) and len(fast[1]) == len(ref[1]) == 0
 
 
 @pytest.mark.parametrize("seed", range(12))
@@ -65,7 +75,7 @@ def test_equal_to_the_general_path(seed, monkeypatch):
             ts, os_ = np.round(ts * 2) / 2, np.round(os_ * 2) / 2
         os_[rng.random(os_.shape) < 0.2] = -np.inf
         os_[0, 0] = rng.normal()  # clutter finite
-        p = _problem(ts, os_, n_obj, constant=float(rng.normal()))
+        p = _problem(ts, os_, n_obj, constant=float(rng.normal() * 10), phi=float(rng.choice([0.0, -0.0, -1.3])))
         for k in (1, 2, 3, 20):
             fast = MurtyGenerator(k=k).generate(p)
             ref = _general(p, k, monkeypatch)

@@ -21,6 +21,9 @@ rejects with its own error) so that the caller takes the solver's path and its t
 
 from __future__ import annotations
 
+from math import inf as _INF
+from math import isfinite
+
 import numpy as np
 
 __all__ = ["one_return_k_best"]
@@ -31,29 +34,31 @@ def one_return_k_best(problem, k: int):
     is constant, in Murty's order (module docstring) and weighed as :meth:`~.association_problem.AssociationProblem.
     log_weights` weighs them (``constant + ((0.0 + score) + φ[k, b])``, its gather-sum's operations), the infeasible
     dropped — :class:`~.generators.MurtyGenerator`'s answer; ``None`` when the solver's tie order would decide it or
-    the problem is malformed (the general path raises its error)."""
-    ts, os_ = problem.target_scores[0], problem.option_scores[0]
-    row = np.concatenate([ts, os_[1:], os_[:1]])  # the Murty matrix's columns: exclusive, seeded options, clutter
+    the problem is malformed (the general path raises its error). On Python floats (the same IEEE double arithmetic):
+    a row holds a few entries, where numpy's per-call overhead would be the cost."""
+    ts, opts = problem.target_scores[0].tolist(), problem.option_scores[0].tolist()
+    row = ts + opts[1:] + opts[:1]  # the Murty matrix's columns: exclusive, seeded options, clutter
     ct = problem.count_term
-    if np.isnan(row).any() or np.isposinf(row).any() or not os_[0] > -np.inf or not ct.flat[0] < np.inf:
+    if any(v != v or v == _INF for v in row) or not opts[0] > -_INF or not float(ct.flat[0]) < _INF:
         return None
-    cols = np.flatnonzero(row > -np.inf)
-    v = row[cols]
-    order = np.argsort(-v, kind="stable")
+    cols = [j for j, v in enumerate(row) if v > -_INF]
+    cols.sort(key=lambda j: -row[j])  # stable: equal entries in column order
     if len(cols) <= k:
-        if len(cols) > 1 and v[order[0]] == v[order[1]]:
+        if len(cols) > 1 and row[cols[0]] == row[cols[1]]:
             return None  # the solver's pick among equal optima leads
     else:
-        top = v[order[:k + 1]]
-        if np.any(top[1:] == top[:-1]):
+        top = [row[j] for j in cols[:k + 1]]
+        if any(a == b for a, b in zip(top, top[1:])):
             return None  # the chain's next pick among equal entries is the solver's
-        order = order[:k]
-    n_excl, n_opt, n_obj = ts.shape[0], os_.shape[0], problem.n_objects
-    codes = np.concatenate([np.arange(n_excl), -1 - np.arange(1, n_opt), [-1]]).astype(np.int32)[cols[order]]
-    on_object = ((codes >= 0) & (codes < n_obj)).astype(np.int64)
-    on_birth = (codes >= n_obj).astype(np.int64)
-    lw = problem.constant + ((0.0 + v[order]) + ct[on_object, on_birth])
-    ok = np.isfinite(lw)
-    events, lw = codes[ok][:, None], lw[ok]
-    sel = np.argsort(-lw, kind="stable")  # the generator's top_k of at most k children
-    return events[sel], lw[sel]
+        cols = cols[:k]
+    n_excl, n_obj, phi, const = len(ts), problem.n_objects, ct.tolist(), problem.constant
+    events, lw = [], []
+    for j in cols:
+        code = j if j < n_excl else -2 - (j - n_excl) if j < len(row) - 1 else -1
+        w = const + ((0.0 + row[j]) + phi[int(0 <= code < n_obj)][int(code >= n_obj)])
+        if isfinite(w):
+            events.append(code)
+            lw.append(w)
+    sel = sorted(range(len(lw)), key=lambda i: -lw[i])  # the generator's top_k of at most k children (stable)
+    return (np.array([events[i] for i in sel], dtype=np.int32).reshape(-1, 1),
+            np.array([lw[i] for i in sel], dtype=float))

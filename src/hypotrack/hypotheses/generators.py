@@ -45,6 +45,7 @@ from ..association import (
 from ..association.cardinality_assignment import cardinality_k_best
 from ..association.samplers import MCMC_VARIANTS, checked_search, completion_limit, state_log_weight, to_state
 from .association_problem import SEEDED_BIRTH, AssociationProblem
+from .one_return import one_return_k_best
 
 __all__ = ["ChildGenerator", "ExhaustiveGenerator", "MurtyGenerator", "MCMCGenerator", "top_k"]
 
@@ -181,6 +182,10 @@ class MurtyGenerator(ChildGenerator):
             events, lw = cardinality_k_best(problem.target_scores, problem.option_scores[:, 0], problem.n_objects,
                                             problem.count_term, k)
             return events, lw + problem.constant
+        if problem.n_returns == 1 and problem.count_term_is_constant:
+            one = one_return_k_best(problem, k)  # Murty's k best of a one-row matrix, its tie order kept
+            if one is not None:
+                return one
         score, n_cols = _murty_matrix(problem)
         finite_phi = problem.count_term[np.isfinite(problem.count_term)]
         phi_max = float(finite_phi.max()) if finite_phi.size else -np.inf

@@ -20,7 +20,7 @@ from ..state import FilterState
 from ..tracks import TrackStore
 from .lane import GroupSet, bernoulli, empty_state, singleton, take
 from .scores import Scores, score_tracks
-from .sleeping import sleeping_step
+from .sleeping_scalar import sleeping_step
 
 __all__ = ["Scores", "MAX_SCALED_CONDITION", "scorable", "innovation_covariances", "score_scorable", "ScanData",
            "ScanGraph", "scan_graph", "component_context",
@@ -225,13 +225,14 @@ def quiet_plan(engine, lane_on: bool, objects, state, pred, sc, Z, birth_ll, sta
     """A group no return or birth term reaches (package docstring, step 3): only predicted when
     that is exact (a silent population, ``lane_on``, and the same ``Π (1 − p_D)`` in all its
     hypotheses), else the plan of an engine step on an empty scan — or, the fast path on (``fast``:
-    its rule), that step itself, ``("slept", state, parts)``, when it has a closed form (:mod:`.sleeping`)."""
-    log_miss = np.log1p(-sc[2])
-    miss = np.array([log_miss[t].sum() for t in state.tracks])
-    if lane_on and np.ptp(miss) <= 1e-12:
-        stats["n_predict_only"] += 1
-        new = state.with_store(pred)
-        return ("done", new, objects.of(new.store.labels))  # no interaction: every object its own part
+    its rule), that step itself, ``("slept", state, parts)``, when it has a closed form (:mod:`.sleeping`, computed by :mod:`.sleeping_scalar`)."""
+    if lane_on:  # (the Π (1 − p_D) of each hypothesis only read here)
+        log_miss = np.log1p(-sc[2])
+        miss = np.array([log_miss[t].sum() for t in state.tracks])
+        if np.ptp(miss) <= 1e-12:
+            stats["n_predict_only"] += 1
+            new = state.with_store(pred)
+            return ("done", new, objects.of(new.store.labels))  # no interaction: every object its own part
     none = np.zeros(0, dtype=np.int64)
     ctx = component_context(engine, Z, none, sc, birth_ll, none)
     slept = None if fast is None else sleeping_step(engine, state, pred, ctx)  # one-track hypotheses: closed form

@@ -32,7 +32,8 @@ Per tracker, population size and scan (:func:`run_tracker`): CPU seconds
 (``time.process_time``), groups and the largest group, GOSPA and OSPA of the estimates in view
 against the truth in view, and the estimate assigned to each true object (for continuity and
 births, :func:`continuity`). The association samplers' compiled kernels are loaded before the first scan
-(:func:`~hypotrack.hypotheses.warm.warm_samplers`); another kernel a tracker first calls inside the run (JPDA's
+(:func:`~hypotrack.hypotheses.warm.warm_samplers`), and the factored engine's (:func:`~hypotrack.hypotheses.warm.warm_engine`:
+scan 0, timed here, would load them all); another kernel a tracker first calls inside the run (JPDA's
 loopy belief propagation on its first cluster) is compiled in that scan when numba's cache is cold, as in a fresh
 checkout: seconds of CPU in one scan of the first population size (its ``cpu_s_max``), which its mean per scan
 and the cost slope then carry.

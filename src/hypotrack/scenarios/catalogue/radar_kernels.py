@@ -106,17 +106,25 @@ def _h(x, s, sdot, M, az_center, z):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")
-def _row(x, P, s, sdot, M, steps, R, az_center, second, z, H, Re, Jp, Jm, Hxx, A, xs):
-    """``(z_pred, H, R_eff)`` of one track into ``z``, ``H``, ``Re`` (the scratch ``Jp``, ``Jm``, ``Hxx``, ``A``,
-    ``xs``): :meth:`~...models.measurement.ExtendedMeasurement._moments`."""
-    _jacobian(x, s, sdot, M, H)
-    _h(x, s, sdot, M, az_center, z)
-    for a in range(4):
-        for b in range(4):
-            Re[a, b] = R[a, b]
-    if not second:
-        return
-    for k in range(6):  # central differences of the Jacobian: Hxx[a, l, k] before symmetrising
+def _rate_row(x, s, sdot, d0, d1, d2, rho, J3):
+    """The range rate's position derivatives ``J[3, :3]`` of :func:`_jacobian` at state ``x`` whose position
+    differences ``d`` and range ``ρ`` are given (the same expressions, so the same bits)."""
+    w0, w1, w2 = x[3] - sdot[0], x[4] - sdot[1], x[5] - sdot[2]
+    rdot = (d0 * w0 + d1 * w1 + d2 * w2) / rho
+    J3[0] = (w0 - rdot * d0 / rho) / rho
+    J3[1] = (w1 - rdot * d1 / rho) / rho
+    J3[2] = (w2 - rdot * d2 / rho) / rho
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _differences(x, s, sdot, M, steps, H, Jp, Jm, xs, A):
+    """The Jacobian's central differences ``A[a, l, k] = (J(x + h_k e_k) − J(x − h_k e_k))[a, l] / 2h_k`` (the
+    Hessian before symmetrising), ``H = J(x)`` given. A velocity step (``k ≥ 3``) moves only the range rate's
+    position derivatives ``J[3, :3]`` (``ρ̇ = d·w/ρ``: the only entries holding ``w``); every other entry of the
+    shifted Jacobians is computed from the unshifted position by the same expressions as ``H``'s, so it is ``H``'s
+    own bits and its difference is ``H``'s entry minus itself: the same numbers (a zero, or a NaN where ``H`` has
+    one) as differencing two full Jacobians, with six of the twelve Jacobians reduced to three entries."""
+    for k in range(3):  # a position step: every entry moves
         for c in range(6):
             xs[c] = x[c]
         xs[k] = x[k] + steps[k]
@@ -127,6 +135,36 @@ def _row(x, P, s, sdot, M, steps, R, az_center, second, z, H, Re, Jp, Jm, Hxx, A
         for a in range(4):
             for l in range(6):
                 A[a, l, k] = (Jp[a, l] - Jm[a, l]) / two
+    d0, d1, d2 = x[0] - s[0], x[1] - s[1], x[2] - s[2]
+    rho = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    for k in range(3, 6):
+        for c in range(6):
+            xs[c] = x[c]
+        xs[k] = x[k] + steps[k]
+        _rate_row(xs, s, sdot, d0, d1, d2, rho, Jp[3])
+        xs[k] = x[k] - steps[k]
+        _rate_row(xs, s, sdot, d0, d1, d2, rho, Jm[3])
+        two = 2.0 * steps[k]
+        for a in range(4):
+            for l in range(6):
+                if a == 3 and l < 3:
+                    A[a, l, k] = (Jp[3, l] - Jm[3, l]) / two
+                else:
+                    A[a, l, k] = (H[a, l] - H[a, l]) / two
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _row(x, P, s, sdot, M, steps, R, az_center, second, z, H, Re, Jp, Jm, Hxx, A, xs):
+    """``(z_pred, H, R_eff)`` of one track into ``z``, ``H``, ``Re`` (the scratch ``Jp``, ``Jm``, ``Hxx``, ``A``,
+    ``xs``): :meth:`~...models.measurement.ExtendedMeasurement._moments`."""
+    _jacobian(x, s, sdot, M, H)
+    _h(x, s, sdot, M, az_center, z)
+    for a in range(4):
+        for b in range(4):
+            Re[a, b] = R[a, b]
+    if not second:
+        return
+    _differences(x, s, sdot, M, steps, H, Jp, Jm, xs, A)
     for a in range(4):
         for l in range(6):
             for k in range(6):

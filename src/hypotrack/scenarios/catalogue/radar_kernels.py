@@ -105,7 +105,7 @@ def _h(x, s, sdot, M, az_center, z):
     z[3] = (d0 * w0 + d1 * w1 + d2 * w2) / rho
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _rate_row(x, s, sdot, d0, d1, d2, rho, J3):
     """The range rate's position derivatives ``J[3, :3]`` of :func:`_jacobian` at state ``x`` whose position
     differences ``d`` and range ``ρ`` are given (the same expressions, so the same bits)."""
@@ -116,7 +116,7 @@ def _rate_row(x, s, sdot, d0, d1, d2, rho, J3):
     J3[2] = (w2 - rdot * d2 / rho) / rho
 
 
-@numba.njit(cache=True, nogil=True, error_model="numpy")
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _differences(x, s, sdot, M, steps, H, Jp, Jm, xs, A):
     """The Jacobian's central differences ``A[a, l, k] = (J(x + h_k e_k) − J(x − h_k e_k))[a, l] / 2h_k`` (the
     Hessian before symmetrising), ``H = J(x)`` given. A velocity step (``k ≥ 3``) moves only the range rate's
@@ -147,10 +147,9 @@ def _differences(x, s, sdot, M, steps, H, Jp, Jm, xs, A):
         two = 2.0 * steps[k]
         for a in range(4):
             for l in range(6):
-                if a == 3 and l < 3:
-                    A[a, l, k] = (Jp[3, l] - Jm[3, l]) / two
-                else:
-                    A[a, l, k] = (H[a, l] - H[a, l]) / two
+                A[a, l, k] = (H[a, l] - H[a, l]) / two
+        for l in range(3):
+            A[3, l, k] = (Jp[3, l] - Jm[3, l]) / two
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy")

@@ -168,26 +168,35 @@ def _row(x, P, s, sdot, M, steps, R, az_center, second, z, H, Re, Jp, Jm, Hxx, A
         for l in range(6):
             for k in range(6):
                 Hxx[a, l, k] = 0.5 * (A[a, l, k] + A[a, k, l])
-    for a in range(4):  # A_a = Hxx_a P (the 6 x 6 product's fused chain)
+    # A_a = Hxx_a P, each entry the 6 x 6 product's fused chain over l; the chains of a row side by side (the loop
+    # over j innermost), so they overlap instead of waiting on one another: each entry's operations and order unchanged
+    for a in range(4):
         for i in range(6):
             for j in range(6):
-                acc = 0.0
-                for l in range(6):
-                    acc = _fma(Hxx[a, i, l], P[l, j], acc)
-                A[a, i, j] = acc
+                A[a, i, j] = 0.0
+            for l in range(6):
+                h = Hxx[a, i, l]
+                for j in range(6):
+                    A[a, i, j] = _fma(h, P[l, j], A[a, i, j])
     for a in range(4):
         tr = A[a, 0, 0]
         for i in range(1, 6):
             tr += A[a, i, i]
         z[a] = z[a] + 0.5 * tr
+    # T[u, v] = Σ_kl A_u[k, l] A_v[l, k] over k then l, as one sum each; all sixteen side by side (Jp's room)
+    T = Jp.reshape(24)
+    for p in range(16):
+        T[p] = 0.0
+    for k in range(6):
+        for l in range(6):
+            for u in range(4):
+                g = A[u, k, l]
+                for w in range(4):
+                    T[4 * u + w] += g * A[w, l, k]
     for a in range(4):  # S2[a, b] = ½ Σ_kl A_a[k, l] A_b[l, k], symmetrised
         for b in range(a, 4):
-            sab = 0.0
-            sba = 0.0
-            for k in range(6):
-                for l in range(6):
-                    sab += A[a, k, l] * A[b, l, k]
-                    sba += A[b, k, l] * A[a, l, k]
+            sab = T[4 * a + b]
+            sba = T[4 * b + a]
             v = 0.5 * (0.5 * sab + 0.5 * sba)
             Re[a, b] = R[a, b] + v
             Re[b, a] = R[b, a] + v

@@ -1,4 +1,5 @@
-"""The association samplers' and JPDA's compiled kernels loaded (or compiled) now, on three-object problems.
+"""The association samplers' and JPDA's compiled kernels loaded (or compiled) now, on three-object problems; the
+factored engine's catalogue kernels by :func:`~.warm_factored.warm_engine` (re-exported here).
 
 A timed loop calls this first when a tracker's first Gibbs, MCMC or ranked-assignment step may fall inside a timed
 scan: numba loads a kernel from its cache on the kernel's first call in a process (~10 ms for the Gibbs sampler's
@@ -14,8 +15,9 @@ from ..association.marginals import jpda_marginals
 from .generators import MCMCGenerator, MurtyGenerator
 from .gibbs import GibbsGenerator
 from .problems import synthetic_problem
+from .warm_factored import warm_engine
 
-__all__ = ["warm_samplers"]
+__all__ = ["warm_engine", "warm_samplers"]
 
 
 def warm_samplers() -> None:

@@ -105,6 +105,53 @@ def _h(x, s, sdot, M, az_center, z):
     z[3] = (d0 * w0 + d1 * w1 + d2 * w2) / rho
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _rate_row(x, s, sdot, d0, d1, d2, rho, J3):
+    """The range rate's position derivatives ``J[3, :3]`` of :func:`_jacobian` at state ``x`` whose position
+    differences ``d`` and range ``ρ`` are given (the same expressions, so the same bits)."""
+    w0, w1, w2 = x[3] - sdot[0], x[4] - sdot[1], x[5] - sdot[2]
+    rdot = (d0 * w0 + d1 * w1 + d2 * w2) / rho
+    J3[0] = (w0 - rdot * d0 / rho) / rho
+    J3[1] = (w1 - rdot * d1 / rho) / rho
+    J3[2] = (w2 - rdot * d2 / rho) / rho
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _differences(x, s, sdot, M, steps, H, Jp, Jm, xs, A):
+    """The Jacobian's central differences ``A[a, l, k] = (J(x + h_k e_k) − J(x − h_k e_k))[a, l] / 2h_k`` (the
+    Hessian before symmetrising), ``H = J(x)`` given. A velocity step (``k ≥ 3``) moves only the range rate's
+    position derivatives ``J[3, :3]`` (``ρ̇ = d·w/ρ``: the only entries holding ``w``); every other entry of the
+    shifted Jacobians is computed from the unshifted position by the same expressions as ``H``'s, so it is ``H``'s
+    own bits and its difference is ``H``'s entry minus itself: the same numbers (a zero, or a NaN where ``H`` has
+    one) as differencing two full Jacobians, with six of the twelve Jacobians reduced to three entries."""
+    for k in range(3):  # a position step: every entry moves
+        for c in range(6):
+            xs[c] = x[c]
+        xs[k] = x[k] + steps[k]
+        _jacobian(xs, s, sdot, M, Jp)
+        xs[k] = x[k] - steps[k]
+        _jacobian(xs, s, sdot, M, Jm)
+        two = 2.0 * steps[k]
+        for a in range(4):
+            for l in range(6):
+                A[a, l, k] = (Jp[a, l] - Jm[a, l]) / two
+    d0, d1, d2 = x[0] - s[0], x[1] - s[1], x[2] - s[2]
+    rho = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    for k in range(3, 6):
+        for c in range(6):
+            xs[c] = x[c]
+        xs[k] = x[k] + steps[k]
+        _rate_row(xs, s, sdot, d0, d1, d2, rho, Jp[3])
+        xs[k] = x[k] - steps[k]
+        _rate_row(xs, s, sdot, d0, d1, d2, rho, Jm[3])
+        two = 2.0 * steps[k]
+        for a in range(4):
+            for l in range(6):
+                A[a, l, k] = (H[a, l] - H[a, l]) / two
+        for l in range(3):
+            A[3, l, k] = (Jp[3, l] - Jm[3, l]) / two
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _row(x, P, s, sdot, M, steps, R, az_center, second, z, H, Re, Jp, Jm, Hxx, A, xs):
     """``(z_pred, H, R_eff)`` of one track into ``z``, ``H``, ``Re`` (the scratch ``Jp``, ``Jm``, ``Hxx``, ``A``,
@@ -116,41 +163,40 @@ def _row(x, P, s, sdot, M, steps, R, az_center, second, z, H, Re, Jp, Jm, Hxx, A
             Re[a, b] = R[a, b]
     if not second:
         return
-    for k in range(6):  # central differences of the Jacobian: Hxx[a, l, k] before symmetrising
-        for c in range(6):
-            xs[c] = x[c]
-        xs[k] = x[k] + steps[k]
-        _jacobian(xs, s, sdot, M, Jp)
-        xs[k] = x[k] - steps[k]
-        _jacobian(xs, s, sdot, M, Jm)
-        two = 2.0 * steps[k]
-        for a in range(4):
-            for l in range(6):
-                A[a, l, k] = (Jp[a, l] - Jm[a, l]) / two
+    _differences(x, s, sdot, M, steps, H, Jp, Jm, xs, A)
     for a in range(4):
         for l in range(6):
             for k in range(6):
                 Hxx[a, l, k] = 0.5 * (A[a, l, k] + A[a, k, l])
-    for a in range(4):  # A_a = Hxx_a P (the 6 x 6 product's fused chain)
+    # A_a = Hxx_a P, each entry the 6 x 6 product's fused chain over l; the chains of a row side by side (the loop
+    # over j innermost), so they overlap instead of waiting on one another: each entry's operations and order unchanged
+    for a in range(4):
         for i in range(6):
             for j in range(6):
-                acc = 0.0
-                for l in range(6):
-                    acc = _fma(Hxx[a, i, l], P[l, j], acc)
-                A[a, i, j] = acc
+                A[a, i, j] = 0.0
+            for l in range(6):
+                h = Hxx[a, i, l]
+                for j in range(6):
+                    A[a, i, j] = _fma(h, P[l, j], A[a, i, j])
     for a in range(4):
         tr = A[a, 0, 0]
         for i in range(1, 6):
             tr += A[a, i, i]
         z[a] = z[a] + 0.5 * tr
+    # T[u, v] = Σ_kl A_u[k, l] A_v[l, k] over k then l, as one sum each; all sixteen side by side (Jp's room)
+    T = Jp.reshape(24)
+    for p in range(16):
+        T[p] = 0.0
+    for k in range(6):
+        for l in range(6):
+            for u in range(4):
+                g = A[u, k, l]
+                for w in range(4):
+                    T[4 * u + w] += g * A[w, l, k]
     for a in range(4):  # S2[a, b] = ½ Σ_kl A_a[k, l] A_b[l, k], symmetrised
         for b in range(a, 4):
-            sab = 0.0
-            sba = 0.0
-            for k in range(6):
-                for l in range(6):
-                    sab += A[a, k, l] * A[b, l, k]
-                    sba += A[b, k, l] * A[a, l, k]
+            sab = T[4 * a + b]
+            sba = T[4 * b + a]
             v = 0.5 * (0.5 * sab + 0.5 * sba)
             Re[a, b] = R[a, b] + v
             Re[b, a] = R[b, a] + v

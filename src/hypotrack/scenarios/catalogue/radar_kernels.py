@@ -284,47 +284,54 @@ def _batch(X, P, Zr, s, sdot, M, steps, R, az_center, second, mode):
             break
         if mode == INNOVATION:
             continue
+        _joseph(X[i], P[i], Zr[i], z_pred[i], H[i], Re[i], K[i], xo[i], Po[i], nu, IKH, B, KR)
+    return z_pred, H, Re, S, K, xo, Po, bad
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy")
+def _joseph(x, P, zr, z, H, Re, K, xo, Po, nu, IKH, B, KR):
+    """The EKF update of one row written into ``xo``, ``Po``: ``x + K ν`` (the azimuth's innovation wrapped) and the
+    Joseph form ``(I − K H) P (I − K H)ᵀ + K R_eff Kᵀ`` symmetrised; ``nu``, ``IKH``, ``B``, ``KR`` are scratch."""
+    for a in range(4):
+        nu[a] = zr[a] - z[a]
+    nu[1] = _wrap_pi(nu[1])
+    for r in range(6):
+        acc = 0.0
         for a in range(4):
-            nu[a] = Zr[i, a] - z_pred[i, a]
-        nu[1] = _wrap_pi(nu[1])
-        for r in range(6):
+            acc += K[r, a] * nu[a]
+        xo[r] = x[r] + acc
+    for r in range(6):  # IKH = I - K H
+        for c in range(6):
             acc = 0.0
             for a in range(4):
-                acc += K[i, r, a] * nu[a]
-            xo[i, r] = X[i, r] + acc
-        for r in range(6):  # IKH = I - K H
-            for c in range(6):
-                acc = 0.0
-                for a in range(4):
-                    acc = _fma(K[i, r, a], H[i, a, c], acc)
-                IKH[r, c] = (1.0 if r == c else 0.0) - acc
-        for r in range(6):  # B = IKH P
-            for c in range(6):
-                acc = 0.0
-                for l in range(6):
-                    acc = _fma(IKH[r, l], P[i, l, c], acc)
-                B[r, c] = acc
-        for r in range(6):  # KR = K R_eff
-            for c in range(4):
-                acc = 0.0
-                for l in range(4):
-                    acc = _fma(K[i, r, l], Re[i, l, c], acc)
-                KR[r, c] = acc
-        for r in range(6):  # B IKHᵀ + KR Kᵀ
-            for c in range(6):
-                acc = 0.0
-                for l in range(6):
-                    acc = _fma(B[r, l], IKH[c, l], acc)
-                acc2 = 0.0
-                for l in range(4):
-                    acc2 = _fma(KR[r, l], K[i, c, l], acc2)
-                Po[i, r, c] = acc + acc2
-        for r in range(6):
-            for c in range(r, 6):
-                v = 0.5 * (Po[i, r, c] + Po[i, c, r])
-                Po[i, r, c] = v
-                Po[i, c, r] = v
-    return z_pred, H, Re, S, K, xo, Po, bad
+                acc = _fma(K[r, a], H[a, c], acc)
+            IKH[r, c] = (1.0 if r == c else 0.0) - acc
+    for r in range(6):  # B = IKH P
+        for c in range(6):
+            acc = 0.0
+            for l in range(6):
+                acc = _fma(IKH[r, l], P[l, c], acc)
+            B[r, c] = acc
+    for r in range(6):  # KR = K R_eff
+        for c in range(4):
+            acc = 0.0
+            for l in range(4):
+                acc = _fma(K[r, l], Re[l, c], acc)
+            KR[r, c] = acc
+    for r in range(6):  # B IKHᵀ + KR Kᵀ
+        for c in range(6):
+            acc = 0.0
+            for l in range(6):
+                acc = _fma(B[r, l], IKH[c, l], acc)
+            acc2 = 0.0
+            for l in range(4):
+                acc2 = _fma(KR[r, l], K[c, l], acc2)
+            Po[r, c] = acc + acc2
+    for r in range(6):
+        for c in range(r, 6):
+            v = 0.5 * (Po[r, c] + Po[c, r])
+            Po[r, c] = v
+            Po[c, r] = v
 
 
 _NO_RETURNS = np.zeros((0, 4))
@@ -394,46 +401,7 @@ def _update_known(X, P, Zr, Xi, Pi, mX, mP, keys, order, mz, mH, mRe, mK, s, sdo
             if not _gain(P[i], H, Re, S, PHt, K, LU, piv, y):
                 bad = i
                 break
-        for a in range(4):
-            nu[a] = Zr[i, a] - z[a]
-        nu[1] = _wrap_pi(nu[1])
-        for r in range(6):
-            acc = 0.0
-            for a in range(4):
-                acc += K[r, a] * nu[a]
-            xo[i, r] = X[i, r] + acc
-        for r in range(6):  # IKH = I - K H
-            for c in range(6):
-                acc = 0.0
-                for a in range(4):
-                    acc = _fma(K[r, a], H[a, c], acc)
-                IKH[r, c] = (1.0 if r == c else 0.0) - acc
-        for r in range(6):  # B = IKH P
-            for c in range(6):
-                acc = 0.0
-                for l in range(6):
-                    acc = _fma(IKH[r, l], P[i, l, c], acc)
-                B[r, c] = acc
-        for r in range(6):  # KR = K R_eff
-            for c in range(4):
-                acc = 0.0
-                for l in range(4):
-                    acc = _fma(K[r, l], Re[l, c], acc)
-                KR[r, c] = acc
-        for r in range(6):  # B IKHᵀ + KR Kᵀ
-            for c in range(6):
-                acc = 0.0
-                for l in range(6):
-                    acc = _fma(B[r, l], IKH[c, l], acc)
-                acc2 = 0.0
-                for l in range(4):
-                    acc2 = _fma(KR[r, l], K[c, l], acc2)
-                Po[i, r, c] = acc + acc2
-        for r in range(6):
-            for c in range(r, 6):
-                v = 0.5 * (Po[i, r, c] + Po[i, c, r])
-                Po[i, r, c] = v
-                Po[i, c, r] = v
+        _joseph(X[i], P[i], Zr[i], z, H, Re, K, xo[i], Po[i], nu, IKH, B, KR)
     return xo, Po, bad, n_known
 
 

@@ -193,6 +193,23 @@ def _j2_acceleration_xyz(x, y, z, mu, c_j2):
     return x * f, y * f, z * (ir3 * (kj * (s - 3.0) - mu))
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _rk4_step(rx, ry, rz, vx, vy, vz, hk, hk2, hk6, mu, c_j2):
+    """One RK4 step of ``hk`` (``hk2 = hk / 2``, ``hk6 = hk / 6``) of two-body motion plus J2 from one real state:
+    the array passes' operations in their order (no reassociation, no fused multiply-add), written once for the
+    kernels below; inlined, so a loop over rows still runs several rows in one vector instruction."""
+    a1x, a1y, a1z = _j2_acceleration_xyz(rx, ry, rz, mu, c_j2)
+    v2x, v2y, v2z = vx + hk2 * a1x, vy + hk2 * a1y, vz + hk2 * a1z
+    a2x, a2y, a2z = _j2_acceleration_xyz(rx + hk2 * vx, ry + hk2 * vy, rz + hk2 * vz, mu, c_j2)
+    v3x, v3y, v3z = vx + hk2 * a2x, vy + hk2 * a2y, vz + hk2 * a2z
+    a3x, a3y, a3z = _j2_acceleration_xyz(rx + hk2 * v2x, ry + hk2 * v2y, rz + hk2 * v2z, mu, c_j2)
+    v4x, v4y, v4z = vx + hk * a3x, vy + hk * a3y, vz + hk * a3z
+    a4x, a4y, a4z = _j2_acceleration_xyz(rx + hk * v3x, ry + hk * v3y, rz + hk * v3z, mu, c_j2)
+    return (rx + hk6 * (vx + 2 * (v2x + v3x) + v4x), ry + hk6 * (vy + 2 * (v2y + v3y) + v4y),
+            rz + hk6 * (vz + 2 * (v2z + v3z) + v4z), vx + hk6 * (a1x + 2 * (a2x + a3x) + a4x),
+            vy + hk6 * (a1y + 2 * (a2y + a3y) + a4y), vz + hk6 * (a1z + 2 * (a2z + a3z) + a4z))
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _rk4_j2_real(X, h, n, mu, c_j2):
     """:func:`_rk4_j2` of real rows ``X`` (N, 6), row ``i`` in ``n[i]`` steps of ``h[i]``: the array passes'
@@ -204,17 +221,7 @@ def _rk4_j2_real(X, h, n, mu, c_j2):
         hk = h[i]
         hk2, hk6 = hk / 2, hk / 6
         for _ in range(n[i]):
-            a1x, a1y, a1z = _j2_acceleration_xyz(rx, ry, rz, mu, c_j2)
-            v2x, v2y, v2z = vx + hk2 * a1x, vy + hk2 * a1y, vz + hk2 * a1z
-            a2x, a2y, a2z = _j2_acceleration_xyz(rx + hk2 * vx, ry + hk2 * vy, rz + hk2 * vz, mu, c_j2)
-            v3x, v3y, v3z = vx + hk2 * a2x, vy + hk2 * a2y, vz + hk2 * a2z
-            a3x, a3y, a3z = _j2_acceleration_xyz(rx + hk2 * v2x, ry + hk2 * v2y, rz + hk2 * v2z, mu, c_j2)
-            v4x, v4y, v4z = vx + hk * a3x, vy + hk * a3y, vz + hk * a3z
-            a4x, a4y, a4z = _j2_acceleration_xyz(rx + hk * v3x, ry + hk * v3y, rz + hk * v3z, mu, c_j2)
-            rx, ry, rz = (rx + hk6 * (vx + 2 * (v2x + v3x) + v4x), ry + hk6 * (vy + 2 * (v2y + v3y) + v4y),
-                          rz + hk6 * (vz + 2 * (v2z + v3z) + v4z))
-            vx, vy, vz = (vx + hk6 * (a1x + 2 * (a2x + a3x) + a4x), vy + hk6 * (a1y + 2 * (a2y + a3y) + a4y),
-                          vz + hk6 * (a1z + 2 * (a2z + a3z) + a4z))
+            rx, ry, rz, vx, vy, vz = _rk4_step(rx, ry, rz, vx, vy, vz, hk, hk2, hk6, mu, c_j2)
         out[i, 0], out[i, 1], out[i, 2], out[i, 3], out[i, 4], out[i, 5] = rx, ry, rz, vx, vy, vz
     return out
 
@@ -231,19 +238,7 @@ def _rk4_j2_columns(T, hk, n_steps, mu, c_j2):
     for _ in range(n_steps):
         for i in range(O.shape[1]):
             rx, ry, rz, vx, vy, vz = rxa[i], rya[i], rza[i], vxa[i], vya[i], vza[i]
-            a1x, a1y, a1z = _j2_acceleration_xyz(rx, ry, rz, mu, c_j2)
-            v2x, v2y, v2z = vx + hk2 * a1x, vy + hk2 * a1y, vz + hk2 * a1z
-            a2x, a2y, a2z = _j2_acceleration_xyz(rx + hk2 * vx, ry + hk2 * vy, rz + hk2 * vz, mu, c_j2)
-            v3x, v3y, v3z = vx + hk2 * a2x, vy + hk2 * a2y, vz + hk2 * a2z
-            a3x, a3y, a3z = _j2_acceleration_xyz(rx + hk2 * v2x, ry + hk2 * v2y, rz + hk2 * v2z, mu, c_j2)
-            v4x, v4y, v4z = vx + hk * a3x, vy + hk * a3y, vz + hk * a3z
-            a4x, a4y, a4z = _j2_acceleration_xyz(rx + hk * v3x, ry + hk * v3y, rz + hk * v3z, mu, c_j2)
-            rxa[i] = rx + hk6 * (vx + 2 * (v2x + v3x) + v4x)
-            rya[i] = ry + hk6 * (vy + 2 * (v2y + v3y) + v4y)
-            rza[i] = rz + hk6 * (vz + 2 * (v2z + v3z) + v4z)
-            vxa[i] = vx + hk6 * (a1x + 2 * (a2x + a3x) + a4x)
-            vya[i] = vy + hk6 * (a1y + 2 * (a2y + a3y) + a4y)
-            vza[i] = vz + hk6 * (a1z + 2 * (a2z + a3z) + a4z)
+            rxa[i], rya[i], rza[i], vxa[i], vya[i], vza[i] = _rk4_step(rx, ry, rz, vx, vy, vz, hk, hk2, hk6, mu, c_j2)
     return O
 
 
@@ -271,19 +266,8 @@ def _rk4_j2_rows(X, hk, n_steps, mu, c_j2):
         for _ in range(n_steps):
             for i in range(nb):
                 rx, ry, rz, vx, vy, vz = rxa[i], rya[i], rza[i], vxa[i], vya[i], vza[i]
-                a1x, a1y, a1z = _j2_acceleration_xyz(rx, ry, rz, mu, c_j2)
-                v2x, v2y, v2z = vx + hk2 * a1x, vy + hk2 * a1y, vz + hk2 * a1z
-                a2x, a2y, a2z = _j2_acceleration_xyz(rx + hk2 * vx, ry + hk2 * vy, rz + hk2 * vz, mu, c_j2)
-                v3x, v3y, v3z = vx + hk2 * a2x, vy + hk2 * a2y, vz + hk2 * a2z
-                a3x, a3y, a3z = _j2_acceleration_xyz(rx + hk2 * v2x, ry + hk2 * v2y, rz + hk2 * v2z, mu, c_j2)
-                v4x, v4y, v4z = vx + hk * a3x, vy + hk * a3y, vz + hk * a3z
-                a4x, a4y, a4z = _j2_acceleration_xyz(rx + hk * v3x, ry + hk * v3y, rz + hk * v3z, mu, c_j2)
-                rxa[i] = rx + hk6 * (vx + 2 * (v2x + v3x) + v4x)
-                rya[i] = ry + hk6 * (vy + 2 * (v2y + v3y) + v4y)
-                rza[i] = rz + hk6 * (vz + 2 * (v2z + v3z) + v4z)
-                vxa[i] = vx + hk6 * (a1x + 2 * (a2x + a3x) + a4x)
-                vya[i] = vy + hk6 * (a1y + 2 * (a2y + a3y) + a4y)
-                vza[i] = vz + hk6 * (a1z + 2 * (a2z + a3z) + a4z)
+                rxa[i], rya[i], rza[i], vxa[i], vya[i], vza[i] = _rk4_step(rx, ry, rz, vx, vy, vz, hk, hk2, hk6, mu,
+                                                                           c_j2)
         for i in range(nb):
             for c in range(6):
                 v = T[c, i]

@@ -164,3 +164,11 @@ def test_a_label_never_seen_keeps_its_value_in_either_mode():
         pol.update([1], [0.1], [True])
         assert pol.identity(7) == 7, mode
         assert pol.identity(1) == (B if mode == "fresh" else WITHHELD), mode
+
+
+def test_relabel_returns_integer_identities_for_labels_read_as_floats():
+    """Labels read back as floats (a CSV column with a gap) still come out as int64 identities: (scan 1, label 2)
+    moved to B, the rest kept."""
+    marg = pd.DataFrame(dict(scan=[0, 1], label=[2, 2], p=[0.9, 0.1], in_view=True))
+    out = relabel([0, 1, 1], [2.0, 2.0, -1.0], output_identities(marg, 0.5, B))
+    assert out.dtype == np.int64 and out.tolist() == [2, B, -1]

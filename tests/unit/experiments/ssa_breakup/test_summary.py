@@ -1,6 +1,8 @@
 """The ssa_breakup tables, ledger rows and macros (:mod:`hypotrack.experiments.ssa_breakup.summary`) by hand:
 ratios to GNN with their spread, means and standard errors over seeds, densities, claim texts and macros."""
 
+import warnings
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -192,9 +194,9 @@ def test_density_table_one_mean_row_per_scenario_in_order():
 def _summary(**extra):
     """A summary of GNN and HOMHT (two seeds each) with every column the claims read."""
     cards = pd.DataFrame([dict(scenario="breakup", tracker=t, seed=k, cross_tags_per_1e4=x * k, completeness=0.25 * k,
-                               duplicate_per_1000=1.5, false_per_1000=2.0 * k, nn_in_gate_share=0.2 * k,
-                               reacquisitions=5.0 * k, **extra)
-                          for t, x in (("gnn", 100.0), ("homht_kbest", 40.0)) for k in (1, 2)])
+                               duplicate_per_1000=1.5, false_per_1000=2.0 * k,
+                               nn_in_gate_share=0.1 + 0.0246 * (k - 1), reacquisitions=5.0 * k, **extra)
+                          for t, x in (("gnn", 100.0), ("homht_kbest", 40.5)) for k in (1, 2)])
     return scorecard_summary(cards)[0]
 
 
@@ -206,18 +208,20 @@ def test_the_claims_texts_by_hand():
                                 n_ratio=1, meets_goal=True, metric="cross_tags_per_1e4"),
                            dict(scenario="breakup", tracker="homht_kbest", ratio=1.25, ratio_se=np.nan, goal=0.5,
                                 n_ratio=2, meets_goal=False, metric="id_switches_per_1e4")])
-    dens = density_table([dict(scenario="breakup", seed=1, n_pairs=12, nn_median_km=0.123456, gate_km=1.2345,
+    # seed 0 is a seed (not a mean row): only the mean row (seed -1) is claimed
+    dens = density_table([dict(scenario="breakup", seed=0, n_pairs=12, nn_median_km=0.123456, gate_km=1.2345,
                                share_in_gate=0.375, share_in_5_gates=1.0)])
     c = {x.key: x for x in breakup_claims(acc, ratios, dens)}
     assert list(c) == ["crosstags_breakup_gnn", "crosstags_breakup_homht_kbest", "ratio_breakup_homht_kbest",
                        "idsw_ratio_breakup_homht_kbest", "reacq_gate_breakup", "nn_in_gate_breakup"]
     assert all(x.experiment == "ssa_breakup" and x.status == "extension" and x.evidence == "measurement"
                and x.source == "extension (a fresh breakup cloud)" and x.tolerance == "--" for x in c.values())
-    h = c["crosstags_breakup_homht_kbest"]  # 40 and 80: 60 ± 20
+    h = c["crosstags_breakup_homht_kbest"]  # 40.5 and 81: 60.75 ± 20.25, to 3 and 2 significant digits
     assert (h.item, h.published, h.reproduced) == ("cross-tags per 10^4 returns, HOMHT k-best, breakup cloud", "--",
-                                                  "60 ± 20")
+                                                  "60.8 ± 20")
     assert h.note == ("mean ± s.e. over 2 seeds; completeness 0.375, duplicates 1.5 and false 3 per 1,000 "
                       "estimates")
+    assert len(c) == 6
     x = c["ratio_breakup_homht_kbest"]
     assert (x.item, x.published, x.reproduced) == ("cross-tags of HOMHT k-best over GNN's, breakup cloud", "goal ≤ 0.5",
                                                   "0.4 ± 0.012")
@@ -225,9 +229,9 @@ def test_the_claims_texts_by_hand():
     s = c["idsw_ratio_breakup_homht_kbest"]
     assert (s.item, s.reproduced) == ("identity switches of HOMHT k-best over GNN's, breakup cloud", "1.25 ± --")
     assert s.note == "per-seed ratios over 2 seeds with GNN identity switches; misses the goal"
-    g = c["reacq_gate_breakup"]  # 0.2 and 0.4: 0.3 ± 0.1
+    g = c["reacq_gate_breakup"]  # 0.1 and 0.1246: 0.1123 ± 0.0123, to 3 and 2 significant digits
     assert (g.item, g.published, g.reproduced) == (
-        "re-acquisitions with another object inside the track's gate, GNN, breakup cloud", "--", "0.3 ± 0.1")
+        "re-acquisitions with another object inside the track's gate, GNN, breakup cloud", "--", "0.112 ± 0.012")
     assert g.note == ("the nearest other object in view inside the 99.9 % gate of the track predicted to the object's "
                       "next pass; 7.5 re-acquisitions per seed, 2 seeds")
     d = c["nn_in_gate_breakup"]
@@ -273,8 +277,8 @@ def test_every_macro_of_a_summary_row_by_hand():
                                 metric="id_switches_per_1e4"),
                            dict(scenario="breakup", tracker="glmb", ratio=np.nan, ratio_se=np.nan, meets_goal=False,
                                 metric="cross_tags_per_1e4")])
-    dens = density_table([dict(scenario="breakup", seed=s, n_pairs=3, nn_median_km=1.0 * s, gate_km=2.0,
-                               share_in_gate=0.25 * s, share_in_5_gates=1.0) for s in (1, 3)])
+    dens = density_table([dict(scenario="breakup", seed=s, n_pairs=3, nn_median_km=1.0 * (s + 1), gate_km=2.0,
+                               share_in_gate=0.25 * (s + 1), share_in_5_gates=1.0) for s in (0, 2)])
     m = breakup_macros(acc, ratios, dens)
     want = dict(crosstags=15.0, crosstags_se=5.0, duplicates=1.5, uncorrelated=4.5, completeness=0.75, realism=0.95,
                 idsw=6.0, firstown=0.375, reacqkept=0.45)
@@ -288,7 +292,7 @@ def test_every_macro_of_a_summary_row_by_hand():
     assert (m["idsw_ratio_breakup_homht_kbest"], m["idsw_ratio_se_breakup_homht_kbest"],
             m["idsw_goal_breakup_homht_kbest"]) == (0.75, 0.2, "not met")
     assert np.isnan(m["goal_breakup_glmb"]) and np.isnan(m["ratio_breakup_glmb"])
-    # the density's mean row (seeds 1 and 3): share 0.5, median 2 km
+    # the density's mean row (seeds 0 and 2, not seed 0's own row): share 0.5, median 2 km
     assert (m["nn_share_breakup"], m["nn_median_breakup"]) == (0.5, 2.0)
     # every tracker and ratio name defined, the unmeasured ones NaN
     for name in ("glmb", "glmb_murty", "rfisst", "gnn", "jpda", "glmb_amb", "rfisst_amb"):
@@ -305,3 +309,66 @@ def test_every_macro_of_a_summary_row_by_hand():
     m = breakup_macros(old, ratios.iloc[:0], dens)
     for key in ("uncorrelated", "idsw", "firstown", "reacqkept"):
         assert np.isnan(m[f"{key}_breakup_homht_kbest"]), key
+    # a ratio table without a metric column is of cross-tags
+    m = breakup_macros(acc, ratios.drop(columns="metric").iloc[[0]], dens)
+    assert (m["ratio_breakup_homht_kbest"], m["goal_breakup_homht_kbest"]) == (0.5, "met")
+    assert np.isnan(m["idsw_ratio_breakup_homht_kbest"])
+
+
+def test_tables_are_indexed_afresh_and_ratios_follow_the_goal_given():
+    """The concatenated tables carry a fresh 0..n-1 index; breakup_ratios passes its goal on: δ-GLMB (Murty) over
+    GNN 0.5/1 = 0.5 misses the goal 0.25 (and GNN's 0.5 cross-tags, below 1, still give a ratio)."""
+    cards = pd.DataFrame(dict(scenario="breakup", tracker=["gnn", "glmb_murty"], seed=0, cross_tags_per_1e4=[0.5, 0.25],
+                              id_switches_per_1e4=[2.0, 1.0]))
+    r = breakup_ratios(cards, ["glmb_murty"], "gnn", goal=0.25)
+    assert r.index.tolist() == [0, 1] and r["goal"].tolist() == [0.25, 0.25]
+    assert r["ratio"].tolist() == [0.5, 0.5] and r["meets_goal"].tolist() == [False, False]
+    d = density_table([dict(scenario=s, seed=1, n_pairs=1, nn_median_km=1.0, gate_km=1.0, share_in_gate=1.0,
+                            share_in_5_gates=1.0) for s in ("breakup", "catalogue")])
+    assert d.index.tolist() == [0, 1, 2, 3]
+    a, b = pd.DataFrame({"p_min": [0.7]}, index=[4]), pd.DataFrame({"p_min": [0.8]}, index=[4])
+    assert merged_sweeps([a, b]).index.tolist() == [0, 1]
+
+
+def test_empty_inputs_give_the_columns_and_nan_quietly():
+    """No cards: the ratio table's columns; no seed with a reference ratio, no pair in view: NaN, without warnings
+    (no mean or median of an empty array)."""
+    cols = ["scenario", "tracker", "reference", "n_ratio", "ratio", "ratio_se", "goal", "meets_goal", "metric",
+            "ratio_median", "n_at_goal", "ratio_of_means"]
+    empty = pd.DataFrame(columns=["scenario", "tracker", "seed", "cross_tags_per_1e4"])
+    assert list(cross_tag_ratios(empty).columns) == cols and cross_tag_ratios(empty).empty
+    cards = pd.DataFrame(dict(scenario="breakup", tracker=["gnn", "glmb"], seed=1, cross_tags_per_1e4=[0.0, 3.0]))
+    truth = _truth([[0, 0, 0]], [True], [0])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = cross_tag_ratios(cards, "gnn", ("glmb",)).iloc[0]
+        row, _ = density_rows(truth, "breakup", 1, 1.0)
+    assert np.isnan([r["ratio"], r["ratio_median"], r["ratio_of_means"]]).all()
+    assert np.isnan([row["nn_median_km"], row["share_in_gate"], row["share_in_5_gates"]]).all()
+
+
+def test_ambiguity_sweep_columns_defaults_and_reference_by_hand():
+    """One seed: the output's 1 cross-tag over GNN's 4 (0.25) meets the default goal ½, its 3 switches over GNN's 2
+    (1.5) do not; JPDA's cards (not the reference) and GNN's in another scenario are not used."""
+    from hypotrack.experiments.ssa_breakup.summary import ambiguity_sweep
+
+    cols = ["scenario", "tracker", "mode", "p_min", "n_seeds", "cross_tags_per_1e4", "cross_tags_per_1e4_se",
+            "id_switches_per_1e4", "id_switches_per_1e4_se", "uncorrelated_per_1e4", "uncorrelated_per_1e4_se",
+            "xtag_ratio", "xtag_ratio_se", "xtag_meets_goal", "idsw_ratio", "idsw_ratio_se", "idsw_meets_goal", "goal"]
+    cards = pd.DataFrame(dict(scenario=["breakup", "breakup", "catalogue"], tracker=["gnn", "jpda", "gnn"], seed=1,
+                              cross_tags_per_1e4=[4.0, 1.0, 8.0], id_switches_per_1e4=[2.0, 1.0, 1.0]))
+    sweep = pd.DataFrame(dict(scenario="breakup", tracker="rfisst_amb", mode="fresh", seed=[1], p_min=[0.75],
+                              cross_tags_per_1e4=[1.0], id_switches_per_1e4=[3.0], uncorrelated_per_1e4=[9.0]))
+    t = ambiguity_sweep(sweep, cards)
+    assert list(t.columns) == cols and len(t) == 1
+    row = t.iloc[0]
+    assert (row["scenario"], row["tracker"], row["mode"], row["p_min"], row["n_seeds"]) == (
+        "breakup", "rfisst_amb", "fresh", 0.75, 1)
+    assert (row["cross_tags_per_1e4"], row["id_switches_per_1e4"], row["uncorrelated_per_1e4"]) == (1.0, 3.0, 9.0)
+    assert (row["xtag_ratio"], row["xtag_meets_goal"], row["idsw_ratio"], row["idsw_meets_goal"], row["goal"]) == (
+        0.25, True, 1.5, False, 0.5)
+    assert np.isnan([row["xtag_ratio_se"], row["idsw_ratio_se"], row["cross_tags_per_1e4_se"]]).all()
+    assert list(ambiguity_sweep(sweep.iloc[:0], cards).columns) == cols
+    # JPDA as the reference: 1/1 and 3/1
+    j = ambiguity_sweep(sweep, cards, "jpda", goal=1.0).iloc[0]
+    assert (j["xtag_ratio"], j["xtag_meets_goal"], j["idsw_ratio"], j["goal"]) == (1.0, True, 3.0, 1.0)

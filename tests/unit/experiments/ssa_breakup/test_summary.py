@@ -211,8 +211,9 @@ def test_the_claims_texts_by_hand():
     # seed 0 is a seed (not a mean row): only the mean row (seed -1) is claimed
     dens = density_table([dict(scenario="breakup", seed=0, n_pairs=12, nn_median_km=0.123456, gate_km=1.2345,
                                share_in_gate=0.375, share_in_5_gates=1.0)])
-    c = {x.key: x for x in breakup_claims(acc, ratios, dens)}
-    assert list(c) == ["crosstags_breakup_gnn", "crosstags_breakup_homht_kbest", "ratio_breakup_homht_kbest",
+    claims = breakup_claims(acc, ratios, dens)
+    c = {x.key: x for x in claims}
+    assert len(claims) == 6 and list(c) == ["crosstags_breakup_gnn", "crosstags_breakup_homht_kbest", "ratio_breakup_homht_kbest",
                        "idsw_ratio_breakup_homht_kbest", "reacq_gate_breakup", "nn_in_gate_breakup"]
     assert all(x.experiment == "ssa_breakup" and x.status == "extension" and x.evidence == "measurement"
                and x.source == "extension (a fresh breakup cloud)" and x.tolerance == "--" for x in c.values())
@@ -221,7 +222,6 @@ def test_the_claims_texts_by_hand():
                                                   "60.8 ± 20")
     assert h.note == ("mean ± s.e. over 2 seeds; completeness 0.375, duplicates 1.5 and false 3 per 1,000 "
                       "estimates")
-    assert len(c) == 6
     x = c["ratio_breakup_homht_kbest"]
     assert (x.item, x.published, x.reproduced) == ("cross-tags of HOMHT k-best over GNN's, breakup cloud", "goal ≤ 0.5",
                                                   "0.4 ± 0.012")
@@ -292,7 +292,9 @@ def test_every_macro_of_a_summary_row_by_hand():
     assert (m["idsw_ratio_breakup_homht_kbest"], m["idsw_ratio_se_breakup_homht_kbest"],
             m["idsw_goal_breakup_homht_kbest"]) == (0.75, 0.2, "not met")
     assert np.isnan(m["goal_breakup_glmb"]) and np.isnan(m["ratio_breakup_glmb"])
-    # the density's mean row (seeds 0 and 2, not seed 0's own row): share 0.5, median 2 km
+    # the density's mean row (seeds 0 and 2, not seed 0's own row): share 0.5, median 2 km, in either row order
+    assert (m["nn_share_breakup"], m["nn_median_breakup"]) == (0.5, 2.0)
+    m = breakup_macros(acc, ratios, dens.iloc[::-1])
     assert (m["nn_share_breakup"], m["nn_median_breakup"]) == (0.5, 2.0)
     # every tracker and ratio name defined, the unmeasured ones NaN
     for name in ("glmb", "glmb_murty", "rfisst", "gnn", "jpda", "glmb_amb", "rfisst_amb"):
@@ -372,3 +374,20 @@ def test_ambiguity_sweep_columns_defaults_and_reference_by_hand():
     # JPDA as the reference: 1/1 and 3/1
     j = ambiguity_sweep(sweep, cards, "jpda", goal=1.0).iloc[0]
     assert (j["xtag_ratio"], j["xtag_meets_goal"], j["idsw_ratio"], j["goal"]) == (1.0, True, 3.0, 1.0)
+
+
+def test_ratio_and_sweep_defaults_and_the_sweep_keeps_its_row_order():
+    """breakup_ratios against GNN with the goal ½ by default (0.4 meets it, 0.6 does not); the sweep's rows in the
+    order the sweep gives them (p_min 0.9 before 0.8)."""
+    from hypotrack.experiments.ssa_breakup.summary import ambiguity_sweep
+
+    cards = pd.DataFrame(dict(scenario="breakup", tracker=["gnn", "glmb", "rfisst"], seed=1,
+                              cross_tags_per_1e4=[5.0, 2.0, 3.0], id_switches_per_1e4=[1.0, 1.0, 1.0]))
+    r = breakup_ratios(cards, ["glmb", "rfisst"])
+    assert r["reference"].tolist() == ["gnn"] * 4 and r["goal"].tolist() == [0.5] * 4
+    # the cross-tags of both trackers, then their identity switches
+    assert r["ratio"].tolist() == [0.4, 0.6, 1.0, 1.0] and r["meets_goal"].tolist() == [True, False, False, False]
+    sweep = pd.DataFrame(dict(scenario="breakup", tracker="glmb_amb", mode="fresh", seed=1, p_min=[0.9, 0.8],
+                              cross_tags_per_1e4=[1.0, 2.0], id_switches_per_1e4=1.0, uncorrelated_per_1e4=0.0))
+    t = ambiguity_sweep(sweep, cards)
+    assert t["p_min"].tolist() == [0.9, 0.8] and t["xtag_ratio"].tolist() == [0.2, 0.4]

@@ -311,3 +311,12 @@ def test_time_to_orbit_counts_object_zero():
     run = SimpleNamespace(returns=pd.DataFrame(dict(scan=[0, 1, 2], origin=[-1, 0, 0], label=[1, 0, 0])))
     reacq = pd.DataFrame(dict(target=[0], t_end=[400.0], within=[True]))
     assert card._time_to_orbit(run, reacq, [0.0, 10.0, 400.0]) == (390.0, 1)
+
+
+def test_a_neighbour_on_the_gate_boundary_is_inside():
+    """σ = 1 km: object 1's neighbour at d² = 4.5625 / (3 + 1) = 1.140625 exactly (S = 4 I, Cholesky 2 I), and the
+    gate probability whose χ²₃ quantile is 1.140625 exactly: on the boundary, inside (d² ≤ γ)."""
+    p = chi2.cdf(1.140625, 3)
+    assert chi2.ppf(p, 3) == 1.140625  # the quantile round-trips exactly (checked, not assumed)
+    r = reacquisitions(SimpleNamespace(ends=_ends()), _scene(), CV(), 1.0, p, 1.25)
+    assert r["nn_in_gate"].tolist() == [True, False, False]

@@ -82,6 +82,11 @@ SOURCES = {
     "metrics_scorecard": ["src/hypotrack/metrics_scorecard.py"],
     "metrics_trajectory": ["src/hypotrack/metrics_trajectory.py"],
     "scenarios.catalogue.sbm": ["src/hypotrack/scenarios/catalogue/sbm.py"],
+    "experiments.ssa_breakup.identities": ["src/hypotrack/experiments/ssa_breakup/identities.py"],
+    "experiments.ssa_breakup.custody": ["src/hypotrack/experiments/ssa_breakup/custody.py"],
+    "experiments.ssa_breakup.summary": ["src/hypotrack/experiments/ssa_breakup/summary.py"],
+    "experiments.ssa_breakup.tuning": ["src/hypotrack/experiments/ssa_breakup/tuning.py"],
+    "experiments.ssa_breakup.scorecard": ["src/hypotrack/experiments/ssa_breakup/scorecard.py"],
 }
 CATALOGUE = "tests/unit/test_bad_input_catalogue.py"  # bad input at every public entry point
 STEPS = "tests/unit/test_protocol_transactional.py"  # every tracker's step is all-or-nothing
@@ -97,9 +102,14 @@ EXTRA_TESTS = {
                     CATALOGUE],
     "trackers": ["tests/crosscheck/test_stonesoup_sht.py", STEPS, CATALOGUE],
     "scenarios.catalogue.sbm": ["tests/unit/scenarios/catalogue/test_breakup.py"],
+    # the ambiguity output's sweep table and withheld note, checked by hand beside the policy
+    "experiments.ssa_breakup.summary": ["tests/unit/experiments/ssa_breakup/test_identities.py"],
 }
 # Imported by the tests (``from scenes import ...``; the scratch pyproject puts tests/ on the path).
 TEST_HELPERS = ["tests/scenes.py"]
+# Repository folders a module's tests read (copied into the scratch project and, as mutmut's ``also_copy``, into
+# its mutants/ copy, where the tests run).
+TEST_DATA = {"experiments.ssa_breakup.tuning": ["workflows/config"]}
 
 
 def unit_tests(source: str, root: Path = ROOT) -> list:
@@ -163,11 +173,15 @@ def prepare_files(module: str, only, work: Path) -> int:
     for t in [*tests, *TEST_HELPERS]:
         (work / t).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(ROOT / t, work / t)
+    for d in TEST_DATA.get(module, []):
+        shutil.copytree(ROOT / d, work / d, dirs_exist_ok=True)
     base = tomllib.loads((ROOT / "pyproject.toml").read_text()).get("tool", {}).get("mutmut", {})
     lines = ["[tool.pytest.ini_options]", 'addopts = "-p no:cacheprovider"', 'pythonpath = ["tests"]', "",
              "[tool.mutmut]"]
     opts = {**base, "source_paths": ["src/hypotrack"], "only_mutate": only,
             "pytest_add_cli_args_test_selection": tests}
+    if module in TEST_DATA:
+        opts["also_copy"] = TEST_DATA[module]
     for k, v in opts.items():
         lines.append(f"{k} = {_toml_list(v) if isinstance(v, list) else json.dumps(v)}")
     (work / "pyproject.toml").write_text("\n".join(lines) + "\n")

@@ -59,6 +59,12 @@ HAND_KEPT = {
     "metrics_trajectory": ["tests/unit/test_metrics_trajectory.py"],
     "scenarios.catalogue.sbm": ["tests/unit/scenarios/catalogue/test_sbm.py",
                                 "tests/unit/scenarios/catalogue/test_breakup.py"],
+    "experiments.ssa_breakup.identities": ["tests/unit/experiments/ssa_breakup/test_identities.py"],
+    "experiments.ssa_breakup.custody": ["tests/unit/experiments/ssa_breakup/test_custody.py"],
+    "experiments.ssa_breakup.summary": ["tests/unit/experiments/ssa_breakup/test_summary.py",
+                                        "tests/unit/experiments/ssa_breakup/test_identities.py"],
+    "experiments.ssa_breakup.tuning": ["tests/unit/experiments/ssa_breakup/test_tuning.py"],
+    "experiments.ssa_breakup.scorecard": ["tests/unit/experiments/ssa_breakup/test_scorecard.py"],
 }
 
 
@@ -129,3 +135,19 @@ def test_the_scratch_project_collects_its_tests(tmp_path):
                          env={**os.environ, "PYTHONPATH": str(tmp_path / "src")})
     assert out.returncode == 0, out.stdout[-3000:] + out.stderr[-3000:]
     assert " error" not in out.stdout
+
+
+def test_test_data_folders_exist_and_reach_the_scratch_project(tmp_path):
+    """A module's tests that read repository folders (the tuning tests read workflows/config) get them copied into
+    the scratch project and named in its ``also_copy`` (mutmut copies them into mutants/, where the tests run)."""
+    import tomllib
+
+    for module, folders in RUNNER.TEST_DATA.items():
+        assert module in RUNNER.SOURCES and all((ROOT / d).is_dir() for d in folders), module
+    module = "experiments.ssa_breakup.tuning"
+    RUNNER.prepare_files(module, RUNNER.MODULES[module][0], tmp_path)
+    cfg = tomllib.loads((tmp_path / "pyproject.toml").read_text())["tool"]["mutmut"]
+    assert cfg["also_copy"] == ["workflows/config"] and (tmp_path / "workflows" / "config" / "default.yaml").is_file()
+    other = tmp_path / "other"
+    RUNNER.prepare_files("experiments.ssa_breakup.custody", RUNNER.MODULES["experiments.ssa_breakup.custody"][0], other)
+    assert "also_copy" not in tomllib.loads((other / "pyproject.toml").read_text())["tool"]["mutmut"]

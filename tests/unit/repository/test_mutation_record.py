@@ -17,7 +17,9 @@ ROOT = Path(__file__).resolve().parents[3]
 QUALITY = ROOT / "paper" / "record"
 MODULES = {"gaussian", "metrics", "hypotheses", "association", "trackers", "models.measurement", "models.plausibility",
            "scenarios.catalogue.radar_model", "scenarios.catalogue.admissible", "scenarios.catalogue.snr",
-           "trackers.deferred", "metrics_scorecard", "metrics_trajectory", "scenarios.catalogue.sbm"}
+           "trackers.deferred", "metrics_scorecard", "metrics_trajectory", "scenarios.catalogue.sbm",
+           "experiments.ssa_breakup.identities", "experiments.ssa_breakup.custody", "experiments.ssa_breakup.summary",
+           "experiments.ssa_breakup.tuning", "experiments.ssa_breakup.scorecard"}
 NAME = re.compile(r"^hypotrack\.[a-z_]+(\.[a-z_]+)*\.x.+__mutmut_\d+$")
 
 

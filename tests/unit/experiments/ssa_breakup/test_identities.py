@@ -135,3 +135,40 @@ def test_the_output_claim_states_what_it_withheld():
     assert notes["crosstags_breakup_homht_kbest_amb"].endswith(
         "; uncorrelated 100 per 10^4 returns against 40 for the plain output (withheld while ambiguous)")
     assert "uncorrelated" not in notes["crosstags_breakup_homht_kbest"] and "uncorrelated" not in notes["crosstags_breakup_gnn"]
+
+
+def test_probability_bounds_are_closed_nan_is_refused_and_the_messages_are_exact():
+    pol = OutputIdentities(0.5, base=B)
+    # p = 0 and p = 1 are probabilities: label 1 at 0 breaks, label 2 at 1 does not
+    assert pol.update([1, 2], [0.0, 1.0], [True, True]).tolist() == [B, 2]
+    for bad in (np.nan, -0.1, np.inf):
+        with pytest.raises(ValueError, match=r"^p must hold probabilities in \[0, 1\]$"):
+            pol.update([3], [bad], [True])
+    with pytest.raises(ValueError, match="^labels must be distinct within a scan$"):
+        pol.update([4, 4], [0.9, 0.9], [True, True])
+
+
+def test_identities_are_exact_integers():
+    """Identities above 2^53 (base 2^60) survive only as int64: a float array would round B + 1 to B."""
+    base = 1 << 60
+    out = OutputIdentities(0.5, base=base).update([1, 2], [0.1, 0.2], [True, True])
+    assert out.dtype == np.int64 and out.tolist() == [base, base + 1]
+    marg = pd.DataFrame(dict(scan=[0, 0, 1], label=[1, 2, 1], p=[0.1, 0.2, 0.9], in_view=True))
+    t = output_identities(marg, 0.5, base)
+    assert t["identity"].dtype == np.int64 and t["identity"].tolist() == [base, base + 1, base]
+
+
+def test_a_label_never_seen_keeps_its_value_in_either_mode():
+    for mode in ("fresh", "withhold"):
+        pol = OutputIdentities(0.5, base=B, mode=mode)
+        pol.update([1], [0.1], [True])
+        assert pol.identity(7) == 7, mode
+        assert pol.identity(1) == (B if mode == "fresh" else WITHHELD), mode
+
+
+def test_relabel_returns_integer_identities_for_labels_read_as_floats():
+    """Labels read back as floats (a CSV column with a gap) still come out as int64 identities: (scan 1, label 2)
+    moved to B, the rest kept."""
+    marg = pd.DataFrame(dict(scan=[0, 1], label=[2, 2], p=[0.9, 0.1], in_view=True))
+    out = relabel([0, 1, 1], [2.0, 2.0, -1.0], output_identities(marg, 0.5, B))
+    assert out.dtype == np.int64 and out.tolist() == [2, B, -1]

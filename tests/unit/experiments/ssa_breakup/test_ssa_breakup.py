@@ -31,42 +31,6 @@ def test_pass_ends_by_hand():
     assert p["t_first"].tolist() == [0.0, 700.0, 10.0]
 
 
-def test_ratios_and_summary_by_hand():
-    cards = pd.DataFrame(dict(
-        scenario=["breakup"] * 6 + ["catalogue"] * 2,
-        tracker=["gnn", "glmb", "homht_kbest"] * 2 + ["gnn", "glmb"],
-        seed=[1, 1, 1, 2, 2, 2, 1, 1],
-        cross_tags_per_1e4=[100.0, 40.0, 300.0, 200.0, 120.0, 200.0, 0.0, 0.0],
-        cpu_s=[1.0, 2, 3, 1, 2, 3, 1, 1]))
-    r = cross_tag_ratios(cards, "gnn", ("glmb", "homht_kbest"), goal=0.5).set_index(["scenario", "tracker"])
-    # glmb: ratios 0.4 and 0.6 -> mean 0.5, s.e. 0.1414 / sqrt(2) = 0.1; homht: 3.0 and 1.0 -> 2.0 +- 1.0
-    assert r.loc[("breakup", "glmb"), ["ratio", "ratio_se"]].tolist() == pytest.approx([0.5, 0.1])
-    assert bool(r.loc[("breakup", "glmb"), "meets_goal"])
-    assert r.loc[("breakup", "homht_kbest"), ["ratio", "ratio_se"]].tolist() == pytest.approx([2.0, 1.0])
-    assert not r.loc[("breakup", "homht_kbest"), "meets_goal"]
-    # the catalogue control: GNN has no cross-tags, so no ratio
-    assert r.loc[("catalogue", "glmb"), "n_ratio"] == 0 and np.isnan(r.loc[("catalogue", "glmb"), "ratio"])
-    acc, timing = scorecard_summary(cards)
-    row = acc.set_index(["scenario", "tracker"]).loc[("breakup", "homht_kbest")]
-    assert (row["cross_tags_per_1e4"], row["cross_tags_per_1e4_se"], row["n_seeds"]) == pytest.approx((250.0, 50.0, 2))
-    assert "cpu_s" not in acc and "cpu_s" in timing
-    # the same ratio of another column (the identity switches), named in ``metric``
-    cards["id_switches_per_1e4"] = [10.0, 5.0, 10.0, 10.0, 15.0, 30.0, 0.0, 1.0]
-    r = cross_tag_ratios(cards, column="id_switches_per_1e4").set_index(["scenario", "tracker"])
-    assert r.loc[("breakup", "glmb"), ["ratio", "ratio_se"]].tolist() == pytest.approx([1.0, 0.5])
-    assert set(r["metric"]) == {"id_switches_per_1e4"}
-
-
-def test_density_table_mean_rows():
-    rows = [dict(scenario="breakup", seed=1, n_pairs=10, nn_median_km=2.0, gate_km=2.0, share_in_gate=0.4,
-                 share_in_5_gates=0.9),
-            dict(scenario="breakup", seed=2, n_pairs=20, nn_median_km=4.0, gate_km=2.0, share_in_gate=0.2,
-                 share_in_5_gates=0.7)]
-    d = density_table(rows)
-    m = d[d["seed"] < 0].iloc[0]
-    assert (m["n_pairs"], m["share_in_gate"], m["share_in_gate_se"]) == pytest.approx((30, 0.3, 0.1))
-
-
 def test_predict_is_the_ekf():
     motion = J2Orbit3D(q=1e-9)
     x = np.array([7000.0, 0, 0, 0, 7.5, 0.1])
@@ -256,36 +220,6 @@ def test_sensor_frame_correlation_is_one_to_one():
     np.testing.assert_array_equal(correlate_in_sensor_frame(m, far, [7, 9], X, 0.999), [7, -1])
 
 
-def test_macros_of_a_tracker_not_run_are_dashes():
-    """A configuration without the Gibbs δ-GLMB and R-FISST (the default) still defines their macros, as NaN
-    (written "--"), while the trackers it runs keep their measured values: the paper leaves the sentence out."""
-    from hypotrack.experiments.ssa_breakup.summary import breakup_macros
-
-    run = ["glmb_murty", "homht_kbest", "gnn", "jpda"]
-    cards = pd.DataFrame([dict(scenario="breakup", tracker=t, seed=k, cross_tags_per_1e4=10.0 * (i + 1) * k,
-                               completeness=0.5, duplicate_per_1000=1.0, realism_95=0.9, id_switches_per_1e4=2.0 * k,
-                               uncorrelated_per_1e4=5.0 * k + i, n_objects=500)
-                          for i, t in enumerate(run) for k in (1, 2)])
-    acc, _ = scorecard_summary(cards)
-    ratios = pd.concat([cross_tag_ratios(cards, "gnn", ("glmb_murty", "homht_kbest"), column=c)
-                        for c in ("cross_tags_per_1e4", "id_switches_per_1e4")])
-    dens = density_table([dict(scenario="breakup", seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0,
-                               share_in_gate=0.5, share_in_5_gates=1.0)])
-    m = breakup_macros(acc, ratios, dens)
-    # gnn: 30 and 60 -> 45; homht over gnn: 20/30 and 40/60 -> 2/3 each
-    assert m["crosstags_breakup_gnn"] == pytest.approx(45.0)
-    assert m["uncorrelated_breakup_gnn"] == pytest.approx(7.5 + 2) and np.isnan(m["uncorrelated_breakup_rfisst"])
-    assert m["ratio_breakup_homht_kbest"] == pytest.approx(2 / 3) and m["ratio_se_breakup_homht_kbest"] == 0.0
-    # identity switches 2 and 4 for every tracker: ratio 1 -> not met either
-    assert m["goal_breakup_homht_kbest"] == "not met" and m["idsw_ratio_breakup_homht_kbest"] == pytest.approx(1.0)
-    assert m["idsw_goal_breakup_homht_kbest"] == "not met"
-    assert np.isnan(m["goal_breakup_glmb"])
-    for key in ("crosstags_breakup_glmb", "crosstags_se_breakup_rfisst", "ratio_breakup_glmb",
-                "idsw_ratio_se_breakup_glmb", "realism_breakup_rfisst"):
-        assert np.isnan(m[key]), key
-    assert not any(k.endswith("_catalogue_glmb") for k in m)  # no scenario the cards do not hold
-
-
 def test_ambiguity_output_from_the_same_run(small_cfg):
     """A factored tracker's run records its MAP labels' marginals; its ambiguity output is scored from that run (one
     tracker run: the tracks' columns equal), p_min = 0 reports the MAP itself, and the sweep's row at the
@@ -323,25 +257,3 @@ def test_ambiguity_output_from_the_same_run(small_cfg):
     assert identity_row(zero)["cross_tags"] == cards.iloc[0]["cross_tags"]
     g_cards, g_sweep = score_tracker_outputs("gnn", cfg, cat)
     assert g_cards["tracker"].tolist() == ["gnn"] and g_sweep.empty
-
-
-def test_breakup_ratios_put_the_ambiguity_outputs_after_the_plain_ones_and_merge_the_sweeps():
-    """Cross-tags over GNN's per seed, by hand: glmb_murty 4/2 and 6/3 -> 2; its ambiguity output 1/2 and 3/3 -> 0.75
-    (s.e. 0.25); the Gibbs δ-GLMB, not in trackers_run, has no row; identity switches likewise after the cross-tags.
-    The sweeps: GNN's empty table is dropped, the others stacked."""
-    from hypotrack.experiments.ssa_breakup.summary import breakup_ratios, merged_sweeps
-
-    xt = {"gnn": (2.0, 3.0), "glmb_murty": (4.0, 6.0), "glmb_murty_amb": (1.0, 3.0), "glmb": (9.0, 9.0)}
-    cards = pd.DataFrame([dict(scenario="breakup", tracker=t, seed=k, cross_tags_per_1e4=v[k],
-                               id_switches_per_1e4=2.0 * v[k]) for t, v in xt.items() for k in (0, 1)])
-    r = breakup_ratios(cards, ["glmb_murty", "gnn"], "gnn", 0.5)
-    assert list(zip(r["tracker"], r["metric"])) == [("glmb_murty", "cross_tags_per_1e4"),
-                                                    ("glmb_murty", "id_switches_per_1e4"),
-                                                    ("glmb_murty_amb", "cross_tags_per_1e4"),
-                                                    ("glmb_murty_amb", "id_switches_per_1e4")]
-    np.testing.assert_allclose(r["ratio"], [2.0, 2.0, 0.75, 0.75])
-    np.testing.assert_allclose(r["ratio_se"], [0.0, 0.0, 0.25, 0.25])
-    assert r["meets_goal"].tolist() == [False, False, False, False]
-    a, b = pd.DataFrame({"p_min": [0.7]}), pd.DataFrame({"p_min": [0.8, 0.9]})
-    assert merged_sweeps([pd.DataFrame(columns=["p_min"]), a, b])["p_min"].tolist() == [0.7, 0.8, 0.9]
-    assert merged_sweeps([pd.DataFrame(columns=["p_min"])]).empty

@@ -2,6 +2,7 @@
 the tuned p_min, and a small end-to-end run scoring every candidate p_min from one tracker run."""
 
 import copy
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -9,8 +10,8 @@ import pandas as pd
 import pytest
 import yaml
 
-from hypotrack.experiments.ssa_breakup.tuning import (chosen_p_min, output_p_mins, select_output, tuning_section,
-                                                      tuning_table, used_p_min)
+from hypotrack.experiments.ssa_breakup.tuning import (TUNING_COLUMNS, chosen_p_min, output_p_mins, select_output,
+                                                      tuning_section, tuning_table, used_p_min)
 
 CONFIG = Path(__file__).resolve().parents[4] / "workflows" / "config" / "default.yaml"
 
@@ -245,3 +246,70 @@ def test_record_refuses_another_runs_tables(tmp_path):
     with pytest.raises(FileNotFoundError, match="tuning.csv"):
         (res / "ssa_breakup" / "tuning.csv").unlink()
         update_breakup_record(res, tmp_path / "record", _workflow(tmp_path / "d", (2, 3), (1, 12)))
+
+
+def test_the_choice_is_over_the_mean_of_every_tracker_not_one_tracker():
+    """One seed, λ = 0: tracker a costs 0 at p_min 0.5 and 10 at 0.8, b 20 and 2. The mean over both, 10 at 0.5 and 6
+    at 0.8, chooses 0.8, though a alone would choose 0.5."""
+    vals = {("a", 1, 0.5): (0.0, 0.0), ("a", 1, 0.8): (10.0, 0.0), ("b", 1, 0.5): (20.0, 0.0), ("b", 1, 0.8): (2.0, 0.0)}
+    t = tuning_table(_sweep(vals), _gnn({1: 4.0}), "withhold", 0.0)
+    assert chosen_p_min(t) == 0.8
+    # a's and b's rows at 0.8, their two means and the overall one
+    assert t.loc[t["chosen"], "p_min"].tolist() == [0.8] * 5
+
+
+def test_the_table_layout_mode_seed_dtype_and_row_order():
+    """Seeds given as floats (as read back from a CSV) come out as integers; every row, means included, carries the
+    mode; the mean rows follow the per-seed ones tracker by tracker in increasing p_min (seed 1 has 0.7 and 0.9,
+    seed 2 only 0.6), then the overall ones; a reference value in (0, 1] gives a ratio (4 / 0.5 = 8)."""
+    vals = {("b", 1, 0.7): (4.0, 0.0), ("b", 1, 0.9): (1.0, 0.0), ("b", 2, 0.6): (6.0, 0.0),
+            ("a", 1, 0.7): (2.0, 0.0), ("a", 1, 0.9): (3.0, 0.0), ("a", 2, 0.6): (5.0, 0.0)}
+    sweep = _sweep(vals).astype({"seed": float})
+    t = tuning_table(sweep, _gnn({1: 0.5, 2: 1.0}), "withhold", 0.0)
+    assert list(t.columns) == TUNING_COLUMNS and t.index.tolist() == list(range(len(t)))
+    assert t["seed"].dtype == np.int64 and set(t["mode"]) == {"withhold"}
+    assert list(zip(t["tracker"], t["seed"], t["p_min"])) == [
+        ("a", 1, 0.7), ("a", 1, 0.9), ("a", 2, 0.6), ("b", 1, 0.7), ("b", 1, 0.9), ("b", 2, 0.6),
+        ("a", -1, 0.6), ("a", -1, 0.7), ("a", -1, 0.9), ("b", -1, 0.6), ("b", -1, 0.7), ("b", -1, 0.9),
+        ("all", -1, 0.6), ("all", -1, 0.7), ("all", -1, 0.9)]
+    assert t.loc[3, "xtag_ratio"] == 8.0 and t.loc[5, "xtag_ratio"] == 6.0
+    # the overall means: 0.6 -> 5.5, 0.7 -> 3, 0.9 -> 2 (chosen)
+    assert t["score"].tolist()[-3:] == [5.5, 3.0, 2.0] and chosen_p_min(t) == 0.9
+
+
+def test_no_reference_ratio_gives_nan_means_without_a_warning_and_other_cards_are_ignored():
+    """GNN has cross-tags on no tuning seed: every xtag_ratio NaN, quietly. Cards of other trackers and of the
+    catalogue scenario (GNN's there included) do not enter the reference."""
+    cards = pd.concat([_gnn({3: 5.0}), _gnn({1: 7.0}).assign(scenario="catalogue"),
+                       _gnn({1: 9.0, 12: 9.0}).assign(tracker="glmb_murty")], ignore_index=True)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        t = tuning_table(_sweep(HAND), cards, "withhold", 0.1)
+    assert t["xtag_ratio"].isna().all() and chosen_p_min(t) == 0.7
+
+
+def test_candidates_closer_than_the_default_tolerances_stay_apart():
+    """p_min 0.9 and 0.9 + 5e-9 are two candidates: the choice and the selection match exactly one (np.isclose's
+    default rtol 1e-5 and atol 1e-8 would join them)."""
+    q = 0.9 + 5e-9
+    vals = {("a", 1, 0.9): (1.0, 0.0), ("a", 1, q): (2.0, 0.0)}
+    t = tuning_table(_sweep(vals), _gnn({1: 1.0}), "withhold", 0.0)
+    assert chosen_p_min(t) == 0.9 and int(t["chosen"].sum()) == 3
+    cards = pd.DataFrame(dict(tracker=["gnn", "glmb_murty_amb", "glmb_murty_amb"], seed=2, p_min=[np.nan, 0.9, q],
+                              cross_tags_per_1e4=[3.0, 1.0, 2.0]), index=[5, 6, 7])
+    out = select_output(cards, q)
+    assert list(out.columns) == ["tracker", "seed", "cross_tags_per_1e4"] and out.index.tolist() == [0, 1]
+    assert out["cross_tags_per_1e4"].tolist() == [3.0, 2.0]
+
+
+def test_an_empty_tuning_seed_list_is_no_tuning_and_the_messages_are_exact():
+    sec = _section(dict(tuning=dict(seeds=[], trackers=["gnn"], untagged_weight=0.1)))
+    assert used_p_min(sec) == 0.7 and output_p_mins(sec["ambiguity"]) == [0.7]
+    with pytest.raises(ValueError, match=r"^ssa_breakup\.ambiguity\.tuning\.seeds must name at least one tuning seed$"):
+        tuning_section(sec)
+    with pytest.raises(ValueError, match=r"^ssa_breakup\.ambiguity\.p_min_sweep must hold the candidate p_min values "
+                                         r"when ambiguity\.tuning is set$"):
+        output_p_mins(dict(p_min=0.7, tuning=dict(seeds=[1])))
+    with pytest.raises(ValueError, match=r"^ssa_breakup\.ambiguity\.tuning is set: the evaluated p_min comes from its "
+                                         r"tuning table$"):
+        used_p_min(_section(dict(tuning=dict(seeds=[1], trackers=["gnn"], untagged_weight=0.1))))

@@ -47,9 +47,10 @@ from ..association import gate_threshold, validation_matrix
 from ..models.measurement import LinearMeasurement
 from .detection import state_p_detect
 from .duplicates import child_pairs, merge_duplicates
-from .children import gumbel_keys, heavy_entries, null_event, twins_never_heavier
+from .children import candidates, gumbel_keys, heavy_entries, null_event, twins_never_heavier
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
+from .one_return_children import applies, one_return_children
 from .posterior import summarise
 from ..protocol import TrackEstimates
 from .scan_context import ScanContext
@@ -349,6 +350,8 @@ class HypothesisFilter:
                 sel = top_k(keys, keep)
                 ev, kind, arg, lw, keys = ev[sel], kind[sel], arg[sel], lw[sel], keys[sel]
             return ChildSet(np.full(len(lw), h, np.int64), ev, kind, arg, lw), keys, len(lw), mass, 0
+        if applies(pop, ctx, keys_rng, with_null):  # one return, no birth term: Python floats (.one_return_children)
+            return one_return_children(self, ctx, state, h, keep, generator)
         p = ctx.p_detect[tr]
         in_view = p > 0
         n_view = int(in_view.sum())
@@ -363,7 +366,7 @@ class HypothesisFilter:
         events = np.asarray(events, dtype=np.int32)
         n_generated = len(lw)
         mass = [np.logaddexp.reduce(lw)] if len(lw) else []
-        parts = [self._candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]
+        parts = [candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]
         if pop is not None and len(lw):
             M = problem.n_objects
             _, b = problem.counts(events)
@@ -377,7 +380,7 @@ class HypothesisFilter:
                     rows, cols = np.nonzero(ev >= M)
                     used[rows, ev[rows, cols] - M] = True
                     tw = np.where(used, -np.inf, (lw[sl] + ub[sl])[:, None])
-                    parts.append(self._candidates(ev, tw, ChildSet.UNDETECTED_BIRTH, keep, keys_rng, mass))
+                    parts.append(candidates(ev, tw, ChildSet.UNDETECTED_BIRTH, keep, keys_rng, mass))
             elig = pop.death_eligible(in_view)
             if M and elig.any():
                 de = pop.death_log_ratio(n_view, M, ps)[b]  # (E,) or, per track, (E, M)
@@ -386,7 +389,7 @@ class HypothesisFilter:
                     ev = events[sl]
                     tw = (lw[sl, None] + de[sl].reshape(len(ev), -1)) - np.log1p(-p)[None, :]
                     tw = np.where(problem.detected(ev) | ~elig[None, :], -np.inf, tw)
-                    parts.append(self._candidates(ev, tw, ChildSet.DEATH, keep, keys_rng, mass))
+                    parts.append(candidates(ev, tw, ChildSet.DEATH, keep, keys_rng, mass))
         ev_all, kind, arg, lw_all, keys = (np.concatenate([q[f] for q in parts]) for f in range(5))
         n_twins = sum(len(q[3]) for q in parts[1:])
         if keep is not None and len(lw_all) > keep:
@@ -394,25 +397,6 @@ class HypothesisFilter:
             ev_all, kind, arg, lw_all, keys = ev_all[sel], kind[sel], arg[sel], lw_all[sel], keys[sel]
         cs = ChildSet(np.full(len(lw_all), h, np.int64), ev_all, kind, arg, lw_all)
         return cs, keys, n_generated, (np.logaddexp.reduce(mass) if mass else -np.inf), n_twins
-
-    @staticmethod
-    def _candidates(events, tw, kind, keep, keys_rng, mass):
-        """Children from an (E, K) matrix of log-weights (−inf = no such child), with their keys.
-
-        Column ``c`` of ``tw`` is the child's argument (birth region, dead object); association
-        children come as a single column with argument −1.
-        """
-        finite = np.isfinite(tw)
-        rows, cols = np.nonzero(finite)
-        vals = tw[rows, cols]
-        if mass is not None and len(vals):
-            mass.append(np.logaddexp.reduce(vals))  # diagnostics only; ufunc, no per-call overhead
-        keys = gumbel_keys(vals, keys_rng)
-        if keep is not None and len(vals) > keep:
-            sel = top_k(keys, keep)
-            rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
-        arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
-        return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
 
     def expand(self, Z, dt=None) -> ChildSet:
         """All children of the current hypotheses for scan ``Z``, unnormalised, nothing kept.

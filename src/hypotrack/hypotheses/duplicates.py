@@ -38,7 +38,10 @@ from .._logspace import logsumexp
 from .association_problem import SEEDED_BIRTH
 from .hypothesis import ChildSet
 
-__all__ = ["child_pairs", "silent_masks", "child_hashes", "merge_duplicates"]
+__all__ = ["child_pairs", "silent_masks", "child_hashes", "merge_duplicates", "merge_few"]
+
+#: Up to this many children with a death among them, :func:`merge_few` groups them by their pair sets directly.
+FEW = 48
 
 _CHUNK = 1 << 15
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
@@ -198,3 +201,47 @@ def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth:
     keep = np.flatnonzero(~drop)
     merged = ChildSet(children.parent[keep], children.events[keep], children.kind[keep], children.arg[keep], lw[keep])
     return merged, keys[keep], int(drop.sum())
+
+
+def merge_few(children: ChildSet, keys: np.ndarray, track_lists, n_birth: int):
+    """:func:`merge_duplicates` of a step with few children, and the children's pairs: ``(children, keys, n_removed,
+    pairs)``, ``pairs`` the :func:`child_pairs` of each returned child or ``None`` (not computed).
+
+    The same merge bit for bit: duplicates need a death (module docstring), so a step whose children have none
+    (no ``DEATH`` child) is returned as it is, pairs not computed. Otherwise, with at most :data:`FEW` children
+    and no silent-event set among them (``POPULATION_SET``: the general path), each child's pairs are computed
+    (:func:`child_pairs`, one Python pass each, where the hashes' vectorised pass costs some forty numpy calls)
+    and the children are grouped by their exact pair sets, each group's members in index order — the groups
+    and member order the hashes give (equal pair sets have equal hashes; children of one hash are compared by
+    their pair sets in index order) — and merged as :func:`merge_duplicates` merges them (the heaviest, the first
+    of equals, takes the log-sum-exp of the members' log-weights, its key moved by as much). The pairs are the
+    step's to reuse (:class:`~.validity.PairMemo`): a merged child keeps its own events, kind and argument, so
+    its pairs. Anything else: :func:`merge_duplicates` itself, pairs ``None``."""
+    E = len(children)
+    kind = children.kind
+    if np.ndim(keys) != 1 or len(keys) != E or E < 2 or E > FEW or ChildSet.POPULATION_SET in kind:
+        return (*merge_duplicates(children, keys, track_lists, n_birth), None)
+    if ChildSet.DEATH not in kind:
+        return children, keys, 0, None
+    parent = children.parent.tolist()
+    pairs = [child_pairs(children, c, track_lists[parent[c]], n_birth) for c in range(E)]
+    groups = {}
+    for c in range(E):
+        groups.setdefault(frozenset(pairs[c]), []).append(c)
+    if len(groups) == E:
+        return children, keys, 0, pairs
+    lw = children.log_weights.copy()
+    keys = np.asarray(keys, dtype=float).copy()
+    drop = np.zeros(E, dtype=bool)
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        members = np.asarray(members)
+        rep = members[np.argmax(lw[members])]
+        total = float(logsumexp(lw[members]))
+        keys[rep] += total - lw[rep]
+        lw[rep] = total
+        drop[members[members != rep]] = True
+    keep = np.flatnonzero(~drop)
+    merged = ChildSet(children.parent[keep], children.events[keep], children.kind[keep], children.arg[keep], lw[keep])
+    return merged, keys[keep], int(drop.sum()), [pairs[c] for c in keep.tolist()]

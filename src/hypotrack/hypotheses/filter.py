@@ -46,7 +46,7 @@ from .._validation import (
 from ..association import gate_threshold, validation_matrix
 from ..models.measurement import LinearMeasurement
 from .detection import state_p_detect
-from .duplicates import child_pairs, merge_duplicates
+from .duplicates import child_pairs, merge_few
 from .children import candidates, gumbel_keys, heavy_entries, null_event, twins_never_heavier
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
@@ -483,12 +483,11 @@ class HypothesisFilter:
         children = ChildSet.concatenate(parts, ctx.n_returns)
         if len(children) == 0:
             raise RuntimeError("no child hypothesis has a positive weight (every event was gated out or forbidden)")
-        if self.merge_duplicates:
-            children, all_keys, n_dup = merge_duplicates(children, np.concatenate(all_keys), state.tracks,
-                                                         ctx.n_birth_regions)
-        else:
-            all_keys, n_dup = np.concatenate(all_keys), 0
-        n_invalid, memo = 0, PairMemo(lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions))
+        all_keys, n_dup, known = np.concatenate(all_keys), 0, None
+        if self.merge_duplicates:  # (few children: grouped by their pairs, kept for the memo; duplicates.merge_few)
+            children, all_keys, n_dup, known = merge_few(children, all_keys, state.tracks, ctx.n_birth_regions)
+        n_invalid, memo = 0, PairMemo(lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions),
+                                      known)
         if self.validity is None:
             sel = top_k(all_keys, self.max_hypotheses)
         else:
@@ -514,9 +513,9 @@ class HypothesisFilter:
         holds); returns ``(state, track sources, Kalman updates)``; the moments of the entries lighter than ``light``
         in all are NaN (:meth:`advance`)."""
         pair_index, pairs, new_lists = {}, [], []
-        for c in range(len(kept)):
+        for c in sel.tolist():
             idx = []
-            for key in memo.pairs(int(sel[c])):
+            for key in memo.pairs(c):
                 if key not in pair_index:
                     pair_index[key] = len(pairs)
                     pairs.append(key)
@@ -539,8 +538,10 @@ class HypothesisFilter:
         # (source, return) of each store entry: source >= 0 a predicted track, -1 - r birth term r,
         # -1 - B - c a seeded birth in component c (read by the factored engine to place newborn objects)
         sources = np.stack([src, ret], axis=1) if len(pairs) else np.zeros((0, 2), np.int64)
-        keys = [(state.keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())
-                for c in range(len(kept))]
+        ev = np.ascontiguousarray(kept.events)  # each child's row of bytes (its event), cut from one buffer
+        row, buf = ev.shape[1] * ev.itemsize, ev.tobytes()
+        keys = [(state.keys[p], int(k), int(a), buf[c * row:(c + 1) * row])
+                for c, (p, k, a) in enumerate(zip(kept.parent.tolist(), kept.kind.tolist(), kept.arg.tolist()))]
         return FilterState(TrackStore(means, covs, labels), log_w, new_lists, keys, next_label), sources, n_updates
 
     def pair_moments(self, pred: TrackStore, ctx: ScanContext, src, ret, covariances: bool = True):

@@ -27,11 +27,14 @@ otherwise :func:`applies` is false and the general path runs.
 from __future__ import annotations
 
 from math import inf as _INF
+from typing import NamedTuple
 
 import numpy as np
 
-from .generators import top_k
+from .generators import MurtyGenerator, top_k
 from .hypothesis import ChildSet
+from .one_return import one_return_k_best
+from .weights import ReidWeights
 
 __all__ = ["applies", "one_return_children"]
 
@@ -55,7 +58,6 @@ def one_return_children(f, ctx, state, h: int, keep, generator):
     M = len(tr)
     ps = None if ctx.p_survive is None else ctx.p_survive[tr]
     pop_lp = pop.log_event_prob(n_view, M, ps) if pop is not None else None
-    problem = f.weights.problem(ctx, tr, float(state.log_w[h]), pop_lp)
     elig = de_row = log_miss = None
     gen_keep = None
     if pop is not None:
@@ -73,7 +75,13 @@ def one_return_children(f, ctx, state, h: int, keep, generator):
             el = elig.tolist()
             if max(de_row) - min(lm[j] for j in range(M) if el[j]) <= 0:
                 gen_keep = keep
-    events, lw = (f.generator if generator is None else generator).generate(problem, f.rng, keep=gen_keep)
+    gen = f.generator if generator is None else generator
+    out = None
+    if type(gen) is MurtyGenerator and type(f.weights) is ReidWeights:
+        out = _reid_k_best(f.weights, gen, ctx, tr, float(state.log_w[h]), pop_lp, gen_keep)
+    if out is None:
+        out = gen.generate(f.weights.problem(ctx, tr, float(state.log_w[h]), pop_lp), f.rng, keep=gen_keep)
+    events, lw = out
     events = np.asarray(events, dtype=np.int32)
     E = len(lw)
     mass = [np.logaddexp.reduce(lw)] if E else []
@@ -119,3 +127,30 @@ def one_return_children(f, ctx, state, h: int, keep, generator):
         ev_all, kind, arg, lw_all, keys = ev_all[sel], kind[sel], arg[sel], lw_all[sel], keys[sel]
     cs = ChildSet(np.full(len(lw_all), h, np.int64), ev_all, kind, arg, lw_all)
     return cs, keys, E, (np.logaddexp.reduce(mass) if mass else -np.inf), n_twins
+
+
+class _Row(NamedTuple):
+    """The fields of an :class:`~.association_problem.AssociationProblem` that :func:`~.one_return.one_return_k_best`
+    reads, for a one-return problem whose arrays are already floats of the right shapes (no validation pass)."""
+
+    target_scores: np.ndarray
+    option_scores: np.ndarray
+    n_objects: int
+    count_term: np.ndarray
+    constant: float
+
+
+def _reid_k_best(weights, generator, ctx, tracks, constant: float, pop_lp, keep):
+    """:class:`~.generators.MurtyGenerator`'s children of the one-return problem that :meth:`ReidWeights.problem
+    <.weights.WeightModel.problem>` builds for ``tracks`` — the same arrays (its gathers, its count term plus the
+    population's, its constant's sum), handed to :func:`~.one_return.one_return_k_best` as the generator hands them
+    (``k`` the smaller of its own and ``keep``); ``None`` where that declines (ties: the generator's solver decides)."""
+    log_miss_all, obj_all = ctx.detection_scores
+    tracks = np.asarray(tracks, dtype=np.int64)
+    M = len(tracks)
+    pop = np.zeros(1) if pop_lp is None else np.asarray(pop_lp, dtype=float)
+    if pop.shape != (1,):
+        return None  # (the general path raises its error)
+    phi = weights.count_term(ctx, M, 0) + pop[None, :]  # constant over the counts: Reid's count term is zero
+    row = _Row(obj_all[:, tracks], weights.option_scores(ctx), M, phi, float(constant + float(log_miss_all[tracks].sum())))
+    return one_return_k_best(row, generator.k if keep is None else min(generator.k, keep))

@@ -38,7 +38,7 @@ from .._logspace import logsumexp
 from .association_problem import SEEDED_BIRTH
 from .hypothesis import ChildSet
 
-__all__ = ["child_pairs", "silent_masks", "child_hashes", "merge_duplicates", "merge_few"]
+__all__ = ["child_pairs", "pairs_function", "silent_masks", "child_hashes", "merge_duplicates", "merge_few"]
 
 #: Up to this many children with a death among them, :func:`merge_few` groups them by their pair sets directly.
 FEW = 48
@@ -80,6 +80,42 @@ def child_pairs(children: ChildSet, c: int, tracks, n_birth: int) -> list:
     keys += [(-1 - n_birth - (SEEDED_BIRTH - a), i) for i, a in enumerate(ev) if a <= SEEDED_BIRTH]
     keys += [(-1 - int(r), -1) for r in unseen_births]
     return keys
+
+
+def pairs_function(children: ChildSet, track_lists, n_birth: int):
+    """``pairs(c)``: :func:`child_pairs` of child ``c`` of ``children`` (its parent's tracks in ``track_lists``) — the
+    same list — with the children's events, kinds, arguments and parents read into Python lists once for all of
+    them and each parent's track list once (an engine step asks for the pairs of every child it visits)."""
+    events, kinds, args, parents = (children.events.tolist(), children.kind.tolist(), children.arg.tolist(),
+                                    children.parent.tolist())
+    tracks_of = {}
+    death, unseen_birth, silent_set = ChildSet.DEATH, ChildSet.UNDETECTED_BIRTH, ChildSet.POPULATION_SET
+
+    def pairs(c: int) -> list:
+        h = parents[c]
+        tr = tracks_of.get(h)
+        if tr is None:
+            t = track_lists[h]
+            tr = tracks_of[h] = t.tolist() if isinstance(t, np.ndarray) else [int(x) for x in t]
+        ev, M, kind = events[c], len(tr), kinds[c]
+        ret = [-1] * M
+        for i, a in enumerate(ev):
+            if 0 <= a < M:
+                ret[a] = i
+        dead, unseen = (), ()
+        if kind == death:
+            dead = (int(args[c]),)
+        elif kind == unseen_birth:
+            unseen = (int(args[c]),)
+        elif kind == silent_set:
+            dead, unseen = children.silent_events(c, M)
+        keys = [(tr[j], ret[j]) for j in range(M) if j not in dead]
+        keys += [(-1 - (a - M), i) for i, a in enumerate(ev) if a >= M]
+        keys += [(-1 - n_birth - (SEEDED_BIRTH - a), i) for i, a in enumerate(ev) if a <= SEEDED_BIRTH]
+        keys += [(-1 - int(r), -1) for r in unseen]
+        return keys
+
+    return pairs
 
 
 def silent_masks(children: ChildSet, lens: np.ndarray, n_birth: int):
@@ -223,8 +259,8 @@ def merge_few(children: ChildSet, keys: np.ndarray, track_lists, n_birth: int):
         return (*merge_duplicates(children, keys, track_lists, n_birth), None)
     if ChildSet.DEATH not in kind:
         return children, keys, 0, None
-    parent = children.parent.tolist()
-    pairs = [child_pairs(children, c, track_lists[parent[c]], n_birth) for c in range(E)]
+    pairs_of = pairs_function(children, track_lists, n_birth)
+    pairs = [pairs_of(c) for c in range(E)]
     groups = {}
     for c in range(E):
         groups.setdefault(frozenset(pairs[c]), []).append(c)

@@ -46,7 +46,7 @@ from .._validation import (
 from ..association import gate_threshold, validation_matrix
 from ..models.measurement import LinearMeasurement
 from .detection import state_p_detect
-from .duplicates import child_pairs, merge_few
+from .duplicates import merge_few, pairs_function
 from .children import candidates, gumbel_keys, heavy_entries, null_event, twins_never_heavier
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
@@ -486,8 +486,7 @@ class HypothesisFilter:
         all_keys, n_dup, known = np.concatenate(all_keys), 0, None
         if self.merge_duplicates:  # (few children: grouped by their pairs, kept for the memo; duplicates.merge_few)
             children, all_keys, n_dup, known = merge_few(children, all_keys, state.tracks, ctx.n_birth_regions)
-        n_invalid, memo = 0, PairMemo(lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions),
-                                      known)
+        n_invalid, memo = 0, PairMemo(pairs_function(children, state.tracks, ctx.n_birth_regions), known)
         if self.validity is None:
             sel = top_k(all_keys, self.max_hypotheses)
         else:

@@ -14,14 +14,14 @@ import pytest
 
 import hypotrack.hypotheses.filter as filter_mod
 from hypotrack.hypotheses import ChildSet, HypothesisFilter, homht_kbest
-from hypotrack.hypotheses.duplicates import FEW, child_pairs, merge_duplicates, merge_few
+from hypotrack.hypotheses.duplicates import FEW, child_pairs, merge_duplicates, merge_few, pairs_function
 from hypotrack.hypotheses.one_return_children import applies
 from hypotrack.hypotheses.population_events import BinomialPopulation
 from hypotrack.hypotheses.state import FilterState
 from hypotrack.hypotheses.tracks import TrackStore
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import UniformBirthDensity
-from scenes import REGION, position_sensor, single_event_population
+from scenes import HALVES, REGION, position_sensor, single_event_population
 
 MOTION = ConstantVelocity(0.05)
 
@@ -195,3 +195,36 @@ def test_merge_few_leaves_large_and_death_free_steps_alone(monkeypatch):
     assert dup.merge_few(children, keys, tracks, 0)[3] is None and calls == [1]
     with pytest.raises(ValueError, match="keys must have shape"):
         merge_few(children, keys[:-1], tracks, 0)
+
+
+def _glmb_filter():
+    from hypotrack.hypotheses import glmb
+    from hypotrack.hypotheses.population_lmb import GaussianBirthTerm, LabeledMultiBernoulliPopulation
+    sensor = position_sensor(0.5, 0.8, REGION, 2.0)
+    terms = [GaussianBirthTerm(np.array([x, 0.0, 0.0, 0.0]), np.diag([4.0, 4.0, 1.0, 1.0]), sensor.measurement.H,
+                               sensor.measurement.R) for x in (-3.0, 3.0)]
+    return glmb(MOTION, sensor, population=LabeledMultiBernoulliPopulation(terms, r_birth=0.1, p_survive=0.9),
+                n_sweeps=20, max_hypotheses=10, seed=1)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_pairs_function_is_child_pairs(seed):
+    # every kind of child: association, death (binomial), undetected birth (single-event regions), seeded births
+    # (Reid's), silent-event sets (the δ-GLMB's), on scans of 0 to 3 returns
+    rng = np.random.default_rng(200 + seed)
+    with_regions = homht_kbest(MOTION, position_sensor(0.5, 0.8, REGION, 2.0), k=6, max_hypotheses=6,
+                               population=single_event_population(0.05, 0.05, 2, HALVES))
+    checked = set()
+    for f in (_filter("survival", k=6), _filter("binomial", k=6), with_regions, _glmb_filter()):
+        state = _scene(rng, 5, 3)
+        f.initialise(state.store.means, state.store.covs)
+        f.state = state
+        for m in range(4):
+            children = f.expand(rng.uniform(-6, 6, size=(m, 2)))
+            n_birth = with_regions.population.n_birth_regions if f is with_regions else (2 if f.population is not None
+                      and hasattr(f.population, "children") else 0)
+            pairs = pairs_function(children, state.tracks, n_birth)
+            for c in range(len(children)):
+                assert pairs(c) == child_pairs(children, c, state.tracks[children.parent[c]], n_birth)
+            checked.update(children.kind.tolist())
+    assert checked == {0, 1, 2, 3}

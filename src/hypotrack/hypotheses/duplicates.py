@@ -239,14 +239,22 @@ def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth:
     return merged, keys[keep], int(drop.sum())
 
 
+def _set_kills(children: ChildSet, track_lists) -> bool:
+    """Whether a silent-event set (``POPULATION_SET``) of ``children`` kills one of its parent's objects: a bit
+    ``j < M`` of its mask (:meth:`~.hypothesis.ChildSet.silent_events`)."""
+    rows = np.flatnonzero(children.kind == ChildSet.POPULATION_SET).tolist()
+    args, parents = children.arg, children.parent
+    return any(int(args[e]) & ((1 << len(track_lists[parents[e]])) - 1) for e in rows)
+
+
 def merge_few(children: ChildSet, keys: np.ndarray, track_lists, n_birth: int):
     """:func:`merge_duplicates` of a step with few children, and the children's pairs: ``(children, keys, n_removed,
     pairs)``, ``pairs`` the :func:`child_pairs` of each returned child or ``None`` (not computed).
 
     The same merge bit for bit: duplicates need a death (module docstring), so a step whose children have none
-    (no ``DEATH`` child) is returned as it is, pairs not computed. Otherwise, with at most :data:`FEW` children
-    and no silent-event set among them (``POPULATION_SET``: the general path), each child's pairs are computed
-    (:func:`child_pairs`, one Python pass each, where the hashes' vectorised pass costs some forty numpy calls)
+    (no ``DEATH`` child, no silent-event set killing an object) is returned as it is, pairs not computed. Otherwise,
+    with at most :data:`FEW` children, each child's pairs are computed (:func:`pairs_function`, one Python pass each,
+    where the hashes' vectorised pass costs some forty numpy calls)
     and the children are grouped by their exact pair sets, each group's members in index order — the groups
     and member order the hashes give (equal pair sets have equal hashes; children of one hash are compared by
     their pair sets in index order) — and merged as :func:`merge_duplicates` merges them (the heaviest, the first
@@ -254,10 +262,10 @@ def merge_few(children: ChildSet, keys: np.ndarray, track_lists, n_birth: int):
     step's to reuse (:class:`~.validity.PairMemo`): a merged child keeps its own events, kind and argument, so
     its pairs. Anything else: :func:`merge_duplicates` itself, pairs ``None``."""
     E = len(children)
-    kind = children.kind
-    if np.ndim(keys) != 1 or len(keys) != E or E < 2 or E > FEW or ChildSet.POPULATION_SET in kind:
+    if np.ndim(keys) != 1 or len(keys) != E or E < 2 or E > FEW:
         return (*merge_duplicates(children, keys, track_lists, n_birth), None)
-    if ChildSet.DEATH not in kind:
+    kind = children.kind
+    if ChildSet.DEATH not in kind and not _set_kills(children, track_lists):
         return children, keys, 0, None
     pairs_of = pairs_function(children, track_lists, n_birth)
     pairs = [pairs_of(c) for c in range(E)]

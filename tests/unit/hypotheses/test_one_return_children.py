@@ -228,3 +228,31 @@ def test_pairs_function_is_child_pairs(seed):
                 assert pairs(c) == child_pairs(children, c, state.tracks[children.parent[c]], n_birth)
             checked.update(children.kind.tolist())
     assert checked == {0, 1, 2, 3}
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_merge_few_on_silent_event_sets(seed):
+    # δ-GLMB children (bit masks of deaths and unborn terms): parents {a, b} and {a} give the same child when b dies
+    rng = np.random.default_rng(300 + seed)
+    f = _glmb_filter()
+    merged_some = False
+    for _ in range(4):
+        base = _scene(rng, 3, 1)
+        subsets = [np.arange(3), np.array([0, 1]), np.array([0, 2]), np.array([1])]
+        lw = 3.0 * rng.normal(size=4)
+        state = FilterState(base.store, lw - np.logaddexp.reduce(lw), [s.astype(np.int64) for s in subsets],
+                            list(range(4)), 3)
+        f.initialise(state.store.means, state.store.covs)
+        f.state = state
+        children = f.expand(rng.uniform(-6, 6, size=(int(rng.integers(0, 2)), 2)))
+        assert ChildSet.POPULATION_SET in children.kind
+        keys = children.log_weights + rng.gumbel(size=len(children))  # the sampled cap's keys move with the merge
+        for n in (len(children), min(len(children), FEW)):
+            sub = children.take(np.arange(n))
+            want, wkeys, wn = merge_duplicates(sub, keys[:n], state.tracks, 2)
+            got, gkeys, gn, pairs = merge_few(sub, keys[:n], state.tracks, 2)
+            assert gn == wn and gkeys.tobytes() == np.asarray(wkeys, dtype=float).tobytes()
+            for field in ("parent", "events", "kind", "arg", "log_weights"):
+                assert getattr(got, field).tobytes() == getattr(want, field).tobytes(), field
+            merged_some |= wn > 0
+    assert merged_some

@@ -3,7 +3,8 @@ survival, the fast path) with the one-return children on Python floats (:mod:`..
 and the few-children duplicate merge (:func:`...hypotheses.duplicates.merge_few`) against the same tracker taking
 the general path for both: bit for bit the same posterior at every scan (groups, weights, moments, labels, track
 lists, lineage keys), with both replacements exercised many times; and the δ-GLMB, whose parents generate their
-own children (silent-event sets, merged by :func:`...hypotheses.duplicates.merge_few` too)."""
+own children (silent-event sets, merged by :func:`...hypotheses.duplicates.merge_few` too), and R-FISST (its MCMC
+search's draws from the same problems)."""
 
 import pytest
 import yaml
@@ -32,7 +33,7 @@ def catalogue():
     return cfg, problem, tsensor, scans
 
 
-@pytest.mark.parametrize("tracker", ["homht_kbest", "glmb"])
+@pytest.mark.parametrize("tracker", ["homht_kbest", "glmb", "rfisst"])
 def test_the_posterior_is_the_general_path_s_bit_for_bit(catalogue, monkeypatch, tracker):
     cfg, problem, tsensor, scans = catalogue
     new, ref = (make_tracker(tracker, cfg, problem, 1, fast_path=True) for _ in range(2))
@@ -65,6 +66,6 @@ def test_the_posterior_is_the_general_path_s_bit_for_bit(catalogue, monkeypatch,
         assert all(a.log_w.tobytes() == b.log_w.tobytes() for a, b in zip(ga, gb))
     if tracker == "homht_kbest":  # the run holds what the check is for
         assert used["children"] > N_SCANS and used["merged_few"] > 5, used
-    else:  # the δ-GLMB's parents make their own children (silent-event sets): not built here
+    elif tracker == "glmb":  # the δ-GLMB's parents make their own children (silent-event sets): not built here
         assert used["children"] == 0, used
     assert new.next_label > len(problem.labels)  # births took labels

@@ -16,9 +16,11 @@ One ``step(Z)``:
    the detection probability of every track (:class:`.ScanContext`);
 3. for each parent: its association problem (weight model + population event probabilities),
    the generated association children, and their undetected-birth / death *twins*
-   (:mod:`.population_events`), keeping the best ``H∞`` per parent;
+   (:mod:`.population_events`), keeping the best ``H∞`` per parent (on a scan of one return, with no birth
+   term, on Python floats: :mod:`.one_return_children`, the same children);
 4. merge identical children of different parents (same tracks, e.g. after deaths) by adding
-   their weights (:mod:`.duplicates`), then cap the children at ``H∞`` — the top by weight, or a weighted sample without replacement
+   their weights (:mod:`.duplicates`; a step with few children by their pair sets, :func:`.duplicates.merge_few`),
+   then cap the children at ``H∞`` — the top by weight, or a weighted sample without replacement
    (Gumbel-top-k with the filter's seeded generator) — and normalise with log-sum-exp;
 5. build the next store from the distinct ``(track, return)`` pairs of the survivors: each pair
    is one Joseph-form Kalman update however many hypotheses share it.

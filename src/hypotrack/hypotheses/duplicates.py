@@ -217,11 +217,9 @@ def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth:
     same[:-1] |= eq
     if not same.any():
         return children, keys, 0
-    groups = {}
-    for c in order[same]:
-        c = int(c)
-        pairs = frozenset(child_pairs(children, c, track_lists[children.parent[c]], n_birth))
-        groups.setdefault((int(h[c]), pairs), []).append(c)
+    groups, pairs_of = {}, pairs_function(children, track_lists, n_birth)
+    for c in order[same].tolist():
+        groups.setdefault((int(h[c]), frozenset(pairs_of(c))), []).append(c)
     lw = children.log_weights.copy()
     keys = np.asarray(keys, dtype=float).copy()
     drop = np.zeros(E, dtype=bool)

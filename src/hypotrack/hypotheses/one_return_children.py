@@ -39,6 +39,7 @@ from .weights import ReidWeights
 __all__ = ["applies", "one_return_children"]
 
 _ASSOCIATION, _DEATH = ChildSet.ASSOCIATION, ChildSet.DEATH
+_CHUNK = 1 << 15  # the general path's rows per chunk of death twins (filter._CHUNK)
 
 
 def applies(pop, ctx, keys_rng, with_null: bool) -> bool:
@@ -105,19 +106,28 @@ def one_return_children(f, ctx, state, h: int, keep, generator):
                         d_rows.append(e)
                         d_cols.append(j)
                         d_vals.append(v)
-    n_twins = 0
-    if d_vals:
-        vals = np.array(d_vals, dtype=float)
+    # the general path's death twins come in chunks of rows (_CHUNK events), each chunk's entries reduced to
+    # their mass and trimmed on their own: one chunk but for a parent of tens of thousands of children
+    parts_ev, parts_lw, parts_col = [a_ev], [a_lw], []
+    d_rows, d_cols = np.array(d_rows, dtype=np.int64), np.array(d_cols, dtype=np.int64)
+    d_vals = np.array(d_vals, dtype=float)
+    for start in range(0, E if len(d_vals) else 0, _CHUNK):
+        inside = (d_rows >= start) & (d_rows < start + _CHUNK)
+        rows, cols, vals = d_rows[inside], d_cols[inside], d_vals[inside]
+        if not len(vals):
+            continue
         mass.append(np.logaddexp.reduce(vals))
-        rows, cols = np.array(d_rows, dtype=np.int64), np.array(d_cols, dtype=np.int64)
         if keep is not None and len(vals) > keep:
             sel = top_k(vals, keep)
             rows, cols, vals = rows[sel], cols[sel], vals[sel]
-        n_twins = len(vals)
-        ev_all = np.concatenate([a_ev, events[rows]])
-        lw_all = np.concatenate([a_lw, vals])
+        parts_ev.append(events[rows])
+        parts_lw.append(vals)
+        parts_col.append(cols)
+    n_twins = sum(len(c) for c in parts_col)
+    if parts_col:
+        ev_all, lw_all = np.concatenate(parts_ev), np.concatenate(parts_lw)
         kind = np.concatenate([np.full(n_assoc, _ASSOCIATION, np.int64), np.full(n_twins, _DEATH, np.int64)])
-        arg = np.concatenate([np.full(n_assoc, -1, np.int64), cols])
+        arg = np.concatenate([np.full(n_assoc, -1, np.int64), *parts_col])
     else:
         ev_all, lw_all = a_ev, a_lw
         kind, arg = np.full(n_assoc, _ASSOCIATION, np.int64), np.full(n_assoc, -1, np.int64)

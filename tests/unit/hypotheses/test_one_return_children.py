@@ -106,6 +106,21 @@ def test_hand_computed_death_twins():
 @pytest.mark.parametrize("kind", ["survival", "binomial", "poisson_survival", "none"])
 @pytest.mark.parametrize("seed", range(4))
 def test_children_equal_to_the_general_path(kind, seed):
+    _compare(kind, seed)
+
+
+@pytest.mark.parametrize("kind", ["survival", "binomial"])
+def test_children_equal_in_chunks(kind, monkeypatch):
+    # the general path reduces and trims the death twins chunk of rows by chunk (for a parent of tens of
+    # thousands of children); with chunks of 2 rows the masses and trims of several chunks are compared
+    import hypotrack.hypotheses.one_return_children as orc
+    monkeypatch.setattr(filter_mod, "_CHUNK", 2)
+    monkeypatch.setattr(orc, "_CHUNK", 2)
+    for seed in range(4):
+        _compare(kind, 50 + seed)
+
+
+def _compare(kind, seed):
     rng = np.random.default_rng(seed)
     checked = 0
     for _ in range(6):

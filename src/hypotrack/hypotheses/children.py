@@ -6,12 +6,35 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["feasible_events", "gumbel_keys", "heavy_entries", "null_event", "twins_never_heavier"]
+from .generators import top_k
+from .hypothesis import ChildSet
+
+__all__ = ["candidates", "feasible_events", "gumbel_keys", "heavy_entries", "null_event", "twins_never_heavier"]
 
 
 def gumbel_keys(lw, rng):
     """Log-weights ``lw``, Gumbel-perturbed with ``rng`` (the weighted sample's keys) or as they are (``rng`` None)."""
     return lw if rng is None else lw + rng.gumbel(size=lw.shape)
+
+
+def candidates(events, tw, kind, keep, keys_rng, mass):
+    """Children from an (E, K) matrix ``tw`` of log-weights (−inf = no such child), with their keys: ``(events,
+    kind, arg, log-weights, keys)``, the finite entries in row-major order, the best ``keep`` by key when more.
+
+    Column ``c`` of ``tw`` is the child's argument (birth region, dead object); association children come as a
+    single column with argument −1. ``mass`` (a list, or ``None``): the entries' log-sum-exp appended to it.
+    """
+    finite = np.isfinite(tw)
+    rows, cols = np.nonzero(finite)
+    vals = tw[rows, cols]
+    if mass is not None and len(vals):
+        mass.append(np.logaddexp.reduce(vals))  # diagnostics only; ufunc, no per-call overhead
+    keys = gumbel_keys(vals, keys_rng)
+    if keep is not None and len(vals) > keep:
+        sel = top_k(keys, keep)
+        rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
+    arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
+    return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
 
 
 def twins_never_heavier(pop, ctx, p, in_view, p_survive=None) -> bool:

@@ -38,7 +38,10 @@ from .._logspace import logsumexp
 from .association_problem import SEEDED_BIRTH
 from .hypothesis import ChildSet
 
-__all__ = ["child_pairs", "silent_masks", "child_hashes", "merge_duplicates"]
+__all__ = ["child_pairs", "pairs_function", "silent_masks", "child_hashes", "merge_duplicates", "merge_few"]
+
+#: Up to this many children with a death among them, :func:`merge_few` groups them by their pair sets directly.
+FEW = 48
 
 _CHUNK = 1 << 15
 _GOLDEN = np.uint64(0x9E3779B97F4A7C15)
@@ -77,6 +80,42 @@ def child_pairs(children: ChildSet, c: int, tracks, n_birth: int) -> list:
     keys += [(-1 - n_birth - (SEEDED_BIRTH - a), i) for i, a in enumerate(ev) if a <= SEEDED_BIRTH]
     keys += [(-1 - int(r), -1) for r in unseen_births]
     return keys
+
+
+def pairs_function(children: ChildSet, track_lists, n_birth: int):
+    """``pairs(c)``: :func:`child_pairs` of child ``c`` of ``children`` (its parent's tracks in ``track_lists``) — the
+    same list — with the children's events, kinds, arguments and parents read into Python lists once for all of
+    them and each parent's track list once (an engine step asks for the pairs of every child it visits)."""
+    events, kinds, args, parents = (children.events.tolist(), children.kind.tolist(), children.arg.tolist(),
+                                    children.parent.tolist())
+    tracks_of = {}
+    death, unseen_birth, silent_set = ChildSet.DEATH, ChildSet.UNDETECTED_BIRTH, ChildSet.POPULATION_SET
+
+    def pairs(c: int) -> list:
+        h = parents[c]
+        tr = tracks_of.get(h)
+        if tr is None:
+            t = track_lists[h]
+            tr = tracks_of[h] = t.tolist() if isinstance(t, np.ndarray) else [int(x) for x in t]
+        ev, M, kind = events[c], len(tr), kinds[c]
+        ret = [-1] * M
+        for i, a in enumerate(ev):
+            if 0 <= a < M:
+                ret[a] = i
+        dead, unseen = (), ()
+        if kind == death:
+            dead = (int(args[c]),)
+        elif kind == unseen_birth:
+            unseen = (int(args[c]),)
+        elif kind == silent_set:
+            dead, unseen = children.silent_events(c, M)
+        keys = [(tr[j], ret[j]) for j in range(M) if j not in dead]
+        keys += [(-1 - (a - M), i) for i, a in enumerate(ev) if a >= M]
+        keys += [(-1 - n_birth - (SEEDED_BIRTH - a), i) for i, a in enumerate(ev) if a <= SEEDED_BIRTH]
+        keys += [(-1 - int(r), -1) for r in unseen]
+        return keys
+
+    return pairs
 
 
 def silent_masks(children: ChildSet, lens: np.ndarray, n_birth: int):
@@ -178,11 +217,9 @@ def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth:
     same[:-1] |= eq
     if not same.any():
         return children, keys, 0
-    groups = {}
-    for c in order[same]:
-        c = int(c)
-        pairs = frozenset(child_pairs(children, c, track_lists[children.parent[c]], n_birth))
-        groups.setdefault((int(h[c]), pairs), []).append(c)
+    groups, pairs_of = {}, pairs_function(children, track_lists, n_birth)
+    for c in order[same].tolist():
+        groups.setdefault((int(h[c]), frozenset(pairs_of(c))), []).append(c)
     lw = children.log_weights.copy()
     keys = np.asarray(keys, dtype=float).copy()
     drop = np.zeros(E, dtype=bool)
@@ -198,3 +235,55 @@ def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth:
     keep = np.flatnonzero(~drop)
     merged = ChildSet(children.parent[keep], children.events[keep], children.kind[keep], children.arg[keep], lw[keep])
     return merged, keys[keep], int(drop.sum())
+
+
+def _set_kills(children: ChildSet, track_lists) -> bool:
+    """Whether a silent-event set (``POPULATION_SET``) of ``children`` kills one of its parent's objects: a bit
+    ``j < M`` of its mask (:meth:`~.hypothesis.ChildSet.silent_events`)."""
+    rows = np.flatnonzero(children.kind == ChildSet.POPULATION_SET).tolist()
+    args, parents = children.arg, children.parent
+    return any(int(args[e]) & ((1 << len(track_lists[parents[e]])) - 1) for e in rows)
+
+
+def merge_few(children: ChildSet, keys: np.ndarray, track_lists, n_birth: int):
+    """:func:`merge_duplicates` of a step with few children, and the children's pairs: ``(children, keys, n_removed,
+    pairs)``, ``pairs`` the :func:`child_pairs` of each returned child or ``None`` (not computed).
+
+    The same merge bit for bit: duplicates need a death (module docstring), so a step whose children have none
+    (no ``DEATH`` child, no silent-event set killing an object) is returned as it is, pairs not computed. Otherwise,
+    with at most :data:`FEW` children, each child's pairs are computed (:func:`pairs_function`, one Python pass each,
+    where the hashes' vectorised pass costs some forty numpy calls)
+    and the children are grouped by their exact pair sets, each group's members in index order — the groups
+    and member order the hashes give (equal pair sets have equal hashes; children of one hash are compared by
+    their pair sets in index order) — and merged as :func:`merge_duplicates` merges them (the heaviest, the first
+    of equals, takes the log-sum-exp of the members' log-weights, its key moved by as much). The pairs are the
+    step's to reuse (:class:`~.validity.PairMemo`): a merged child keeps its own events, kind and argument, so
+    its pairs. Anything else: :func:`merge_duplicates` itself, pairs ``None``."""
+    E = len(children)
+    if np.ndim(keys) != 1 or len(keys) != E or E < 2 or E > FEW:
+        return (*merge_duplicates(children, keys, track_lists, n_birth), None)
+    kind = children.kind
+    if ChildSet.DEATH not in kind and not _set_kills(children, track_lists):
+        return children, keys, 0, None
+    pairs_of = pairs_function(children, track_lists, n_birth)
+    pairs = [pairs_of(c) for c in range(E)]
+    groups = {}
+    for c in range(E):
+        groups.setdefault(frozenset(pairs[c]), []).append(c)
+    if len(groups) == E:
+        return children, keys, 0, pairs
+    lw = children.log_weights.copy()
+    keys = np.asarray(keys, dtype=float).copy()
+    drop = np.zeros(E, dtype=bool)
+    for members in groups.values():
+        if len(members) < 2:
+            continue
+        members = np.asarray(members)
+        rep = members[np.argmax(lw[members])]
+        total = float(logsumexp(lw[members]))
+        keys[rep] += total - lw[rep]
+        lw[rep] = total
+        drop[members[members != rep]] = True
+    keep = np.flatnonzero(~drop)
+    merged = ChildSet(children.parent[keep], children.events[keep], children.kind[keep], children.arg[keep], lw[keep])
+    return merged, keys[keep], int(drop.sum()), [pairs[c] for c in keep.tolist()]

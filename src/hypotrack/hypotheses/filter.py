@@ -16,9 +16,11 @@ One ``step(Z)``:
    the detection probability of every track (:class:`.ScanContext`);
 3. for each parent: its association problem (weight model + population event probabilities),
    the generated association children, and their undetected-birth / death *twins*
-   (:mod:`.population_events`), keeping the best ``H∞`` per parent;
+   (:mod:`.population_events`), keeping the best ``H∞`` per parent (on a scan of one return, with no birth
+   term, on Python floats: :mod:`.one_return_children`, the same children);
 4. merge identical children of different parents (same tracks, e.g. after deaths) by adding
-   their weights (:mod:`.duplicates`), then cap the children at ``H∞`` — the top by weight, or a weighted sample without replacement
+   their weights (:mod:`.duplicates`; a step with few children by their pair sets, :func:`.duplicates.merge_few`),
+   then cap the children at ``H∞`` — the top by weight, or a weighted sample without replacement
    (Gumbel-top-k with the filter's seeded generator) — and normalise with log-sum-exp;
 5. build the next store from the distinct ``(track, return)`` pairs of the survivors: each pair
    is one Joseph-form Kalman update however many hypotheses share it.
@@ -46,10 +48,11 @@ from .._validation import (
 from ..association import gate_threshold, validation_matrix
 from ..models.measurement import LinearMeasurement
 from .detection import state_p_detect
-from .duplicates import child_pairs, merge_duplicates
-from .children import gumbel_keys, heavy_entries, null_event, twins_never_heavier
+from .duplicates import merge_few, pairs_function
+from .children import candidates, gumbel_keys, heavy_entries, null_event, twins_never_heavier
 from .generators import ChildGenerator, top_k
 from .hypothesis import ChildSet, Hypothesis
+from .one_return_children import applies, one_return_children
 from .posterior import summarise
 from ..protocol import TrackEstimates
 from .scan_context import ScanContext
@@ -349,6 +352,8 @@ class HypothesisFilter:
                 sel = top_k(keys, keep)
                 ev, kind, arg, lw, keys = ev[sel], kind[sel], arg[sel], lw[sel], keys[sel]
             return ChildSet(np.full(len(lw), h, np.int64), ev, kind, arg, lw), keys, len(lw), mass, 0
+        if applies(pop, ctx, keys_rng, with_null):  # one return, no birth term: Python floats (.one_return_children)
+            return one_return_children(self, ctx, state, h, keep, generator)
         p = ctx.p_detect[tr]
         in_view = p > 0
         n_view = int(in_view.sum())
@@ -363,7 +368,7 @@ class HypothesisFilter:
         events = np.asarray(events, dtype=np.int32)
         n_generated = len(lw)
         mass = [np.logaddexp.reduce(lw)] if len(lw) else []
-        parts = [self._candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]
+        parts = [candidates(events, lw[:, None], ChildSet.ASSOCIATION, keep, keys_rng, None)]
         if pop is not None and len(lw):
             M = problem.n_objects
             _, b = problem.counts(events)
@@ -377,7 +382,7 @@ class HypothesisFilter:
                     rows, cols = np.nonzero(ev >= M)
                     used[rows, ev[rows, cols] - M] = True
                     tw = np.where(used, -np.inf, (lw[sl] + ub[sl])[:, None])
-                    parts.append(self._candidates(ev, tw, ChildSet.UNDETECTED_BIRTH, keep, keys_rng, mass))
+                    parts.append(candidates(ev, tw, ChildSet.UNDETECTED_BIRTH, keep, keys_rng, mass))
             elig = pop.death_eligible(in_view)
             if M and elig.any():
                 de = pop.death_log_ratio(n_view, M, ps)[b]  # (E,) or, per track, (E, M)
@@ -386,7 +391,7 @@ class HypothesisFilter:
                     ev = events[sl]
                     tw = (lw[sl, None] + de[sl].reshape(len(ev), -1)) - np.log1p(-p)[None, :]
                     tw = np.where(problem.detected(ev) | ~elig[None, :], -np.inf, tw)
-                    parts.append(self._candidates(ev, tw, ChildSet.DEATH, keep, keys_rng, mass))
+                    parts.append(candidates(ev, tw, ChildSet.DEATH, keep, keys_rng, mass))
         ev_all, kind, arg, lw_all, keys = (np.concatenate([q[f] for q in parts]) for f in range(5))
         n_twins = sum(len(q[3]) for q in parts[1:])
         if keep is not None and len(lw_all) > keep:
@@ -394,25 +399,6 @@ class HypothesisFilter:
             ev_all, kind, arg, lw_all, keys = ev_all[sel], kind[sel], arg[sel], lw_all[sel], keys[sel]
         cs = ChildSet(np.full(len(lw_all), h, np.int64), ev_all, kind, arg, lw_all)
         return cs, keys, n_generated, (np.logaddexp.reduce(mass) if mass else -np.inf), n_twins
-
-    @staticmethod
-    def _candidates(events, tw, kind, keep, keys_rng, mass):
-        """Children from an (E, K) matrix of log-weights (−inf = no such child), with their keys.
-
-        Column ``c`` of ``tw`` is the child's argument (birth region, dead object); association
-        children come as a single column with argument −1.
-        """
-        finite = np.isfinite(tw)
-        rows, cols = np.nonzero(finite)
-        vals = tw[rows, cols]
-        if mass is not None and len(vals):
-            mass.append(np.logaddexp.reduce(vals))  # diagnostics only; ufunc, no per-call overhead
-        keys = gumbel_keys(vals, keys_rng)
-        if keep is not None and len(vals) > keep:
-            sel = top_k(keys, keep)
-            rows, cols, vals, keys = rows[sel], cols[sel], vals[sel], keys[sel]
-        arg = np.full(len(vals), -1, np.int64) if kind == ChildSet.ASSOCIATION else cols.astype(np.int64)
-        return events[rows], np.full(len(vals), kind, np.int64), arg, vals, keys
 
     def expand(self, Z, dt=None) -> ChildSet:
         """All children of the current hypotheses for scan ``Z``, unnormalised, nothing kept.
@@ -499,12 +485,10 @@ class HypothesisFilter:
         children = ChildSet.concatenate(parts, ctx.n_returns)
         if len(children) == 0:
             raise RuntimeError("no child hypothesis has a positive weight (every event was gated out or forbidden)")
-        if self.merge_duplicates:
-            children, all_keys, n_dup = merge_duplicates(children, np.concatenate(all_keys), state.tracks,
-                                                         ctx.n_birth_regions)
-        else:
-            all_keys, n_dup = np.concatenate(all_keys), 0
-        n_invalid, memo = 0, PairMemo(lambda c: child_pairs(children, c, state.tracks[children.parent[c]], ctx.n_birth_regions))
+        all_keys, n_dup, known = np.concatenate(all_keys), 0, None
+        if self.merge_duplicates:  # (few children: grouped by their pairs, kept for the memo; duplicates.merge_few)
+            children, all_keys, n_dup, known = merge_few(children, all_keys, state.tracks, ctx.n_birth_regions)
+        n_invalid, memo = 0, PairMemo(pairs_function(children, state.tracks, ctx.n_birth_regions), known)
         if self.validity is None:
             sel = top_k(all_keys, self.max_hypotheses)
         else:
@@ -530,9 +514,9 @@ class HypothesisFilter:
         holds); returns ``(state, track sources, Kalman updates)``; the moments of the entries lighter than ``light``
         in all are NaN (:meth:`advance`)."""
         pair_index, pairs, new_lists = {}, [], []
-        for c in range(len(kept)):
+        for c in sel.tolist():
             idx = []
-            for key in memo.pairs(int(sel[c])):
+            for key in memo.pairs(c):
                 if key not in pair_index:
                     pair_index[key] = len(pairs)
                     pairs.append(key)
@@ -555,8 +539,10 @@ class HypothesisFilter:
         # (source, return) of each store entry: source >= 0 a predicted track, -1 - r birth term r,
         # -1 - B - c a seeded birth in component c (read by the factored engine to place newborn objects)
         sources = np.stack([src, ret], axis=1) if len(pairs) else np.zeros((0, 2), np.int64)
-        keys = [(state.keys[kept.parent[c]], int(kept.kind[c]), int(kept.arg[c]), kept.events[c].tobytes())
-                for c in range(len(kept))]
+        ev = np.ascontiguousarray(kept.events)  # each child's row of bytes (its event), cut from one buffer
+        row, buf = ev.shape[1] * ev.itemsize, ev.tobytes()
+        keys = [(state.keys[p], int(k), int(a), buf[c * row:(c + 1) * row])
+                for c, (p, k, a) in enumerate(zip(kept.parent.tolist(), kept.kind.tolist(), kept.arg.tolist()))]
         return FilterState(TrackStore(means, covs, labels), log_w, new_lists, keys, next_label), sources, n_updates
 
     def pair_moments(self, pred: TrackStore, ctx: ScanContext, src, ret, covariances: bool = True):

@@ -89,7 +89,7 @@ def valid_top_k(keys, k: int, pairs_of, moments_of, validity):
     keys = np.asarray(keys, dtype=float)
     order = np.argsort(-keys, kind="stable")
     finite = np.isfinite(keys[order])
-    order = order[:len(order) if finite.all() else int(np.argmin(finite))]  # the visit stops at the first non-finite
+    order = order[:len(order) if finite.all() else int(np.argmin(finite))].tolist()  # the visit stops at the first non-finite
     verdict: dict = {}
     sel, n_invalid, tested = [], 0, 0
     for i, c in enumerate(order):
@@ -97,7 +97,7 @@ def valid_top_k(keys, k: int, pairs_of, moments_of, validity):
             break
         if i == tested:  # the next k − |sel| children are all visited (each is kept or rejected): test them at once
             tested = i + k - len(sel)
-            new = list(dict.fromkeys(p for d in order[i:tested] for p in pairs_of(int(d)) if p not in verdict))
+            new = list(dict.fromkeys(p for d in order[i:tested] for p in pairs_of(d) if p not in verdict))
             if new:
                 src = np.array([p[0] for p in new], dtype=np.int64)
                 ret = np.array([p[1] for p in new], dtype=np.int64)
@@ -106,8 +106,8 @@ def valid_top_k(keys, k: int, pairs_of, moments_of, validity):
                 if ok.shape != (len(new),):
                     raise ValueError(f"validity must return one bool per track, shape ({len(new)},), got {ok.shape}")
                 verdict.update(zip(new, ok.tolist()))
-        if all(verdict[p] for p in pairs_of(int(c))):
-            sel.append(int(c))
+        if all(verdict[p] for p in pairs_of(c)):
+            sel.append(c)
         else:
             n_invalid += 1
     return np.asarray(sel, dtype=np.int64), n_invalid
@@ -118,15 +118,15 @@ class PairMemo:
     """One engine step's child pairs, each child's computed once: the validity test visits the best children
     (:func:`valid_top_k`) and the kept ones are then materialised from the same pairs
     (:meth:`~.filter.HypothesisFilter._materialise`). ``pairs_of(c)``: the store pairs of child ``c``
-    (:func:`.child_pairs`).
+    (:func:`.child_pairs`); ``known``: the pairs of every child, already computed (:func:`.duplicates.merge_few`).
 
     The pairs' moments are not kept from the test to the materialisation: the radar's EKF (its batched
     matrix products) rounds a pair's update differently in a different batch, and a newborn's ill-conditioned
     track turns one rounding into ~1e-11 of its hypotheses' log-weights scans later — the kept pairs are
     updated in one batch, as they always were, so the posterior is the same to the bit."""
 
-    def __init__(self, pairs_of):
-        self._pairs_of, self._pairs = pairs_of, {}
+    def __init__(self, pairs_of, known=None):
+        self._pairs_of, self._pairs = pairs_of, ({} if known is None else dict(enumerate(known)))
 
     def pairs(self, c: int) -> list:
         """The store pairs of child ``c``."""

@@ -9,6 +9,7 @@ import yaml
 
 import hypotrack.hypotheses.factored.planner as planner
 import hypotrack.hypotheses.generators as generators
+import hypotrack.hypotheses.one_return_children as one_return_children
 from hypotrack.experiments.ssa_breakup.run import attach_tracker_snr
 from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
                                                     make_tracker, tracker_sensor)
@@ -52,10 +53,12 @@ def test_the_posterior_is_the_solver_s_bit_for_bit(catalogue, monkeypatch):
         tsensor.at(theta)
         with monkeypatch.context() as m:  # the reference: Murty's solver and the array closed form
             m.setattr(generators, "one_return_k_best", lambda p, k: None)
+            m.setattr(one_return_children, "one_return_k_best", lambda p, k: None)  # (its direct call for Reid's)
             m.setattr(planner, "sleeping_step", sleeping.sleeping_step)
             ref.step(Z, t)
         with monkeypatch.context() as m:
             m.setattr(generators, "one_return_k_best", counted_one)
+            m.setattr(one_return_children, "one_return_k_best", counted_one)
             m.setattr(planner, "sleeping_step", counted_scalar)
             new.step(Z, t)
         assert new.same_posterior(ref)

@@ -165,3 +165,38 @@ class RangeBearing(ExtendedMeasurement):
             P0[i, :2, :2] = J @ self.R @ J.T + position_std**2 * np.eye(2)
             P0[i, 2:, 2:] = velocity_std**2 * np.eye(2)
         return x0, P0
+
+
+def default_catalogue_config(n_scans: int) -> dict:
+    """The default configuration's ``ssa_catalogue`` section with ``n_scans`` scans (run from the repository root)."""
+    import yaml
+
+    with open("workflows/config/default.yaml") as fh:
+        return dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=n_scans)
+
+
+def catalogue_scene(cfg: dict, n_objects: int, snr: bool = True):
+    """The catalogue experiment's scene as its run steps it (:mod:`hypotrack.experiments.ssa_catalogue.run`): the
+    first ``n_objects`` of the bundled catalogue under ``cfg``, its tracker sensor (``snr``: p_D from the
+    signal-to-noise ratio, as the experiment's), the initial tracks and the scans.
+
+    Returns a namespace: ``problem()`` (a new tracking problem of the initial tracks each call), ``sensor``,
+    ``scans`` (``(t, returns, theta)`` per scan, the sensor's returns read at that scan's rotation), ``labels``
+    (the catalogued labels) and ``scenario``."""
+    from types import SimpleNamespace
+
+    from hypotrack.experiments.ssa_breakup.run import attach_tracker_snr
+    from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
+                                                        tracker_sensor)
+
+    _, unknown, sc, init_seed = build_scenario(cfg, n_objects, 1)
+    tsensor = tracker_sensor(sc.sensors[0])
+    if snr:
+        tsensor = attach_tracker_snr(cfg, tsensor)
+    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
+    scans = []
+    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
+        tsensor.at(sc.theta[k])
+        scans.append((float(t_k), tsensor.returns(Z), sc.theta[k]))
+    return SimpleNamespace(problem=lambda: make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels),
+                           sensor=tsensor, scans=scans, labels=labels, scenario=sc)

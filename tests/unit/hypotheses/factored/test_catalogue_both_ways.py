@@ -11,28 +11,20 @@ objects out of view:
   their garbage passes the bound) or compacted at every scan (every row copied: the lane rebuilt)."""
 
 import pytest
-import yaml
+from scenes import catalogue_scene, default_catalogue_config
 
 import hypotrack.hypotheses.factored.lane as lane_module
 import hypotrack.hypotheses.factored.scores as scores_module
-from hypotrack.experiments.ssa_catalogue.run import build_scenario, initial_tracks, make_motion, make_problem, make_tracker, tracker_sensor
+from hypotrack.experiments.ssa_catalogue.run import make_tracker
 
 N_SCANS = 30
 
 
 @pytest.fixture(scope="module")
 def catalogue():
-    with open("workflows/config/default.yaml") as fh:
-        cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
-    objects, unknown, sc, init_seed = build_scenario(cfg, 2000, 1)
-    tsensor = tracker_sensor(sc.sensors[0])
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
-    scans = []
-    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
-        tsensor.at(sc.theta[k])
-        scans.append((float(t_k), tsensor.returns(Z)))
-    return cfg, problem, scans
+    cfg = default_catalogue_config(N_SCANS)
+    scene = catalogue_scene(cfg, 2000, snr=False)
+    return cfg, scene.problem(), [(t, Z) for t, Z, _ in scene.scans]
 
 
 def test_gated_pairs_and_dense_matrices_give_the_same_posterior(catalogue, monkeypatch):

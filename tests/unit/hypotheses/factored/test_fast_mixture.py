@@ -12,11 +12,9 @@
 
 import numpy as np
 import pytest
-import yaml
+from scenes import catalogue_scene, default_catalogue_config
 
-from hypotrack.experiments.ssa_breakup.run import attach_tracker_snr
-from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
-                                                    make_tracker, tracker_sensor)
+from hypotrack.experiments.ssa_catalogue.run import make_tracker
 from hypotrack.hypotheses.factored.fast_mixture import mixture_takes
 from hypotrack.hypotheses.factored.fast_path import MARGIN, FastRule
 
@@ -119,18 +117,10 @@ N_SCANS = 50
 @pytest.fixture(scope="module")
 def decaying_catalogue():
     """The default section as it is (admissible births, plausibility, the decaying survival), 300 objects."""
-    with open("workflows/config/default.yaml") as fh:
-        cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
+    cfg = default_catalogue_config(N_SCANS)
     assert "unconfirmed_decay" in cfg["model"] and cfg["model"]["birth"] == "admissible"
-    objects, unknown, sc, init_seed = build_scenario(cfg, 300, 1)
-    tsensor = attach_tracker_snr(cfg, tracker_sensor(sc.sensors[0]))  # p_D from the SNR, as the experiment
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
-    scans = []
-    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
-        tsensor.at(sc.theta[k])
-        scans.append((float(t_k), tsensor.returns(Z), sc.theta[k]))
-    return cfg, problem, tsensor, scans
+    scene = catalogue_scene(cfg, 300)  # p_D from the SNR, as the experiment
+    return cfg, scene.problem(), scene.sensor, scene.scans
 
 
 def test_homht_with_mixture_births_and_the_bernoulli_lane_is_the_general_engine(decaying_catalogue):

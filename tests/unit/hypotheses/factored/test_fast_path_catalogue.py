@@ -5,17 +5,15 @@ single-hypothesis prior the registry hands over goes to the lane as the exact sp
 
 import numpy as np
 import pytest
-import yaml
 
-from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
-                                                    make_tracker, peer_config, tracker_sensor)
+from hypotrack.experiments.ssa_catalogue.run import make_tracker, peer_config
 from hypotrack.hypotheses import FactoredFilter, LabeledMultiBernoulliPopulation, glmb
 from hypotrack.hypotheses.factored_groups import factorise
 from hypotrack.hypotheses.factored.lane import one_hypothesis_lane
 from hypotrack.hypotheses.state import FilterState
 from hypotrack.hypotheses.tracks import TrackStore
 from hypotrack.models.motion import ConstantVelocity
-from scenes import position_sensor
+from scenes import catalogue_scene, default_catalogue_config, position_sensor
 
 N_SCANS = 40
 
@@ -24,23 +22,15 @@ N_SCANS = 40
 def catalogue(request):
     """The default section's scans with its documented radar (sensor-frame EKF, admissible births) or with the
     ENU stand-in (a fixed H: one-point births)."""
-    with open("workflows/config/default.yaml") as fh:
-        cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
+    cfg = default_catalogue_config(N_SCANS)
     # the shortcuts counted below are the silent population's (quiet groups dropped, lone tracks of r = 1); the
     # decaying one's Bernoulli lane and its fast path: test_bernoulli_lane.py
     cfg["model"] = {k: v for k, v in cfg["model"].items() if k != "unconfirmed_decay"}
     if request.param == "enu":
         cfg = peer_config(cfg)
         cfg["model"] = {k: v for k, v in cfg["model"].items() if k not in ("birth", "plausibility")}
-    objects, unknown, sc, init_seed = build_scenario(cfg, 400, 1)
-    tsensor = tracker_sensor(sc.sensors[0])
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
-    scans = []
-    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
-        tsensor.at(sc.theta[k])
-        scans.append((float(t_k), tsensor.returns(Z)))
-    return cfg, problem, scans, len(labels)
+    scene = catalogue_scene(cfg, 400, snr=False)
+    return cfg, scene.problem(), [(t, Z) for t, Z, _ in scene.scans], len(scene.labels)
 
 
 @pytest.mark.parametrize("name", ["glmb", "homht_kbest"])

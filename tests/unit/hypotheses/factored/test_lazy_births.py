@@ -8,12 +8,10 @@ that took labels, returns whose covariances were never mapped, validity rounds t
 
 import numpy as np
 import pytest
-import yaml
+from scenes import catalogue_scene, default_catalogue_config
 
 import hypotrack.hypotheses.filter as filter_module
-from hypotrack.experiments.ssa_breakup.run import attach_tracker_snr
-from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
-                                                    make_tracker, tracker_sensor)
+from hypotrack.experiments.ssa_catalogue.run import make_tracker
 
 N_SCANS = 40
 
@@ -66,18 +64,10 @@ def _eager(density):
 
 @pytest.fixture(scope="module")
 def catalogue():
-    with open("workflows/config/default.yaml") as fh:
-        cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
+    cfg = default_catalogue_config(N_SCANS)
     assert cfg["model"]["birth"] == "admissible" and cfg["model"].get("plausibility")
-    objects, unknown, sc, init_seed = build_scenario(cfg, 300, 1)
-    tsensor = attach_tracker_snr(cfg, tracker_sensor(sc.sensors[0]))
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problems = [make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels) for _ in range(2)]
-    scans = []
-    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
-        tsensor.at(sc.theta[k])
-        scans.append((float(t_k), tsensor.returns(Z), sc.theta[k]))
-    return cfg, problems, tsensor, scans, sc
+    scene = catalogue_scene(cfg, 300)
+    return cfg, [scene.problem() for _ in range(2)], scene.sensor, scene.scans, scene.scenario
 
 
 def test_lazy_covariances_and_validity_rounds_are_the_old_path(catalogue, monkeypatch):

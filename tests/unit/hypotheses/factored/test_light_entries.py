@@ -17,7 +17,9 @@ import copy
 
 import numpy as np
 import pytest
+from scenes import catalogue_scene, default_catalogue_config
 
+from hypotrack.experiments.ssa_catalogue.run import make_tracker
 from hypotrack.hypotheses import children as children_mod
 from hypotrack.hypotheses import filter as filter_mod
 from hypotrack.hypotheses.children import heavy_entries
@@ -26,11 +28,6 @@ from hypotrack.hypotheses.seeded import seeded_moments, seeded_state
 from hypotrack.hypotheses.weights import ReidWeights
 from hypotrack.models.population import UniformBirthDensity
 from hypotrack.models.sensors import Box
-import yaml
-
-from hypotrack.experiments.ssa_breakup.run import attach_tracker_snr
-from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
-                                                    make_tracker, tracker_sensor)
 
 
 class ToyMixture:
@@ -65,18 +62,10 @@ N_SCANS = 30
 def decaying_catalogue():
     """The default section as it is (admissible births, plausibility, the decaying survival), 3,000 objects
     (test_fast_mixture.py's scene, ten times as dense: steps whose children the pruning drops)."""
-    with open("workflows/config/default.yaml") as fh:
-        cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
+    cfg = default_catalogue_config(N_SCANS)
     assert "unconfirmed_decay" in cfg["model"] and cfg["model"]["birth"] == "admissible"
-    objects, unknown, sc, init_seed = build_scenario(cfg, 3000, 1)
-    tsensor = attach_tracker_snr(cfg, tracker_sensor(sc.sensors[0]))
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
-    scans = []
-    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
-        tsensor.at(sc.theta[k])
-        scans.append((float(t_k), tsensor.returns(Z), sc.theta[k]))
-    return cfg, problem, tsensor, scans
+    scene = catalogue_scene(cfg, 3000)
+    return cfg, scene.problem(), scene.sensor, scene.scans
 
 
 def _states(problem, cfg, tsensor, scans, every_entry: bool, counts: dict):
@@ -121,11 +110,12 @@ def test_leaving_out_the_light_entries_changes_no_bit_of_the_posterior(decaying_
 def test_the_light_entries_are_only_in_hypotheses_the_pruning_drops():
     """One engine step with ``light`` against the same step without it: the same hypotheses, keys and labels,
     the entries of mass below ``light`` NaN and every hypothesis holding one below ``min_weight``."""
+    from scenes import position_sensor
+
     from hypotrack.hypotheses import BinomialPopulation, UnconfirmedDecay, homht_kbest
     from hypotrack.hypotheses.factored.planner import prune
     from hypotrack.hypotheses.tracks import TrackStore
     from hypotrack.models import ConstantVelocity
-    from scenes import position_sensor
 
     view = Box([-100.0, -100.0], [100.0, 100.0])
     decay = UnconfirmedDecay(p_tentative=0.6, velocity_std=1.0, p_confirmed=0.97, velocity_components=(2, 3))

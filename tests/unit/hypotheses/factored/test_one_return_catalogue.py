@@ -5,14 +5,12 @@ the array closed form (:mod:`...factored.sleeping`): bit for bit the same poster
 moments, labels, track lists, lineage keys), with both replacements exercised many times."""
 
 import pytest
-import yaml
+from scenes import catalogue_scene, default_catalogue_config
 
 import hypotrack.hypotheses.factored.planner as planner
 import hypotrack.hypotheses.generators as generators
 import hypotrack.hypotheses.one_return_children as one_return_children
-from hypotrack.experiments.ssa_breakup.run import attach_tracker_snr
-from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
-                                                    make_tracker, tracker_sensor)
+from hypotrack.experiments.ssa_catalogue.run import make_tracker
 from hypotrack.hypotheses.factored import sleeping
 
 N_SCANS = 40
@@ -20,17 +18,9 @@ N_SCANS = 40
 
 @pytest.fixture(scope="module")
 def catalogue():
-    with open("workflows/config/default.yaml") as fh:
-        cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
-    objects, unknown, sc, init_seed = build_scenario(cfg, 300, 1)
-    tsensor = attach_tracker_snr(cfg, tracker_sensor(sc.sensors[0]))
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
-    scans = []
-    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
-        tsensor.at(sc.theta[k])
-        scans.append((float(t_k), tsensor.returns(Z), sc.theta[k]))
-    return cfg, problem, tsensor, scans
+    cfg = default_catalogue_config(N_SCANS)
+    scene = catalogue_scene(cfg, 300)
+    return cfg, scene.problem(), scene.sensor, scene.scans
 
 
 def test_the_posterior_is_the_solver_s_bit_for_bit(catalogue, monkeypatch):

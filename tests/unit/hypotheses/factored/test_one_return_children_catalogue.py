@@ -7,30 +7,20 @@ own children (silent-event sets, merged by :func:`...hypotheses.duplicates.merge
 search's draws from the same problems)."""
 
 import pytest
-import yaml
+from scenes import catalogue_scene, default_catalogue_config
 
 import hypotrack.hypotheses.duplicates as duplicates
 import hypotrack.hypotheses.filter as filter_mod
-from hypotrack.experiments.ssa_breakup.run import attach_tracker_snr
-from hypotrack.experiments.ssa_catalogue.run import (build_scenario, initial_tracks, make_motion, make_problem,
-                                                    make_tracker, tracker_sensor)
+from hypotrack.experiments.ssa_catalogue.run import make_tracker
 
 N_SCANS = 40
 
 
 @pytest.fixture(scope="module")
 def catalogue():
-    with open("workflows/config/default.yaml") as fh:
-        cfg = dict(yaml.safe_load(fh)["ssa_catalogue"], n_scans=N_SCANS)
-    objects, unknown, sc, init_seed = build_scenario(cfg, 300, 1)
-    tsensor = attach_tracker_snr(cfg, tracker_sensor(sc.sensors[0]))
-    means, covs, labels = initial_tracks(sc, unknown, cfg, init_seed)
-    problem = make_problem(cfg, tsensor, make_motion(cfg), means, covs, labels)
-    scans = []
-    for k, (t_k, Z) in enumerate(sc.scan_list(0)):
-        tsensor.at(sc.theta[k])
-        scans.append((float(t_k), tsensor.returns(Z), sc.theta[k]))
-    return cfg, problem, tsensor, scans
+    cfg = default_catalogue_config(N_SCANS)
+    scene = catalogue_scene(cfg, 300)
+    return cfg, scene.problem(), scene.sensor, scene.scans
 
 
 @pytest.mark.parametrize("tracker", ["homht_kbest", "glmb", "rfisst"])

@@ -220,10 +220,18 @@ def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth:
     groups, pairs_of = {}, pairs_function(children, track_lists, n_birth)
     for c in order[same].tolist():
         groups.setdefault((int(h[c]), frozenset(pairs_of(c))), []).append(c)
+    merged, keys, keep = _merge_groups(children, keys, groups.values())
+    return merged, keys, E - len(keep)
+
+
+def _merge_groups(children: ChildSet, keys, groups):
+    """Merge each group of duplicate children (lists of indices in index order): the heaviest member, the first of
+    equals, takes the log-sum-exp of the members' log-weights and its key moves by as much; the others are dropped.
+    Returns ``(merged children, their keys, the kept indices)``."""
     lw = children.log_weights.copy()
     keys = np.asarray(keys, dtype=float).copy()
-    drop = np.zeros(E, dtype=bool)
-    for members in groups.values():
+    drop = np.zeros(len(children), dtype=bool)
+    for members in groups:
         if len(members) < 2:
             continue
         members = np.asarray(members)
@@ -234,7 +242,7 @@ def merge_duplicates(children: ChildSet, keys: np.ndarray, track_lists, n_birth:
         drop[members[members != rep]] = True
     keep = np.flatnonzero(~drop)
     merged = ChildSet(children.parent[keep], children.events[keep], children.kind[keep], children.arg[keep], lw[keep])
-    return merged, keys[keep], int(drop.sum())
+    return merged, keys[keep], keep
 
 
 def _set_kills(children: ChildSet, track_lists) -> bool:
@@ -272,18 +280,5 @@ def merge_few(children: ChildSet, keys: np.ndarray, track_lists, n_birth: int):
         groups.setdefault(frozenset(pairs[c]), []).append(c)
     if len(groups) == E:
         return children, keys, 0, pairs
-    lw = children.log_weights.copy()
-    keys = np.asarray(keys, dtype=float).copy()
-    drop = np.zeros(E, dtype=bool)
-    for members in groups.values():
-        if len(members) < 2:
-            continue
-        members = np.asarray(members)
-        rep = members[np.argmax(lw[members])]
-        total = float(logsumexp(lw[members]))
-        keys[rep] += total - lw[rep]
-        lw[rep] = total
-        drop[members[members != rep]] = True
-    keep = np.flatnonzero(~drop)
-    merged = ChildSet(children.parent[keep], children.events[keep], children.kind[keep], children.arg[keep], lw[keep])
-    return merged, keys[keep], int(drop.sum()), [pairs[c] for c in keep.tolist()]
+    merged, keys, keep = _merge_groups(children, keys, groups.values())
+    return merged, keys, E - len(keep), [pairs[c] for c in keep.tolist()]

@@ -105,8 +105,9 @@ EXTRA_TESTS = {
     # the ambiguity output's sweep table and withheld note, checked by hand beside the policy
     "experiments.ssa_breakup.summary": ["tests/unit/experiments/ssa_breakup/test_identities.py"],
 }
-# Imported by the tests (``from scenes import ...``; the scratch pyproject puts tests/ on the path).
-TEST_HELPERS = ["tests/scenes.py"]
+# Imported by the tests (``from scenes import ...``, the array form of the quiet step; the scratch pyproject puts
+# tests/ on the path).
+TEST_HELPERS = ["tests/scenes.py", "tests/sleeping_arrays.py"]
 # Repository folders a module's tests read (copied into the scratch project and, as mutmut's ``also_copy``, into
 # its mutants/ copy, where the tests run).
 TEST_DATA = {"experiments.ssa_breakup.tuning": ["workflows/config"]}

@@ -151,16 +151,9 @@ class _Row(NamedTuple):
 
 
 def _reid_k_best(weights, generator, ctx, tracks, constant: float, pop_lp, keep):
-    """:class:`~.generators.MurtyGenerator`'s children of the one-return problem that :meth:`ReidWeights.problem
-    <.weights.WeightModel.problem>` builds for ``tracks`` — the same arrays (its gathers, its count term plus the
-    population's, its constant's sum), handed to :func:`~.one_return.one_return_k_best` as the generator hands them
-    (``k`` the smaller of its own and ``keep``); ``None`` where that declines (ties: the generator's solver decides)."""
-    log_miss_all, obj_all = ctx.detection_scores
-    tracks = np.asarray(tracks, dtype=np.int64)
-    M = len(tracks)
-    pop = np.zeros(1) if pop_lp is None else np.asarray(pop_lp, dtype=float)
-    if pop.shape != (1,):
-        return None  # (the general path raises its error)
-    phi = weights.count_term(ctx, M, 0) + pop[None, :]  # constant over the counts: Reid's count term is zero
-    row = _Row(obj_all[:, tracks], weights.option_scores(ctx), M, phi, float(constant + float(log_miss_all[tracks].sum())))
+    """:class:`~.generators.MurtyGenerator`'s children of the one-return problem :meth:`ReidWeights.problem
+    <.weights.WeightModel.problem>` builds for ``tracks`` — its arrays (:meth:`~.weights.WeightModel.problem_fields`)
+    without the validation pass, handed to :func:`~.one_return.one_return_k_best` as the generator hands them (``k``
+    the smaller of its own and ``keep``); ``None`` where that declines (ties: the generator's solver decides)."""
+    row = _Row(**weights.problem_fields(ctx, tracks, constant, pop_lp))
     return one_return_k_best(row, generator.k if keep is None else min(generator.k, keep))

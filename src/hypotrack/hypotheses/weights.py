@@ -66,6 +66,11 @@ class WeightModel:
             Log-probability of the population event "``b`` detected births, nothing else"
             (document 000 Eq. 30 / document 001 Eq. 59); default: no births, probability 1.
         """
+        return AssociationProblem(**self.problem_fields(ctx, tracks, constant, population_log_prob))
+
+    def problem_fields(self, ctx, tracks, constant: float = 0.0, population_log_prob=None) -> dict:
+        """The arrays of :meth:`problem` (``target_scores``, ``option_scores``, ``n_objects``, ``count_term``,
+        ``constant``) before :class:`~.association_problem.AssociationProblem` wraps and validates them."""
         tracks = np.asarray(tracks, dtype=np.int64)
         log_miss_all, obj_all = ctx.detection_scores  # per scan; the same numbers as per parent
         log_miss = log_miss_all[tracks]
@@ -79,13 +84,8 @@ class WeightModel:
         if pop.shape != (n_births + 1,):
             raise ValueError(f"population_log_prob must have shape ({n_births + 1},), got {pop.shape}")
         phi = self.count_term(ctx, len(tracks), n_births) + pop[None, :]
-        return AssociationProblem(
-            target_scores=target,
-            option_scores=self.option_scores(ctx),
-            n_objects=len(tracks),
-            count_term=phi,
-            constant=constant + float(log_miss.sum()),
-        )
+        return dict(target_scores=target, option_scores=self.option_scores(ctx), n_objects=len(tracks), count_term=phi,
+                    constant=constant + float(log_miss.sum()))
 
 
 def _detected_counts(m, n_objects, n_births):

@@ -142,9 +142,7 @@ Where each job lives
 splits), :mod:`.scores` (the returns against the predicted tracks: dense, or at scale the gated pairs
 through a k-d tree), :mod:`.fast_path` (the lone tracks' batch), :mod:`.lane` (singletons and lazy prediction), :mod:`.pool` (the engine steps and the
 workers that run them), :mod:`.summary` (:class:`FactoredPosterior`), :mod:`.multisensor` (the scans of several
-sensors, each with its sensor's engine; birth terms for the scan they belong to), :mod:`.sleeping_scalar` (the
-quiet groups' closed form on Python floats; :mod:`.sleeping`, its array form, the reference its tests compare
-with), :mod:`.births_kernels` (the birth terms' gate test in one compiled pass); the measurement-driven birth
+sensors, each with its sensor's engine; birth terms for the scan they belong to), :mod:`.births_kernels` (the birth terms' gate test in one compiled pass); the measurement-driven birth
 model :class:`AdaptiveBirth` lives beside the populations (:mod:`..population_adaptive`), Murty's k best of a
 one-return problem in :mod:`..one_return`, and the loading of the engine's compiled kernels before a timed loop
 in :mod:`..warm_factored`.

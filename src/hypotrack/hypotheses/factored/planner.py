@@ -20,7 +20,7 @@ from ..state import FilterState
 from ..tracks import TrackStore
 from .lane import GroupSet, bernoulli, empty_state, singleton, take
 from .scores import Scores, score_tracks
-from .sleeping_scalar import sleeping_step
+from .sleeping import sleeping_step
 
 __all__ = ["Scores", "MAX_SCALED_CONDITION", "scorable", "innovation_covariances", "score_scorable", "ScanData",
            "ScanGraph", "scan_graph", "component_context",
@@ -225,7 +225,7 @@ def quiet_plan(engine, lane_on: bool, objects, state, pred, sc, Z, birth_ll, sta
     """A group no return or birth term reaches (package docstring, step 3): only predicted when
     that is exact (a silent population, ``lane_on``, and the same ``Π (1 − p_D)`` in all its
     hypotheses), else the plan of an engine step on an empty scan — or, the fast path on (``fast``:
-    its rule), that step itself, ``("slept", state, parts)``, when it has a closed form (:mod:`.sleeping`, computed by :mod:`.sleeping_scalar`)."""
+    its rule), that step itself, ``("slept", state, parts)``, when it has a closed form (:mod:`.sleeping`)."""
     if lane_on:  # (the Π (1 − p_D) of each hypothesis only read here)
         log_miss = np.log1p(-sc[2])
         miss = np.array([log_miss[t].sum() for t in state.tracks])

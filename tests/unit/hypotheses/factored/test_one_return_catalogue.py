@@ -1,17 +1,17 @@
 """HOMHT k-best on the catalogue (the default section as it is: admissible births, plausibility, the decaying
 survival, the fast path) with the one-return k best (:mod:`...hypotheses.one_return`) and the quiet groups' scalar
-closed form (:mod:`...factored.sleeping_scalar`) against the same tracker taking Murty's solver for every problem and
-the array closed form (:mod:`...factored.sleeping`): bit for bit the same posterior at every scan (groups, weights,
+closed form (:mod:`...factored.sleeping`, on Python floats) against the same tracker taking Murty's solver for every problem and
+its array form (``tests/sleeping_arrays.py``): bit for bit the same posterior at every scan (groups, weights,
 moments, labels, track lists, lineage keys), with both replacements exercised many times."""
 
 import pytest
 from scenes import catalogue_scene, default_catalogue_config
+from sleeping_arrays import sleeping_step as array_step
 
 import hypotrack.hypotheses.factored.planner as planner
 import hypotrack.hypotheses.generators as generators
 import hypotrack.hypotheses.one_return_children as one_return_children
 from hypotrack.experiments.ssa_catalogue.run import make_tracker
-from hypotrack.hypotheses.factored import sleeping
 
 N_SCANS = 40
 
@@ -44,7 +44,7 @@ def test_the_posterior_is_the_solver_s_bit_for_bit(catalogue, monkeypatch):
         with monkeypatch.context() as m:  # the reference: Murty's solver and the array closed form
             m.setattr(generators, "one_return_k_best", lambda p, k: None)
             m.setattr(one_return_children, "one_return_k_best", lambda p, k: None)  # (its direct call for Reid's)
-            m.setattr(planner, "sleeping_step", sleeping.sleeping_step)
+            m.setattr(planner, "sleeping_step", array_step)
             ref.step(Z, t)
         with monkeypatch.context() as m:
             m.setattr(generators, "one_return_k_best", counted_one)

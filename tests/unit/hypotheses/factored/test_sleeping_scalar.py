@@ -1,5 +1,5 @@
-"""The scalar form of the quiet group's closed-form step (:mod:`...factored.sleeping_scalar`) against
-:func:`...factored.sleeping.sleeping_step` (itself the general engine's step, test_sleeping.py) bit for bit: weights,
+"""The quiet group's closed-form step on Python floats (:mod:`...factored.sleeping`, itself the general engine's step,
+test_sleeping.py) against its array form (``tests/sleeping_arrays.py``) bit for bit: weights,
 tracks, keys, labels, means and covariances, on random groups with tracks out of view (``p_D = 0``), tracks that cannot
 die (``p_S = 1``: no death twin, hence no merging), a track shared by two hypotheses, tied weights, a validity test
 that fails some tracks, caps that drop children; its cases declined alike; and the general engine's step by hand."""
@@ -10,13 +10,14 @@ import numpy as np
 import pytest
 
 from hypotrack.hypotheses import BinomialPopulation, UnconfirmedDecay, homht_kbest
-from hypotrack.hypotheses.factored import sleeping, sleeping_scalar
+from hypotrack.hypotheses.factored import sleeping
 from hypotrack.hypotheses.state import FilterState
 from hypotrack.hypotheses.tracks import TrackStore
 from hypotrack.models import ConstantVelocity
 from hypotrack.models.population import UniformBirthDensity
 from hypotrack.models.sensors import Box
 from scenes import position_sensor
+from sleeping_arrays import sleeping_step as array_step
 
 VIEW = Box([-100.0, -100.0], [100.0, 100.0])
 DECAY = UnconfirmedDecay(p_tentative=0.6, velocity_std=1.0, p_confirmed=0.97, velocity_components=(2, 3))
@@ -72,8 +73,8 @@ def test_bit_for_bit_the_closed_form(seed):
         state, p_d, p_s = _case(rng, int(rng.integers(1, 6)), int(rng.integers(1, 12)), ties=trial % 2 == 1)
         pred = engine.predict(state.store, 1.0)
         ctx = _ctx(engine, pred, p_d, p_s)
-        ref = sleeping.sleeping_step(engine, state, pred, ctx)
-        new = sleeping_scalar.sleeping_step(engine, state, pred, ctx)
+        ref = array_step(engine, state, pred, ctx)
+        new = sleeping.sleeping_step(engine, state, pred, ctx)
         assert (ref is None) == (new is None)
         if ref is not None:
             _assert_identical(new, ref)
@@ -89,8 +90,8 @@ def test_merges_a_shared_track_and_matches_the_general_step():
                         [("k", h) for h in range(4)], 0)
     pred = engine.predict(state.store, 1.0)
     ctx = _ctx(engine, pred, np.array([0.5, 0.2, 0.0]), np.array([0.9, 0.8, 1.0]))
-    new = sleeping_scalar.sleeping_step(engine, state, pred, ctx)
-    _assert_identical(new, sleeping.sleeping_step(engine, state, pred, ctx))
+    new = sleeping.sleeping_step(engine, state, pred, ctx)
+    _assert_identical(new, array_step(engine, state, pred, ctx))
     general = engine.advance(state, pred, ctx).state
     np.testing.assert_allclose(new[0].log_w, general.log_w, rtol=0, atol=1e-12)
     assert new[0].keys == general.keys
@@ -110,7 +111,7 @@ def test_declines_as_the_closed_form_does():
     two = FilterState(state.store, np.log([0.5, 0.5]), [np.zeros(0, np.int64), np.array([0, 1])], [("k", 0), ("k", 1)], 0)
     pred = engine.predict(state.store, 1.0)
     ctx = _ctx(engine, pred, p_d, p_s)
-    assert sleeping_scalar.sleeping_step(engine, two, pred, ctx) is None
-    assert sleeping_scalar.sleeping_step(_engine(cap="sample"), state, pred, ctx) is None
-    assert sleeping_scalar.sleeping_step(_engine(max_hypotheses=1), state, pred, ctx) is None
-    assert sleeping_scalar.sleeping_step(engine, state, pred, _ctx(engine, pred, np.array([1.0, 0.5]), p_s)) is None
+    assert sleeping.sleeping_step(engine, two, pred, ctx) is None
+    assert sleeping.sleeping_step(_engine(cap="sample"), state, pred, ctx) is None
+    assert sleeping.sleeping_step(_engine(max_hypotheses=1), state, pred, ctx) is None
+    assert sleeping.sleeping_step(engine, state, pred, _ctx(engine, pred, np.array([1.0, 0.5]), p_s)) is None

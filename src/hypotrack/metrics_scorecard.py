@@ -37,7 +37,7 @@ from scipy.stats import chi2
 
 from ._validation import check_positive, check_probability
 
-__all__ = ["correlate_returns", "label_owners", "return_tallies", "id_switches", "cross_tag_causes",
+__all__ = ["correlate_returns", "label_owners", "catalogue_owners", "return_tallies", "id_switches", "cross_tag_causes",
            "CROSS_TAG_CAUSES", "purity_counts", "ric_frame", "ric_error",
            "mahalanobis2", "chi2_share", "within", "per", "mean_se", "gospa_parts_per_object", "time_to_orbit",
            "CHI2_95_3D"]
@@ -104,6 +104,16 @@ def label_owners(targets, labels) -> dict:
     for i in order:
         owners.setdefault(int(pairs[i, 0]), int(pairs[i, 1]))
     return owners
+
+
+def catalogue_owners(owners: dict, catalogued) -> dict:
+    """``owners`` (:func:`label_owners`) with each catalogued object's own label owned by that object: a catalogue
+    entry's identity is its number, whatever object the tracker later followed with it, so a return of object B
+    correlated to entry A is a cross-tag even when the tracker swapped A and B for good (the track-purity owner,
+    B, would call it correct). Other labels — newborn tracks, an output's fresh identities — keep their owner."""
+    out = dict(owners)
+    out.update({int(k): int(k) for k in _ids(catalogued, "catalogued")})
+    return out
 
 
 def return_tallies(origin, correlated, owners: dict) -> dict:

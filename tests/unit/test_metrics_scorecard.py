@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from hypotrack.metrics import gospa
-from hypotrack.metrics_scorecard import (CHI2_95_3D, CROSS_TAG_CAUSES, chi2_share, correlate_returns, cross_tag_causes,
+from hypotrack.metrics_scorecard import (CHI2_95_3D, CROSS_TAG_CAUSES, catalogue_owners, chi2_share, correlate_returns,
+                                         cross_tag_causes,
                                          gospa_parts_per_object, id_switches,
                                          label_owners, mahalanobis2, mean_se, per, purity_counts, return_tallies,
                                          ric_error, ric_frame, time_to_orbit, within)
@@ -33,6 +34,24 @@ def test_correlation_and_tallies():
     assert t == dict(n_returns=4, correct=1, cross_tags=1, orphan=1, uncorrelated=1)
     assert per(t["cross_tags"], t["n_returns"], 1e4) == 2500.0
     assert np.isnan(per(0, 0, 1e4))
+
+
+def test_a_swap_kept_for_good_is_correct_by_purity_and_cross_tags_by_the_catalogue():
+    """Catalogued objects 7 and 8 swapped at their first return and never swapped back (object 7's returns on entry
+    8, object 8's on entry 7), object 9 kept its own, a newborn label 100 carried object 9's last return: purity
+    owns 7 by 8 and 8 by 7 (no cross-tag); the catalogue owns each entry by its own object, so the six swapped
+    returns are cross-tags, while the newborn label keeps its purity owner (9: correct)."""
+    origin = [7, 7, 7, 8, 8, 8, 9, 9]
+    label = [8, 8, 8, 7, 7, 7, 9, 100]
+    owners = label_owners(origin, label)
+    assert owners == {7: 8, 8: 7, 9: 9, 100: 9}
+    assert return_tallies(origin, label, owners)["cross_tags"] == 0
+    cat = catalogue_owners(owners, [7, 8, 9])
+    assert cat == {7: 7, 8: 8, 9: 9, 100: 9}
+    assert return_tallies(origin, label, cat) == dict(n_returns=8, correct=2, cross_tags=6, orphan=0, uncorrelated=0)
+    assert catalogue_owners(owners, []) == owners
+    with pytest.raises(ValueError, match="catalogued"):
+        catalogue_owners(owners, [7.5])
 
 
 def test_owner_ties_and_unassigned():

@@ -301,7 +301,7 @@ class HypothesisFilter:
         population's birth terms (document 000 Eq. 8, 18, 30)."""
         m = len(Z)
         loglik, allowed, p_detect = self.track_scores(pred, Z)
-        p_detect = state_p_detect(self.sensor.detection, pred.means, p_detect)
+        p_detect = state_p_detect(self.sensor.detection, pred.means, p_detect, pred.covs)
         clutter = self.sensor.clutter
         birth_loglik = (
             self.population.birth_loglik(Z) if self.population is not None else np.zeros((m, 0))

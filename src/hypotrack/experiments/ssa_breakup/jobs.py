@@ -20,7 +20,7 @@ from ...scenarios.catalogue.breakup import gate_radius_km
 from ..ssa_catalogue.run import make_motion
 from .identities import MODES
 from .run import build, control_radar, run_scored
-from .scorecard import identity_row, scorecard_row
+from .scorecard import catalogued_ids, identity_row, scorecard_row
 from .summary import density_rows
 from .tuning import output_p_mins
 
@@ -55,7 +55,7 @@ def score_tracker(name: str, cfg, cfg_catalogue) -> pd.DataFrame:
 
 
 SWEEP_COLUMNS = ["scenario", "seed", "mode", "p_min", "tracker", "object_returns", "cross_tags", "cross_tags_per_1e4",
-                 "id_switches", "id_switches_per_1e4", "uncorrelated_per_1e4"]
+                 "catalogue_cross_tags_per_1e4", "id_switches", "id_switches_per_1e4", "uncorrelated_per_1e4"]
 
 
 def score_tracker_outputs(name: str, cfg, cfg_catalogue) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -81,7 +81,7 @@ def score_tracker_outputs(name: str, cfg, cfg_catalogue) -> tuple[pd.DataFrame, 
             for m in MODES:
                 for p in amb.get("p_min_sweep", []):
                     sweep.append(dict(scenario=scen, seed=int(seed), mode=m, p_min=float(p),
-                                      **identity_row(run.with_output(float(p), m))))
+                                      **identity_row(run.with_output(float(p), m), catalogued_ids(scenario))))
     return pd.DataFrame(rows), pd.DataFrame(sweep, columns=SWEEP_COLUMNS)
 
 

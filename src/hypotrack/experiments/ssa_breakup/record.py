@@ -42,7 +42,11 @@ TUNING = "ssa_breakup_tuning.csv"
 CONFIG = "ssa_breakup_record_config.json"
 BLOCK = BREAKUP_RECORD  # ssa_breakup_record.md, read by the README's generation
 OVERLAYS = ("default.yaml", "full.yaml", "breakup_record.yaml")
-_STATS = ("cross_tags_per_1e4", "uncorrelated_per_1e4", "id_switches_per_1e4", "completeness")
+_STATS = ("cross_tags_per_1e4", "uncorrelated_per_1e4", "id_switches_per_1e4", "completeness",
+          "catalogue_cross_tags_per_1e4")
+#: The ratios recorded: prefix -> metric (the operator's cross-tags, the goal's; identity switches; catalogue
+#: cross-tags, each catalogued fragment's own number owned by it: :mod:`.scorecard`).
+_RATIOS = (("", "cross_tags_per_1e4"), ("idsw_", "id_switches_per_1e4"), ("cat_", "catalogue_cross_tags_per_1e4"))
 
 
 def record_config(workflow_dir=ROOT / "workflows") -> dict:
@@ -64,16 +68,17 @@ def record_table(summary: pd.DataFrame, ratios: pd.DataFrame, p_min: float, tuni
         row = dict(tracker=t.tracker, n_seeds=int(t.n_seeds))
         for c in _STATS:
             row[c], row[f"{c}_se"] = getattr(t, c, np.nan), getattr(t, f"{c}_se", np.nan)
-        for pre, metric in (("", "cross_tags_per_1e4"), ("idsw_", "id_switches_per_1e4")):
+        for pre, metric in _RATIOS:
             q = r[(r["tracker"] == t.tracker) & (r["metric"] == metric)]
             row[f"{pre}ratio"] = float(q["ratio"].iloc[0]) if len(q) else np.nan
             row[f"{pre}ratio_se"] = float(q["ratio_se"].iloc[0]) if len(q) else np.nan
             row[f"{pre}meets_goal"] = bool(q["meets_goal"].iloc[0]) if len(q) else False
-            if not pre:
-                row["n_ratio"] = int(q["n_ratio"].iloc[0]) if len(q) else 0
-                row["goal"] = float(q["goal"].iloc[0]) if len(q) else np.nan
+            if pre != "idsw_":
+                row[f"{pre}n_ratio"] = int(q["n_ratio"].iloc[0]) if len(q) else 0
+                if not pre:
+                    row["goal"] = float(q["goal"].iloc[0]) if len(q) else np.nan
                 for c in ("ratio_median", "n_at_goal", "ratio_of_means"):
-                    row[c] = float(q[c].iloc[0]) if len(q) and c in q else np.nan
+                    row[f"{pre}{c}"] = float(q[c].iloc[0]) if len(q) and c in q else np.nan
         rows.append(dict(row, p_min=float(p_min), tuning_seeds=" ".join(str(int(k)) for k in tuning_seeds),
                          untagged_weight=float(untagged_weight), seeds=" ".join(str(int(k)) for k in seeds)))
     return pd.DataFrame(rows)
@@ -138,6 +143,18 @@ def record_markdown(table: pd.DataFrame, tuning: pd.DataFrame) -> str:
                      f"{_pm(r.ratio, r.ratio_se) if has else ''} | {goal} | {spread} | "
                      f"{_pm(r.uncorrelated_per_1e4, r.uncorrelated_per_1e4_se)} | "
                      f"{_pm(r.idsw_ratio, r.idsw_ratio_se) if has else ''} |")
+    if "cat_ratio" in table:
+        lines += ["", "Catalogue cross-tags (each catalogued fragment's own number owned by it: a swap of two catalogued "
+                  "fragments kept to the end is charged every later return), the same seeds and statistics:", "",
+                  "| tracker | catalogue cross-tags /10⁴ | ratio to GNN | goal ≤ 0.5 | median ratio | seeds at goal | "
+                  "ratio of means |", "|---|---|---|---|---|---|---|"]
+        for r in table.itertuples(index=False):
+            has = np.isfinite(r.cat_ratio)
+            lines.append(f"| {TRACKER_NAMES[r.tracker]} | "
+                         f"{_pm(r.catalogue_cross_tags_per_1e4, r.catalogue_cross_tags_per_1e4_se)} | "
+                         + (f"{_pm(r.cat_ratio, r.cat_ratio_se)} | {'met' if r.cat_meets_goal else 'not met'} | "
+                            f"{_pm(r.cat_ratio_median)} | {int(r.cat_n_at_goal)} of {int(r.cat_n_ratio)} | "
+                            f"{_pm(r.cat_ratio_of_means)} |" if has else " |  |  |  |  |"))
     return "\n".join(lines) + "\n"
 
 
@@ -221,6 +238,15 @@ def record_macros(table: pd.DataFrame) -> dict:
         vals[f"record_ratio_se_{r.tracker}"] = r.ratio_se
         vals[f"record_idsw_ratio_{r.tracker}"] = r.idsw_ratio
         vals[f"record_n_ratio_{r.tracker}"] = int(r.n_ratio)
+        if "cat_ratio" in table:  # the catalogue cross-tags (a record written before them has none)
+            vals[f"record_catxtags_{r.tracker}"] = r.catalogue_cross_tags_per_1e4
+            vals[f"record_cat_ratio_{r.tracker}"] = r.cat_ratio
+            vals[f"record_cat_ratio_se_{r.tracker}"] = r.cat_ratio_se
+            if np.isfinite(r.cat_ratio):
+                vals[f"record_cat_goal_{r.tracker}"] = "met" if r.cat_meets_goal else "not met"
+                vals[f"record_cat_ratio_median_{r.tracker}"] = float(r.cat_ratio_median)
+                vals[f"record_cat_n_at_goal_{r.tracker}"] = int(r.cat_n_at_goal)
+                vals[f"record_cat_ratio_of_means_{r.tracker}"] = float(r.cat_ratio_of_means)
         if np.isfinite(r.ratio):
             vals[f"record_goal_{r.tracker}"] = "met" if r.meets_goal else "not met"
             for c in ("ratio_median", "n_at_goal", "ratio_of_means"):  # the per-seed ratios' spread

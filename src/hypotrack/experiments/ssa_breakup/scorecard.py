@@ -12,6 +12,9 @@
 * **time to orbit** (:func:`~hypotrack.metrics_scorecard.time_to_orbit`): per object, from its first return to
   the end of the first pass whose track re-acquires it within ``completeness_km`` at its next pass (objects with
   such a pass only);
+* **catalogue cross-tags** (``catalogue_cross_tags_per_1e4``): the cross-tags with each catalogued object's own
+  label owned by that object (:func:`~hypotrack.metrics_scorecard.catalogue_owners`): a tracker that swaps two
+  catalogued fragments for good is charged every return after the swap, which the track-purity owner calls correct;
 * **completeness** (:func:`completeness`): every object of the scenario's catalogue, its track's state at the
   last scan predicted to the object's next pass after the run (first scan in view within
   ``next_pass_horizon_s``, else the horizon's end), within ``completeness_km`` of the truth; an object without
@@ -24,14 +27,15 @@ import numpy as np
 import pandas as pd
 from scipy.stats import chi2
 
-from ...metrics_scorecard import (CROSS_TAG_CAUSES, chi2_share, cross_tag_causes, gospa_parts_per_object, id_switches,
-                                  label_owners, mahalanobis2, per, return_tallies, ric_error, time_to_orbit)
+from ...metrics_scorecard import (CROSS_TAG_CAUSES, catalogue_owners, chi2_share, cross_tag_causes,
+                                  gospa_parts_per_object, id_switches, label_owners, mahalanobis2, per, return_tallies,
+                                  ric_error, time_to_orbit)
 from ...scenarios.catalogue.frames import gmst, teme_to_ef
 from ...scenarios.catalogue.propagation import time_grid_jd
 from .custody import first_return_own, reacquired_same_label
 from .run import pass_ends
 
-__all__ = ["predict", "reacquisitions", "next_pass", "completeness", "scorecard_row", "identity_row"]
+__all__ = ["predict", "reacquisitions", "next_pass", "completeness", "scorecard_row", "catalogued_ids", "identity_row"]
 
 
 def predict(motion, x, P, dt):
@@ -132,6 +136,8 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
     owners = label_owners(run.assign["target"], run.assign["label"])
     tal = return_tallies(run.returns["origin"], run.returns["label"], owners)
     n = tal["n_returns"]
+    catalogued = catalogued_ids(scenario)
+    cat_tal = return_tallies(run.returns["origin"], run.returns["label"], catalogue_owners(owners, catalogued))
     reacq = reacquisitions(run, sc.truth, motion, cfg["radar"]["sigma_km"], cfg["model"]["gate_probability"],
                            m["completeness_km"])
     done, cat_n = completeness(run, sc, motion, m["next_pass_horizon_s"], m["completeness_km"])
@@ -140,7 +146,8 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
     row = dict(tracker=run.tracker, n_objects=len(sc.catalogue), n_scans=len(ps), object_returns=n,
                correct_per_1e4=per(tal["correct"], n, 1e4), cross_tags_per_1e4=per(tal["cross_tags"], n, 1e4),
                orphan_per_1e4=per(tal["orphan"], n, 1e4), uncorrelated_per_1e4=per(tal["uncorrelated"], n, 1e4),
-               cross_tags=tal["cross_tags"], completeness=done / cat_n if cat_n else float("nan"),
+               cross_tags=tal["cross_tags"], catalogue_cross_tags_per_1e4=per(cat_tal["cross_tags"], n, 1e4),
+               catalogue_cross_tags=cat_tal["cross_tags"], completeness=done / cat_n if cat_n else float("nan"),
                false_per_1000=per(int(ps["false"].sum()), n_est, 1e3),
                duplicate_per_1000=per(int(ps["duplicate"].sum()), n_est, 1e3),
                reacquisitions=len(reacq),
@@ -155,8 +162,6 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
                unphysical_hypotheses_per_scan=float(ps["unphysical_hypotheses"].mean()),
                unphysical_hypotheses_max=float(ps["unphysical_hypotheses"].max()),
                cpu_s=float(ps["cpu_s"].sum()))
-    ids = sc.catalogue["norad"].to_numpy(np.int64)
-    catalogued = ids[~np.isin(ids, np.asarray(unknown, dtype=np.int64))]
     A, rt = run.assign, run.returns
     causes = cross_tag_causes(rt["scan"], rt["origin"], rt["label"], owners, A["scan"], A["target"], A["label"],
                               catalogued)
@@ -170,7 +175,15 @@ def scorecard_row(run, scenario, cfg, motion) -> dict:
     return row
 
 
-def identity_row(run) -> dict:
+def catalogued_ids(scenario) -> np.ndarray:
+    """The NORAD numbers of a scenario's catalogued objects (those not unknown): the labels their initial tracks
+    carry."""
+    _, unknown, sc, _ = scenario
+    ids = sc.catalogue["norad"].to_numpy(np.int64)
+    return ids[~np.isin(ids, np.asarray(unknown, dtype=np.int64))]
+
+
+def identity_row(run, catalogued=()) -> dict:
     """The scorecard's identity columns of one run alone (no prediction: the cheap part of :func:`scorecard_row`, for a
     sweep of the output policy, :meth:`.run.ScoredRun.with_output`): cross-tags per 10⁴ object returns and identity
     switches per 10⁴ object-scans in view, with their counts, and the uncorrelated returns per 10⁴ (those the policy
@@ -179,7 +192,9 @@ def identity_row(run) -> dict:
     tal = return_tallies(run.returns["origin"], run.returns["label"], owners)
     A, n_view = run.assign, int(run.per_scan["n_in_view"].sum())
     switches = id_switches(A["scan"], A["target"], A["label"])
+    cat = return_tallies(run.returns["origin"], run.returns["label"], catalogue_owners(owners, catalogued))
     return dict(tracker=run.tracker, object_returns=tal["n_returns"], cross_tags=tal["cross_tags"],
-                cross_tags_per_1e4=per(tal["cross_tags"], tal["n_returns"], 1e4), id_switches=switches,
+                cross_tags_per_1e4=per(tal["cross_tags"], tal["n_returns"], 1e4),
+                catalogue_cross_tags_per_1e4=per(cat["cross_tags"], tal["n_returns"], 1e4), id_switches=switches,
                 id_switches_per_1e4=per(switches, n_view, 1e4),
                 uncorrelated_per_1e4=per(tal["uncorrelated"], tal["n_returns"], 1e4))

@@ -44,7 +44,8 @@ TIMING_COLUMNS = ("cpu_s",)
 _KEYS = ("scenario", "tracker")
 #: The ratio metrics: ``column: (what the claim calls it, key prefix)`` — the operator's cross-tags (the goal's) and
 #: the standard crediting's identity switches.
-_RATIO_METRICS = {"cross_tags_per_1e4": ("cross-tags", ""), "id_switches_per_1e4": ("identity switches", "idsw_")}
+_RATIO_METRICS = {"cross_tags_per_1e4": ("cross-tags", ""), "id_switches_per_1e4": ("identity switches", "idsw_"),
+                  "catalogue_cross_tags_per_1e4": ("catalogue cross-tags", "cat_")}
 
 
 def scorecard_summary(cards: pd.DataFrame) -> tuple[pd.DataFrame, pd.DataFrame]:
@@ -87,10 +88,11 @@ def cross_tag_ratios(cards: pd.DataFrame, reference: str = "gnn", trackers=("glm
 
 
 def breakup_ratios(cards: pd.DataFrame, trackers_run, reference: str = "gnn", goal: float = 0.5) -> pd.DataFrame:
-    """The ratios table: :func:`cross_tag_ratios` of the cross-tags and of the identity switches for the
+    """The ratios table: :func:`cross_tag_ratios` of the cross-tags, of the identity switches and of the catalogue
+    cross-tags (:mod:`.scorecard`) for the
     :data:`RATIO_TRACKERS` in ``trackers_run``, then the same for the :data:`AMBIGUITY_TRACKERS` outputs ``cards``
     holds (scored from the same runs), after every row of the plain outputs."""
-    metrics = ("cross_tags_per_1e4", "id_switches_per_1e4")
+    metrics = tuple(c for c in _RATIO_METRICS if c in cards)  # cards of an earlier run lack the catalogue's
     compared = tuple(t for t in RATIO_TRACKERS if t in trackers_run)
     amb = tuple(t for t in AMBIGUITY_TRACKERS if t in set(cards["tracker"]))
     parts = [cross_tag_ratios(cards, reference, names, goal=goal, column=c)
@@ -224,6 +226,7 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
         vals[f"realism_{r.scenario}_{r.tracker}"] = r.realism_95
         # the standard crediting and where labels change objects (:mod:`.custody`)
         vals[f"idsw_{r.scenario}_{r.tracker}"] = getattr(r, "id_switches_per_1e4", float("nan"))
+        vals[f"catxtags_{r.scenario}_{r.tracker}"] = getattr(r, "catalogue_cross_tags_per_1e4", float("nan"))
         vals[f"firstown_{r.scenario}_{r.tracker}"] = getattr(r, "first_return_own", float("nan"))
         vals[f"reacqkept_{r.scenario}_{r.tracker}"] = getattr(r, "reacquired_same_label", float("nan"))
         vals[f"n_seeds_{r.scenario}"] = int(r.n_seeds)
@@ -243,10 +246,10 @@ def breakup_macros(summary: pd.DataFrame, ratios: pd.DataFrame, density: pd.Data
     for scen in summary["scenario"].unique():
         for name in TRACKER_NAMES:
             for key in ("crosstags", "crosstags_se", "duplicates", "uncorrelated", "completeness", "realism", "idsw",
-                        "firstown", "reacqkept"):
+                        "catxtags", "firstown", "reacqkept"):
                 vals.setdefault(f"{key}_{scen}_{name}", float("nan"))
         for name in (*RATIO_TRACKERS, *AMBIGUITY_TRACKERS):
-            for pre in ("", "idsw_"):
+            for pre in ("", "idsw_", "cat_"):
                 vals.setdefault(f"{pre}ratio_{scen}_{name}", float("nan"))
                 vals.setdefault(f"{pre}ratio_se_{scen}_{name}", float("nan"))
                 vals.setdefault(f"{pre}goal_{scen}_{name}", float("nan"))

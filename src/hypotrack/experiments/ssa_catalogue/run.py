@@ -63,6 +63,7 @@ from ...scenarios.catalogue import (
     simulate_catalogue,
 )
 from ...scenarios.catalogue.admissible import AdmissibleRegionBirth, SeededAdmissibleBirth
+from ...scenarios.catalogue.fov_edge import attach_soft_edge
 from ...scenarios.catalogue.radar_model import RadarOnePointBirth, RadarTrackerSensor
 from ...scenarios.catalogue.tracking import OnePointBirth, TrackerSensor
 from ...registry import MeasurementBirths, TrackerSpec, TrackingProblem, build
@@ -212,7 +213,9 @@ def make_problem(cfg, tsensor, motion, means, covs, labels) -> TrackingProblem:
     its components terms of existence ``r_birth × weight``, HOMHT's seeded births one option per component
     (:mod:`hypotrack.hypotheses.seeded`) and GNN/JPDA's initiation one tentative track per component
     (:class:`~hypotrack.trackers.MOfNInitiator`), all from :class:`SeededAdmissibleBirth`; the optional death model and plausibility test of
-    :mod:`.physics` (``unconfirmed_decay``, ``plausibility``)."""
+    :mod:`.physics` (``unconfirmed_decay``, ``plausibility``). ``model.fov_edge: {margin_deg, margin_km}`` gives the
+    sensor the soft-edged detection (:mod:`hypotrack.scenarios.catalogue.fov_edge`; absent: ``p_D`` decided at
+    each track's mean), which only the factored filters read (GNN/JPDA gate every track whatever the view)."""
     m = cfg["model"]
     birth = m.get("birth", "one_point")
     if birth not in BIRTHS:
@@ -230,9 +233,14 @@ def make_problem(cfg, tsensor, motion, means, covs, labels) -> TrackingProblem:
     births = MeasurementBirths(adaptive, r_birth=m["r_birth"],
                                seeded_intensity=m["homht_births_per_scan"] / tsensor.clutter.region.area,
                                seeded_density=seeded, survival=model_survival(m))
+    fov = tsensor.detection  # the true field of view: the problem's (scorecard, GNN/JPDA's miss rule)
+    edge = m.get("fov_edge")
+    if edge is not None:  # the factored filters' p_D: the edge integrated over each track (fov_edge.py)
+        if not radar:
+            raise ValueError("model.fov_edge needs the documented radar (radar.measurement: rae_rate)")
+        attach_soft_edge(tsensor, edge["margin_deg"], edge["margin_km"])
     return TrackingProblem(motion, tsensor, means, covs, labels, time=0.0, dt=cfg["radar"]["revisit_s"],
-                           births=births, in_view=lambda x: tsensor.detection.in_view(x[:, :3]),
-                           validity=model_validity(m))
+                           births=births, in_view=lambda x: fov.in_view(x[:, :3]), validity=model_validity(m))
 
 
 def tracker_spec(cfg, name: str, **factored) -> TrackerSpec:

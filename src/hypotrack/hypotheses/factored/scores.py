@@ -114,12 +114,12 @@ def score_tracks(engine, pred, Z, *, gate_out_of_view: bool = True, survival=Non
     # scored densely
     if engine.gate_probability is None or m * n <= dense_pairs or engine.H is None:
         loglik, allowed, p_detect = engine.track_scores(pred, Z)
-        p_detect = state_p_detect(engine.sensor.detection, pred.means, p_detect)
+        p_detect = state_p_detect(engine.sensor.detection, pred.means, p_detect, pred.covs)
         if not gate_out_of_view:
             allowed = allowed & (p_detect > 0)[None, :]
         return Scores(m, p_detect, p_survive, loglik=loglik, allowed=allowed)
     _, _, p_detect = engine.track_scores(pred, Z[:0])  # the engine's p_D of every track (no return scored)
-    p_detect = state_p_detect(engine.sensor.detection, pred.means, p_detect)
+    p_detect = state_p_detect(engine.sensor.detection, pred.means, p_detect, pred.covs)
     # the balls holding every return a track may gate, |r|² ≤ γ λ_max(S) ≤ γ tr S (a margin for rounding), for
     # a measurement z = H x + v compared by plain differences: a measurement model of another form needs its
     # own predicted measurements and innovation covariances here (the scores themselves are the engine's)
@@ -163,7 +163,8 @@ def sensor_frame_pairs(engine, pred, Z, *, gate_out_of_view: bool, p_survive=Non
     meas, n, m = engine.measurement, len(pred), len(Z)
     z_pred, S, _, _ = meas.innovation(pred.means, pred.covs)  # one batch, as track_scores
     in_view = np.asarray(engine.sensor.detection.in_view(meas.view_points(pred.means, z_pred)), dtype=bool)
-    p_detect = state_p_detect(engine.sensor.detection, pred.means, np.where(in_view, engine.p_D, 0.0))
+    p_detect = state_p_detect(engine.sensor.detection, pred.means, np.where(in_view, engine.p_D, 0.0),
+                              pred.covs)
     Linv, logdet = np.zeros((n, meas.dim, meas.dim)), np.zeros(n)
     if n:
         L = np.linalg.cholesky(S)  # as ExtendedMeasurement.mahalanobis2

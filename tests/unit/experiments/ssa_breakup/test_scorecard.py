@@ -244,8 +244,16 @@ def test_identity_row_by_hand():
     """16 object returns, 1 cross-tag (625 per 10⁴), 3 uncorrelated (1875); one identity switch (object 4: label 4
     then 5) over 14 object-scans in view (714.29 per 10⁴)."""
     assert identity_row(_run()) == dict(tracker="glmb", object_returns=16, cross_tags=1, cross_tags_per_1e4=625.0,
-                                        id_switches=1, id_switches_per_1e4=pytest.approx(1e4 / 14),
-                                        uncorrelated_per_1e4=1875.0)
+                                        catalogue_cross_tags_per_1e4=625.0, id_switches=1,
+                                        id_switches_per_1e4=pytest.approx(1e4 / 14), uncorrelated_per_1e4=1875.0)
+
+
+def test_catalogue_cross_tags_charge_a_catalogued_label_carried_by_another_object():
+    """Objects 1-5 catalogued under their own numbers: label 5, which object 4 carried at scan 5 (its purity owner),
+    is object 5's entry, so object 4's return to it is a second cross-tag (1250 per 10⁴); with only 1-4
+    catalogued, label 5 is a newborn's and keeps its purity owner (625)."""
+    assert identity_row(_run(), (1, 2, 3, 4, 5))["catalogue_cross_tags_per_1e4"] == 1250.0
+    assert identity_row(_run(), (1, 2, 3, 4))["catalogue_cross_tags_per_1e4"] == 625.0
 
 
 def test_scorecard_row_by_hand():
@@ -257,7 +265,9 @@ def test_scorecard_row_by_hand():
         row = scorecard_row(_run(), (None, [3], Scene(), None), cfg, CV())
     want = dict(
         tracker="glmb", n_objects=4, n_scans=6, object_returns=16, correct_per_1e4=6250.0, cross_tags_per_1e4=625.0,
-        orphan_per_1e4=1250.0, uncorrelated_per_1e4=1875.0, cross_tags=1, completeness=2 / 3,
+        orphan_per_1e4=1250.0, uncorrelated_per_1e4=1875.0, cross_tags=1,
+        catalogue_cross_tags_per_1e4=625.0, catalogue_cross_tags=1,  # labels 1, 2, 4 on their own objects
+        completeness=2 / 3,
         false_per_1000=2e3 / 13, duplicate_per_1000=1e3 / 13, reacquisitions=3, reacq_within_km=2 / 3,
         rms_radial_km=np.sqrt((0.75**2 + ERR2[0] ** 2) / 3), rms_intrack_km=np.sqrt((1 + ERR2[1] ** 2) / 3),
         rms_crosstrack_km=np.sqrt(0.25 / 3),

@@ -269,10 +269,13 @@ def test_every_macro_of_a_summary_row_by_hand():
     cards = pd.DataFrame([dict(scenario="breakup", tracker="homht_kbest", seed=k, cross_tags_per_1e4=10.0 * k,
                                duplicate_per_1000=1.0 * k, uncorrelated_per_1e4=3.0 * k, completeness=0.5 * k,
                                realism_95=0.8 + 0.1 * k, id_switches_per_1e4=4.0 * k, first_return_own=0.25 * k,
-                               reacquired_same_label=0.3 * k, n_objects=499.4 + 0.4 * k) for k in (1, 2)])
+                               reacquired_same_label=0.3 * k, n_objects=499.4 + 0.4 * k,
+                               catalogue_cross_tags_per_1e4=7.0 * k) for k in (1, 2)])
     acc, _ = scorecard_summary(cards)
     ratios = pd.DataFrame([dict(scenario="breakup", tracker="homht_kbest", ratio=0.5, ratio_se=0.1, meets_goal=True,
                                 metric="cross_tags_per_1e4"),
+                           dict(scenario="breakup", tracker="homht_kbest", ratio=0.25, ratio_se=0.05, meets_goal=True,
+                                metric="catalogue_cross_tags_per_1e4"),
                            dict(scenario="breakup", tracker="homht_kbest", ratio=0.75, ratio_se=0.2, meets_goal=False,
                                 metric="id_switches_per_1e4"),
                            dict(scenario="breakup", tracker="glmb", ratio=np.nan, ratio_se=np.nan, meets_goal=False,
@@ -281,7 +284,7 @@ def test_every_macro_of_a_summary_row_by_hand():
                                share_in_gate=0.25 * (s + 1), share_in_5_gates=1.0) for s in (0, 2)])
     m = breakup_macros(acc, ratios, dens)
     want = dict(crosstags=15.0, crosstags_se=5.0, duplicates=1.5, uncorrelated=4.5, completeness=0.75, realism=0.95,
-                idsw=6.0, firstown=0.375, reacqkept=0.45)
+                idsw=6.0, firstown=0.375, reacqkept=0.45, catxtags=10.5)
     for key, v in want.items():
         assert m[f"{key}_breakup_homht_kbest"] == pytest.approx(v), key
     # n_objects 499.8 and 500.2: mean 500.0; two seeds
@@ -291,6 +294,8 @@ def test_every_macro_of_a_summary_row_by_hand():
         0.5, 0.1, "met")
     assert (m["idsw_ratio_breakup_homht_kbest"], m["idsw_ratio_se_breakup_homht_kbest"],
             m["idsw_goal_breakup_homht_kbest"]) == (0.75, 0.2, "not met")
+    assert (m["cat_ratio_breakup_homht_kbest"], m["cat_ratio_se_breakup_homht_kbest"],
+            m["cat_goal_breakup_homht_kbest"]) == (0.25, 0.05, "met")
     assert np.isnan(m["goal_breakup_glmb"]) and np.isnan(m["ratio_breakup_glmb"])
     # the density's mean row (seeds 0 and 2, not seed 0's own row): share 0.5, median 2 km, in either row order
     assert (m["nn_share_breakup"], m["nn_median_breakup"]) == (0.5, 2.0)
@@ -301,10 +306,10 @@ def test_every_macro_of_a_summary_row_by_hand():
         for key in want:
             assert np.isnan(m[f"{key}_breakup_{name}"]), (key, name)
     for name in ("glmb_murty", "rfisst", "glmb_murty_amb", "homht_kbest_amb"):
-        for pre in ("", "idsw_"):
+        for pre in ("", "idsw_", "cat_"):
             for key in ("ratio", "ratio_se", "goal"):
                 assert np.isnan(m[f"{pre}{key}_breakup_{name}"]), (pre, key, name)
-    assert len(m) == 10 * 9 + 8 * 6 + 2 + 2  # tracker macros, ratio macros, seeds and objects, density
+    assert len(m) == 10 * 10 + 8 * 9 + 2 + 2  # tracker macros, ratio macros, seeds and objects, density
     # a summary without the optional columns (older cards): NaN for them
     old = scorecard_summary(cards.drop(columns=["uncorrelated_per_1e4", "id_switches_per_1e4", "first_return_own",
                                                 "reacquired_same_label"]))[0]

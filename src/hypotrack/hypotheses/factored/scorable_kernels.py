@@ -7,7 +7,10 @@ and ``λ_min ≥ det C / λ_max^(p−1)``, so ``cond C ≤ ‖C‖_F^p / det C``
 :data:`CERTIFIED_CONDITION` (1e7, three orders under the scan's limit 1e10) passes the eigenvalue test whatever the
 rounding: Cholesky's pivots and LAPACK's eigenvalues are exact for matrices within a few ulps of ``C``, which moves a
 condition number of 1e7 by ~1e-8 of itself. Every other matrix (a pivot ≤ 0, a larger bound) goes to
-``eigvalsh`` as before, so the verdicts are those of the eigenvalues alone, bit for bit."""
+``eigvalsh`` as before, so the verdicts are those of the eigenvalues alone, bit for bit. A certified matrix also
+passes :func:`~.planner.scorable`'s Cholesky test: LAPACK's factorisation of ``S = D^1/2 C D^1/2`` completes when
+``λ_min(C)`` exceeds ~``p² ε`` (Demmel 1989, Cholesky's error bounds are invariant under diagonal scaling), and
+certified, ``λ_min(C) ≥ ‖C‖_F / 1e7 ≥ 1e-7``; so a scan whose matrices are all certified skips that call too."""
 
 from __future__ import annotations
 

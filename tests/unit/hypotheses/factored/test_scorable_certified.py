@@ -76,3 +76,19 @@ def test_not_finite_and_non_positive_variances_are_refused_without_eigenvalues()
     S = np.stack([np.diag([1.0, 0.0]), np.diag([-1.0, 1.0]), np.diag([np.inf, 1.0]), np.eye(2)])
     assert certify(S).tolist() == [0, 0, 0, 1]
     assert scorable(S).tolist() == [False, False, False, True]
+
+
+def test_a_batch_certified_whole_skips_cholesky_and_agrees():
+    # every matrix certified (conditions up to ~1e2, far under the bound's 1e7): the Cholesky call is skipped, the
+    # verdicts are the eigenvalues' and Cholesky's (all True), and each factorisation indeed succeeds
+    rng = np.random.default_rng(11)
+    S = []
+    for _ in range(500):
+        Q, _ = np.linalg.qr(rng.normal(size=(4, 4)))
+        A = (Q * np.exp(rng.uniform(0, np.log(1e2), size=4))) @ Q.T
+        u = 10.0 ** rng.uniform(-4, 3, size=4)
+        S.append(0.5 * (A + A.T) * np.outer(u, u))
+    S = np.stack(S)
+    assert np.all(certify(S) == 1)
+    assert np.all(scorable(S)) and np.array_equal(scorable(S), scorable_by_eigenvalues(S))
+    np.linalg.cholesky(S)

@@ -61,6 +61,25 @@ DIED = -2  #: object code of "died / not born" (row option 1; impossible when ``
 MAX_OBJECTS = 62  #: tracks + birth terms whose silent-event mask fits an int64 (beyond: Python ints)
 
 
+#: ``measurement.R`` as :func:`~.._validation.check_covariance` returned it, by its bits: an adaptive birth's terms are
+#: made anew each scan (:meth:`GaussianBirthTerm.many`) with the same sensor noise, whose check (~30 µs) would repeat
+_CHECKED_NOISE: dict = {}
+
+
+def _checked_noise(R) -> np.ndarray:
+    """``check_covariance(R, "measurement.R")`` (a copy of it): the same array for the same bits, the same error for a
+    bad one (only a passed check is remembered)."""
+    arr = np.asarray(R)
+    key = (arr.dtype.str, arr.shape, arr.tobytes())
+    sym = _CHECKED_NOISE.get(key)
+    if sym is None:
+        sym = check_covariance(R, "measurement.R")
+        if len(_CHECKED_NOISE) >= 64:  # a handful of sensors: bounded all the same
+            _CHECKED_NOISE.clear()
+        _CHECKED_NOISE[key] = sym
+    return sym.copy()
+
+
 @dataclass(frozen=True, eq=False)
 class GaussianBirthTerm:
     """Birth density ``N(mean, cov)`` of a labeled-Bernoulli birth term, observed through
@@ -98,7 +117,7 @@ class GaussianBirthTerm:
         object.__setattr__(self, "cov", check_covariance(self.cov, "cov", dim=len(mean)))
         object.__setattr__(self, "weight", check_probability(self.weight, "weight", low_open=True))
         if self.measurement is not None:
-            object.__setattr__(self, "R", check_covariance(self.measurement.R, "measurement.R"))
+            object.__setattr__(self, "R", _checked_noise(self.measurement.R))
             if self.gate_probability is not None:
                 object.__setattr__(self, "gate_probability", check_probability(
                     self.gate_probability, "gate_probability", low_open=True, high_open=True))

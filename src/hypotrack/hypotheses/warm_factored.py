@@ -17,7 +17,7 @@ from numba import types as nt
 from ..association import clustering
 from ..models import measurement, orbit3d, orbit3d_replay, plausibility
 from ..scenarios.catalogue import admissible_kernels, fov_kernels, radar_kernels
-from .factored import births_kernels, lane_kernels
+from .factored import births_kernels, lane_kernels, scorable_kernels
 
 __all__ = ["ENGINE_KERNELS", "warm_engine"]
 
@@ -29,6 +29,7 @@ _i1, _i2, _i3, _b1 = _I[::1], _I[:, ::1], _I[:, :, ::1], _B[::1]
 #: call site builds (C-contiguous float64/int64/bool arrays; the near-field test's states may be a strided view)
 ENGINE_KERNELS = (
     (births_kernels, "_band", (_f2, _i1, _i1, _i1, _f2, _f2, _b1)),
+    (scorable_kernels, "_certify", (_f3, _F)),
     (lane_kernels, "rebuild", (_i1, _f2, _B, _f1, _i1, _f1, _f1, _f1, _i1, _b1, _i1, _i1, _f2, _f3, _f1, _f1, _f2,
                                _f3, _i1, _f1, _f1, _F, _F, _B, _B, _f2, _f3, _I, _i1, _f2, _f1, _i1, _f1, _f1)),
     (measurement, "_pair_distances", (_f2, _f2, _f3, _b1)),

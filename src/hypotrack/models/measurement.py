@@ -218,30 +218,62 @@ class ExtendedMeasurement:
         return np.asarray(means)[:, :3]
 
 
+@numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
+def _wrapped_residual(v, two_pi):
+    """``v`` wrapped into ``[−π, π)`` as :func:`wrap_pi` rounds it (numpy's floating remainder)."""
+    x = v + np.pi
+    if not 0.0 <= x < two_pi:  # (inside, fmod leaves x as it is)
+        x = np.fmod(x, two_pi)
+        if x != 0.0:
+            if x < 0.0:
+                x += two_pi
+        else:
+            x = 0.0
+    return x - np.pi
+
+
 @numba.njit(cache=True, nogil=True, error_model="numpy")
 def _pair_distances(Z, z_pred, Linv, wrapped):
     """``d²[i, j] = |L_j⁻¹ ν_ij|²`` with ``ν_ij = Z_i − ẑ_j`` (the ``wrapped`` components into ``[−π, π)`` as
-    :func:`wrap_pi`: numpy's floating remainder), :meth:`ExtendedMeasurement.mahalanobis2`'s pairs."""
+    :func:`wrap_pi`: numpy's floating remainder), :meth:`ExtendedMeasurement.mahalanobis2`'s pairs.
+
+    The radar's four components (``p = 4``) in scalars, each track's ``L⁻¹`` read once for all returns: the same
+    operations in the same order as the general loop (``u`` summed over ``k`` in order, ``|u|²`` left to right),
+    ~3× faster (the residual no longer goes through memory and the rows of ``L⁻¹`` stay in registers)."""
     m, p = Z.shape
     n = z_pred.shape[0]
     out = np.empty((m, n))
-    r = np.empty(p)
     two_pi = 2.0 * np.pi
+    if p == 4:
+        w0, w1, w2, w3 = wrapped[0], wrapped[1], wrapped[2], wrapped[3]
+        for j in range(n):
+            y0, y1, y2, y3 = z_pred[j, 0], z_pred[j, 1], z_pred[j, 2], z_pred[j, 3]
+            a00, a01, a02, a03 = Linv[j, 0, 0], Linv[j, 0, 1], Linv[j, 0, 2], Linv[j, 0, 3]
+            a10, a11, a12, a13 = Linv[j, 1, 0], Linv[j, 1, 1], Linv[j, 1, 2], Linv[j, 1, 3]
+            a20, a21, a22, a23 = Linv[j, 2, 0], Linv[j, 2, 1], Linv[j, 2, 2], Linv[j, 2, 3]
+            a30, a31, a32, a33 = Linv[j, 3, 0], Linv[j, 3, 1], Linv[j, 3, 2], Linv[j, 3, 3]
+            for i in range(m):
+                r0, r1, r2, r3 = Z[i, 0] - y0, Z[i, 1] - y1, Z[i, 2] - y2, Z[i, 3] - y3
+                if w0:
+                    r0 = _wrapped_residual(r0, two_pi)
+                if w1:
+                    r1 = _wrapped_residual(r1, two_pi)
+                if w2:
+                    r2 = _wrapped_residual(r2, two_pi)
+                if w3:
+                    r3 = _wrapped_residual(r3, two_pi)
+                u0 = ((a00 * r0 + a01 * r1) + a02 * r2) + a03 * r3
+                u1 = ((a10 * r0 + a11 * r1) + a12 * r2) + a13 * r3
+                u2 = ((a20 * r0 + a21 * r1) + a22 * r2) + a23 * r3
+                u3 = ((a30 * r0 + a31 * r1) + a32 * r2) + a33 * r3
+                out[i, j] = (((0.0 + u0 * u0) + u1 * u1) + u2 * u2) + u3 * u3
+        return out
+    r = np.empty(p)
     for i in range(m):
         for j in range(n):
             for k in range(p):
                 v = Z[i, k] - z_pred[j, k]
-                if wrapped[k]:
-                    x = v + np.pi
-                    if not 0.0 <= x < two_pi:  # (inside, fmod leaves x as it is)
-                        x = np.fmod(x, two_pi)
-                        if x != 0.0:
-                            if x < 0.0:
-                                x += two_pi
-                        else:
-                            x = 0.0
-                    v = x - np.pi
-                r[k] = v
+                r[k] = _wrapped_residual(v, two_pi) if wrapped[k] else v
             s = 0.0
             for a in range(p):
                 u = Linv[j, a, 0] * r[0]

@@ -19,6 +19,7 @@ from ..seeded import prime_scan
 from ..state import FilterState
 from ..tracks import TrackStore
 from .lane import GroupSet, bernoulli, empty_state, singleton, take
+from .scorable_kernels import certify
 from .scores import Scores, score_tracks
 from .sleeping import sleeping_step
 
@@ -47,13 +48,16 @@ def scorable(S) -> np.ndarray:
     variances of 1e16 km² against the radar's 1e-6 rad²) can pass Cholesky by rounding and then stop the scan in
     the gain's solve (an exact zero pivot, depending on the BLAS)."""
     S = np.asarray(S, dtype=float)
-    ok = np.isfinite(S).all(axis=(1, 2))
-    d = np.einsum("nii->ni", S)
-    ok &= (d > 0).all(axis=1)
-    if ok.any():
-        s = 1.0 / np.sqrt(d[ok])
-        lam = np.linalg.eigvalsh(S[ok] * s[:, :, None] * s[:, None, :])
-        ok[np.flatnonzero(ok)[lam[:, 0] * MAX_SCALED_CONDITION <= lam[:, -1]]] = False
+    status = certify(S)  # the matrices certified well conditioned need no eigenvalues (:mod:`.scorable_kernels`)
+    ok = status > 0
+    undecided = np.flatnonzero(status == 2)
+    if len(undecided):
+        d = np.einsum("nii->ni", S[undecided])
+        s = 1.0 / np.sqrt(d)
+        lam = np.linalg.eigvalsh(S[undecided] * s[:, :, None] * s[:, None, :])
+        ok[undecided[lam[:, 0] * MAX_SCALED_CONDITION <= lam[:, -1]]] = False
+    else:  # every finite matrix certified: Cholesky succeeds on each (:mod:`.scorable_kernels`)
+        return ok
     try:
         np.linalg.cholesky(S[ok])
         return ok

@@ -29,8 +29,9 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
     """Left: the distribution (CDF) of each object's distance to its nearest neighbour in view, per scenario
     (``distances``: scenario → km), with the smallest gate marked. Middle: cross-tags per 10⁴ returns per tracker
     and scenario (mean ± s.e. over seeds, ``summary`` of :func:`.summary.scorecard_summary`). Right, when
-    ``ratios`` (:func:`.summary.cross_tag_ratios` of both metrics) is given: each compared tracker's ratio to the
-    reference in the breakup cloud, cross-tags and identity switches (mean ± s.e. over seeds), against the goal."""
+    ``ratios`` (:func:`.summary.cross_tag_ratios` of the metrics) is given: each compared tracker's ratio to the
+    reference in the breakup cloud, cross-tags, catalogue cross-tags and identity switches (mean ± s.e. over
+    seeds), against the goal."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -83,7 +84,9 @@ def plot_breakup(distances: dict, gate_km: float, summary: pd.DataFrame, pdf, pn
     figure_style.save(fig, pdf, png, width=1.0)  # refuses text under 7 pt; closes the figure
 
 
-_METRIC_STYLE = {"cross_tags_per_1e4": ("cross-tags", "tab:red"), "id_switches_per_1e4": ("identity switches", "tab:gray")}
+_METRIC_STYLE = {"cross_tags_per_1e4": ("cross-tags", "tab:red"),
+                 "catalogue_cross_tags_per_1e4": ("catalogue cross-tags", "tab:blue"),
+                 "id_switches_per_1e4": ("identity switches", "tab:gray")}
 
 
 def _plot_ratios(ax, ratios: pd.DataFrame):
@@ -113,4 +116,4 @@ def _plot_ratios(ax, ratios: pd.DataFrame):
     ax.set_yscale("log")
     low = r["ratio"][np.isfinite(r["ratio"]) & (r["ratio"] > 0)]
     ax.set_ylim(bottom=min(0.1, 0.5 * float(low.min())) if len(low) else 0.1)
-    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=4)
+    ax.legend(loc="lower left", bbox_to_anchor=(0.0, 1.02), frameon=False, ncol=3)

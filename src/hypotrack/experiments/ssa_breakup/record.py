@@ -197,7 +197,8 @@ def _seed_words(seeds: str) -> str:
 def record_claims(table: pd.DataFrame, reference: str = "gnn") -> list:
     """Ledger rows (status *extension*) of the committed record: the tuned ``p_min``, then for every tracker with a
     ratio its cross-tags over the reference's (mean ± s.e. over the evaluated seeds) against the goal, an
-    ambiguity output's note giving its untagged returns against its MAP output's and the reference's."""
+    ambiguity output's note giving its untagged returns against its MAP output's and the reference's; then the
+    same for the catalogue cross-tags, where the record has them."""
     if table.empty:
         return []
     first = table.iloc[0]
@@ -217,6 +218,16 @@ def record_claims(table: pd.DataFrame, reference: str = "gnn") -> list:
                          f"{int(r.n_seeds)}-seed record", "extension (a fresh breakup cloud)", f"goal ≤ {r.goal:g}",
                          f"{r.ratio:.3g} ± {r.ratio_se:.2g}", "--", "extension", note, "measurement",
                          key=f"record_ratio_{r.tracker}"))
+    if "cat_ratio" not in table:
+        return out
+    for r in table[np.isfinite(table["cat_ratio"].astype(float))].itertuples(index=False):
+        out.append(Claim(EXPERIMENT, f"catalogue cross-tags of {TRACKER_NAMES[r.tracker]} over GNN's, breakup cloud, "
+                         f"{int(r.n_seeds)}-seed record", "extension (a fresh breakup cloud)", f"goal ≤ {r.goal:g}",
+                         f"{r.cat_ratio:.3g} ± {r.cat_ratio_se:.2g}", "--", "extension",
+                         f"each catalogued fragment's own number owned by it; per-seed ratios over "
+                         f"{int(r.cat_n_ratio)} evaluated seeds (median {r.cat_ratio_median:.3g}, ratio of means "
+                         f"{r.cat_ratio_of_means:.3g}); {'meets' if r.cat_meets_goal else 'misses'} the goal",
+                         "measurement", key=f"record_cat_ratio_{r.tracker}"))
     return out
 
 
@@ -246,6 +257,7 @@ def record_macros(table: pd.DataFrame) -> dict:
                 vals[f"record_cat_goal_{r.tracker}"] = "met" if r.cat_meets_goal else "not met"
                 vals[f"record_cat_ratio_median_{r.tracker}"] = float(r.cat_ratio_median)
                 vals[f"record_cat_n_at_goal_{r.tracker}"] = int(r.cat_n_at_goal)
+                vals[f"record_cat_n_ratio_{r.tracker}"] = int(r.cat_n_ratio)
                 vals[f"record_cat_ratio_of_means_{r.tracker}"] = float(r.cat_ratio_of_means)
         if np.isfinite(r.ratio):
             vals[f"record_goal_{r.tracker}"] = "met" if r.meets_goal else "not met"

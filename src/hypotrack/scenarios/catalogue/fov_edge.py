@@ -9,8 +9,10 @@ filter is sure of that wrong association, since the right one has weight zero. G
 whatever the field of view, do not make this error.
 
 The track-level detection probability is the expectation of the state's ``p_D(x) = p_D 1_FOV(x)`` under the
-predicted density (Mahler, *Statistical Multisource-Multitarget Information Fusion*, 2007, §9.2: a state-dependent
-``p_D`` integrated against the track's density): ``p_D P_in`` with ``P_in = P(x ∈ FOV)``. With the linearised
+predicted density (a state-dependent ``p_D`` integrated against the track's density, as in Mahler, *Statistical
+Multisource-Multitarget Information Fusion*, 2007; the Gaussian-mixture PHD filter of Vo and Ma, 2006, evaluates a
+slowly varying ``p_D`` at each component's mean instead, which is the approximation that fails at a hard edge):
+``p_D P_in`` with ``P_in = P(x ∈ FOV)``. With the linearised
 predicted measurement ``N(h(m), H P Hᵀ)`` and the field of view a box in ``(ρ, az, el)`` the box's probability is
 the product of its sides' normal probabilities (the cross-covariances of range, azimuth and elevation neglected):
 

@@ -165,8 +165,9 @@ def _results(tmp_path, seeds=(2, 3), tuning_seeds=(1, 12)):
     src.mkdir(parents=True)
     xt = {"gnn": (2.0, 4.0), "glmb_murty": (4.0, 4.0), "glmb_murty_amb": (1.0, 1.0)}
     unc = {"gnn": 40.0, "glmb_murty": 30.0, "glmb_murty_amb": 70.0}
+    cat = {"gnn": (8.0, 4.0), "glmb_murty": (2.0, 2.0), "glmb_murty_amb": (1.0, 3.0)}  # catalogue cross-tags
     cards = pd.DataFrame([dict(scenario="breakup", tracker=t, seed=k, cross_tags_per_1e4=v[j], id_switches_per_1e4=2.0,
-                               uncorrelated_per_1e4=unc[t], completeness=0.9)
+                               uncorrelated_per_1e4=unc[t], completeness=0.9, catalogue_cross_tags_per_1e4=cat[t][j])
                           for t, v in xt.items() for j, k in enumerate(seeds)])
     from hypotrack.experiments.ssa_breakup.summary import breakup_ratios, scorecard_summary
     summary, _ = scorecard_summary(cards)
@@ -218,8 +219,18 @@ def test_record_table_claims_and_macros_by_hand(tmp_path):
     assert amb["ratio_of_means"] == pytest.approx(1 / 3, rel=1e-5)  # the record CSV keeps 6 digits
     plain = table.set_index("tracker").loc["glmb_murty"]
     assert plain["n_at_goal"] == 0 and plain["ratio_of_means"] == pytest.approx(8 / 6, rel=1e-5)  # 4/2, 4/4: neither at 0.5
+    # catalogue cross-tags: per seed 2/8, 2/4 (mean 0.375, s.e. 0.125, both at goal, 4/12) and 1/8, 3/4 (0.4375 ±
+    # 0.3125, one at goal, 4/12)
+    assert (plain["cat_ratio"], plain["cat_ratio_se"], plain["cat_n_at_goal"]) == pytest.approx((0.375, 0.125, 2))
+    assert (amb["cat_ratio"], amb["cat_ratio_se"], amb["cat_ratio_median"]) == pytest.approx((0.4375, 0.3125, 0.4375))
+    assert amb["cat_n_at_goal"] == 1 and amb["cat_ratio_of_means"] == pytest.approx(1 / 3, rel=1e-5)
+    assert "| δ-GLMB (Murty) | 2 ± 0 | 0.375 ± 0.12 | met | 0.375 | 2 of 2 | 0.333 |" in md
+    assert "| δ-GLMB (Murty), ambiguity output | 2 ± 1 | 0.438 ± 0.31 | met | 0.438 | 1 of 2 | 0.333 |" in md
     keys = {c.key: c for c in record_claims(table)}
-    assert set(keys) == {"record_pmin", "record_ratio_glmb_murty", "record_ratio_glmb_murty_amb"}
+    assert set(keys) == {"record_pmin", "record_ratio_glmb_murty", "record_ratio_glmb_murty_amb",
+                         "record_cat_ratio_glmb_murty", "record_cat_ratio_glmb_murty_amb"}
+    assert keys["record_cat_ratio_glmb_murty_amb"].reproduced == "0.438 ± 0.31"
+    assert "median 0.438, ratio of means 0.333" in keys["record_cat_ratio_glmb_murty_amb"].note
     assert keys["record_pmin"].reproduced == "0.7" and "tuning seeds 1 and 12" in keys["record_pmin"].note
     assert keys["record_ratio_glmb_murty_amb"].reproduced == "0.375 ± 0.12"
     assert "untagged 70 per 10^4 returns against 30 for the MAP output and 40 for GNN" in \
@@ -231,6 +242,9 @@ def test_record_table_claims_and_macros_by_hand(tmp_path):
     assert m["record_goal_glmb_murty_amb"] == "met" and m["record_goal_glmb_murty"] == "not met"
     assert m["record_n_at_goal_glmb_murty_amb"] == 2 and m["record_ratio_median_glmb_murty_amb"] == pytest.approx(0.375)
     assert "record_goal_gnn" not in m and m["record_uncorrelated_gnn"] == 40.0
+    assert m["record_cat_goal_glmb_murty_amb"] == "met" and m["record_cat_n_at_goal_glmb_murty_amb"] == 1
+    assert m["record_cat_n_ratio_glmb_murty_amb"] == 2
+    assert m["record_catxtags_gnn"] == 6.0 and "record_cat_goal_gnn" not in m
     assert record_claims(pd.DataFrame()) == [] and record_macros(pd.DataFrame()) == {}
 
 

@@ -20,7 +20,7 @@ to map those of all the scan's lone returns in one call (``map_covariances``,
 :meth:`hypotrack.scenarios.catalogue.admissible.SeededAdmissibleBirth.map_covariances`, the per-return map row by
 row: the same numbers), instead of one call per step.
 
-Anything else — another filter class, weight model or generator, a sampled cap, a population with birth terms
+Anything else — another filter class, weight model or generator, a one-Gaussian birth density, a sampled cap, a population with birth terms
 or its own children, a one-row problem whose k best the solver's tie order decides — keeps the general step
 (``tests/unit/hypotheses/factored/test_seeded_birth.py`` steps the catalogue both ways and compares bit for bit).
 """
@@ -30,15 +30,15 @@ from __future__ import annotations
 import numpy as np
 
 from ..._logspace import logsumexp
-from ..children import heavy_entries
 from ..factored_groups import restrict_population
+from .. import filter as engine_filter
 from ..filter import HypothesisFilter
 from ..generators import MurtyGenerator, top_k
 from ..hypothesis import ChildSet
 from ..one_return_children import _reid_k_best
+from ..seeded import is_mixture
 from ..state import FilterState
 from ..tracks import TrackStore
-from ..validity import valid_top_k
 from ..weights import ReidWeights
 
 __all__ = ["lone_seeded_applies", "lone_seeded_plan", "map_lone_returns", "lone_seeded_step"]
@@ -48,11 +48,13 @@ _ASSOCIATION = int(ChildSet.ASSOCIATION)
 
 def lone_seeded_applies(engine, rule) -> bool:
     """Whether a lone return's step has the closed form's children (module docstring): the fast path on (``rule``),
-    the plain engine, Reid's weights with seeded births, Murty's generator, the cap by weight, a population with no
-    birth term and no children of its own (or none)."""
+    the plain engine, Reid's weights with seeded births from a mixture density (one child per component: a
+    one-Gaussian birth's step has two children and keeps the general step), Murty's generator, the cap by weight, a
+    population with no birth term and no children of its own (or none)."""
     pop = engine.population
     return (rule is not None and type(engine) is HypothesisFilter and type(engine.weights) is ReidWeights
-            and engine.weights.seeded_births and type(engine.generator) is MurtyGenerator and engine.cap == "top"
+            and engine.weights.seeded_births and is_mixture(engine.weights.birth_density)
+            and type(engine.generator) is MurtyGenerator and engine.cap == "top"
             and (pop is None or (not hasattr(pop, "children") and pop.n_birth_regions == 0)))
 
 
@@ -66,6 +68,10 @@ def lone_seeded_plan(engine, general, min_weight: float):
     tr = state.tracks[0]
     keep = engine.max_hypotheses
     pop = restrict_population(engine.population, regions)  # engine_step's population (no birth term: the same)
+    # the general step's own helpers are looked up where it looks them up (filter.applies, filter.valid_top_k,
+    # filter.heavy_entries): one form of each, whoever replaces it (the tests that step the general path do)
+    if not engine_filter.applies(pop, ctx, None, False):
+        return None  # the general step's children are not the one-return ones
     pop_lp = None
     if pop is not None:  # one_return_children's population terms for a parent of no track
         ps = None if ctx.p_survive is None else ctx.p_survive[tr]
@@ -81,12 +87,16 @@ def lone_seeded_plan(engine, general, min_weight: float):
     keys = lw.copy()
     if E > keep:
         return None  # (one_return_k_best keeps at most min(k, H∞): not reached)
+    if engine.merge_duplicates:  # (no death among the children: none merged, the merge's own early return)
+        kids = ChildSet(np.zeros(E, np.int64), events, np.full(E, _ASSOCIATION, np.int64), np.full(E, -1, np.int64), lw)
+        kids, keys, _, _ = engine_filter.merge_few(kids, keys, state.tracks, 0)
+        events, lw = kids.events, kids.log_weights
     ev0 = events[:, 0].tolist()
     pairs = [[] if a > -2 else [(a + 1, 0)] for a in ev0]  # child_pairs: clutter none; component c: (−1 − c, 0)
     if engine.validity is None:
         sel = top_k(keys, keep)
     else:
-        sel, _ = valid_top_k(keys, keep, pairs.__getitem__,
+        sel, _ = engine_filter.valid_top_k(keys, keep, pairs.__getitem__,
                              lambda src, ret: engine.pair_moments(pred, ctx, src, ret, False), engine.validity)
     if len(sel) == 0:
         return None  # (the general step's fallbacks)
@@ -101,7 +111,7 @@ def lone_seeded_plan(engine, general, min_weight: float):
         else:
             lists.append(np.zeros(0, dtype=np.int64))
     light = min(min_weight, 1.0 / keep) * (1 - 1e-9)  # the engine's bound (:meth:`~.engine.FactoredFilter._run_plans`)
-    need = heavy_entries(lists, log_w, len(src), light)
+    need = engine_filter.heavy_entries(lists, log_w, len(src), light)
     hyp = [(state.keys[0], _ASSOCIATION, -1, np.array([ev0[c]], dtype=np.int32).tobytes()) for c in sel.tolist()]
     mass = float(np.exp(logsumexp(kept_lw) - log_total))
     return ("seeded", pred, ctx, np.array(src, dtype=np.int64), need, log_w, lists, hyp, mass)

@@ -23,6 +23,7 @@ from hypotrack.hypotheses.factored.planner import ObjectIds
 from hypotrack.hypotheses.factored.seeded_birth import lone_seeded_applies, lone_seeded_plan, lone_seeded_step
 from hypotrack.hypotheses.scan_context import ScanContext
 from hypotrack.models import ConstantVelocity
+from hypotrack.models.population import UniformBirthDensity
 from hypotrack.models.sensors import Box
 
 VIEW = Box([-100.0, -100.0], [100.0, 100.0])
@@ -119,6 +120,7 @@ def test_it_leaves_the_general_step_what_is_not_its_case():
     _assert_same(*_both(_engine(density, lam_b=20 * LAM_B), np.zeros(2)))  # no tie: the closed form
     assert not lone_seeded_applies(_engine(density, cap="sample"), rule=object())
     assert not lone_seeded_applies(_engine(density), rule=None)  # the fast path off
+    assert not lone_seeded_applies(_engine(UniformBirthDensity(VIEW, np.eye(2) * 4.0)), rule=object())  # one Gaussian
 
 
 @pytest.fixture(scope="module")

@@ -96,8 +96,8 @@ def lone_seeded_plan(engine, general, min_weight: float):
     if engine.validity is None:
         sel = top_k(keys, keep)
     else:
-        sel, _ = engine_filter.valid_top_k(keys, keep, pairs.__getitem__,
-                             lambda src, ret: engine.pair_moments(pred, ctx, src, ret, False), engine.validity)
+        means_of = lambda src, ret: engine.pair_moments(pred, ctx, src, ret, False)  # noqa: E731 (advance's)
+        sel, _ = engine_filter.valid_top_k(keys, keep, pairs.__getitem__, means_of, engine.validity)
     if len(sel) == 0:
         return None  # (the general step's fallbacks)
     kept_lw = lw[sel]

@@ -36,7 +36,7 @@ from ..filter import HypothesisFilter
 from ..generators import MurtyGenerator, top_k
 from ..hypothesis import ChildSet
 from ..one_return_children import _reid_k_best
-from ..seeded import is_mixture
+from ..seeded import is_mixture, seeded_moments
 from ..state import FilterState
 from ..tracks import TrackStore
 from ..weights import ReidWeights
@@ -96,7 +96,7 @@ def lone_seeded_plan(engine, general, min_weight: float):
     if engine.validity is None:
         sel = top_k(keys, keep)
     else:
-        means_of = lambda src, ret: engine.pair_moments(pred, ctx, src, ret, False)  # noqa: E731 (advance's)
+        means_of = lambda src, ret: _seeded_pairs(engine, ctx, src, ret, False)  # noqa: E731
         sel, _ = engine_filter.valid_top_k(keys, keep, pairs.__getitem__, means_of, engine.validity)
     if len(sel) == 0:
         return None  # (the general step's fallbacks)
@@ -115,6 +115,14 @@ def lone_seeded_plan(engine, general, min_weight: float):
     hyp = [(state.keys[0], _ASSOCIATION, -1, np.array([ev0[c]], dtype=np.int32).tobytes()) for c in sel.tolist()]
     mass = float(np.exp(logsumexp(kept_lw) - log_total))
     return ("seeded", pred, ctx, np.array(src, dtype=np.int64), need, log_w, lists, hyp, mass)
+
+
+def _seeded_pairs(engine, ctx, src, ret, covariances: bool):
+    """:meth:`~..filter.HypothesisFilter.pair_moments` of pairs that are all seeded births (``src <= −1``, no birth
+    term): its :func:`~..seeded.seeded_moments` call itself, whose rows it copies unchanged (the same numbers)."""
+    src = np.asarray(src, dtype=np.int64)
+    return seeded_moments(engine.weights.birth_density, ctx.Z, engine.R, np.asarray(ret, dtype=np.int64), -1 - src,
+                          engine.state_dim, covariances)
 
 
 def map_lone_returns(engine, plans) -> None:
@@ -136,7 +144,7 @@ def lone_seeded_step(plan, engine, label: int, objects, stats, ndim: int):
     n = len(src)
     means, covs = np.full((n, ndim), np.nan), np.full((n, ndim, ndim), np.nan)
     if need.any():
-        means[need], covs[need] = engine.pair_moments(pred, ctx, src[need], np.zeros(int(need.sum()), np.int64))
+        means[need], covs[need] = _seeded_pairs(engine, ctx, src[need], np.zeros(int(need.sum()), np.int64), True)
     store = TrackStore(means, covs, np.arange(label, label + n, dtype=np.int64))
     new = FilterState(store, log_w, lists, keys, 0)
     stats["n_touched"] += 1

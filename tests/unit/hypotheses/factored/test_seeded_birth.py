@@ -162,6 +162,7 @@ def test_homht_with_lone_returns_in_closed_form_is_the_general_engine(catalogue,
         assert general.state().objects == fast.state().objects
         n_seeded += fast.last_stats["n_fast_seeded"]
         assert general.last_stats["n_fast_seeded"] == 0
-        assert general.last_stats["n_touched"] == fast.last_stats["n_touched"]
+        for k in ("n_touched", "mass_retained_min", "n_kalman_updates", "n_duplicates_merged"):
+            assert general.last_stats[k] == fast.last_stats[k], k
         assert general.last_stats["n_jobs"] - fast.last_stats["n_jobs"] == fast.last_stats["n_fast_seeded"]
     assert n_seeded > 20 and fast.next_label > len(problem().labels)

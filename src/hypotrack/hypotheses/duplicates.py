@@ -98,21 +98,31 @@ def pairs_function(children: ChildSet, track_lists, n_birth: int):
             t = track_lists[h]
             tr = tracks_of[h] = t.tolist() if isinstance(t, np.ndarray) else [int(x) for x in t]
         ev, M, kind = events[c], len(tr), kinds[c]
+        # child_pairs in one pass over the event (the parent's tracks, the born, the seeded: the same order)
         ret = [-1] * M
+        born, seeded = [], []
         for i, a in enumerate(ev):
-            if 0 <= a < M:
+            if a >= M:
+                born.append((-1 - (a - M), i))
+            elif a >= 0:
                 ret[a] = i
-        dead, unseen = (), ()
+            elif a <= SEEDED_BIRTH:
+                seeded.append((-1 - n_birth - (SEEDED_BIRTH - a), i))
         if kind == death:
-            dead = (int(args[c]),)
-        elif kind == unseen_birth:
-            unseen = (int(args[c]),)
+            d = int(args[c])
+            keys = [(tr[j], ret[j]) for j in range(M) if j != d]
         elif kind == silent_set:
             dead, unseen = children.silent_events(c, M)
-        keys = [(tr[j], ret[j]) for j in range(M) if j not in dead]
-        keys += [(-1 - (a - M), i) for i, a in enumerate(ev) if a >= M]
-        keys += [(-1 - n_birth - (SEEDED_BIRTH - a), i) for i, a in enumerate(ev) if a <= SEEDED_BIRTH]
-        keys += [(-1 - int(r), -1) for r in unseen]
+            keys = [(tr[j], ret[j]) for j in range(M) if j not in dead]
+            return keys + born + seeded + [(-1 - int(r), -1) for r in unseen]
+        else:
+            keys = list(zip(tr, ret))
+        if born:
+            keys += born
+        if seeded:
+            keys += seeded
+        if kind == unseen_birth:
+            keys.append((-1 - int(args[c]), -1))
         return keys
 
     return pairs
@@ -231,15 +241,18 @@ def _merge_groups(children: ChildSet, keys, groups):
     lw = children.log_weights.copy()
     keys = np.asarray(keys, dtype=float).copy()
     drop = np.zeros(len(children), dtype=bool)
+    w, k = lw.tolist(), keys.tolist()  # (Python floats: the same IEEE sums; argmax's first of equals is max's)
+    nan = any(x != x for x in w)
     for members in groups:
         if len(members) < 2:
             continue
         members = np.asarray(members)
-        rep = members[np.argmax(lw[members])]
+        rep = int(members[np.argmax(lw[members])]) if nan else max(members.tolist(), key=w.__getitem__)
         total = float(logsumexp(lw[members]))
-        keys[rep] += total - lw[rep]
-        lw[rep] = total
+        k[rep] += total - w[rep]
+        w[rep] = lw[rep] = total
         drop[members[members != rep]] = True
+    keys = np.array(k)
     keep = np.flatnonzero(~drop)
     merged = ChildSet(children.parent[keep], children.events[keep], children.kind[keep], children.arg[keep], lw[keep])
     return merged, keys[keep], keep

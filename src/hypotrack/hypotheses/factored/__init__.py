@@ -105,10 +105,13 @@ birth term whose two children are both kept is stepped from one engine step of s
 mixture (one child per component, HOMHT's admissible regions) have their lone tracks' closed form in
 :mod:`.fast_mixture`, and a quiet group of one-track hypotheses under per-track deaths takes its empty-scan
 step in closed form (:mod:`.sleeping`), and a birth term whose one return no track competes for, born
-detected with it alone after the pruning, has the closed form of :mod:`.born_detected`. The posterior is the general path's, bit for bit (to 1e-12 with the
+detected with it alone after the pruning, has the closed form of :mod:`.born_detected`; a return in no gate under
+HOMHT's mixture seeded births (clutter or a newborn in one of its admissible-region components) has that of
+:mod:`.seeded_birth`, the scan's lone returns' covariances mapped in one call. The posterior is the general path's, bit for bit (to 1e-12 with the
 radar's sensor-frame EKF, whose batches round differently: ``tests/unit/hypotheses/factored/test_fast_path.py``,
-``test_fast_path_catalogue.py``, ``test_fast_mixture.py``, ``test_sleeping.py``, ``test_born_detected.py``). ``last_stats`` counts
-``n_fast_path`` (lone tracks), ``n_fast_births``, ``n_fast_clutter``, ``n_fast_quiet``, ``n_fast_born`` and ``n_fast_born_detected``.
+``test_fast_path_catalogue.py``, ``test_fast_mixture.py``, ``test_sleeping.py``, ``test_born_detected.py``,
+``test_seeded_birth.py``). ``last_stats`` counts ``n_fast_path`` (lone tracks), ``n_fast_births``, ``n_fast_clutter``,
+``n_fast_quiet``, ``n_fast_born``, ``n_fast_born_detected`` and ``n_fast_seeded``.
 
 When the factored posterior equals the unfactored one
 -----------------------------------------------------

@@ -50,6 +50,7 @@ from ..weights_glmb import GLMBWeights
 from .fast_path import born_state
 from .planner import prune
 from .pool import engine_step
+from .seeded_birth import lone_seeded_step
 
 __all__ = ["born_detected_applies", "takes_born_detected", "born_detected_moments", "check_template",
            "born_detected_state", "born_detected_plan", "birth_step"]
@@ -131,8 +132,11 @@ def born_detected_plan(engine, rule, min_weight: float, b: int, row: int, Z, bir
 
 def birth_step(plan, engine, label: int, objects, stats, ndim: int):
     """``(state, parts, labels used)`` of a closed-form birth plan: a lone birth term's ``("born", b, template)``
-    (:func:`~.fast_path.born_state`) or ``("born_detected", …)`` (:func:`born_detected_plan`), its newborn
+    (:func:`~.fast_path.born_state`), ``("born_detected", …)`` (:func:`born_detected_plan`) or a lone return's
+    ``("seeded", …)`` (:func:`~.seeded_birth.lone_seeded_step`), its newborn
     registered as one object (:meth:`~.planner.ObjectIds.register_births`) and counted as the step's ``n_touched``."""
+    if plan[0] == "seeded":  # a return in no gate, HOMHT's seeded birth (:mod:`.seeded_birth`)
+        return lone_seeded_step(plan, engine, label, objects, stats, ndim)
     stats["n_touched"] += 1
     if plan[0] == "born":
         _, b, template = plan

@@ -17,6 +17,7 @@ from ..posterior import HypothesisEstimate, summarise
 from ..state import scan_interval
 from ..tracks import TrackStore
 from .born_detected import birth_step, born_detected_applies, born_detected_plan
+from .seeded_birth import lone_seeded_applies, lone_seeded_plan, map_lone_returns
 from .births import birth_loglik
 from .fast_path import FastBatch, birth_existence, born_template, fast_components, fast_rule
 from .lane import (GroupSet, Lane, admitted, bernoulli_existence, bernoulli_lane, cat, is_singleton, lane_existence,
@@ -31,7 +32,7 @@ from .summary import FactoredPosterior
 
 __all__ = ["FactoredFilter", "FactoredState"]
 
-_BIRTHS = ("born", "born_detected")  # closed-form birth steps
+_BIRTHS = ("born", "born_detected", "seeded")  # closed-form birth steps
 _NO_JOB = ("done", "dropped", "slept") + _BIRTHS  # plans with no engine step to run (slept: a closed form)
 
 
@@ -56,7 +57,7 @@ class FactoredState:
 
 _STATS0 = dict(n_touched=0, n_merges=0, n_splits=0, n_exact_splits=0, split_kl=0.0, split_l1=0.0,
                n_duplicates_merged=0, n_kalman_updates=0, n_predict_only=0, mass_retained_min=1.0, n_fast_path=0,
-               n_fast_births=0, n_fast_clutter=0, n_fast_quiet=0, n_fast_born=0, n_fast_born_detected=0)
+               n_fast_births=0, n_fast_clutter=0, n_fast_quiet=0, n_fast_born=0, n_fast_born_detected=0, n_fast_seeded=0)
 
 
 class FactoredFilter:
@@ -98,7 +99,7 @@ class FactoredFilter:
         they count in ``n_touched``, not in ``n_jobs``), ``n_fast_quiet`` (quiet groups the fast path
         found to keep no object after their empty-scan step: dropped, not in ``n_jobs``), ``n_fast_born`` (lone
         birth terms keeping both children, stepped from a template: in ``n_touched``, not in ``n_jobs``), ``n_fast_born_detected``
-        (birth terms with one return, born detected in closed form, :mod:`.born_detected`: likewise), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
+        (birth terms with one return, born detected in closed form, :mod:`.born_detected`: likewise), ``n_fast_seeded`` (returns in no gate, HOMHT's seeded births in closed form, :mod:`.seeded_birth`: likewise), ``n_jobs`` (engine steps), ``time_steps`` (wall seconds running them), ``time_total``; with a process
         pool or ``measure_transfer``, ``bytes_to_workers``/``bytes_from_workers`` (and
         ``bytes_model``, the template sent to the pool; ``worker_cpu_s``, the pool processes' CPU seconds).
     stats_history : list of the ``last_stats`` of every scan.
@@ -377,9 +378,7 @@ class FactoredFilter:
 
     def _fast_rule(self):
         """The fast path's :class:`~.fast_path.FastRule`, or ``None`` (off, or not exact for this engine)."""
-        if not self._options.fast_path:
-            return None
-        return fast_rule(self._engine, self._lane_on, self._options.min_weight)
+        return fast_rule(self._engine, self._lane_on, self._options.min_weight) if self._options.fast_path else None
 
     def _plan(self, scan, graph, Z, stats, skip=None) -> tuple:
         """Step 2–3: one plan per component, in the order of its first node (deterministic): a quiet
@@ -388,7 +387,7 @@ class FactoredFilter:
         E, plans, keys, bounds = self._engine, [], [], scan.bounds
         lane_r = self._lane.r[scan.cand] if self._bern else None  # a woken Bernoulli enters as its two hypotheses
         rule = self._fast_rule()
-        born_det = born_detected_applies(E, rule, self._mode)
+        born_det, seeded = born_detected_applies(E, rule, self._mode), lone_seeded_applies(E, rule)
         r_birth = None if rule is None or E.population is None or E.max_hypotheses < 2 else birth_existence(E.population)
         for key, c, members, regions, rows in graph.components(skip):
             keys.append(key)
@@ -422,7 +421,10 @@ class FactoredFilter:
                 if born_det and len(members) == 0 and len(rows) == 1 and len(regions) == 1:  # a birth term, its return
                     plan = born_detected_plan(E, rule, self._options.min_weight, int(regions[0]), int(rows[0]), Z,
                                               scan.birth_ll, self._detected, general)
+                elif seeded and len(members) == 0 and len(regions) == 0 and len(rows) == 1:  # a return in no gate
+                    plan = lone_seeded_plan(E, general(), self._options.min_weight)
                 plans.append(plan or general())
+        map_lone_returns(E, plans)  # their covariances mapped in one call
         return plans, np.array(keys, dtype=np.int64)
 
     def _run_plans(self, plans, keys, fast, stats) -> list:
@@ -447,9 +449,7 @@ class FactoredFilter:
         base, light = self._next_label, min(self._options.min_weight, 1.0 / self._engine.max_hypotheses) * (1 - 1e-9)
         results = iter(self._pool.run(self._engine, [(p[1], p[2], p[3], p[4], base, int(s), light) for p, s in zip(jobs, seeds)],
                                       self._options, stats))  # (light: _keep's pruning drops it, children.heavy_entries)
-        new_groups = []
-        opts = self._options
-        counted = 0
+        new_groups, opts, counted = [], self._options, 0
         for plan, key, before in zip(plans, keys, fast_before):
             if n_fast:  # the labels the fast path's components before this plan used
                 self._next_label += int(fast.labels_before(before) - fast.labels_before(counted))

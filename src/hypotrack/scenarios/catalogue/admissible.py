@@ -359,6 +359,23 @@ class SeededAdmissibleBirth:
             entry[2] = self.region.state_covs(*entry[3], theta)
         return entry
 
+    def map_covariances(self, Z) -> int:
+        """Map the covariances of returns ``Z`` ``(n, 4)`` not yet mapped at the current GMST in one call of
+        :meth:`AdmissibleRegionBirth.state_covs` (their components' rows stacked), as :meth:`components` would map
+        them one return at a time — the map is row by row, so each return's are the same numbers (the tests
+        compare bit for bit) — for the engine steps of a scan's returns in no gate (HOMHT's seeded births,
+        :mod:`hypotrack.hypotheses.factored.seeded_birth`), which each read one. Returns the returns mapped."""
+        entries = [self._entry(z, covs=False) for z in np.asarray(Z, dtype=float).reshape(-1, 4)]
+        todo = list({id(e): e for e in entries if e[2] is None}.values())  # (a return asked twice: once)
+        if not todo:
+            return 0
+        y = np.concatenate([e[3][0] for e in todo])
+        covs = self.region.state_covs(y, np.concatenate([e[3][1] for e in todo]), self._theta)
+        cut = np.cumsum([0] + [len(e[3][0]) for e in todo])
+        for e, a, b in zip(todo, cut[:-1], cut[1:]):
+            e[2] = covs[a:b]
+        return len(todo)
+
     def _kept(self, w, means, covs, ok=None):
         """The components whose mean passes :meth:`admissible` (``ok``, when already tested), weights
         renormalised (class docstring)."""

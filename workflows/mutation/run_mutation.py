@@ -87,6 +87,7 @@ SOURCES = {
     "experiments.ssa_breakup.summary": ["src/hypotrack/experiments/ssa_breakup/summary.py"],
     "experiments.ssa_breakup.tuning": ["src/hypotrack/experiments/ssa_breakup/tuning.py"],
     "experiments.ssa_breakup.scorecard": ["src/hypotrack/experiments/ssa_breakup/scorecard.py"],
+    "scenarios.catalogue.fov_edge": ["src/hypotrack/scenarios/catalogue/fov_edge.py"],
 }
 CATALOGUE = "tests/unit/test_bad_input_catalogue.py"  # bad input at every public entry point
 STEPS = "tests/unit/test_protocol_transactional.py"  # every tracker's step is all-or-nothing
@@ -110,7 +111,8 @@ EXTRA_TESTS = {
 TEST_HELPERS = ["tests/scenes.py", "tests/sleeping_arrays.py"]
 # Repository folders a module's tests read (copied into the scratch project and, as mutmut's ``also_copy``, into
 # its mutants/ copy, where the tests run).
-TEST_DATA = {"experiments.ssa_breakup.tuning": ["workflows/config"]}
+TEST_DATA = {"experiments.ssa_breakup.tuning": ["workflows/config"],
+             "scenarios.catalogue.fov_edge": ["workflows/config"]}  # its filter test reads the breakup config
 
 
 def unit_tests(source: str, root: Path = ROOT) -> list:

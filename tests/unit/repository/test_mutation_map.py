@@ -65,6 +65,7 @@ HAND_KEPT = {
                                         "tests/unit/experiments/ssa_breakup/test_identities.py"],
     "experiments.ssa_breakup.tuning": ["tests/unit/experiments/ssa_breakup/test_tuning.py"],
     "experiments.ssa_breakup.scorecard": ["tests/unit/experiments/ssa_breakup/test_scorecard.py"],
+    "scenarios.catalogue.fov_edge": ["tests/unit/scenarios/catalogue/test_fov_edge.py"],
 }
 
 

@@ -19,7 +19,7 @@ MODULES = {"gaussian", "metrics", "hypotheses", "association", "trackers", "mode
            "scenarios.catalogue.radar_model", "scenarios.catalogue.admissible", "scenarios.catalogue.snr",
            "trackers.deferred", "metrics_scorecard", "metrics_trajectory", "scenarios.catalogue.sbm",
            "experiments.ssa_breakup.identities", "experiments.ssa_breakup.custody", "experiments.ssa_breakup.summary",
-           "experiments.ssa_breakup.tuning", "experiments.ssa_breakup.scorecard"}
+           "experiments.ssa_breakup.tuning", "experiments.ssa_breakup.scorecard", "scenarios.catalogue.fov_edge"}
 NAME = re.compile(r"^hypotrack\.[a-z_]+(\.[a-z_]+)*\.x.+__mutmut_\d+$")
 
 

@@ -38,7 +38,7 @@ def _cov(sd_pos_km, sd_vel=1e-4, seed=0):
 
 
 @pytest.mark.parametrize("where", [(1500.0, 180.0, 5.05), (1500.0, 120.2, 40.0), (2998.0, 180.0, 40.0),
-                                   (1500.0, 180.0, 4.9)])
+                                   (1500.0, 180.0, 4.9), (203.0, 180.0, 40.0), (1500.0, 180.0, 84.95)])
 def test_p_in_view_matches_sampling_of_the_track(where):
     """Each side in turn: a track near it, ~5 km spread; the share of 200,000 draws inside the true field of view
     (the radar's own test) against ``P_in`` (linearised, within 0.01: sampling s.e. ~0.001)."""
@@ -63,11 +63,62 @@ def test_p_in_view_is_one_half_on_the_edge_and_one_or_zero_far_from_it():
 
 
 def test_dilated_view_against_the_true_one():
+    """Each side dilated by its margin alone (1° in angle, 50 km in range): below the lowest elevation, beyond the
+    longest range, beside the azimuth sector (1° each side, not 1.5°), above the highest elevation, inside the
+    shortest range."""
     s = _sensor(margin_deg=1.0, margin_km=50.0)
     X = np.stack([_state(1500.0, 180.0, 4.5), _state(1500.0, 180.0, 3.5), _state(3040.0, 180.0, 40.0),
-                  _state(3060.0, 180.0, 40.0), _state(1500.0, 119.5, 40.0), _state(1500.0, 180.0, 40.0)])
-    np.testing.assert_array_equal(s.detection.in_view(X[:, :3]), [True, False, True, False, True, True])
-    np.testing.assert_array_equal(s.detection.in_fov(X[:, :3]), [False, False, False, False, False, True])
+                  _state(3060.0, 180.0, 40.0), _state(1500.0, 119.5, 40.0), _state(1500.0, 180.0, 40.0),
+                  _state(1500.0, 118.7, 40.0), _state(1500.0, 180.0, 85.5), _state(1500.0, 180.0, 86.5),
+                  _state(160.0, 180.0, 40.0), _state(140.0, 180.0, 40.0)])
+    np.testing.assert_array_equal(s.detection.in_view(X[:, :3]),
+                                  [True, False, True, False, True, True, False, True, False, True, False])
+    np.testing.assert_array_equal(s.detection.in_fov(X[:, :3]), [False] * 5 + [True] + [False] * 5)
+    wide = _sensor(margin_deg=2.0).detection  # the sector widened by the margin on each side: 2°, not 1° or 3°
+    Y = np.stack([_state(1500.0, 118.5, 40.0), _state(1500.0, 117.5, 40.0)])
+    np.testing.assert_array_equal(wide.in_view(Y[:, :3]), [True, False])
+
+
+def test_the_dilated_view_stops_at_the_horizon_and_at_the_site():
+    """A field of view from 0.5° and 30 km: dilated by 1° and 50 km its lower bounds are 0° and 0 km, not below (a
+    point at 0.3° elevation and one 0.5 km from the site are inside it)."""
+    from dataclasses import replace
+
+    radar = replace(DEFAULT_RADAR, fov=replace(F, el_min_deg=0.5, r_min_km=30.0))
+    s = attach_soft_edge(RadarTrackerSensor(radar).at(THETA), 1.0, 50.0)
+    X = np.stack([_state(1500.0, 180.0, 0.3), _state(0.5, 180.0, 40.0)])
+    np.testing.assert_array_equal(s.detection.in_view(X[:, :3]), [True, True])
+    np.testing.assert_array_equal(s.detection.in_fov(X[:, :3]), [False, False])
+
+
+def test_no_upper_elevation_bound_at_the_zenith():
+    """The breakup radar sees up to 90°: a track 0.05° from the zenith is in view whatever its spread (an elevation
+    past 90° is the other side of the zenith), as sampling says; bounding the linearised elevation at 90° would give
+    about two thirds."""
+    radar = make_radar(_breakup_cfg(False))
+    s = attach_soft_edge(tracker_sensor(radar).at(THETA), 1.0, 50.0)
+    m, P = _state(1000.0, 180.0, 89.95, radar.site), _cov([2.0, 2.0, 2.0])
+    X = np.random.default_rng(2).multivariate_normal(m, P, 100_000)
+    assert s.detection.in_fov(X[:, :3]).mean() == 1.0
+    assert s.detection.p_in_view(m[None], P[None])[0] == pytest.approx(1.0, abs=1e-6)
+
+
+def test_empty_tracks_and_the_wrapped_state_dependent_p_D():
+    """No track: no probability. Over an SNR detection (p_D of the range) the soft edge scales the wrapped p_D of each
+    mean, not the constant."""
+    from hypotrack.scenarios.catalogue.snr import SizeModel, SnrModel, attach_snr_detection
+
+    s = _sensor()
+    assert s.detection.p_in_view(np.zeros((0, 6)), np.zeros((0, 6, 6))).shape == (0,)
+    assert s.detection.p_D_of_moments(np.zeros((0, 6)), np.zeros((0, 6, 6))).shape == (0,)
+    snr = attach_snr_detection(RadarTrackerSensor(DEFAULT_RADAR).at(THETA), SnrModel(), SizeModel())
+    base = snr.detection
+    attach_soft_edge(snr, 1.0, 50.0)
+    X = np.stack([_state(1000.0, 180.0, 40.0), _state(2800.0, 180.0, 40.0)])
+    P = np.stack([_cov([1.0, 1.0, 1.0])] * 2)
+    want = base.p_D_of(X) * snr.detection.p_in_view(X, P)
+    assert want[0] != want[1] and abs(want[0] - base.p_D) > 1e-3  # the range matters, the constant is not used
+    np.testing.assert_array_equal(snr.detection.p_D_of_moments(X, P), want)
 
 
 def test_state_p_detect_takes_the_moments_where_in_view_only():
@@ -81,9 +132,9 @@ def test_state_p_detect_takes_the_moments_where_in_view_only():
 
 
 def test_bad_margins_are_refused():
-    with pytest.raises(ValueError, match="margin_deg"):
+    with pytest.raises(ValueError, match="^margin_deg must"):
         SoftEdgeDetection(RadarTrackerSensor(DEFAULT_RADAR), -1.0, 50.0)
-    with pytest.raises(ValueError, match="margin_km"):
+    with pytest.raises(ValueError, match="^margin_km must"):
         SoftEdgeDetection(RadarTrackerSensor(DEFAULT_RADAR), 1.0, float("nan"))
 
 

@@ -233,7 +233,16 @@ def monte_carlo_claim(experiment, item, source, published, samples=None, *, n=No
             f"interval {v.low:.4g} to {v.high:.4g}: {decide}"
     return Claim(experiment, item, source, format_value(float(published), digits), format_value(float(mean), digits), tol_text,
                  _calibrated(v.status, evidence), note, evidence, str(int(n)), f"{float(mean):.6g}", f"{float(se):.3g}",
-                 f"{v.z:.2f}" if math.isfinite(v.z) else ("inf" if v.z > 0 else "-inf"), key, claim=claim)
+                 _z_text(v.z), key, claim=claim)
+
+
+def _z_text(z: float) -> str:
+    """z as the ledger prints it: two decimals, three significant digits from 10⁶ on (a mean whose seeds agree to
+    rounding has an s.e. of ~1e-15 and a z of ~1e13, whose 17 digits said nothing and overflowed the report's
+    table), ``inf``/``-inf`` for a zero s.e."""
+    if not math.isfinite(z):
+        return "inf" if z > 0 else "-inf"
+    return f"{z:.2f}" if abs(z) < 1e6 else f"{z:.3g}"
 
 
 def tolerance_text(rel_tol=None, abs_tol=None, published_runs=None) -> str:

@@ -2,7 +2,7 @@
 
 import math
 
-from hypotrack.reporting.claims import KEY_PATTERN, format_value, measured_text
+from hypotrack.reporting.claims import KEY_PATTERN, format_value, measured_text, monte_carlo_claim
 
 
 def test_format_value_by_hand():
@@ -45,3 +45,12 @@ def test_a_passing_check_on_a_calibrated_reading_is_a_calibration_never_a_reprod
     # the same row hand-marked "reproduced" is caught, twice: the calibration rule and the recomputed status
     bad = ledger_problems(rows.assign(status="reproduced"))
     assert any("on a calibration" in p for p in bad) and any("Monte Carlo rule gives 'calibration'" in p for p in bad)
+
+
+def test_the_z_of_seeds_that_agree_to_rounding_is_short():
+    """Three chain seeds agreeing to rounding (the E[N] at the end, 50.0717 ± 5e-15 against 50): z ~ 1.4e13 is given
+    to three significant digits, a z under 10⁶ to two decimals, a zero s.e. as inf."""
+    tight = monte_carlo_claim("e", "i", "s", 50.0, n=3, mean=50.0717, se=5.02e-15, abs_tol=0.1)
+    assert tight.z == "1.43e+13"
+    assert monte_carlo_claim("e", "i", "s", 50.0, n=3, mean=50.0717, se=0.0123, abs_tol=0.1).z == "5.83"
+    assert monte_carlo_claim("e", "i", "s", 50.0, n=3, mean=49.9, se=0.0, abs_tol=0.1).z == "-inf"

@@ -171,7 +171,7 @@ def plot_estimate_snapshots(matched: pd.DataFrame, fov, n_scans: int, *, columns
             ax.grid(alpha=0.3)
     handles = [
         Line2D([], [], marker=".", color="black", ls="none", ms=6, label="true position (all catalogued objects)"),
-        *([Line2D([], [], marker=".", color="#e07b00", ls="none", ms=7, label="true position, birth (seen)")]
+        *([Line2D([], [], marker=".", color="#e07b00", ls="none", ms=7, label="true position, birth (seen; its estimate drawn on it)")]
           if len(birth_ids) else []),
         *([Line2D([], [], marker=".", color="0.6", ls="none", ms=6,
                   label="true position, birth not yet in view")]

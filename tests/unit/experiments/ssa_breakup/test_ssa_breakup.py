@@ -95,18 +95,18 @@ def test_every_claim_row_is_placed_in_the_extension_group():
     names = ["glmb", "glmb_murty", "homht_kbest", "rfisst", "gnn", "jpda", *AMBIGUITY_TRACKERS]
     cards = pd.DataFrame([dict(scenario=s, tracker=t, seed=k, cross_tags_per_1e4=float(k), completeness=0.5,
                                duplicate_per_1000=1.0, false_per_1000=1.0, nn_in_gate_share=0.5, reacquisitions=3.0,
-                               id_switches_per_1e4=float(k))
+                               id_switches_per_1e4=float(k), catalogue_cross_tags_per_1e4=3.0 * k)
                           for s in ("breakup", "catalogue") for t in names for k in (1, 2)])
     acc, _ = scorecard_summary(cards)
     dens = density_table([dict(scenario=s, seed=1, n_pairs=3, nn_median_km=1.0, gate_km=2.0, share_in_gate=0.5,
                                share_in_5_gates=1.0) for s in ("breakup", "catalogue")])
     ratios = pd.concat([cross_tag_ratios(cards, "gnn", (*RATIO_TRACKERS, *AMBIGUITY_TRACKERS), column=c)
-                        for c in ("cross_tags_per_1e4", "id_switches_per_1e4")])
+                        for c in ("cross_tags_per_1e4", "id_switches_per_1e4", "catalogue_cross_tags_per_1e4")])
     rows = breakup_claims(acc, ratios, dens)
     keys = {f"ssa_breakup/{c.key}" for c in rows}
-    # per scenario: cross-tags of the 10 outputs, the cross-tag and identity-switch ratios of the 8 compared with
-    # GNN, the two density rows and the two re-acquisition gates
-    assert len(keys) == len(rows) == 2 * (10 + 8 + 8 + 1 + 1)
+    # per scenario: cross-tags of the 10 outputs, the cross-tag, identity-switch and catalogue cross-tag ratios of the
+    # 8 compared with GNN, the two density rows and the two re-acquisition gates
+    assert len(keys) == len(rows) == 2 * (10 + 8 + 8 + 8 + 1 + 1)
     assert keys == placed  # every tracker runs in the default: every row is placed
     assert {c.status for c in rows} == {"extension"}
 

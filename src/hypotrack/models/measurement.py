@@ -35,7 +35,7 @@ import numpy as np
 from .._validation import check_covariance, check_finite_array
 from ..gaussian import innovation_unchecked, mahalanobis2_unchecked, symmetrize, update_unchecked
 
-__all__ = ["LinearMeasurement", "ExtendedMeasurement", "as_measurement", "wrap_pi"]
+__all__ = ["LinearMeasurement", "ExtendedMeasurement", "as_measurement", "wrap_pi", "wrapped_residual"]
 
 _LOG_2PI = float(np.log(2.0 * np.pi))
 
@@ -219,7 +219,7 @@ class ExtendedMeasurement:
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
-def _wrapped_residual(v, two_pi):
+def wrapped_residual(v, two_pi):
     """``v`` wrapped into ``[−π, π)`` as :func:`wrap_pi` rounds it (numpy's floating remainder)."""
     x = v + np.pi
     if not 0.0 <= x < two_pi:  # (inside, fmod leaves x as it is)
@@ -255,13 +255,13 @@ def _pair_distances(Z, z_pred, Linv, wrapped):
             for i in range(m):
                 r0, r1, r2, r3 = Z[i, 0] - y0, Z[i, 1] - y1, Z[i, 2] - y2, Z[i, 3] - y3
                 if w0:
-                    r0 = _wrapped_residual(r0, two_pi)
+                    r0 = wrapped_residual(r0, two_pi)
                 if w1:
-                    r1 = _wrapped_residual(r1, two_pi)
+                    r1 = wrapped_residual(r1, two_pi)
                 if w2:
-                    r2 = _wrapped_residual(r2, two_pi)
+                    r2 = wrapped_residual(r2, two_pi)
                 if w3:
-                    r3 = _wrapped_residual(r3, two_pi)
+                    r3 = wrapped_residual(r3, two_pi)
                 u0 = ((a00 * r0 + a01 * r1) + a02 * r2) + a03 * r3
                 u1 = ((a10 * r0 + a11 * r1) + a12 * r2) + a13 * r3
                 u2 = ((a20 * r0 + a21 * r1) + a22 * r2) + a23 * r3
@@ -273,7 +273,7 @@ def _pair_distances(Z, z_pred, Linv, wrapped):
         for j in range(n):
             for k in range(p):
                 v = Z[i, k] - z_pred[j, k]
-                r[k] = _wrapped_residual(v, two_pi) if wrapped[k] else v
+                r[k] = wrapped_residual(v, two_pi) if wrapped[k] else v
             s = 0.0
             for a in range(p):
                 u = Linv[j, a, 0] * r[0]

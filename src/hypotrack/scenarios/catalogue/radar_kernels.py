@@ -32,6 +32,7 @@ import math
 import numba
 import numpy as np
 
+from ...models.measurement import wrapped_residual
 from ...models.orbit3d_replay import fused_multiply_add as _fma
 
 __all__ = ["radar_moments", "radar_jacobian", "teme_near", "MOMENTS", "INNOVATION", "UPDATE"]
@@ -44,15 +45,9 @@ _TWO_PI = 2.0 * math.pi
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
 def _wrap(a, center):
-    """``np.mod(a − center + π, 2π) − π + center`` (:func:`~.frames.wrap_angle`), numpy's floating ``mod``."""
-    x = a - center + math.pi
-    m = np.fmod(x, _TWO_PI)
-    if m != 0.0:
-        if m < 0.0:
-            m += _TWO_PI
-    else:
-        m = 0.0
-    return m - math.pi + center
+    """``np.mod(a − center + π, 2π) − π + center`` (:func:`~.frames.wrap_angle`), numpy's floating ``mod``: the
+    measurement model's wrapped residual of ``a − center``, the same operations in the same order."""
+    return wrapped_residual(a - center, _TWO_PI) + center
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", inline="always")
